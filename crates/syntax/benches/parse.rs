@@ -1,0 +1,69 @@
+//! Lexing + parsing throughput. Inputs: the largest file of the corpus in
+//! `../shared/corpus` (when present) and a generated 10,000-line model.
+
+use robosim_syntax::{parse, FileKind};
+
+fn main() {
+    divan::main();
+}
+
+/// A synthetic RoboChart model of about `lines` lines: many machines with
+/// states, transitions, guards and actions, in the style of real models.
+pub fn generated_model(lines: usize) -> String {
+    let mut s = String::from("package bench\nimport core::*\ninterface Ops { move(lv : real, av : real) stop() }\ninterface Evs { event obstacle event reading : nat }\n");
+    let mut i = 0;
+    while s.lines().count() < lines {
+        s.push_str(&format!(
+            "stm M{i} {{\n  requires Ops\n  uses Evs\n  var x : nat = 0, y : real\n  const PI : real = 3.14\n  clock C\n  initial i0\n  junction j0\n"
+        ));
+        for k in 0..8 {
+            s.push_str(&format!(
+                "  state S{k} {{\n    entry move(1.0, 0); x = x + 1\n    exit stop()\n  }}\n  transition t{k} {{ from S{k} to j0 trigger reading?x #C <{{ 2 }} condition x > {k} /\\ since(C) >= PI / 2 action y = y * 2.5; move(y, -1) }}\n"
+            ));
+        }
+        s.push_str("  transition ti { from i0 to S0 }\n  transition tj { from j0 to S0 condition else }\n}\n");
+        i += 1;
+    }
+    s
+}
+
+fn largest_corpus_file() -> Option<(String, FileKind)> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
+    let mut best: Option<(u64, std::path::PathBuf)> = None;
+    let mut stack = vec![root];
+    while let Some(dir) = stack.pop() {
+        let Ok(rd) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for e in rd.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if FileKind::from_path(&p).is_some() {
+                let len = e.metadata().map(|m| m.len()).unwrap_or(0);
+                if best.as_ref().is_none_or(|(l, _)| len > *l) {
+                    best = Some((len, p));
+                }
+            }
+        }
+    }
+    let (_, p) = best?;
+    Some((std::fs::read_to_string(&p).ok()?, FileKind::from_path(&p)?))
+}
+
+#[divan::bench]
+fn generated_10k_lines(b: divan::Bencher) {
+    let text = generated_model(10_000);
+    b.counter(divan::counter::BytesCount::of_str(&text))
+        .bench(|| parse(divan::black_box(&text), FileKind::RoboChart));
+}
+
+#[divan::bench]
+fn largest_corpus_file_parse(b: divan::Bencher) {
+    let Some((text, kind)) = largest_corpus_file() else {
+        eprintln!("../shared/corpus not found: skipping the corpus benchmark input");
+        return;
+    };
+    b.counter(divan::counter::BytesCount::of_str(&text))
+        .bench(|| parse(divan::black_box(&text), kind));
+}

@@ -1,0 +1,476 @@
+//! Parser infrastructure (rust-analyzer style): the grammar functions see
+//! only non-trivia tokens and emit a flat list of events; `build_tree` turns
+//! the events plus the full token stream (trivia included) into a rowan
+//! green tree, so the tree is lossless by construction.
+
+use std::cell::Cell;
+
+use rowan::{GreenNode, GreenNodeBuilder};
+
+use crate::lexer::Token;
+use crate::{FileKind, SyntaxError, SyntaxKind, TextRange, TextSize};
+use SyntaxKind::*;
+
+/// Deepest nesting of guarded constructs (expressions, statements, types,
+/// blocks). Deeper input gets one error and is skipped flat, so that neither
+/// the parser nor anything walking the tree recursively can overflow.
+pub(crate) const MAX_DEPTH: u32 = 128;
+
+/// Safety valve against a grammar bug looping without progress: after this
+/// many look-aheads without consuming a token the parser sees end of file.
+const FUEL: u32 = 1_000_000;
+
+/// The non-trivia tokens the grammar works on.
+pub(crate) struct Input {
+    kinds: Vec<SyntaxKind>,
+    ranges: Vec<TextRange>,
+    text_len: TextSize,
+}
+
+impl Input {
+    pub(crate) fn new(tokens: &[Token], text: &str) -> Input {
+        let mut kinds = Vec::with_capacity(tokens.len() / 2);
+        let mut ranges = Vec::with_capacity(tokens.len() / 2);
+        let mut off = TextSize::from(0);
+        for t in tokens {
+            if !t.kind.is_trivia() {
+                kinds.push(t.kind);
+                ranges.push(TextRange::at(off, t.len));
+            }
+            off += t.len;
+        }
+        Input {
+            kinds,
+            ranges,
+            text_len: TextSize::of(text),
+        }
+    }
+}
+
+/// A set of token kinds (all token kinds are below 256).
+#[derive(Clone, Copy)]
+pub(crate) struct TokenSet([u64; 4]);
+
+impl TokenSet {
+    pub(crate) const fn new(kinds: &[SyntaxKind]) -> TokenSet {
+        let mut bits = [0u64; 4];
+        let mut i = 0;
+        while i < kinds.len() {
+            let k = kinds[i] as usize;
+            bits[k / 64] |= 1 << (k % 64);
+            i += 1;
+        }
+        TokenSet(bits)
+    }
+
+    pub(crate) fn contains(&self, kind: SyntaxKind) -> bool {
+        let k = kind as usize;
+        k < 256 && self.0[k / 64] & (1 << (k % 64)) != 0
+    }
+}
+
+pub(crate) enum Event {
+    Start {
+        kind: SyntaxKind,
+        forward_parent: Option<u32>,
+    },
+    Finish,
+    Token,
+    Tombstone,
+}
+
+/// The parser state handed to every grammar function.
+pub(crate) struct Parser<'a> {
+    input: &'a Input,
+    text: &'a str,
+    pos: usize,
+    fuel: Cell<u32>,
+    events: Vec<Event>,
+    errors: Vec<SyntaxError>,
+    pub(crate) file: FileKind,
+    depth: u32,
+    /// The blocks currently open, innermost last (for recovery decisions
+    /// and messages).
+    pub(crate) blocks: Vec<crate::grammar::Block>,
+}
+
+impl<'a> Parser<'a> {
+    pub(crate) fn new(input: &'a Input, text: &'a str, file: FileKind) -> Parser<'a> {
+        Parser {
+            input,
+            text,
+            pos: 0,
+            fuel: Cell::new(FUEL),
+            events: Vec::new(),
+            errors: Vec::new(),
+            file,
+            depth: 0,
+            blocks: Vec::new(),
+        }
+    }
+
+    pub(crate) fn finish(self) -> (Vec<Event>, Vec<SyntaxError>) {
+        (self.events, self.errors)
+    }
+
+    pub(crate) fn is_robosim(&self) -> bool {
+        matches!(self.file, FileKind::RoboSim | FileKind::SimAssertions)
+    }
+
+    /// The kind of the `n`-th token ahead (`EOF` past the end).
+    pub(crate) fn nth(&self, n: usize) -> SyntaxKind {
+        let fuel = self.fuel.get();
+        if fuel == 0 {
+            return EOF;
+        }
+        self.fuel.set(fuel - 1);
+        self.input.kinds.get(self.pos + n).copied().unwrap_or(EOF)
+    }
+
+    pub(crate) fn current(&self) -> SyntaxKind {
+        self.nth(0)
+    }
+
+    pub(crate) fn at(&self, kind: SyntaxKind) -> bool {
+        self.current() == kind
+    }
+
+    pub(crate) fn nth_at(&self, n: usize, kind: SyntaxKind) -> bool {
+        self.nth(n) == kind
+    }
+
+    pub(crate) fn at_ts(&self, set: TokenSet) -> bool {
+        set.contains(self.current())
+    }
+
+    pub(crate) fn at_eof(&self) -> bool {
+        self.at(EOF)
+    }
+
+    /// Text of the `n`-th token ahead ("" past the end).
+    pub(crate) fn nth_text(&self, n: usize) -> &'a str {
+        match self.input.ranges.get(self.pos + n) {
+            Some(r) => &self.text[*r],
+            None => "",
+        }
+    }
+
+    /// The range of the current token, or an empty range at the end of the
+    /// text.
+    pub(crate) fn current_range(&self) -> TextRange {
+        match self.input.ranges.get(self.pos) {
+            Some(r) if self.fuel.get() > 0 => *r,
+            _ => TextRange::empty(self.input.text_len),
+        }
+    }
+
+    /// The range just after the previous token (for "missing X" errors).
+    pub(crate) fn prev_end(&self) -> TextRange {
+        match self
+            .pos
+            .checked_sub(1)
+            .and_then(|i| self.input.ranges.get(i))
+        {
+            Some(r) => TextRange::empty(r.end()),
+            None => TextRange::empty(0.into()),
+        }
+    }
+
+    pub(crate) fn prev_range(&self) -> Option<TextRange> {
+        self.pos
+            .checked_sub(1)
+            .and_then(|i| self.input.ranges.get(i))
+            .copied()
+    }
+
+    pub(crate) fn bump_any(&mut self) {
+        if self.at_eof() {
+            return;
+        }
+        self.fuel.set(FUEL);
+        self.pos += 1;
+        self.events.push(Event::Token);
+    }
+
+    pub(crate) fn bump(&mut self, kind: SyntaxKind) {
+        debug_assert!(self.at(kind));
+        self.bump_any();
+    }
+
+    pub(crate) fn eat(&mut self, kind: SyntaxKind) -> bool {
+        if self.at(kind) {
+            self.bump_any();
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Consumes `kind` or reports "expected `what` …, found …".
+    pub(crate) fn expect(&mut self, kind: SyntaxKind) -> bool {
+        if self.eat(kind) {
+            return true;
+        }
+        self.error_expected(&kind.describe());
+        false
+    }
+
+    /// Consumes `kind` or reports `message` (which should say where).
+    pub(crate) fn expect_msg(&mut self, kind: SyntaxKind, message: &str) -> bool {
+        if self.eat(kind) {
+            return true;
+        }
+        self.error(format!("{message}, found {}", self.found()));
+        false
+    }
+
+    pub(crate) fn found(&self) -> String {
+        let k = self.current();
+        match k {
+            IDENT => format!("`{}`", self.nth_text(0)),
+            EOF => "end of file".into(),
+            _ if k.is_keyword() => format!("keyword `{}`", self.nth_text(0)),
+            _ => k.describe(),
+        }
+    }
+
+    pub(crate) fn error_expected(&mut self, what: &str) {
+        let msg = format!("expected {what}, found {}", self.found());
+        self.error(msg);
+    }
+
+    /// An error on the current token (or at the end of the file).
+    pub(crate) fn error(&mut self, message: impl Into<String>) {
+        let range = self.error_range();
+        self.push_error(SyntaxError::error(message, range));
+    }
+
+    fn error_range(&self) -> TextRange {
+        // At the end of the file, point just after the last token rather
+        // than at trailing whitespace.
+        if self.at_eof() {
+            return match self.prev_range() {
+                Some(r) => TextRange::empty(r.end()),
+                None => TextRange::empty(self.input.text_len),
+            };
+        }
+        self.current_range()
+    }
+
+    pub(crate) fn error_at(&mut self, range: TextRange, message: impl Into<String>) {
+        self.push_error(SyntaxError::error(message, range));
+    }
+
+    fn push_error(&mut self, e: SyntaxError) {
+        // Never report two errors at the same place: the first is the cause.
+        if self
+            .errors
+            .last()
+            .is_some_and(|l| l.range.start() == e.range.start())
+        {
+            return;
+        }
+        self.errors.push(e);
+    }
+
+    /// Reports `message` and wraps the current token in an ERROR node.
+    pub(crate) fn err_and_bump(&mut self, message: impl Into<String>) {
+        let m = self.start();
+        self.error(message);
+        self.bump_balanced();
+        m.complete(self, ERROR);
+    }
+
+    /// Consumes one token, or a whole bracketed group if it opens one.
+    pub(crate) fn bump_balanced(&mut self) {
+        let mut depth = 0i32;
+        loop {
+            let k = self.current();
+            if k == EOF {
+                return;
+            }
+            if is_open(k) {
+                depth += 1;
+            } else if is_close(k) {
+                depth -= 1;
+            }
+            self.bump_any();
+            if depth <= 0 {
+                return;
+            }
+        }
+    }
+
+    pub(crate) fn start(&mut self) -> Marker {
+        let pos = self.events.len() as u32;
+        self.events.push(Event::Tombstone);
+        Marker { pos, done: false }
+    }
+
+    /// Runs `f` one level deeper; past `MAX_DEPTH` reports an error and
+    /// skips the construct flat instead.
+    pub(crate) fn nested<T>(&mut self, f: impl FnOnce(&mut Parser<'a>) -> Option<T>) -> Option<T> {
+        if self.depth >= MAX_DEPTH {
+            let m = self.start();
+            self.error(format!("nesting is too deep (more than {MAX_DEPTH} levels); the rest of this construct is not parsed"));
+            self.bump_balanced();
+            m.complete(self, ERROR);
+            return None;
+        }
+        self.depth += 1;
+        let r = f(self);
+        self.depth -= 1;
+        r
+    }
+}
+
+fn is_open(k: SyntaxKind) -> bool {
+    matches!(
+        k,
+        L_CURLY
+            | L_PAREN
+            | L_BRACK
+            | L_PAREN_PIPE
+            | L_BRACK_PIPE
+            | DEADLINE_OPEN
+            | SET_OPEN
+            | SEQ_OPEN
+    )
+}
+
+fn is_close(k: SyntaxKind) -> bool {
+    matches!(k, R_CURLY | R_PAREN | R_BRACK | R_PAREN_PIPE | R_BRACK_PIPE)
+}
+
+/// An open node; must be completed or abandoned.
+pub(crate) struct Marker {
+    pos: u32,
+    done: bool,
+}
+
+impl Marker {
+    pub(crate) fn complete(mut self, p: &mut Parser<'_>, kind: SyntaxKind) -> CompletedMarker {
+        self.done = true;
+        p.events[self.pos as usize] = Event::Start {
+            kind,
+            forward_parent: None,
+        };
+        p.events.push(Event::Finish);
+        CompletedMarker { pos: self.pos }
+    }
+
+    pub(crate) fn abandon(mut self, p: &mut Parser<'_>) {
+        self.done = true;
+        if self.pos as usize == p.events.len() - 1 {
+            p.events.pop();
+        }
+    }
+}
+
+impl Drop for Marker {
+    fn drop(&mut self) {
+        // A forgotten marker is a grammar bug; it stays a tombstone and the
+        // tree is still well formed, so only debug builds complain.
+        debug_assert!(
+            self.done || std::thread::panicking(),
+            "marker dropped without completion"
+        );
+    }
+}
+
+/// A finished node, which can still be wrapped by a new parent.
+#[derive(Clone, Copy)]
+pub(crate) struct CompletedMarker {
+    pos: u32,
+}
+
+impl CompletedMarker {
+    /// Starts a new node that will contain this one (for postfix and infix
+    /// forms).
+    pub(crate) fn precede(self, p: &mut Parser<'_>) -> Marker {
+        let m = p.start();
+        if let Event::Start { forward_parent, .. } = &mut p.events[self.pos as usize] {
+            *forward_parent = Some(m.pos - self.pos);
+        }
+        m
+    }
+}
+
+/// Builds the green tree from the events and every token of the text.
+pub(crate) fn build_tree(text: &str, tokens: &[Token], mut events: Vec<Event>) -> GreenNode {
+    let mut b = GreenNodeBuilder::new();
+    let mut tok = 0usize;
+    let mut off = 0usize;
+    let mut depth = 0usize;
+    let mut parents = Vec::new();
+
+    let emit = |b: &mut GreenNodeBuilder<'_>, tok: &mut usize, off: &mut usize| {
+        let t = tokens[*tok];
+        let len = u32::from(t.len) as usize;
+        b.token(t.kind.into(), &text[*off..*off + len]);
+        *off += len;
+        *tok += 1;
+    };
+    let skip_trivia = |b: &mut GreenNodeBuilder<'_>, tok: &mut usize, off: &mut usize| {
+        while *tok < tokens.len() && tokens[*tok].kind.is_trivia() {
+            let t = tokens[*tok];
+            let len = u32::from(t.len) as usize;
+            b.token(t.kind.into(), &text[*off..*off + len]);
+            *off += len;
+            *tok += 1;
+        }
+    };
+
+    for i in 0..events.len() {
+        match std::mem::replace(&mut events[i], Event::Tombstone) {
+            Event::Start {
+                kind,
+                forward_parent,
+            } => {
+                // Collect the chain of forward parents: outermost first.
+                parents.clear();
+                parents.push(kind);
+                let mut idx = i;
+                let mut fp = forward_parent;
+                while let Some(d) = fp {
+                    idx += d as usize;
+                    fp = match std::mem::replace(&mut events[idx], Event::Tombstone) {
+                        Event::Start {
+                            kind,
+                            forward_parent,
+                        } => {
+                            parents.push(kind);
+                            forward_parent
+                        }
+                        _ => None,
+                    };
+                }
+                for kind in parents.drain(..).rev() {
+                    if depth > 0 {
+                        skip_trivia(&mut b, &mut tok, &mut off);
+                    }
+                    b.start_node(kind.into());
+                    depth += 1;
+                }
+            }
+            Event::Finish => {
+                if depth == 1 {
+                    // The root takes everything that is left.
+                    while tok < tokens.len() {
+                        emit(&mut b, &mut tok, &mut off);
+                    }
+                }
+                b.finish_node();
+                depth -= 1;
+            }
+            Event::Token => {
+                skip_trivia(&mut b, &mut tok, &mut off);
+                if tok < tokens.len() {
+                    emit(&mut b, &mut tok, &mut off);
+                }
+            }
+            Event::Tombstone => {}
+        }
+    }
+    b.finish()
+}
