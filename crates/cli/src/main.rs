@@ -1,1 +1,140 @@
-fn main() {}
+//! The `robosim` command.
+
+mod diagnostics;
+mod workspace;
+
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use diagnostics::{Diagnostic, Severity};
+use workspace::Workspace;
+
+#[derive(Parser)]
+#[command(
+    name = "robosim",
+    version,
+    about = "Checks RoboChart (.rct) and RoboSim (.rst) models and their assertion files (.assertions, .rsa)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Check files and folders (searched recursively) as one workspace.
+    Check {
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = Format::Human)]
+        format: Format,
+        /// Rule set: the paper's rules as errors (`paper`), or RoboTool's
+        /// choices, where the paper rules it does not check are warnings.
+        #[arg(long, value_enum, default_value_t = Rules::Paper)]
+        rules: Rules,
+        /// When to colour human output.
+        #[arg(long, value_enum, default_value_t = Color::Auto)]
+        color: Color,
+        /// Model files or folders.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+    },
+    /// Print the syntax tree of a file.
+    Parse {
+        /// Print the full tree with ranges and token texts.
+        #[arg(long)]
+        tree: bool,
+        /// The model file.
+        file: PathBuf,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Format {
+    Human,
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq)]
+enum Rules {
+    Paper,
+    Robotool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Color {
+    Auto,
+    Always,
+    Never,
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    match cli.command {
+        Command::Check { format, rules, color, paths } => check(format, rules, color, &paths),
+        Command::Parse { tree, file } => parse(tree, &file),
+    }
+}
+
+fn fail(msg: impl std::fmt::Display) -> ExitCode {
+    eprintln!("robosim: {msg}");
+    ExitCode::from(2)
+}
+
+fn check(format: Format, _rules: Rules, color: Color, paths: &[PathBuf]) -> ExitCode {
+    let ws = match Workspace::load(paths) {
+        Ok(ws) => ws,
+        Err(e) => return fail(e),
+    };
+    let diags = ws.diagnostics();
+    let has_error = diags.iter().any(|d| d.severity == Severity::Error);
+    let out = std::io::stdout();
+    let result = match format {
+        Format::Json => {
+            let json = diagnostics::to_json(&ws, &diags);
+            writeln!(out.lock(), "{json}")
+        }
+        Format::Human => {
+            let color = match color {
+                Color::Always => true,
+                Color::Never => false,
+                Color::Auto => out.is_terminal() && std::env::var_os("NO_COLOR").is_none(),
+            };
+            diagnostics::render_human(&ws, &diags, color)
+        }
+    };
+    if let Err(e) = result {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            return fail(format!("cannot write the report: {e}"));
+        }
+    }
+    ExitCode::from(u8::from(has_error))
+}
+
+fn parse(tree: bool, file: &std::path::Path) -> ExitCode {
+    let ws = match Workspace::load(&[file.to_path_buf()]) {
+        Ok(ws) => ws,
+        Err(e) => return fail(e),
+    };
+    let Some(f) = ws.files.first() else {
+        return fail(format!("`{}` is not a model file (.rct, .rst, .assertions, .rsa)", file.display()));
+    };
+    let mut out = std::io::stdout().lock();
+    let text = if tree { f.parse.debug_dump() } else { f.parse.syntax_node().text().to_string() };
+    let _ = out.write_all(text.as_bytes());
+    let has_error = f.parse.errors().iter().any(|e| e.severity == robosim_syntax::Severity::Error);
+    if !tree {
+        let diags: Vec<Diagnostic> = ws.diagnostics();
+        let _ = diagnostics::render_human(&ws, &diags, false);
+    }
+    ExitCode::from(u8::from(has_error))
+}

@@ -54,8 +54,7 @@ fn largest_corpus_file() -> Option<(String, FileKind)> {
 #[divan::bench]
 fn generated_10k_lines(b: divan::Bencher) {
     let text = generated_model(10_000);
-    b.counter(divan::counter::BytesCount::of_str(&text))
-        .bench(|| parse(divan::black_box(&text), FileKind::RoboChart));
+    b.counter(divan::counter::BytesCount::of_str(&text)).bench(|| parse(divan::black_box(&text), FileKind::RoboChart));
 }
 
 #[divan::bench]
@@ -64,6 +63,5 @@ fn largest_corpus_file_parse(b: divan::Bencher) {
         eprintln!("../shared/corpus not found: skipping the corpus benchmark input");
         return;
     };
-    b.counter(divan::counter::BytesCount::of_str(&text))
-        .bench(|| parse(divan::black_box(&text), kind));
+    b.counter(divan::counter::BytesCount::of_str(&text)).bench(|| parse(divan::black_box(&text), kind));
 }

@@ -23,17 +23,11 @@ fn children<N: AstNode>(parent: &SyntaxNode) -> impl Iterator<Item = N> {
 }
 
 fn token(parent: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
-    parent
-        .children_with_tokens()
-        .filter_map(|e| e.into_token())
-        .find(|t| t.kind() == kind)
+    parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
 }
 
 fn first_token(parent: &SyntaxNode) -> Option<SyntaxToken> {
-    parent
-        .children_with_tokens()
-        .filter_map(|e| e.into_token())
-        .find(|t| !t.kind().is_trivia())
+    parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| !t.kind().is_trivia())
 }
 
 macro_rules! ast_nodes {
@@ -234,12 +228,7 @@ has_name!(
 impl Name {
     /// The name's text without the `^` escape.
     pub fn text(&self) -> String {
-        self.syntax
-            .text()
-            .to_string()
-            .trim()
-            .trim_start_matches('^')
-            .to_string()
+        self.syntax.text().to_string().trim().trim_start_matches('^').to_string()
     }
 
     /// The identifier token.
@@ -251,12 +240,7 @@ impl Name {
 impl NameRef {
     /// The referenced name without the `^` escape.
     pub fn text(&self) -> String {
-        self.syntax
-            .text()
-            .to_string()
-            .trim()
-            .trim_start_matches('^')
-            .to_string()
+        self.syntax.text().to_string().trim().trim_start_matches('^').to_string()
     }
 }
 
@@ -522,17 +506,11 @@ impl Connection {
 impl Transition {
     /// The source node's name.
     pub fn source(&self) -> Option<NameRef> {
-        self.syntax
-            .children()
-            .find(|n| n.kind() == TRANSITION_SOURCE)
-            .and_then(|n| child(&n))
+        self.syntax.children().find(|n| n.kind() == TRANSITION_SOURCE).and_then(|n| child(&n))
     }
     /// The target node's name.
     pub fn target(&self) -> Option<NameRef> {
-        self.syntax
-            .children()
-            .find(|n| n.kind() == TRANSITION_TARGET)
-            .and_then(|n| child(&n))
+        self.syntax.children().find(|n| n.kind() == TRANSITION_TARGET).and_then(|n| child(&n))
     }
     /// The RoboChart trigger.
     pub fn trigger(&self) -> Option<Trigger> {
@@ -595,17 +573,11 @@ impl Communication {
 impl Assertion {
     /// `timed`/`untimed`, if given.
     pub fn timing(&self) -> Option<SyntaxToken> {
-        self.syntax
-            .children()
-            .find(|n| n.kind() == TIMING)
-            .and_then(|n| first_token(&n))
+        self.syntax.children().find(|n| n.kind() == TIMING).and_then(|n| first_token(&n))
     }
     /// The subject element.
     pub fn subject(&self) -> Option<QualifiedName> {
-        self.syntax
-            .children()
-            .find(|n| n.kind() == ASSERTION_SUBJECT)
-            .and_then(|n| child(&n))
+        self.syntax.children().find(|n| n.kind() == ASSERTION_SUBJECT).and_then(|n| child(&n))
     }
 }
 

@@ -53,8 +53,6 @@ macro_rules! syntax_kinds {
             $($p,)*
             $($kw,)*
             $($node,)*
-            #[doc(hidden)]
-            __LAST,
         }
 
         const ALL_KINDS: &[SyntaxKind] = &[
@@ -449,10 +447,7 @@ syntax_kinds! {
 impl SyntaxKind {
     /// Whitespace and comments: kept in the tree, skipped by the parser.
     pub fn is_trivia(self) -> bool {
-        matches!(
-            self,
-            SyntaxKind::WHITESPACE | SyntaxKind::LINE_COMMENT | SyntaxKind::BLOCK_COMMENT
-        )
+        matches!(self, SyntaxKind::WHITESPACE | SyntaxKind::LINE_COMMENT | SyntaxKind::BLOCK_COMMENT)
     }
 
     /// A short human description used in messages ("`state`", "identifier", …).
@@ -509,25 +504,13 @@ mod tests {
 
     #[test]
     fn keyword_sets_differ_by_language() {
-        assert_eq!(
-            SyntaxKind::keyword("trigger", FileKind::RoboChart),
-            Some(SyntaxKind::TRIGGER_KW)
-        );
+        assert_eq!(SyntaxKind::keyword("trigger", FileKind::RoboChart), Some(SyntaxKind::TRIGGER_KW));
         assert_eq!(SyntaxKind::keyword("trigger", FileKind::RoboSim), None);
         assert_eq!(SyntaxKind::keyword("exec", FileKind::RoboChart), None);
-        assert_eq!(
-            SyntaxKind::keyword("exec", FileKind::SimAssertions),
-            Some(SyntaxKind::EXEC_KW)
-        );
+        assert_eq!(SyntaxKind::keyword("exec", FileKind::SimAssertions), Some(SyntaxKind::EXEC_KW));
         assert_eq!(SyntaxKind::keyword("assertion", FileKind::RoboSim), None);
-        assert_eq!(
-            SyntaxKind::keyword("instantiate", FileKind::SimAssertions),
-            None
-        );
-        assert_eq!(
-            SyntaxKind::keyword("schedulable", FileKind::Assertions),
-            None
-        );
+        assert_eq!(SyntaxKind::keyword("instantiate", FileKind::SimAssertions), None);
+        assert_eq!(SyntaxKind::keyword("schedulable", FileKind::Assertions), None);
         // send and wait stay reserved in RoboSim (§1.4).
         assert!(SyntaxKind::keyword("wait", FileKind::RoboSim).is_some());
     }
@@ -537,8 +520,7 @@ mod tests {
         let n = ALL_KINDS
             .iter()
             .filter(|k| {
-                k.keyword_langs()
-                    .is_some_and(|l| l.contains(FileKind::RoboChart))
+                k.keyword_langs().is_some_and(|l| l.contains(FileKind::RoboChart))
                     && !matches!(k, SyntaxKind::TRUE_KW | SyntaxKind::FALSE_KW)
             })
             .count();

@@ -17,14 +17,7 @@ pub struct Token {
 /// Splits `text` into tokens for a file of kind `file`. The lengths add up to
 /// `text.len()`.
 pub fn lex(text: &str, file: FileKind) -> (Vec<Token>, Vec<SyntaxError>) {
-    let mut lx = Lexer {
-        src: text.as_bytes(),
-        text,
-        pos: 0,
-        file,
-        tokens: Vec::new(),
-        errors: Vec::new(),
-    };
+    let mut lx = Lexer { src: text.as_bytes(), text, pos: 0, file, tokens: Vec::new(), errors: Vec::new() };
     lx.run();
     (lx.tokens, lx.errors)
 }
@@ -61,10 +54,7 @@ impl Lexer<'_> {
 
     fn push(&mut self, kind: SyntaxKind, len: usize) {
         debug_assert!(len > 0);
-        self.tokens.push(Token {
-            kind,
-            len: TextSize::from(len as u32),
-        });
+        self.tokens.push(Token { kind, len: TextSize::from(len as u32) });
         self.pos += len;
     }
 
@@ -79,8 +69,7 @@ impl Lexer<'_> {
 
     fn warning(&mut self, start: usize, len: usize, message: impl Into<String>) {
         let range = self.range(start, len);
-        self.errors
-            .push(SyntaxError::compat_warning(message, range));
+        self.errors.push(SyntaxError::compat_warning(message, range));
     }
 
     fn is_assertion_file(&self) -> bool {
@@ -100,11 +89,7 @@ impl Lexer<'_> {
         let start = self.pos;
         match b {
             b' ' | b'\t' | b'\r' | b'\n' => {
-                let n = self
-                    .rest()
-                    .iter()
-                    .take_while(|&&c| is_whitespace(c))
-                    .count();
+                let n = self.rest().iter().take_while(|&&c| is_whitespace(c)).count();
                 self.push(WHITESPACE, n);
             }
             b'/' if self.at(1) == b'/' => {
@@ -116,10 +101,7 @@ impl Lexer<'_> {
             b'"' | b'\'' => self.string(b),
             b'0'..=b'9' => self.number(),
             b'^' if is_ident_start(self.at(1)) => {
-                let n = 1 + self.rest()[1..]
-                    .iter()
-                    .take_while(|&&c| is_ident_continue(c))
-                    .count();
+                let n = 1 + self.rest()[1..].iter().take_while(|&&c| is_ident_continue(c)).count();
                 self.push(IDENT, n);
             }
             _ if is_ident_start(b) => self.word(),
@@ -162,11 +144,7 @@ impl Lexer<'_> {
         // Unterminated: same recovery as block comments (end of first line).
         let line = bytes.iter().take_while(|&&c| c != b'\n').count();
         let q = quote as char;
-        self.error(
-            start,
-            1,
-            format!("unterminated string: expected a closing {q}"),
-        );
+        self.error(start, 1, format!("unterminated string: expected a closing {q}"));
         self.push(STRING, line.max(1));
     }
 
@@ -178,9 +156,7 @@ impl Lexer<'_> {
             if bytes[i] == b'\\' {
                 let ok = match bytes[i + 1] {
                     b'b' | b't' | b'n' | b'f' | b'r' | b'"' | b'\'' | b'\\' => true,
-                    b'u' => bytes
-                        .get(i + 2..i + 6)
-                        .is_some_and(|h| h.iter().all(u8::is_ascii_hexdigit)),
+                    b'u' => bytes.get(i + 2..i + 6).is_some_and(|h| h.iter().all(u8::is_ascii_hexdigit)),
                     _ => false,
                 };
                 if !ok {
@@ -192,26 +168,20 @@ impl Lexer<'_> {
             }
         }
         for off in bad {
-            let clen = self.text[off + 1..]
-                .chars()
-                .next()
-                .map_or(0, char::len_utf8);
-            self.error(off, 1 + clen, "invalid escape sequence in string: use \\b \\t \\n \\f \\r \\\" \\' \\\\ or \\uXXXX");
+            let clen = self.text[off + 1..].chars().next().map_or(0, char::len_utf8);
+            self.error(
+                off,
+                1 + clen,
+                "invalid escape sequence in string: use \\b \\t \\n \\f \\r \\\" \\' \\\\ or \\uXXXX",
+            );
         }
     }
 
     fn number(&mut self) {
         let start = self.pos;
-        let digits = self
-            .rest()
-            .iter()
-            .take_while(|b| b.is_ascii_digit())
-            .count();
+        let digits = self.rest().iter().take_while(|b| b.is_ascii_digit()).count();
         if self.at(digits) == b'.' && self.at(digits + 1).is_ascii_digit() {
-            let frac = self.src[start + digits + 1..]
-                .iter()
-                .take_while(|b| b.is_ascii_digit())
-                .count();
+            let frac = self.src[start + digits + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
             self.push(FLOAT_NUMBER, digits + 1 + frac);
             return;
         }
@@ -225,26 +195,21 @@ impl Lexer<'_> {
                 ),
             );
         }
-        if self.text[start..start + digits]
-            .trim_start_matches('0')
-            .len()
-            > 10
-            || self.text[start..start + digits]
-                .parse::<u64>()
-                .is_ok_and(|v| v > i32::MAX as u64)
+        if self.text[start..start + digits].trim_start_matches('0').len() > 10
+            || self.text[start..start + digits].parse::<u64>().is_ok_and(|v| v > i32::MAX as u64)
         {
-            self.error(start, digits, "integer literal is too large: RoboTool reads integers as 32-bit (at most 2147483647)");
+            self.error(
+                start,
+                digits,
+                "integer literal is too large: RoboTool reads integers as 32-bit (at most 2147483647)",
+            );
         }
         self.push(INT_NUMBER, digits);
     }
 
     fn word(&mut self) {
         let start = self.pos;
-        let n = self
-            .rest()
-            .iter()
-            .take_while(|&&c| is_ident_continue(c))
-            .count();
+        let n = self.rest().iter().take_while(|&&c| is_ident_continue(c)).count();
         let word = &self.text[start..start + n];
         if (word == "Set" || word == "Seq") && self.at(n) == b'(' {
             self.push(if word == "Set" { SET_OPEN } else { SEQ_OPEN }, n + 1);
@@ -262,11 +227,7 @@ impl Lexer<'_> {
     fn assertion_word(&mut self, word: &str, n: usize) -> bool {
         let after = &self.src[self.pos + n..];
         let hyphen = |suffix: &[u8]| {
-            after.starts_with(suffix)
-                && !after
-                    .get(suffix.len())
-                    .copied()
-                    .is_some_and(is_ident_continue)
+            after.starts_with(suffix) && !after.get(suffix.len()).copied().is_some_and(is_ident_continue)
         };
         match word {
             "deadlock" if hyphen(b"-free") => {
@@ -329,10 +290,7 @@ impl Lexer<'_> {
     fn phrase(&self, first: usize, words: &[&str]) -> Option<usize> {
         let mut i = self.pos + first;
         for w in words {
-            let ws = self.src[i..]
-                .iter()
-                .take_while(|&&c| c == b' ' || c == b'\t')
-                .count();
+            let ws = self.src[i..].iter().take_while(|&&c| c == b' ' || c == b'\t').count();
             if ws == 0 || !self.src[i + ws..].starts_with(w.as_bytes()) {
                 return None;
             }
@@ -349,7 +307,11 @@ impl Lexer<'_> {
         let canonical: Vec<&str> = text.split([' ', '\t']).filter(|s| !s.is_empty()).collect();
         let canonical = canonical.join(" ");
         if canonical != text {
-            self.warning(start, len, format!("RoboTool only accepts exactly one space between the words: write `{canonical}`"));
+            self.warning(
+                start,
+                len,
+                format!("RoboTool only accepts exactly one space between the words: write `{canonical}`"),
+            );
         }
     }
 
@@ -359,11 +321,7 @@ impl Lexer<'_> {
         match find(&self.src[body..], b"csp-end") {
             Some(i) => self.push(CSP_TEXT, body - start + i + "csp-end".len()),
             None => {
-                self.error(
-                    start,
-                    "csp-begin".len(),
-                    "unterminated CSP block: expected `csp-end`",
-                );
+                self.error(start, "csp-begin".len(), "unterminated CSP block: expected `csp-end`");
                 self.push(CSP_TEXT, self.src.len() - start);
             }
         }
@@ -415,7 +373,11 @@ impl Lexer<'_> {
         ];
         if r.starts_with(b"<-") && !r.starts_with(b"<->") {
             // Hazard 5: RoboTool's lexer fails here; we read `<` `-` and say so.
-            self.error(start, 2, "`<-` is not a token: write `< -` (with a space) for a comparison with a negative number");
+            self.error(
+                start,
+                2,
+                "`<-` is not a token: write `< -` (with a space) for a comparison with a negative number",
+            );
             self.push(LT, 1);
             return;
         }
@@ -444,10 +406,7 @@ impl Lexer<'_> {
                 break;
             }
             // `\/` and (in RoboSim) `$` are tokens: stop before them.
-            if i > 0
-                && (self.text[start + i..].starts_with("\\/")
-                    || (c == '$' && self.dollar_is_token()))
-            {
+            if i > 0 && (self.text[start + i..].starts_with("\\/") || (c == '$' && self.dollar_is_token())) {
                 break;
             }
             end = start + i + c.len_utf8();
@@ -456,11 +415,7 @@ impl Lexer<'_> {
             }
         }
         let len = (end - start).max(1);
-        let shown: String = self.text[start..start + len]
-            .chars()
-            .take(8)
-            .flat_map(char::escape_default)
-            .collect();
+        let shown: String = self.text[start..start + len].chars().take(8).flat_map(char::escape_default).collect();
         let msg = if self.text[start..].starts_with('$') {
             "`$` is only used in RoboSim files (.rst, .rsa)".to_string()
         } else {
@@ -498,24 +453,8 @@ mod tests {
 
     #[test]
     fn lengths_cover_input() {
-        for text in [
-            "",
-            "a",
-            "/* x",
-            "\"abc",
-            "csp-begin x",
-            "é",
-            "\u{1}\u{2}",
-            "1.",
-            "s^t",
-            "<-1",
-        ] {
-            for file in [
-                FileKind::RoboChart,
-                FileKind::RoboSim,
-                FileKind::Assertions,
-                FileKind::SimAssertions,
-            ] {
+        for text in ["", "a", "/* x", "\"abc", "csp-begin x", "é", "\u{1}\u{2}", "1.", "s^t", "<-1"] {
+            for file in [FileKind::RoboChart, FileKind::RoboSim, FileKind::Assertions, FileKind::SimAssertions] {
                 let (toks, _) = lex(text, file);
                 let total: u32 = toks.iter().map(|t| u32::from(t.len)).sum();
                 assert_eq!(total as usize, text.len(), "{text:?}");
@@ -527,22 +466,13 @@ mod tests {
     fn hazards() {
         use FileKind::*;
         assert_eq!(kinds("s^t", RoboChart), vec![(IDENT, "s"), (IDENT, "^t")]);
-        assert_eq!(
-            kinds("s ^ t", RoboChart),
-            vec![(IDENT, "s"), (CARET, "^"), (IDENT, "t")]
-        );
+        assert_eq!(kinds("s ^ t", RoboChart), vec![(IDENT, "s"), (CARET, "^"), (IDENT, "t")]);
         assert_eq!(kinds("Set(int)", RoboChart)[0], (SET_OPEN, "Set("));
         assert_eq!(kinds("Set (int)", RoboChart)[0], (IDENT, "Set"));
         assert_eq!(kinds("a<{1}", RoboChart)[1], (DEADLINE_OPEN, "<{"));
-        assert_eq!(
-            kinds("import a::b::*", RoboChart).last(),
-            Some(&(COLON2_STAR, "::*"))
-        );
+        assert_eq!(kinds("import a::b::*", RoboChart).last(), Some(&(COLON2_STAR, "::*")));
         assert_eq!(kinds("1.5", RoboChart), vec![(FLOAT_NUMBER, "1.5")]);
-        assert_eq!(
-            kinds("1.x", RoboChart),
-            vec![(INT_NUMBER, "1"), (DOT, "."), (IDENT, "x")]
-        );
+        assert_eq!(kinds("1.x", RoboChart), vec![(INT_NUMBER, "1"), (DOT, "."), (IDENT, "x")]);
         assert_eq!(kinds("true", RoboChart), vec![(TRUE_KW, "true")]);
         assert_eq!(kinds("^true", RoboChart), vec![(IDENT, "^true")]);
         assert_eq!(
@@ -550,18 +480,9 @@ mod tests {
             (FAILURES_DIVERGENCES_MODEL_KW, "failures divergences model")
         );
         assert_eq!(kinds("failures : x", Assertions)[0], (IDENT, "failures"));
-        assert_eq!(
-            kinds("tick-tock model", SimAssertions),
-            vec![(TICK_TOCK_MODEL_KW, "tick-tock model")]
-        );
-        assert_eq!(
-            kinds("x is deadlock-free", RoboChart)[2],
-            (IDENT, "deadlock")
-        );
-        assert_eq!(
-            kinds("x is deadlock-free", Assertions)[2],
-            (DEADLOCK_FREE_KW, "deadlock-free")
-        );
+        assert_eq!(kinds("tick-tock model", SimAssertions), vec![(TICK_TOCK_MODEL_KW, "tick-tock model")]);
+        assert_eq!(kinds("x is deadlock-free", RoboChart)[2], (IDENT, "deadlock"));
+        assert_eq!(kinds("x is deadlock-free", Assertions)[2], (DEADLOCK_FREE_KW, "deadlock-free"));
         assert_eq!(
             kinds("csp-begin A = STOP -- csp-end\ncsp-end x", Assertions),
             vec![

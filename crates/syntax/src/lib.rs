@@ -9,6 +9,7 @@ pub mod ast;
 mod grammar;
 mod kinds;
 pub mod lexer;
+pub mod line_index;
 mod parser;
 
 use std::path::Path;
@@ -39,12 +40,8 @@ pub enum FileKind {
 
 impl FileKind {
     /// All file kinds.
-    pub const ALL: [FileKind; 4] = [
-        FileKind::RoboChart,
-        FileKind::RoboSim,
-        FileKind::Assertions,
-        FileKind::SimAssertions,
-    ];
+    pub const ALL: [FileKind; 4] =
+        [FileKind::RoboChart, FileKind::RoboSim, FileKind::Assertions, FileKind::SimAssertions];
 
     /// The kind for a file extension (without the dot).
     pub fn from_extension(ext: &str) -> Option<FileKind> {
@@ -59,9 +56,7 @@ impl FileKind {
 
     /// The kind for a path, by its extension.
     pub fn from_path(path: &Path) -> Option<FileKind> {
-        path.extension()
-            .and_then(|e| e.to_str())
-            .and_then(FileKind::from_extension)
+        path.extension().and_then(|e| e.to_str()).and_then(FileKind::from_extension)
     }
 
     /// The usual extension (without the dot).
@@ -102,19 +97,11 @@ pub struct SyntaxError {
 
 impl SyntaxError {
     pub(crate) fn error(message: impl Into<String>, range: TextRange) -> SyntaxError {
-        SyntaxError {
-            message: message.into(),
-            range,
-            severity: Severity::Error,
-        }
+        SyntaxError { message: message.into(), range, severity: Severity::Error }
     }
 
     pub(crate) fn compat_warning(message: impl Into<String>, range: TextRange) -> SyntaxError {
-        SyntaxError {
-            message: message.into(),
-            range,
-            severity: Severity::Warning,
-        }
+        SyntaxError { message: message.into(), range, severity: Severity::Warning }
     }
 
     /// The stable diagnostic code: `SYN-01` for syntax errors, `SYN-02` for
@@ -144,9 +131,7 @@ impl Parse {
 
     /// The typed root.
     pub fn tree(&self) -> ast::SourceFile {
-        ast::SourceFile {
-            syntax: self.syntax_node(),
-        }
+        ast::SourceFile { syntax: self.syntax_node() }
     }
 
     /// The green tree (for storage in incremental databases).
@@ -194,11 +179,10 @@ pub fn parse(text: &str, file: FileKind) -> Parse {
     let green = parser::build_tree(text, &tokens, events);
     errors.extend(parse_errors);
     errors.sort_by_key(|e| (e.range.start(), e.range.end()));
-    Parse {
-        green,
-        errors: errors.into(),
-        file,
-    }
+    // A stray character gets one error from the lexer; the parser's
+    // complaint about the same token adds nothing.
+    errors.dedup_by(|later, first| first.severity == Severity::Error && later.range.start() == first.range.start());
+    Parse { green, errors: errors.into(), file }
 }
 
 /// An indented dump of a tree: one line per node or token, with ranges.
@@ -210,14 +194,7 @@ pub fn debug_tree(node: &SyntaxNode) -> String {
         match event {
             rowan::WalkEvent::Enter(el) => {
                 let r = el.text_range();
-                let _ = write!(
-                    out,
-                    "{:indent$}{:?}@{}..{}",
-                    "",
-                    el.kind(),
-                    u32::from(r.start()),
-                    u32::from(r.end())
-                );
+                let _ = write!(out, "{:indent$}{:?}@{}..{}", "", el.kind(), u32::from(r.start()), u32::from(r.end()));
                 if let rowan::NodeOrToken::Token(t) = &el {
                     let _ = write!(out, " {:?}", t.text());
                 }

@@ -14,7 +14,7 @@ use SyntaxKind::*;
 /// Deepest nesting of guarded constructs (expressions, statements, types,
 /// blocks). Deeper input gets one error and is skipped flat, so that neither
 /// the parser nor anything walking the tree recursively can overflow.
-pub(crate) const MAX_DEPTH: u32 = 128;
+pub(crate) const MAX_DEPTH: u32 = 384;
 
 /// Safety valve against a grammar bug looping without progress: after this
 /// many look-aheads without consuming a token the parser sees end of file.
@@ -39,11 +39,7 @@ impl Input {
             }
             off += t.len;
         }
-        Input {
-            kinds,
-            ranges,
-            text_len: TextSize::of(text),
-        }
+        Input { kinds, ranges, text_len: TextSize::of(text) }
     }
 }
 
@@ -70,10 +66,7 @@ impl TokenSet {
 }
 
 pub(crate) enum Event {
-    Start {
-        kind: SyntaxKind,
-        forward_parent: Option<u32>,
-    },
+    Start { kind: SyntaxKind, forward_parent: Option<u32> },
     Finish,
     Token,
     Tombstone,
@@ -166,21 +159,14 @@ impl<'a> Parser<'a> {
 
     /// The range just after the previous token (for "missing X" errors).
     pub(crate) fn prev_end(&self) -> TextRange {
-        match self
-            .pos
-            .checked_sub(1)
-            .and_then(|i| self.input.ranges.get(i))
-        {
+        match self.pos.checked_sub(1).and_then(|i| self.input.ranges.get(i)) {
             Some(r) => TextRange::empty(r.end()),
             None => TextRange::empty(0.into()),
         }
     }
 
     pub(crate) fn prev_range(&self) -> Option<TextRange> {
-        self.pos
-            .checked_sub(1)
-            .and_then(|i| self.input.ranges.get(i))
-            .copied()
+        self.pos.checked_sub(1).and_then(|i| self.input.ranges.get(i)).copied()
     }
 
     pub(crate) fn bump_any(&mut self) {
@@ -263,11 +249,7 @@ impl<'a> Parser<'a> {
 
     fn push_error(&mut self, e: SyntaxError) {
         // Never report two errors at the same place: the first is the cause.
-        if self
-            .errors
-            .last()
-            .is_some_and(|l| l.range.start() == e.range.start())
-        {
+        if self.errors.last().is_some_and(|l| l.range.start() == e.range.start()) {
             return;
         }
         self.errors.push(e);
@@ -307,12 +289,25 @@ impl<'a> Parser<'a> {
         Marker { pos, done: false }
     }
 
+    /// Whether `extra` more levels of tree nesting still fit in the budget.
+    pub(crate) fn depth_allows(&self, extra: u32) -> bool {
+        self.depth + extra < MAX_DEPTH
+    }
+
+    /// Adds (or gives back) levels of tree nesting made by left-nested
+    /// chains such as `a + b + c`, which the grammar builds in a loop.
+    pub(crate) fn add_depth(&mut self, n: i32) {
+        self.depth = self.depth.saturating_add_signed(n);
+    }
+
     /// Runs `f` one level deeper; past `MAX_DEPTH` reports an error and
     /// skips the construct flat instead.
     pub(crate) fn nested<T>(&mut self, f: impl FnOnce(&mut Parser<'a>) -> Option<T>) -> Option<T> {
         if self.depth >= MAX_DEPTH {
             let m = self.start();
-            self.error(format!("nesting is too deep (more than {MAX_DEPTH} levels); the rest of this construct is not parsed"));
+            self.error(format!(
+                "nesting is too deep (more than {MAX_DEPTH} levels); the rest of this construct is not parsed"
+            ));
             self.bump_balanced();
             m.complete(self, ERROR);
             return None;
@@ -325,17 +320,7 @@ impl<'a> Parser<'a> {
 }
 
 fn is_open(k: SyntaxKind) -> bool {
-    matches!(
-        k,
-        L_CURLY
-            | L_PAREN
-            | L_BRACK
-            | L_PAREN_PIPE
-            | L_BRACK_PIPE
-            | DEADLINE_OPEN
-            | SET_OPEN
-            | SEQ_OPEN
-    )
+    matches!(k, L_CURLY | L_PAREN | L_BRACK | L_PAREN_PIPE | L_BRACK_PIPE | DEADLINE_OPEN | SET_OPEN | SEQ_OPEN)
 }
 
 fn is_close(k: SyntaxKind) -> bool {
@@ -351,10 +336,7 @@ pub(crate) struct Marker {
 impl Marker {
     pub(crate) fn complete(mut self, p: &mut Parser<'_>, kind: SyntaxKind) -> CompletedMarker {
         self.done = true;
-        p.events[self.pos as usize] = Event::Start {
-            kind,
-            forward_parent: None,
-        };
+        p.events[self.pos as usize] = Event::Start { kind, forward_parent: None };
         p.events.push(Event::Finish);
         CompletedMarker { pos: self.pos }
     }
@@ -371,10 +353,7 @@ impl Drop for Marker {
     fn drop(&mut self) {
         // A forgotten marker is a grammar bug; it stays a tombstone and the
         // tree is still well formed, so only debug builds complain.
-        debug_assert!(
-            self.done || std::thread::panicking(),
-            "marker dropped without completion"
-        );
+        debug_assert!(self.done || std::thread::panicking(), "marker dropped without completion");
     }
 }
 
@@ -423,10 +402,7 @@ pub(crate) fn build_tree(text: &str, tokens: &[Token], mut events: Vec<Event>) -
 
     for i in 0..events.len() {
         match std::mem::replace(&mut events[i], Event::Tombstone) {
-            Event::Start {
-                kind,
-                forward_parent,
-            } => {
+            Event::Start { kind, forward_parent } => {
                 // Collect the chain of forward parents: outermost first.
                 parents.clear();
                 parents.push(kind);
@@ -435,10 +411,7 @@ pub(crate) fn build_tree(text: &str, tokens: &[Token], mut events: Vec<Event>) -
                 while let Some(d) = fp {
                     idx += d as usize;
                     fp = match std::mem::replace(&mut events[idx], Event::Tombstone) {
-                        Event::Start {
-                            kind,
-                            forward_parent,
-                        } => {
+                        Event::Start { kind, forward_parent } => {
                             parents.push(kind);
                             forward_parent
                         }

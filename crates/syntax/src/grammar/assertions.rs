@@ -18,15 +18,7 @@ pub(crate) const ITEM_START: TokenSet = TokenSet::new(&[
 ]);
 
 /// Words that start the probabilistic sub-language (§5.3), not reserved.
-const PROBABILISTIC: &[&str] = &[
-    "prob",
-    "label",
-    "formula",
-    "rewards",
-    "defs",
-    "pmodules",
-    "constants",
-];
+const PROBABILISTIC: &[&str] = &["prob", "label", "formula", "rewards", "defs", "pmodules", "constants"];
 
 pub(crate) fn assertion_file(p: &mut Parser<'_>) {
     if p.at(PACKAGE_KW) {
@@ -71,24 +63,16 @@ fn item(p: &mut Parser<'_>) {
         }
         SIMULATION_KW => simulation(p),
         IDENT if is_sleec(p, 0) => sleec(p),
-        IDENT if PROBABILISTIC.contains(&p.nth_text(0)) => unsupported(
-            p,
-            "probabilistic assertions (PRISM) are not supported; this item is skipped",
-        ),
-        CONST_KW => unsupported(
-            p,
-            "probabilistic assertions (PRISM) are not supported; this item is skipped",
-        ),
+        IDENT if PROBABILISTIC.contains(&p.nth_text(0)) => {
+            unsupported(p, "probabilistic assertions (PRISM) are not supported; this item is skipped")
+        }
+        CONST_KW => unsupported(p, "probabilistic assertions (PRISM) are not supported; this item is skipped"),
         _ => {
             let m = p.start();
             p.error(format!(
                 "unexpected {}: expected an assertion, a `csp` block, an `import`{}",
                 p.found(),
-                if p.is_robosim() {
-                    " or a `simulation`"
-                } else {
-                    " or an `instantiate`"
-                }
+                if p.is_robosim() { " or a `simulation`" } else { " or an `instantiate`" }
             ));
             loop {
                 p.bump_balanced();
@@ -149,10 +133,7 @@ fn assertion(p: &mut Parser<'_>) {
     p.expect_msg(COLON, &format!("expected `:` after the name of {what}"));
     if p.at(CLOCK_KW) {
         if timed {
-            p.error_at(
-                timing_range,
-                "the clock-initialisation assertion takes no `timed`/`untimed`",
-            );
+            p.error_at(timing_range, "the clock-initialisation assertion takes no `timed`/`untimed`");
         }
         let b = p.start();
         p.bump(CLOCK_KW);
@@ -163,12 +144,7 @@ fn assertion(p: &mut Parser<'_>) {
         b.complete(p, ASSERTION_BODY);
     } else {
         let s = p.start();
-        qualified_name(
-            p,
-            &format!(
-                "the subject of {what} (a module, controller, machine, operation or CSP process)"
-            ),
-        );
+        qualified_name(p, &format!("the subject of {what} (a module, controller, machine, operation or CSP process)"));
         s.complete(p, ASSERTION_SUBJECT);
         assertion_body(p, &what);
     }
@@ -178,10 +154,7 @@ fn assertion(p: &mut Parser<'_>) {
         p.expect_msg(THE_KW, "expected `the` after `in`");
         if matches!(
             p.current(),
-            FAILURES_DIVERGENCES_MODEL_KW
-                | FAILURES_MODEL_KW
-                | TRACES_MODEL_KW
-                | TICK_TOCK_MODEL_KW
+            FAILURES_DIVERGENCES_MODEL_KW | FAILURES_MODEL_KW | TRACES_MODEL_KW | TICK_TOCK_MODEL_KW
         ) {
             p.bump_any();
         } else {
@@ -282,10 +255,7 @@ fn param_assignments(p: &mut Parser<'_>) {
             break;
         };
         if saw_and {
-            p.error_at(
-                sep,
-                "only the last parameter is introduced by `and`: write `A, B and C`",
-            );
+            p.error_at(sep, "only the last parameter is introduced by `and`: write `A, B and C`");
         }
         saw_and |= is_and;
         param(p);
@@ -367,19 +337,13 @@ fn simulation(p: &mut Parser<'_>) {
     let m = p.start();
     p.bump(SIMULATION_KW);
     let n = name(p, "simulation");
-    p.expect_msg(
-        OF_KW,
-        "expected `of` and the simulated element after the simulation's name",
-    );
+    p.expect_msg(OF_KW, "expected `of` and the simulated element after the simulation's name");
     qualified_name(p, "the simulated module, controller or machine");
     let what = match n {
         Some(n) => format!("simulation `{n}`"),
         None => "the simulation".into(),
     };
-    p.blocks.push(super::Block {
-        kind: BlockKind::File,
-        what: "the file".into(),
-    });
+    p.blocks.push(super::Block { kind: BlockKind::File, what: "the file".into() });
     block(p, BlockKind::Simulation, what);
     p.blocks.pop();
     m.complete(p, SIMULATION);

@@ -46,9 +46,7 @@ pub(crate) fn expr_bp(p: &mut Parser<'_>, min: u8) -> Option<CompletedMarker> {
 }
 
 fn level_error(p: &mut Parser<'_>, what: &str) {
-    p.error(format!(
-        "{what} cannot be an operand here: wrap it in parentheses"
-    ));
+    p.error(format!("{what} cannot be an operand here: wrap it in parentheses"));
 }
 
 fn expr_bp_inner(p: &mut Parser<'_>, min: u8) -> Option<CompletedMarker> {
@@ -99,12 +97,27 @@ fn expr_bp_inner(p: &mut Parser<'_>, min: u8) -> Option<CompletedMarker> {
         }
         _ => (postfix_expr(p)?, LVL_ATOM),
     };
+    let mut wraps = 0;
     loop {
         let k = p.current();
+        if !p.depth_allows(1)
+            && (matches!(k, AS_KW | IS_KW) || binop_level(k).is_some_and(|op| op >= min && level >= op))
+        {
+            // The chain is too long to nest further: keep the rest flat.
+            flat_rest(p, min);
+            break;
+        }
+        if wraps > 0 || binop_level(k).is_some() || matches!(k, AS_KW | IS_KW) {
+            p.add_depth(1);
+            wraps += 1;
+        }
         if matches!(k, AS_KW | IS_KW) {
             if min > LVL_TYPE_TEST || level < LVL_ADD {
                 if level == LVL_TYPE_TEST && min <= LVL_TYPE_TEST {
-                    p.error(format!("only one `as`/`is` may follow an expression: parenthesise the first one before `{}`", p.nth_text(0)));
+                    p.error(format!(
+                        "only one `as`/`is` may follow an expression: parenthesise the first one before `{}`",
+                        p.nth_text(0)
+                    ));
                     let m = lhs.precede(p);
                     p.bump_any();
                     type_(p);
@@ -134,23 +147,44 @@ fn expr_bp_inner(p: &mut Parser<'_>, min: u8) -> Option<CompletedMarker> {
         lhs = m.complete(p, BIN_EXPR);
         level = op;
     }
+    p.add_depth(-wraps);
     Some(lhs)
+}
+
+/// The rest of an operator chain that is too long to nest, as one flat
+/// ERROR node (reported once).
+fn flat_rest(p: &mut Parser<'_>, min: u8) {
+    let m = p.start();
+    p.error("this expression has too many operators in a row to be analysed; split it up");
+    loop {
+        let k = p.current();
+        if matches!(k, AS_KW | IS_KW) {
+            p.bump_any();
+            type_(p);
+        } else if binop_level(k).is_some_and(|op| op >= min) {
+            p.bump_any();
+            if at_expr_start(p) {
+                postfix_expr(p);
+            }
+        } else {
+            break;
+        }
+    }
+    m.complete(p, ERROR);
 }
 
 /// Tokens that can start an expression.
 pub(crate) fn at_expr_start(p: &Parser<'_>) -> bool {
-    matches!(
-        p.current(),
-        FORALL_KW | EXISTS_KW | EXISTS1_KW | LAMBDA_KW | NOT_KW | THE_KW | LET_KW | IF_KW | MINUS
-    ) || at_atom_start(p)
+    matches!(p.current(), FORALL_KW | EXISTS_KW | EXISTS1_KW | LAMBDA_KW | NOT_KW | THE_KW | LET_KW | IF_KW | MINUS)
+        || at_atom_start(p)
 }
 
 /// Tokens that can start an atom.
 pub(crate) fn at_atom_start(p: &Parser<'_>) -> bool {
     match p.current() {
-        INT_NUMBER | FLOAT_NUMBER | STRING | TRUE_KW | FALSE_KW | RESULT_KW | TO_KW | FROM_KW
-        | IDENT | L_BRACK | L_PAREN | SINCE_KW | SINCE_ENTRY_KW | LT | L_CURLY | L_BRACK_PIPE
-        | INVERSE_KW | TRANSPOSE_KW | L_PAREN_PIPE => true,
+        INT_NUMBER | FLOAT_NUMBER | STRING | TRUE_KW | FALSE_KW | RESULT_KW | TO_KW | FROM_KW | IDENT | L_BRACK
+        | L_PAREN | SINCE_KW | SINCE_ENTRY_KW | LT | L_CURLY | L_BRACK_PIPE | INVERSE_KW | TRANSPOSE_KW
+        | L_PAREN_PIPE => true,
         DOLLAR | CYCLE_KW => p.is_robosim(),
         _ => false,
     }
@@ -166,10 +200,7 @@ fn quantifier(p: &mut Parser<'_>) -> CompletedMarker {
     let kw = p.nth_text(0);
     p.bump_any();
     binders(p);
-    p.expect_msg(
-        AT,
-        &format!("expected `@` and the body of `{kw}` after its binders"),
-    );
+    p.expect_msg(AT, &format!("expected `@` and the body of `{kw}` after its binders"));
     expr(p);
     m.complete(p, kind)
 }
@@ -193,13 +224,7 @@ pub(crate) fn binders(p: &mut Parser<'_>) {
 fn binder(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "bound variable");
-    if p.expect_msg(
-        COLON,
-        &format!(
-            "expected `:` and a type after the bound variable `{}`",
-            n.unwrap_or_default()
-        ),
-    ) {
+    if p.expect_msg(COLON, &format!("expected `:` and a type after the bound variable `{}`", n.unwrap_or_default())) {
         type_(p);
     }
     if p.at(EQ) {
@@ -214,20 +239,14 @@ fn let_expr(p: &mut Parser<'_>) -> CompletedMarker {
     loop {
         let d = p.start();
         let n = name(p, "`let` definition");
-        p.expect_msg(
-            EQ2,
-            &format!("expected `==` after `{}` in `let`", n.unwrap_or_default()),
-        );
+        p.expect_msg(EQ2, &format!("expected `==` after `{}` in `let`", n.unwrap_or_default()));
         expr(p);
         d.complete(p, LET_DECL);
         if !p.eat(COMMA) {
             break;
         }
     }
-    p.expect_msg(
-        AT,
-        "expected `@` and the body of `let` after its definitions",
-    );
+    p.expect_msg(AT, "expected `@` and the body of `let` after its definitions");
     expr_bp(p, LVL_LET);
     m.complete(p, LET_EXPR)
 }
@@ -238,10 +257,7 @@ fn if_expr(p: &mut Parser<'_>) -> CompletedMarker {
     expr(p);
     p.expect_msg(THEN_KW, "expected `then` after the condition of `if`");
     expr(p);
-    p.expect_msg(
-        ELSE_KW,
-        "expected `else`: an `if` expression needs both branches",
-    );
+    p.expect_msg(ELSE_KW, "expected `else`: an `if` expression needs both branches");
     expr(p);
     p.expect_msg(END_KW, "expected `end` to close the `if` expression");
     m.complete(p, IF_EXPR)
@@ -253,7 +269,22 @@ pub(crate) fn postfix_expr(p: &mut Parser<'_>) -> Option<CompletedMarker> {
     let mut lhs = atom(p)?;
     // 0 = atom, 1 = called, 2 = indexed, 3 = selected
     let mut stage = 0;
+    let mut wraps = 0;
     loop {
+        if matches!(p.current(), L_PAREN | L_BRACK | DOT) {
+            if !p.depth_allows(1) {
+                let m = p.start();
+                p.error("this expression has too many selections in a row to be analysed; split it up");
+                while matches!(p.current(), L_PAREN | L_BRACK) || (p.at(DOT) && p.nth_at(1, IDENT)) {
+                    p.bump_balanced();
+                    p.eat(IDENT);
+                }
+                m.complete(p, ERROR);
+                break;
+            }
+            p.add_depth(1);
+            wraps += 1;
+        }
         match p.current() {
             L_PAREN => {
                 if stage >= 1 {
@@ -295,9 +326,21 @@ pub(crate) fn postfix_expr(p: &mut Parser<'_>) -> Option<CompletedMarker> {
                 lhs = m.complete(p, SELECT_EXPR);
                 stage = 3;
             }
-            _ => return Some(lhs),
+            _ => break,
         }
     }
+    p.add_depth(-wraps);
+    // Hazard 1: `s^t` is `s` followed by the escaped name `t`.
+    if p.at(IDENT)
+        && p.nth_text(0).starts_with('^')
+        && p.prev_range().is_some_and(|r| r.end() == p.current_range().start())
+    {
+        let name = p.nth_text(0).trim_start_matches('^');
+        p.error(format!(
+            "`^{name}` reads as the escaped name `{name}`: write ` ^ {name}` with spaces (or `cat`) to concatenate"
+        ));
+    }
+    Some(lhs)
 }
 
 /// An atom optionally followed by one argument list (the payload of
@@ -312,21 +355,8 @@ pub(crate) fn call_exp(p: &mut Parser<'_>) -> Option<CompletedMarker> {
     Some(a)
 }
 
-const ATOM_RECOVERY: TokenSet = TokenSet::new(&[
-    R_CURLY,
-    R_PAREN,
-    R_BRACK,
-    R_BRACK_PIPE,
-    R_PAREN_PIPE,
-    SEMI,
-    COMMA,
-    AT,
-    PIPE,
-    EOF,
-    COLON,
-    EQ,
-    DOT,
-]);
+const ATOM_RECOVERY: TokenSet =
+    TokenSet::new(&[R_CURLY, R_PAREN, R_BRACK, R_BRACK_PIPE, R_PAREN_PIPE, SEMI, COMMA, AT, PIPE, EOF, COLON, EQ, DOT]);
 
 /// An atom (§2.15 `Atomic`, RoboSim §3.1).
 pub(crate) fn atom(p: &mut Parser<'_>) -> Option<CompletedMarker> {
@@ -433,11 +463,7 @@ pub(crate) fn atom(p: &mut Parser<'_>) -> Option<CompletedMarker> {
             MATRIX_EXPR
         }
         INVERSE_KW | TRANSPOSE_KW => {
-            let kind = if p.at(INVERSE_KW) {
-                INVERSE_EXPR
-            } else {
-                TRANSPOSE_EXPR
-            };
+            let kind = if p.at(INVERSE_KW) { INVERSE_EXPR } else { TRANSPOSE_EXPR };
             let kw = p.nth_text(0);
             p.bump_any();
             p.expect_msg(L_PAREN, &format!("expected `(` after `{kw}`"));
@@ -531,6 +557,9 @@ fn set_expr(p: &mut Parser<'_>) -> SyntaxKind {
         if p.at(COMMA) {
             p.error("a range `{a to b}` cannot be mixed with set elements");
         }
+        while p.eat(COMMA) {
+            expr(p);
+        }
         SET_RANGE_EXPR
     } else {
         while p.eat(COMMA) {
@@ -570,10 +599,28 @@ fn sim_ref(p: &mut Parser<'_>) -> SyntaxKind {
 }
 
 fn next_starts_atom(p: &Parser<'_>) -> bool {
-    match p.nth(1) {
-        INT_NUMBER | FLOAT_NUMBER | STRING | TRUE_KW | FALSE_KW | RESULT_KW | IDENT | L_BRACK
-        | L_PAREN | SINCE_KW | SINCE_ENTRY_KW | LT | L_CURLY | L_BRACK_PIPE | INVERSE_KW
-        | TRANSPOSE_KW | L_PAREN_PIPE | DOLLAR | CYCLE_KW | TO_KW | FROM_KW => true,
-        _ => false,
-    }
+    matches!(
+        p.nth(1),
+        INT_NUMBER
+            | FLOAT_NUMBER
+            | STRING
+            | TRUE_KW
+            | FALSE_KW
+            | RESULT_KW
+            | IDENT
+            | L_BRACK
+            | L_PAREN
+            | SINCE_KW
+            | SINCE_ENTRY_KW
+            | LT
+            | L_CURLY
+            | L_BRACK_PIPE
+            | INVERSE_KW
+            | TRANSPOSE_KW
+            | L_PAREN_PIPE
+            | DOLLAR
+            | CYCLE_KW
+            | TO_KW
+            | FROM_KW
+    )
 }

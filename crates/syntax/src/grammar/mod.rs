@@ -126,10 +126,7 @@ fn plausible(b: BlockKind, m: Member) -> bool {
                 | M::Module
         ),
         B::Interface => matches!(m, M::OperationSig | M::Event | M::Variables | M::Clock),
-        B::Platform => matches!(
-            m,
-            M::InterfaceUse | M::Variables | M::OperationSig | M::Event
-        ),
+        B::Platform => matches!(m, M::InterfaceUse | M::Variables | M::OperationSig | M::Event),
         B::Controller => matches!(
             m,
             M::InterfaceUse
@@ -144,25 +141,11 @@ fn plausible(b: BlockKind, m: Member) -> bool {
         ),
         B::StateMachine => matches!(
             m,
-            M::InterfaceUse
-                | M::Variables
-                | M::Event
-                | M::Node
-                | M::Transition
-                | M::Clock
-                | M::IoContext
-                | M::CycleDef
+            M::InterfaceUse | M::Variables | M::Event | M::Node | M::Transition | M::Clock | M::IoContext | M::CycleDef
         ),
         B::Operation => matches!(
             m,
-            M::Contract
-                | M::InterfaceUse
-                | M::Variables
-                | M::Event
-                | M::Node
-                | M::Transition
-                | M::Clock
-                | M::IoContext
+            M::Contract | M::InterfaceUse | M::Variables | M::Event | M::Node | M::Transition | M::Clock | M::IoContext
         ),
         B::State => matches!(m, M::Node | M::Transition | M::Action),
         B::Module => matches!(
@@ -296,10 +279,7 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
         if p.at(PACKAGE_KW) {
             package_decl(p);
         }
-        p.blocks.push(Block {
-            kind: BlockKind::File,
-            what: "the file".into(),
-        });
+        p.blocks.push(Block { kind: BlockKind::File, what: "the file".into() });
         members(p, BlockKind::File, true);
         p.blocks.pop();
     }
@@ -325,10 +305,7 @@ fn package_decl(p: &mut Parser<'_>) {
 /// A block body `{ … }`: the `{` is expected at the current token.
 pub(crate) fn block(p: &mut Parser<'_>, kind: BlockKind, what: String) {
     if !p.at(L_CURLY) {
-        p.error(format!(
-            "expected `{{` to open the body of {what}, found {}",
-            p.found()
-        ));
+        p.error(format!("expected `{{` to open the body of {what}, found {}", p.found()));
         // Without a `{` only go on if a member of this block follows.
         if !member_at(p).is_some_and(|m| plausible(kind, m)) {
             return;
@@ -371,26 +348,19 @@ fn members(p: &mut Parser<'_>, kind: BlockKind, top: bool) {
         match member_at(p) {
             Some(m) if plausible(kind, m) => {
                 check_language(p, kind, m, &mut seen_node);
+                if kind == BlockKind::Function && p.at(TERMINATES_KW) {
+                    p.error("a function has no `terminates` clause: only `precondition` and `postcondition`");
+                }
                 member(p, m);
             }
             Some(m) if !top && enclosing_accepts(p, m) => {
                 let what = p.blocks.last().map(|b| b.what.clone()).unwrap_or_default();
                 let range = p.prev_end();
-                p.error_at(
-                    range,
-                    format!(
-                        "expected `}}` to close the body of {what} before {}",
-                        describe_member(m)
-                    ),
-                );
+                p.error_at(range, format!("expected `}}` to close the body of {what} before {}", describe_member(m)));
                 return;
             }
             Some(m) => {
-                p.error(format!(
-                    "{} is not allowed {}",
-                    describe_member(m),
-                    block_desc(kind)
-                ));
+                p.error(format!("{} is not allowed {}", describe_member(m), block_desc(kind)));
                 member(p, m);
             }
             None => junk(p, kind),
@@ -400,9 +370,7 @@ fn members(p: &mut Parser<'_>, kind: BlockKind, top: bool) {
 
 fn enclosing_accepts(p: &Parser<'_>, m: Member) -> bool {
     let n = p.blocks.len();
-    p.blocks[..n.saturating_sub(1)]
-        .iter()
-        .any(|b| plausible(b.kind, m))
+    p.blocks[..n.saturating_sub(1)].iter().any(|b| plausible(b.kind, m))
 }
 
 /// Skips tokens that cannot start a member, as one ERROR node.
@@ -411,9 +379,7 @@ fn junk(p: &mut Parser<'_>, kind: BlockKind) {
         (IDENT, _) if p.nth_text(0) == "_broadcast" && p.is_robosim() => {
             "`_broadcast` events do not exist in RoboSim".to_string()
         }
-        (IDENT, BlockKind::StateMachine | BlockKind::Controller | BlockKind::Module)
-            if p.nth_text(0) == "cycleDef" =>
-        {
+        (IDENT, BlockKind::StateMachine | BlockKind::Controller | BlockKind::Module) if p.nth_text(0) == "cycleDef" => {
             "`cycleDef` is RoboSim syntax: it is not allowed in a RoboChart (.rct) file".to_string()
         }
         (IDENT, _) if matches!(p.nth_text(0), "input" | "output") && p.nth_text(1) == "context" => {
@@ -434,7 +400,9 @@ fn junk(p: &mut Parser<'_>, kind: BlockKind) {
 
 fn expected_members(kind: BlockKind) -> &'static str {
     match kind {
-        BlockKind::File => "a declaration (`interface`, `stm`, `controller`, `module`, `type`, `function`, `import`, …)",
+        BlockKind::File => {
+            "a declaration (`interface`, `stm`, `controller`, `module`, `type`, `function`, `import`, …)"
+        }
         BlockKind::Interface => "an event, variable, clock or operation signature",
         BlockKind::Platform => "an interface use, variable, event or operation signature",
         BlockKind::Controller => "a declaration, state machine, operation or connection",
@@ -497,29 +465,11 @@ fn member(p: &mut Parser<'_>, m: Member) {
             mk.complete(p, DIAGRAM_DECL);
         }
         Member::Import => import(p),
-        Member::Interface => named_block(
-            p,
-            INTERFACE_KW,
-            INTERFACE,
-            BlockKind::Interface,
-            "interface",
-        ),
+        Member::Interface => named_block(p, INTERFACE_KW, INTERFACE, BlockKind::Interface, "interface"),
         Member::Platform => platform(p),
         Member::TypeDecl => type_decl(p),
-        Member::Controller => named_block(
-            p,
-            CONTROLLER_KW,
-            CONTROLLER,
-            BlockKind::Controller,
-            "controller",
-        ),
-        Member::StateMachine => named_block(
-            p,
-            STM_KW,
-            STATE_MACHINE,
-            BlockKind::StateMachine,
-            "state machine",
-        ),
+        Member::Controller => named_block(p, CONTROLLER_KW, CONTROLLER, BlockKind::Controller, "controller"),
+        Member::StateMachine => named_block(p, STM_KW, STATE_MACHINE, BlockKind::StateMachine, "state machine"),
         Member::OperationDef => operation_def(p),
         Member::Function => function(p),
         Member::Module => named_block(p, MODULE_KW, MODULE, BlockKind::Module, "module"),
@@ -592,23 +542,12 @@ pub(crate) fn io_context(p: &mut Parser<'_>) {
     let (kind, block_kind, what) = if p.at(INPUT_KW) {
         (INPUT_CONTEXT, BlockKind::InputContext, "the input context")
     } else {
-        (
-            OUTPUT_CONTEXT,
-            BlockKind::OutputContext,
-            "the output context",
-        )
+        (OUTPUT_CONTEXT, BlockKind::OutputContext, "the output context")
     };
     p.bump_any();
     p.expect_msg(
         CONTEXT_KW,
-        &format!(
-            "expected `context` after `{}`",
-            if kind == INPUT_CONTEXT {
-                "input"
-            } else {
-                "output"
-            }
-        ),
+        &format!("expected `context` after `{}`", if kind == INPUT_CONTEXT { "input" } else { "output" }),
     );
     block(p, block_kind, what.into());
     mk.complete(p, kind);
@@ -635,11 +574,7 @@ fn platform(p: &mut Parser<'_>) {
     p.bump(ROBOTIC_KW);
     p.expect_msg(PLATFORM_KW, "expected `platform` after `robotic`");
     let n = name(p, "robotic platform");
-    block(
-        p,
-        BlockKind::Platform,
-        describe_named("robotic platform", n),
-    );
+    block(p, BlockKind::Platform, describe_named("robotic platform", n));
     mk.complete(p, ROBOTIC_PLATFORM);
 }
 
@@ -657,7 +592,7 @@ pub(crate) fn name(p: &mut Parser<'_>, what: &str) -> Option<String> {
         // Take the keyword as the name so the rest keeps its structure.
         let m = p.start();
         p.error(format!(
-            "`{kw}` is a reserved word and cannot name a {what}: write `^{kw}` to use it as a name"
+            "`{kw}` is a reserved word and cannot be the name of the {what}: write `^{kw}` to use it as a name"
         ));
         p.bump_any();
         m.complete(p, NAME);
@@ -677,6 +612,26 @@ pub(crate) fn name_ref(p: &mut Parser<'_>, what: &str) -> bool {
     }
     p.error_expected(what);
     false
+}
+
+/// A simple reference where the grammar allows no `::`; a qualified name
+/// is reported and kept inside the reference.
+pub(crate) fn simple_name_ref(p: &mut Parser<'_>, what: &str) -> bool {
+    if !p.at(IDENT) {
+        p.error_expected(what);
+        return false;
+    }
+    let m = p.start();
+    p.bump(IDENT);
+    if p.at(COLON2) {
+        p.error(format!("{what} is a simple name here: `::` is not allowed"));
+        while p.at(COLON2) && p.nth_at(1, IDENT) {
+            p.bump(COLON2);
+            p.bump(IDENT);
+        }
+    }
+    m.complete(p, NAME_REF);
+    true
 }
 
 /// `ID ( "::" ID )*`.
@@ -728,12 +683,7 @@ fn type_decl(p: &mut Parser<'_>) {
         ENUMERATION_KW => {
             p.bump(ENUMERATION_KW);
             let n = name(p, "enumeration");
-            list_body(
-                p,
-                BlockKind::Enumeration,
-                describe_named("enumeration", n),
-                enum_literal,
-            );
+            list_body(p, BlockKind::Enumeration, describe_named("enumeration", n), enum_literal);
             m.complete(p, ENUM_DECL);
         }
         _ => {
@@ -747,10 +697,7 @@ fn type_decl(p: &mut Parser<'_>) {
 
 /// `{ item* }` where every item starts with an identifier.
 fn list_body(p: &mut Parser<'_>, kind: BlockKind, what: String, item: fn(&mut Parser<'_>)) {
-    if !p.expect_msg(
-        L_CURLY,
-        &format!("expected `{{` to open the body of {what}"),
-    ) {
+    if !p.expect_msg(L_CURLY, &format!("expected `{{` to open the body of {what}")) {
         return;
     }
     loop {
@@ -778,13 +725,7 @@ fn list_body(p: &mut Parser<'_>, kind: BlockKind, what: String, item: fn(&mut Pa
 fn field(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "field");
-    p.expect_msg(
-        COLON,
-        &format!(
-            "expected `:` and a type after field `{}`",
-            n.unwrap_or_default()
-        ),
-    );
+    p.expect_msg(COLON, &format!("expected `:` and a type after field `{}`", n.unwrap_or_default()));
     type_(p);
     m.complete(p, FIELD);
 }
@@ -819,13 +760,7 @@ fn variable_list(p: &mut Parser<'_>) {
 fn variable(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "variable");
-    p.expect_msg(
-        COLON,
-        &format!(
-            "expected `:` and a type after variable `{}`",
-            n.unwrap_or_default()
-        ),
-    );
+    p.expect_msg(COLON, &format!("expected `:` and a type after variable `{}`", n.unwrap_or_default()));
     type_(p);
     if p.eat(EQ) {
         expr(p);
@@ -875,13 +810,7 @@ fn param_list(p: &mut Parser<'_>) {
 fn param(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "parameter");
-    p.expect_msg(
-        COLON,
-        &format!(
-            "expected `:` and a type after parameter `{}`",
-            n.unwrap_or_default()
-        ),
-    );
+    p.expect_msg(COLON, &format!("expected `:` and a type after parameter `{}`", n.unwrap_or_default()));
     type_(p);
     m.complete(p, PARAM);
 }
@@ -891,10 +820,7 @@ fn reference(p: &mut Parser<'_>, kind: SyntaxKind, what: &str) {
     let kw = p.nth_text(0);
     p.bump_any();
     name(p, &format!("{what} reference"));
-    p.expect_msg(
-        EQ,
-        &format!("expected `=` and the {what} definition after `{kw}` and its name"),
-    );
+    p.expect_msg(EQ, &format!("expected `=` and the {what} definition after `{kw}` and its name"));
     qualified_name(p, &format!("the name of a {what} definition"));
     m.complete(p, kind);
 }
@@ -913,13 +839,8 @@ fn function(p: &mut Parser<'_>) {
     p.bump(FUNCTION_KW);
     let n = name(p, "function");
     param_list(p);
-    if p.expect_msg(
-        COLON,
-        &format!(
-            "expected `:` and the result type of function `{}`",
-            n.clone().unwrap_or_default()
-        ),
-    ) {
+    if p.expect_msg(COLON, &format!("expected `:` and the result type of function `{}`", n.clone().unwrap_or_default()))
+    {
         type_(p);
     }
     block(p, BlockKind::Function, describe_named("function", n));
@@ -929,32 +850,17 @@ fn function(p: &mut Parser<'_>) {
 fn connection(p: &mut Parser<'_>) {
     let m = p.start();
     p.bump(CONNECTION_KW);
-    name_ref(
-        p,
-        "the source of the connection (a controller, machine or platform)",
-    );
-    p.expect_msg(
-        ON_KW,
-        "expected `on` and an event after the source of the connection",
-    );
-    name_ref(p, "the event of the connection's source");
+    simple_name_ref(p, "the source of the connection (a controller, machine or platform)");
+    p.expect_msg(ON_KW, "expected `on` and an event after the source of the connection");
+    simple_name_ref(p, "the event of the connection's source");
     p.expect_msg(TO_KW, "expected `to` and the target of the connection");
-    name_ref(
-        p,
-        "the target of the connection (a controller, machine or platform)",
-    );
-    p.expect_msg(
-        ON_KW,
-        "expected `on` and an event after the target of the connection",
-    );
-    name_ref(p, "the event of the connection's target");
+    simple_name_ref(p, "the target of the connection (a controller, machine or platform)");
+    p.expect_msg(ON_KW, "expected `on` and an event after the target of the connection");
+    simple_name_ref(p, "the event of the connection's target");
     if p.at(L_PAREN) {
         let f = p.start();
         p.bump(L_PAREN);
-        p.expect_msg(
-            ASYNC_KW,
-            "expected `_async` in the connection's `( _async )`",
-        );
+        p.expect_msg(ASYNC_KW, "expected `_async` in the connection's `( _async )`");
         p.expect(R_PAREN);
         f.complete(p, ASYNC_FLAG);
     }

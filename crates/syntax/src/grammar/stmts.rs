@@ -2,7 +2,7 @@
 //! (§2.13) and transitions (§2.12, RoboSim §3.1).
 
 use super::exprs::{call_exp, expr};
-use super::{arg_list, member_at, name, name_ref, qualified_name, STOP};
+use super::{arg_list, member_at, name, name_ref, qualified_name, simple_name_ref, STOP};
 use crate::parser::{CompletedMarker, Parser};
 use crate::SyntaxKind::{self, *};
 
@@ -19,13 +19,8 @@ pub(crate) fn stmt(p: &mut Parser<'_>) -> Option<CompletedMarker> {
             p.bump(SEMI);
             if at_stmt_start(p) {
                 timed_stmt(p);
-            } else if matches!(p.current(), R_CURLY | R_PAREN | END_KW | ELSE_KW | EOF)
-                || p.at_ts(STOP)
-            {
-                p.error_at(
-                    semi,
-                    "`;` separates statements and cannot end them: remove this `;`",
-                );
+            } else if matches!(p.current(), R_CURLY | R_PAREN | END_KW | ELSE_KW | EOF) || p.at_ts(STOP) {
+                p.error_at(semi, "`;` separates statements and cannot end them: remove this `;`");
                 break;
             } else {
                 p.error_expected("a statement after `;`");
@@ -104,9 +99,7 @@ fn basic_stmt(p: &mut Parser<'_>) -> Option<CompletedMarker> {
         }
         SEND_KW => {
             if rs {
-                p.error(
-                    "`send` is not available in RoboSim: write outputs as `$e`, `$e!v` or `$e.v`",
-                );
+                p.error("`send` is not available in RoboSim: write outputs as `$e`, `$e!v` or `$e.v`");
             }
             p.bump(SEND_KW);
             communication(p);
@@ -196,9 +189,7 @@ fn dollar_stmt(p: &mut Parser<'_>) -> SyntaxKind {
             SIM_CALL_STMT
         }
         EQ | L_BRACK => assignment(p, true),
-        DOT if p.nth_at(j + 1, IDENT) && is_target_continuation(p.nth(j + 2)) => {
-            assignment(p, true)
-        }
+        DOT if p.nth_at(j + 1, IDENT) && is_target_continuation(p.nth(j + 2)) => assignment(p, true),
         _ => {
             p.bump(DOLLAR);
             qualified_name(p, "an event name");
@@ -244,10 +235,7 @@ fn assignment(p: &mut Parser<'_>, dollar: bool) -> SyntaxKind {
         }
     }
     t.complete(p, ASSIGNABLE);
-    if p.expect_msg(
-        EQ,
-        &format!("expected `=` and a value in the assignment to `{target}`"),
-    ) {
+    if p.expect_msg(EQ, &format!("expected `=` and a value in the assignment to `{target}`")) {
         expr(p);
     }
     ASSIGN_STMT
@@ -268,20 +256,14 @@ pub(crate) fn communication(p: &mut Parser<'_>) {
         if p.at(IDENT) && p.nth_at(1, EQ) {
             name_ref(p, "a variable");
             p.bump(EQ);
-            p.expect_msg(
-                FROM_KW,
-                "expected `from` in the sender binding `[| x = from … |]`",
-            );
+            p.expect_msg(FROM_KW, "expected `from` in the sender binding `[| x = from … |]`");
             if p.eat(PIPE) {
                 expr(p);
             }
         } else if !p.at(R_BRACK_PIPE) {
             expr(p);
         }
-        p.expect_msg(
-            R_BRACK_PIPE,
-            "expected `|]` to close the guard of the communication",
-        );
+        p.expect_msg(R_BRACK_PIPE, "expected `|]` to close the guard of the communication");
         g.complete(p, COMM_GUARD);
     }
     match p.current() {
@@ -295,10 +277,17 @@ pub(crate) fn communication(p: &mut Parser<'_>) {
             let kind = if p.at(BANG) { COMM_OUTPUT } else { COMM_SYNC };
             let s = p.start();
             p.bump_any();
-            call_exp(p);
+            if p.at(MINUS) {
+                p.error("the value of a communication is a literal, a name or a call: parenthesise it, as in `e!(-1)`");
+                super::exprs::expr_bp(p, 15);
+            } else {
+                call_exp(p);
+            }
             s.complete(p, kind);
             if matches!(p.current(), PLUS | MINUS | STAR | SLASH | PERCENT | DOT) {
-                p.error("the value of a communication is a literal, a name or a call: parenthesise it, as in `e!(x + 1)`");
+                p.error(
+                    "the value of a communication is a literal, a name or a call: parenthesise it, as in `e!(x + 1)`",
+                );
             }
         }
         _ => {}
@@ -330,35 +319,25 @@ pub(crate) fn transition(p: &mut Parser<'_>) {
         Some(n) => format!("transition `{n}`"),
         None => "the transition".to_string(),
     };
-    if !p.expect_msg(
-        L_CURLY,
-        &format!("expected `{{` to open the body of {what}"),
-    ) && !p.at(FROM_KW)
-    {
+    if !p.expect_msg(L_CURLY, &format!("expected `{{` to open the body of {what}")) && !p.at(FROM_KW) {
         m.complete(p, TRANSITION);
         return;
     }
     if p.at(FROM_KW) {
         let s = p.start();
         p.bump(FROM_KW);
-        name_ref(p, &format!("the source of {what} after `from`"));
+        simple_name_ref(p, &format!("the source of {what}"));
         s.complete(p, TRANSITION_SOURCE);
     } else {
-        p.error(format!(
-            "expected `from` and the source of {what}, found {}",
-            p.found()
-        ));
+        p.error(format!("expected `from` and the source of {what}, found {}", p.found()));
     }
     if p.at(TO_KW) {
         let s = p.start();
         p.bump(TO_KW);
-        name_ref(p, &format!("the target of {what} after `to`"));
+        simple_name_ref(p, &format!("the target of {what}"));
         s.complete(p, TRANSITION_TARGET);
     } else {
-        p.error(format!(
-            "expected `to` after the source of {what}, found {}",
-            p.found()
-        ));
+        p.error(format!("expected `to` after the source of {what}, found {}", p.found()));
     }
     let mut last = 0u8;
     let rs = p.is_robosim();
@@ -399,14 +378,7 @@ pub(crate) fn transition(p: &mut Parser<'_>) {
                 if rs { "" } else { "deadline, " }
             ));
         } else if rank == last && rank != 2 {
-            p.error(format!(
-                "{what} already has {}",
-                if rank == 1 {
-                    "a trigger or probability"
-                } else {
-                    clause
-                }
-            ));
+            p.error(format!("{what} already has {}", if rank == 1 { "a trigger or probability" } else { clause }));
         }
         last = last.max(rank);
         match k {
@@ -475,15 +447,9 @@ fn trigger(p: &mut Parser<'_>) {
     p.bump(TRIGGER_KW);
     if p.at(IDENT) {
         communication(p);
-    } else if matches!(
-        p.current(),
-        CONDITION_KW | HASH | DEADLINE_OPEN | ACTION_KW | R_CURLY | PROBABILITY_KW
-    ) {
+    } else if matches!(p.current(), CONDITION_KW | HASH | DEADLINE_OPEN | ACTION_KW | R_CURLY | PROBABILITY_KW) {
         // Older RoboTool versions wrote `trigger` with nothing after it.
-        p.error_at(
-            kw,
-            "empty `trigger` (older RoboTool syntax): remove the `trigger` keyword",
-        );
+        p.error_at(kw, "empty `trigger` (older RoboTool syntax): remove the `trigger` keyword");
     } else {
         p.error_expected("an event after `trigger`");
     }

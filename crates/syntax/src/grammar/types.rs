@@ -86,9 +86,7 @@ fn type_ref(p: &mut Parser<'_>) -> Option<CompletedMarker> {
         IDENT if matches!(p.nth_text(0), "Set" | "Seq") && p.nth_at(1, L_PAREN) => {
             let t = p.nth_text(0);
             let kind = if t == "Set" { SET_TYPE } else { SEQ_TYPE };
-            p.error(format!(
-                "write `{t}(` without a space: `{t} (` is a type named `{t}` followed by `(`"
-            ));
+            p.error(format!("write `{t}(` without a space: `{t} (` is a type named `{t}` followed by `(`"));
             p.bump(IDENT);
             p.bump(L_PAREN);
             type_(p);
@@ -122,9 +120,7 @@ fn type_ref(p: &mut Parser<'_>) -> Option<CompletedMarker> {
         k if k.is_keyword() && !matches!(k, TRUE_KW | FALSE_KW) && !super::STOP.contains(k) => {
             // A reserved word used as a type name: keep it as a named type.
             let kw = p.nth_text(0).to_string();
-            p.error(format!(
-                "`{kw}` is a reserved word: write `^{kw}` to use it as a type name"
-            ));
+            p.error(format!("`{kw}` is a reserved word: write `^{kw}` to use it as a type name"));
             let q = p.start();
             p.bump_any();
             q.complete(p, QUALIFIED_NAME);
