@@ -1,5 +1,7 @@
-//! Lexing + parsing throughput. Inputs: the largest file of the corpus in
-//! `../shared/corpus` (when present) and a generated 10,000-line model.
+//! Lexing + parsing (+ dropping the tree) throughput. Inputs: the largest
+//! file of the corpus in `../shared/corpus` (an assertion file, mostly one
+//! CSP block), its largest RoboChart model, and a generated 10,000-line
+//! model. Run with `cargo bench -p robosim-syntax`.
 
 use robosim_syntax::{parse, FileKind};
 
@@ -27,7 +29,7 @@ pub fn generated_model(lines: usize) -> String {
     s
 }
 
-fn largest_corpus_file() -> Option<(String, FileKind)> {
+fn largest_corpus_file(only: Option<FileKind>) -> Option<(String, FileKind)> {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
     let mut best: Option<(u64, std::path::PathBuf)> = None;
     let mut stack = vec![root];
@@ -39,7 +41,7 @@ fn largest_corpus_file() -> Option<(String, FileKind)> {
             let p = e.path();
             if p.is_dir() {
                 stack.push(p);
-            } else if FileKind::from_path(&p).is_some() {
+            } else if FileKind::from_path(&p).is_some_and(|k| only.is_none_or(|o| o == k)) {
                 let len = e.metadata().map(|m| m.len()).unwrap_or(0);
                 if best.as_ref().is_none_or(|(l, _)| len > *l) {
                     best = Some((len, p));
@@ -59,7 +61,16 @@ fn generated_10k_lines(b: divan::Bencher) {
 
 #[divan::bench]
 fn largest_corpus_file_parse(b: divan::Bencher) {
-    let Some((text, kind)) = largest_corpus_file() else {
+    corpus_bench(b, None);
+}
+
+#[divan::bench]
+fn largest_corpus_model_parse(b: divan::Bencher) {
+    corpus_bench(b, Some(FileKind::RoboChart));
+}
+
+fn corpus_bench(b: divan::Bencher, only: Option<FileKind>) {
+    let Some((text, kind)) = largest_corpus_file(only) else {
         eprintln!("../shared/corpus not found: skipping the corpus benchmark input");
         return;
     };

@@ -328,70 +328,62 @@ impl Lexer<'_> {
     }
 
     fn punct(&mut self, start: usize) {
-        let r = self.rest();
-        let table: &[(&[u8], SyntaxKind)] = &[
-            (b"::*", COLON2_STAR),
-            (b"<->", REL_ARROW),
-            (b"::", COLON2),
-            (b"(|", L_PAREN_PIPE),
-            (b"|)", R_PAREN_PIPE),
-            (b"[|", L_BRACK_PIPE),
-            (b"|]", R_BRACK_PIPE),
-            (b"<{", DEADLINE_OPEN),
-            (b"==", EQ2),
-            (b"!=", NEQ),
-            (b"<=", LTEQ),
-            (b">=", GTEQ),
-            (b"/\\", AND),
-            (b"\\/", OR),
-            (b"=>", IMPLIES),
-            (b"->", ARROW),
-            (b"{", L_CURLY),
-            (b"}", R_CURLY),
-            (b"(", L_PAREN),
-            (b")", R_PAREN),
-            (b"[", L_BRACK),
-            (b"]", R_BRACK),
-            (b":", COLON),
-            (b",", COMMA),
-            (b";", SEMI),
-            (b"@", AT),
-            (b"|", PIPE),
-            (b"#", HASH),
-            (b"?", QUESTION),
-            (b"!", BANG),
-            (b".", DOT),
-            (b"=", EQ),
-            (b"<", LT),
-            (b">", GT),
-            (b"+", PLUS),
-            (b"-", MINUS),
-            (b"*", STAR),
-            (b"/", SLASH),
-            (b"%", PERCENT),
-            (b"^", CARET),
-        ];
-        if r.starts_with(b"<-") && !r.starts_with(b"<->") {
-            // Hazard 5: RoboTool's lexer fails here; we read `<` `-` and say so.
-            self.error(
-                start,
-                2,
-                "`<-` is not a token: write `< -` (with a space) for a comparison with a negative number",
-            );
-            self.push(LT, 1);
-            return;
-        }
-        if r[0] == b'$' && matches!(self.file, FileKind::RoboSim | FileKind::SimAssertions) {
-            self.push(DOLLAR, 1);
-            return;
-        }
-        for (text, kind) in table {
-            if r.starts_with(text) {
-                self.push(*kind, text.len());
-                return;
+        let (b0, b1, b2) = (self.at(0), self.at(1), self.at(2));
+        // Longest match first (§1.5).
+        let (kind, len) = match (b0, b1) {
+            (b':', b':') if b2 == b'*' => (COLON2_STAR, 3),
+            (b':', b':') => (COLON2, 2),
+            (b':', _) => (COLON, 1),
+            (b'<', b'-') if b2 == b'>' => (REL_ARROW, 3),
+            (b'<', b'-') => {
+                // Hazard 5: RoboTool's lexer fails here; we read `<` `-` and say so.
+                self.error(
+                    start,
+                    2,
+                    "`<-` is not a token: write `< -` (with a space) for a comparison with a negative number",
+                );
+                (LT, 1)
             }
-        }
-        self.stray();
+            (b'<', b'{') => (DEADLINE_OPEN, 2),
+            (b'<', b'=') => (LTEQ, 2),
+            (b'<', _) => (LT, 1),
+            (b'(', b'|') => (L_PAREN_PIPE, 2),
+            (b'(', _) => (L_PAREN, 1),
+            (b'[', b'|') => (L_BRACK_PIPE, 2),
+            (b'[', _) => (L_BRACK, 1),
+            (b'|', b')') => (R_PAREN_PIPE, 2),
+            (b'|', b']') => (R_BRACK_PIPE, 2),
+            (b'|', _) => (PIPE, 1),
+            (b'=', b'=') => (EQ2, 2),
+            (b'=', b'>') => (IMPLIES, 2),
+            (b'=', _) => (EQ, 1),
+            (b'!', b'=') => (NEQ, 2),
+            (b'!', _) => (BANG, 1),
+            (b'>', b'=') => (GTEQ, 2),
+            (b'>', _) => (GT, 1),
+            (b'/', b'\\') => (AND, 2),
+            (b'/', _) => (SLASH, 1),
+            (b'\\', b'/') => (OR, 2),
+            (b'-', b'>') => (ARROW, 2),
+            (b'-', _) => (MINUS, 1),
+            (b'{', _) => (L_CURLY, 1),
+            (b'}', _) => (R_CURLY, 1),
+            (b')', _) => (R_PAREN, 1),
+            (b']', _) => (R_BRACK, 1),
+            (b',', _) => (COMMA, 1),
+            (b';', _) => (SEMI, 1),
+            (b'@', _) => (AT, 1),
+            (b'#', _) => (HASH, 1),
+            (b'?', _) => (QUESTION, 1),
+            (b'.', _) => (DOT, 1),
+            (b'+', _) => (PLUS, 1),
+            (b'*', _) => (STAR, 1),
+            (b'%', _) => (PERCENT, 1),
+            (b'^', _) => (CARET, 1),
+            (b'$', _) if self.dollar_is_token() => (DOLLAR, 1),
+            _ => return self.stray(),
+        };
+        self.push(kind, len);
     }
 
     /// A run of characters that mean nothing here becomes one error token.

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Fills fuzz/corpus/parse with seeds: every model of ../shared/corpus, our
+# examples and parser fixtures, plus a few hostile shapes.
+set -euo pipefail
+cd "$(dirname "$0")"
+out=corpus/parse
+mkdir -p "$out"
+find ../../shared/corpus ../examples ../crates/syntax/test_data ../crates/stdlib/lib \
+  -type f \( -name '*.rct' -o -name '*.rst' -o -name '*.assertions' -o -name '*.rsa' \) |
+  while read -r f; do cp "$f" "$out/$(echo "$f" | md5sum | cut -c1-16)"; done
+python3 - "$out" <<'PY'
+import sys, os
+out = sys.argv[1]
+open(os.path.join(out, "nested"), "w").write("function f() : int { postcondition " + "(" * 5000 + "1" + ")" * 5000 + " }")
+open(os.path.join(out, "longline"), "w").write("interface I { var x : int = " + "1 + " * 10000 + "1 }")
+PY
+echo "$(ls "$out" | wc -l) seeds in fuzz/$out"
