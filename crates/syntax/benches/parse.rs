@@ -5,28 +5,12 @@
 
 use robosim_syntax::{parse, FileKind};
 
+#[path = "generated.rs"]
+mod generated;
+use generated::generated_model;
+
 fn main() {
     divan::main();
-}
-
-/// A synthetic RoboChart model of about `lines` lines: many machines with
-/// states, transitions, guards and actions, in the style of real models.
-pub fn generated_model(lines: usize) -> String {
-    let mut s = String::from("package bench\nimport core::*\ninterface Ops { move(lv : real, av : real) stop() }\ninterface Evs { event obstacle event reading : nat }\n");
-    let mut i = 0;
-    while s.lines().count() < lines {
-        s.push_str(&format!(
-            "stm M{i} {{\n  requires Ops\n  uses Evs\n  var x : nat = 0, y : real\n  const PI : real = 3.14\n  clock C\n  initial i0\n  junction j0\n"
-        ));
-        for k in 0..8 {
-            s.push_str(&format!(
-                "  state S{k} {{\n    entry move(1.0, 0); x = x + 1\n    exit stop()\n  }}\n  transition t{k} {{ from S{k} to j0 trigger reading?x #C <{{ 2 }} condition x > {k} /\\ since(C) >= PI / 2 action y = y * 2.5; move(y, -1) }}\n"
-            ));
-        }
-        s.push_str("  transition ti { from i0 to S0 }\n  transition tj { from j0 to S0 condition else }\n}\n");
-        i += 1;
-    }
-    s
 }
 
 fn largest_corpus_file(only: Option<FileKind>) -> Option<(String, FileKind)> {

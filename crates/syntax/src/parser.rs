@@ -29,8 +29,8 @@ pub(crate) struct Input {
 
 impl Input {
     pub(crate) fn new(tokens: &[Token], text: &str) -> Input {
-        let mut kinds = Vec::with_capacity(tokens.len() / 2);
-        let mut ranges = Vec::with_capacity(tokens.len() / 2);
+        let mut kinds = Vec::with_capacity(tokens.len());
+        let mut ranges = Vec::with_capacity(tokens.len());
         let mut off = TextSize::from(0);
         for t in tokens {
             if !t.kind.is_trivia() {
@@ -84,7 +84,7 @@ pub(crate) struct Parser<'a> {
     depth: u32,
     /// The blocks currently open, innermost last (for recovery decisions
     /// and messages).
-    pub(crate) blocks: Vec<crate::grammar::Block>,
+    pub(crate) blocks: Vec<crate::grammar::Block<'a>>,
 }
 
 impl<'a> Parser<'a> {
@@ -94,7 +94,7 @@ impl<'a> Parser<'a> {
             text,
             pos: 0,
             fuel: Cell::new(FUEL),
-            events: Vec::new(),
+            events: Vec::with_capacity(input.kinds.len() * 2 + 16),
             errors: Vec::new(),
             file,
             depth: 0,
@@ -197,12 +197,12 @@ impl<'a> Parser<'a> {
         if self.eat(kind) {
             return true;
         }
-        self.error_expected(&kind.describe());
+        self.error_expected(kind.describe());
         false
     }
 
     /// Consumes `kind` or reports `message` (which should say where).
-    pub(crate) fn expect_msg(&mut self, kind: SyntaxKind, message: &str) -> bool {
+    pub(crate) fn expect_msg(&mut self, kind: SyntaxKind, message: impl std::fmt::Display) -> bool {
         if self.eat(kind) {
             return true;
         }
@@ -220,7 +220,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    pub(crate) fn error_expected(&mut self, what: &str) {
+    pub(crate) fn error_expected(&mut self, what: impl std::fmt::Display) {
         let msg = format!("expected {what}, found {}", self.found());
         self.error(msg);
     }

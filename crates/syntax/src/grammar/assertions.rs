@@ -1,7 +1,7 @@
 //! The assertion languages: `.assertions` (§5.1) and `.rsa` (§5.2).
 
 use super::exprs::expr;
-use super::{block, name, qualified_name, type_, BlockKind};
+use super::{block, name, qualified_name, type_, BlockKind, Named};
 use crate::parser::{Parser, TokenSet};
 use crate::SyntaxKind::*;
 
@@ -126,11 +126,8 @@ fn assertion(p: &mut Parser<'_>) {
     timing(p);
     p.bump(ASSERTION_KW);
     let n = name(p, "assertion");
-    let what = match &n {
-        Some(n) => format!("assertion `{n}`"),
-        None => "the assertion".into(),
-    };
-    p.expect_msg(COLON, &format!("expected `:` after the name of {what}"));
+    let what = Named { desc: "assertion", name: n };
+    p.expect_msg(COLON, format_args!("expected `:` after the name of {what}"));
     if p.at(CLOCK_KW) {
         if timed {
             p.error_at(timing_range, "the clock-initialisation assertion takes no `timed`/`untimed`");
@@ -144,9 +141,12 @@ fn assertion(p: &mut Parser<'_>) {
         b.complete(p, ASSERTION_BODY);
     } else {
         let s = p.start();
-        qualified_name(p, &format!("the subject of {what} (a module, controller, machine, operation or CSP process)"));
+        qualified_name(
+            p,
+            format_args!("the subject of {what} (a module, controller, machine, operation or CSP process)"),
+        );
         s.complete(p, ASSERTION_SUBJECT);
-        assertion_body(p, &what);
+        assertion_body(p, what);
     }
     if p.at(IN_KW) {
         let sm = p.start();
@@ -175,7 +175,7 @@ fn assertion(p: &mut Parser<'_>) {
     m.complete(p, ASSERTION);
 }
 
-fn assertion_body(p: &mut Parser<'_>, what: &str) {
+fn assertion_body(p: &mut Parser<'_>, what: Named<'_>) {
     let b = p.start();
     match p.current() {
         IS_KW => {
@@ -218,7 +218,7 @@ fn assertion_body(p: &mut Parser<'_>, what: &str) {
         REFINES_KW | EQUALS_KW => {
             let kw = p.nth_text(0);
             p.bump_any();
-            qualified_name(p, &format!("the element after `{kw}`"));
+            qualified_name(p, format_args!("the element after `{kw}`"));
         }
         _ => p.error(format!(
             "expected `is`, `refines`, `equals`, `does not` or `terminates` after the subject of {what}, found {}",
@@ -339,11 +339,8 @@ fn simulation(p: &mut Parser<'_>) {
     let n = name(p, "simulation");
     p.expect_msg(OF_KW, "expected `of` and the simulated element after the simulation's name");
     qualified_name(p, "the simulated module, controller or machine");
-    let what = match n {
-        Some(n) => format!("simulation `{n}`"),
-        None => "the simulation".into(),
-    };
-    p.blocks.push(super::Block { kind: BlockKind::File, what: "the file".into() });
+    let what = Named { desc: "simulation", name: n };
+    p.blocks.push(super::Block { kind: BlockKind::File, what: Named { desc: "file", name: None } });
     block(p, BlockKind::Simulation, what);
     p.blocks.pop();
     m.complete(p, SIMULATION);

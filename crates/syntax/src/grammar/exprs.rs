@@ -45,7 +45,7 @@ pub(crate) fn expr_bp(p: &mut Parser<'_>, min: u8) -> Option<CompletedMarker> {
     p.nested(|p| expr_bp_inner(p, min))
 }
 
-fn level_error(p: &mut Parser<'_>, what: &str) {
+fn level_error(p: &mut Parser<'_>, what: impl std::fmt::Display) {
     p.error(format!("{what} cannot be an operand here: wrap it in parentheses"));
 }
 
@@ -53,7 +53,7 @@ fn expr_bp_inner(p: &mut Parser<'_>, min: u8) -> Option<CompletedMarker> {
     let (mut lhs, mut level) = match p.current() {
         FORALL_KW | EXISTS_KW | EXISTS1_KW | LAMBDA_KW => {
             if min > LVL_QUANT {
-                level_error(p, &format!("a `{}` expression", p.nth_text(0)));
+                level_error(p, format_args!("a `{}` expression", p.nth_text(0)));
             }
             (quantifier(p), LVL_QUANT)
         }
@@ -140,7 +140,7 @@ fn expr_bp_inner(p: &mut Parser<'_>, min: u8) -> Option<CompletedMarker> {
         let m = lhs.precede(p);
         p.bump_any();
         if !at_expr_start(p) {
-            p.error_expected(&format!("an expression after `{}`", k.text().unwrap_or("")));
+            p.error_expected(format_args!("an expression after `{}`", k.text().unwrap_or("")));
         } else {
             expr_bp(p, op + 1);
         }
@@ -200,7 +200,7 @@ fn quantifier(p: &mut Parser<'_>) -> CompletedMarker {
     let kw = p.nth_text(0);
     p.bump_any();
     binders(p);
-    p.expect_msg(AT, &format!("expected `@` and the body of `{kw}` after its binders"));
+    p.expect_msg(AT, format_args!("expected `@` and the body of `{kw}` after its binders"));
     expr(p);
     m.complete(p, kind)
 }
@@ -224,7 +224,8 @@ pub(crate) fn binders(p: &mut Parser<'_>) {
 fn binder(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "bound variable");
-    if p.expect_msg(COLON, &format!("expected `:` and a type after the bound variable `{}`", n.unwrap_or_default())) {
+    if p.expect_msg(COLON, format_args!("expected `:` and a type after the bound variable `{}`", n.unwrap_or_default()))
+    {
         type_(p);
     }
     if p.at(EQ) {
@@ -239,7 +240,7 @@ fn let_expr(p: &mut Parser<'_>) -> CompletedMarker {
     loop {
         let d = p.start();
         let n = name(p, "`let` definition");
-        p.expect_msg(EQ2, &format!("expected `==` after `{}` in `let`", n.unwrap_or_default()));
+        p.expect_msg(EQ2, format_args!("expected `==` after `{}` in `let`", n.unwrap_or_default()));
         expr(p);
         d.complete(p, LET_DECL);
         if !p.eat(COMMA) {
@@ -466,7 +467,7 @@ pub(crate) fn atom(p: &mut Parser<'_>) -> Option<CompletedMarker> {
             let kind = if p.at(INVERSE_KW) { INVERSE_EXPR } else { TRANSPOSE_EXPR };
             let kw = p.nth_text(0);
             p.bump_any();
-            p.expect_msg(L_PAREN, &format!("expected `(` after `{kw}`"));
+            p.expect_msg(L_PAREN, format_args!("expected `(` after `{kw}`"));
             expr(p);
             p.expect(R_PAREN);
             kind

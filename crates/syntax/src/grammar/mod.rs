@@ -34,10 +34,27 @@ pub(crate) enum BlockKind {
 }
 
 /// An open block: its kind and a description for messages.
-#[derive(Clone, Debug)]
-pub(crate) struct Block {
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Block<'a> {
     kind: BlockKind,
-    what: String,
+    what: Named<'a>,
+}
+
+/// "state machine `M`", or "the state machine" when the name is missing;
+/// formatted only when a message needs it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Named<'a> {
+    pub(crate) desc: &'static str,
+    pub(crate) name: Option<&'a str>,
+}
+
+impl std::fmt::Display for Named<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.name {
+            Some(n) => write!(f, "{} `{}`", self.desc, n.trim_start_matches('^')),
+            None => write!(f, "the {}", self.desc),
+        }
+    }
 }
 
 /// The member forms a block can contain, recognised by their first token.
@@ -279,7 +296,7 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
         if p.at(PACKAGE_KW) {
             package_decl(p);
         }
-        p.blocks.push(Block { kind: BlockKind::File, what: "the file".into() });
+        p.blocks.push(Block { kind: BlockKind::File, what: Named { desc: "file", name: None } });
         members(p, BlockKind::File, true);
         p.blocks.pop();
     }
@@ -303,7 +320,7 @@ fn package_decl(p: &mut Parser<'_>) {
 }
 
 /// A block body `{ … }`: the `{` is expected at the current token.
-pub(crate) fn block(p: &mut Parser<'_>, kind: BlockKind, what: String) {
+pub(crate) fn block<'a>(p: &mut Parser<'a>, kind: BlockKind, what: Named<'a>) {
     if !p.at(L_CURLY) {
         p.error(format!("expected `{{` to open the body of {what}, found {}", p.found()));
         // Without a `{` only go on if a member of this block follows.
@@ -326,7 +343,7 @@ fn members(p: &mut Parser<'_>, kind: BlockKind, top: bool) {
     loop {
         if p.at_eof() {
             if !top {
-                let what = p.blocks.last().map(|b| b.what.clone()).unwrap_or_default();
+                let what = p.blocks.last().map(|b| b.what).unwrap_or(Named { desc: "file", name: None });
                 p.error(format!("expected `}}` to close the body of {what}"));
             }
             return;
@@ -340,7 +357,7 @@ fn members(p: &mut Parser<'_>, kind: BlockKind, top: bool) {
             return;
         }
         if !top && p.file.is_assertions() && p.at_ts(assertions::ITEM_START) && !p.at(CSP_KW) {
-            let what = p.blocks.last().map(|b| b.what.clone()).unwrap_or_default();
+            let what = p.blocks.last().map(|b| b.what).unwrap_or(Named { desc: "file", name: None });
             let range = p.prev_end();
             p.error_at(range, format!("expected `}}` to close the body of {what}"));
             return;
@@ -354,7 +371,7 @@ fn members(p: &mut Parser<'_>, kind: BlockKind, top: bool) {
                 member(p, m);
             }
             Some(m) if !top && enclosing_accepts(p, m) => {
-                let what = p.blocks.last().map(|b| b.what.clone()).unwrap_or_default();
+                let what = p.blocks.last().map(|b| b.what).unwrap_or(Named { desc: "file", name: None });
                 let range = p.prev_end();
                 p.error_at(range, format!("expected `}}` to close the body of {what} before {}", describe_member(m)));
                 return;
@@ -477,7 +494,7 @@ fn member(p: &mut Parser<'_>, m: Member) {
             let mk = p.start();
             let kw = p.nth_text(0);
             p.bump_any();
-            qualified_name(p, &format!("an interface name after `{kw}`"));
+            qualified_name(p, format_args!("an interface name after `{kw}`"));
             mk.complete(p, INTERFACE_USE);
         }
         Member::Variables => variable_list(p),
@@ -508,7 +525,7 @@ fn member(p: &mut Parser<'_>, m: Member) {
             if stmts::at_stmt_start(p) {
                 stmt(p);
             } else {
-                p.error_expected(&format!("a statement after `{kw}`"));
+                p.error_expected(format_args!("a statement after `{kw}`"));
             }
             mk.complete(p, kind);
         }
@@ -540,21 +557,21 @@ pub(crate) fn cycle_def(p: &mut Parser<'_>) {
 pub(crate) fn io_context(p: &mut Parser<'_>) {
     let mk = p.start();
     let (kind, block_kind, what) = if p.at(INPUT_KW) {
-        (INPUT_CONTEXT, BlockKind::InputContext, "the input context")
+        (INPUT_CONTEXT, BlockKind::InputContext, "input context")
     } else {
-        (OUTPUT_CONTEXT, BlockKind::OutputContext, "the output context")
+        (OUTPUT_CONTEXT, BlockKind::OutputContext, "output context")
     };
     p.bump_any();
     p.expect_msg(
         CONTEXT_KW,
-        &format!("expected `context` after `{}`", if kind == INPUT_CONTEXT { "input" } else { "output" }),
+        format_args!("expected `context` after `{}`", if kind == INPUT_CONTEXT { "input" } else { "output" }),
     );
-    block(p, block_kind, what.into());
+    block(p, block_kind, Named { desc: what, name: None });
     mk.complete(p, kind);
 }
 
 /// `kw Name { members }` for interfaces, controllers, machines and modules.
-fn named_block(p: &mut Parser<'_>, kw: SyntaxKind, node: SyntaxKind, kind: BlockKind, what: &str) {
+fn named_block(p: &mut Parser<'_>, kw: SyntaxKind, node: SyntaxKind, kind: BlockKind, what: &'static str) {
     let mk = p.start();
     p.bump(kw);
     let n = name(p, what);
@@ -562,11 +579,8 @@ fn named_block(p: &mut Parser<'_>, kw: SyntaxKind, node: SyntaxKind, kind: Block
     mk.complete(p, node);
 }
 
-fn describe_named(what: &str, name: Option<String>) -> String {
-    match name {
-        Some(n) => format!("{what} `{n}`"),
-        None => format!("the {what}"),
-    }
+fn describe_named<'a>(desc: &'static str, name: Option<&'a str>) -> Named<'a> {
+    Named { desc, name }
 }
 
 fn platform(p: &mut Parser<'_>) {
@@ -579,16 +593,16 @@ fn platform(p: &mut Parser<'_>) {
 }
 
 /// A declaring name. Returns its text when present.
-pub(crate) fn name(p: &mut Parser<'_>, what: &str) -> Option<String> {
+pub(crate) fn name<'a>(p: &mut Parser<'a>, what: impl std::fmt::Display) -> Option<&'a str> {
     if p.at(IDENT) {
-        let text = p.nth_text(0).trim_start_matches('^').to_string();
+        let text = p.nth_text(0).trim_start_matches('^');
         let m = p.start();
         p.bump(IDENT);
         m.complete(p, NAME);
         return Some(text);
     }
     if p.current().is_keyword() && !matches!(p.current(), TRUE_KW | FALSE_KW) && !p.at(L_CURLY) {
-        let kw = p.nth_text(0).to_string();
+        let kw = p.nth_text(0);
         // Take the keyword as the name so the rest keeps its structure.
         let m = p.start();
         p.error(format!(
@@ -598,12 +612,12 @@ pub(crate) fn name(p: &mut Parser<'_>, what: &str) -> Option<String> {
         m.complete(p, NAME);
         return Some(kw);
     }
-    p.error_expected(&format!("a name for the {what}"));
+    p.error_expected(format_args!("a name for the {what}"));
     None
 }
 
 /// A simple reference.
-pub(crate) fn name_ref(p: &mut Parser<'_>, what: &str) -> bool {
+pub(crate) fn name_ref(p: &mut Parser<'_>, what: impl std::fmt::Display) -> bool {
     if p.at(IDENT) {
         let m = p.start();
         p.bump(IDENT);
@@ -616,7 +630,7 @@ pub(crate) fn name_ref(p: &mut Parser<'_>, what: &str) -> bool {
 
 /// A simple reference where the grammar allows no `::`; a qualified name
 /// is reported and kept inside the reference.
-pub(crate) fn simple_name_ref(p: &mut Parser<'_>, what: &str) -> bool {
+pub(crate) fn simple_name_ref(p: &mut Parser<'_>, what: impl std::fmt::Display) -> bool {
     if !p.at(IDENT) {
         p.error_expected(what);
         return false;
@@ -635,7 +649,7 @@ pub(crate) fn simple_name_ref(p: &mut Parser<'_>, what: &str) -> bool {
 }
 
 /// `ID ( "::" ID )*`.
-pub(crate) fn qualified_name(p: &mut Parser<'_>, what: &str) -> bool {
+pub(crate) fn qualified_name(p: &mut Parser<'_>, what: impl std::fmt::Display) -> bool {
     if !p.at(IDENT) {
         p.error_expected(what);
         return false;
@@ -696,8 +710,8 @@ fn type_decl(p: &mut Parser<'_>) {
 }
 
 /// `{ item* }` where every item starts with an identifier.
-fn list_body(p: &mut Parser<'_>, kind: BlockKind, what: String, item: fn(&mut Parser<'_>)) {
-    if !p.expect_msg(L_CURLY, &format!("expected `{{` to open the body of {what}")) {
+fn list_body<'a>(p: &mut Parser<'a>, kind: BlockKind, what: Named<'a>, item: fn(&mut Parser<'a>)) {
+    if !p.expect_msg(L_CURLY, format_args!("expected `{{` to open the body of {what}")) {
         return;
     }
     loop {
@@ -725,7 +739,7 @@ fn list_body(p: &mut Parser<'_>, kind: BlockKind, what: String, item: fn(&mut Pa
 fn field(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "field");
-    p.expect_msg(COLON, &format!("expected `:` and a type after field `{}`", n.unwrap_or_default()));
+    p.expect_msg(COLON, format_args!("expected `:` and a type after field `{}`", n.unwrap_or_default()));
     type_(p);
     m.complete(p, FIELD);
 }
@@ -760,7 +774,7 @@ fn variable_list(p: &mut Parser<'_>) {
 fn variable(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "variable");
-    p.expect_msg(COLON, &format!("expected `:` and a type after variable `{}`", n.unwrap_or_default()));
+    p.expect_msg(COLON, format_args!("expected `:` and a type after variable `{}`", n.unwrap_or_default()));
     type_(p);
     if p.eat(EQ) {
         expr(p);
@@ -810,7 +824,7 @@ fn param_list(p: &mut Parser<'_>) {
 fn param(p: &mut Parser<'_>) {
     let m = p.start();
     let n = name(p, "parameter");
-    p.expect_msg(COLON, &format!("expected `:` and a type after parameter `{}`", n.unwrap_or_default()));
+    p.expect_msg(COLON, format_args!("expected `:` and a type after parameter `{}`", n.unwrap_or_default()));
     type_(p);
     m.complete(p, PARAM);
 }
@@ -819,9 +833,9 @@ fn reference(p: &mut Parser<'_>, kind: SyntaxKind, what: &str) {
     let m = p.start();
     let kw = p.nth_text(0);
     p.bump_any();
-    name(p, &format!("{what} reference"));
-    p.expect_msg(EQ, &format!("expected `=` and the {what} definition after `{kw}` and its name"));
-    qualified_name(p, &format!("the name of a {what} definition"));
+    name(p, format_args!("{what} reference"));
+    p.expect_msg(EQ, format_args!("expected `=` and the {what} definition after `{kw}` and its name"));
+    qualified_name(p, format_args!("the name of a {what} definition"));
     m.complete(p, kind);
 }
 
@@ -839,8 +853,7 @@ fn function(p: &mut Parser<'_>) {
     p.bump(FUNCTION_KW);
     let n = name(p, "function");
     param_list(p);
-    if p.expect_msg(COLON, &format!("expected `:` and the result type of function `{}`", n.clone().unwrap_or_default()))
-    {
+    if p.expect_msg(COLON, format_args!("expected `:` and the result type of function `{}`", n.unwrap_or_default())) {
         type_(p);
     }
     block(p, BlockKind::Function, describe_named("function", n));

@@ -211,7 +211,7 @@ fn assignment(p: &mut Parser<'_>, dollar: bool) -> SyntaxKind {
     if dollar {
         p.bump(DOLLAR);
     }
-    let target = p.nth_text(0).trim_start_matches('^').to_string();
+    let target = p.nth_text(0).trim_start_matches('^');
     qualified_name(p, "a variable");
     loop {
         match p.current() {
@@ -235,7 +235,7 @@ fn assignment(p: &mut Parser<'_>, dollar: bool) -> SyntaxKind {
         }
     }
     t.complete(p, ASSIGNABLE);
-    if p.expect_msg(EQ, &format!("expected `=` and a value in the assignment to `{target}`")) {
+    if p.expect_msg(EQ, format_args!("expected `=` and a value in the assignment to `{target}`")) {
         expr(p);
     }
     ASSIGN_STMT
@@ -315,18 +315,15 @@ pub(crate) fn transition(p: &mut Parser<'_>) {
     let m = p.start();
     p.bump(TRANSITION_KW);
     let n = name(p, "transition");
-    let what = match &n {
-        Some(n) => format!("transition `{n}`"),
-        None => "the transition".to_string(),
-    };
-    if !p.expect_msg(L_CURLY, &format!("expected `{{` to open the body of {what}")) && !p.at(FROM_KW) {
+    let what = super::Named { desc: "transition", name: n };
+    if !p.expect_msg(L_CURLY, format_args!("expected `{{` to open the body of {what}")) && !p.at(FROM_KW) {
         m.complete(p, TRANSITION);
         return;
     }
     if p.at(FROM_KW) {
         let s = p.start();
         p.bump(FROM_KW);
-        simple_name_ref(p, &format!("the source of {what}"));
+        simple_name_ref(p, format_args!("the source of {what}"));
         s.complete(p, TRANSITION_SOURCE);
     } else {
         p.error(format!("expected `from` and the source of {what}, found {}", p.found()));
@@ -334,7 +331,7 @@ pub(crate) fn transition(p: &mut Parser<'_>) {
     if p.at(TO_KW) {
         let s = p.start();
         p.bump(TO_KW);
-        simple_name_ref(p, &format!("the target of {what}"));
+        simple_name_ref(p, format_args!("the target of {what}"));
         s.complete(p, TRANSITION_TARGET);
     } else {
         p.error(format!("expected `to` after the source of {what}, found {}", p.found()));

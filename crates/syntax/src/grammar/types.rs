@@ -58,10 +58,10 @@ fn vector_type(p: &mut Parser<'_>) -> Option<CompletedMarker> {
     let m = p.start();
     let kw = p.nth_text(0);
     p.bump_any();
-    if p.expect_msg(L_PAREN, &format!("expected `(` after `{kw}`")) {
+    if p.expect_msg(L_PAREN, format_args!("expected `(` after `{kw}`")) {
         type_(p);
         for _ in 0..sizes {
-            p.expect_msg(COMMA, &format!("expected `,` and a size in `{kw}(…)`"));
+            p.expect_msg(COMMA, format_args!("expected `,` and a size in `{kw}(…)`"));
             if exprs::at_atom_start(p) {
                 let size = exprs::atom(p);
                 if matches!(p.current(), PLUS | MINUS | STAR | SLASH | PERCENT) {
