@@ -10,26 +10,7 @@ use serde_json::{json, Value};
 
 use crate::workspace::Workspace;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Severity {
-    Error,
-    Warning,
-    #[allow(dead_code)]
-    Info,
-    #[allow(dead_code)]
-    Hint,
-}
-
-impl Severity {
-    fn as_str(self) -> &'static str {
-        match self {
-            Severity::Error => "error",
-            Severity::Warning => "warning",
-            Severity::Info => "info",
-            Severity::Hint => "hint",
-        }
-    }
-}
+pub use robosim_hir::Severity;
 
 /// A secondary location that explains a diagnostic.
 #[derive(Debug, Clone)]
@@ -78,7 +59,7 @@ pub fn to_json(ws: &Workspace, diags: &[Diagnostic]) -> Value {
             })
         })
         .collect();
-    json!({ "files": ws.files.len(), "diagnostics": list })
+    json!({ "files": ws.user_files, "diagnostics": list })
 }
 
 /// Renders every diagnostic with source excerpts, then a summary line.
@@ -113,8 +94,8 @@ pub fn render_human(ws: &Workspace, diags: &[Diagnostic], color: bool) -> std::i
     writeln!(
         writer,
         "checked {} file{}: {} error{}, {} warning{}",
-        ws.files.len(),
-        plural(ws.files.len()),
+        ws.user_files,
+        plural(ws.user_files),
         errors,
         plural(errors),
         warnings,

@@ -90,8 +90,12 @@ fn fail(msg: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn check(format: Format, _rules: Rules, color: Color, paths: &[PathBuf]) -> ExitCode {
-    let ws = match Workspace::load(paths) {
+fn check(format: Format, rules: Rules, color: Color, paths: &[PathBuf]) -> ExitCode {
+    let rules = match rules {
+        Rules::Paper => robosim_hir::RuleSet::Paper,
+        Rules::Robotool => robosim_hir::RuleSet::RoboTool,
+    };
+    let ws = match Workspace::load(paths, rules) {
         Ok(ws) => ws,
         Err(e) => return fail(e),
     };
@@ -121,17 +125,18 @@ fn check(format: Format, _rules: Rules, color: Color, paths: &[PathBuf]) -> Exit
 }
 
 fn parse(tree: bool, file: &std::path::Path) -> ExitCode {
-    let ws = match Workspace::load(&[file.to_path_buf()]) {
+    let ws = match Workspace::load(&[file.to_path_buf()], robosim_hir::RuleSet::Paper) {
         Ok(ws) => ws,
         Err(e) => return fail(e),
     };
-    let Some(f) = ws.files.first() else {
+    if ws.user_files == 0 {
         return fail(format!("`{}` is not a model file (.rct, .rst, .assertions, .rsa)", file.display()));
-    };
+    }
+    let parse = ws.parse(0);
     let mut out = std::io::stdout().lock();
-    let text = if tree { f.parse.debug_dump() } else { f.parse.syntax_node().text().to_string() };
+    let text = if tree { parse.debug_dump() } else { parse.syntax_node().text().to_string() };
     let _ = out.write_all(text.as_bytes());
-    let has_error = f.parse.errors().iter().any(|e| e.severity == robosim_syntax::Severity::Error);
+    let has_error = parse.errors().iter().any(|e| e.severity == robosim_syntax::Severity::Error);
     if !tree {
         let diags: Vec<Diagnostic> = ws.diagnostics();
         let _ = diagnostics::render_human(&ws, &diags, false);

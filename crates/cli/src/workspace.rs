@@ -3,10 +3,13 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use robosim_syntax::line_index::LineIndex;
-use robosim_syntax::{parse, FileKind, Parse, TextRange, TextSize};
+use std::collections::HashMap;
 
-use crate::diagnostics::{Diagnostic, Severity};
+use robosim_hir::{RootDatabase, RuleSet};
+use robosim_syntax::line_index::LineIndex;
+use robosim_syntax::{FileKind, Parse, TextRange, TextSize};
+
+use crate::diagnostics::{Diagnostic, Related, Severity};
 
 /// One loaded model file.
 pub struct SourceFile {
@@ -14,14 +17,20 @@ pub struct SourceFile {
     pub path: String,
     pub text: String,
     pub line_index: LineIndex,
-    pub parse: Parse,
     /// Byte offset of the first invalid UTF-8 sequence, if any.
     pub invalid_utf8: Option<usize>,
+    /// The file's input in the semantic database.
+    pub input: robosim_hir::File,
 }
 
-/// Every file of one `check` run.
+/// Every file of one `check` run, and the semantic database over them. The
+/// bundled library files come after the user's files.
 pub struct Workspace {
     pub files: Vec<SourceFile>,
+    /// How many of `files` the user gave (the rest is the library).
+    pub user_files: usize,
+    pub db: RootDatabase,
+    pub input: robosim_hir::Workspace,
 }
 
 /// A usage or I/O problem: exit status 2.
@@ -50,7 +59,7 @@ fn looks_like_restructured_text(text: &str) -> bool {
 }
 
 impl Workspace {
-    pub fn load(paths: &[PathBuf]) -> Result<Workspace, LoadError> {
+    pub fn load(paths: &[PathBuf], rules: RuleSet) -> Result<Workspace, LoadError> {
         let mut found = Vec::new();
         for p in paths {
             let meta = std::fs::metadata(p)
@@ -66,7 +75,7 @@ impl Workspace {
                 )));
             }
         }
-        let mut files = Vec::new();
+        let mut loaded = Vec::new();
         for (p, explicit) in found {
             let bytes =
                 std::fs::read(&p).map_err(|e| LoadError(format!("cannot read `{}`: {}", p.display(), io_msg(&e))))?;
@@ -81,22 +90,53 @@ impl Workspace {
             if kind == FileKind::RoboSim && !explicit && looks_like_restructured_text(&text) {
                 continue;
             }
-            let parse = parse(&text, kind);
-            files.push(SourceFile {
-                path: p.to_string_lossy().into_owned(),
-                line_index: LineIndex::new(&text),
-                text,
-                parse,
-                invalid_utf8,
-            });
+            loaded.push((p.to_string_lossy().into_owned(), text, invalid_utf8));
         }
-        Ok(Workspace { files })
+        Ok(Workspace::new(loaded, rules))
     }
 
-    /// Every diagnostic, ordered by file and position.
+    fn new(loaded: Vec<(String, String, Option<usize>)>, rules: RuleSet) -> Workspace {
+        let db = RootDatabase::default();
+        let input = robosim_hir::load_workspace(&db, loaded.iter().map(|(p, t, _)| (p.clone(), t.clone())), rules);
+        let inputs = input.files(&db).clone();
+        // The library comes first in the database, last here.
+        let (lib, user): (Vec<_>, Vec<_>) = inputs.into_iter().partition(|f| f.is_library(&db));
+        let mut files: Vec<SourceFile> = user
+            .into_iter()
+            .zip(loaded)
+            .map(|(input, (path, text, invalid_utf8))| SourceFile {
+                path,
+                line_index: LineIndex::new(&text),
+                text,
+                invalid_utf8,
+                input,
+            })
+            .collect();
+        let user_files = files.len();
+        for input in lib {
+            let text = input.text(&db).clone();
+            files.push(SourceFile {
+                path: input.path(&db).clone(),
+                line_index: LineIndex::new(&text),
+                text,
+                invalid_utf8: None,
+                input,
+            });
+        }
+        Workspace { files, user_files, db, input }
+    }
+
+    /// The syntax tree of file `i`.
+    pub fn parse(&self, i: usize) -> &Parse {
+        robosim_hir::parse(&self.db, self.files[i].input)
+    }
+
+    /// Every diagnostic of the user's files, ordered by file and position.
     pub fn diagnostics(&self) -> Vec<Diagnostic> {
+        let index: HashMap<robosim_hir::File, usize> =
+            self.files.iter().enumerate().map(|(i, f)| (f.input, i)).collect();
         let mut out = Vec::new();
-        for (id, f) in self.files.iter().enumerate() {
+        for (id, f) in self.files.iter().enumerate().take(self.user_files) {
             if let Some(at) = f.invalid_utf8 {
                 let at = TextSize::from(at as u32);
                 out.push(Diagnostic {
@@ -108,17 +148,20 @@ impl Workspace {
                     related: Vec::new(),
                 });
             }
-            for e in f.parse.errors() {
+            for d in robosim_hir::file_diagnostics(&self.db, self.input, f.input) {
                 out.push(Diagnostic {
                     file: id,
-                    range: e.range,
-                    severity: match e.severity {
-                        robosim_syntax::Severity::Error => Severity::Error,
-                        robosim_syntax::Severity::Warning => Severity::Warning,
-                    },
-                    code: e.code().into(),
-                    message: e.message.clone(),
-                    related: Vec::new(),
+                    range: d.range,
+                    severity: d.severity,
+                    code: d.code.clone(),
+                    message: d.message.clone(),
+                    related: d
+                        .related
+                        .iter()
+                        .filter_map(|r| {
+                            Some(Related { file: *index.get(&r.file)?, range: r.range, message: r.message.clone() })
+                        })
+                        .collect(),
                 });
             }
         }

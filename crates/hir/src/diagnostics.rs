@@ -1,0 +1,81 @@
+//! Diagnostics as returned values: syntax errors first, then the semantic
+//! rules.
+
+use robosim_syntax::TextRange;
+
+use crate::{parse, Db, File, Workspace};
+
+/// How serious a diagnostic is (LSP's severities).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Severity {
+    /// Must be fixed: the model is not well formed.
+    Error,
+    /// Probably a mistake, or rejected by RoboTool.
+    Warning,
+    /// Worth knowing.
+    Info,
+    /// A suggestion.
+    Hint,
+}
+
+impl Severity {
+    /// `error`, `warning`, `info` or `hint`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+            Severity::Info => "info",
+            Severity::Hint => "hint",
+        }
+    }
+}
+
+/// A secondary location that explains a diagnostic.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Related {
+    /// The file of the location.
+    pub file: File,
+    /// The range in that file.
+    pub range: TextRange,
+    /// What is there.
+    pub message: String,
+}
+
+/// One diagnostic on a range of a file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Diagnostic {
+    /// The file it is reported in.
+    pub file: File,
+    /// Where, in bytes.
+    pub range: TextRange,
+    /// How serious.
+    pub severity: Severity,
+    /// The stable code (`SYN-01`, `LNK-01`, `RS:M2`, …).
+    pub code: String,
+    /// What is wrong.
+    pub message: String,
+    /// Other locations involved.
+    pub related: Vec<Related>,
+}
+
+/// Every diagnostic of `file`, sorted by position.
+#[salsa::tracked(returns(ref))]
+pub fn file_diagnostics(db: &dyn Db, _workspace: Workspace, file: File) -> Vec<Diagnostic> {
+    let mut out: Vec<Diagnostic> = parse(db, file)
+        .errors()
+        .iter()
+        .map(|e| Diagnostic {
+            file,
+            range: e.range,
+            severity: match e.severity {
+                robosim_syntax::Severity::Error => Severity::Error,
+                robosim_syntax::Severity::Warning => Severity::Warning,
+            },
+            code: e.code().to_string(),
+            message: e.message.clone(),
+            related: Vec::new(),
+        })
+        .collect();
+    out.sort_by_key(|d| (d.range.start(), d.range.end()));
+    out
+}
