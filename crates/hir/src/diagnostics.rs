@@ -60,7 +60,7 @@ pub struct Diagnostic {
 
 /// Every diagnostic of `file`, sorted by position.
 #[salsa::tracked(returns(ref))]
-pub fn file_diagnostics(db: &dyn Db, _workspace: Workspace, file: File) -> Vec<Diagnostic> {
+pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Diagnostic> {
     let mut out: Vec<Diagnostic> = parse(db, file)
         .errors()
         .iter()
@@ -76,6 +76,26 @@ pub fn file_diagnostics(db: &dyn Db, _workspace: Workspace, file: File) -> Vec<D
             related: Vec::new(),
         })
         .collect();
-    out.sort_by_key(|d| (d.range.start(), d.range.end()));
+    if !file.is_library(db) {
+        let rules = workspace.rules(db);
+        let make = |code: &str, range, message: String, related: Vec<Related>| Diagnostic {
+            file,
+            range,
+            severity: crate::codes::severity(code, rules),
+            code: code.to_string(),
+            message,
+            related,
+        };
+        for p in &crate::resolve::file_resolution(db, workspace, file).problems {
+            out.push(make(p.code, p.range, p.message.clone(), Vec::new()));
+        }
+        for p in crate::checks::file_checks(db, workspace, file) {
+            let related =
+                p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();
+            out.push(make(p.code, p.range, p.message.clone(), related));
+        }
+    }
+    out.sort_by(|a, b| (a.range.start(), a.range.end(), &a.code).cmp(&(b.range.start(), b.range.end(), &b.code)));
+    out.dedup_by(|a, b| a.range == b.range && a.code == b.code && a.message == b.message);
     out
 }

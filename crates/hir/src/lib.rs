@@ -7,8 +7,13 @@
 //! results are plain values, so the CLI, the language server and tests read
 //! them the same way.
 
+mod checks;
+pub mod codes;
 mod db;
+pub mod defs;
 mod diagnostics;
+pub mod index;
+pub mod resolve;
 
 pub use db::{Db, RootDatabase};
 pub use diagnostics::{file_diagnostics, Diagnostic, Related, Severity};

@@ -1,0 +1,124 @@
+//! The rule catalogue: every diagnostic code with its severity under each
+//! rule set and a one-line explanation (shown in hovers and `--explain`).
+//! Codes are those of ../shared/spec/wellformedness.md, `XT-` dropped.
+
+use crate::{RuleSet, Severity};
+
+/// One rule of the catalogue.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rule {
+    /// The stable code.
+    pub code: &'static str,
+    /// Severity under the `paper` rule set.
+    pub paper: Severity,
+    /// Severity under the `robotool` rule set.
+    pub robotool: Severity,
+    /// What the rule requires.
+    pub summary: &'static str,
+}
+
+use Severity::{Error as E, Info as I, Warning as W};
+
+macro_rules! rules {
+    ($($code:literal $paper:ident $robotool:ident $summary:literal;)*) => {
+        /// Every rule, in catalogue order.
+        pub const RULES: &[Rule] = &[$(Rule { code: $code, paper: $paper, robotool: $robotool, summary: $summary }),*];
+    };
+}
+
+rules! {
+    "SYN-01" E E "The file parses with RoboTool's grammar for its language.";
+    "SYN-02" W W "Accepted here, but RoboTool's lexer rejects it.";
+    "LNK-01" E E "Every reference resolves to an element of the right kind in scope.";
+    "DUP-01" E E "No two elements of the same kind share a name in the same place.";
+    "REQ-01" E E "Required parts are present: RoboSim modules, controllers and machines need a cycleDef; machines and operations need input and output contexts.";
+    "RC-PKG-01" W W "Fully qualified names are unique across the workspace.";
+    "RC-PKG-02" W W "Every import matches a package or element of the workspace.";
+    "RC-TYPE-01" E E "A record has at least one field.";
+    "RC-TYPE-02" E E "A vector size is an integer literal or a constant.";
+    "RC-TYPE-03" E E "Matrix dimensions are integer literals or constants.";
+    "RC:I2" E E "An interface does not declare both events and operations.";
+    "RC:I1-req" E E "An interface that a context requires declares no events.";
+    "RC:I1-prov" E E "An interface that a context provides declares no events.";
+    "RC-IFC-01" E E "An interface that a context provides declares no clocks.";
+    "RC:I2-uses" E E "An interface that a context uses declares no operations.";
+    "RC:RP1" E E "A robotic platform requires no interface.";
+    "RC:RP2" E E "Interfaces a robotic platform uses declare no clocks.";
+    "RC:C1" E E "A controller has at least one state machine.";
+    "RC:C2" E E "A controller provides no interface.";
+    "RC:C6" E E "Within a controller, each event of each node is in at most one connection.";
+    "RC:C10" E E "Interfaces a controller uses declare no clocks.";
+    "RC:C11" E E "Interfaces a controller requires declare no clocks.";
+    "RC:M1" E E "A module has exactly one robotic platform.";
+    "RC-MOD-01" E E "A module has at least one controller.";
+    "RC-MOD-02" E E "A module contains no state machine directly.";
+    "RC:M3" E E "Within a module, each event of each node is in at most one connection.";
+    "RC:Cn1" E E "A module's connections join only its platform and controllers.";
+    "RC:Cn2" E E "Connections with the robotic platform are asynchronous.";
+    "RC:Cn3" E E "A controller's connections join only the controller and its machines.";
+    "RC:Cn10" E E "Each end of a connection names an event of that end's node.";
+    "RC:Cn11" W W "Asynchronous connections between two machines have no semantics.";
+    "RC-CONN-03" W W "A synchronous connection of an event to itself means nothing.";
+    "RC:STM1" E E "A state machine provides no interface.";
+    "RC:STM3" E E "A state machine has exactly one initial junction at its top level.";
+    "RC:STM3-nested" W W "A composite state or operation with nodes has exactly one initial junction.";
+    "RC:STM4" E E "A machine, composite state or operation with nodes has at least one state or final state.";
+    "RC:STM7" E E "Interfaces a state machine requires declare no clocks.";
+    "RC:O1:STM1" E E "An operation definition provides no interface.";
+    "RC:S2" E E "A state has at most one entry, one during and one exit action.";
+    "RC:IJ1" E E "No transition enters an initial junction.";
+    "RC:IJ2" E E "An initial junction has exactly one outgoing transition.";
+    "RC:J1" E E "A junction has at least one outgoing transition.";
+    "RC-JUNC-01" E E "A junction has at least one incoming transition.";
+    "RC:FS1" E E "No transition leaves a final state.";
+    "RC:J3" E E "A transition with a trigger (RoboSim: exec) leaves a state, not a junction.";
+    "RC:TT1" E E "A transition with a deadline has a trigger.";
+    "RC:PJ1" E E "A transition leaving a probabilistic junction has a probability.";
+    "RC:PJ2" E E "A transition leaving a probabilistic junction has no condition.";
+    "RC:PT1" E E "Only transitions leaving a probabilistic junction carry a probability.";
+    "RS:M1" E W "A RoboSim module's cycleDef is a boolean expression.";
+    "RS:M2" E W "A module's and its controllers' cycle specifications admit a common positive period.";
+    "RS:M3" E W "The outputs of a module's controllers are disjoint.";
+    "RS:C1" E W "A RoboSim controller's cycleDef is a boolean expression.";
+    "RS:C2" E W "A controller's and its machines' cycle specifications admit a common positive period.";
+    "RS:C3" E W "Connections with a machine respect its inputs and outputs.";
+    "RS:C4" E W "The outputs of a controller's machines are disjoint.";
+    "RS:SM1" E W "A RoboSim machine's cycleDef is a boolean expression.";
+    "RS:SM2" E W "A machine's inputs are only events and variables.";
+    "RS:SM3" E W "Only required variables can be inputs or outputs.";
+    "RS:SM4" E W "Variables a machine requires are inputs or outputs.";
+    "RS:SM5" E W "Operations a machine calls are outputs, unless its controller defines them.";
+    "RS:SM6" E W "Inputs, outputs and required variables are referred to with `$`; local names without it.";
+    "RS-CYC-01" W W "A cycle specification admits at least one positive period on its own.";
+    "RS-CYC-02" W W "A cycle specification mentions only `cycle`, literals and constants.";
+    "RS-CYC-03" I I "The cycle specifications could not be decided.";
+    "RS-IO-01" E E "Interfaces used in an output context declare no variables.";
+    "RS-IO-02" E E "Interfaces used in an input context declare only events.";
+}
+
+/// The rule with `code`.
+pub fn rule(code: &str) -> Option<&'static Rule> {
+    RULES.iter().find(|r| r.code == code)
+}
+
+/// The severity of `code` under `rules` (unknown codes are errors).
+pub fn severity(code: &str, rules: RuleSet) -> Severity {
+    match rule(code) {
+        Some(r) => match rules {
+            RuleSet::Paper => r.paper,
+            RuleSet::RoboTool => r.robotool,
+        },
+        None => Severity::Error,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn codes_are_unique() {
+        let mut seen = std::collections::HashSet::new();
+        for r in super::RULES {
+            assert!(seen.insert(r.code), "duplicate code {}", r.code);
+        }
+    }
+}

@@ -1,0 +1,230 @@
+//! Workspace-wide names. Each file contributes a position-free summary of
+//! the items it declares (names, kinds, members, interface uses), so that
+//! editing inside a machine body does not invalidate other files' results;
+//! the workspace index maps qualified names to items; `resolve_item` finds
+//! the item a (qualified) name means from a given file, with RoboTool's
+//! visibility: the file's package, files without a package, imports
+//! (wildcard imports also qualify relative names) and the library.
+
+use std::collections::HashMap;
+
+use crate::defs::{file_defs, DefData, DefId, DefKind, Io, TypeRef, UseKind};
+use crate::{Db, File, Workspace};
+
+/// A member of an item, without positions.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct MemberSummary {
+    /// Name.
+    pub name: String,
+    /// Kind (event, variable, constant, clock, operation signature, …).
+    pub kind: DefKind,
+    /// Declared type, for typed members.
+    pub ty: Option<TypeRef>,
+    /// The I/O context it sits in.
+    pub io: Option<Io>,
+    /// For operation signatures and definitions: parameter names and types.
+    pub params: Vec<(String, Option<TypeRef>)>,
+    /// For references (`sref`, …): the target path.
+    pub target: Vec<String>,
+    /// Whether a `_broadcast` event.
+    pub broadcast: bool,
+}
+
+/// A top-level item, without positions.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ItemSummary {
+    /// Name.
+    pub name: String,
+    /// Kind.
+    pub kind: DefKind,
+    /// Direct members: events, variables, constants, clocks, operations,
+    /// references, inline machines/controllers/platforms, fields, literals.
+    pub members: Vec<MemberSummary>,
+    /// `uses/provides/requires` of the item itself (and of its I/O
+    /// contexts), with the path as written.
+    pub uses: Vec<(UseKind, Vec<String>, Option<Io>)>,
+    /// Parameters, for operations and functions.
+    pub params: Vec<(String, Option<TypeRef>)>,
+}
+
+/// What a file contributes to the workspace.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct FileSummary {
+    /// The package path.
+    pub package: Vec<String>,
+    /// Imports: path and whether wildcard.
+    pub imports: Vec<(Vec<String>, bool)>,
+    /// Top-level items.
+    pub items: Vec<ItemSummary>,
+}
+
+/// The position-free summary of a file.
+#[salsa::tracked(returns(ref))]
+pub fn file_summary(db: &dyn Db, file: File) -> FileSummary {
+    let defs = file_defs(db, file);
+    let mut out = FileSummary {
+        package: defs.package.clone(),
+        imports: defs.imports.iter().map(|i| (i.path.clone(), i.wildcard)).collect(),
+        items: Vec::new(),
+    };
+    for (id, d) in defs.children(None) {
+        if d.name.is_empty() {
+            continue;
+        }
+        let members =
+            defs.children(Some(id)).filter(|(_, m)| !m.name.is_empty()).map(|(_, m)| member_summary(m)).collect();
+        let uses = defs.uses_of(id).map(|u| (u.kind, u.path.clone(), u.io)).collect();
+        let params = match &d.data {
+            DefData::Signature { params, .. } => params.clone(),
+            _ => Vec::new(),
+        };
+        out.items.push(ItemSummary { name: d.name.clone(), kind: d.kind, members, uses, params });
+    }
+    out
+}
+
+fn member_summary(m: &crate::defs::Def) -> MemberSummary {
+    let (ty, broadcast) = match &m.data {
+        DefData::Typed { ty, broadcast, .. } => (ty.clone(), *broadcast),
+        _ => (None, false),
+    };
+    let params = match &m.data {
+        DefData::Signature { params, .. } => params.clone(),
+        _ => Vec::new(),
+    };
+    let target = match &m.data {
+        DefData::Reference { path, .. } => path.clone(),
+        _ => Vec::new(),
+    };
+    MemberSummary { name: m.name.clone(), kind: m.kind, ty: strip_ranges(ty), io: m.io, params, target, broadcast }
+}
+
+/// Type references keep their ranges in definitions, but summaries must
+/// not change when text only moves.
+fn strip_ranges(ty: Option<TypeRef>) -> Option<TypeRef> {
+    fn strip(t: TypeRef) -> TypeRef {
+        use robosim_syntax::TextRange;
+        let z = TextRange::empty(0.into());
+        match t {
+            TypeRef::Named(p, _) => TypeRef::Named(p, z),
+            TypeRef::Set(a) => TypeRef::Set(Box::new(strip(*a))),
+            TypeRef::Seq(a) => TypeRef::Seq(Box::new(strip(*a))),
+            TypeRef::Product(v) => TypeRef::Product(v.into_iter().map(strip).collect()),
+            TypeRef::Function(a, b) => TypeRef::Function(Box::new(strip(*a)), Box::new(strip(*b))),
+            TypeRef::Relation(a, b) => TypeRef::Relation(Box::new(strip(*a)), Box::new(strip(*b))),
+            TypeRef::Vector(a, _) => TypeRef::Vector(Box::new(strip(*a)), z),
+            TypeRef::Matrix(a, _, _) => TypeRef::Matrix(Box::new(strip(*a)), z, z),
+            other => other,
+        }
+    }
+    ty.map(strip)
+}
+
+/// An item of the workspace: the file and its index in the file's summary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ItemLoc {
+    /// The declaring file.
+    pub file: File,
+    /// Index into [`FileSummary::items`].
+    pub index: u32,
+}
+
+impl ItemLoc {
+    /// The item's summary.
+    pub fn summary(self, db: &dyn Db) -> &ItemSummary {
+        &file_summary(db, self.file).items[self.index as usize]
+    }
+
+    /// The item's definition in its file (reads the file's positions).
+    pub fn def(self, db: &dyn Db) -> Option<DefId> {
+        file_defs(db, self.file)
+            .children(None)
+            .filter(|(_, d)| !d.name.is_empty())
+            .nth(self.index as usize)
+            .map(|(id, _)| id)
+    }
+}
+
+/// Qualified names of the whole workspace.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Index {
+    /// Full path (package segments, then the item name) → items.
+    pub items: HashMap<Vec<String>, Vec<ItemLoc>>,
+    /// Every package path that some file declares (and its prefixes).
+    pub packages: std::collections::HashSet<Vec<String>>,
+}
+
+/// The index over every file of the workspace.
+#[salsa::tracked(returns(ref))]
+pub fn workspace_index(db: &dyn Db, ws: Workspace) -> Index {
+    let mut index = Index::default();
+    for &file in ws.files(db) {
+        let s = file_summary(db, file);
+        for i in 0..s.package.len() {
+            index.packages.insert(s.package[..=i].to_vec());
+        }
+        for (i, item) in s.items.iter().enumerate() {
+            let mut path = s.package.clone();
+            path.push(item.name.clone());
+            index.items.entry(path).or_default().push(ItemLoc { file, index: i as u32 });
+        }
+    }
+    index
+}
+
+/// Which items a reference may denote.
+pub type KindFilter = fn(DefKind) -> bool;
+
+/// The items that `path`, written in `from`, may denote (best first).
+/// Only items whose kind passes `accept` are considered.
+pub fn resolve_item(db: &dyn Db, ws: Workspace, from: File, path: &[String], accept: KindFilter) -> Vec<ItemLoc> {
+    if path.is_empty() {
+        return Vec::new();
+    }
+    let index = workspace_index(db, ws);
+    let here = file_summary(db, from);
+    let lookup = |full: &[String]| -> Vec<ItemLoc> {
+        index
+            .items
+            .get(full)
+            .map(|v| v.iter().copied().filter(|l| accept(l.summary(db).kind)).collect())
+            .unwrap_or_default()
+    };
+    let mut candidates: Vec<Vec<String>> = Vec::new();
+    // Relative to the file's own package.
+    candidates.push(here.package.iter().chain(path).cloned().collect());
+    // Absolute.
+    if !here.package.is_empty() {
+        candidates.push(path.to_vec());
+    }
+    for (imp, wildcard) in &here.imports {
+        if *wildcard {
+            // `import P::*`: P's items by simple name, and names relative to P.
+            candidates.push(imp.iter().chain(path).cloned().collect());
+        } else if imp.last() == path.first() {
+            // `import P::x` makes `x` (and `x::…`) visible.
+            candidates.push(imp.iter().chain(&path[1..]).cloned().collect());
+        }
+    }
+    // The library's core types and the RoboSim core are always visible.
+    candidates.push(["core".to_string()].iter().chain(path).cloned().collect());
+    candidates.push(["robosim__core".to_string()].iter().chain(path).cloned().collect());
+    for c in candidates {
+        let found = lookup(&c);
+        if !found.is_empty() {
+            return found;
+        }
+    }
+    Vec::new()
+}
+
+/// Whether an import names an existing package or item.
+pub fn import_matches(db: &dyn Db, ws: Workspace, path: &[String], wildcard: bool) -> bool {
+    let index = workspace_index(db, ws);
+    if wildcard {
+        // `import P::*` names a package, or an item whose members it opens.
+        index.packages.contains(path) || index.items.contains_key(path)
+    } else {
+        index.items.contains_key(path) || index.packages.contains(path)
+    }
+}

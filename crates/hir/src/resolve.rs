@@ -1,0 +1,508 @@
+//! Name resolution of the declaration-level references of a file: types,
+//! interfaces, `rref/cref/sref/opref` targets, imports, transition ends,
+//! connection ends and their events, trigger events and clocks. The result
+//! maps each reference to its target, for diagnostics (LNK-01 and the more
+//! precise rules) and for navigation.
+
+use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
+
+use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
+use crate::index::{file_summary, import_matches, resolve_item, ItemLoc};
+use crate::{parse, Db, File, Workspace};
+
+/// Where a name leads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Target {
+    /// A definition in a file (the same file or another).
+    Def(File, DefId),
+    /// A top-level item found through the index.
+    Item(ItemLoc),
+    /// A member of an item in another file, by index in its summary.
+    Member(ItemLoc, u32),
+}
+
+/// What kind of reference it is (for messages and navigation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[allow(missing_docs)]
+pub enum RefKind {
+    Type,
+    Interface,
+    Platform,
+    Controller,
+    Machine,
+    Operation,
+    TransitionSource,
+    TransitionTarget,
+    ConnectionNode,
+    ConnectionEvent,
+    TriggerEvent,
+    Clock,
+}
+
+impl RefKind {
+    fn describe(self) -> &'static str {
+        match self {
+            RefKind::Type => "type",
+            RefKind::Interface => "interface",
+            RefKind::Platform => "robotic platform",
+            RefKind::Controller => "controller",
+            RefKind::Machine => "state machine",
+            RefKind::Operation => "operation",
+            RefKind::TransitionSource | RefKind::TransitionTarget => "node",
+            RefKind::ConnectionNode => "connection end",
+            RefKind::ConnectionEvent | RefKind::TriggerEvent => "event",
+            RefKind::Clock => "clock",
+        }
+    }
+}
+
+/// One reference of the file and what it resolved to.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ResolvedRef {
+    /// The reference's range.
+    pub range: TextRange,
+    /// The name as written (`a::b` joined).
+    pub text: String,
+    /// What it should denote.
+    pub kind: RefKind,
+    /// The target, when found.
+    pub target: Option<Target>,
+}
+
+/// A problem found while resolving, before it becomes a diagnostic.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ResolveProblem {
+    /// Rule code (`LNK-01`, `RC:IJ1`, `RC:FS1`, `RC-PKG-02`, …).
+    pub code: &'static str,
+    /// Where.
+    pub range: TextRange,
+    /// What.
+    pub message: String,
+}
+
+/// The references of one file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct FileResolution {
+    /// Every reference, in source order.
+    pub refs: Vec<ResolvedRef>,
+    /// Problems (unresolved names and the like).
+    pub problems: Vec<ResolveProblem>,
+}
+
+/// A member visible in a context: declared there or brought in by an
+/// interface.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Member {
+    /// Name.
+    pub name: String,
+    /// Kind (event, variable, constant, clock, operation signature, …).
+    pub kind: DefKind,
+    /// The I/O context (own, or of the use that brought it).
+    pub io: Option<Io>,
+    /// The interface use that brought it, if any.
+    pub via: Option<UseKind>,
+    /// The declared type (without positions).
+    pub ty: Option<crate::defs::TypeRef>,
+    /// Where it is declared.
+    pub target: Target,
+    /// Whether `_broadcast`.
+    pub broadcast: bool,
+}
+
+/// A context whose members can be listed: a definition of a file, or an
+/// item of the index.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Ctx {
+    /// A definition (any nesting) of a file.
+    Local(File, DefId),
+    /// A top-level item.
+    Item(ItemLoc),
+}
+
+fn accept_interface(k: DefKind) -> bool {
+    k == DefKind::Interface
+}
+
+/// Members of `ctx`: its own events, variables, constants, clocks and
+/// operation signatures, plus those of the interfaces it uses, provides or
+/// requires (in I/O contexts too).
+pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
+    let mut out = Vec::new();
+    let (file, uses): (File, Vec<UseSummary>) = match ctx {
+        Ctx::Local(file, id) => {
+            let defs = file_defs(db, file);
+            for (mid, m) in defs.children(Some(id)) {
+                if is_member_kind(m.kind) && !m.name.is_empty() {
+                    out.push(Member {
+                        name: m.name.clone(),
+                        kind: m.kind,
+                        io: m.io,
+                        via: None,
+                        ty: typed(m),
+                        target: Target::Def(file, mid),
+                        broadcast: matches!(m.data, DefData::Typed { broadcast: true, .. }),
+                    });
+                }
+            }
+            (file, defs.uses_of(id).map(|u| (u.kind, u.path.clone(), u.io)).collect())
+        }
+        Ctx::Item(loc) => {
+            let s = loc.summary(db);
+            for (i, m) in s.members.iter().enumerate() {
+                if is_member_kind(m.kind) {
+                    out.push(Member {
+                        name: m.name.clone(),
+                        kind: m.kind,
+                        io: m.io,
+                        via: None,
+                        ty: m.ty.clone(),
+                        target: Target::Member(loc, i as u32),
+                        broadcast: m.broadcast,
+                    });
+                }
+            }
+            (loc.file, s.uses.clone())
+        }
+    };
+    for (kind, path, io) in uses {
+        for loc in resolve_item(db, ws, file, &path, accept_interface).into_iter().take(1) {
+            let s = loc.summary(db);
+            for (i, m) in s.members.iter().enumerate() {
+                if is_member_kind(m.kind) {
+                    out.push(Member {
+                        name: m.name.clone(),
+                        kind: m.kind,
+                        io,
+                        via: Some(kind),
+                        ty: m.ty.clone(),
+                        target: Target::Member(loc, i as u32),
+                        broadcast: m.broadcast,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A use as written: keyword, path, I/O context.
+type UseSummary = (UseKind, Vec<String>, Option<Io>);
+
+fn is_member_kind(k: DefKind) -> bool {
+    matches!(k, DefKind::Event | DefKind::Variable | DefKind::Constant | DefKind::Clock | DefKind::OperationSig)
+}
+
+fn typed(d: &Def) -> Option<crate::defs::TypeRef> {
+    match &d.data {
+        DefData::Typed { ty, .. } => ty.clone(),
+        _ => None,
+    }
+}
+
+/// The context a (connection/reference) node denotes: an inline definition,
+/// or the definition a `cref/sref/rref` names.
+pub fn node_ctx(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Ctx> {
+    let defs = file_defs(db, file);
+    let d = defs.def(id);
+    match (&d.kind, &d.data) {
+        (
+            DefKind::PlatformRef | DefKind::ControllerRef | DefKind::MachineRef | DefKind::OperationRef,
+            DefData::Reference { path, .. },
+        ) => {
+            let accept = ref_accept(d.kind);
+            resolve_item(db, ws, file, path, accept).first().map(|l| Ctx::Item(*l))
+        }
+        _ => Some(Ctx::Local(file, id)),
+    }
+}
+
+fn ref_accept(k: DefKind) -> fn(DefKind) -> bool {
+    match k {
+        DefKind::PlatformRef => |k| k == DefKind::Platform,
+        DefKind::ControllerRef => |k| k == DefKind::Controller,
+        DefKind::MachineRef => |k| k == DefKind::StateMachine,
+        _ => |k| k == DefKind::Operation,
+    }
+}
+
+/// The nearest enclosing definition of one of the given kinds.
+pub fn enclosing(defs: &FileDefs, mut id: DefId, kinds: &[DefKind]) -> Option<DefId> {
+    loop {
+        let d = defs.def(id);
+        if kinds.contains(&d.kind) {
+            return Some(id);
+        }
+        id = d.parent?;
+    }
+}
+
+/// Resolves every declaration-level reference of `file`.
+#[salsa::tracked(returns(ref))]
+pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution {
+    let mut r = Resolver { db, ws, file, defs: file_defs(db, file), out: FileResolution::default() };
+    r.imports();
+    r.uses();
+    r.types();
+    r.definitions();
+    r.out.refs.sort_by_key(|x| x.range.start());
+    r.out
+}
+
+struct Resolver<'a> {
+    db: &'a dyn Db,
+    ws: Workspace,
+    file: File,
+    defs: &'a FileDefs,
+    out: FileResolution,
+}
+
+impl Resolver<'_> {
+    fn push(&mut self, range: TextRange, text: String, kind: RefKind, target: Option<Target>) {
+        self.out.refs.push(ResolvedRef { range, text, kind, target });
+    }
+
+    fn unresolved(&mut self, range: TextRange, kind: RefKind, text: &str) {
+        self.problem("LNK-01", range, format!("cannot resolve {} `{text}`", kind.describe()));
+    }
+
+    fn problem(&mut self, code: &'static str, range: TextRange, message: String) {
+        self.out.problems.push(ResolveProblem { code, range, message });
+    }
+
+    fn item(
+        &mut self,
+        path: &[String],
+        range: TextRange,
+        kind: RefKind,
+        accept: fn(DefKind) -> bool,
+    ) -> Option<ItemLoc> {
+        let text = path.join("::");
+        let found = resolve_item(self.db, self.ws, self.file, path, accept).first().copied();
+        self.push(range, text.clone(), kind, found.map(Target::Item));
+        if found.is_none() {
+            // Say what the name is when it exists with another kind.
+            let any = resolve_item(self.db, self.ws, self.file, path, |_| true);
+            match any.first() {
+                Some(l) => {
+                    let other = l.summary(self.db).kind.describe();
+                    self.problem("LNK-01", range, format!("`{text}` is a {other}, not a {}", kind.describe()));
+                }
+                None => self.unresolved(range, kind, &text),
+            }
+        }
+        found
+    }
+
+    fn imports(&mut self) {
+        for imp in &self.defs.imports {
+            if !import_matches(self.db, self.ws, &imp.path, imp.wildcard) {
+                let text = imp.path.join("::");
+                self.problem(
+                    "RC-PKG-02",
+                    imp.range,
+                    format!("`import {text}` matches no package or element of the workspace"),
+                );
+            }
+        }
+    }
+
+    fn uses(&mut self) {
+        for u in &self.defs.uses {
+            self.item(&u.path, u.range, RefKind::Interface, accept_interface);
+        }
+    }
+
+    fn types(&mut self) {
+        let root = parse(self.db, self.file).syntax_node();
+        for n in root.descendants().filter(|n| n.kind() == NAMED_TYPE) {
+            let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { continue };
+            let path = segments(&q);
+            if path.is_empty() {
+                continue;
+            }
+            self.item(&path, q.text_range(), RefKind::Type, DefKind::is_type);
+        }
+    }
+
+    fn definitions(&mut self) {
+        for (id, d) in self.defs.iter() {
+            match (&d.kind, &d.data) {
+                (DefKind::PlatformRef, DefData::Reference { path, range }) => {
+                    self.item(path, *range, RefKind::Platform, |k| k == DefKind::Platform);
+                }
+                (DefKind::ControllerRef, DefData::Reference { path, range }) => {
+                    self.item(path, *range, RefKind::Controller, |k| k == DefKind::Controller);
+                }
+                (DefKind::MachineRef, DefData::Reference { path, range }) => {
+                    self.item(path, *range, RefKind::Machine, |k| k == DefKind::StateMachine);
+                }
+                (DefKind::OperationRef, DefData::Reference { path, range }) => {
+                    self.item(path, *range, RefKind::Operation, |k| k == DefKind::Operation);
+                }
+                (DefKind::Transition, DefData::Transition(t)) => self.transition(id, d, t),
+                (DefKind::Connection, DefData::Connection(c)) => self.connection(id, d, c),
+                _ => {}
+            }
+        }
+        self.clocks();
+    }
+
+    fn transition(&mut self, _id: DefId, d: &Def, t: &crate::defs::TransitionData) {
+        let Some(container) = d.parent else { return };
+        let rs = self.file.kind(self.db) == robosim_syntax::FileKind::RoboSim;
+        for (end, kind) in [(&t.source, RefKind::TransitionSource), (&t.target, RefKind::TransitionTarget)] {
+            let Some((name, range)) = end else { continue };
+            let local = self.defs.children(Some(container)).find(|(_, n)| n.kind.is_node() && &n.name == name);
+            match local {
+                Some((nid, n)) => {
+                    self.push(*range, name.clone(), kind, Some(Target::Def(self.file, nid)));
+                    // RoboChart's scopes exclude these; say why precisely.
+                    if kind == RefKind::TransitionSource && n.kind == DefKind::Final {
+                        self.problem("RC:FS1", *range, format!("no transition may leave the final state `{name}`"));
+                    }
+                    if kind == RefKind::TransitionTarget && n.kind == DefKind::Initial {
+                        self.problem(
+                            "RC:IJ1",
+                            *range,
+                            format!("no transition may enter the initial junction `{name}`"),
+                        );
+                    }
+                    let _ = rs;
+                }
+                None => {
+                    self.push(*range, name.clone(), kind, None);
+                    // Is it a node elsewhere in the machine (an inter-level transition)?
+                    let elsewhere = self.defs.iter().any(|(_, n)| {
+                        n.kind.is_node()
+                            && &n.name == name
+                            && n.parent.is_some()
+                            && enclosing_machine(self.defs, n.parent.unwrap())
+                                == enclosing_machine(self.defs, container)
+                    });
+                    if elsewhere {
+                        self.problem(
+                            "LNK-01",
+                            *range,
+                            format!(
+                                "`{name}` is not a node of the {} that declares this transition: transitions cannot cross levels (RC:T1)",
+                                self.defs.def(container).kind.describe()
+                            ),
+                        );
+                    } else {
+                        self.unresolved(*range, kind, name);
+                    }
+                }
+            }
+        }
+        // Trigger events: events of the enclosing machine, operation or controller.
+        if let Some((_, Some((ev, range)))) = &t.trigger {
+            let owner =
+                enclosing(self.defs, container, &[DefKind::StateMachine, DefKind::Operation, DefKind::Controller]);
+            if let Some(owner) = owner {
+                let members = ctx_members(self.db, self.ws, Ctx::Local(self.file, owner));
+                let found = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev).map(|m| m.target);
+                self.push(*range, ev.clone(), RefKind::TriggerEvent, found);
+                if found.is_none() {
+                    self.unresolved(*range, RefKind::TriggerEvent, ev);
+                }
+            }
+        }
+    }
+
+    fn connection(&mut self, id: DefId, d: &Def, c: &crate::defs::ConnectionData) {
+        let Some(owner) = d.parent else { return };
+        let _ = id;
+        let owner_def = self.defs.def(owner);
+        for (node, event) in [(&c.from, &c.efrom), (&c.to, &c.eto)] {
+            let Some((name, range)) = node else { continue };
+            // Nodes: the owner's node members (inline or referenced); a
+            // controller's own name stands for the controller itself.
+            let found = if owner_def.kind == DefKind::Controller && &owner_def.name == name {
+                Some(owner)
+            } else {
+                self.defs
+                    .children(Some(owner))
+                    .find(|(_, n)| {
+                        &n.name == name
+                            && matches!(
+                                n.kind,
+                                DefKind::Controller
+                                    | DefKind::ControllerRef
+                                    | DefKind::StateMachine
+                                    | DefKind::MachineRef
+                                    | DefKind::Platform
+                                    | DefKind::PlatformRef
+                            )
+                    })
+                    .map(|(nid, _)| nid)
+            };
+            self.push(*range, name.clone(), RefKind::ConnectionNode, found.map(|f| Target::Def(self.file, f)));
+            let Some(nid) = found else {
+                let what = if owner_def.kind == DefKind::Module { "module" } else { "controller" };
+                self.problem(
+                    "LNK-01",
+                    *range,
+                    format!("`{name}` is not a controller, machine or platform of this {what} (RC:Cn1/Cn3)"),
+                );
+                continue;
+            };
+            let Some((ev, erange)) = event else { continue };
+            let ctx = if nid == owner {
+                Some(Ctx::Local(self.file, owner))
+            } else {
+                node_ctx(self.db, self.ws, self.file, nid)
+            };
+            let Some(ctx) = ctx else { continue };
+            let members = ctx_members(self.db, self.ws, ctx);
+            let m = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev);
+            self.push(*erange, ev.clone(), RefKind::ConnectionEvent, m.map(|m| m.target));
+            if m.is_none() {
+                self.problem("RC:Cn10", *erange, format!("`{ev}` is not an event of `{name}`"));
+            }
+        }
+    }
+
+    fn clocks(&mut self) {
+        // `#C` resets (in transitions and statements) and `since(C)`.
+        let root = parse(self.db, self.file).syntax_node();
+        for n in root.descendants().filter(|n| matches!(n.kind(), CLOCK_RESET | CLOCK_RESET_STMT | SINCE_EXPR)) {
+            let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { continue };
+            let name = r.text().to_string().trim().trim_start_matches('^').to_string();
+            let Some(inner) = self.defs.innermost(n.text_range()) else { continue };
+            let Some(owner) = enclosing(self.defs, inner, &[DefKind::StateMachine, DefKind::Operation]) else {
+                continue;
+            };
+            let members = ctx_members(self.db, self.ws, Ctx::Local(self.file, owner));
+            let found = members
+                .iter()
+                .find(|m| m.kind == DefKind::Clock && m.name == name && m.via != Some(UseKind::Provides))
+                .map(|m| m.target);
+            self.push(r.text_range(), name.clone(), RefKind::Clock, found);
+            if found.is_none() {
+                let owner_kind = self.defs.def(owner).kind.describe();
+                self.problem(
+                    "LNK-01",
+                    r.text_range(),
+                    format!("cannot resolve clock `{name}`: it is not a clock of this {owner_kind} or of an interface it uses"),
+                );
+            }
+        }
+    }
+}
+
+fn enclosing_machine(defs: &FileDefs, id: DefId) -> Option<DefId> {
+    enclosing(defs, id, &[DefKind::StateMachine, DefKind::Operation])
+}
+
+fn segments(q: &SyntaxNode) -> Vec<String> {
+    q.children_with_tokens()
+        .filter_map(|e| e.into_token())
+        .filter(|t| t.kind() == IDENT || (t.kind().is_keyword() && t.kind() != COLON2))
+        .map(|t| t.text().trim_start_matches('^').to_string())
+        .collect()
+}
+
+/// The summary item that declares `loc`'s member `index`.
+pub fn member_of(db: &dyn Db, loc: ItemLoc, index: u32) -> &crate::index::MemberSummary {
+    &file_summary(db, loc.file).items[loc.index as usize].members[index as usize]
+}
