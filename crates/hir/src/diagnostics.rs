@@ -89,6 +89,11 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
         for p in &crate::resolve::file_resolution(db, workspace, file).problems {
             out.push(make(p.code, p.range, p.message.clone(), Vec::new()));
         }
+        for p in &crate::cycle::cycle_checks(db, workspace, file).0 {
+            let related =
+                p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();
+            out.push(make(p.code, p.range, p.message.clone(), related));
+        }
         for p in crate::checks::file_checks(db, workspace, file) {
             let related =
                 p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();

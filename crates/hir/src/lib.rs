@@ -9,6 +9,7 @@
 
 mod checks;
 pub mod codes;
+pub mod cycle;
 mod db;
 pub mod defs;
 mod diagnostics;
