@@ -24,11 +24,11 @@ pub struct Problem {
 }
 
 impl Problem {
-    fn new(code: &'static str, range: TextRange, message: impl Into<String>) -> Problem {
+    pub(crate) fn new(code: &'static str, range: TextRange, message: impl Into<String>) -> Problem {
         Problem { code, range, message: message.into(), related: Vec::new() }
     }
 
-    fn with_related(mut self, file: File, range: TextRange, message: impl Into<String>) -> Problem {
+    pub(crate) fn with_related(mut self, file: File, range: TextRange, message: impl Into<String>) -> Problem {
         self.related.push((file, range, message.into()));
         self
     }

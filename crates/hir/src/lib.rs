@@ -15,6 +15,7 @@ pub mod defs;
 mod diagnostics;
 pub mod index;
 pub mod resolve;
+mod robosim;
 
 pub use db::{Db, RootDatabase};
 pub use diagnostics::{file_diagnostics, Diagnostic, Related, Severity};
