@@ -92,6 +92,10 @@ rules! {
     "RS-CYC-01" W W "A cycle specification admits at least one positive period on its own.";
     "RS-CYC-02" W W "A cycle specification mentions only `cycle`, literals and constants.";
     "RS-CYC-03" I I "The cycle specifications could not be decided.";
+    "RS-IO-03" E E "An output communication does not emit an input event.";
+    "RS-IO-04" E E "Only inputs are read in expressions: an output event or variable cannot be tested.";
+    "RC-STMT-01" E E "An operation parameter is not assigned.";
+    "RC-STMT-06" E W "A constant is not assigned.";
     "RS-IO-01" E E "Interfaces used in an output context declare no variables.";
     "RS-IO-02" E E "Interfaces used in an input context declare only events.";
 }

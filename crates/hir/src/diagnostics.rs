@@ -86,7 +86,8 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
             message,
             related,
         };
-        for p in &crate::resolve::file_resolution(db, workspace, file).problems {
+        let body = &crate::body::body_resolution(db, workspace, file).problems;
+        for p in crate::resolve::file_resolution(db, workspace, file).problems.iter().chain(body) {
             out.push(make(p.code, p.range, p.message.clone(), Vec::new()));
         }
         for p in &crate::cycle::cycle_checks(db, workspace, file).0 {

@@ -1,0 +1,491 @@
+//! Name resolution inside behaviour: expressions, statements and
+//! communications (catalogue §2.18). Plain names see bound variables,
+//! parameters, the context's variables and constants (RoboSim machines:
+//! not their I/O variables), functions and enumeration literals; `$` names
+//! see the machine's inputs and outputs; calls see the operations of
+//! required and provided interfaces. A name that exists with the other
+//! `$` discipline gets RS:SM6 instead of a plain "cannot resolve".
+
+use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
+
+use crate::defs::{file_defs, DefKind, FileDefs, Io, UseKind};
+use crate::index::resolve_item;
+use crate::resolve::{ctx_members, enclosing, Ctx, Member, RefKind, ResolveProblem, ResolvedRef, Target};
+use crate::{parse, Db, File, Workspace};
+
+/// References inside behaviour, and their problems.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct BodyResolution {
+    /// Every resolved or unresolved name.
+    pub refs: Vec<ResolvedRef>,
+    /// Problems (codes LNK-01, RS:SM6, RS-IO-03, RS-IO-04, RC-STMT-01, RC-STMT-06).
+    pub problems: Vec<ResolveProblem>,
+}
+
+/// Resolves the names used in the behaviour of `file`.
+#[salsa::tracked(returns(ref))]
+pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution {
+    let mut r = Body {
+        db,
+        ws,
+        file,
+        defs: file_defs(db, file),
+        rs: file.kind(db) == FileKind::RoboSim,
+        out: BodyResolution::default(),
+        members_cache: Vec::new(),
+    };
+    if file.kind(db).is_assertions() {
+        return r.out;
+    }
+    let root = parse(db, file).syntax_node();
+    for n in root.descendants() {
+        match n.kind() {
+            REF_EXPR => r.name_expr(&n),
+            SIM_REF_EXPR => r.dollar_expr(&n),
+            ENUM_LITERAL_EXPR => r.enum_literal(&n),
+            ASSIGN_STMT => r.assignment(&n),
+            CALL_STMT => r.call(&n, false),
+            SIM_CALL_STMT => r.call(&n, true),
+            OUTPUT_COMM_STMT => r.output(&n),
+            COMM_STMT => r.communication(&n),
+            SINCE_ENTRY_EXPR => r.since_entry(&n),
+            _ => {}
+        }
+    }
+    r.out
+}
+
+struct Body<'a> {
+    db: &'a dyn Db,
+    ws: Workspace,
+    file: File,
+    defs: &'a FileDefs,
+    rs: bool,
+    out: BodyResolution,
+    members_cache: Vec<(crate::defs::DefId, Vec<Member>)>,
+}
+
+fn text_of(n: &SyntaxNode) -> String {
+    n.text().to_string().trim().trim_start_matches('^').to_string()
+}
+
+fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
+    let q = n.children().find(|c| c.kind() == QUALIFIED_NAME)?;
+    let segs = q
+        .children_with_tokens()
+        .filter_map(|e| e.into_token())
+        .filter(|t| t.kind() == IDENT)
+        .map(|t| t.text().trim_start_matches('^').to_string())
+        .collect();
+    Some((segs, q.text_range()))
+}
+
+/// Names bound by an enclosing expression (quantifiers, lambda, set
+/// comprehension, `the`, `let`) of `node`.
+fn bound_names(node: &SyntaxNode) -> Vec<String> {
+    let mut out = Vec::new();
+    for a in node.ancestors().skip(1) {
+        match a.kind() {
+            FORALL_EXPR | EXISTS_EXPR | LAMBDA_EXPR | THE_EXPR | SET_COMP_EXPR => {
+                for b in a.children().filter(|c| c.kind() == BINDERS).flat_map(|bs| bs.children()) {
+                    if b.kind() == BINDER {
+                        if let Some(n) = b.children().find(|c| c.kind() == NAME) {
+                            out.push(text_of(&n));
+                        }
+                    }
+                }
+            }
+            LET_EXPR => {
+                for d in a.children().filter(|c| c.kind() == LET_DECL) {
+                    if let Some(n) = d.children().find(|c| c.kind() == NAME) {
+                        out.push(text_of(&n));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+impl Body<'_> {
+    fn push(&mut self, range: TextRange, text: String, kind: RefKind, target: Option<Target>) {
+        self.out.refs.push(ResolvedRef { range, text, kind, target });
+    }
+
+    fn problem(&mut self, code: &'static str, range: TextRange, message: String) {
+        self.out.problems.push(ResolveProblem { code, range, message });
+    }
+
+    /// The context whose members a name at `range` sees.
+    fn context(&self, range: TextRange) -> Option<crate::defs::DefId> {
+        let inner = self.defs.innermost(range)?;
+        enclosing(
+            self.defs,
+            inner,
+            &[
+                DefKind::Operation,
+                DefKind::StateMachine,
+                DefKind::Controller,
+                DefKind::Function,
+                DefKind::Interface,
+                DefKind::Platform,
+                DefKind::Module,
+            ],
+        )
+    }
+
+    fn members(&mut self, ctx: crate::defs::DefId) -> Vec<Member> {
+        if let Some((_, m)) = self.members_cache.iter().find(|(c, _)| *c == ctx) {
+            return m.clone();
+        }
+        let mut m = ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx));
+        // Parameters of operations and functions.
+        for (pid, p) in self.defs.children(Some(ctx)) {
+            if p.kind == DefKind::Parameter {
+                m.push(Member {
+                    name: p.name.clone(),
+                    kind: DefKind::Parameter,
+                    io: None,
+                    via: None,
+                    ty: None,
+                    target: Target::Def(self.file, pid),
+                    broadcast: false,
+                });
+            }
+        }
+        self.members_cache.push((ctx, m.clone()));
+        m
+    }
+
+    /// Global names usable in expressions: functions and enumeration literals.
+    fn global_value(&self, name: &str) -> Option<Target> {
+        let path = [name.to_string()];
+        if let Some(l) = resolve_item(self.db, self.ws, self.file, &path, |k| k == DefKind::Function).first() {
+            return Some(Target::Item(*l));
+        }
+        // Bare enumeration literals of any visible enumeration.
+        let index = crate::index::workspace_index(self.db, self.ws);
+        let here = crate::index::file_summary(self.db, self.file);
+        for (full, locs) in &index.items {
+            let pkg = &full[..full.len() - 1];
+            let visible = pkg == here.package.as_slice()
+                || pkg.is_empty()
+                || here.imports.iter().any(|(p, w)| (*w && p.as_slice() == pkg) || p.as_slice() == full.as_slice());
+            if !visible {
+                continue;
+            }
+            for l in locs {
+                let s = l.summary(self.db);
+                if s.kind == DefKind::Enumeration {
+                    if let Some(i) = s.members.iter().position(|m| m.kind == DefKind::EnumLiteral && m.name == name) {
+                        return Some(Target::Member(*l, i as u32));
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    fn name_expr(&mut self, n: &SyntaxNode) {
+        let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return };
+        let name = text_of(&r);
+        let range = r.text_range();
+        if bound_names(n).contains(&name) {
+            self.push(range, name, RefKind::Type, None);
+            return;
+        }
+        let Some(ctx) = self.context(range) else { return };
+        let members = self.members(ctx);
+        let local = members.iter().find(|m| {
+            m.name == name
+                && matches!(m.kind, DefKind::Variable | DefKind::Constant | DefKind::Parameter)
+                && (!self.rs || m.io.is_none())
+        });
+        if let Some(m) = local {
+            let t = m.target;
+            self.push(range, name, RefKind::Type, Some(t));
+            return;
+        }
+        if let Some(t) = self.global_value(&name) {
+            self.push(range, name, RefKind::Type, Some(t));
+            return;
+        }
+        self.push(range, name.clone(), RefKind::Type, None);
+        if self.rs {
+            if let Some(m) = members.iter().find(|m| m.name == name && m.io.is_some()) {
+                let what = io_desc(m);
+                self.problem("RS:SM6", range, format!("{what} `{name}` must be written `${name}`"));
+                return;
+            }
+        }
+        if members.iter().any(|m| m.name == name && m.kind == DefKind::Event) {
+            self.problem(
+                "LNK-01",
+                range,
+                format!("`{name}` is an event: events are not values (test an input in a RoboSim condition with `${name}`, or receive a value with `{name}?x`)"),
+            );
+            return;
+        }
+        self.problem("LNK-01", range, format!("cannot resolve `{name}`: no variable, constant, parameter, function or enumeration literal of that name is in scope"));
+    }
+
+    fn dollar_expr(&mut self, n: &SyntaxNode) {
+        let Some((path, range)) = qualified(n) else { return };
+        let name = path.join("::");
+        let Some(ctx) = self.context(range) else { return };
+        let members = self.members(ctx);
+        let io: Vec<&Member> =
+            members.iter().filter(|m| m.io.is_some() && path.len() == 1 && m.name == path[0]).collect();
+        // Inputs: input variables and events of either context.
+        if let Some(m) = io.iter().find(|m| {
+            (m.kind == DefKind::Variable && m.io == Some(Io::Input))
+                || (m.kind == DefKind::Event && m.io == Some(Io::Input))
+        }) {
+            let t = m.target;
+            self.push(range, name, RefKind::TriggerEvent, Some(t));
+            return;
+        }
+        if let Some(m) = io.first() {
+            let t = m.target;
+            self.push(range, name.clone(), RefKind::TriggerEvent, Some(t));
+            if m.kind == DefKind::Event {
+                self.problem(
+                    "RS-IO-04",
+                    range,
+                    format!("`{name}` is an output event and cannot be tested: only inputs can be read"),
+                );
+            } else if m.kind == DefKind::Variable {
+                self.problem(
+                    "RS-IO-04",
+                    range,
+                    format!("`{name}` is an output variable and cannot be read: require it in the input context too"),
+                );
+            } else {
+                self.problem("LNK-01", range, format!("`${name}` in an expression must be an input event or variable"));
+            }
+            return;
+        }
+        self.push(range, name.clone(), RefKind::TriggerEvent, None);
+        if members.iter().any(|m| path.len() == 1 && m.name == path[0] && m.io.is_none()) {
+            self.problem("RS:SM6", range, format!("`{name}` is a local name: write it without `$`"));
+        } else {
+            self.problem(
+                "LNK-01",
+                range,
+                format!(
+                    "cannot resolve `${name}`: no input event or variable of that name in the machine's input context"
+                ),
+            );
+        }
+    }
+
+    fn enum_literal(&mut self, n: &SyntaxNode) {
+        let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
+        let (Some(e), Some(l)) = (refs.first(), refs.get(1)) else { return };
+        let (ename, lname) = (text_of(e), text_of(l));
+        let Some(loc) =
+            resolve_item(self.db, self.ws, self.file, std::slice::from_ref(&ename), |k| k == DefKind::Enumeration)
+                .first()
+                .copied()
+        else {
+            self.push(e.text_range(), ename.clone(), RefKind::Type, None);
+            self.problem("LNK-01", e.text_range(), format!("cannot resolve enumeration `{ename}`"));
+            return;
+        };
+        self.push(e.text_range(), ename.clone(), RefKind::Type, Some(Target::Item(loc)));
+        let s = loc.summary(self.db);
+        match s.members.iter().position(|m| m.kind == DefKind::EnumLiteral && m.name == lname) {
+            Some(i) => self.push(l.text_range(), lname, RefKind::Type, Some(Target::Member(loc, i as u32))),
+            None => {
+                self.push(l.text_range(), lname.clone(), RefKind::Type, None);
+                self.problem("LNK-01", l.text_range(), format!("enumeration `{ename}` has no literal `{lname}`"));
+            }
+        }
+    }
+
+    fn assignment(&mut self, n: &SyntaxNode) {
+        let Some(target) = n.children().find(|c| c.kind() == ASSIGNABLE) else { return };
+        let dollar = target.children_with_tokens().any(|t| t.kind() == DOLLAR);
+        let Some((path, range)) = qualified(&target) else { return };
+        if path.len() != 1 {
+            return;
+        }
+        let name = path[0].clone();
+        if !dollar && bound_names(n).contains(&name) {
+            return;
+        }
+        let Some(ctx) = self.context(range) else { return };
+        let members = self.members(ctx);
+        if dollar {
+            match members.iter().find(|m| m.name == name && m.kind == DefKind::Variable && m.io == Some(Io::Output)) {
+                Some(m) => {
+                    let t = m.target;
+                    self.push(range, name, RefKind::Type, Some(t));
+                }
+                None => {
+                    self.push(range, name.clone(), RefKind::Type, None);
+                    if members.iter().any(|m| m.name == name && m.io.is_none()) {
+                        self.problem("RS:SM6", range, format!("`{name}` is a local variable: assign it without `$`"));
+                    } else {
+                        self.problem("LNK-01", range, format!("cannot resolve `${name}`: no output variable of that name (require its interface in the output context)"));
+                    }
+                }
+            }
+            return;
+        }
+        let local = members.iter().find(|m| {
+            m.name == name
+                && matches!(m.kind, DefKind::Variable | DefKind::Constant | DefKind::Parameter)
+                && (!self.rs || m.io.is_none())
+        });
+        match local {
+            Some(m) => {
+                let (t, kind) = (m.target, m.kind);
+                self.push(range, name.clone(), RefKind::Type, Some(t));
+                if kind == DefKind::Parameter {
+                    self.problem("RC-STMT-01", range, format!("`{name}` is a parameter and cannot be assigned"));
+                } else if kind == DefKind::Constant {
+                    self.problem("RC-STMT-06", range, format!("`{name}` is a constant and cannot be assigned"));
+                }
+            }
+            None => {
+                self.push(range, name.clone(), RefKind::Type, None);
+                if self.rs && members.iter().any(|m| m.name == name && m.io == Some(Io::Output)) {
+                    self.problem("RS:SM6", range, format!("output variable `{name}` must be written `${name} = …`"));
+                } else {
+                    self.problem("LNK-01", range, format!("cannot resolve variable `{name}`"));
+                }
+            }
+        }
+    }
+
+    fn call(&mut self, n: &SyntaxNode, dollar: bool) {
+        let Some((path, range)) = qualified(n) else { return };
+        let name = path.join("::");
+        let Some(ctx) = self.context(range) else { return };
+        let members = self.members(ctx);
+        let ops: Vec<&Member> = members
+            .iter()
+            .filter(|m| m.kind == DefKind::OperationSig && path.len() == 1 && m.name == path[0])
+            .collect();
+        let wanted = |m: &&&Member| {
+            if dollar {
+                m.io == Some(Io::Output)
+            } else {
+                m.io.is_none() && m.via != Some(UseKind::Uses)
+            }
+        };
+        if let Some(m) = ops.iter().find(wanted) {
+            let t = m.target;
+            self.push(range, name, RefKind::Operation, Some(t));
+            return;
+        }
+        self.push(range, name.clone(), RefKind::Operation, None);
+        if self.rs && !dollar && ops.iter().any(|m| m.io == Some(Io::Output)) {
+            self.problem("RS:SM6", range, format!("`{name}` is an output operation: call it as `${name}(…)`"));
+        } else if self.rs && dollar && !ops.is_empty() {
+            self.problem("RS:SM6", range, format!("`{name}` is not an output operation: call it without `$`"));
+        } else {
+            let defined = !resolve_item(self.db, self.ws, self.file, &path, |k| k == DefKind::Operation).is_empty();
+            let hint = if defined {
+                " (an operation definition is called through an interface that declares its signature, required by this context)"
+            } else {
+                ""
+            };
+            self.problem("LNK-01", range, format!("cannot resolve operation `{name}`: it is not declared in an interface this context requires or provides{hint}"));
+        }
+    }
+
+    fn output(&mut self, n: &SyntaxNode) {
+        let Some((path, range)) = qualified(n) else { return };
+        let name = path.join("::");
+        let Some(ctx) = self.context(range) else { return };
+        let members = self.members(ctx);
+        let events: Vec<&Member> =
+            members.iter().filter(|m| m.kind == DefKind::Event && path.len() == 1 && m.name == path[0]).collect();
+        if let Some(m) = events.iter().find(|m| m.io == Some(Io::Output)) {
+            let t = m.target;
+            self.push(range, name, RefKind::TriggerEvent, Some(t));
+        } else if let Some(m) = events.iter().find(|m| m.io == Some(Io::Input)) {
+            let t = m.target;
+            self.push(range, name.clone(), RefKind::TriggerEvent, Some(t));
+            self.problem(
+                "RS-IO-03",
+                range,
+                format!("`{name}` is an input event and cannot be emitted: declare it in the output context"),
+            );
+        } else {
+            self.push(range, name.clone(), RefKind::TriggerEvent, None);
+            self.problem(
+                "LNK-01",
+                range,
+                format!("cannot resolve output event `{name}`: no event of that name in the machine's output context"),
+            );
+        }
+    }
+
+    fn communication(&mut self, n: &SyntaxNode) {
+        let Some(comm) = n.children().find(|c| c.kind() == COMMUNICATION) else { return };
+        let Some(r) = comm.children().find(|c| c.kind() == NAME_REF) else { return };
+        let name = text_of(&r);
+        let Some(ctx) = self.context(r.text_range()) else { return };
+        let members = self.members(ctx);
+        match members.iter().find(|m| m.kind == DefKind::Event && m.name == name) {
+            Some(m) => {
+                let t = m.target;
+                self.push(r.text_range(), name, RefKind::TriggerEvent, Some(t));
+            }
+            None => {
+                if self.rs {
+                    return; // already a syntax error: RoboSim has no plain communications
+                }
+                self.push(r.text_range(), name.clone(), RefKind::TriggerEvent, None);
+                self.problem("LNK-01", r.text_range(), format!("cannot resolve event `{name}`"));
+            }
+        }
+    }
+
+    fn since_entry(&mut self, n: &SyntaxNode) {
+        let Some((path, range)) = qualified(n) else { return };
+        let Some(inner) = self.defs.innermost(range) else { return };
+        let Some(owner) = enclosing(self.defs, inner, &[DefKind::StateMachine, DefKind::Operation]) else { return };
+        // Any non-final state of the machine, by simple or state-qualified name.
+        let found = self.defs.iter().find(|(id, d)| {
+            d.kind == DefKind::State && d.name == *path.last().unwrap() && {
+                let mut anc = Vec::new();
+                let mut cur = d.parent;
+                while let Some(c) = cur {
+                    if c == owner {
+                        break;
+                    }
+                    anc.push(self.defs.def(c).name.clone());
+                    cur = self.defs.def(c).parent;
+                }
+                let _ = id;
+                cur == Some(owner)
+                    && (path.len() == 1
+                        || anc.iter().rev().cloned().collect::<Vec<_>>().ends_with(&path[..path.len() - 1]))
+            }
+        });
+        let name = path.join("::");
+        match found {
+            Some((id, _)) => self.push(range, name, RefKind::TransitionTarget, Some(Target::Def(self.file, id))),
+            None => {
+                self.push(range, name.clone(), RefKind::TransitionTarget, None);
+                self.problem("LNK-01", range, format!("cannot resolve state `{name}` in this machine"));
+            }
+        }
+    }
+}
+
+fn io_desc(m: &Member) -> &'static str {
+    match (m.kind, m.io) {
+        (DefKind::Event, Some(Io::Input)) => "input event",
+        (DefKind::Event, _) => "output event",
+        (DefKind::Variable, Some(Io::Input)) => "input variable",
+        (DefKind::Variable, _) => "output variable",
+        (DefKind::OperationSig, _) => "output operation",
+        _ => "I/O element",
+    }
+}
