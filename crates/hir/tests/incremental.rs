@@ -1,0 +1,75 @@
+//! Incrementality, read from salsa's event log: editing inside one machine
+//! re-executes the queries of that file only; other files' results are
+//! reused (their inputs from the edited file, its position-free summary,
+//! did not change).
+
+use std::sync::{Arc, Mutex};
+
+use robosim_hir::{file_diagnostics, load_workspace, File, RootDatabase, RuleSet};
+use salsa::Setter;
+
+const TYPES: &str = "package lib\ninterface Moves { move(v : real) }\ninterface Sensors { event obstacle }\n";
+const MACHINE: &str = "package app\nimport lib::*\nstm M {\n  requires Moves uses Sensors\n  var speed : real = 1.0\n  initial i\n  state S { entry move(speed) }\n  transition t { from i to S }\n  transition u { from S to S trigger obstacle action speed = speed + 1 }\n}\n";
+const CONTROLLER: &str = "package app\nimport lib::*\ncontroller C { requires Moves uses Sensors sref m = M connection C on obstacle to m on obstacle }\n";
+
+fn executions(log: &Mutex<Vec<String>>) -> Vec<String> {
+    std::mem::take(&mut *log.lock().unwrap())
+}
+
+fn count(log: &[String], query: &str) -> usize {
+    log.iter().filter(|e| e.contains(&format!("{query}("))).count()
+}
+
+#[test]
+fn editing_a_machine_body_reuses_other_files() {
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let sink = log.clone();
+    let mut db = RootDatabase::with_event_log(move |e| {
+        if let salsa::EventKind::WillExecute { database_key } = e.kind {
+            sink.lock().unwrap().push(format!("{database_key:?}"));
+        }
+    });
+    let ws = load_workspace(
+        &db,
+        [
+            ("types.rct".to_string(), TYPES.to_string()),
+            ("machine.rct".to_string(), MACHINE.to_string()),
+            ("controller.rct".to_string(), CONTROLLER.to_string()),
+        ],
+        RuleSet::Paper,
+    );
+    let user: Vec<File> = ws.files(&db).iter().copied().filter(|f| !f.is_library(&db)).collect();
+    let check_all = |db: &RootDatabase| -> usize { user.iter().map(|f| file_diagnostics(db, ws, *f).len()).sum() };
+    assert_eq!(check_all(&db), 0, "the workspace is well formed");
+    let first = executions(&log);
+    assert_eq!(count(&first, "file_diagnostics"), 3, "{first:?}");
+
+    // Nothing changed: nothing re-executes.
+    check_all(&db);
+    assert!(executions(&log).is_empty());
+
+    // Edit an action inside the machine (the statement, not a declaration).
+    let machine = user[1];
+    assert_eq!(machine.path(&db), "machine.rct");
+    let edited = MACHINE.replace("speed = speed + 1", "speed = speed * 2 + 1");
+    machine.set_text(&mut db).to(edited);
+    assert_eq!(check_all(&db), 0);
+    let after = executions(&log);
+    // The edited file is re-parsed and re-checked…
+    assert_eq!(count(&after, "parse"), 1, "{after:?}");
+    assert_eq!(count(&after, "file_defs"), 1, "{after:?}");
+    assert_eq!(count(&after, "file_diagnostics"), 1, "{after:?}");
+    // …its summary is recomputed but equal, so the other files' checks are
+    // reused: one execution each of the per-file queries, not three.
+    assert_eq!(count(&after, "file_summary"), 1, "{after:?}");
+    assert_eq!(count(&after, "file_checks"), 1, "{after:?}");
+    assert_eq!(count(&after, "body_resolution"), 1, "{after:?}");
+    assert_eq!(count(&after, "workspace_index"), 0, "{after:?}");
+
+    // Adding a declaration changes the summary: dependants re-run.
+    let declared = MACHINE.replace("var speed : real = 1.0", "var speed : real = 1.0\n  var extra : nat");
+    machine.set_text(&mut db).to(declared);
+    check_all(&db);
+    let after = executions(&log);
+    assert_eq!(count(&after, "workspace_index"), 1, "{after:?}");
+}
