@@ -49,6 +49,7 @@ pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution
             OUTPUT_COMM_STMT => r.output(&n),
             COMM_STMT => r.communication(&n),
             SINCE_ENTRY_EXPR => r.since_entry(&n),
+            COMM_INPUT => r.input_variable(&n),
             _ => {}
         }
     }
@@ -442,6 +443,33 @@ impl Body<'_> {
                 }
                 self.push(r.text_range(), name.clone(), RefKind::TriggerEvent, None);
                 self.problem("LNK-01", r.text_range(), format!("cannot resolve event `{name}`"));
+            }
+        }
+    }
+
+    /// The variable of `e?x`.
+    fn input_variable(&mut self, n: &SyntaxNode) {
+        let Some((path, range)) = qualified(n) else { return };
+        if path.len() != 1 {
+            return;
+        }
+        let name = path[0].clone();
+        let Some(ctx) = self.context(range) else { return };
+        let members = self.members(ctx);
+        match members
+            .iter()
+            .find(|m| m.name == name && matches!(m.kind, DefKind::Variable | DefKind::Constant | DefKind::Parameter))
+        {
+            Some(m) => {
+                let (t, kind) = (m.target, m.kind);
+                self.push(range, name.clone(), RefKind::Type, Some(t));
+                if kind == DefKind::Constant {
+                    self.problem("RC-STMT-06", range, format!("`{name}` is a constant and cannot receive a value"));
+                }
+            }
+            None => {
+                self.push(range, name.clone(), RefKind::Type, None);
+                self.problem("LNK-01", range, format!("cannot resolve variable `{name}` to receive the value"));
             }
         }
     }

@@ -96,6 +96,28 @@ rules! {
     "RS-IO-04" E E "Only inputs are read in expressions: an output event or variable cannot be tested.";
     "RC-STMT-01" E E "An operation parameter is not assigned.";
     "RC-STMT-06" E W "A constant is not assigned.";
+    "RC-TRANS-01" E E "A transition condition is boolean.";
+    "RS-TRANS-01" E E "A transition condition is boolean.";
+    "RC-EXP-13" E W "Function pre- and postconditions are boolean.";
+    "RC-EXP-14" E W "Every expression in a typed position has a type; the innermost ill-typed part is reported.";
+    "RC-EXP-03" E E "A tuple index is a numeral within the tuple's size.";
+    "RC-EXP-09" E E "A function call has as many arguments as the function has parameters.";
+    "RC-EXP-10" E E "Each argument's type is compatible with its parameter's (generic parameters instantiated).";
+    "RC-EXP-11" E E "A cast `e as T` converts between compatible types.";
+    "RC-VAR-01" E E "A variable's or constant's initial value is compatible with its type.";
+    "RC-STMT-02" E E "An assignment's value is compatible with the target's type.";
+    "RC-STMT-03" E E "The condition of an `if` statement is boolean.";
+    "RC-STMT-04" E E "`wait` takes an integer or a set of integers.";
+    "RC-STMT-05" E E "An operation call has the right number of arguments, of compatible types.";
+    "RC:TE1" E E "`since` and `sinceEntry` do not occur in actions.";
+    "RC:TE4" E E "A timed expression is only compared with a number.";
+    "RC:Tg2" E E "A communication without a value uses an untyped event.";
+    "RC:Tg5" E E "A communication with a value uses a typed event.";
+    "RC-COMM-01" E E "In `e?x` the event's values fit the variable.";
+    "RC-COMM-02" E E "In `e!v` the value fits the event.";
+    "RC-COMM-03" E E "In `e.v` the value fits the event.";
+    "RS-IO-06" E W "An output communication `$e!v` / `$e` matches the event's type.";
+    "RC:PT2" E E "A probability lies in [0, 1].";
     "RS-IO-01" E E "Interfaces used in an output context declare no variables.";
     "RS-IO-02" E E "Interfaces used in an input context declare only events.";
 }

@@ -87,7 +87,8 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
             related,
         };
         let body = &crate::body::body_resolution(db, workspace, file).problems;
-        for p in crate::resolve::file_resolution(db, workspace, file).problems.iter().chain(body) {
+        let typing = crate::types::type_checks(db, workspace, file);
+        for p in crate::resolve::file_resolution(db, workspace, file).problems.iter().chain(body).chain(typing) {
             out.push(make(p.code, p.range, p.message.clone(), Vec::new()));
         }
         for p in &crate::cycle::cycle_checks(db, workspace, file).0 {

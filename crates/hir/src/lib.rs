@@ -17,6 +17,7 @@ mod diagnostics;
 pub mod index;
 pub mod resolve;
 mod robosim;
+pub mod types;
 
 pub use db::{Db, RootDatabase};
 pub use diagnostics::{file_diagnostics, Diagnostic, Related, Severity};

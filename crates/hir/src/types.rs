@@ -1,0 +1,1232 @@
+//! Types and typing (catalogue §3): the types of declarations, the type of
+//! every expression, compatibility `T ≼ U`, and the typing rules of
+//! statements, communications, conditions and initialisers. An ill-typed
+//! subexpression gets the error type, which is compatible with everything,
+//! and is reported once, at the innermost cause (RC-EXP-14).
+
+use std::collections::HashMap;
+use std::fmt;
+
+use robosim_syntax::{ast, FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
+
+use crate::body::body_resolution;
+use crate::defs::{file_defs, lower_type, DefData, DefKind, FileDefs, TypeRef};
+use crate::index::{file_summary, resolve_item, ItemLoc};
+use crate::resolve::{file_resolution, ResolveProblem, Target};
+use crate::{parse, Db, File, Workspace};
+
+/// A semantic type.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+#[allow(missing_docs)]
+pub enum Ty {
+    Nat,
+    Int,
+    Real,
+    Bool,
+    Str,
+    /// A declared type (`type T`, record, enumeration), by declaration.
+    Named(ItemLoc, String, DefKind),
+    Set(Box<Ty>),
+    Seq(Box<Ty>),
+    Product(Vec<Ty>),
+    Function(Box<Ty>, Box<Ty>),
+    Relation(Box<Ty>, Box<Ty>),
+    Vector(Box<Ty>, Option<i128>),
+    Matrix(Box<Ty>, Option<i128>, Option<i128>),
+    /// A generic parameter `?X`.
+    Var(String),
+    /// The element type of `{}` and `<>`: compatible with everything.
+    Any,
+    /// The result of an ill-typed expression: compatible with everything,
+    /// reported where it arose.
+    Error,
+}
+
+impl fmt::Display for Ty {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Ty::Nat => f.write_str("nat"),
+            Ty::Int => f.write_str("int"),
+            Ty::Real => f.write_str("real"),
+            Ty::Bool => f.write_str("boolean"),
+            Ty::Str => f.write_str("string"),
+            Ty::Named(_, n, _) => f.write_str(n),
+            Ty::Set(t) => write!(f, "Set({t})"),
+            Ty::Seq(t) => write!(f, "Seq({t})"),
+            Ty::Product(ts) => {
+                for (i, t) in ts.iter().enumerate() {
+                    if i > 0 {
+                        f.write_str(" * ")?;
+                    }
+                    if matches!(t, Ty::Product(_) | Ty::Function(..) | Ty::Relation(..)) {
+                        write!(f, "({t})")?;
+                    } else {
+                        write!(f, "{t}")?;
+                    }
+                }
+                Ok(())
+            }
+            Ty::Function(a, b) => write!(f, "{a} -> {b}"),
+            Ty::Relation(a, b) => write!(f, "{a} <-> {b}"),
+            Ty::Vector(t, n) => match n {
+                Some(n) => write!(f, "vector({t}, {n})"),
+                None => write!(f, "vector({t}, _)"),
+            },
+            Ty::Matrix(t, r, c) => write!(
+                f,
+                "matrix({t}, {}, {})",
+                r.map_or("_".to_string(), |v| v.to_string()),
+                c.map_or("_".to_string(), |v| v.to_string())
+            ),
+            Ty::Var(n) => write!(f, "?{n}"),
+            Ty::Any => f.write_str("any"),
+            Ty::Error => f.write_str("{unknown}"),
+        }
+    }
+}
+
+impl Ty {
+    fn is_numeric(&self) -> bool {
+        matches!(self, Ty::Nat | Ty::Int | Ty::Real | Ty::Error | Ty::Any | Ty::Var(_))
+    }
+    fn rank(&self) -> Option<u8> {
+        match self {
+            Ty::Nat => Some(0),
+            Ty::Int => Some(1),
+            Ty::Real => Some(2),
+            _ => None,
+        }
+    }
+    fn is_unknown(&self) -> bool {
+        matches!(self, Ty::Error | Ty::Any | Ty::Var(_))
+    }
+}
+
+/// `t ≼ u`: a value of type `t` may be used where `u` is expected.
+pub fn compatible(t: &Ty, u: &Ty) -> bool {
+    if t.is_unknown() || u.is_unknown() {
+        return true;
+    }
+    match (t, u) {
+        (a, b) if a == b => true,
+        (a, b) if a.rank().is_some() && b.rank().is_some() => a.rank() <= b.rank(),
+        (Ty::Named(a, _, _), Ty::Named(b, _, _)) => a == b,
+        (Ty::Set(a), Ty::Set(b)) | (Ty::Seq(a), Ty::Seq(b)) => compatible(a, b),
+        (Ty::Product(a), Ty::Product(b)) => a.len() == b.len() && a.iter().zip(b).all(|(x, y)| compatible(x, y)),
+        // Functions are relations; RoboTool also lets a relation stand where
+        // a function is expected (its library relies on it).
+        (Ty::Function(a1, b1), Ty::Function(a2, b2))
+        | (Ty::Function(a1, b1), Ty::Relation(a2, b2))
+        | (Ty::Relation(a1, b1), Ty::Function(a2, b2))
+        | (Ty::Relation(a1, b1), Ty::Relation(a2, b2)) => compatible(a1, a2) && compatible(b1, b2),
+        (Ty::Relation(a, b), Ty::Set(s)) | (Ty::Function(a, b), Ty::Set(s)) => {
+            compatible(&Ty::Product(vec![(**a).clone(), (**b).clone()]), s)
+        }
+        (Ty::Set(s), Ty::Relation(a, b)) | (Ty::Set(s), Ty::Function(a, b)) => {
+            compatible(s, &Ty::Product(vec![(**a).clone(), (**b).clone()]))
+        }
+        // A sequence is a set of (index, element) pairs (RoboTool).
+        (Ty::Seq(e), Ty::Set(s)) => compatible(&Ty::Product(vec![Ty::Nat, (**e).clone()]), s),
+        (Ty::Seq(e), Ty::Relation(a, b)) | (Ty::Seq(e), Ty::Function(a, b)) => {
+            compatible(&Ty::Nat, a) && compatible(e, b)
+        }
+        (Ty::Vector(a, n), Ty::Vector(b, m)) => compatible(a, b) && (n.is_none() || m.is_none() || n == m),
+        (Ty::Matrix(a, r1, c1), Ty::Matrix(b, r2, c2)) => {
+            compatible(a, b) && (r1.is_none() || r2.is_none() || r1 == r2) && (c1.is_none() || c2.is_none() || c1 == c2)
+        }
+        (Ty::Vector(a, Some(n)), Ty::Product(ts)) | (Ty::Product(ts), Ty::Vector(a, Some(n))) => {
+            ts.len() as i128 == *n && ts.iter().all(|t| compatible(t, a) || compatible(a, t))
+        }
+        _ => false,
+    }
+}
+
+/// The more general of two comparable types.
+fn join(a: &Ty, b: &Ty) -> Ty {
+    if a.is_unknown() {
+        return b.clone();
+    }
+    if b.is_unknown() {
+        return a.clone();
+    }
+    if compatible(a, b) {
+        b.clone()
+    } else {
+        a.clone()
+    }
+}
+
+/// Lowers a syntactic type in the scope of `file`.
+pub fn lower(db: &dyn Db, ws: Workspace, file: File, t: &TypeRef) -> Ty {
+    match t {
+        TypeRef::Named(path, _) => {
+            let Some(loc) = resolve_item(db, ws, file, path, DefKind::is_type).first().copied() else {
+                return Ty::Error;
+            };
+            let s = loc.summary(db);
+            if file_summary(db, loc.file).package == ["core"] && s.kind == DefKind::PrimitiveType {
+                return match s.name.as_str() {
+                    "nat" => Ty::Nat,
+                    "int" => Ty::Int,
+                    "real" => Ty::Real,
+                    "boolean" => Ty::Bool,
+                    "string" => Ty::Str,
+                    _ => Ty::Named(loc, s.name.clone(), s.kind),
+                };
+            }
+            Ty::Named(loc, s.name.clone(), s.kind)
+        }
+        TypeRef::Set(a) => Ty::Set(Box::new(lower(db, ws, file, a))),
+        TypeRef::Seq(a) => Ty::Seq(Box::new(lower(db, ws, file, a))),
+        TypeRef::Var(n) => Ty::Var(n.clone()),
+        TypeRef::Product(v) => Ty::Product(v.iter().map(|t| lower(db, ws, file, t)).collect()),
+        TypeRef::Function(a, b) => Ty::Function(Box::new(lower(db, ws, file, a)), Box::new(lower(db, ws, file, b))),
+        TypeRef::Relation(a, b) => Ty::Relation(Box::new(lower(db, ws, file, a)), Box::new(lower(db, ws, file, b))),
+        TypeRef::Vector(a, _) => Ty::Vector(Box::new(lower(db, ws, file, a)), None),
+        TypeRef::Matrix(a, _, _) => Ty::Matrix(Box::new(lower(db, ws, file, a)), None, None),
+        TypeRef::Missing => Ty::Error,
+    }
+}
+
+/// Instantiates generic parameters by matching a parameter type against an
+/// argument type.
+fn unify(param: &Ty, arg: &Ty, subst: &mut HashMap<String, Ty>) {
+    match (param, arg) {
+        (Ty::Var(n), a) if !a.is_unknown() => {
+            let e = subst.entry(n.clone()).or_insert_with(|| a.clone());
+            *e = join(e, a);
+        }
+        (Ty::Var(_), _) => {}
+        (Ty::Set(p), Ty::Set(a)) | (Ty::Seq(p), Ty::Seq(a)) => unify(p, a, subst),
+        (Ty::Set(p), Ty::Seq(a)) => unify(p, &Ty::Product(vec![Ty::Nat, (**a).clone()]), subst),
+        (Ty::Product(ps), Ty::Product(xs)) if ps.len() == xs.len() => {
+            for (p, x) in ps.iter().zip(xs) {
+                unify(p, x, subst);
+            }
+        }
+        (Ty::Function(p1, p2), Ty::Function(a1, a2))
+        | (Ty::Relation(p1, p2), Ty::Relation(a1, a2))
+        | (Ty::Relation(p1, p2), Ty::Function(a1, a2)) => {
+            unify(p1, a1, subst);
+            unify(p2, a2, subst);
+        }
+        (Ty::Relation(p1, p2), Ty::Set(s)) => {
+            if let Ty::Product(v) = &**s {
+                if v.len() == 2 {
+                    unify(p1, &v[0], subst);
+                    unify(p2, &v[1], subst);
+                }
+            }
+        }
+        (Ty::Relation(p1, p2), Ty::Seq(e)) | (Ty::Function(p1, p2), Ty::Seq(e)) => {
+            unify(p1, &Ty::Nat, subst);
+            unify(p2, e, subst);
+        }
+        _ => {}
+    }
+}
+
+fn substitute(t: &Ty, subst: &HashMap<String, Ty>) -> Ty {
+    match t {
+        Ty::Var(n) => subst.get(n).cloned().unwrap_or(Ty::Any),
+        Ty::Set(a) => Ty::Set(Box::new(substitute(a, subst))),
+        Ty::Seq(a) => Ty::Seq(Box::new(substitute(a, subst))),
+        Ty::Product(v) => Ty::Product(v.iter().map(|t| substitute(t, subst)).collect()),
+        Ty::Function(a, b) => Ty::Function(Box::new(substitute(a, subst)), Box::new(substitute(b, subst))),
+        Ty::Relation(a, b) => Ty::Relation(Box::new(substitute(a, subst)), Box::new(substitute(b, subst))),
+        Ty::Vector(a, n) => Ty::Vector(Box::new(substitute(a, subst)), *n),
+        Ty::Matrix(a, r, c) => Ty::Matrix(Box::new(substitute(a, subst)), *r, *c),
+        other => other.clone(),
+    }
+}
+
+/// The type problems of a file.
+#[salsa::tracked(returns(ref))]
+pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem> {
+    if file.kind(db).is_assertions() {
+        return Vec::new();
+    }
+    let mut targets: HashMap<TextRange, Target> = HashMap::new();
+    for r in file_resolution(db, ws, file).refs.iter().chain(&body_resolution(db, ws, file).refs) {
+        if let Some(t) = r.target {
+            targets.insert(r.range, t);
+        }
+    }
+    let mut t = Typer {
+        db,
+        ws,
+        file,
+        defs: file_defs(db, file),
+        rs: file.kind(db) == FileKind::RoboSim,
+        targets,
+        env: Vec::new(),
+        out: Vec::new(),
+        result: None,
+    };
+    let root = parse(db, file).syntax_node();
+    t.walk(&root);
+    t.out
+}
+
+struct Typer<'a> {
+    db: &'a dyn Db,
+    ws: Workspace,
+    file: File,
+    defs: &'a FileDefs,
+    rs: bool,
+    targets: HashMap<TextRange, Target>,
+    env: Vec<(String, Ty)>,
+    out: Vec<ResolveProblem>,
+    /// The result type inside a function's postcondition.
+    result: Option<Ty>,
+}
+
+fn exprs(n: &SyntaxNode) -> Vec<SyntaxNode> {
+    n.children().filter(|c| ast::is_expr_kind(c.kind())).collect()
+}
+
+fn op_of(n: &SyntaxNode) -> Option<SyntaxKind> {
+    n.children_with_tokens().filter_map(|e| e.into_token()).map(|t| t.kind()).find(|k| {
+        matches!(
+            k,
+            EQ2 | NEQ
+                | LT
+                | LTEQ
+                | GT
+                | GTEQ
+                | IN_KW
+                | AND
+                | OR
+                | IMPLIES
+                | IFF_KW
+                | PLUS
+                | MINUS
+                | STAR
+                | SLASH
+                | PERCENT
+                | CAT_KW
+                | CARET
+        )
+    })
+}
+
+fn op_text(k: SyntaxKind) -> &'static str {
+    k.text().unwrap_or("?")
+}
+
+fn is_timed(n: &SyntaxNode) -> bool {
+    matches!(n.kind(), SINCE_EXPR | SINCE_ENTRY_EXPR)
+}
+
+impl Typer<'_> {
+    fn problem(&mut self, code: &'static str, range: TextRange, message: String) {
+        self.out.push(ResolveProblem { code, range, message });
+    }
+
+    /// Walks the tree; typed positions are checked where they occur.
+    fn walk(&mut self, node: &SyntaxNode) {
+        for n in node.descendants() {
+            match n.kind() {
+                CONDITION => {
+                    if let Some(e) = exprs(&n).first() {
+                        let t = self.expr(e);
+                        self.expect_bool(
+                            &t,
+                            e,
+                            if self.rs { "RS-TRANS-01" } else { "RC-TRANS-01" },
+                            "a transition condition",
+                        );
+                    }
+                }
+                PRECONDITION | POSTCONDITION => {
+                    self.result = self.function_result(&n);
+                    if let Some(e) = exprs(&n).first() {
+                        let t = self.expr(e);
+                        self.expect_bool(&t, e, "RC-EXP-13", "a pre- or postcondition");
+                    }
+                    self.result = None;
+                }
+                VARIABLE => self.initialiser(&n),
+                ASSIGN_STMT => self.assignment(&n),
+                IF_STMT => {
+                    if let Some(e) = exprs(&n).first() {
+                        let t = self.expr(e);
+                        self.expect_bool(&t, e, "RC-STMT-03", "the condition of `if`");
+                    }
+                }
+                WAIT_STMT => {
+                    if let Some(e) = exprs(&n).first() {
+                        let t = self.expr(e);
+                        let ok = compatible(&t, &Ty::Int) || compatible(&t, &Ty::Set(Box::new(Ty::Int)));
+                        if !ok {
+                            self.problem(
+                                "RC-STMT-04",
+                                e.text_range(),
+                                format!("`wait` needs an integer or a set of integers; this has type {t}"),
+                            );
+                        }
+                    }
+                }
+                CALL_STMT | SIM_CALL_STMT => self.call_stmt(&n),
+                COMMUNICATION => self.communication(&n),
+                OUTPUT_COMM_STMT => self.output_comm(&n),
+                PROBABILITY => self.probability(&n),
+                ENTRY_ACTION | DURING_ACTION | EXIT_ACTION | TRANSITION_ACTION => {
+                    for t in n.descendants().filter(is_timed) {
+                        self.problem(
+                            "RC:TE1",
+                            t.text_range(),
+                            "`since` and `sinceEntry` are not allowed in actions: use them in transition conditions"
+                                .into(),
+                        );
+                    }
+                }
+                CYCLE_DEF => {
+                    // Typed by the cycle rules; walk for timed expressions only.
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn function_result(&self, n: &SyntaxNode) -> Option<Ty> {
+        let inner = self.defs.innermost(n.text_range())?;
+        let d = self.defs.def(inner);
+        match (&d.kind, &d.data) {
+            (DefKind::Function, DefData::Signature { result: Some(r), .. }) => {
+                Some(lower(self.db, self.ws, self.file, r))
+            }
+            _ => None,
+        }
+    }
+
+    fn expect_bool(&mut self, t: &Ty, e: &SyntaxNode, code: &'static str, what: &str) {
+        if !compatible(t, &Ty::Bool) {
+            self.problem(code, e.text_range(), format!("{what} must be boolean; this expression has type {t}"));
+        }
+    }
+
+    /// The declared type of a resolved name.
+    fn target_type(&self, t: Target) -> Ty {
+        match t {
+            Target::Def(f, id) => {
+                let defs = file_defs(self.db, f);
+                let d = defs.def(id);
+                match (&d.kind, &d.data) {
+                    (
+                        DefKind::Variable | DefKind::Constant | DefKind::Parameter | DefKind::Field | DefKind::Event,
+                        DefData::Typed { ty, .. },
+                    ) => ty.as_ref().map(|t| lower(self.db, self.ws, f, t)).unwrap_or(Ty::Error),
+                    _ => Ty::Error,
+                }
+            }
+            Target::Member(loc, i) => {
+                let s = loc.summary(self.db);
+                let m = &s.members[i as usize];
+                match m.kind {
+                    DefKind::EnumLiteral => Ty::Named(loc, s.name.clone(), DefKind::Enumeration),
+                    _ => m.ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error),
+                }
+            }
+            Target::Item(loc) => {
+                let s = loc.summary(self.db);
+                if s.kind == DefKind::Function {
+                    let params: Vec<Ty> = s
+                        .params
+                        .iter()
+                        .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                        .collect();
+                    let result = self.function_result_of(loc);
+                    if params.is_empty() {
+                        return result;
+                    }
+                    return Ty::Function(Box::new(Ty::Product(params)), Box::new(result));
+                }
+                Ty::Error
+            }
+        }
+    }
+
+    fn function_result_of(&self, loc: ItemLoc) -> Ty {
+        let Some(def) = loc.def(self.db) else { return Ty::Error };
+        match &file_defs(self.db, loc.file).def(def).data {
+            DefData::Signature { result: Some(r), .. } => lower(self.db, self.ws, loc.file, r),
+            _ => Ty::Error,
+        }
+    }
+
+    fn name_type(&self, n: &SyntaxNode) -> Ty {
+        let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return Ty::Error };
+        let name = r.text().to_string().trim().trim_start_matches('^').to_string();
+        if let Some((_, t)) = self.env.iter().rev().find(|(x, _)| *x == name) {
+            return t.clone();
+        }
+        match self.targets.get(&r.text_range()) {
+            Some(t) => self.target_type(*t),
+            None => Ty::Error,
+        }
+    }
+
+    fn bind(&mut self, n: &SyntaxNode) -> usize {
+        let before = self.env.len();
+        for bs in n.children().filter(|c| c.kind() == BINDERS) {
+            for b in bs.children().filter(|c| c.kind() == BINDER) {
+                let name = b
+                    .children()
+                    .find(|c| c.kind() == NAME)
+                    .map(|x| x.text().to_string().trim().trim_start_matches('^').to_string());
+                let ty = b
+                    .children()
+                    .find(|c| ast::is_type_kind(c.kind()))
+                    .map(|t| lower(self.db, self.ws, self.file, &lower_type(&t)))
+                    .unwrap_or(Ty::Error);
+                if let Some(name) = name {
+                    self.env.push((name, ty));
+                }
+            }
+        }
+        before
+    }
+
+    fn binder_types(&self, n: &SyntaxNode, from: usize) -> Vec<Ty> {
+        let _ = n;
+        self.env[from..].iter().map(|(_, t)| t.clone()).collect()
+    }
+
+    fn such_that(&mut self, n: &SyntaxNode) {
+        if let Some(st) =
+            n.children().filter(|c| c.kind() == BINDERS).flat_map(|b| b.children()).find(|c| c.kind() == SUCH_THAT)
+        {
+            if let Some(e) = exprs(&st).first() {
+                let t = self.expr(e);
+                self.expect_bool(&t, e, "RC-EXP-14", "the predicate of a binder");
+            }
+        }
+    }
+
+    /// The type of an expression; reports the innermost ill-typed part.
+    fn expr(&mut self, n: &SyntaxNode) -> Ty {
+        match n.kind() {
+            LITERAL => match n.first_token().map(|t| t.kind()) {
+                Some(INT_NUMBER) => Ty::Nat,
+                Some(FLOAT_NUMBER) => Ty::Real,
+                Some(STRING) => Ty::Str,
+                Some(TRUE_KW | FALSE_KW) => Ty::Bool,
+                _ => Ty::Error,
+            },
+            CYCLE_EXPR => Ty::Nat,
+            RESULT_EXPR => self.result.clone().unwrap_or(Ty::Error),
+            FROM_EXPR | TO_EXPR => Ty::Error,
+            REF_EXPR => self.name_type(n),
+            PAREN_EXPR => exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error),
+            ENUM_LITERAL_EXPR => {
+                let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
+                match refs.first().and_then(|r| self.targets.get(&r.text_range())) {
+                    Some(Target::Item(loc)) => Ty::Named(*loc, loc.summary(self.db).name.clone(), DefKind::Enumeration),
+                    _ => Ty::Error,
+                }
+            }
+            RECORD_LITERAL => {
+                let name = n
+                    .children()
+                    .find(|c| c.kind() == NAME_REF)
+                    .map(|r| r.text().to_string().trim().trim_start_matches('^').to_string());
+                for fv in n.children().filter(|c| c.kind() == FIELD_VALUE) {
+                    if let Some(e) = exprs(&fv).first() {
+                        self.expr(e);
+                    }
+                }
+                match name.and_then(|nm| {
+                    resolve_item(self.db, self.ws, self.file, &[nm], |k| k == DefKind::Record).first().copied()
+                }) {
+                    Some(loc) => Ty::Named(loc, loc.summary(self.db).name.clone(), DefKind::Record),
+                    None => Ty::Error,
+                }
+            }
+            PREFIX_EXPR => {
+                let e = exprs(n);
+                let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
+                if n.children_with_tokens().any(|t| t.kind() == NOT_KW) {
+                    if let Some(x) = e.first() {
+                        self.expect_bool(&t, x, "RC-EXP-14", "the operand of `not`");
+                    }
+                    Ty::Bool
+                } else {
+                    match t {
+                        Ty::Nat | Ty::Int => Ty::Int,
+                        Ty::Real => Ty::Real,
+                        Ty::Vector(..) | Ty::Matrix(..) => t,
+                        t if t.is_unknown() => Ty::Error,
+                        t => {
+                            if let Some(x) = e.first() {
+                                self.problem(
+                                    "RC-EXP-14",
+                                    x.text_range(),
+                                    format!("unary `-` needs a number; this has type {t}"),
+                                );
+                            }
+                            Ty::Error
+                        }
+                    }
+                }
+            }
+            BIN_EXPR => self.binary(n),
+            IF_EXPR => {
+                let e = exprs(n);
+                if e.len() != 3 {
+                    return Ty::Error;
+                }
+                let c = self.expr(&e[0]);
+                self.expect_bool(&c, &e[0], "RC-EXP-14", "the condition of `if`");
+                let a = self.expr(&e[1]);
+                let b = self.expr(&e[2]);
+                if !compatible(&a, &b) && !compatible(&b, &a) {
+                    self.problem(
+                        "RC-EXP-14",
+                        e[2].text_range(),
+                        format!("the branches of `if` have different types: {a} and {b}"),
+                    );
+                    return Ty::Error;
+                }
+                join(&a, &b)
+            }
+            TYPE_TEST_EXPR => {
+                let e = exprs(n);
+                let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
+                let target = n
+                    .children()
+                    .find(|c| ast::is_type_kind(c.kind()))
+                    .map(|t| lower(self.db, self.ws, self.file, &lower_type(&t)))
+                    .unwrap_or(Ty::Error);
+                if n.children_with_tokens().any(|t| t.kind() == IS_KW) {
+                    Ty::Bool
+                } else {
+                    // Widening silently, numeric narrowing allowed (RC-EXP-11).
+                    let castable = compatible(&t, &target)
+                        || compatible(&target, &t)
+                        || (t.rank().is_some() && target.rank().is_some());
+                    if !castable {
+                        self.problem("RC-EXP-11", n.text_range(), format!("cannot cast {t} to {target}"));
+                    }
+                    target
+                }
+            }
+            FORALL_EXPR | EXISTS_EXPR => {
+                let mark = self.bind(n);
+                self.such_that(n);
+                if let Some(body) = exprs(n).last() {
+                    let t = self.expr(body);
+                    self.expect_bool(&t, body, "RC-EXP-14", "the body of a quantifier");
+                }
+                self.env.truncate(mark);
+                Ty::Bool
+            }
+            LAMBDA_EXPR => {
+                let mark = self.bind(n);
+                let dom = self.binder_types(n, mark);
+                self.such_that(n);
+                let body = exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
+                self.env.truncate(mark);
+                let dom = if dom.len() == 1 { dom.into_iter().next().unwrap() } else { Ty::Product(dom) };
+                Ty::Function(Box::new(dom), Box::new(body))
+            }
+            THE_EXPR => {
+                let mark = self.bind(n);
+                self.such_that(n);
+                let t = exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
+                self.env.truncate(mark);
+                t
+            }
+            SET_COMP_EXPR => {
+                let mark = self.bind(n);
+                let dom = self.binder_types(n, mark);
+                // Without `@ term`, RoboTool's library writes the term where
+                // the predicate goes (`{x : ?X | maplet(x, x)}`): only check
+                // the predicate when a term is given.
+                if n.children_with_tokens().any(|t| t.kind() == AT) {
+                    self.such_that(n);
+                }
+                let t = match exprs(n).last() {
+                    Some(b) => self.expr(b),
+                    None if dom.len() == 1 => dom[0].clone(),
+                    None => Ty::Product(dom),
+                };
+                self.env.truncate(mark);
+                Ty::Set(Box::new(t))
+            }
+            LET_EXPR => {
+                let mark = self.env.len();
+                for d in n.children().filter(|c| c.kind() == LET_DECL) {
+                    let t = exprs(&d).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
+                    if let Some(name) = d.children().find(|c| c.kind() == NAME) {
+                        self.env.push((name.text().to_string().trim().trim_start_matches('^').to_string(), t));
+                    }
+                }
+                let t = exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
+                self.env.truncate(mark);
+                t
+            }
+            SET_EXPR => {
+                let mut el = Ty::Any;
+                for e in exprs(n) {
+                    let t = self.expr(&e);
+                    el = join(&el, &t);
+                }
+                Ty::Set(Box::new(el))
+            }
+            SEQ_EXPR => {
+                let mut el = Ty::Any;
+                for e in exprs(n) {
+                    let t = self.expr(&e);
+                    el = join(&el, &t);
+                }
+                Ty::Seq(Box::new(el))
+            }
+            SET_RANGE_EXPR | INTERVAL_EXPR => {
+                let mut el = Ty::Nat;
+                for e in exprs(n) {
+                    let t = self.expr(&e);
+                    if !t.is_numeric() {
+                        self.problem(
+                            "RC-EXP-14",
+                            e.text_range(),
+                            format!("the bounds of a range are numbers; this has type {t}"),
+                        );
+                    }
+                    el = join(&el, &t);
+                }
+                Ty::Set(Box::new(el))
+            }
+            TUPLE_EXPR => Ty::Product(exprs(n).iter().map(|e| self.expr(e)).collect()),
+            MATRIX_EXPR => {
+                let rows: Vec<Vec<Ty>> = n
+                    .children()
+                    .filter(|c| c.kind() == MATRIX_ROW)
+                    .map(|r| exprs(&r).iter().map(|e| self.expr(e)).collect())
+                    .collect();
+                let el = rows.iter().flatten().fold(Ty::Any, |a, t| join(&a, t));
+                if rows.len() == 1 {
+                    Ty::Vector(Box::new(el), Some(rows[0].len() as i128))
+                } else {
+                    Ty::Matrix(Box::new(el), Some(rows.len() as i128), rows.first().map(|r| r.len() as i128))
+                }
+            }
+            INVERSE_EXPR | TRANSPOSE_EXPR => {
+                let t = exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
+                match (n.kind(), t) {
+                    (TRANSPOSE_EXPR, Ty::Matrix(a, r, c)) => Ty::Matrix(a, c, r),
+                    (_, t) => t,
+                }
+            }
+            SINCE_EXPR | SINCE_ENTRY_EXPR => {
+                // Only as a direct operand of a comparison (RC:TE4).
+                let parent_ok =
+                    n.ancestors().skip(1).find(|a| a.kind() != PAREN_EXPR).is_some_and(|p| {
+                        p.kind() == BIN_EXPR && matches!(op_of(&p), Some(LT | LTEQ | GT | GTEQ | EQ2))
+                    });
+                let in_action = n
+                    .ancestors()
+                    .any(|a| matches!(a.kind(), ENTRY_ACTION | DURING_ACTION | EXIT_ACTION | TRANSITION_ACTION));
+                if !parent_ok && !in_action {
+                    self.problem(
+                        "RC:TE4",
+                        n.text_range(),
+                        "a timed expression can only be compared with a number (`<`, `<=`, `>`, `>=` or `==`)".into(),
+                    );
+                }
+                Ty::Int
+            }
+            SELECT_EXPR => {
+                let t = exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
+                let field = n
+                    .children()
+                    .filter(|c| c.kind() == NAME_REF)
+                    .last()
+                    .map(|r| (r.text().to_string().trim().trim_start_matches('^').to_string(), r.text_range()));
+                let Some((field, frange)) = field else { return Ty::Error };
+                match &t {
+                    Ty::Named(loc, rname, DefKind::Record) => {
+                        let s = loc.summary(self.db);
+                        match s.members.iter().find(|m| m.kind == DefKind::Field && m.name == field) {
+                            Some(m) => {
+                                m.ty.as_ref().map(|ty| lower(self.db, self.ws, loc.file, ty)).unwrap_or(Ty::Error)
+                            }
+                            None => {
+                                self.problem("LNK-01", frange, format!("record `{rname}` has no field `{field}`"));
+                                Ty::Error
+                            }
+                        }
+                    }
+                    t if t.is_unknown() => Ty::Error,
+                    t => {
+                        self.problem(
+                            "LNK-01",
+                            frange,
+                            format!("`.{field}` selects a field of a record, but this has type {t}"),
+                        );
+                        Ty::Error
+                    }
+                }
+            }
+            INDEX_EXPR => {
+                let e = exprs(n);
+                let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
+                let idx: Vec<Ty> = e.iter().skip(1).map(|x| self.expr(x)).collect();
+                for (x, it) in e.iter().skip(1).zip(&idx) {
+                    if !compatible(it, &Ty::Int) && !matches!(t, Ty::Function(..) | Ty::Relation(..)) {
+                        self.problem(
+                            "RC-EXP-14",
+                            x.text_range(),
+                            format!("an index must be an integer; this has type {it}"),
+                        );
+                    }
+                }
+                match t {
+                    Ty::Seq(a) => *a,
+                    Ty::Vector(a, _) | Ty::Matrix(a, _, _) => *a,
+                    Ty::Function(_, b) | Ty::Relation(_, b) => *b,
+                    Ty::Product(ts) => {
+                        // Tuple access `t[k]` with a literal k (RC-EXP-01..03).
+                        let k = e
+                            .get(1)
+                            .filter(|x| x.kind() == LITERAL)
+                            .and_then(|x| x.text().to_string().trim().parse::<usize>().ok());
+                        match k {
+                            Some(k) if (1..=ts.len()).contains(&k) && e.len() == 2 => ts[k - 1].clone(),
+                            Some(_) if e.len() == 2 => {
+                                self.problem(
+                                    "RC-EXP-03",
+                                    e[1].text_range(),
+                                    format!("tuple index out of range 1..{}", ts.len()),
+                                );
+                                Ty::Error
+                            }
+                            _ => Ty::Error,
+                        }
+                    }
+                    _ => Ty::Error,
+                }
+            }
+            CALL_EXPR => self.call_expr(n),
+            SIM_REF_EXPR => {
+                // `$e` (an event) is boolean; `$v` has v's type.
+                let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return Ty::Error };
+                if let Some(suffix) = n.children().find(|c| matches!(c.kind(), SIM_SYNC_SUFFIX | SIM_INPUT_SUFFIX)) {
+                    for e in exprs(&suffix) {
+                        self.expr(&e);
+                    }
+                    return Ty::Bool;
+                }
+                match self.targets.get(&q.text_range()) {
+                    Some(Target::Def(f, id)) if file_defs(self.db, *f).def(*id).kind == DefKind::Event => Ty::Bool,
+                    Some(Target::Member(loc, i))
+                        if loc.summary(self.db).members[*i as usize].kind == DefKind::Event =>
+                    {
+                        Ty::Bool
+                    }
+                    Some(t) => self.target_type(*t),
+                    None => Ty::Error,
+                }
+            }
+            _ => Ty::Error,
+        }
+    }
+
+    fn binary(&mut self, n: &SyntaxNode) -> Ty {
+        let e = exprs(n);
+        let (Some(a), Some(b)) = (e.first(), e.get(1)) else { return Ty::Error };
+        let Some(op) = op_of(n) else { return Ty::Error };
+        let (x, y) = (self.expr(a), self.expr(b));
+        let bad = |t: &Ty| !t.is_unknown();
+        match op {
+            AND | OR | IMPLIES | IFF_KW => {
+                self.expect_bool(&x, a, "RC-EXP-14", &format!("an operand of `{}`", op_text(op)));
+                self.expect_bool(&y, b, "RC-EXP-14", &format!("an operand of `{}`", op_text(op)));
+                Ty::Bool
+            }
+            EQ2 | NEQ => {
+                // Sequences and sets of the same elements compare (RoboTool).
+                let seq_set = |p: &Ty, q: &Ty| match (p, q) {
+                    (Ty::Seq(a), Ty::Set(b)) => compatible(a, b) || compatible(b, a),
+                    _ => false,
+                };
+                if !compatible(&x, &y) && !compatible(&y, &x) && !seq_set(&x, &y) && !seq_set(&y, &x) {
+                    self.problem("RC-EXP-14", n.text_range(), format!("cannot compare {x} with {y}"));
+                }
+                Ty::Bool
+            }
+            LT | LTEQ | GT | GTEQ => {
+                for (t, s) in [(&x, a), (&y, b)] {
+                    if !compatible(t, &Ty::Real) && bad(t) {
+                        self.problem(
+                            "RC-EXP-14",
+                            s.text_range(),
+                            format!("`{}` compares numbers; this has type {t}", op_text(op)),
+                        );
+                    }
+                }
+                Ty::Bool
+            }
+            IN_KW => {
+                match &y {
+                    Ty::Set(el) => {
+                        if !compatible(&x, el) && !compatible(el, &x) {
+                            self.problem(
+                                "RC-EXP-14",
+                                a.text_range(),
+                                format!("an element of type {x} cannot be in a set of {el}"),
+                            );
+                        }
+                    }
+                    Ty::Seq(_) | Ty::Relation(..) | Ty::Function(..) => {}
+                    t if t.is_unknown() => {}
+                    t => self.problem(
+                        "RC-EXP-14",
+                        b.text_range(),
+                        format!("`in` needs a set on its right; this has type {t}"),
+                    ),
+                }
+                Ty::Bool
+            }
+            PLUS | MINUS | STAR | SLASH | PERCENT => {
+                if matches!(x, Ty::Vector(..) | Ty::Matrix(..)) || matches!(y, Ty::Vector(..) | Ty::Matrix(..)) {
+                    return if matches!(x, Ty::Vector(..) | Ty::Matrix(..)) { x } else { y };
+                }
+                for (t, s) in [(&x, a), (&y, b)] {
+                    if !t.is_numeric() {
+                        self.problem(
+                            "RC-EXP-14",
+                            s.text_range(),
+                            format!("`{}` needs numbers; this has type {t}", op_text(op)),
+                        );
+                        return Ty::Error;
+                    }
+                }
+                if x.is_unknown() || y.is_unknown() {
+                    return if op == SLASH { Ty::Real } else { Ty::Error };
+                }
+                let r = x.rank().max(y.rank()).unwrap_or(2);
+                match op {
+                    SLASH => Ty::Real,
+                    MINUS if r == 0 => Ty::Int,
+                    _ => [Ty::Nat, Ty::Int, Ty::Real][r as usize].clone(),
+                }
+            }
+            CAT_KW | CARET => match (&x, &y) {
+                (Ty::Str, Ty::Str) => Ty::Str,
+                (Ty::Seq(p), Ty::Seq(q)) => Ty::Seq(Box::new(join(p, q))),
+                (t, u) if t.is_unknown() || u.is_unknown() => Ty::Error,
+                (t, u) => {
+                    self.problem(
+                        "RC-EXP-14",
+                        n.text_range(),
+                        format!("concatenation needs two sequences or two strings; found {t} and {u}"),
+                    );
+                    Ty::Error
+                }
+            },
+            _ => Ty::Error,
+        }
+    }
+
+    fn call_expr(&mut self, n: &SyntaxNode) -> Ty {
+        let e = exprs(n);
+        let Some(callee) = e.first() else { return Ty::Error };
+        let args: Vec<(SyntaxNode, Ty)> = n
+            .children()
+            .find(|c| c.kind() == ARG_LIST)
+            .map(|al| {
+                exprs(&al)
+                    .into_iter()
+                    .map(|x| {
+                        let t = self.expr(&x);
+                        (x, t)
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        // A function: check arity and argument types with generics.
+        if callee.kind() == REF_EXPR {
+            if let Some(r) = callee.children().find(|c| c.kind() == NAME_REF) {
+                if let Some(Target::Item(loc)) = self.targets.get(&r.text_range()).copied() {
+                    let s = loc.summary(self.db);
+                    if s.kind == DefKind::Function {
+                        let name = s.name.clone();
+                        let params: Vec<Ty> = s
+                            .params
+                            .iter()
+                            .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                            .collect();
+                        let result = self.function_result_of(loc);
+                        if params.len() != args.len() {
+                            self.problem(
+                                "RC-EXP-09",
+                                n.text_range(),
+                                format!(
+                                    "`{name}` takes {} argument{}, not {}",
+                                    params.len(),
+                                    if params.len() == 1 { "" } else { "s" },
+                                    args.len()
+                                ),
+                            );
+                            return substitute(&result, &HashMap::new());
+                        }
+                        let mut subst = HashMap::new();
+                        for (p, (_, a)) in params.iter().zip(&args) {
+                            unify(p, a, &mut subst);
+                        }
+                        for (i, (p, (x, a))) in params.iter().zip(&args).enumerate() {
+                            let p = substitute(p, &subst);
+                            if !compatible(a, &p) {
+                                self.problem(
+                                    "RC-EXP-10",
+                                    x.text_range(),
+                                    format!("argument {} of `{name}` has type {a}, expected {p}", i + 1),
+                                );
+                            }
+                        }
+                        return substitute(&result, &subst);
+                    }
+                }
+            }
+        }
+        let t = self.expr(callee);
+        match t {
+            Ty::Function(_, b) | Ty::Relation(_, b) => *b,
+            Ty::Named(_, _, DefKind::Enumeration) => t,
+            _ => Ty::Error,
+        }
+    }
+
+    fn initialiser(&mut self, n: &SyntaxNode) {
+        let Some(init) = exprs(n).into_iter().next() else { return };
+        let Some(ty) = n.children().find(|c| ast::is_type_kind(c.kind())) else { return };
+        let declared = lower(self.db, self.ws, self.file, &lower_type(&ty));
+        let t = self.expr(&init);
+        if !compatible(&t, &declared) {
+            let name = n.children().find(|c| c.kind() == NAME).map(|x| x.text().to_string()).unwrap_or_default();
+            self.problem(
+                "RC-VAR-01",
+                init.text_range(),
+                format!("`{}` has type {declared}, but its initial value has type {t}", name.trim()),
+            );
+        }
+    }
+
+    fn assignment(&mut self, n: &SyntaxNode) {
+        let Some(target) = n.children().find(|c| c.kind() == ASSIGNABLE) else { return };
+        let Some(value) = exprs(n).into_iter().next() else { return };
+        let Some(q) = target.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
+        let mut ty = match self.targets.get(&q.text_range()) {
+            Some(t) => self.target_type(*t),
+            None => {
+                let name = q.text().to_string().trim().trim_start_matches('^').to_string();
+                self.env.iter().rev().find(|(x, _)| *x == name).map(|(_, t)| t.clone()).unwrap_or(Ty::Error)
+            }
+        };
+        // Follow `.f` and `[i]` selectors.
+        for s in target.children() {
+            ty = match (s.kind(), &ty) {
+                (FIELD_ACCESS, Ty::Named(loc, rname, DefKind::Record)) => {
+                    let fref = s.children().find(|c| c.kind() == NAME_REF);
+                    let f = fref
+                        .as_ref()
+                        .map(|r| r.text().to_string().trim().trim_start_matches('^').to_string())
+                        .unwrap_or_default();
+                    let field =
+                        loc.summary(self.db).members.iter().find(|m| m.kind == DefKind::Field && m.name == f).cloned();
+                    match field {
+                        Some(m) => m.ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error),
+                        None => {
+                            if let Some(r) = fref {
+                                self.problem("LNK-01", r.text_range(), format!("record `{rname}` has no field `{f}`"));
+                            }
+                            Ty::Error
+                        }
+                    }
+                }
+                (INDEX_ACCESS, Ty::Seq(a)) | (INDEX_ACCESS, Ty::Vector(a, _)) | (INDEX_ACCESS, Ty::Matrix(a, _, _)) => {
+                    (**a).clone()
+                }
+                (INDEX_ACCESS, Ty::Function(_, b)) | (INDEX_ACCESS, Ty::Relation(_, b)) => (**b).clone(),
+                (FIELD_ACCESS | INDEX_ACCESS, _) => Ty::Error,
+                _ => ty,
+            };
+            for e in exprs(&s) {
+                self.expr(&e);
+            }
+        }
+        let t = self.expr(&value);
+        if !compatible(&t, &ty) {
+            self.problem(
+                "RC-STMT-02",
+                value.text_range(),
+                format!("`{}` has type {ty}, but the value has type {t}", target.text().to_string().trim()),
+            );
+        }
+    }
+
+    fn call_stmt(&mut self, n: &SyntaxNode) {
+        let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
+        let args: Vec<(SyntaxNode, Ty)> = n
+            .children()
+            .find(|c| c.kind() == ARG_LIST)
+            .map(|al| {
+                exprs(&al)
+                    .into_iter()
+                    .map(|x| {
+                        let t = self.expr(&x);
+                        (x, t)
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let params: Vec<Ty> = match self.targets.get(&q.text_range()) {
+            Some(Target::Def(f, id)) => match &file_defs(self.db, *f).def(*id).data {
+                DefData::Signature { params, .. } => params
+                    .iter()
+                    .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, *f, t)).unwrap_or(Ty::Error))
+                    .collect(),
+                _ => return,
+            },
+            Some(Target::Member(loc, i)) => {
+                let m = &loc.summary(self.db).members[*i as usize];
+                m.params
+                    .iter()
+                    .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                    .collect()
+            }
+            _ => return,
+        };
+        let name = q.text().to_string().trim().to_string();
+        if params.len() != args.len() {
+            self.problem(
+                "RC-STMT-05",
+                n.text_range(),
+                format!(
+                    "operation `{name}` takes {} argument{}, not {}",
+                    params.len(),
+                    if params.len() == 1 { "" } else { "s" },
+                    args.len()
+                ),
+            );
+            return;
+        }
+        for (i, (p, (x, a))) in params.iter().zip(&args).enumerate() {
+            if !compatible(a, p) {
+                self.problem(
+                    "RC-STMT-05",
+                    x.text_range(),
+                    format!("argument {} of `{name}` has type {a}, expected {p}", i + 1),
+                );
+            }
+        }
+    }
+
+    fn event_type(&self, r: &SyntaxNode) -> Option<Option<Ty>> {
+        let t = self.targets.get(&r.text_range())?;
+        Some(match t {
+            Target::Def(f, id) => match &file_defs(self.db, *f).def(*id).data {
+                DefData::Typed { ty, .. } => ty.as_ref().map(|t| lower(self.db, self.ws, *f, t)),
+                _ => None,
+            },
+            Target::Member(loc, i) => {
+                loc.summary(self.db).members[*i as usize].ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t))
+            }
+            Target::Item(_) => None,
+        })
+    }
+
+    fn communication(&mut self, n: &SyntaxNode) {
+        let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return };
+        let name = r.text().to_string().trim().trim_start_matches('^').to_string();
+        let Some(ety) = self.event_type(&r) else { return };
+        let payload = n.children().find(|c| matches!(c.kind(), COMM_INPUT | COMM_OUTPUT | COMM_SYNC));
+        match (payload, ety) {
+            (None, Some(t)) => self.problem(
+                "RC:Tg2",
+                r.text_range(),
+                format!("`{name}` carries a value of type {t}: receive it (`{name}?x`) or send one (`{name}!v`)"),
+            ),
+            (Some(p), None) => self.problem(
+                "RC:Tg5",
+                r.text_range(),
+                format!("`{name}` carries no value, so `{}` is not possible", p.text().to_string().trim()),
+            ),
+            (Some(p), Some(et)) => match p.kind() {
+                COMM_INPUT => {
+                    if let Some(q) = p.children().find(|c| c.kind() == QUALIFIED_NAME) {
+                        let vt = self.targets.get(&q.text_range()).map(|t| self.target_type(*t)).unwrap_or(Ty::Error);
+                        if !compatible(&et, &vt) {
+                            self.problem(
+                                "RC-COMM-01",
+                                q.text_range(),
+                                format!(
+                                    "`{}` has type {vt} and cannot hold values of `{name}`, of type {et}",
+                                    q.text().to_string().trim()
+                                ),
+                            );
+                        }
+                    }
+                }
+                _ => {
+                    if let Some(v) = exprs(&p).first() {
+                        let vt = self.expr(v);
+                        if !compatible(&vt, &et) {
+                            let code = if p.kind() == COMM_OUTPUT { "RC-COMM-02" } else { "RC-COMM-03" };
+                            self.problem(
+                                code,
+                                v.text_range(),
+                                format!("`{name}` carries {et}, but the value has type {vt}"),
+                            );
+                        }
+                    }
+                }
+            },
+            (None, None) => {}
+        }
+    }
+
+    fn output_comm(&mut self, n: &SyntaxNode) {
+        let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
+        let Some(ety) = self.event_type(&q) else { return };
+        let name = q.text().to_string().trim().to_string();
+        match (exprs(n).first(), ety) {
+            (None, Some(t)) => self.problem(
+                "RS-IO-06",
+                q.text_range(),
+                format!("`{name}` carries a value of type {t}: write `${name}!v`"),
+            ),
+            (Some(v), None) => {
+                self.problem("RS-IO-06", v.text_range(), format!("`{name}` carries no value: write `${name}`"))
+            }
+            (Some(v), Some(et)) => {
+                let vt = self.expr(v);
+                if !compatible(&vt, &et) {
+                    self.problem(
+                        "RS-IO-06",
+                        v.text_range(),
+                        format!("`{name}` carries {et}, but the value has type {vt}"),
+                    );
+                }
+            }
+            (None, None) => {}
+        }
+    }
+
+    fn probability(&mut self, n: &SyntaxNode) {
+        let Some(e) = exprs(n).into_iter().next() else { return };
+        let t = self.expr(&e);
+        if !compatible(&t, &Ty::Real) {
+            self.problem("RC:PT2", e.text_range(), format!("a probability is a number in [0, 1]; this has type {t}"));
+            return;
+        }
+        if e.kind() == LITERAL {
+            if let Ok(v) = e.text().to_string().trim().parse::<f64>() {
+                if !(0.0..=1.0).contains(&v) {
+                    self.problem("RC:PT2", e.text_range(), "a probability must lie in [0, 1]".into());
+                }
+            }
+        }
+    }
+}
