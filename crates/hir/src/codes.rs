@@ -118,6 +118,24 @@ rules! {
     "RC-COMM-03" E E "In `e.v` the value fits the event.";
     "RS-IO-06" E W "An output communication `$e!v` / `$e` matches the event's type.";
     "RC:PT2" E E "A probability lies in [0, 1].";
+    "RC-TYPE-04" E W "A constant used as a vector or matrix size has type nat.";
+    "RC:C3" E E "A controller provides every variable its machines require.";
+    "RC:C4" E E "A controller defines or requires every operation its machines require.";
+    "RC:C8" E E "A controller does not include the same operation definition twice.";
+    "RC:M2" E E "The robotic platform provides every variable and operation the controllers require.";
+    "RC:Cn4" E E "A broadcast event connects only to a broadcast event.";
+    "RC-CONN-01" E E "Broadcast connections relay between levels.";
+    "RC-CONN-02" E E "Connected events have compatible types.";
+    "RC:Cn5" E E "A bidirectional module connection to a controller is bidirectional inside it too.";
+    "RC:Cn6" E E "A one-way module connection into a controller continues one-way from it.";
+    "RC:Cn7" E E "A one-way module connection out of a controller continues one-way into it.";
+    "RC:Cn8" E E "A one-way connection into a machine is not used by the machine for output.";
+    "RC:Cn9" E E "A one-way connection out of a machine is not used by the machine for input.";
+    "RC:O2" E W "Operations are not recursive.";
+    "RC:PJ3" W W "The probabilities leaving a probabilistic junction add up to 1.";
+    "RS-IO-08" W W "RoboSim machines see events only through their input and output contexts.";
+    "RS-IO-09" E W "A controller provides the variables its machines read and write through I/O contexts.";
+    "RS-STMT-02" E W "RoboSim has no statement deadlines.";
     "RS-IO-01" E E "Interfaces used in an output context declare no variables.";
     "RS-IO-02" E E "Interfaces used in an input context declare only events.";
 }

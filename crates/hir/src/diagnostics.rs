@@ -97,7 +97,8 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
             out.push(make(p.code, p.range, p.message.clone(), related));
         }
         let checks = crate::checks::file_checks(db, workspace, file);
-        for p in checks.iter().chain(crate::robosim::robosim_checks(db, workspace, file)) {
+        let more = crate::more_checks::more_checks(db, workspace, file);
+        for p in checks.iter().chain(crate::robosim::robosim_checks(db, workspace, file)).chain(more) {
             let related =
                 p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();
             out.push(make(p.code, p.range, p.message.clone(), related));

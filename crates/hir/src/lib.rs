@@ -15,6 +15,7 @@ mod db;
 pub mod defs;
 mod diagnostics;
 pub mod index;
+mod more_checks;
 pub mod resolve;
 mod robosim;
 pub mod types;

@@ -506,3 +506,29 @@ fn segments(q: &SyntaxNode) -> Vec<String> {
 pub fn member_of(db: &dyn Db, loc: ItemLoc, index: u32) -> &crate::index::MemberSummary {
     &file_summary(db, loc.file).items[loc.index as usize].members[index as usize]
 }
+
+/// The operations a controller defines: `operation` definitions by name and
+/// `opref`s by the name of the definition they reference (`opref o = Op`
+/// defines `Op`).
+pub fn defined_operations(db: &dyn Db, ctx: Ctx) -> std::collections::HashSet<String> {
+    match ctx {
+        Ctx::Local(f, id) => file_defs(db, f)
+            .children(Some(id))
+            .filter_map(|(_, d)| match (&d.kind, &d.data) {
+                (DefKind::Operation, _) => Some(d.name.clone()),
+                (DefKind::OperationRef, DefData::Reference { path, .. }) => path.last().cloned(),
+                _ => None,
+            })
+            .collect(),
+        Ctx::Item(l) => l
+            .summary(db)
+            .members
+            .iter()
+            .filter_map(|m| match m.kind {
+                DefKind::Operation => Some(m.name.clone()),
+                DefKind::OperationRef => m.target.last().cloned(),
+                _ => None,
+            })
+            .collect(),
+    }
+}

@@ -196,20 +196,7 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
 
 /// The operation definitions (`operation`, `opref`) of a controller.
 fn controller_operation_names(db: &dyn Db, _ws: Workspace, ctx: Ctx) -> Vec<String> {
-    match ctx {
-        Ctx::Local(file, id) => file_defs(db, file)
-            .children(Some(id))
-            .filter(|(_, d)| matches!(d.kind, DefKind::Operation | DefKind::OperationRef))
-            .map(|(_, d)| d.name.clone())
-            .collect(),
-        Ctx::Item(loc) => loc
-            .summary(db)
-            .members
-            .iter()
-            .filter(|m| matches!(m.kind, DefKind::Operation | DefKind::OperationRef))
-            .map(|m| m.name.clone())
-            .collect(),
-    }
+    crate::resolve::defined_operations(db, ctx).into_iter().collect()
 }
 
 /// The contexts of the machines of a controller context.

@@ -1,0 +1,717 @@
+//! Rules that relate several elements: what controllers and platforms must
+//! provide to their machines (RC:C3, RC:C4, RC:C8, RC:M2, RS-IO-09),
+//! connections between levels (RC:Cn4, RC-CONN-01, RC-CONN-02, RC:Cn5–Cn9),
+//! workspace-wide names (RC-PKG-01), vector and matrix sizes
+//! (RC-TYPE-02…04), recursive operations (RC:O2), probabilities (RC:PJ3),
+//! and RoboSim's statement deadlines and machine-level events (RS-STMT-02,
+//! RS-IO-08).
+
+use std::collections::{HashMap, HashSet};
+
+use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
+
+use crate::checks::Problem;
+use crate::defs::{file_defs, DefData, DefId, DefKind, TypeRef, UseKind};
+use crate::index::{resolve_item, workspace_index, ItemLoc};
+use crate::resolve::{ctx_members, node_ctx, Ctx, Member};
+use crate::types::{compatible, lower};
+use crate::{parse, Db, File, Workspace};
+
+/// The cross-element rules of `file`.
+#[salsa::tracked(returns(ref))]
+pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
+    let mut out = Vec::new();
+    if file.kind(db).is_assertions() {
+        return out;
+    }
+    let defs = file_defs(db, file);
+    let rs = file.kind(db) == FileKind::RoboSim;
+    unique_names(db, ws, file, &mut out);
+    sizes(db, file, &mut out);
+    for (id, d) in defs.iter() {
+        match d.kind {
+            DefKind::Controller => {
+                controller_provides(db, ws, file, id, rs, &mut out);
+                operation_copies(db, ws, file, id, &mut out);
+                connection_types(db, ws, file, id, &mut out);
+                machine_directions(db, ws, file, id, &mut out);
+            }
+            DefKind::Module => {
+                platform_provides(db, ws, file, id, &mut out);
+                connection_types(db, ws, file, id, &mut out);
+                module_directions(db, ws, file, id, &mut out);
+            }
+            DefKind::StateMachine if rs => machine_level_events(db, ws, file, id, &mut out),
+            DefKind::ProbabilisticJunction => probabilities(db, file, id, &mut out),
+            _ => {}
+        }
+    }
+    recursion(db, ws, file, &mut out);
+    if rs {
+        let root = parse(db, file).syntax_node();
+        for n in root.descendants().filter(|n| n.kind() == TIMED_STMT) {
+            if let Some(d) = n.children().find(|c| c.kind() == DEADLINE) {
+                out.push(Problem::new(
+                    "RS-STMT-02",
+                    d.text_range(),
+                    "statement deadlines are not part of RoboSim: count cycles with a clock instead",
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// RC-PKG-01: fully qualified names are unique across the workspace.
+fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
+    let index = workspace_index(db, ws);
+    let defs = file_defs(db, file);
+    for (path, locs) in &index.items {
+        if locs.len() < 2 || !locs.iter().any(|l| l.file == file) {
+            continue;
+        }
+        // Report in every file but the first declaring one.
+        let first = locs[0];
+        for l in locs.iter().skip(1).filter(|l| l.file == file) {
+            let Some(def) = l.def(db) else { continue };
+            let Some(fdef) = first.def(db) else { continue };
+            if first.file == file {
+                // Same file: DUP-01 covers it.
+                continue;
+            }
+            out.push(
+                Problem::new(
+                    "RC-PKG-01",
+                    defs.def(def).name_range,
+                    format!("`{}` is declared more than once in the workspace", path.join("::")),
+                )
+                .with_related(
+                    first.file,
+                    file_defs(db, first.file).def(fdef).name_range,
+                    "the other declaration",
+                ),
+            );
+        }
+    }
+}
+
+/// RC-TYPE-02/03/04: vector and matrix sizes are literals or constants.
+fn sizes(db: &dyn Db, file: File, out: &mut Vec<Problem>) {
+    let root = parse(db, file).syntax_node();
+    let defs = file_defs(db, file);
+    for t in root.descendants().filter(|n| matches!(n.kind(), VECTOR_TYPE | MATRIX_TYPE)) {
+        let code = if t.kind() == VECTOR_TYPE { "RC-TYPE-02" } else { "RC-TYPE-03" };
+        for size in t.children().filter(|c| robosim_syntax::ast::is_expr_kind(c.kind())) {
+            let inner = match size.kind() {
+                PAREN_EXPR => {
+                    size.children().find(|c| robosim_syntax::ast::is_expr_kind(c.kind())).unwrap_or(size.clone())
+                }
+                _ => size.clone(),
+            };
+            match inner.kind() {
+                LITERAL if inner.first_token().is_some_and(|k| k.kind() == INT_NUMBER) => {}
+                REF_EXPR => {
+                    let name = inner.text().to_string().trim().trim_start_matches('^').to_string();
+                    let c = defs
+                        .iter()
+                        .find(|(_, d)| d.name == name && matches!(d.kind, DefKind::Constant | DefKind::Variable));
+                    match c {
+                        Some((_, d)) if d.kind == DefKind::Variable => out.push(Problem::new(
+                            code,
+                            size.text_range(),
+                            format!("a size must be an integer literal or a constant; `{name}` is a variable"),
+                        )),
+                        Some((_, d)) => {
+                            if let DefData::Typed { ty: Some(TypeRef::Named(p, _)), .. } = &d.data {
+                                if p.last().is_some_and(|n| n != "nat") {
+                                    out.push(Problem::new(
+                                        "RC-TYPE-04",
+                                        size.text_range(),
+                                        format!("a size constant has type nat; `{name}` has type {}", p.join("::")),
+                                    ));
+                                }
+                            }
+                        }
+                        None => {}
+                    }
+                }
+                _ => out.push(Problem::new(code, size.text_range(), "a size must be an integer literal or a constant")),
+            }
+        }
+    }
+}
+
+/// Members of the machines of a controller, with each machine's node.
+fn machine_members(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    controller: DefId,
+) -> Vec<(DefId, String, Ctx, Vec<Member>)> {
+    file_defs(db, file)
+        .children(Some(controller))
+        .filter(|(_, m)| matches!(m.kind, DefKind::StateMachine | DefKind::MachineRef))
+        .filter_map(|(id, m)| {
+            let ctx = node_ctx(db, ws, file, id)?;
+            Some((id, m.name.clone(), ctx, ctx_members(db, ws, ctx)))
+        })
+        .collect()
+}
+
+fn same_var(required: &Member, provided: &Member, db: &dyn Db, ws: Workspace, rf: File, pf: File) -> bool {
+    if required.name != provided.name || !matches!(provided.kind, DefKind::Variable | DefKind::Constant) {
+        return false;
+    }
+    match (&required.ty, &provided.ty) {
+        (Some(a), Some(b)) => compatible(&lower(db, ws, rf, a), &lower(db, ws, pf, b)),
+        _ => true,
+    }
+}
+
+fn member_file(m: &Member) -> Option<File> {
+    match m.target {
+        crate::resolve::Target::Def(f, _) => Some(f),
+        crate::resolve::Target::Member(l, _) | crate::resolve::Target::Item(l) => Some(l.file),
+    }
+}
+
+/// RC:C3, RC:C4 and RS-IO-09: a controller provides what its machines require.
+fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId, rs: bool, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let c = defs.def(controller);
+    let own = ctx_members(db, ws, Ctx::Local(file, controller));
+    let defined: HashSet<String> = crate::resolve::defined_operations(db, Ctx::Local(file, controller));
+    for (mid, mname, _, members) in machine_members(db, ws, file, controller) {
+        let mut missing_vars = Vec::new();
+        let mut missing_io_vars = Vec::new();
+        let mut missing_ops = Vec::new();
+        for r in members.iter().filter(|m| m.via == Some(UseKind::Requires)) {
+            match r.kind {
+                DefKind::Variable | DefKind::Constant => {
+                    let rf = member_file(r).unwrap_or(file);
+                    let ok = own.iter().any(|p| {
+                        p.via != Some(UseKind::Provides) && same_var(r, p, db, ws, rf, member_file(p).unwrap_or(file))
+                    });
+                    if !ok {
+                        if r.io.is_some() {
+                            missing_io_vars.push(r.name.clone());
+                        } else {
+                            missing_vars.push(r.name.clone());
+                        }
+                    }
+                }
+                DefKind::OperationSig => {
+                    let ok = defined.contains(&r.name)
+                        || own.iter().any(|p| {
+                            p.kind == DefKind::OperationSig && p.name == r.name && p.via == Some(UseKind::Requires)
+                        });
+                    if !ok && (r.io.is_none() || rs) {
+                        missing_ops.push(r.name.clone());
+                    }
+                }
+                _ => {}
+            }
+        }
+        let list = |v: &[String]| v.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+        let mrange = defs.def(mid).name_range;
+        if !missing_vars.is_empty() {
+            out.push(
+                Problem::new(
+                    "RC:C3",
+                    c.name_range,
+                    format!(
+                        "controller `{}` lacks variable{} {} required by `{mname}`",
+                        c.name,
+                        plural(&missing_vars),
+                        list(&missing_vars)
+                    ),
+                )
+                .with_related(file, mrange, format!("`{mname}` is here")),
+            );
+        }
+        if !missing_io_vars.is_empty() && rs {
+            out.push(
+                Problem::new(
+                    "RS-IO-09",
+                    c.name_range,
+                    format!(
+                        "controller `{}` lacks I/O variable{} {} of `{mname}`: declare or require {}",
+                        c.name,
+                        plural(&missing_io_vars),
+                        list(&missing_io_vars),
+                        if missing_io_vars.len() > 1 { "them" } else { "it" }
+                    ),
+                )
+                .with_related(file, mrange, format!("`{mname}` is here")),
+            );
+        }
+        if !missing_ops.is_empty() {
+            out.push(
+                Problem::new(
+                    "RC:C4",
+                    c.name_range,
+                    format!(
+                        "controller `{}` lacks operation{} {} required by `{mname}`: define or require {}",
+                        c.name,
+                        plural(&missing_ops),
+                        list(&missing_ops),
+                        if missing_ops.len() > 1 { "them" } else { "it" }
+                    ),
+                )
+                .with_related(file, mrange, format!("`{mname}` is here")),
+            );
+        }
+    }
+}
+
+fn plural<T>(v: &[T]) -> &'static str {
+    if v.len() > 1 {
+        "s"
+    } else {
+        ""
+    }
+}
+
+/// RC:C8: a controller references each operation definition once.
+fn operation_copies(db: &dyn Db, ws: Workspace, file: File, controller: DefId, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let mut seen: HashMap<(File, DefId), TextRange> = HashMap::new();
+    for (id, d) in defs.children(Some(controller)) {
+        let key = match d.kind {
+            DefKind::Operation => Some((file, id)),
+            DefKind::OperationRef => match &d.data {
+                DefData::Reference { path, .. } => resolve_item(db, ws, file, path, |k| k == DefKind::Operation)
+                    .first()
+                    .and_then(|l| l.def(db).map(|def| (l.file, def))),
+                _ => None,
+            },
+            _ => None,
+        };
+        let Some(key) = key else { continue };
+        if let Some(first) = seen.get(&key) {
+            out.push(
+                Problem::new(
+                    "RC:C8",
+                    d.name_range,
+                    format!("operation `{}` is already part of this controller", d.name),
+                )
+                .with_related(file, *first, "the first copy"),
+            );
+        } else {
+            seen.insert(key, d.name_range);
+        }
+    }
+}
+
+/// RC:M2: the platform provides what each controller requires.
+fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let m = defs.def(module);
+    let Some((pid, _)) =
+        defs.children(Some(module)).find(|(_, d)| matches!(d.kind, DefKind::Platform | DefKind::PlatformRef))
+    else {
+        return;
+    };
+    let Some(pctx) = node_ctx(db, ws, file, pid) else { return };
+    let provided = ctx_members(db, ws, pctx);
+    for (cid, c) in
+        defs.children(Some(module)).filter(|(_, d)| matches!(d.kind, DefKind::Controller | DefKind::ControllerRef))
+    {
+        let Some(cctx) = node_ctx(db, ws, file, cid) else { continue };
+        let required: Vec<Member> =
+            ctx_members(db, ws, cctx).into_iter().filter(|r| r.via == Some(UseKind::Requires)).collect();
+        let defined = controller_defined_ops(db, cctx);
+        let mut missing = Vec::new();
+        for r in &required {
+            let ok = match r.kind {
+                DefKind::Variable | DefKind::Constant => provided.iter().any(|p| {
+                    p.via != Some(UseKind::Requires)
+                        && same_var(r, p, db, ws, member_file(r).unwrap_or(file), member_file(p).unwrap_or(file))
+                }),
+                DefKind::OperationSig => {
+                    defined.contains(&r.name)
+                        || provided.iter().any(|p| {
+                            p.kind == DefKind::OperationSig && p.name == r.name && p.via != Some(UseKind::Requires)
+                        })
+                }
+                _ => true,
+            };
+            if !ok {
+                missing.push(r.name.clone());
+            }
+        }
+        if !missing.is_empty() {
+            let list = missing.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+            out.push(
+                Problem::new(
+                    "RC:M2",
+                    m.name_range,
+                    format!("the robotic platform of `{}` does not provide {list}, required by `{}`", m.name, c.name),
+                )
+                .with_related(file, c.name_range, format!("`{}` requires it", c.name)),
+            );
+        }
+    }
+}
+
+fn controller_defined_ops(db: &dyn Db, ctx: Ctx) -> HashSet<String> {
+    crate::resolve::defined_operations(db, ctx)
+}
+
+/// RC:Cn4, RC-CONN-01, RC-CONN-02: broadcast and event types of connections.
+fn connection_types(db: &dyn Db, ws: Workspace, file: File, owner: DefId, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let o = defs.def(owner);
+    let event = |node: &str, ev: &str| -> Option<(Member, DefKind)> {
+        let (nid, kind) = if o.kind == DefKind::Controller && o.name == node {
+            (owner, DefKind::Controller)
+        } else {
+            let (id, d) = defs.children(Some(owner)).find(|(_, d)| d.name == node && d.kind != DefKind::Connection)?;
+            (id, d.kind)
+        };
+        let ctx = if nid == owner { Ctx::Local(file, owner) } else { node_ctx(db, ws, file, nid)? };
+        let kind = match kind {
+            DefKind::PlatformRef => DefKind::Platform,
+            DefKind::ControllerRef => DefKind::Controller,
+            DefKind::MachineRef => DefKind::StateMachine,
+            k => k,
+        };
+        ctx_members(db, ws, ctx).into_iter().find(|m| m.kind == DefKind::Event && m.name == ev).map(|m| (m, kind))
+    };
+    for (_, c) in defs.children(Some(owner)) {
+        let DefData::Connection(cd) = &c.data else { continue };
+        let (Some(f), Some(ef), Some(t), Some(et)) = (&cd.from, &cd.efrom, &cd.to, &cd.eto) else { continue };
+        let (Some((a, ak)), Some((b, bk))) = (event(&f.0, &ef.0), event(&t.0, &et.0)) else { continue };
+        if a.broadcast != b.broadcast {
+            let (range, name) = if a.broadcast { (et.1, &et.0) } else { (ef.1, &ef.0) };
+            out.push(Problem::new(
+                "RC:Cn4",
+                range,
+                format!("`{name}` is not a broadcast event: a broadcast event connects only to a broadcast event"),
+            ));
+        } else if a.broadcast && ak == bk {
+            out.push(Problem::new(
+                "RC-CONN-01",
+                ef.1,
+                "broadcast connections relay between levels, not between two nodes of the same kind",
+            ));
+        }
+        match (&a.ty, &b.ty) {
+            (None, None) => {}
+            (Some(x), Some(y)) => {
+                let (tx, ty) = (
+                    lower(db, ws, member_file(&a).unwrap_or(file), x),
+                    lower(db, ws, member_file(&b).unwrap_or(file), y),
+                );
+                if !compatible(&tx, &ty) {
+                    out.push(Problem::new(
+                        "RC-CONN-02",
+                        ef.1,
+                        format!("events `{}` ({tx}) and `{}` ({ty}) have incompatible types", ef.0, et.0),
+                    ));
+                }
+            }
+            _ => out.push(Problem::new(
+                "RC-CONN-02",
+                ef.1,
+                format!("`{}` and `{}` must be both typed or both untyped", ef.0, et.0),
+            )),
+        }
+    }
+}
+
+/// How a machine or operation uses events: inputs, outputs and the
+/// operations it calls.
+#[derive(Debug, Default, Clone)]
+struct Usage {
+    inputs: HashSet<String>,
+    outputs: HashSet<String>,
+    calls: HashSet<String>,
+}
+
+fn usage_of(db: &dyn Db, file: File, def: DefId) -> Usage {
+    let defs = file_defs(db, file);
+    let root = parse(db, file).syntax_node();
+    let d = defs.def(def);
+    let Some(node) = find_node(&root, d.range, d.syntax) else { return Usage::default() };
+    let mut u = Usage::default();
+    for n in node.descendants() {
+        match n.kind() {
+            COMMUNICATION => {
+                let Some(ev) = n.children().find(|c| c.kind() == NAME_REF) else { continue };
+                let ev = ev.text().to_string().trim().trim_start_matches('^').to_string();
+                let in_trigger = n.parent().is_some_and(|p| p.kind() == TRIGGER);
+                let payload =
+                    n.children().find(|c| matches!(c.kind(), COMM_INPUT | COMM_OUTPUT | COMM_SYNC)).map(|c| c.kind());
+                match (in_trigger, payload) {
+                    (_, Some(COMM_INPUT)) => u.inputs.insert(ev),
+                    (true, None) => u.inputs.insert(ev),
+                    (_, Some(_)) | (false, None) => u.outputs.insert(ev),
+                };
+            }
+            CALL_STMT => {
+                if let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) {
+                    u.calls.insert(q.text().to_string().trim().to_string());
+                }
+            }
+            _ => {}
+        }
+    }
+    u
+}
+
+fn find_node(root: &SyntaxNode, range: TextRange, kind: robosim_syntax::SyntaxKind) -> Option<SyntaxNode> {
+    let el = root.covering_element(range);
+    let start = match el {
+        rowan::NodeOrToken::Node(n) => n,
+        rowan::NodeOrToken::Token(t) => t.parent()?,
+    };
+    start.ancestors().find(|n| n.text_range() == range && n.kind() == kind)
+}
+
+/// Usage of a machine including, transitively, the operations of the
+/// controller it calls (with the operation through which each event is
+/// used).
+fn machine_usage(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    controller: DefId,
+    machine: Ctx,
+) -> (Usage, HashMap<String, String>) {
+    let (mf, mdef) = match machine {
+        Ctx::Local(f, id) => (f, id),
+        Ctx::Item(l) => match l.def(db) {
+            Some(d) => (l.file, d),
+            None => return (Usage::default(), HashMap::new()),
+        },
+    };
+    let mut total = usage_of(db, mf, mdef);
+    let mut via: HashMap<String, String> = HashMap::new();
+    let ops: HashMap<String, (File, DefId)> = file_defs(db, file)
+        .children(Some(controller))
+        .filter_map(|(id, d)| match d.kind {
+            DefKind::Operation => Some((d.name.clone(), (file, id))),
+            DefKind::OperationRef => match &d.data {
+                DefData::Reference { path, .. } => {
+                    resolve_item(db, ws, file, path, |k| k == DefKind::Operation).first().and_then(|l: &ItemLoc| {
+                        l.def(db).map(|def| (path.last().cloned().unwrap_or_default(), (l.file, def)))
+                    })
+                }
+                _ => None,
+            },
+            _ => None,
+        })
+        .collect();
+    let mut todo: Vec<String> = total.calls.iter().cloned().collect();
+    let mut done: HashSet<String> = HashSet::new();
+    while let Some(op) = todo.pop() {
+        if !done.insert(op.clone()) {
+            continue;
+        }
+        let Some((of, od)) = ops.get(&op) else { continue };
+        let u = usage_of(db, *of, *od);
+        for e in &u.inputs {
+            if total.inputs.insert(e.clone()) {
+                via.insert(format!("in:{e}"), op.clone());
+            }
+        }
+        for e in &u.outputs {
+            if total.outputs.insert(e.clone()) {
+                via.insert(format!("out:{e}"), op.clone());
+            }
+        }
+        todo.extend(u.calls.iter().cloned());
+    }
+    (total, via)
+}
+
+/// RC:Cn8 / RC:Cn9: one-way controller connections agree with how the
+/// machine uses the event (RoboChart only; RS:C3 covers RoboSim).
+fn machine_directions(db: &dyn Db, ws: Workspace, file: File, controller: DefId, out: &mut Vec<Problem>) {
+    if file.kind(db) == FileKind::RoboSim {
+        return;
+    }
+    let defs = file_defs(db, file);
+    let machines: HashMap<String, Ctx> = defs
+        .children(Some(controller))
+        .filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::MachineRef))
+        .filter_map(|(id, d)| node_ctx(db, ws, file, id).map(|c| (d.name.clone(), c)))
+        .collect();
+    for (_, c) in defs.children(Some(controller)) {
+        let DefData::Connection(cd) = &c.data else { continue };
+        if cd.is_mult {
+            continue;
+        }
+        if let (Some(t), Some(et)) = (&cd.to, &cd.eto) {
+            if let Some(m) = machines.get(&t.0) {
+                let (u, via) = machine_usage(db, ws, file, controller, *m);
+                if u.outputs.contains(&et.0) {
+                    let through = via
+                        .get(&format!("out:{}", et.0))
+                        .map(|o| format!(" (through operation `{o}`)"))
+                        .unwrap_or_default();
+                    out.push(Problem::new(
+                        "RC:Cn8",
+                        t.1,
+                        format!("`{}` on `{}` ends a one-way connection, but `{}` outputs on `{}`{through}: make the connection bidirectional (`[ mult ]`) or reverse it", et.0, t.0, t.0, et.0),
+                    ));
+                }
+            }
+        }
+        if let (Some(f), Some(ef)) = (&cd.from, &cd.efrom) {
+            if let Some(m) = machines.get(&f.0) {
+                let (u, via) = machine_usage(db, ws, file, controller, *m);
+                if u.inputs.contains(&ef.0) {
+                    let through = via
+                        .get(&format!("in:{}", ef.0))
+                        .map(|o| format!(" (through operation `{o}`)"))
+                        .unwrap_or_default();
+                    out.push(Problem::new(
+                        "RC:Cn9",
+                        f.1,
+                        format!("`{}` on `{}` starts a one-way connection, but `{}` receives on `{}`{through}: make the connection bidirectional (`[ mult ]`) or reverse it", ef.0, f.0, f.0, ef.0),
+                    ));
+                }
+            }
+        }
+    }
+}
+
+/// RC:Cn5–Cn7: module connections to a controller agree in direction with
+/// the controller's own connections on that event.
+fn module_directions(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    for (_, c) in defs.children(Some(module)) {
+        let DefData::Connection(cd) = &c.data else { continue };
+        for (node, ev, ends_here) in [(&cd.to, &cd.eto, true), (&cd.from, &cd.efrom, false)] {
+            let (Some(node), Some(ev)) = (node, ev) else { continue };
+            let Some((cid, _)) = defs
+                .children(Some(module))
+                .find(|(_, d)| d.name == node.0 && matches!(d.kind, DefKind::Controller | DefKind::ControllerRef))
+            else {
+                continue;
+            };
+            let Some(Ctx::Local(cf, cdef)) = node_ctx(db, ws, file, cid).map(|c| match c {
+                Ctx::Item(l) => l.def(db).map(|d| Ctx::Local(l.file, d)).unwrap_or(c),
+                c => c,
+            }) else {
+                continue;
+            };
+            let cdefs = file_defs(db, cf);
+            let cname = cdefs.def(cdef).name.clone();
+            for (_, inner) in cdefs.children(Some(cdef)) {
+                let DefData::Connection(ic) = &inner.data else { continue };
+                let starts =
+                    ic.from.as_ref().is_some_and(|f| f.0 == cname) && ic.efrom.as_ref().is_some_and(|e| e.0 == ev.0);
+                let ends = ic.to.as_ref().is_some_and(|f| f.0 == cname) && ic.eto.as_ref().is_some_and(|e| e.0 == ev.0);
+                if !starts && !ends {
+                    continue;
+                }
+                if cd.is_mult && !ic.is_mult {
+                    out.push(Problem::new(
+                        "RC:Cn5",
+                        node.1,
+                        format!("`{}` on `{}` is bidirectional here but not inside the controller", ev.0, node.0),
+                    ));
+                } else if !cd.is_mult && (ic.is_mult || (ends_here && !starts) || (!ends_here && !ends)) {
+                    let code = if ends_here { "RC:Cn6" } else { "RC:Cn7" };
+                    out.push(Problem::new(
+                        code,
+                        node.1,
+                        format!("the direction of `{}` inside `{}` contradicts this connection", ev.0, node.0),
+                    ));
+                }
+            }
+        }
+    }
+}
+
+/// RS-IO-08: machine-level `uses I` with events in RoboSim.
+fn machine_level_events(db: &dyn Db, ws: Workspace, file: File, machine: DefId, out: &mut Vec<Problem>) {
+    for u in file_defs(db, file).uses_of(machine).filter(|u| u.kind == UseKind::Uses && u.io.is_none()) {
+        let Some(loc) = resolve_item(db, ws, file, &u.path, |k| k == DefKind::Interface).first().copied() else {
+            continue;
+        };
+        if loc.summary(db).members.iter().any(|m| m.kind == DefKind::Event) {
+            let iname = u.path.join("::");
+            out.push(Problem::new(
+                "RS-IO-08",
+                u.range,
+                format!("events of `{iname}` are invisible here: a RoboSim machine sees events only through its input and output contexts; move `uses {iname}` into one"),
+            ));
+        }
+    }
+}
+
+/// RC:PJ3: probabilities leaving a probabilistic junction add up to 1.
+fn probabilities(db: &dyn Db, file: File, junction: DefId, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let j = defs.def(junction);
+    let Some(container) = j.parent else { return };
+    let root = parse(db, file).syntax_node();
+    let mut num: i128 = 0;
+    let mut den: i128 = 1;
+    for (_, t) in defs.children(Some(container)) {
+        let DefData::Transition(td) = &t.data else { continue };
+        if td.source.as_ref().is_none_or(|s| s.0 != j.name) {
+            continue;
+        }
+        let Some(p) = td.probability else { return };
+        let Some(lit) = find_node(&root, p, PROBABILITY).and_then(|n| n.children().find(|c| c.kind() == LITERAL))
+        else {
+            return;
+        };
+        let text = lit.text().to_string();
+        let (i, f) = text.trim().split_once('.').unwrap_or((text.trim(), ""));
+        let Some(d) = 10i128.checked_pow(f.len() as u32) else { return };
+        let Ok(v) = format!("{i}{f}").parse::<i128>() else { return };
+        // num/den + v/d
+        num = num * d + v * den;
+        den *= d;
+        if den > 1_000_000_000_000 {
+            return;
+        }
+    }
+    if num != den && num != 0 {
+        out.push(Problem::new(
+            "RC:PJ3",
+            j.name_range,
+            format!("the probabilities leaving `{}` add up to {}, not 1", j.name, num as f64 / den as f64),
+        ));
+    }
+}
+
+/// RC:O2: operations do not call themselves, directly or through others.
+fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let ops: Vec<(DefId, String)> =
+        defs.iter().filter(|(_, d)| d.kind == DefKind::Operation).map(|(id, d)| (id, d.name.clone())).collect();
+    let _ = ws;
+    let calls: HashMap<String, HashSet<String>> =
+        ops.iter().map(|(id, n)| (n.clone(), usage_of(db, file, *id).calls)).collect();
+    for (id, name) in &ops {
+        // Does `name` reach itself?
+        let mut stack: Vec<String> = calls.get(name).map(|c| c.iter().cloned().collect()).unwrap_or_default();
+        let mut seen = HashSet::new();
+        let mut found = false;
+        while let Some(c) = stack.pop() {
+            if &c == name {
+                found = true;
+                break;
+            }
+            if seen.insert(c.clone()) {
+                if let Some(next) = calls.get(&c) {
+                    stack.extend(next.iter().cloned());
+                }
+            }
+        }
+        if found {
+            out.push(Problem::new(
+                "RC:O2",
+                defs.def(*id).name_range,
+                format!("operation `{name}` calls itself (directly or through other operations)"),
+            ));
+        }
+    }
+}
