@@ -16,6 +16,7 @@ pub mod defs;
 mod diagnostics;
 pub mod index;
 mod more_checks;
+pub mod nav;
 pub mod resolve;
 mod robosim;
 pub mod types;
