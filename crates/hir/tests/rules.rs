@@ -106,6 +106,11 @@ fn rule_fixtures() {
             "{name}: no `// expect:` or `// expect-none:` directive"
         );
         let (text, codes) = render(&dir, rules);
+        for c in &codes {
+            if robosim_hir::codes::rule(c).is_none() {
+                failures.push(format!("{name}: code {c} is not in the rule catalogue (codes.rs)"));
+            }
+        }
         for c in &expect {
             if !codes.contains(c) {
                 failures.push(format!("{name}: expected a {c} diagnostic, got:\n{text}"));
