@@ -236,6 +236,9 @@ impl Body<'_> {
         let name = path.join("::");
         let Some(ctx) = self.context(range) else { return };
         let members = self.members(ctx);
+        if let Some(input) = n.children().find(|c| c.kind() == SIM_INPUT_SUFFIX) {
+            self.input_with_value(n, &input, &path, &members);
+        }
         let io: Vec<&Member> =
             members.iter().filter(|m| m.io.is_some() && path.len() == 1 && m.name == path[0]).collect();
         // Inputs: input variables and events of either context.
@@ -278,6 +281,49 @@ impl Body<'_> {
                     "cannot resolve `${name}`: no input event or variable of that name in the machine's input context"
                 ),
             );
+        }
+    }
+
+    /// RS-IO-07: `$e?x` reads a typed input event into a local variable, in
+    /// a transition condition.
+    fn input_with_value(&mut self, n: &SyntaxNode, suffix: &SyntaxNode, path: &[String], members: &[Member]) {
+        let name = path.join("::");
+        if !n.ancestors().any(|a| a.kind() == CONDITION) {
+            self.problem(
+                "RS-IO-07",
+                n.text_range(),
+                format!("`${name}?…` reads an input with its value: it belongs in a transition condition"),
+            );
+        }
+        if let Some(ev) = members.iter().find(|m| m.kind == DefKind::Event && path.len() == 1 && m.name == path[0]) {
+            if ev.ty.is_none() {
+                self.problem("RS-IO-07", n.text_range(), format!("`{name}` carries no value: test it with `${name}`"));
+            }
+        }
+        let Some((var, vrange)) = qualified(suffix) else { return };
+        let vname = var.join("::");
+        match members.iter().find(|m| {
+            var.len() == 1
+                && m.name == var[0]
+                && matches!(m.kind, DefKind::Variable | DefKind::Constant | DefKind::Parameter)
+        }) {
+            Some(m) if m.kind == DefKind::Variable && m.io.is_none() => {
+                let t = m.target;
+                self.push(vrange, vname, RefKind::Type, Some(t));
+            }
+            Some(m) => {
+                let t = m.target;
+                self.push(vrange, vname.clone(), RefKind::Type, Some(t));
+                self.problem(
+                    "RS-IO-07",
+                    vrange,
+                    format!("`{vname}` cannot receive the value: use a local variable of the machine"),
+                );
+            }
+            None => {
+                self.push(vrange, vname.clone(), RefKind::Type, None);
+                self.problem("LNK-01", vrange, format!("cannot resolve variable `{vname}` to receive the value"));
+            }
         }
     }
 

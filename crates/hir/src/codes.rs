@@ -133,6 +133,7 @@ rules! {
     "RC:Cn9" E E "A one-way connection out of a machine is not used by the machine for input.";
     "RC:O2" E W "Operations are not recursive.";
     "RC:PJ3" W W "The probabilities leaving a probabilistic junction add up to 1.";
+    "RS-IO-07" E W "`$e?x` reads a typed input event into a local variable, in a transition condition.";
     "RS-IO-08" W W "RoboSim machines see events only through their input and output contexts.";
     "RS-IO-09" E W "A controller provides the variables its machines read and write through I/O contexts.";
     "RS-STMT-02" E W "RoboSim has no statement deadlines.";
