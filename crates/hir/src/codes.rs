@@ -131,6 +131,10 @@ rules! {
     "RC:Cn7" E E "A one-way module connection out of a controller continues one-way into it.";
     "RC:Cn8" E E "A one-way connection into a machine is not used by the machine for output.";
     "RC:Cn9" E E "A one-way connection out of a machine is not used by the machine for input.";
+    "RC:STM8" E E "An operation's required variables are provided by each machine or operation that calls it.";
+    "RC:STM9" E E "An operation's events exist in each machine or operation that calls it.";
+    "RC:STM10" E E "An operation's required clocks are clocks of each caller.";
+    "RS-IO-05" E E "An operation's inputs and outputs are inputs and outputs of each caller.";
     "RC:O2" E W "Operations are not recursive.";
     "RC:PJ3" W W "The probabilities leaving a probabilistic junction add up to 1.";
     "RS-IO-07" E W "`$e?x` reads a typed input event into a local variable, in a transition condition.";

@@ -35,6 +35,7 @@ pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
                 operation_copies(db, ws, file, id, &mut out);
                 connection_types(db, ws, file, id, &mut out);
                 machine_directions(db, ws, file, id, &mut out);
+                operation_callers(db, ws, file, id, rs, &mut out);
             }
             DefKind::Module => {
                 platform_provides(db, ws, file, id, &mut out);
@@ -712,6 +713,120 @@ fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
                 defs.def(*id).name_range,
                 format!("operation `{name}` calls itself (directly or through other operations)"),
             ));
+        }
+    }
+}
+
+/// RC:STM8–STM10 and RS-IO-05: an operation defined in a controller gets
+/// what it requires from each machine or operation that calls it.
+fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, rs: bool, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let c = defs.def(controller);
+    // The controller's operations: name → (file, definition).
+    let mut ops: Vec<(String, File, DefId)> = Vec::new();
+    for (id, d) in defs.children(Some(controller)) {
+        match (&d.kind, &d.data) {
+            (DefKind::Operation, _) => ops.push((d.name.clone(), file, id)),
+            (DefKind::OperationRef, DefData::Reference { path, .. }) => {
+                if let Some(l) = resolve_item(db, ws, file, path, |k| k == DefKind::Operation).first() {
+                    if let Some(def) = l.def(db) {
+                        ops.push((path.last().cloned().unwrap_or_default(), l.file, def));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    if ops.is_empty() {
+        return;
+    }
+    // Callers: the machines, and the operations themselves.
+    let mut callers: Vec<(String, File, DefId)> = Vec::new();
+    for (id, d) in
+        defs.children(Some(controller)).filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::MachineRef))
+    {
+        match node_ctx(db, ws, file, id) {
+            Some(Ctx::Local(f, def)) => callers.push((d.name.clone(), f, def)),
+            Some(Ctx::Item(l)) => {
+                if let Some(def) = l.def(db) {
+                    callers.push((d.name.clone(), l.file, def));
+                }
+            }
+            None => {}
+        }
+    }
+    callers.extend(ops.iter().cloned());
+    for (xname, xf, xdef) in &callers {
+        let calls = usage_of(db, *xf, *xdef).calls;
+        let xmembers = ctx_members(db, ws, Ctx::Local(*xf, *xdef));
+        let xdefs = file_defs(db, *xf);
+        let xclocks: HashSet<String> = xdefs
+            .children(Some(*xdef))
+            .filter(|(_, d)| d.kind == DefKind::Clock)
+            .map(|(_, d)| d.name.clone())
+            .chain(xmembers.iter().filter(|m| m.kind == DefKind::Clock).map(|m| m.name.clone()))
+            .collect();
+        for (oname, of, odef) in &ops {
+            if !calls.contains(oname) || (of == xf && odef == xdef) {
+                continue;
+            }
+            let omembers = ctx_members(db, ws, Ctx::Local(*of, *odef));
+            let mut missing: Vec<(&'static str, String)> = Vec::new();
+            for m in &omembers {
+                let has = |want: &dyn Fn(&Member) -> bool| xmembers.iter().any(want);
+                match (m.kind, m.via, m.io) {
+                    (DefKind::Variable | DefKind::Constant, Some(UseKind::Requires), None) => {
+                        let same_kind = m.kind;
+                        if !has(&|x: &Member| {
+                            x.name == m.name && x.kind == same_kind && x.via != Some(UseKind::Requires)
+                                || (x.name == m.name
+                                    && x.kind == same_kind
+                                    && x.io.is_none()
+                                    && x.via == Some(UseKind::Requires))
+                        }) {
+                            missing.push(("RC:STM8", format!("variable `{}`", m.name)));
+                        }
+                    }
+                    (DefKind::Event, _, None) if !rs => {
+                        if !has(&|x: &Member| x.kind == DefKind::Event && x.name == m.name) {
+                            missing.push(("RC:STM9", format!("event `{}`", m.name)));
+                        }
+                    }
+                    (DefKind::Clock, Some(UseKind::Requires), _) => {
+                        if !xclocks.contains(&m.name) {
+                            missing.push(("RC:STM10", format!("clock `{}`", m.name)));
+                        }
+                    }
+                    (DefKind::Event | DefKind::Variable | DefKind::OperationSig, _, Some(io)) if rs => {
+                        if !has(&|x: &Member| x.kind == m.kind && x.name == m.name && x.io == Some(io)) {
+                            let what = match (m.kind, io) {
+                                (DefKind::Event, crate::defs::Io::Input) => "input event",
+                                (DefKind::Event, _) => "output event",
+                                (DefKind::Variable, crate::defs::Io::Input) => "input variable",
+                                (DefKind::Variable, _) => "output variable",
+                                _ => "output operation",
+                            };
+                            missing.push(("RS-IO-05", format!("{what} `{}`", m.name)));
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            for (code, what) in missing {
+                out.push(
+                    Problem::new(
+                        code,
+                        c.name_range,
+                        format!("operation `{oname}` uses {what}, which its caller `{xname}` does not declare"),
+                    )
+                    .with_related(*xf, file_defs(db, *xf).def(*xdef).name_range, format!("`{xname}` calls `{oname}`"))
+                    .with_related(
+                        *of,
+                        file_defs(db, *of).def(*odef).name_range,
+                        format!("`{oname}` is defined here"),
+                    ),
+                );
+            }
         }
     }
 }
