@@ -787,15 +787,13 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
                             missing.push(("RC:STM8", format!("variable `{}`", m.name)));
                         }
                     }
-                    (DefKind::Event, _, None) if !rs => {
-                        if !has(&|x: &Member| x.kind == DefKind::Event && x.name == m.name) {
-                            missing.push(("RC:STM9", format!("event `{}`", m.name)));
-                        }
+                    (DefKind::Event, _, None)
+                        if !rs && !has(&|x: &Member| x.kind == DefKind::Event && x.name == m.name) =>
+                    {
+                        missing.push(("RC:STM9", format!("event `{}`", m.name)));
                     }
-                    (DefKind::Clock, Some(UseKind::Requires), _) => {
-                        if !xclocks.contains(&m.name) {
-                            missing.push(("RC:STM10", format!("clock `{}`", m.name)));
-                        }
+                    (DefKind::Clock, Some(UseKind::Requires), _) if !xclocks.contains(&m.name) => {
+                        missing.push(("RC:STM10", format!("clock `{}`", m.name)));
                     }
                     (DefKind::Event | DefKind::Variable | DefKind::OperationSig, _, Some(io)) if rs => {
                         if !has(&|x: &Member| x.kind == m.kind && x.name == m.name && x.io == Some(io)) {
