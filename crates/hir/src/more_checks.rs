@@ -795,17 +795,17 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
                     (DefKind::Clock, Some(UseKind::Requires), _) if !xclocks.contains(&m.name) => {
                         missing.push(("RC:STM10", format!("clock `{}`", m.name)));
                     }
-                    (DefKind::Event | DefKind::Variable | DefKind::OperationSig, _, Some(io)) if rs => {
-                        if !has(&|x: &Member| x.kind == m.kind && x.name == m.name && x.io == Some(io)) {
-                            let what = match (m.kind, io) {
-                                (DefKind::Event, crate::defs::Io::Input) => "input event",
-                                (DefKind::Event, _) => "output event",
-                                (DefKind::Variable, crate::defs::Io::Input) => "input variable",
-                                (DefKind::Variable, _) => "output variable",
-                                _ => "output operation",
-                            };
-                            missing.push(("RS-IO-05", format!("{what} `{}`", m.name)));
-                        }
+                    (DefKind::Event | DefKind::Variable | DefKind::OperationSig, _, Some(io))
+                        if rs && !has(&|x: &Member| x.kind == m.kind && x.name == m.name && x.io == Some(io)) =>
+                    {
+                        let what = match (m.kind, io) {
+                            (DefKind::Event, crate::defs::Io::Input) => "input event",
+                            (DefKind::Event, _) => "output event",
+                            (DefKind::Variable, crate::defs::Io::Input) => "input variable",
+                            (DefKind::Variable, _) => "output variable",
+                            _ => "output operation",
+                        };
+                        missing.push(("RS-IO-05", format!("{what} `{}`", m.name)));
                     }
                     _ => {}
                 }
