@@ -1,6 +1,7 @@
 //! The `robosim` command.
 
 mod diagnostics;
+mod fmt;
 mod workspace;
 
 use std::io::{IsTerminal, Write};
@@ -49,6 +50,15 @@ enum Command {
         /// The model file.
         file: PathBuf,
     },
+    /// Rewrite files and folders (searched recursively) in the canonical style.
+    Fmt {
+        /// Change nothing: list the files that would change, and exit 1 if any.
+        #[arg(long)]
+        check: bool,
+        /// Model files or folders.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -82,6 +92,7 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Check { format, rules, color, paths } => check(format, rules, color, &paths),
         Command::Parse { tree, file } => parse(tree, &file),
+        Command::Fmt { check, paths } => fmt::run(check, &paths),
     }
 }
 

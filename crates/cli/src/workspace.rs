@@ -48,7 +48,7 @@ fn skipped_dir(name: &str) -> bool {
 }
 
 /// A `.rst` file is RoboSim unless it looks like reStructuredText.
-fn looks_like_restructured_text(text: &str) -> bool {
+pub(crate) fn looks_like_restructured_text(text: &str) -> bool {
     text.lines().any(|l| {
         let t = l.trim_end();
         t.starts_with(".. ")
@@ -60,21 +60,7 @@ fn looks_like_restructured_text(text: &str) -> bool {
 
 impl Workspace {
     pub fn load(paths: &[PathBuf], rules: RuleSet) -> Result<Workspace, LoadError> {
-        let mut found = Vec::new();
-        for p in paths {
-            let meta = std::fs::metadata(p)
-                .map_err(|e| LoadError(format!("cannot read `{}`: {}", p.display(), io_msg(&e))))?;
-            if meta.is_dir() {
-                walk(p, &mut found)?;
-            } else if FileKind::from_path(p).is_some() {
-                found.push((p.clone(), true));
-            } else {
-                return Err(LoadError(format!(
-                    "`{}` is not a model file: expected .rct, .rst, .assertions or .rsa",
-                    p.display()
-                )));
-            }
-        }
+        let found = find_model_files(paths)?;
         let mut loaded = Vec::new();
         for (p, explicit) in found {
             let bytes =
@@ -170,6 +156,27 @@ impl Workspace {
     }
 }
 
+/// The model files named on the command line, and those found under the
+/// folders named there, each with whether it was named explicitly.
+pub(crate) fn find_model_files(paths: &[PathBuf]) -> Result<Vec<(PathBuf, bool)>, LoadError> {
+    let mut found = Vec::new();
+    for p in paths {
+        let meta =
+            std::fs::metadata(p).map_err(|e| LoadError(format!("cannot read `{}`: {}", p.display(), io_msg(&e))))?;
+        if meta.is_dir() {
+            walk(p, &mut found)?;
+        } else if FileKind::from_path(p).is_some() {
+            found.push((p.clone(), true));
+        } else {
+            return Err(LoadError(format!(
+                "`{}` is not a model file: expected .rct, .rst, .assertions or .rsa",
+                p.display()
+            )));
+        }
+    }
+    Ok(found)
+}
+
 fn walk(dir: &Path, out: &mut Vec<(PathBuf, bool)>) -> Result<(), LoadError> {
     let rd =
         std::fs::read_dir(dir).map_err(|e| LoadError(format!("cannot read `{}`: {}", dir.display(), io_msg(&e))))?;
@@ -190,7 +197,7 @@ fn walk(dir: &Path, out: &mut Vec<(PathBuf, bool)>) -> Result<(), LoadError> {
     Ok(())
 }
 
-fn io_msg(e: &std::io::Error) -> String {
+pub(crate) fn io_msg(e: &std::io::Error) -> String {
     match e.kind() {
         std::io::ErrorKind::NotFound => "no such file or directory".into(),
         std::io::ErrorKind::PermissionDenied => "permission denied".into(),

@@ -87,8 +87,8 @@ fn parse_tree() {
     let out = robosim().args(["parse", "--tree"]).arg(data("broken/machine.rct")).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let s = String::from_utf8(out.stdout).unwrap();
-    assert!(s.starts_with("SOURCE_FILE@0..77\n  STATE_MACHINE@0..76\n    STM_KW@0..3 \"stm\"\n"), "{s}");
-    assert!(s.contains("error 43..44: `;` separates statements"), "{s}");
+    assert!(s.starts_with("SOURCE_FILE@0..89\n  STATE_MACHINE@0..88\n    STM_KW@0..3 \"stm\"\n"), "{s}");
+    assert!(s.contains("error 55..56: `;` separates statements"), "{s}");
 }
 
 #[test]
