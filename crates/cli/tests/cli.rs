@@ -49,10 +49,8 @@ fn json_contract() {
     assert_eq!(second["range"]["start"], serde_json::json!({"line": 3, "character": 24}));
     // UTF-16 columns: line 1 of unicode.rct is `stm N { state é }`; the
     // stray `é` is at character 14 and one UTF-16 unit wide.
-    let uni = diags
-        .iter()
-        .find(|d| d["file"].as_str().unwrap().ends_with("unicode.rct") && d["code"] == "SYN-01")
-        .unwrap();
+    let uni =
+        diags.iter().find(|d| d["file"].as_str().unwrap().ends_with("unicode.rct") && d["code"] == "SYN-01").unwrap();
     assert_eq!(
         uni["range"],
         serde_json::json!({"start": {"line": 1, "character": 14}, "end": {"line": 1, "character": 15}})
