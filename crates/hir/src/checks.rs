@@ -99,6 +99,7 @@ fn dup_group(k: DefKind) -> u8 {
 impl<'a> Checker<'a> {
     fn duplicates(&mut self) {
         let mut seen: HashMap<(Option<DefId>, u8, &str), DefId> = HashMap::new();
+        let mut reported = std::collections::HashSet::new();
         for (id, d) in self.defs.iter() {
             if d.name.is_empty() || d.kind == DefKind::Connection {
                 continue;
@@ -107,6 +108,21 @@ impl<'a> Checker<'a> {
             match seen.get(&key) {
                 Some(&first) => {
                     let f = self.defs.def(first);
+                    // Every duplicate is reported, the first one included.
+                    if reported.insert(first) {
+                        self.out.push(
+                            Problem::new(
+                                "DUP-01",
+                                f.name_range,
+                                format!("duplicate {} `{}`", f.kind.describe(), f.name),
+                            )
+                            .with_related(
+                                self.file,
+                                d.name_range,
+                                format!("`{}` is declared again here", d.name),
+                            ),
+                        );
+                    }
                     self.out.push(
                         Problem::new("DUP-01", d.name_range, format!("duplicate {} `{}`", d.kind.describe(), d.name))
                             .with_related(self.file, f.name_range, format!("`{}` is first declared here", f.name)),
@@ -358,14 +374,17 @@ impl<'a> Checker<'a> {
         }
         for (_, c) in &children {
             if matches!(c.kind, DefKind::StateMachine | DefKind::MachineRef) {
-                self.out.push(Problem::new(
-                    "RC-MOD-02",
-                    c.name_range,
-                    format!(
-                        "state machine `{}` is directly in module `{}`: state machines belong in controllers",
-                        c.name, d.name
-                    ),
-                ));
+                self.out.push(
+                    Problem::new(
+                        "RC-MOD-02",
+                        d.name_range,
+                        format!(
+                            "module `{}` contains the state machine `{}` directly: state machines belong in controllers",
+                            d.name, c.name
+                        ),
+                    )
+                    .with_related(self.file, c.name_range, format!("`{}` is here", c.name)),
+                );
             }
         }
     }
@@ -415,7 +434,7 @@ impl<'a> Checker<'a> {
             if c.is_async && fk == Some(DefKind::StateMachine) && tk == Some(DefKind::StateMachine) {
                 self.out.push(Problem::new(
                     "RC:Cn11",
-                    def.name_range,
+                    c.async_range.unwrap_or(def.name_range),
                     "asynchronous connections between two state machines have no semantics",
                 ));
             }

@@ -85,7 +85,7 @@ rules! {
     "RS:C4" E W "The outputs of a controller's machines are disjoint.";
     "RS:SM1" E W "A RoboSim machine's cycleDef is a boolean expression.";
     "RS:SM2" E W "A machine's inputs are only events and variables.";
-    "RS:SM3" E W "Only required variables can be inputs or outputs.";
+    "RS:SM3" E E "Only required variables can be inputs or outputs (RoboTool checks this as its RS-IO-01/02).";
     "RS:SM4" E W "Variables a machine requires are inputs or outputs.";
     "RS:SM5" E W "Operations a machine calls are outputs, unless its controller defines them.";
     "RS:SM6" E W "Inputs, outputs and required variables are referred to with `$`; local names without it.";
@@ -141,7 +141,6 @@ rules! {
     "RS-IO-08" W W "RoboSim machines see events only through their input and output contexts.";
     "RS-IO-09" E W "A controller provides the variables its machines read and write through I/O contexts.";
     "RS-STMT-02" E W "RoboSim has no statement deadlines.";
-    "RS-IO-01" E E "Interfaces used in an output context declare no variables.";
     "RS-IO-02" E E "Interfaces used in an input context declare only events.";
 }
 

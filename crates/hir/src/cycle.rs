@@ -283,6 +283,8 @@ enum Shape {
 
 struct Lowerer<'a> {
     consts: &'a HashMap<String, SyntaxNode>,
+    /// Every constant in scope (with or without a foldable initialiser).
+    const_names: &'a std::collections::HashSet<String>,
     depth: u32,
     /// Parts outside "cycle, literals and constants" (for RS-CYC-02).
     impure: Vec<TextRange>,
@@ -411,7 +413,9 @@ impl Lowerer<'_> {
                         f
                     }
                     _ => {
-                        self.impure.push(n.text_range());
+                        if !self.const_names.contains(&name) {
+                            self.impure.push(n.text_range());
+                        }
                         Formula::Unknown
                     }
                 }
@@ -457,7 +461,9 @@ impl Lowerer<'_> {
     }
 
     fn mark_impure(&mut self, n: &SyntaxNode) {
-        if matches!(n.kind(), SIM_REF_EXPR | SINCE_EXPR | SINCE_ENTRY_EXPR | REF_EXPR | CALL_EXPR) {
+        let is_const =
+            n.kind() == REF_EXPR && self.const_names.contains(n.text().to_string().trim().trim_start_matches('^'));
+        if matches!(n.kind(), SIM_REF_EXPR | SINCE_EXPR | SINCE_ENTRY_EXPR | REF_EXPR | CALL_EXPR) && !is_const {
             self.impure.push(n.text_range());
         }
     }
@@ -499,7 +505,9 @@ impl Lowerer<'_> {
                         t
                     }
                     _ => {
-                        self.impure.push(n.text_range());
+                        if !self.const_names.contains(&name) {
+                            self.impure.push(n.text_range());
+                        }
                         Term::Unknown
                     }
                 }
@@ -543,7 +551,7 @@ struct Spec {
 }
 
 /// The cycle specification of a definition (its first `cycleDef`).
-fn spec_of(db: &dyn Db, file: File, id: DefId) -> Option<Spec> {
+fn spec_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Spec> {
     let defs = file_defs(db, file);
     let range = *defs.facts(id).cycle_defs.first()?;
     let root = parse(db, file).syntax_node();
@@ -557,7 +565,13 @@ fn spec_of(db: &dyn Db, file: File, id: DefId) -> Option<Spec> {
             }
         }
     }
-    let mut l = Lowerer { consts: &consts, depth: 0, impure: Vec::new() };
+    let const_names: std::collections::HashSet<String> =
+        crate::resolve::ctx_members(db, ws, crate::resolve::Ctx::Local(file, id))
+            .into_iter()
+            .filter(|m| m.kind == DefKind::Constant)
+            .map(|m| m.name)
+            .collect();
+    let mut l = Lowerer { consts: &consts, const_names: &const_names, depth: 0, impure: Vec::new() };
     let shape = l.shape(&node);
     let formula = if shape == Shape::Boolean { l.formula(&node) } else { Formula::Unknown };
     Some(Spec { file, range, formula, shape, impure: l.impure })
@@ -612,7 +626,7 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
             DefKind::StateMachine => "RS:SM1",
             _ => continue,
         };
-        let Some(spec) = spec_of(db, file, id) else { continue };
+        let Some(spec) = spec_of(db, ws, file, id) else { continue };
         let what = format!("{} `{}`", d.kind.describe(), d.name);
         match spec.shape {
             Shape::Number | Shape::Set | Shape::Other => {
@@ -741,7 +755,7 @@ fn components(
         if inline.contains(&c.kind) {
             if !seen.contains(&(file, cid)) {
                 seen.push((file, cid));
-                out.push((c.name.clone(), c.name_range, spec_of(db, file, cid)));
+                out.push((c.name.clone(), c.name_range, spec_of(db, ws, file, cid)));
             }
         } else if c.kind == reference {
             let DefData::Reference { path, .. } = &c.data else { continue };
@@ -758,7 +772,7 @@ fn components(
                 continue;
             }
             seen.push((loc.file, def));
-            out.push((path.join("::"), c.name_range, spec_of(db, loc.file, def)));
+            out.push((path.join("::"), c.name_range, spec_of(db, ws, loc.file, def)));
         }
     }
     out

@@ -242,6 +242,8 @@ pub struct ConnectionData {
     pub to: Option<(String, TextRange)>,
     pub eto: Option<(String, TextRange)>,
     pub is_async: bool,
+    /// The `( _async )` flag's range.
+    pub async_range: Option<TextRange>,
     pub is_mult: bool,
 }
 
@@ -595,6 +597,7 @@ impl Lower {
                     to: refs.get(2).cloned(),
                     eto: refs.get(3).cloned(),
                     is_async: node.children().any(|c| c.kind() == ASYNC_FLAG),
+                    async_range: node.children().find(|c| c.kind() == ASYNC_FLAG).map(|c| c.text_range()),
                     is_mult: node.children().any(|c| c.kind() == MULT_FLAG),
                 };
                 let r = first_token_range(node);

@@ -27,7 +27,7 @@ pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
     let defs = file_defs(db, file);
     let rs = file.kind(db) == FileKind::RoboSim;
     unique_names(db, ws, file, &mut out);
-    sizes(db, file, &mut out);
+    sizes(db, ws, file, &mut out);
     for (id, d) in defs.iter() {
         match d.kind {
             DefKind::Controller => {
@@ -97,9 +97,9 @@ fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) 
 }
 
 /// RC-TYPE-02/03/04: vector and matrix sizes are literals or constants.
-fn sizes(db: &dyn Db, file: File, out: &mut Vec<Problem>) {
+fn sizes(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
+    let refs = &crate::body::body_resolution(db, ws, file).refs;
     let root = parse(db, file).syntax_node();
-    let defs = file_defs(db, file);
     for t in root.descendants().filter(|n| matches!(n.kind(), VECTOR_TYPE | MATRIX_TYPE)) {
         let code = if t.kind() == VECTOR_TYPE { "RC-TYPE-02" } else { "RC-TYPE-03" };
         for size in t.children().filter(|c| robosim_syntax::ast::is_expr_kind(c.kind())) {
@@ -113,9 +113,12 @@ fn sizes(db: &dyn Db, file: File, out: &mut Vec<Problem>) {
                 LITERAL if inner.first_token().is_some_and(|k| k.kind() == INT_NUMBER) => {}
                 REF_EXPR => {
                     let name = inner.text().to_string().trim().trim_start_matches('^').to_string();
-                    let c = defs
-                        .iter()
-                        .find(|(_, d)| d.name == name && matches!(d.kind, DefKind::Constant | DefKind::Variable));
+                    // The declaration the name resolves to in its own scope.
+                    let target =
+                        refs.iter().find(|r| inner.text_range().contains_range(r.range)).and_then(|r| r.target);
+                    let decl = target.and_then(|t| crate::nav::declaration(db, t));
+                    let owned = decl.map(|d| (d.def, file_defs(db, d.file).def(d.def).clone()));
+                    let c = owned.as_ref().map(|(id, d)| (*id, d));
                     match c {
                         Some((_, d)) if d.kind == DefKind::Variable => out.push(Problem::new(
                             code,
@@ -230,6 +233,8 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                 .with_related(file, mrange, format!("`{mname}` is here")),
             );
         }
+        missing_io_vars.sort();
+        missing_io_vars.dedup();
         if !missing_io_vars.is_empty() && rs {
             out.push(
                 Problem::new(

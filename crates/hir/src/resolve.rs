@@ -438,12 +438,28 @@ impl Resolver<'_> {
             };
             self.push(*range, name.clone(), RefKind::ConnectionNode, found.map(|f| Target::Def(self.file, f)));
             let Some(nid) = found else {
-                let what = if owner_def.kind == DefKind::Module { "module" } else { "controller" };
-                self.problem(
-                    "LNK-01",
-                    *range,
-                    format!("`{name}` is not a controller, machine or platform of this {what} (RC:Cn1/Cn3)"),
-                );
+                let (what, code) =
+                    if owner_def.kind == DefKind::Module { ("module", "RC:Cn1") } else { ("controller", "RC:Cn3") };
+                // A node declared elsewhere is a connection that leaves its
+                // container; a name declared nowhere does not resolve.
+                let elsewhere = !resolve_item(self.db, self.ws, self.file, std::slice::from_ref(name), |k| {
+                    matches!(k, DefKind::Controller | DefKind::StateMachine | DefKind::Platform)
+                })
+                .is_empty();
+                if elsewhere {
+                    let at = event.as_ref().map(|e| e.1).unwrap_or(*range);
+                    self.problem(
+                        code,
+                        at,
+                        format!("`{name}` is not part of this {what}: a {what}'s connections join only its own nodes"),
+                    );
+                } else {
+                    self.problem(
+                        "LNK-01",
+                        *range,
+                        format!("cannot resolve `{name}`: it is not a controller, machine or platform of this {what}"),
+                    );
+                }
                 continue;
             };
             let Some((ev, erange)) = event else { continue };

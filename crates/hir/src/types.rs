@@ -314,6 +314,17 @@ fn op_text(k: SyntaxKind) -> &'static str {
     k.text().unwrap_or("?")
 }
 
+fn unparen(n: &SyntaxNode) -> SyntaxNode {
+    let mut n = n.clone();
+    while n.kind() == PAREN_EXPR {
+        match exprs(&n).into_iter().next() {
+            Some(inner) => n = inner,
+            None => break,
+        }
+    }
+    n
+}
+
 fn is_timed(n: &SyntaxNode) -> bool {
     matches!(n.kind(), SINCE_EXPR | SINCE_ENTRY_EXPR)
 }
@@ -844,6 +855,18 @@ impl Typer<'_> {
                 self.expect_bool(&y, b, "RC-EXP-14", &format!("an operand of `{}`", op_text(op)));
                 Ty::Bool
             }
+            LT | LTEQ | GT | GTEQ | EQ2 if [a, b].iter().any(|e| is_timed(&unparen(e))) => {
+                for (t, s) in [(&x, a), (&y, b)] {
+                    if !compatible(t, &Ty::Real) && bad(t) {
+                        self.problem(
+                            "RC:TE4",
+                            s.text_range(),
+                            format!("a timed expression is compared with a number; this has type {t}"),
+                        );
+                    }
+                }
+                Ty::Bool
+            }
             EQ2 | NEQ => {
                 // Sequences and sets of the same elements compare (RoboTool).
                 let seq_set = |p: &Ty, q: &Ty| match (p, q) {
@@ -1060,7 +1083,7 @@ impl Typer<'_> {
         if !compatible(&t, &ty) {
             self.problem(
                 "RC-STMT-02",
-                value.text_range(),
+                target.text_range(),
                 format!("`{}` has type {ty}, but the value has type {t}", target.text().to_string().trim()),
             );
         }
