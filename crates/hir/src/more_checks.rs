@@ -433,6 +433,8 @@ struct Usage {
     inputs: HashSet<String>,
     outputs: HashSet<String>,
     calls: HashSet<String>,
+    /// Each call with the range of the called name.
+    call_sites: Vec<(String, TextRange)>,
 }
 
 fn usage_of(db: &dyn Db, file: File, def: DefId) -> Usage {
@@ -457,7 +459,9 @@ fn usage_of(db: &dyn Db, file: File, def: DefId) -> Usage {
             }
             CALL_STMT => {
                 if let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) {
-                    u.calls.insert(q.text().to_string().trim().to_string());
+                    let name = q.text().to_string().trim().to_string();
+                    u.call_sites.push((name.clone(), q.text_range()));
+                    u.calls.insert(name);
                 }
             }
             _ => {}
@@ -688,36 +692,69 @@ fn probabilities(db: &dyn Db, file: File, junction: DefId, out: &mut Vec<Problem
     }
 }
 
-/// RC:O2: operations do not call themselves, directly or through others.
+/// RC:O2: the operations of a controller do not call themselves, directly
+/// or through each other. Reported once per cycle, on the call that closes
+/// it (or, when that call is in another file, on the controller's `opref`).
 fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
     let defs = file_defs(db, file);
-    let ops: Vec<(DefId, String)> =
-        defs.iter().filter(|(_, d)| d.kind == DefKind::Operation).map(|(id, d)| (id, d.name.clone())).collect();
-    let _ = ws;
-    let calls: HashMap<String, HashSet<String>> =
-        ops.iter().map(|(id, n)| (n.clone(), usage_of(db, file, *id).calls)).collect();
-    for (id, name) in &ops {
-        // Does `name` reach itself?
-        let mut stack: Vec<String> = calls.get(name).map(|c| c.iter().cloned().collect()).unwrap_or_default();
-        let mut seen = HashSet::new();
-        let mut found = false;
-        while let Some(c) = stack.pop() {
-            if &c == name {
-                found = true;
-                break;
-            }
-            if seen.insert(c.clone()) {
-                if let Some(next) = calls.get(&c) {
-                    stack.extend(next.iter().cloned());
+    for (cid, _) in defs.iter().filter(|(_, d)| d.kind == DefKind::Controller) {
+        // name → (file, definition, the controller member that brings it in)
+        let mut ops: HashMap<String, (File, DefId, TextRange)> = HashMap::new();
+        for (id, d) in defs.children(Some(cid)) {
+            match (&d.kind, &d.data) {
+                (DefKind::Operation, _) => {
+                    ops.insert(d.name.clone(), (file, id, d.name_range));
                 }
+                (DefKind::OperationRef, DefData::Reference { path, .. }) => {
+                    if let Some(l) = resolve_item(db, ws, file, path, |k| k == DefKind::Operation).first() {
+                        if let Some(def) = l.def(db) {
+                            ops.insert(path.last().cloned().unwrap_or_default(), (l.file, def, d.name_range));
+                        }
+                    }
+                }
+                _ => {}
             }
         }
-        if found {
-            out.push(Problem::new(
-                "RC:O2",
-                defs.def(*id).name_range,
-                format!("operation `{name}` calls itself (directly or through other operations)"),
-            ));
+        let sites: HashMap<String, Vec<(String, TextRange)>> = ops
+            .iter()
+            .map(|(n, (f, d, _))| {
+                (n.clone(), usage_of(db, *f, *d).call_sites.into_iter().filter(|(c, _)| ops.contains_key(c)).collect())
+            })
+            .collect();
+        let mut reported: HashSet<Vec<String>> = HashSet::new();
+        let mut names: Vec<&String> = ops.keys().collect();
+        names.sort();
+        for start in names {
+            // Depth-first search for a path start → … → start.
+            let mut stack: Vec<(String, Vec<String>)> = vec![(start.clone(), vec![start.clone()])];
+            let mut seen = HashSet::new();
+            while let Some((cur, path)) = stack.pop() {
+                for (callee, range) in sites.get(&cur).into_iter().flatten() {
+                    if callee == start {
+                        let mut key = path.clone();
+                        key.sort();
+                        if !reported.insert(key) {
+                            continue;
+                        }
+                        let cycle = path.iter().chain(std::iter::once(start)).cloned().collect::<Vec<_>>().join(" → ");
+                        let (of, _, member) = ops[&cur];
+                        let msg = format!("operation `{start}` calls itself: {cycle}");
+                        if of == file {
+                            out.push(Problem::new("RC:O2", *range, msg));
+                        } else {
+                            out.push(Problem::new("RC:O2", member, msg).with_related(
+                                of,
+                                *range,
+                                "the call that closes the cycle",
+                            ));
+                        }
+                    } else if seen.insert(callee.clone()) {
+                        let mut p = path.clone();
+                        p.push(callee.clone());
+                        stack.push((callee.clone(), p));
+                    }
+                }
+            }
         }
     }
 }
