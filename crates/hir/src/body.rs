@@ -152,6 +152,7 @@ impl Body<'_> {
                     ty: None,
                     target: Target::Def(self.file, pid),
                     broadcast: false,
+                    params: Vec::new(),
                 });
             }
         }

@@ -184,7 +184,7 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
     let defs = file_defs(db, file);
     let c = defs.def(controller);
     let own = ctx_members(db, ws, Ctx::Local(file, controller));
-    let defined: HashSet<String> = crate::resolve::defined_operations(db, Ctx::Local(file, controller));
+    let defined: HashSet<String> = crate::resolve::defined_operations(db, ws, Ctx::Local(file, controller));
     for (mid, mname, _, members) in machine_members(db, ws, file, controller) {
         let mut missing_vars = Vec::new();
         let mut missing_io_vars = Vec::new();
@@ -205,12 +205,14 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                     }
                 }
                 DefKind::OperationSig => {
-                    let ok = defined.contains(&r.name)
+                    let ok = defined.contains(&r.op_key())
                         || own.iter().any(|p| {
-                            p.kind == DefKind::OperationSig && p.name == r.name && p.via == Some(UseKind::Requires)
+                            p.kind == DefKind::OperationSig
+                                && p.op_key() == r.op_key()
+                                && p.via == Some(UseKind::Requires)
                         });
                     if !ok && (r.io.is_none() || rs) {
-                        missing_ops.push(r.name.clone());
+                        missing_ops.push(r.op_key());
                     }
                 }
                 _ => {}
@@ -326,7 +328,7 @@ fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
         let Some(cctx) = node_ctx(db, ws, file, cid) else { continue };
         let required: Vec<Member> =
             ctx_members(db, ws, cctx).into_iter().filter(|r| r.via == Some(UseKind::Requires)).collect();
-        let defined = controller_defined_ops(db, cctx);
+        let defined = crate::resolve::defined_operations(db, ws, cctx);
         let mut missing = Vec::new();
         for r in &required {
             let ok = match r.kind {
@@ -335,15 +337,17 @@ fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
                         && same_var(r, p, db, ws, member_file(r).unwrap_or(file), member_file(p).unwrap_or(file))
                 }),
                 DefKind::OperationSig => {
-                    defined.contains(&r.name)
+                    defined.contains(&r.op_key())
                         || provided.iter().any(|p| {
-                            p.kind == DefKind::OperationSig && p.name == r.name && p.via != Some(UseKind::Requires)
+                            p.kind == DefKind::OperationSig
+                                && p.op_key() == r.op_key()
+                                && p.via != Some(UseKind::Requires)
                         })
                 }
                 _ => true,
             };
             if !ok {
-                missing.push(r.name.clone());
+                missing.push(if r.kind == DefKind::OperationSig { r.op_key() } else { r.name.clone() });
             }
         }
         if !missing.is_empty() {
@@ -358,10 +362,6 @@ fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
             );
         }
     }
-}
-
-fn controller_defined_ops(db: &dyn Db, ctx: Ctx) -> HashSet<String> {
-    crate::resolve::defined_operations(db, ctx)
 }
 
 /// RC:Cn4, RC-CONN-01, RC-CONN-02: broadcast and event types of connections.

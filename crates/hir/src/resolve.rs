@@ -107,6 +107,15 @@ pub struct Member {
     pub target: Target,
     /// Whether `_broadcast`.
     pub broadcast: bool,
+    /// Parameter names, for operation signatures.
+    pub params: Vec<String>,
+}
+
+impl Member {
+    /// The signature key of an operation member ([`op_key`]).
+    pub fn op_key(&self) -> String {
+        op_key(&self.name, &self.params)
+    }
 }
 
 /// A context whose members can be listed: a definition of a file, or an
@@ -141,6 +150,10 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
                         ty: typed(m),
                         target: Target::Def(file, mid),
                         broadcast: matches!(m.data, DefData::Typed { broadcast: true, .. }),
+                        params: match &m.data {
+                            DefData::Signature { params, .. } => params.iter().map(|(n, _)| n.clone()).collect(),
+                            _ => Vec::new(),
+                        },
                     });
                 }
             }
@@ -158,6 +171,7 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
                         ty: m.ty.clone(),
                         target: Target::Member(loc, i as u32),
                         broadcast: m.broadcast,
+                        params: m.params.iter().map(|(n, _)| n.clone()).collect(),
                     });
                 }
             }
@@ -177,6 +191,7 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
                         ty: m.ty.clone(),
                         target: Target::Member(loc, i as u32),
                         broadcast: m.broadcast,
+                        params: m.params.iter().map(|(n, _)| n.clone()).collect(),
                     });
                 }
             }
@@ -523,16 +538,32 @@ pub fn member_of(db: &dyn Db, loc: ItemLoc, index: u32) -> &crate::index::Member
     &file_summary(db, loc.file).items[loc.index as usize].members[index as usize]
 }
 
-/// The operations a controller defines: `operation` definitions by name and
-/// `opref`s by the name of the definition they reference (`opref o = Op`
-/// defines `Op`).
-pub fn defined_operations(db: &dyn Db, ctx: Ctx) -> std::collections::HashSet<String> {
+/// The key that identifies an operation signature for matching:
+/// name and parameter names (the metamodel's operation equality).
+pub fn op_key(name: &str, params: &[String]) -> String {
+    format!("{name}({})", params.join(","))
+}
+
+/// The operations a controller defines, as [`op_key`]s: `operation`
+/// definitions, and `opref`s by the definition they reference (`opref o =
+/// Op` defines `Op`).
+pub fn defined_operations(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::collections::HashSet<String> {
+    let params_of = |d: &DefData| match d {
+        DefData::Signature { params, .. } => params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(),
+        _ => Vec::new(),
+    };
+    let by_ref = |file: File, path: &[String]| {
+        resolve_item(db, ws, file, path, |k| k == DefKind::Operation).first().map(|l| {
+            let s = l.summary(db);
+            op_key(&s.name, &s.params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())
+        })
+    };
     match ctx {
         Ctx::Local(f, id) => file_defs(db, f)
             .children(Some(id))
             .filter_map(|(_, d)| match (&d.kind, &d.data) {
-                (DefKind::Operation, _) => Some(d.name.clone()),
-                (DefKind::OperationRef, DefData::Reference { path, .. }) => path.last().cloned(),
+                (DefKind::Operation, data) => Some(op_key(&d.name, &params_of(data))),
+                (DefKind::OperationRef, DefData::Reference { path, .. }) => by_ref(f, path),
                 _ => None,
             })
             .collect(),
@@ -541,8 +572,10 @@ pub fn defined_operations(db: &dyn Db, ctx: Ctx) -> std::collections::HashSet<St
             .members
             .iter()
             .filter_map(|m| match m.kind {
-                DefKind::Operation => Some(m.name.clone()),
-                DefKind::OperationRef => m.target.last().cloned(),
+                DefKind::Operation => {
+                    Some(op_key(&m.name, &m.params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>()))
+                }
+                DefKind::OperationRef => by_ref(l.file, &m.target),
                 _ => None,
             })
             .collect(),

@@ -162,7 +162,7 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
         let members = ctx_members(db, ws, ctx);
         let defined: Vec<String> = controller_operation_names(db, ws, ctx);
         for m in &members {
-            if m.kind == DefKind::OperationSig && m.via == Some(UseKind::Requires) && !defined.contains(&m.name) {
+            if m.kind == DefKind::OperationSig && m.via == Some(UseKind::Requires) && !defined.contains(&m.op_key()) {
                 o.ops.push(m.name.clone());
             }
         }
@@ -195,8 +195,8 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
 }
 
 /// The operation definitions (`operation`, `opref`) of a controller.
-fn controller_operation_names(db: &dyn Db, _ws: Workspace, ctx: Ctx) -> Vec<String> {
-    crate::resolve::defined_operations(db, ctx).into_iter().collect()
+fn controller_operation_names(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<String> {
+    crate::resolve::defined_operations(db, ws, ctx).into_iter().collect()
 }
 
 /// The contexts of the machines of a controller context.
@@ -288,7 +288,13 @@ fn required_operations(
                 .summary(db)
                 .members
                 .iter()
-                .filter(|m| m.kind == DefKind::OperationSig && !defined.contains(&m.name))
+                .filter(|m| {
+                    m.kind == DefKind::OperationSig
+                        && !defined.contains(&crate::resolve::op_key(
+                            &m.name,
+                            &m.params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(),
+                        ))
+                })
                 .map(|m| &m.name)
                 .collect();
             if missing.is_empty() {
