@@ -308,6 +308,11 @@ pub struct FileDefs {
     pub uses: Vec<Use>,
     /// Per-definition container facts (same indices as `defs`).
     pub facts: Vec<ContainerFacts>,
+    /// Children of each definition, and (last) the top-level items: lookups
+    /// are by index instead of scanning every definition.
+    child_index: Vec<Vec<DefId>>,
+    /// Definitions sorted by start offset, for `innermost`.
+    by_start: Vec<DefId>,
 }
 
 impl FileDefs {
@@ -328,7 +333,11 @@ impl FileDefs {
 
     /// The direct children of `parent` (`None`: top-level items).
     pub fn children(&self, parent: Option<DefId>) -> impl Iterator<Item = (DefId, &Def)> {
-        self.iter().filter(move |(_, d)| d.parent == parent)
+        let slot = match parent {
+            Some(p) => p.0 as usize,
+            None => self.defs.len(),
+        };
+        self.child_index.get(slot).into_iter().flatten().map(move |id| (*id, self.def(*id)))
     }
 
     /// The uses of context `owner`.
@@ -352,7 +361,29 @@ impl FileDefs {
 
     /// The innermost definition whose range contains `range`.
     pub fn innermost(&self, range: TextRange) -> Option<DefId> {
-        self.iter().filter(|(_, d)| d.range.contains_range(range)).map(|(id, _)| id).last()
+        // Ranges nest, so the innermost container of `range` is an ancestor
+        // (or self) of the last definition starting at or before it.
+        let i = self.by_start.partition_point(|id| self.def(*id).range.start() <= range.start());
+        let mut cur = self.by_start.get(i.checked_sub(1)?).copied();
+        while let Some(c) = cur {
+            let d = self.def(c);
+            if d.range.contains_range(range) {
+                return Some(c);
+            }
+            cur = d.parent;
+        }
+        None
+    }
+
+    fn build_indexes(&mut self) {
+        self.child_index = vec![Vec::new(); self.defs.len() + 1];
+        for (i, d) in self.defs.iter().enumerate() {
+            let slot = d.parent.map_or(self.defs.len(), |p| p.0 as usize);
+            self.child_index[slot].push(DefId(i as u32));
+        }
+        self.by_start = (0..self.defs.len() as u32).map(DefId).collect();
+        // Stable: among equal starts, parents (pushed first) stay first.
+        self.by_start.sort_by_key(|id| self.defs[id.0 as usize].range.start());
     }
 }
 
@@ -378,6 +409,7 @@ pub fn file_defs(db: &dyn Db, file: File) -> FileDefs {
             _ => l.item(&child, None, None),
         }
     }
+    l.out.build_indexes();
     l.out
 }
 
