@@ -59,6 +59,8 @@ enum Command {
         #[arg(required = true)]
         paths: Vec<PathBuf>,
     },
+    /// Run the language server (LSP over stdin/stdout).
+    Lsp,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -93,6 +95,7 @@ fn main() -> ExitCode {
         Command::Check { format, rules, color, paths } => check(format, rules, color, &paths),
         Command::Parse { tree, file } => parse(tree, &file),
         Command::Fmt { check, paths } => fmt::run(check, &paths),
+        Command::Lsp => robosim_lsp::run_stdio(),
     }
 }
 

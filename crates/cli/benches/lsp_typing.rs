@@ -1,0 +1,248 @@
+//! Typing in a generated 10,000-line model, replayed against `robosim lsp`
+//! over stdio: keystroke → `publishDiagnostics` for that version, plus
+//! document symbols, semantic tokens and folding ranges on the same file.
+//!
+//! `cargo bench -p robosim-cli --bench lsp_typing` builds the binary with
+//! the bench profile (the release profile's optimisations) and runs it as
+//! an editor would. `ROBOSIM_BIN=path` benchmarks another binary.
+//!
+//! Keystrokes come every 80 ms, as from a fast typist, and the latency is
+//! measured from sending a keystroke to reading the first
+//! `publishDiagnostics` for its version: the whole path (JSON, applying the
+//! edit, parsing, converting, publishing), with nothing hidden by a
+//! debounce, which the server does not have. That first publish has the
+//! syntax diagnostics of the new text and the last complete check's
+//! semantic diagnostics moved along with the edits; the complete check for
+//! the version follows as a second publish, measured in a second pass with
+//! pauses long enough for it to finish.
+
+#[path = "../../syntax/benches/generated.rs"]
+mod generated;
+
+use std::io::{BufRead, BufReader, Write};
+use std::process::{ChildStdin, Command, Stdio};
+use std::sync::mpsc::{channel, Receiver};
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+
+const KEYSTROKES: usize = 200;
+const REQUESTS: usize = 50;
+
+struct Client {
+    stdin: ChildStdin,
+    rx: Receiver<(Instant, Value)>,
+    next_id: i64,
+}
+
+impl Client {
+    fn send(&mut self, msg: &Value) {
+        let body = msg.to_string();
+        let framed = format!("Content-Length: {}\r\n\r\n{body}", body.len());
+        self.stdin.write_all(framed.as_bytes()).expect("the server's stdin closed");
+        self.stdin.flush().expect("the server's stdin closed");
+    }
+
+    /// Waits for the first message satisfying `pred`; returns when it was
+    /// read.
+    fn wait(&mut self, pred: impl Fn(&Value) -> bool) -> (Instant, Value) {
+        loop {
+            let (at, msg) = self.rx.recv_timeout(Duration::from_secs(60)).expect("the server stopped answering");
+            if msg.get("method").is_some() && msg.get("id").is_some() {
+                // A request from the server: answer `null`.
+                self.send(&json!({"jsonrpc": "2.0", "id": msg["id"], "result": null}));
+                continue;
+            }
+            if pred(&msg) {
+                return (at, msg);
+            }
+        }
+    }
+
+    fn request(&mut self, method: &str, params: Value) -> Duration {
+        self.next_id += 1;
+        let id = self.next_id;
+        let start = Instant::now();
+        self.send(&json!({"jsonrpc": "2.0", "id": id, "method": method, "params": params}));
+        let (at, msg) = self.wait(|m| m["id"] == id);
+        assert!(msg.get("result").is_some(), "{method} failed: {msg}");
+        at - start
+    }
+}
+
+fn read_message(reader: &mut impl BufRead) -> Option<Value> {
+    let mut length = None;
+    loop {
+        let mut line = String::new();
+        if reader.read_line(&mut line).ok()? == 0 {
+            return None;
+        }
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(v) = line.strip_prefix("Content-Length:") {
+            length = v.trim().parse::<usize>().ok();
+        }
+    }
+    let mut body = vec![0; length?];
+    reader.read_exact(&mut body).ok()?;
+    serde_json::from_slice(&body).ok()
+}
+
+fn percentile(sorted: &[Duration], p: f64) -> Duration {
+    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+fn report(name: &str, mut samples: Vec<Duration>) {
+    samples.sort();
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    println!(
+        "{name:<40} n={:<4} p50 {:>7.2} ms   p95 {:>7.2} ms   max {:>7.2} ms",
+        samples.len(),
+        ms(percentile(&samples, 0.50)),
+        ms(percentile(&samples, 0.95)),
+        ms(*samples.last().unwrap())
+    );
+}
+
+fn main() {
+    // `cargo bench` passes `--bench`; plain `cargo test` runs benches as
+    // tests with no such flag: keep that quick.
+    if !std::env::args().any(|a| a == "--bench") {
+        return;
+    }
+    let bin = std::env::var("ROBOSIM_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_robosim").to_string());
+    let mut child = Command::new(&bin)
+        .arg("lsp")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {bin}: {e}"));
+    let stdout = child.stdout.take().unwrap();
+    let (tx, rx) = channel();
+    std::thread::spawn(move || {
+        let mut reader = BufReader::new(stdout);
+        while let Some(msg) = read_message(&mut reader) {
+            if tx.send((Instant::now(), msg)).is_err() {
+                return;
+            }
+        }
+    });
+    let mut c = Client { stdin: child.stdin.take().unwrap(), rx, next_id: 0 };
+
+    c.request(
+        "initialize",
+        json!({"capabilities": {"textDocument": {"documentSymbol": {"hierarchicalDocumentSymbolSupport": true}}}}),
+    );
+    c.send(&json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
+
+    let text = generated::generated_model(10_000);
+    let lines: Vec<&str> = text.lines().collect();
+    println!("model: {} lines, {:.1} KB; server: {bin}", lines.len(), text.len() as f64 / 1024.0);
+    let uri = "file:///robosim-bench/generated.rct";
+    let start = Instant::now();
+    c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": uri, "languageId": "robochart", "version": 1, "text": text}}}));
+    let published = |version: i64| {
+        move |m: &Value| {
+            m["method"] == "textDocument/publishDiagnostics"
+                && m["params"]["uri"] == uri
+                && m["params"]["version"] == version
+        }
+    };
+    let (at, _) = c.wait(published(1));
+    report("didOpen → publishDiagnostics", vec![at - start]);
+
+    // Type in the middle of the file, at the end of an entry action:
+    // ` + count0` keystroke by keystroke, then backspace it, over and over.
+    let line = lines.len() / 2 + lines[lines.len() / 2..].iter().position(|l| l.contains("entry move(")).unwrap();
+    let end = lines[line].encode_utf16().count() as u32;
+    let word: Vec<char> = " + count0".chars().collect();
+    let mut typed = 0u32;
+    let mut version = 1;
+    let mut keystroke = |c: &mut Client, k: usize, version: i64| {
+        let typing = (k / word.len()).is_multiple_of(2);
+        let change = if typing {
+            let ch = word[typed as usize % word.len()];
+            let pos = json!({"line": line, "character": end + typed});
+            typed += 1;
+            json!({"range": {"start": pos, "end": pos}, "text": ch.to_string()})
+        } else {
+            typed -= 1;
+            json!({"range": {"start": {"line": line, "character": end + typed}, "end": {"line": line, "character": end + typed + 1}}, "text": ""})
+        };
+        c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
+            "textDocument": {"uri": uri, "version": version}, "contentChanges": [change]}}));
+    };
+
+    // A typist: a keystroke every 80 ms, whatever the server is doing. The
+    // first publish for each version is the parse's (syntax diagnostics,
+    // and the last check's semantic ones moved along).
+    let mut first = Vec::with_capacity(KEYSTROKES);
+    for k in 0..KEYSTROKES + 10 {
+        version += 1;
+        let sent = Instant::now();
+        keystroke(&mut c, k, version);
+        let (at, _) = c.wait(published(version));
+        // The first keystrokes warm caches up; they are not counted.
+        if k >= 10 {
+            first.push(at - sent);
+        }
+        std::thread::sleep(Duration::from_millis(80).saturating_sub(sent.elapsed()));
+    }
+    report("keystroke → publishDiagnostics (first)", first);
+
+    // With a pause after each keystroke, the complete check (semantic
+    // rules included) finishes and is published as a second message.
+    let mut complete = Vec::with_capacity(REQUESTS);
+    for k in 0..REQUESTS {
+        version += 1;
+        let sent = Instant::now();
+        keystroke(&mut c, KEYSTROKES + 10 + k, version);
+        c.wait(published(version));
+        let (at, _) = c.wait(published(version));
+        complete.push(at - sent);
+    }
+    report("keystroke → publishDiagnostics (complete)", complete);
+
+    let doc = json!({"textDocument": {"uri": uri}});
+    for (name, method) in [
+        ("textDocument/documentSymbol", "textDocument/documentSymbol"),
+        ("textDocument/semanticTokens/full", "textDocument/semanticTokens/full"),
+        ("textDocument/foldingRange", "textDocument/foldingRange"),
+    ] {
+        let mut samples = Vec::new();
+        for i in 0..REQUESTS {
+            // An edit first, so that nothing is memoised from the previous
+            // request: each answer is computed for a new version.
+            version += 1;
+            let pos = json!({"line": line, "character": end});
+            let text = if i.is_multiple_of(2) { " " } else { "" };
+            let range = if i.is_multiple_of(2) {
+                json!({"start": pos, "end": pos})
+            } else {
+                json!({"start": pos, "end": {"line": line, "character": end + 1}})
+            };
+            c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
+                "textDocument": {"uri": uri, "version": version}, "contentChanges": [{"range": range, "text": text}]}}));
+            // Both publishes: the request then competes with nothing.
+            c.wait(published(version));
+            c.wait(published(version));
+            samples.push(c.request(method, doc.clone()));
+        }
+        report(&format!("{name} (after an edit)"), samples);
+    }
+    let mut samples = Vec::new();
+    for i in 0..REQUESTS {
+        let p = json!({"line": (i * 97) % lines.len(), "character": 3});
+        samples.push(c.request("textDocument/selectionRange", json!({"textDocument": {"uri": uri}, "positions": [p]})));
+    }
+    report("textDocument/selectionRange", samples);
+
+    c.request("shutdown", Value::Null);
+    c.send(&json!({"jsonrpc": "2.0", "method": "exit"}));
+    let _ = child.wait();
+}

@@ -1,0 +1,270 @@
+//! Editor features for RoboChart and RoboSim, independent of any editor
+//! protocol: the language server (`robosim-lsp`) and the command line both
+//! call these functions, and only translate their results.
+//!
+//! The shape follows rust-analyzer's: an [`AnalysisHost`] owns the mutable
+//! salsa database and the workspace input; [`AnalysisHost::analysis`] hands
+//! out an [`Analysis`], a cheap snapshot that other threads query while the
+//! host moves on. Every query returns [`Cancellable`]: when the host changes
+//! an input, queries still running on older snapshots unwind with
+//! [`Cancelled`] instead of finishing work nobody wants.
+//!
+//! Results use byte ranges ([`TextRange`]); converting them to lines and
+//! UTF-16 columns is the caller's business ([`LineIndex`] does it).
+
+mod diagnostics;
+mod folding;
+mod highlight;
+mod selection;
+mod symbols;
+pub mod workspace_files;
+
+use std::collections::HashMap;
+use std::panic::AssertUnwindSafe;
+use std::sync::Arc;
+
+use robosim_hir::{Db, File, RootDatabase, Workspace};
+use salsa::Setter;
+
+pub use diagnostics::{carry_over, map_range, Diagnostic, Edit, RelatedInfo};
+pub use folding::{Fold, FoldKind};
+pub use highlight::{HlRange, HlTag};
+pub use robosim_hir::{RuleSet, Severity};
+pub use robosim_syntax::line_index::{LineCol, LineIndex};
+pub use robosim_syntax::{FileKind, TextRange, TextSize};
+pub use salsa::{Cancelled, Durability};
+pub use symbols::{DocumentSymbol, SymbolKind, WorkspaceSymbol};
+
+/// The result of a query on a snapshot: `Err(Cancelled)` when an input
+/// changed while it ran, so the answer would describe text that is gone.
+pub type Cancellable<T> = Result<T, Cancelled>;
+
+/// A file of the workspace. Stable for as long as the file is in the
+/// workspace: edits keep the id, removing and re-adding a path gives a new one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FileId(File);
+
+/// Owns the database and the workspace; the only place inputs change.
+pub struct AnalysisHost {
+    db: RootDatabase,
+    workspace: Workspace,
+    files: HashMap<String, File>,
+}
+
+impl std::fmt::Debug for AnalysisHost {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AnalysisHost").field("files", &self.files.len()).finish_non_exhaustive()
+    }
+}
+
+impl Default for AnalysisHost {
+    fn default() -> Self {
+        AnalysisHost::new(RuleSet::default())
+    }
+}
+
+impl AnalysisHost {
+    /// A workspace with only the bundled library, checked with `rules`.
+    pub fn new(rules: RuleSet) -> AnalysisHost {
+        AnalysisHost::with_db(RootDatabase::default(), rules)
+    }
+
+    /// Like [`AnalysisHost::new`] over a given database (tests pass one that
+    /// logs salsa events).
+    pub fn with_db(mut db: RootDatabase, rules: RuleSet) -> AnalysisHost {
+        // The same library files, paths and kinds as `robosim check`.
+        let workspace = robosim_hir::load_workspace(&db, std::iter::empty(), rules);
+        let library: Vec<File> = workspace.files(&db).clone();
+        let mut files = HashMap::new();
+        for file in library {
+            // The library never changes: with HIGH durability, queries that
+            // read only the library are not even re-validated after an edit.
+            let text = file.text(&db).clone();
+            file.set_text(&mut db).with_durability(Durability::HIGH).to(text);
+            let kind = file.kind(&db);
+            file.set_kind(&mut db).with_durability(Durability::HIGH).to(kind);
+            files.insert(file.path(&db).clone(), file);
+        }
+        AnalysisHost { db, workspace, files }
+    }
+
+    /// A snapshot for queries, possibly on another thread. Changing an
+    /// input through the host waits until every snapshot is dropped (after
+    /// cancelling their queries), so snapshots must not outlive their work.
+    pub fn analysis(&self) -> Analysis {
+        Analysis { db: self.db.clone(), workspace: self.workspace }
+    }
+
+    /// The file at `path`, if it is in the workspace.
+    pub fn file_id(&self, path: &str) -> Option<FileId> {
+        self.files.get(path).copied().map(FileId)
+    }
+
+    /// Adds the file at `path` or replaces its text. The language comes from
+    /// `kind`, or else the extension (RoboChart when neither says).
+    /// `durability` says how often the text is expected to change: LOW for
+    /// a buffer being edited, MEDIUM for a file on disk.
+    pub fn set_file(&mut self, path: &str, text: String, kind: Option<FileKind>, durability: Durability) -> FileId {
+        let kind = kind.or_else(|| FileKind::from_path(std::path::Path::new(path))).unwrap_or(FileKind::RoboChart);
+        if let Some(&file) = self.files.get(path) {
+            if file.kind(&self.db) != kind {
+                file.set_kind(&mut self.db).with_durability(durability).to(kind);
+            }
+            file.set_text(&mut self.db).with_durability(durability).to(text);
+            return FileId(file);
+        }
+        let file = File::builder(path.to_string(), text, kind, false).durability(durability).new(&self.db);
+        self.files.insert(path.to_string(), file);
+        let mut all = self.workspace.files(&self.db).clone();
+        all.push(file);
+        self.workspace.set_files(&mut self.db).with_durability(Durability::MEDIUM).to(all);
+        FileId(file)
+    }
+
+    /// Removes the file at `path`; false when there was none. Library files
+    /// cannot be removed.
+    pub fn remove_file(&mut self, path: &str) -> bool {
+        match self.files.get(path) {
+            Some(&file) if !file.is_library(&self.db) => {
+                self.files.remove(path);
+                let mut all = self.workspace.files(&self.db).clone();
+                all.retain(|f| *f != file);
+                self.workspace.set_files(&mut self.db).with_durability(Durability::MEDIUM).to(all);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Sets the rule set; a no-op (no new revision) when it is unchanged.
+    pub fn set_rules(&mut self, rules: RuleSet) {
+        if self.workspace.rules(&self.db) != rules {
+            self.workspace.set_rules(&mut self.db).with_durability(Durability::MEDIUM).to(rules);
+        }
+    }
+
+    /// The rule set in force.
+    pub fn rules(&self) -> RuleSet {
+        self.workspace.rules(&self.db)
+    }
+
+    /// The user's files (not the library), by path.
+    pub fn user_files(&self) -> Vec<(String, FileId)> {
+        let mut out: Vec<(String, FileId)> =
+            self.files.iter().filter(|(_, f)| !f.is_library(&self.db)).map(|(p, f)| (p.clone(), FileId(*f))).collect();
+        out.sort();
+        out
+    }
+}
+
+impl PartialOrd for FileId {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for FileId {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        use salsa::plumbing::AsId;
+        self.0.as_id().cmp(&other.0.as_id())
+    }
+}
+
+/// A read-only snapshot of the workspace. `Send`, cheap to clone; every
+/// query on it either finishes or returns `Err(Cancelled)`.
+#[derive(Clone)]
+pub struct Analysis {
+    db: RootDatabase,
+    workspace: Workspace,
+}
+
+impl std::fmt::Debug for Analysis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Analysis").finish_non_exhaustive()
+    }
+}
+
+impl Analysis {
+    /// Runs `f` on the database, turning salsa's cancellation unwinding into
+    /// `Err(Cancelled)`. Other panics propagate: they are bugs.
+    fn with_db<T>(&self, f: impl FnOnce(&dyn Db) -> T) -> Cancellable<T> {
+        Cancelled::catch(AssertUnwindSafe(|| f(&self.db)))
+    }
+
+    /// The text of `file`.
+    pub fn file_text(&self, file: FileId) -> Cancellable<Arc<str>> {
+        self.with_db(|db| Arc::from(file.0.text(db).as_str()))
+    }
+
+    /// The line index of `file`, for position conversions (computed once
+    /// per version of the text).
+    pub fn line_index(&self, file: FileId) -> Cancellable<Arc<LineIndex>> {
+        self.with_db(|db| line_index(db, file.0).clone())
+    }
+
+    /// The path of `file` as given when it was added.
+    pub fn file_path(&self, file: FileId) -> Cancellable<String> {
+        self.with_db(|db| file.0.path(db).clone())
+    }
+
+    /// The language of `file`.
+    pub fn file_kind(&self, file: FileId) -> Cancellable<FileKind> {
+        self.with_db(|db| file.0.kind(db))
+    }
+
+    /// Whether `file` is part of the bundled library.
+    pub fn is_library(&self, file: FileId) -> Cancellable<bool> {
+        self.with_db(|db| file.0.is_library(db))
+    }
+
+    /// Every diagnostic of `file`, sorted by position (none for library
+    /// files).
+    pub fn diagnostics(&self, file: FileId) -> Cancellable<Vec<Diagnostic>> {
+        self.with_db(|db| diagnostics::diagnostics(db, self.workspace, file.0))
+    }
+
+    /// The syntax diagnostics of `file` alone: a parse, no semantic rules.
+    /// Fast enough for every keystroke of a large file.
+    pub fn syntax_diagnostics(&self, file: FileId) -> Cancellable<Vec<Diagnostic>> {
+        self.with_db(|db| diagnostics::syntax_diagnostics(db, file.0))
+    }
+
+    /// The declarations of `file` as a tree, in source order.
+    pub fn document_symbols(&self, file: FileId) -> Cancellable<Vec<DocumentSymbol>> {
+        self.with_db(|db| symbols::document_symbols(db, file.0).clone())
+    }
+
+    /// Declarations of the whole workspace (library included) whose name
+    /// matches `query`, best matches first, at most `limit`.
+    pub fn workspace_symbols(&self, query: &str, limit: usize) -> Cancellable<Vec<WorkspaceSymbol>> {
+        self.with_db(|db| symbols::workspace_symbols(db, self.workspace, query, limit))
+    }
+
+    /// The highlighting of `file`: sorted, non-overlapping ranges.
+    pub fn highlight(&self, file: FileId) -> Cancellable<Vec<HlRange>> {
+        self.with_db(|db| highlight::highlight(db, file.0))
+    }
+
+    /// The foldable regions of `file`, sorted by start.
+    pub fn folding_ranges(&self, file: FileId) -> Cancellable<Vec<Fold>> {
+        self.with_db(|db| folding::folding_ranges(db, file.0))
+    }
+
+    /// For each offset, the ranges that successively larger selections
+    /// would cover, innermost first.
+    pub fn selection_ranges(&self, file: FileId, offsets: &[TextSize]) -> Cancellable<Vec<Vec<TextRange>>> {
+        self.with_db(|db| offsets.iter().map(|&o| selection::selection_ranges(db, file.0, o)).collect())
+    }
+}
+
+/// Line starts of a file's text, memoised per text version.
+#[salsa::tracked(returns(ref))]
+fn line_index(db: &dyn Db, file: File) -> Arc<LineIndex> {
+    Arc::new(LineIndex::new(file.text(db)))
+}
+
+/// Unwinds with `Cancelled` if an input changed; called from long loops
+/// that run no query (queries check on entry).
+fn check_cancelled(db: &dyn Db) {
+    db.unwind_if_revision_cancelled();
+}

@@ -1,0 +1,240 @@
+//! Computing and publishing diagnostics.
+//!
+//! Every change starts a job on a blocking thread. The job takes a
+//! snapshot, computes, drops the snapshot, then publishes, in that order,
+//! so no snapshot is ever held while waiting for a lock or for the client:
+//! a write to the database (which waits for all snapshots) can always
+//! proceed. Staleness is checked twice: a job whose file changed again
+//! before it started does nothing (the newer job covers it), and a result
+//! is published only if its file is still at the `seq` it was computed
+//! from, checked under the publish lock so that versions never go backwards
+//! on the wire. A newer edit cancels an older job's queries through salsa;
+//! there is no debounce.
+//!
+//! An edited buffer gets two publishes for its new version. The first
+//! comes from a parse alone: the syntax diagnostics of the new text, plus
+//! the semantic diagnostics of the last complete check moved along with
+//! the edits made since (what editors do with markers anyway). The second
+//! is the complete check. A parse of a 10,000-line file takes milliseconds,
+//! the semantic rules much longer, and typing should not wait for them.
+
+use std::sync::Arc;
+
+use robosim_ide::{Analysis, Cancellable, FileId};
+use tower_lsp_server::ls_types::{self as lsp, Uri};
+
+use crate::convert::{self, Text};
+use crate::state::{Phase, Shared};
+
+/// Starts diagnostics for `primary` (the file just changed), then, when
+/// `others`, for every other file whose diagnostics may depend on it.
+pub(crate) fn schedule(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
+    let shared = shared.clone();
+    let runtime = shared.runtime.clone();
+    runtime.spawn_blocking(move || run(&shared, primary, others));
+}
+
+/// What a job needs to know about one file, read under the lock.
+struct Target {
+    key: String,
+    seq: u64,
+    uri: Uri,
+    version: Option<i32>,
+    file: Option<FileId>,
+}
+
+#[derive(PartialEq, Eq)]
+enum Outcome {
+    /// The file changed since: a newer job takes over.
+    Stale,
+    Done,
+}
+
+fn run(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
+    if let Some((key, seq)) = &primary {
+        if fast(shared, key, *seq) == Outcome::Stale || full(shared, key, *seq, true) == Outcome::Stale {
+            return;
+        }
+    }
+    if !others {
+        return;
+    }
+    let all = shared.lock().all_files();
+    for (key, seq) in all {
+        if primary.as_ref().is_some_and(|(k, _)| *k == key) {
+            continue;
+        }
+        // A newer edit of the primary file makes this pass redundant.
+        if let Some((pk, ps)) = &primary {
+            if shared.lock().current(pk, *ps).is_none() {
+                return;
+            }
+        }
+        full(shared, &key, seq, false);
+    }
+}
+
+/// The first publish for an edited buffer: parse only, older semantic
+/// diagnostics carried over. Nothing for files that are not open.
+fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
+    loop {
+        if shared.phase() != Phase::Running {
+            return Outcome::Stale;
+        }
+        let (analysis, target, carried) = {
+            let st = shared.lock();
+            let Some(entry) = st.current(key, seq) else { return Outcome::Stale };
+            let (Some(doc), Some(file)) = (&entry.open, entry.file) else { return Outcome::Done };
+            let carried = doc.checked.as_ref().map(|d| robosim_ide::carry_over(d, file, &doc.edits));
+            let target = Target {
+                key: key.to_string(),
+                seq,
+                uri: entry.uri.clone(),
+                version: Some(doc.version),
+                file: Some(file),
+            };
+            (st.host.analysis(), target, carried)
+        };
+        let result = target.file.map(|file| -> Cancellable<_> {
+            let mut diags = analysis.syntax_diagnostics(file)?;
+            diags.extend(carried.unwrap_or_default());
+            diags.sort_by_key(|d| (d.range.start(), d.range.end()));
+            convert_all(&analysis, file, &diags)
+        });
+        drop(analysis);
+        match result {
+            Some(Ok(diags)) => {
+                publish(shared, &target, diags, None, true);
+                return Outcome::Done;
+            }
+            Some(Err(_cancelled)) => continue,
+            None => return Outcome::Done,
+        }
+    }
+}
+
+/// Computes and publishes one file's complete diagnostics, retrying when a
+/// write that did not change this file cancelled the computation.
+fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool) -> Outcome {
+    loop {
+        if shared.phase() != Phase::Running {
+            return Outcome::Stale;
+        }
+        let (analysis, target) = {
+            let st = shared.lock();
+            let Some(entry) = st.current(key, seq) else { return Outcome::Stale };
+            let target = Target {
+                key: key.to_string(),
+                seq,
+                uri: entry.uri.clone(),
+                version: entry.open.as_ref().map(|d| d.version),
+                file: entry.file,
+            };
+            (st.host.analysis(), target)
+        };
+        let result = match target.file {
+            Some(file) => analysis.diagnostics(file).and_then(|d| Ok((convert_all(&analysis, file, &d)?, Some(d)))),
+            None => Ok((Vec::new(), None)),
+        };
+        drop(analysis);
+        match result {
+            Ok((diags, checked)) => {
+                publish(shared, &target, diags, checked, force);
+                return Outcome::Done;
+            }
+            // Loop: `current` above tells whether it was this file that
+            // changed.
+            Err(_cancelled) => continue,
+        }
+    }
+}
+
+/// The file's diagnostics in LSP form, positions converted against the
+/// snapshot's own text.
+fn convert_all(
+    analysis: &Analysis,
+    file: FileId,
+    diags: &[robosim_ide::Diagnostic],
+) -> Cancellable<Vec<lsp::Diagnostic>> {
+    if diags.is_empty() {
+        return Ok(Vec::new());
+    }
+    let text = analysis.file_text(file)?;
+    let index = analysis.line_index(file)?;
+    let t = Text { text: &text, index: &index };
+    let mut out = Vec::with_capacity(diags.len());
+    for d in diags {
+        let mut related = Vec::new();
+        for r in &d.related {
+            // Locations in the bundled library have no URI to show.
+            let Some(uri) = uri_from_key(&r.path) else { continue };
+            let other_text = analysis.file_text(r.file)?;
+            let other_index = analysis.line_index(r.file)?;
+            let o = Text { text: &other_text, index: &other_index };
+            related.push(lsp::DiagnosticRelatedInformation {
+                location: lsp::Location::new(uri, o.range(r.range)),
+                message: r.message.clone(),
+            });
+        }
+        out.push(convert::diagnostic(t, d, related));
+    }
+    Ok(out)
+}
+
+/// The URI of a file key, without the state: keys of `file:` URIs are
+/// absolute paths, others are URIs.
+pub(crate) fn uri_from_key(key: &str) -> Option<Uri> {
+    if std::path::Path::new(key).is_absolute() {
+        crate::state::uri_of_path(std::path::Path::new(key))
+    } else {
+        key.parse().ok()
+    }
+}
+
+/// Publishes `diags` if the file is still at the target's `seq`. `checked`
+/// is the complete result behind them, kept to be carried over later
+/// edits.
+fn publish(
+    shared: &Arc<Shared>,
+    target: &Target,
+    diags: Vec<lsp::Diagnostic>,
+    checked: Option<Vec<robosim_ide::Diagnostic>>,
+    force: bool,
+) {
+    let Some(client) = shared.client().cloned() else { return };
+    // Held across the check and the send: a publish for an older `seq`
+    // either goes out before this one or sees that it is stale.
+    let _order = shared.publish.lock().unwrap_or_else(|e| e.into_inner());
+    // After `shutdown` the client expects nothing more.
+    if shared.phase() != Phase::Running {
+        return;
+    }
+    {
+        let mut st = shared.lock();
+        let Some(entry) = st.files.get_mut(&target.key).filter(|e| e.seq == target.seq) else { return };
+        if let (Some(doc), Some(checked)) = (entry.open.as_mut(), checked) {
+            doc.checked = Some(checked);
+            doc.edits.clear();
+        }
+        let unchanged = match st.published.get(&target.key) {
+            Some((v, d)) => *v == target.version && *d == diags,
+            // Nothing to clear either.
+            None => diags.is_empty(),
+        };
+        // A removed file's diagnostics are always cleared: the client may
+        // hold some from before this server knew the file.
+        if !force && unchanged && target.file.is_some() {
+            return;
+        }
+        st.published.insert(target.key.clone(), (target.version, diags.clone()));
+    }
+    shared.runtime.block_on(client.publish_diagnostics(target.uri.clone(), diags, target.version));
+    if target.file.is_none() {
+        // Cleared: the entry of a removed file has served its purpose.
+        let mut st = shared.lock();
+        if st.current(&target.key, target.seq).is_some_and(|e| e.file.is_none() && e.open.is_none()) {
+            st.files.remove(&target.key);
+            st.published.remove(&target.key);
+        }
+    }
+}

@@ -1,0 +1,319 @@
+//! The stdio transport: Content-Length framing, JSON-RPC message
+//! classification, and one task per request.
+//!
+//! tower-lsp-server ships a transport (`Server::serve`), but its reader is
+//! a `tokio_util` `FramedRead`, which ends the stream after the first
+//! decoding error: one malformed message (bad JSON, a bad header) and the
+//! server stops reading and exits. This loop answers such messages with a
+//! JSON-RPC error (`-32700` parse error, `-32600` invalid request) and goes
+//! on reading. Everything else, the protocol's state machine included, is
+//! tower-lsp-server's `LspService`, driven through the same `tower::Service`
+//! interface: `call` once per message, in wire order. Requests then run
+//! concurrently, each in a task of its own; notifications run to completion
+//! before the next message is read.
+
+use futures::{SinkExt, StreamExt};
+use serde_json::{json, Value};
+use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
+use tokio::sync::mpsc;
+use tower::Service;
+use tower_lsp_server::jsonrpc::{Request, Response};
+use tower_lsp_server::ClientSocket;
+
+use crate::ordered::Ordered;
+
+/// Bodies larger than this are refused: no model needs them, and a bogus
+/// length must not make the server allocate without bound.
+const MAX_BODY: usize = 256 << 20;
+/// Headers longer than this are garbage.
+const MAX_HEADER: usize = 8 << 10;
+
+enum Out {
+    Message(Vec<u8>),
+    /// Flush and stop: everything queued before it is written.
+    Stop,
+}
+
+/// Serves until `exit` or the end of `input`.
+pub(crate) async fn serve<I, O>(input: I, output: O, mut service: Ordered, socket: ClientSocket)
+where
+    I: AsyncRead + Unpin,
+    O: AsyncWrite + Unpin + Send + 'static,
+{
+    let (out_tx, out_rx) = mpsc::unbounded_channel::<Out>();
+    let writer = tokio::spawn(write_loop(output, out_rx));
+
+    // Server-to-client requests and notifications (publishDiagnostics,
+    // logMessage, registerCapability, …) go out through the same writer.
+    let (mut client_requests, mut client_responses) = socket.split();
+    let forward_tx = out_tx.clone();
+    let forwarder = tokio::spawn(async move {
+        while let Some(req) = client_requests.next().await {
+            if let Ok(body) = serde_json::to_vec(&req) {
+                let _ = forward_tx.send(Out::Message(body));
+            }
+        }
+    });
+
+    let mut reader = Reader { input, buf: Vec::with_capacity(64 << 10), eof: false };
+    loop {
+        let body = match reader.next_body().await {
+            Ok(Some(body)) => body,
+            Ok(None) => break,
+            Err(FrameError(message)) => {
+                send_error(&out_tx, Value::Null, -32700, &message);
+                continue;
+            }
+        };
+        match classify(&body) {
+            Incoming::Request(req) => {
+                let will_exit = req.method() == "exit";
+                if std::future::poll_fn(|cx| service.poll_ready(cx)).await.is_err() {
+                    break;
+                }
+                let is_notification = req.id().is_none();
+                let fut = service.call(req);
+                if is_notification {
+                    // Notifications are handled to the end, in order, before
+                    // the next message: their handlers only update state and
+                    // start background work, so this never waits long, and a
+                    // request that follows a notification sees its effect.
+                    let _ = fut.await;
+                    if will_exit {
+                        break;
+                    }
+                    continue;
+                }
+                let tx = out_tx.clone();
+                tokio::spawn(async move {
+                    if let Ok(Some(response)) = fut.await {
+                        if let Ok(body) = serde_json::to_vec(&response) {
+                            let _ = tx.send(Out::Message(body));
+                        }
+                    }
+                });
+                if will_exit {
+                    break;
+                }
+            }
+            Incoming::Response(res) => {
+                if client_responses.send(res).await.is_err() {
+                    break;
+                }
+            }
+            Incoming::Invalid { id, code, message } => send_error(&out_tx, id, code, &message),
+        }
+    }
+    forwarder.abort();
+    let _ = out_tx.send(Out::Stop);
+    let _ = writer.await;
+}
+
+fn send_error(tx: &mpsc::UnboundedSender<Out>, id: Value, code: i64, message: &str) {
+    let body = json!({"jsonrpc": "2.0", "error": {"code": code, "message": message}, "id": id});
+    let _ = tx.send(Out::Message(body.to_string().into_bytes()));
+}
+
+async fn write_loop<O: AsyncWrite + Unpin>(mut output: O, mut rx: mpsc::UnboundedReceiver<Out>) {
+    while let Some(out) = rx.recv().await {
+        match out {
+            Out::Message(body) => {
+                let header = format!("Content-Length: {}\r\n\r\n", body.len());
+                if output.write_all(header.as_bytes()).await.is_err() || output.write_all(&body).await.is_err() {
+                    return;
+                }
+                // Batch flushes when messages queue up, but never leave one
+                // waiting.
+                if rx.is_empty() && output.flush().await.is_err() {
+                    return;
+                }
+            }
+            Out::Stop => break,
+        }
+    }
+    let _ = output.flush().await;
+}
+
+/// What a message body turned out to be.
+enum Incoming {
+    Request(Request),
+    Response(Response),
+    Invalid { id: Value, code: i64, message: String },
+}
+
+fn classify(body: &[u8]) -> Incoming {
+    let value: Value = match serde_json::from_slice(body) {
+        Ok(v) => v,
+        Err(e) => return Incoming::Invalid { id: Value::Null, code: -32700, message: format!("Parse error: {e}") },
+    };
+    // The id to answer with, when the message has a usable one.
+    let id = match value.get("id") {
+        Some(id @ (Value::Number(_) | Value::String(_))) => id.clone(),
+        _ => Value::Null,
+    };
+    let invalid = |message: String| Incoming::Invalid { id: id.clone(), code: -32600, message };
+    if !value.is_object() {
+        return invalid("Invalid request: a message must be a JSON object".into());
+    }
+    if value.get("method").is_some() {
+        return match serde_json::from_value::<Request>(value.clone()) {
+            Ok(req) => Incoming::Request(req),
+            Err(e) => invalid(format!("Invalid request: {e}")),
+        };
+    }
+    if value.get("result").is_some() || value.get("error").is_some() {
+        return match serde_json::from_value::<Response>(value.clone()) {
+            Ok(res) => Incoming::Response(res),
+            Err(e) => invalid(format!("Invalid response: {e}")),
+        };
+    }
+    invalid("Invalid request: no `method`, `result` or `error`".into())
+}
+
+struct FrameError(String);
+
+struct Reader<I> {
+    input: I,
+    buf: Vec<u8>,
+    eof: bool,
+}
+
+impl<I: AsyncRead + Unpin> Reader<I> {
+    /// Reads more input; false at the end.
+    async fn fill(&mut self) -> bool {
+        if self.eof {
+            return false;
+        }
+        let mut chunk = [0u8; 64 << 10];
+        match self.input.read(&mut chunk).await {
+            Ok(0) | Err(_) => {
+                self.eof = true;
+                false
+            }
+            Ok(n) => {
+                self.buf.extend_from_slice(&chunk[..n]);
+                true
+            }
+        }
+    }
+
+    /// Drops bytes up to the next `Content-Length` at or after `from`, to
+    /// resynchronise after garbage.
+    fn skip_garbage(&mut self, from: usize) {
+        let needle = b"Content-Length";
+        let found = self.buf.windows(needle.len()).skip(from).position(|w| w == needle).map(|i| i + from);
+        match found {
+            Some(i) => {
+                self.buf.drain(..i);
+            }
+            None => {
+                // Keep a tail that may be the start of the next header.
+                let keep = self.buf.len().min(needle.len() - 1);
+                self.buf.drain(..self.buf.len() - keep);
+            }
+        }
+    }
+
+    /// The next message body; `Ok(None)` at the end of input.
+    async fn next_body(&mut self) -> Result<Option<Vec<u8>>, FrameError> {
+        let header_end = loop {
+            if let Some(i) = find(&self.buf, b"\r\n\r\n") {
+                break i;
+            }
+            if self.buf.len() > MAX_HEADER {
+                // The start is garbage even if it reads `Content-Length`.
+                self.skip_garbage(1);
+                return Err(FrameError("Parse error: no message header (`Content-Length: N` and a blank line)".into()));
+            }
+            if !self.fill().await {
+                if self.buf.iter().all(u8::is_ascii_whitespace) {
+                    return Ok(None);
+                }
+                self.buf.clear();
+                return Err(FrameError("Parse error: the input ended inside a message header".into()));
+            }
+        };
+        let header = String::from_utf8_lossy(&self.buf[..header_end]).into_owned();
+        self.buf.drain(..header_end + 4);
+        let mut length = None;
+        for line in header.split("\r\n") {
+            if let Some((name, value)) = line.split_once(':') {
+                if name.trim().eq_ignore_ascii_case("content-length") {
+                    length = value.trim().parse::<usize>().ok();
+                }
+            }
+        }
+        let Some(length) = length else {
+            // The bad header is gone: what follows may be a good one.
+            self.skip_garbage(0);
+            return Err(FrameError(format!("Parse error: missing or invalid `Content-Length` in header {header:?}")));
+        };
+        if length > MAX_BODY {
+            self.skip_garbage(0);
+            return Err(FrameError(format!("Parse error: message of {length} bytes is too large")));
+        }
+        while self.buf.len() < length {
+            if !self.fill().await {
+                self.buf.clear();
+                return Err(FrameError("Parse error: the input ended inside a message body".into()));
+            }
+        }
+        Ok(Some(self.buf.drain(..length).collect()))
+    }
+}
+
+fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
+    haystack.windows(needle.len()).position(|w| w == needle)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn framed(body: &str) -> String {
+        format!("Content-Length: {}\r\n\r\n{body}", body.len())
+    }
+
+    async fn bodies(input: &str) -> Vec<Result<String, String>> {
+        let mut r = Reader { input: input.as_bytes(), buf: Vec::new(), eof: false };
+        let mut out = Vec::new();
+        loop {
+            match r.next_body().await {
+                Ok(Some(b)) => out.push(Ok(String::from_utf8(b).unwrap())),
+                Ok(None) => return out,
+                Err(FrameError(m)) => out.push(Err(m)),
+            }
+        }
+    }
+
+    #[tokio::test]
+    async fn framing_recovers_from_garbage() {
+        let input = format!(
+            "{}garbage without header\r\n\r\n{}Content-Type: x\r\n\r\n{}Content-Length: 3\r\n\r\nab",
+            framed("{\"a\":1}"),
+            framed("{}"),
+            framed("[]")
+        );
+        let got = bodies(&input).await;
+        assert_eq!(got[0], Ok("{\"a\":1}".to_string()));
+        assert!(got[1].is_err(), "{got:?}");
+        assert_eq!(got[2], Ok("{}".to_string()));
+        assert!(got[3].is_err(), "{got:?}");
+        assert_eq!(got[4], Ok("[]".to_string()));
+        // Truncated body at the end of input.
+        assert!(got[5].is_err());
+        assert_eq!(got.len(), 6);
+    }
+
+    #[test]
+    fn classification() {
+        assert!(matches!(classify(b"{bad"), Incoming::Invalid { code: -32700, .. }));
+        assert!(matches!(classify(b"[1]"), Incoming::Invalid { code: -32600, .. }));
+        assert!(
+            matches!(classify(br#"{"jsonrpc":"1.0","id":4,"method":"x"}"#), Incoming::Invalid { code: -32600, id, .. } if id == 4)
+        );
+        assert!(matches!(classify(br#"{"jsonrpc":"2.0","id":4,"method":"x"}"#), Incoming::Request(_)));
+        assert!(matches!(classify(br#"{"jsonrpc":"2.0","id":4,"result":null}"#), Incoming::Response(_)));
+        assert!(matches!(classify(br#"{"jsonrpc":"2.0","id":4}"#), Incoming::Invalid { code: -32600, .. }));
+    }
+}
