@@ -289,6 +289,24 @@ impl Body<'_> {
     /// a transition condition.
     fn input_with_value(&mut self, n: &SyntaxNode, suffix: &SyntaxNode, path: &[String], members: &[Member]) {
         let name = path.join("::");
+        // The same variable bound twice in one condition.
+        if let Some(cond) = n.ancestors().find(|a| a.kind() == CONDITION) {
+            let var = qualified(suffix).map(|(v, _)| v.join("::"));
+            let earlier = cond
+                .descendants()
+                .filter(|d| d.kind() == SIM_INPUT_SUFFIX && d.text_range().end() <= suffix.text_range().start())
+                .filter_map(|d| qualified(&d).map(|(v, _)| v.join("::")))
+                .any(|v| Some(v) == var);
+            if earlier {
+                if let Some((v, r)) = qualified(suffix) {
+                    self.problem(
+                        "RS-IO-07",
+                        r,
+                        format!("`{}` already receives a value in this condition", v.join("::")),
+                    );
+                }
+            }
+        }
         if !n.ancestors().any(|a| a.kind() == CONDITION) {
             self.problem(
                 "RS-IO-07",

@@ -172,6 +172,20 @@ fn same_var(required: &Member, provided: &Member, db: &dyn Db, ws: Workspace, rf
     }
 }
 
+/// Whether two events carry the same type (both untyped, or both typed
+/// with compatible types).
+fn same_event_type(a: &Member, b: &Member, db: &dyn Db, ws: Workspace, af: File, bf: File) -> bool {
+    match (&a.ty, &b.ty) {
+        (None, None) => true,
+        (Some(x), Some(y)) => {
+            let (tx, ty) =
+                (lower(db, ws, member_file(a).unwrap_or(af), x), lower(db, ws, member_file(b).unwrap_or(bf), y));
+            compatible(&tx, &ty) && compatible(&ty, &tx)
+        }
+        _ => false,
+    }
+}
+
 fn member_file(m: &Member) -> Option<File> {
     match m.target {
         crate::resolve::Target::Def(f, _) => Some(f),
@@ -818,19 +832,22 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
                 let has = |want: &dyn Fn(&Member) -> bool| xmembers.iter().any(want);
                 match (m.kind, m.via, m.io) {
                     (DefKind::Variable | DefKind::Constant, Some(UseKind::Requires), None) => {
+                        // Same name, same var/const, compatible type (catalogue RC:STM8).
                         let same_kind = m.kind;
+                        let mf = member_file(m).unwrap_or(*of);
                         if !has(&|x: &Member| {
-                            x.name == m.name && x.kind == same_kind && x.via != Some(UseKind::Requires)
-                                || (x.name == m.name
-                                    && x.kind == same_kind
-                                    && x.io.is_none()
-                                    && x.via == Some(UseKind::Requires))
+                            x.kind == same_kind
+                                && x.io.is_none()
+                                && same_var(m, x, db, ws, mf, member_file(x).unwrap_or(*xf))
                         }) {
                             missing.push(("RC:STM8", format!("variable `{}`", m.name)));
                         }
                     }
                     (DefKind::Event, _, None)
-                        if !rs && !has(&|x: &Member| x.kind == DefKind::Event && x.name == m.name) =>
+                        if !rs
+                            && !has(&|x: &Member| {
+                                x.kind == DefKind::Event && x.name == m.name && same_event_type(m, x, db, ws, *of, *xf)
+                            }) =>
                     {
                         missing.push(("RC:STM9", format!("event `{}`", m.name)));
                     }
@@ -857,7 +874,10 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
                     Problem::new(
                         code,
                         c.name_range,
-                        format!("operation `{oname}` uses {what}, which its caller `{xname}` does not declare"),
+                        format!(
+                            "operation `{oname}` uses {what}, which its caller `{xname}` does not declare{}",
+                            if matches!(code, "RC:STM8" | "RC:STM9") { " with a compatible type" } else { "" }
+                        ),
                     )
                     .with_related(*xf, file_defs(db, *xf).def(*xdef).name_range, format!("`{xname}` calls `{oname}`"))
                     .with_related(

@@ -826,6 +826,25 @@ impl Typer<'_> {
                     for e in exprs(&suffix) {
                         self.expr(&e);
                     }
+                    // `$e?x`: the event's values must fit the variable (RS-IO-07).
+                    if suffix.kind() == SIM_INPUT_SUFFIX {
+                        let et = self.targets.get(&q.text_range()).map(|t| self.target_type(*t));
+                        let var = suffix.children().find(|c| c.kind() == QUALIFIED_NAME);
+                        let vt =
+                            var.as_ref().and_then(|v| self.targets.get(&v.text_range())).map(|t| self.target_type(*t));
+                        if let (Some(et), Some(vt), Some(var)) = (et, vt, var) {
+                            if !compatible(&et, &vt) {
+                                self.problem(
+                                    "RS-IO-07",
+                                    var.text_range(),
+                                    format!(
+                                        "`{}` has type {vt} and cannot hold values of type {et}",
+                                        var.text().to_string().trim()
+                                    ),
+                                );
+                            }
+                        }
+                    }
                     return Ty::Bool;
                 }
                 match self.targets.get(&q.text_range()) {
@@ -1244,8 +1263,22 @@ impl Typer<'_> {
             self.problem("RC:PT2", e.text_range(), format!("a probability is a number in [0, 1]; this has type {t}"));
             return;
         }
-        if e.kind() == LITERAL {
-            if let Ok(v) = e.text().to_string().trim().parse::<f64>() {
+        // A literal, or a constant whose initialiser is a literal.
+        let literal = match e.kind() {
+            LITERAL => Some(e.text().to_string()),
+            REF_EXPR => e
+                .children()
+                .find(|c| c.kind() == NAME_REF)
+                .and_then(|r| self.targets.get(&r.text_range()).copied())
+                .and_then(|t| crate::nav::declaration(self.db, t))
+                .and_then(|d| match &file_defs(self.db, d.file).def(d.def).data {
+                    DefData::Typed { init: Some(init), .. } => Some(d.file.text(self.db)[*init].to_string()),
+                    _ => None,
+                }),
+            _ => None,
+        };
+        if let Some(text) = literal {
+            if let Ok(v) = text.trim().parse::<f64>() {
                 if !(0.0..=1.0).contains(&v) {
                     self.problem("RC:PT2", e.text_range(), "a probability must lie in [0, 1]".into());
                 }
