@@ -32,6 +32,14 @@ impl Problem {
         self.related.push((file, range, message.into()));
         self
     }
+
+    /// Adds a related location when there is one.
+    pub(crate) fn with_related_opt(self, loc: Option<(File, TextRange)>, message: impl Into<String>) -> Problem {
+        match loc {
+            Some((f, r)) => self.with_related(f, r, message),
+            None => self,
+        }
+    }
 }
 
 /// Every declaration-level rule violation of `file`.

@@ -199,7 +199,12 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
     let c = defs.def(controller);
     let own = ctx_members(db, ws, Ctx::Local(file, controller));
     let defined: HashSet<String> = crate::resolve::defined_operations(db, ws, Ctx::Local(file, controller));
-    for (mid, mname, _, members) in machine_members(db, ws, file, controller) {
+    for (mid, mname, mctx, members) in machine_members(db, ws, file, controller) {
+        // The machine's own definition when an `sref` brings it from elsewhere.
+        let remote = match mctx {
+            Ctx::Item(_) => crate::resolve::ctx_def(db, mctx).map(|(f, d)| (f, file_defs(db, f).def(d).name_range)),
+            Ctx::Local(..) => None,
+        };
         let mut missing_vars = Vec::new();
         let mut missing_io_vars = Vec::new();
         let mut missing_ops = Vec::new();
@@ -246,7 +251,8 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                         list(&missing_vars)
                     ),
                 )
-                .with_related(file, mrange, format!("`{mname}` is here")),
+                .with_related(file, mrange, format!("`{mname}` is here"))
+                .with_related_opt(remote, "the machine's definition"),
             );
         }
         missing_io_vars.sort();
@@ -264,7 +270,8 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                         if missing_io_vars.len() > 1 { "them" } else { "it" }
                     ),
                 )
-                .with_related(file, mrange, format!("`{mname}` is here")),
+                .with_related(file, mrange, format!("`{mname}` is here"))
+                .with_related_opt(remote, "the machine's definition"),
             );
         }
         if !missing_ops.is_empty() {
@@ -280,7 +287,8 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                         if missing_ops.len() > 1 { "them" } else { "it" }
                     ),
                 )
-                .with_related(file, mrange, format!("`{mname}` is here")),
+                .with_related(file, mrange, format!("`{mname}` is here"))
+                .with_related_opt(remote, "the machine's definition"),
             );
         }
     }
@@ -372,9 +380,20 @@ fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
                     m.name_range,
                     format!("the robotic platform of `{}` does not provide {list}, required by `{}`", m.name, c.name),
                 )
-                .with_related(file, c.name_range, format!("`{}` requires it", c.name)),
+                .with_related(file, c.name_range, format!("`{}` requires it", c.name))
+                .with_related_opt(remote_name(db, cctx), "the controller's definition")
+                .with_related_opt(remote_name(db, pctx), "the robotic platform's definition"),
             );
         }
+    }
+}
+
+/// The name of a context's definition when it lives outside the current
+/// definition (reached through a reference).
+fn remote_name(db: &dyn Db, ctx: Ctx) -> Option<(File, TextRange)> {
+    match ctx {
+        Ctx::Item(_) => crate::resolve::ctx_def(db, ctx).map(|(f, d)| (f, file_defs(db, f).def(d).name_range)),
+        Ctx::Local(..) => None,
     }
 }
 
@@ -502,7 +521,7 @@ fn machine_usage(
     file: File,
     controller: DefId,
     machine: Ctx,
-) -> (Usage, HashMap<String, String>) {
+) -> (Usage, HashMap<String, (String, File, DefId)>) {
     let (mf, mdef) = match machine {
         Ctx::Local(f, id) => (f, id),
         Ctx::Item(l) => match l.def(db) {
@@ -511,7 +530,7 @@ fn machine_usage(
         },
     };
     let mut total = usage_of(db, mf, mdef);
-    let mut via: HashMap<String, String> = HashMap::new();
+    let mut via: HashMap<String, (String, File, DefId)> = HashMap::new();
     let ops: HashMap<String, (File, DefId)> = file_defs(db, file)
         .children(Some(controller))
         .filter_map(|(id, d)| match d.kind {
@@ -537,12 +556,12 @@ fn machine_usage(
         let u = usage_of(db, *of, *od);
         for e in &u.inputs {
             if total.inputs.insert(e.clone()) {
-                via.insert(format!("in:{e}"), op.clone());
+                via.insert(format!("in:{e}"), (op.clone(), *of, *od));
             }
         }
         for e in &u.outputs {
             if total.outputs.insert(e.clone()) {
-                via.insert(format!("out:{e}"), op.clone());
+                via.insert(format!("out:{e}"), (op.clone(), *of, *od));
             }
         }
         todo.extend(u.calls.iter().cloned());
@@ -571,15 +590,14 @@ fn machine_directions(db: &dyn Db, ws: Workspace, file: File, controller: DefId,
             if let Some(m) = machines.get(&t.0) {
                 let (u, via) = machine_usage(db, ws, file, controller, *m);
                 if u.outputs.contains(&et.0) {
-                    let through = via
-                        .get(&format!("out:{}", et.0))
-                        .map(|o| format!(" (through operation `{o}`)"))
-                        .unwrap_or_default();
+                    let op = via.get(&format!("out:{}", et.0)).cloned();
+                    let through = op.as_ref().map(|o| format!(" (through operation `{}`)", o.0)).unwrap_or_default();
+                    let op_loc = op.map(|(_, f, d)| (f, file_defs(db, f).def(d).name_range));
                     out.push(Problem::new(
                         "RC:Cn8",
                         t.1,
                         format!("`{}` on `{}` ends a one-way connection, but `{}` outputs on `{}`{through}: make the connection bidirectional (`[ mult ]`) or reverse it", et.0, t.0, t.0, et.0),
-                    ));
+                    ).with_related_opt(op_loc, "the operation that outputs on it"));
                 }
             }
         }
@@ -587,15 +605,14 @@ fn machine_directions(db: &dyn Db, ws: Workspace, file: File, controller: DefId,
             if let Some(m) = machines.get(&f.0) {
                 let (u, via) = machine_usage(db, ws, file, controller, *m);
                 if u.inputs.contains(&ef.0) {
-                    let through = via
-                        .get(&format!("in:{}", ef.0))
-                        .map(|o| format!(" (through operation `{o}`)"))
-                        .unwrap_or_default();
+                    let op = via.get(&format!("in:{}", ef.0)).cloned();
+                    let through = op.as_ref().map(|o| format!(" (through operation `{}`)", o.0)).unwrap_or_default();
+                    let op_loc = op.map(|(_, f, d)| (f, file_defs(db, f).def(d).name_range));
                     out.push(Problem::new(
                         "RC:Cn9",
                         f.1,
                         format!("`{}` on `{}` starts a one-way connection, but `{}` receives on `{}`{through}: make the connection bidirectional (`[ mult ]`) or reverse it", ef.0, f.0, f.0, ef.0),
-                    ));
+                    ).with_related_opt(op_loc, "the operation that receives on it"));
                 }
             }
         }
@@ -633,18 +650,32 @@ fn module_directions(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
                     continue;
                 }
                 if cd.is_mult && !ic.is_mult {
-                    out.push(Problem::new(
-                        "RC:Cn5",
-                        node.1,
-                        format!("`{}` on `{}` is bidirectional here but not inside the controller", ev.0, node.0),
-                    ));
+                    out.push(
+                        Problem::new(
+                            "RC:Cn5",
+                            node.1,
+                            format!("`{}` on `{}` is bidirectional here but not inside the controller", ev.0, node.0),
+                        )
+                        .with_related(
+                            cf,
+                            inner.name_range,
+                            format!("the connection inside `{cname}`"),
+                        ),
+                    );
                 } else if !cd.is_mult && (ic.is_mult || (ends_here && !starts) || (!ends_here && !ends)) {
                     let code = if ends_here { "RC:Cn6" } else { "RC:Cn7" };
-                    out.push(Problem::new(
-                        code,
-                        node.1,
-                        format!("the direction of `{}` inside `{}` contradicts this connection", ev.0, node.0),
-                    ));
+                    out.push(
+                        Problem::new(
+                            code,
+                            node.1,
+                            format!("the direction of `{}` inside `{}` contradicts this connection", ev.0, node.0),
+                        )
+                        .with_related(
+                            cf,
+                            inner.name_range,
+                            format!("the connection inside `{cname}`"),
+                        ),
+                    );
                 }
             }
         }

@@ -581,3 +581,11 @@ pub fn defined_operations(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::collecti
             .collect(),
     }
 }
+
+/// The definition a context stands for: itself, or the item it names.
+pub fn ctx_def(db: &dyn Db, ctx: Ctx) -> Option<(File, DefId)> {
+    match ctx {
+        Ctx::Local(f, d) => Some((f, d)),
+        Ctx::Item(l) => Some((l.file, l.def(db)?)),
+    }
+}

@@ -81,17 +81,23 @@ fn controller_io(
             let is = |io: Io| members.iter().any(|m| m.kind == DefKind::Event && &m.name == ev && m.io == Some(io));
             let (need_in, need_out) = if cd.is_mult { (true, true) } else { (as_target, !as_target) };
             if need_in && !is(Io::Input) && (is(Io::Output) || members.iter().any(|m| &m.name == ev)) {
-                out.push(Problem::new(
-                    "RS:C3",
-                    *erange,
-                    format!("`{ev}` is not an input of `{node}`: a connection into a machine needs an event of its input context"),
-                ));
+                out.push(
+                    Problem::new(
+                        "RS:C3",
+                        *erange,
+                        format!("`{ev}` is not an input of `{node}`: a connection into a machine needs an event of its input context"),
+                    )
+                    .with_related_opt(context_of(db, *ctx, Io::Input), format!("the input context of `{node}`")),
+                );
             } else if need_out && !is(Io::Output) && (is(Io::Input) || members.iter().any(|m| &m.name == ev)) {
-                out.push(Problem::new(
-                    "RS:C3",
-                    *erange,
-                    format!("`{ev}` is not an output of `{node}`: a connection out of a machine needs an event of its output context"),
-                ));
+                out.push(
+                    Problem::new(
+                        "RS:C3",
+                        *erange,
+                        format!("`{ev}` is not an output of `{node}`: a connection out of a machine needs an event of its output context"),
+                    )
+                    .with_related_opt(context_of(db, *ctx, Io::Output), format!("the output context of `{node}`")),
+                );
             }
         }
     }
@@ -106,10 +112,10 @@ fn controller_outputs(
     out: &mut Vec<Problem>,
 ) {
     let defs = file_defs(db, file);
-    let outs: Vec<(DefId, &String, Outputs)> =
-        ms.iter().filter_map(|(id, n, c)| c.map(|c| (*id, n, outputs(&ctx_members(db, ws, c))))).collect();
-    for (i, (id, name, o)) in outs.iter().enumerate() {
-        for (other_id, other, p) in &outs[..i] {
+    let outs: Vec<(DefId, &String, Outputs, Ctx)> =
+        ms.iter().filter_map(|(id, n, c)| c.map(|c| (*id, n, outputs(&ctx_members(db, ws, c)), c))).collect();
+    for (i, (id, name, o, ctx)) in outs.iter().enumerate() {
+        for (other_id, other, p, other_ctx) in &outs[..i] {
             let shared_vars: Vec<&String> = o.vars.iter().filter(|v| p.vars.contains(v)).collect();
             let shared_ops: Vec<&String> = o.ops.iter().filter(|v| p.ops.contains(v)).collect();
             if shared_vars.is_empty() && shared_ops.is_empty() {
@@ -122,7 +128,9 @@ fn controller_outputs(
                     defs.def(*id).name_range,
                     format!("machines `{other}` and `{name}` both output {what}: outputs of a controller's machines must be disjoint"),
                 )
-                .with_related(file, defs.def(*other_id).name_range, format!("`{other}` also outputs it")),
+                .with_related(file, defs.def(*other_id).name_range, format!("`{other}` also outputs it"))
+                .with_related_opt(context_of(db, *ctx, Io::Output), format!("the output context of `{name}`"))
+                .with_related_opt(context_of(db, *other_ctx, Io::Output), format!("the output context of `{other}`")),
             );
         }
     }
@@ -320,4 +328,15 @@ fn required_operations(
             out.push(p);
         }
     }
+}
+
+/// The `input context`/`output context` keyword of a machine.
+fn context_of(db: &dyn Db, ctx: Ctx, io: Io) -> Option<(File, TextRange)> {
+    let (f, d) = crate::resolve::ctx_def(db, ctx)?;
+    let facts = file_defs(db, f).facts(d);
+    let r = match io {
+        Io::Input => facts.input_contexts.first(),
+        Io::Output => facts.output_contexts.first(),
+    }?;
+    Some((f, *r))
 }
