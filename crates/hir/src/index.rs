@@ -181,6 +181,18 @@ pub fn resolve_item(db: &dyn Db, ws: Workspace, from: File, path: &[String], acc
     if path.is_empty() {
         return Vec::new();
     }
+    // Simple names, by far the most common, come from the file's scope.
+    if path.len() == 1 {
+        if let Some(levels) = file_scope(db, ws, from).get(&path[0]) {
+            for level in levels {
+                let found: Vec<ItemLoc> = level.iter().copied().filter(|l| accept(l.summary(db).kind)).collect();
+                if !found.is_empty() {
+                    return found;
+                }
+            }
+        }
+        return Vec::new();
+    }
     let index = workspace_index(db, ws);
     let here = file_summary(db, from);
     let lookup = |full: &[String]| -> Vec<ItemLoc> {
@@ -216,6 +228,47 @@ pub fn resolve_item(db: &dyn Db, ws: Workspace, from: File, path: &[String], acc
         }
     }
     Vec::new()
+}
+
+/// The simple names visible in a file, each with its candidate items in
+/// priority order (one inner list per lookup level of [`resolve_item`]).
+#[salsa::tracked(returns(ref))]
+pub fn file_scope(db: &dyn Db, ws: Workspace, file: File) -> HashMap<String, Vec<Vec<ItemLoc>>> {
+    /// Where a level finds a simple name.
+    enum Level<'a> {
+        /// Items of this package.
+        Package(&'a [String]),
+        /// Exactly the item `import P::x` names.
+        Item(&'a [String]),
+    }
+    let index = workspace_index(db, ws);
+    let here = file_summary(db, file);
+    let mut levels: Vec<Level<'_>> = vec![Level::Package(&here.package)];
+    if !here.package.is_empty() {
+        levels.push(Level::Package(&[]));
+    }
+    for (imp, wildcard) in &here.imports {
+        levels.push(if *wildcard { Level::Package(imp) } else { Level::Item(imp) });
+    }
+    let core = ["core".to_string()];
+    let robosim_core = ["robosim__core".to_string()];
+    levels.push(Level::Package(&core));
+    levels.push(Level::Package(&robosim_core));
+    let mut out: HashMap<String, Vec<Vec<ItemLoc>>> = HashMap::new();
+    for (full, locs) in &index.items {
+        let Some((name, pkg)) = full.split_last() else { continue };
+        for (i, level) in levels.iter().enumerate() {
+            let hit = match level {
+                Level::Package(p) => *p == pkg,
+                Level::Item(imp) => *imp == full.as_slice(),
+            };
+            if hit {
+                let entry = out.entry(name.clone()).or_insert_with(|| vec![Vec::new(); levels.len()]);
+                entry[i].extend(locs.iter().copied());
+            }
+        }
+    }
+    out
 }
 
 /// Whether an import names an existing package or item.

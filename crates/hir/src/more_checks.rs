@@ -461,8 +461,8 @@ fn connection_types(db: &dyn Db, ws: Workspace, file: File, owner: DefId, out: &
 
 /// How a machine or operation uses events: inputs, outputs and the
 /// operations it calls.
-#[derive(Debug, Default, Clone)]
-struct Usage {
+#[derive(Debug, Default, Clone, PartialEq, Eq)]
+pub struct Usage {
     inputs: HashSet<String>,
     outputs: HashSet<String>,
     calls: HashSet<String>,
@@ -471,6 +471,21 @@ struct Usage {
 }
 
 fn usage_of(db: &dyn Db, file: File, def: DefId) -> Usage {
+    file_usages(db, file).get(&def).cloned().unwrap_or_else(|| compute_usage(db, file, def))
+}
+
+/// How every machine and operation of a file uses events and calls, from
+/// one walk per definition and revision.
+#[salsa::tracked(returns(ref))]
+pub fn file_usages(db: &dyn Db, file: File) -> HashMap<DefId, Usage> {
+    file_defs(db, file)
+        .iter()
+        .filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::Operation))
+        .map(|(id, _)| (id, compute_usage(db, file, id)))
+        .collect()
+}
+
+fn compute_usage(db: &dyn Db, file: File, def: DefId) -> Usage {
     let defs = file_defs(db, file);
     let root = parse(db, file).syntax_node();
     let d = defs.def(def);

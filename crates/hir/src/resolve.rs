@@ -134,8 +134,41 @@ fn accept_interface(k: DefKind) -> bool {
 
 /// Members of `ctx`: its own events, variables, constants, clocks and
 /// operation signatures, plus those of the interfaces it uses, provides or
-/// requires (in I/O contexts too).
+/// requires (in I/O contexts too). Memoised per file.
 pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
+    // Items of other files are described by their position-free summaries,
+    // so that editing their bodies does not invalidate this file's results.
+    if let Ctx::Local(file, def) = ctx {
+        if let Some(m) = file_members(db, ws, file).get(&def) {
+            return m.clone();
+        }
+    }
+    compute_members(db, ws, ctx)
+}
+
+/// The members of every context definition of a file, computed once per
+/// revision (checks ask for the same contexts many times).
+#[salsa::tracked(returns(ref))]
+pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> std::collections::HashMap<DefId, Vec<Member>> {
+    file_defs(db, file)
+        .iter()
+        .filter(|(_, d)| {
+            matches!(
+                d.kind,
+                DefKind::Interface
+                    | DefKind::Platform
+                    | DefKind::Controller
+                    | DefKind::StateMachine
+                    | DefKind::Operation
+                    | DefKind::Function
+                    | DefKind::Module
+            )
+        })
+        .map(|(id, _)| (id, compute_members(db, ws, Ctx::Local(file, id))))
+        .collect()
+}
+
+fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
     let mut out = Vec::new();
     let (file, uses): (File, Vec<UseSummary>) = match ctx {
         Ctx::Local(file, id) => {
