@@ -563,10 +563,35 @@ impl Body<'_> {
         });
         let name = path.join("::");
         match found {
-            Some((id, _)) => self.push(range, name, RefKind::TransitionTarget, Some(Target::Def(self.file, id))),
+            Some((id, d)) => {
+                self.push(range, name.clone(), RefKind::TransitionTarget, Some(Target::Def(self.file, id)));
+                // RC:TE5: inside a transition, the state is one of the
+                // transition's own container.
+                let in_transition =
+                    n.ancestors().find(|a| a.kind() == TRANSITION).and_then(|t| self.defs.innermost(t.text_range()));
+                if let Some(t) = in_transition.filter(|t| self.defs.def(*t).kind == DefKind::Transition) {
+                    if self.defs.def(t).parent != d.parent {
+                        self.problem(
+                            "RC:TE5",
+                            range,
+                            format!("`{name}` is not at the level of this transition: `sinceEntry` in a transition refers to a state of the transition's own container"),
+                        );
+                    }
+                }
+            }
             None => {
                 self.push(range, name.clone(), RefKind::TransitionTarget, None);
-                self.problem("LNK-01", range, format!("cannot resolve state `{name}` in this machine"));
+                let is_final =
+                    self.defs.iter().any(|(_, d)| d.kind == DefKind::Final && d.name == *path.last().unwrap());
+                if is_final {
+                    self.problem(
+                        "RC:TE3",
+                        range,
+                        format!("`{name}` is a final state: `sinceEntry` needs a state that can be left"),
+                    );
+                } else {
+                    self.problem("LNK-01", range, format!("cannot resolve state `{name}` in this machine"));
+                }
             }
         }
     }

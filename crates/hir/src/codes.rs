@@ -100,6 +100,9 @@ rules! {
     "RS-TRANS-01" E E "A transition condition is boolean.";
     "RC-EXP-13" E W "Function pre- and postconditions are boolean.";
     "RC-EXP-14" E W "Every expression in a typed position has a type; the innermost ill-typed part is reported.";
+    "RC-EXP-01" E E "A tuple is indexed by exactly one index.";
+    "RC-EXP-02" E E "A tuple index is a numeral.";
+    "RC-EXP-12" E E "Each value of a record literal fits its field's type.";
     "RC-EXP-03" E E "A tuple index is a numeral within the tuple's size.";
     "RC-EXP-09" E E "A function call has as many arguments as the function has parameters.";
     "RC-EXP-10" E E "Each argument's type is compatible with its parameter's (generic parameters instantiated).";
@@ -110,6 +113,8 @@ rules! {
     "RC-STMT-04" E E "`wait` takes an integer or a set of integers.";
     "RC-STMT-05" E E "An operation call has the right number of arguments, of compatible types.";
     "RC:TE1" E E "`since` and `sinceEntry` do not occur in actions.";
+    "RC:TE3" E E "`sinceEntry(S)` names a non-final state of the enclosing machine or operation.";
+    "RC:TE5" E E "`sinceEntry(S)` in a transition names a state of the transition's own container.";
     "RC:TE4" E E "A timed expression is only compared with a number.";
     "RC:Tg2" E E "A communication without a value uses an untyped event.";
     "RC:Tg5" E E "A communication with a value uses a typed event.";

@@ -542,14 +542,35 @@ impl Typer<'_> {
                     .children()
                     .find(|c| c.kind() == NAME_REF)
                     .map(|r| r.text().to_string().trim().trim_start_matches('^').to_string());
+                let loc = name.and_then(|nm| {
+                    resolve_item(self.db, self.ws, self.file, &[nm], |k| k == DefKind::Record).first().copied()
+                });
                 for fv in n.children().filter(|c| c.kind() == FIELD_VALUE) {
-                    if let Some(e) = exprs(&fv).first() {
-                        self.expr(e);
+                    let Some(e) = exprs(&fv).first().cloned() else { continue };
+                    let t = self.expr(&e);
+                    // RC-EXP-12: each value fits its field.
+                    let (Some(loc), Some(f)) = (loc, fv.children().find(|c| c.kind() == NAME_REF)) else { continue };
+                    let fname = f.text().to_string().trim().trim_start_matches('^').to_string();
+                    let s = loc.summary(self.db);
+                    match s.members.iter().find(|m| m.kind == DefKind::Field && m.name == fname).cloned() {
+                        Some(m) => {
+                            let ft = m.ty.as_ref().map(|ty| lower(self.db, self.ws, loc.file, ty)).unwrap_or(Ty::Error);
+                            if !compatible(&t, &ft) {
+                                self.problem(
+                                    "RC-EXP-12",
+                                    e.text_range(),
+                                    format!("field `{fname}` has type {ft}, but the value has type {t}"),
+                                );
+                            }
+                        }
+                        None => self.problem(
+                            "LNK-01",
+                            f.text_range(),
+                            format!("record `{}` has no field `{fname}`", s.name),
+                        ),
                     }
                 }
-                match name.and_then(|nm| {
-                    resolve_item(self.db, self.ws, self.file, &[nm], |k| k == DefKind::Record).first().copied()
-                }) {
+                match loc {
                     Some(loc) => Ty::Named(loc, loc.summary(self.db).name.clone(), DefKind::Record),
                     None => Ty::Error,
                 }
@@ -812,7 +833,22 @@ impl Typer<'_> {
                                 );
                                 Ty::Error
                             }
-                            _ => Ty::Error,
+                            _ if e.len() != 2 => {
+                                self.problem(
+                                    "RC-EXP-01",
+                                    n.text_range(),
+                                    "a tuple is indexed by exactly one numeral".into(),
+                                );
+                                Ty::Error
+                            }
+                            _ => {
+                                self.problem(
+                                    "RC-EXP-02",
+                                    e[1].text_range(),
+                                    format!("a tuple index must be a numeral in 1..{}", ts.len()),
+                                );
+                                Ty::Error
+                            }
                         }
                     }
                     _ => Ty::Error,
