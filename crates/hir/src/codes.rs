@@ -104,6 +104,10 @@ rules! {
     "RC-EXP-02" E E "A tuple index is a numeral.";
     "RC-EXP-12" E E "Each value of a record literal fits its field's type.";
     "RC-EXP-03" E E "A tuple index is a numeral within the tuple's size.";
+    "RC-EXP-05" E E "An enumeration literal that takes arguments is not used without them.";
+    "RC-EXP-06" W W "A literal without parameters is not applied to `()`.";
+    "RC-EXP-07" E E "A constructor application has as many arguments as the literal declares.";
+    "RC-EXP-08" E E "Each constructor argument fits the literal's parameter type.";
     "RC-EXP-09" E E "A function call has as many arguments as the function has parameters.";
     "RC-EXP-10" E E "Each argument's type is compatible with its parameter's (generic parameters instantiated).";
     "RC-EXP-11" E E "A cast `e as T` converts between compatible types.";

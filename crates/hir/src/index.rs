@@ -90,6 +90,8 @@ fn member_summary(m: &crate::defs::Def) -> MemberSummary {
     };
     let params = match &m.data {
         DefData::Signature { params, .. } => params.clone(),
+        // Constructor argument types of an enumeration literal.
+        DefData::Literal { args } => args.iter().map(|t| (String::new(), strip_ranges(Some(t.clone())))).collect(),
         _ => Vec::new(),
     };
     let target = match &m.data {

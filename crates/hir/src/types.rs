@@ -528,9 +528,13 @@ impl Typer<'_> {
             CYCLE_EXPR => Ty::Nat,
             RESULT_EXPR => self.result.clone().unwrap_or(Ty::Error),
             FROM_EXPR | TO_EXPR => Ty::Error,
-            REF_EXPR => self.name_type(n),
+            REF_EXPR => {
+                self.bare_literal(n);
+                self.name_type(n)
+            }
             PAREN_EXPR => exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error),
             ENUM_LITERAL_EXPR => {
+                self.bare_literal(n);
                 let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
                 match refs.first().and_then(|r| self.targets.get(&r.text_range())) {
                     Some(Target::Item(loc)) => Ty::Named(*loc, loc.summary(self.db).name.clone(), DefKind::Enumeration),
@@ -1068,11 +1072,90 @@ impl Typer<'_> {
                 }
             }
         }
+        // An enumeration constructor `E::L(a, …)` (RC-EXP-06…08).
+        if let Some((loc, i)) = self.literal_of(callee) {
+            let s = loc.summary(self.db);
+            let lit = &s.members[i as usize];
+            let params: Vec<Ty> = lit
+                .params
+                .iter()
+                .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                .collect();
+            let name = lit.name.clone();
+            if params.is_empty() {
+                if args.is_empty() {
+                    self.problem(
+                        "RC-EXP-06",
+                        n.text_range(),
+                        format!("`{name}` takes no arguments: drop the parentheses"),
+                    );
+                } else {
+                    self.problem(
+                        "RC-EXP-07",
+                        n.text_range(),
+                        format!("`{name}` takes no arguments, not {}", args.len()),
+                    );
+                }
+            } else if params.len() != args.len() {
+                self.problem(
+                    "RC-EXP-07",
+                    n.text_range(),
+                    format!(
+                        "`{name}` takes {} argument{}, not {}",
+                        params.len(),
+                        if params.len() == 1 { "" } else { "s" },
+                        args.len()
+                    ),
+                );
+            } else {
+                for (k, (p, (x, a))) in params.iter().zip(&args).enumerate() {
+                    if !compatible(a, p) {
+                        self.problem(
+                            "RC-EXP-08",
+                            x.text_range(),
+                            format!("argument {} of `{name}` has type {a}, expected {p}", k + 1),
+                        );
+                    }
+                }
+            }
+            return Ty::Named(loc, s.name.clone(), DefKind::Enumeration);
+        }
         let t = self.expr(callee);
         match t {
             Ty::Function(_, b) | Ty::Relation(_, b) => *b,
             Ty::Named(_, _, DefKind::Enumeration) => t,
             _ => Ty::Error,
+        }
+    }
+
+    /// The enumeration literal an expression names (`E::L` or a bare `L`).
+    fn literal_of(&self, e: &SyntaxNode) -> Option<(ItemLoc, u32)> {
+        let r = match e.kind() {
+            ENUM_LITERAL_EXPR => e.children().filter(|c| c.kind() == NAME_REF).nth(1)?,
+            REF_EXPR => e.children().find(|c| c.kind() == NAME_REF)?,
+            _ => return None,
+        };
+        match self.targets.get(&r.text_range())? {
+            Target::Member(loc, i) if loc.summary(self.db).members[*i as usize].kind == DefKind::EnumLiteral => {
+                Some((*loc, *i))
+            }
+            _ => None,
+        }
+    }
+
+    /// RC-EXP-05: a literal that takes arguments is not used bare.
+    fn bare_literal(&mut self, e: &SyntaxNode) {
+        let Some((loc, i)) = self.literal_of(e) else { return };
+        let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && exprs(&p).first() == Some(e));
+        let lit = &loc.summary(self.db).members[i as usize];
+        if !is_callee && !lit.params.is_empty() {
+            let msg = format!(
+                "`{}` expects {} argument{}",
+                lit.name,
+                lit.params.len(),
+                if lit.params.len() == 1 { "" } else { "s" }
+            );
+            self.problem("RC-EXP-05", e.text_range(), msg);
         }
     }
 
