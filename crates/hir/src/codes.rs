@@ -130,6 +130,7 @@ rules! {
     "RC-TYPE-04" E W "A constant used as a vector or matrix size has type nat.";
     "RC:C3" E E "A controller provides every variable its machines require.";
     "RC:C4" E E "A controller defines or requires every operation its machines require.";
+    "RC:C4-weak" E E "Every operation an operation of the controller requires is defined or required by the controller.";
     "RC:C8" E E "A controller does not include the same operation definition twice.";
     "RC:M2" E E "The robotic platform provides every variable and operation the controllers require.";
     "RC:Cn4" E E "A broadcast event connects only to a broadcast event.";

@@ -32,6 +32,7 @@ pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
         match d.kind {
             DefKind::Controller => {
                 controller_provides(db, ws, file, id, rs, &mut out);
+                operation_requirements(db, ws, file, id, &mut out);
                 operation_copies(db, ws, file, id, &mut out);
                 connection_types(db, ws, file, id, &mut out);
                 machine_directions(db, ws, file, id, &mut out);
@@ -933,6 +934,50 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
                     ),
                 );
             }
+        }
+    }
+}
+
+/// RC:C4-weak: every operation an operation of the controller requires is
+/// defined or required by the controller.
+fn operation_requirements(db: &dyn Db, ws: Workspace, file: File, controller: DefId, out: &mut Vec<Problem>) {
+    let defs = file_defs(db, file);
+    let c = defs.def(controller);
+    let defined = crate::resolve::defined_operations(db, ws, Ctx::Local(file, controller));
+    let own = ctx_members(db, ws, Ctx::Local(file, controller));
+    for (id, d) in defs.children(Some(controller)) {
+        let ctx = match d.kind {
+            DefKind::Operation => Ctx::Local(file, id),
+            DefKind::OperationRef => match node_ctx(db, ws, file, id) {
+                Some(ctx) => ctx,
+                None => continue,
+            },
+            _ => continue,
+        };
+        let missing: Vec<String> = ctx_members(db, ws, ctx)
+            .iter()
+            .filter(|m| m.kind == DefKind::OperationSig && m.via == Some(UseKind::Requires) && m.io.is_none())
+            .filter(|m| {
+                !defined.contains(&m.op_key())
+                    && !own.iter().any(|p| {
+                        p.kind == DefKind::OperationSig && p.via == Some(UseKind::Requires) && p.op_key() == m.op_key()
+                    })
+            })
+            .map(|m| m.op_key())
+            .collect();
+        if !missing.is_empty() {
+            let list = missing.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+            out.push(
+                Problem::new(
+                    "RC:C4-weak",
+                    d.name_range,
+                    format!(
+                        "operation `{}` requires {list}, which controller `{}` neither defines nor requires",
+                        d.name, c.name
+                    ),
+                )
+                .with_related_opt(remote_name(db, ctx), "the operation's definition"),
+            );
         }
     }
 }
