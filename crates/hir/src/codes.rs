@@ -111,6 +111,7 @@ rules! {
     "RC-EXP-09" E E "A function call has as many arguments as the function has parameters.";
     "RC-EXP-10" E E "Each argument's type is compatible with its parameter's (generic parameters instantiated).";
     "RC-EXP-11" E E "A cast `e as T` converts between compatible types.";
+    "RC-EXP-11-narrow" W W "A numeric narrowing cast (real to int, int to nat) is a warning.";
     "RC-VAR-01" E E "A variable's or constant's initial value is compatible with its type.";
     "RC-STMT-02" E E "An assignment's value is compatible with the target's type.";
     "RC-STMT-03" E E "The condition of an `if` statement is boolean.";

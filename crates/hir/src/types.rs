@@ -643,6 +643,14 @@ impl Typer<'_> {
                         || (t.rank().is_some() && target.rank().is_some());
                     if !castable {
                         self.problem("RC-EXP-11", n.text_range(), format!("cannot cast {t} to {target}"));
+                    } else if let (Some(from), Some(to)) = (t.rank(), target.rank()) {
+                        if to < from {
+                            self.problem(
+                                "RC-EXP-11-narrow",
+                                n.text_range(),
+                                format!("casting {t} to {target} narrows the value: it must be checked to fit"),
+                            );
+                        }
                     }
                     target
                 }
