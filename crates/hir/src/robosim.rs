@@ -158,7 +158,10 @@ fn describe_shared(vars: &[&String], ops: &[&String]) -> String {
 /// RS:M3: the outputs of a module's controllers are disjoint.
 fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &mut Vec<Problem>) {
     let defs = file_defs(db, file);
-    let mut ctrls: Vec<(DefId, String, Outputs)> = Vec::new();
+    // Per controller: its outputs, and where each one is declared (the
+    // machine's output context for variables; the controller for operations).
+    type Sources = Vec<(String, Option<(File, TextRange)>)>;
+    let mut ctrls: Vec<(DefId, String, Outputs, Sources, Option<(File, TextRange)>)> = Vec::new();
     for (cid, c) in defs.children(Some(module)) {
         if !matches!(c.kind, DefKind::Controller | DefKind::ControllerRef) {
             continue;
@@ -167,6 +170,7 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
         // Outputs of its machines, and the operations it requires itself
         // without defining them (platform operations it drives).
         let mut o = Outputs::default();
+        let mut sources: Sources = Vec::new();
         let members = ctx_members(db, ws, ctx);
         let defined: Vec<String> = controller_operation_names(db, ws, ctx);
         for m in &members {
@@ -176,28 +180,48 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
         }
         for mctx in controller_machine_ctxs(db, ws, ctx) {
             let mo = outputs(&ctx_members(db, ws, mctx));
+            for v in &mo.vars {
+                sources.push((v.clone(), context_of(db, mctx, Io::Output)));
+            }
             o.vars.extend(mo.vars);
         }
         o.vars.sort();
         o.vars.dedup();
-        ctrls.push((cid, c.name.clone(), o));
+        let def_loc = crate::resolve::ctx_def(db, ctx).map(|(f, d)| (f, file_defs(db, f).def(d).name_range));
+        ctrls.push((cid, c.name.clone(), o, sources, def_loc));
     }
-    for (i, (id, name, o)) in ctrls.iter().enumerate() {
-        for (other_id, other, p) in &ctrls[..i] {
+    for (i, (id, name, o, src, loc)) in ctrls.iter().enumerate() {
+        for (other_id, other, p, other_src, other_loc) in &ctrls[..i] {
             let shared_vars: Vec<&String> = o.vars.iter().filter(|v| p.vars.contains(v)).collect();
             let shared_ops: Vec<&String> = o.ops.iter().filter(|v| p.ops.contains(v)).collect();
             if shared_vars.is_empty() && shared_ops.is_empty() {
                 continue;
             }
             let what = describe_shared(&shared_vars, &shared_ops);
-            out.push(
-                Problem::new(
-                    "RS:M3",
-                    defs.def(*id).name_range,
-                    format!("controllers `{other}` and `{name}` both drive {what}: outputs of a module's controllers must be disjoint"),
-                )
-                .with_related(file, defs.def(*other_id).name_range, format!("`{other}` also drives it")),
-            );
+            let mut problem = Problem::new(
+                "RS:M3",
+                defs.def(*id).name_range,
+                format!("controllers `{other}` and `{name}` both drive {what}: outputs of a module's controllers must be disjoint"),
+            )
+            .with_related(file, defs.def(*other_id).name_range, format!("`{other}` also drives it"));
+            // Where the shared outputs are declared, on both sides.
+            for v in &shared_vars {
+                for (who, sources) in [(name, src), (other, other_src)] {
+                    if let Some((_, Some(at))) = sources.iter().find(|(n, _)| n == *v) {
+                        problem = problem.with_related(
+                            at.0,
+                            at.1,
+                            format!("`{v}` is an output of a machine of `{who}` here"),
+                        );
+                    }
+                }
+            }
+            if !shared_ops.is_empty() {
+                problem = problem
+                    .with_related_opt(*loc, format!("`{name}` requires the operation"))
+                    .with_related_opt(*other_loc, format!("`{other}` requires the operation"));
+            }
+            out.push(problem);
         }
     }
 }
