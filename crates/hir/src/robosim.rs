@@ -160,8 +160,9 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
     let defs = file_defs(db, file);
     // Per controller: its outputs, and where each one is declared (the
     // machine's output context for variables; the controller for operations).
-    type Sources = Vec<(String, Option<(File, TextRange)>)>;
-    let mut ctrls: Vec<(DefId, String, Outputs, Sources, Option<(File, TextRange)>)> = Vec::new();
+    type Loc = Option<(File, TextRange)>;
+    type Sources = Vec<(String, Loc)>;
+    let mut ctrls: Vec<(DefId, String, Outputs, Sources, Loc)> = Vec::new();
     for (cid, c) in defs.children(Some(module)) {
         if !matches!(c.kind, DefKind::Controller | DefKind::ControllerRef) {
             continue;
