@@ -1,6 +1,7 @@
 //! Typing in a generated 10,000-line model, replayed against `robosim lsp`
 //! over stdio: keystroke → `publishDiagnostics` for that version, plus
-//! document symbols, semantic tokens and folding ranges on the same file.
+//! document symbols, semantic tokens, folding ranges, hover and go to
+//! definition on the same file.
 //!
 //! `cargo bench -p robosim-cli --bench lsp_typing` builds the binary with
 //! the bench profile (the release profile's optimisations) and runs it as
@@ -235,6 +236,43 @@ fn main() {
         }
         report(&format!("{name} (after an edit)"), samples);
     }
+    // Hover and definition on a variable in the middle of the file (the
+    // target of `count = …` in the edited entry action, declared at the top
+    // of its machine), after an edit.
+    let name_col = lines[line].find("count").unwrap();
+    let at_name = json!({"textDocument": {"uri": uri}, "position": {"line": line, "character": name_col + 2}});
+    let edit = |c: &mut Client, i: usize, version: i64| {
+        let pos = json!({"line": line, "character": end});
+        let (range, text) = if i.is_multiple_of(2) {
+            (json!({"start": pos, "end": pos}), " ")
+        } else {
+            (json!({"start": pos, "end": {"line": line, "character": end + 1}}), "")
+        };
+        c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
+            "textDocument": {"uri": uri, "version": version}, "contentChanges": [{"range": range, "text": text}]}}));
+    };
+    for method in ["textDocument/hover", "textDocument/definition"] {
+        // Once the check of the new text is published (the editor is idle).
+        let mut samples = Vec::new();
+        for i in 0..REQUESTS {
+            version += 1;
+            edit(&mut c, i, version);
+            c.wait(published(version));
+            c.wait(published(version));
+            samples.push(c.request(method, at_name.clone()));
+        }
+        report(&format!("{method} (after an edit)"), samples);
+        // Right after the keystroke, racing the check of the new text.
+        let mut samples = Vec::new();
+        for i in 0..REQUESTS {
+            version += 1;
+            edit(&mut c, i, version);
+            samples.push(c.request(method, at_name.clone()));
+            std::thread::sleep(Duration::from_millis(300));
+        }
+        report(&format!("{method} (right after a keystroke)"), samples);
+    }
+
     let mut samples = Vec::new();
     for i in 0..REQUESTS {
         let p = json!({"line": (i * 97) % lines.len(), "character": 3});

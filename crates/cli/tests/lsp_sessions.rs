@@ -4,7 +4,8 @@
 //! A session is a JSON object:
 //!
 //! - `files`: model files to create under a fresh workspace folder
-//!   (`$ROOT`, or `$ROOT_URI` as a URI, in any string of the session);
+//!   (`$ROOT`, or `$ROOT_URI` as a URI, in any string or object key of the
+//!   session);
 //! - `replies`: results for the server's requests to the client, by method
 //!   (default `null`);
 //! - `steps`, in order:
@@ -35,12 +36,12 @@ use lsp_support::{Server, TIMEOUT};
 use serde_json::Value;
 
 fn substitute(v: &Value, root: &Path) -> Value {
+    let text = |s: &str| s.replace("$ROOT_URI", &lsp_support::uri(root)).replace("$ROOT", &root.to_string_lossy());
     match v {
-        Value::String(s) => {
-            Value::String(s.replace("$ROOT_URI", &lsp_support::uri(root)).replace("$ROOT", &root.to_string_lossy()))
-        }
+        Value::String(s) => Value::String(text(s)),
         Value::Array(a) => Value::Array(a.iter().map(|x| substitute(x, root)).collect()),
-        Value::Object(o) => Value::Object(o.iter().map(|(k, x)| (k.clone(), substitute(x, root))).collect()),
+        // Keys too: workspace edits are maps from URIs.
+        Value::Object(o) => Value::Object(o.iter().map(|(k, x)| (text(k), substitute(x, root))).collect()),
         other => other.clone(),
     }
 }

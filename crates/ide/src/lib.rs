@@ -12,9 +12,16 @@
 //! Results use byte ranges ([`TextRange`]); converting them to lines and
 //! UTF-16 columns is the caller's business ([`LineIndex`] does it).
 
+mod completion;
 mod diagnostics;
+mod edit;
+mod fixes;
 mod folding;
+mod formatting;
 mod highlight;
+mod hover;
+mod navigation;
+mod rename;
 mod selection;
 mod symbols;
 pub mod workspace_files;
@@ -26,9 +33,15 @@ use std::sync::Arc;
 use robosim_hir::{Db, File, RootDatabase, Workspace};
 use salsa::Setter;
 
+pub use completion::{CompletionItem, CompletionKind};
 pub use diagnostics::{carry_over, map_range, Diagnostic, Edit, RelatedInfo};
+pub use edit::{apply_edits, FileEdit, SourceChange, TextEdit};
+pub use fixes::Assist;
 pub use folding::{Fold, FoldKind};
 pub use highlight::{HlRange, HlTag};
+pub use hover::HoverResult;
+pub use navigation::{NavigationTarget, ReferenceLoc};
+pub use rename::RenameError;
 pub use robosim_hir::{RuleSet, Severity};
 pub use robosim_syntax::line_index::{LineCol, LineIndex};
 pub use robosim_syntax::{FileKind, TextRange, TextSize};
@@ -254,6 +267,87 @@ impl Analysis {
     /// would cover, innermost first.
     pub fn selection_ranges(&self, file: FileId, offsets: &[TextSize]) -> Cancellable<Vec<Vec<TextRange>>> {
         self.with_db(|db| offsets.iter().map(|&o| selection::selection_ranges(db, file.0, o)).collect())
+    }
+
+    /// The hover at `offset`: the declaration of the name there, the
+    /// periods of a `cycleDef`, the rules of the diagnostics there. `None`
+    /// when there is nothing to say.
+    pub fn hover(&self, file: FileId, offset: TextSize) -> Cancellable<Option<HoverResult>> {
+        self.with_db(|db| hover::hover(db, self.workspace, file.0, offset, None))
+    }
+
+    /// Like [`Analysis::hover`], explaining the given diagnostics of `file`
+    /// (those the editor shows) instead of computing them: the hover then
+    /// does not wait for the complete check of a text just edited.
+    pub fn hover_with_diagnostics(
+        &self,
+        file: FileId,
+        offset: TextSize,
+        diagnostics: &[Diagnostic],
+    ) -> Cancellable<Option<HoverResult>> {
+        self.with_db(|db| hover::hover(db, self.workspace, file.0, offset, Some(diagnostics)))
+    }
+
+    /// The declaration of the name at `offset`: the range of that name and
+    /// its targets (empty when it does not resolve). `None` when there is
+    /// no name at `offset`. Declaration and definition are the same thing
+    /// in these languages.
+    pub fn goto_definition(
+        &self,
+        file: FileId,
+        offset: TextSize,
+    ) -> Cancellable<Option<(TextRange, Vec<NavigationTarget>)>> {
+        self.with_db(|db| navigation::goto_definition(db, self.workspace, file.0, offset))
+    }
+
+    /// Every reference to the declaration of the name at `offset`, across
+    /// the workspace, the declaration first when `include_declaration`.
+    /// `None` when there is no resolved name at `offset`.
+    pub fn find_references(
+        &self,
+        file: FileId,
+        offset: TextSize,
+        include_declaration: bool,
+    ) -> Cancellable<Option<Vec<ReferenceLoc>>> {
+        self.with_db(|db| navigation::find_references(db, self.workspace, file.0, offset, include_declaration))
+    }
+
+    /// Whether the name at `offset` can be renamed: its range and current
+    /// name, or why not.
+    pub fn prepare_rename(
+        &self,
+        file: FileId,
+        offset: TextSize,
+    ) -> Cancellable<Result<(TextRange, String), RenameError>> {
+        self.with_db(|db| rename::prepare_rename(db, self.workspace, file.0, offset))
+    }
+
+    /// Renames the declaration of the name at `offset` and every reference
+    /// to it, or says why not (an invalid or reserved name, a clash in the
+    /// same scope, a use in the bundled library).
+    pub fn rename(
+        &self,
+        file: FileId,
+        offset: TextSize,
+        new_name: &str,
+    ) -> Cancellable<Result<SourceChange, RenameError>> {
+        self.with_db(|db| rename::rename(db, self.workspace, file.0, offset, new_name))
+    }
+
+    /// Completions at `offset`, sorted (keywords, then names by kind).
+    pub fn completions(&self, file: FileId, offset: TextSize) -> Cancellable<Vec<CompletionItem>> {
+        self.with_db(|db| completion::completions(db, self.workspace, file.0, offset))
+    }
+
+    /// The edits that format `file` in the canonical style of `robosim
+    /// fmt`, or a message when it cannot be formatted (a syntax error).
+    pub fn format(&self, file: FileId) -> Cancellable<Result<Vec<TextEdit>, String>> {
+        self.with_db(|db| formatting::format(db, file.0))
+    }
+
+    /// Quick fixes for the diagnostics of `file` that touch `range`.
+    pub fn code_actions(&self, file: FileId, range: TextRange) -> Cancellable<Vec<Assist>> {
+        self.with_db(|db| fixes::code_actions(db, self.workspace, file.0, range))
     }
 }
 

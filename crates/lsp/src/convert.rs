@@ -2,12 +2,12 @@
 //! UTF-16 columns), and where `robosim-ide` results become LSP types.
 
 use robosim_ide::{
-    DocumentSymbol as IdeSymbol, Fold, FoldKind, HlRange, HlTag, LineCol, LineIndex, Severity, SymbolKind as IdeKind,
-    TextRange, TextSize,
+    CompletionItem as IdeCompletion, CompletionKind, DocumentSymbol as IdeSymbol, Fold, FoldKind, HlRange, HlTag,
+    LineCol, LineIndex, Severity, SymbolKind as IdeKind, TextRange, TextSize,
 };
 use tower_lsp_server::ls_types::{
-    self as lsp, DiagnosticSeverity, FoldingRangeKind, NumberOrString, Position, Range, SemanticToken,
-    SemanticTokenModifier, SemanticTokenType, SemanticTokensLegend, SymbolKind,
+    self as lsp, CompletionItemKind, DiagnosticSeverity, FoldingRangeKind, NumberOrString, Position, Range,
+    SemanticToken, SemanticTokenModifier, SemanticTokenType, SemanticTokensLegend, SymbolKind,
 };
 
 /// A text with its line index: what every conversion needs.
@@ -144,6 +144,48 @@ pub(crate) fn flat_symbols(
             container_name: container.map(str::to_string),
         });
         flat_symbols(text, uri, &s.children, Some(&s.name), out);
+    }
+}
+
+fn completion_kind(k: CompletionKind) -> CompletionItemKind {
+    match k {
+        CompletionKind::Keyword => CompletionItemKind::KEYWORD,
+        CompletionKind::Symbol(k) => match k {
+            IdeKind::Package | IdeKind::Module => CompletionItemKind::MODULE,
+            IdeKind::Interface => CompletionItemKind::INTERFACE,
+            IdeKind::Platform | IdeKind::Controller | IdeKind::StateMachine | IdeKind::Simulation => {
+                CompletionItemKind::CLASS
+            }
+            IdeKind::Operation => CompletionItemKind::METHOD,
+            IdeKind::Function | IdeKind::CspProcess => CompletionItemKind::FUNCTION,
+            IdeKind::PrimitiveType => CompletionItemKind::TYPE_PARAMETER,
+            IdeKind::Record => CompletionItemKind::STRUCT,
+            IdeKind::Field => CompletionItemKind::FIELD,
+            IdeKind::Enum => CompletionItemKind::ENUM,
+            IdeKind::EnumLiteral => CompletionItemKind::ENUM_MEMBER,
+            IdeKind::Event => CompletionItemKind::EVENT,
+            IdeKind::Variable | IdeKind::Parameter => CompletionItemKind::VARIABLE,
+            IdeKind::Constant => CompletionItemKind::CONSTANT,
+            IdeKind::Clock => CompletionItemKind::PROPERTY,
+            IdeKind::State | IdeKind::Initial | IdeKind::Junction | IdeKind::Final | IdeKind::ProbabilisticJunction => {
+                CompletionItemKind::VALUE
+            }
+            IdeKind::Transition | IdeKind::Assertion => CompletionItemKind::REFERENCE,
+        },
+    }
+}
+
+/// A completion: it replaces the part of the name typed so far. Names sort
+/// before keywords.
+pub(crate) fn completion_item(text: Text<'_>, c: &IdeCompletion) -> lsp::CompletionItem {
+    let group = if c.kind == CompletionKind::Keyword { '1' } else { '0' };
+    lsp::CompletionItem {
+        label: c.label.clone(),
+        kind: Some(completion_kind(c.kind)),
+        detail: c.detail.clone(),
+        sort_text: Some(format!("{group}{}", c.label)),
+        text_edit: Some(lsp::CompletionTextEdit::Edit(lsp::TextEdit::new(text.range(c.range), c.label.clone()))),
+        ..lsp::CompletionItem::default()
     }
 }
 

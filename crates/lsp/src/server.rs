@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use robosim_ide::{Analysis, Cancellable, FileId};
+use robosim_ide::{Analysis, Cancellable, FileId, SourceChange};
 use tower_lsp_server::jsonrpc::{Error, ErrorCode, Result};
 use tower_lsp_server::ls_types::*;
 use tower_lsp_server::{Client, LanguageServer};
@@ -64,8 +64,33 @@ fn internal(message: String) -> Error {
     Error { code: ErrorCode::InternalError, message: message.into(), data: None }
 }
 
-fn capabilities() -> ServerCapabilities {
+fn capabilities(caps: &ClientCaps) -> ServerCapabilities {
     ServerCapabilities {
+        hover_provider: Some(HoverProviderCapability::Simple(true)),
+        definition_provider: Some(OneOf::Left(true)),
+        declaration_provider: Some(DeclarationCapability::Simple(true)),
+        references_provider: Some(OneOf::Left(true)),
+        // Rename options (with `prepareProvider`) only for clients that
+        // announce prepare support, as LSP requires.
+        rename_provider: Some(if caps.prepare_rename {
+            OneOf::Right(RenameOptions {
+                prepare_provider: Some(true),
+                work_done_progress_options: WorkDoneProgressOptions::default(),
+            })
+        } else {
+            OneOf::Left(true)
+        }),
+        completion_provider: Some(CompletionOptions {
+            trigger_characters: Some(vec!["$".to_string(), ":".to_string()]),
+            resolve_provider: Some(false),
+            ..CompletionOptions::default()
+        }),
+        document_formatting_provider: Some(OneOf::Left(true)),
+        code_action_provider: Some(CodeActionProviderCapability::Options(CodeActionOptions {
+            code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
+            resolve_provider: Some(false),
+            work_done_progress_options: WorkDoneProgressOptions::default(),
+        })),
         position_encoding: Some(PositionEncodingKind::UTF16),
         text_document_sync: Some(TextDocumentSyncCapability::Options(TextDocumentSyncOptions {
             open_close: Some(true),
@@ -112,6 +137,14 @@ fn client_caps(c: &ClientCapabilities) -> ClientCaps {
             .and_then(|t| t.document_symbol.as_ref())
             .and_then(|d| d.hierarchical_document_symbol_support)
             .unwrap_or(false),
+        // Markdown unless the client lists formats without it.
+        hover_markdown: td
+            .and_then(|t| t.hover.as_ref())
+            .and_then(|h| h.content_format.as_ref())
+            .is_none_or(|f| f.contains(&MarkupKind::Markdown)),
+        definition_links: td.and_then(|t| t.definition.as_ref()).and_then(|d| d.link_support).unwrap_or(false),
+        declaration_links: td.and_then(|t| t.declaration.as_ref()).and_then(|d| d.link_support).unwrap_or(false),
+        prepare_rename: td.and_then(|t| t.rename.as_ref()).and_then(|r| r.prepare_support).unwrap_or(false),
     }
 }
 
@@ -134,9 +167,10 @@ impl LanguageServer for Backend {
         if roots.is_empty() {
             roots.extend(params.root_uri.as_ref().and_then(folder_path));
         }
+        let caps = client_caps(&params.capabilities);
         {
             let mut st = self.shared.lock();
-            st.caps = client_caps(&params.capabilities);
+            st.caps = caps.clone();
             st.roots = roots;
         }
         if let Some(rules) = params.initialization_options.as_ref().and_then(workspace::rules_from_settings) {
@@ -150,7 +184,7 @@ impl LanguageServer for Backend {
         }
         self.shared.set_phase(Phase::Running);
         Ok(InitializeResult {
-            capabilities: capabilities(),
+            capabilities: capabilities(&caps),
             server_info: Some(ServerInfo {
                 name: "robosim".to_string(),
                 version: Some(env!("CARGO_PKG_VERSION").into()),
@@ -289,6 +323,282 @@ impl LanguageServer for Backend {
             .await?;
         Ok(Some(ranges))
     }
+
+    async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
+        let p = params.text_document_position_params;
+        let position = p.position;
+        // The diagnostics of an open buffer are explained as they are shown:
+        // the last complete check moved along with the edits since (the
+        // parse adds the syntax ones), so the hover need not wait for the
+        // check of a text just typed.
+        let shown = {
+            let st = self.shared.lock();
+            st.files.get(&key_of(&p.text_document.uri)).and_then(|e| {
+                let (doc, file) = (e.open.as_ref()?, e.file?);
+                Some(robosim_ide::carry_over(doc.checked.as_ref()?, file, &doc.edits))
+            })
+        };
+        self.with_file(&p.text_document.uri, move |a, file, caps| {
+            let (text, index) = text_of(a, file)?;
+            let t = Text { text: &text, index: &index };
+            let offset = t.offset(position).0;
+            let hover = match &shown {
+                Some(carried) => {
+                    let mut diags = a.syntax_diagnostics(file)?;
+                    diags.extend(carried.iter().cloned());
+                    a.hover_with_diagnostics(file, offset, &diags)?
+                }
+                None => a.hover(file, offset)?,
+            };
+            let Some(h) = hover else { return Ok(None) };
+            let kind = if caps.hover_markdown { MarkupKind::Markdown } else { MarkupKind::PlainText };
+            Ok(Some(Hover {
+                contents: HoverContents::Markup(MarkupContent { kind, value: h.markdown }),
+                range: Some(t.range(h.range)),
+            }))
+        })
+        .await
+    }
+
+    async fn goto_definition(&self, params: GotoDefinitionParams) -> Result<Option<GotoDefinitionResponse>> {
+        let links = self.shared.lock().caps.definition_links;
+        self.definition(params.text_document_position_params, links).await
+    }
+
+    async fn goto_declaration(
+        &self,
+        params: request::GotoDeclarationParams,
+    ) -> Result<Option<request::GotoDeclarationResponse>> {
+        // A name is declared where it is defined in these languages.
+        let links = self.shared.lock().caps.declaration_links;
+        self.definition(params.text_document_position_params, links).await
+    }
+
+    async fn references(&self, params: ReferenceParams) -> Result<Option<Vec<Location>>> {
+        let p = params.text_document_position;
+        let position = p.position;
+        let include = params.context.include_declaration;
+        let found = self
+            .with_file(&p.text_document.uri, move |a, file, _| {
+                let (text, index) = text_of(a, file)?;
+                let t = Text { text: &text, index: &index };
+                let Some(refs) = a.find_references(file, t.offset(position).0, include)? else { return Ok(None) };
+                let mut out = Vec::with_capacity(refs.len());
+                for r in refs {
+                    // The bundled library has no file a client could open.
+                    if a.is_library(r.file)? {
+                        continue;
+                    }
+                    let (rt, ri) = text_of(a, r.file)?;
+                    out.push((r.path, Text { text: &rt, index: &ri }.range(r.range)));
+                }
+                Ok(Some(out))
+            })
+            .await?;
+        let Some(found) = found else { return Ok(None) };
+        let st = self.shared.lock();
+        Ok(Some(
+            found.into_iter().filter_map(|(path, range)| Some(Location::new(uri_for(&st, &path)?, range))).collect(),
+        ))
+    }
+
+    async fn prepare_rename(&self, params: TextDocumentPositionParams) -> Result<Option<PrepareRenameResponse>> {
+        let position = params.position;
+        self.with_file(&params.text_document.uri, move |a, file, _| {
+            let (text, index) = text_of(a, file)?;
+            let t = Text { text: &text, index: &index };
+            Ok(a.prepare_rename(file, t.offset(position).0)?.map(|(range, placeholder)| {
+                PrepareRenameResponse::RangeWithPlaceholder { range: t.range(range), placeholder }
+            }))
+        })
+        .await?
+        .map(Some)
+        .map_err(|e| request_failed(e.to_string()))
+    }
+
+    async fn rename(&self, params: RenameParams) -> Result<Option<WorkspaceEdit>> {
+        let p = params.text_document_position;
+        let position = p.position;
+        let new_name = params.new_name;
+        let change = self
+            .with_file(&p.text_document.uri, move |a, file, _| {
+                let (text, index) = text_of(a, file)?;
+                let t = Text { text: &text, index: &index };
+                match a.rename(file, t.offset(position).0, &new_name)? {
+                    Ok(change) => Ok(Ok(lsp_edits(a, &change)?)),
+                    Err(e) => Ok(Err(e)),
+                }
+            })
+            .await?
+            .map_err(|e| request_failed(e.to_string()))?;
+        Ok(Some(self.workspace_edit(change)?))
+    }
+
+    async fn completion(&self, params: CompletionParams) -> Result<Option<CompletionResponse>> {
+        let p = params.text_document_position;
+        let position = p.position;
+        let items = self
+            .with_file(&p.text_document.uri, move |a, file, _| {
+                let (text, index) = text_of(a, file)?;
+                let t = Text { text: &text, index: &index };
+                let items = a.completions(file, t.offset(position).0)?;
+                Ok(items.iter().map(|c| convert::completion_item(t, c)).collect())
+            })
+            .await?;
+        Ok(Some(CompletionResponse::Array(items)))
+    }
+
+    async fn formatting(&self, params: DocumentFormattingParams) -> Result<Option<Vec<TextEdit>>> {
+        self.with_file(&params.text_document.uri, |a, file, _| {
+            let (text, index) = text_of(a, file)?;
+            let t = Text { text: &text, index: &index };
+            Ok(a.format(file)?
+                .map(|edits| edits.iter().map(|e| TextEdit::new(t.range(e.range), e.new_text.clone())).collect()))
+        })
+        .await?
+        .map(Some)
+        .map_err(request_failed)
+    }
+
+    async fn code_action(&self, params: CodeActionParams) -> Result<Option<CodeActionResponse>> {
+        if let Some(only) = &params.context.only {
+            if !only.iter().any(|k| CodeActionKind::QUICKFIX.as_str().starts_with(k.as_str())) {
+                return Ok(Some(Vec::new()));
+            }
+        }
+        let range = params.range;
+        let sent = params.context.diagnostics;
+        let actions = self
+            .with_file(&params.text_document.uri, move |a, file, _| {
+                let (text, index) = text_of(a, file)?;
+                let t = Text { text: &text, index: &index };
+                let (start, end) = (t.offset(range.start).0, t.offset(range.end).0);
+                let range = robosim_ide::TextRange::new(start.min(end), start.max(end));
+                let mut out = Vec::new();
+                for assist in a.code_actions(file, range)? {
+                    // The client's own diagnostic when it has it, so that it
+                    // can tie the fix to what it shows.
+                    let mine = convert::diagnostic(t, &assist.diagnostic, Vec::new());
+                    let diagnostic = sent
+                        .iter()
+                        .find(|d| d.range == mine.range && d.code == mine.code && d.message == mine.message)
+                        .cloned()
+                        .unwrap_or(mine);
+                    out.push((assist.title, diagnostic, lsp_edits(a, &assist.change)?));
+                }
+                Ok(out)
+            })
+            .await?;
+        let mut response = Vec::with_capacity(actions.len());
+        for (title, diagnostic, change) in actions {
+            response.push(CodeActionOrCommand::CodeAction(CodeAction {
+                title,
+                kind: Some(CodeActionKind::QUICKFIX),
+                diagnostics: Some(vec![diagnostic]),
+                edit: Some(self.workspace_edit(change)?),
+                command: None,
+                is_preferred: Some(true),
+                disabled: None,
+                data: None,
+            }));
+        }
+        Ok(Some(response))
+    }
+}
+
+impl Backend {
+    async fn definition(&self, p: TextDocumentPositionParams, links: bool) -> Result<Option<GotoDefinitionResponse>> {
+        let position = p.position;
+        let found = self
+            .with_file(&p.text_document.uri, move |a, file, _| {
+                let (text, index) = text_of(a, file)?;
+                let t = Text { text: &text, index: &index };
+                let Some((origin, targets)) = a.goto_definition(file, t.offset(position).0)? else { return Ok(None) };
+                let mut out = Vec::new();
+                for nav in targets {
+                    // The bundled library has no file a client could open.
+                    if nav.is_library {
+                        continue;
+                    }
+                    let (tt, ti) = text_of(a, nav.file)?;
+                    let tt = Text { text: &tt, index: &ti };
+                    out.push((nav.path, tt.range(nav.full_range), tt.range(nav.focus_range)));
+                }
+                Ok(Some((t.range(origin), out)))
+            })
+            .await?;
+        let Some((origin, targets)) = found else { return Ok(None) };
+        let st = self.shared.lock();
+        let targets: Vec<(Uri, Range, Range)> =
+            targets.into_iter().filter_map(|(path, full, focus)| Some((uri_for(&st, &path)?, full, focus))).collect();
+        if targets.is_empty() {
+            return Ok(None);
+        }
+        Ok(Some(if links {
+            GotoDefinitionResponse::Link(
+                targets
+                    .into_iter()
+                    .map(|(uri, full, focus)| LocationLink {
+                        origin_selection_range: Some(origin),
+                        target_uri: uri,
+                        target_range: full,
+                        target_selection_range: focus,
+                    })
+                    .collect(),
+            )
+        } else {
+            GotoDefinitionResponse::Array(
+                targets.into_iter().map(|(uri, _, focus)| Location::new(uri, focus)).collect(),
+            )
+        }))
+    }
+
+    /// A workspace edit from edits by path. A file without a URI the client
+    /// could open fails the request rather than being skipped: a partial
+    /// rename would break the model.
+    fn workspace_edit(&self, files: Vec<(String, Vec<TextEdit>)>) -> Result<WorkspaceEdit> {
+        let st = self.shared.lock();
+        let mut changes = std::collections::HashMap::new();
+        for (path, edits) in files {
+            let uri = uri_for(&st, &path).ok_or_else(|| request_failed(format!("`{path}` cannot be edited")))?;
+            changes.insert(uri, edits);
+        }
+        Ok(WorkspaceEdit { changes: Some(changes), document_changes: None, change_annotations: None })
+    }
+}
+
+/// The text and line index of `file`.
+fn text_of(a: &Analysis, file: FileId) -> Cancellable<(Arc<str>, Arc<robosim_ide::LineIndex>)> {
+    Ok((a.file_text(file)?, a.line_index(file)?))
+}
+
+/// A source change as LSP edits, by path.
+fn lsp_edits(a: &Analysis, change: &SourceChange) -> Cancellable<Vec<(String, Vec<TextEdit>)>> {
+    let mut out = Vec::new();
+    for fe in &change.files {
+        let (text, index) = text_of(a, fe.file)?;
+        let t = Text { text: &text, index: &index };
+        out.push((
+            fe.path.clone(),
+            fe.edits.iter().map(|e| TextEdit::new(t.range(e.range), e.new_text.clone())).collect(),
+        ));
+    }
+    Ok(out)
+}
+
+/// The URI a file of the workspace is reported under (`None` for the
+/// bundled library).
+fn uri_for(st: &crate::state::State, path: &str) -> Option<Uri> {
+    match st.files.get(path) {
+        Some(e) => Some(e.uri.clone()),
+        None => crate::diagnostics::uri_from_key(path),
+    }
+}
+
+/// LSP's `RequestFailed`: a valid request the server cannot carry out
+/// (a refused rename, a file that cannot be formatted).
+fn request_failed(message: String) -> Error {
+    Error { code: ErrorCode::ServerError(-32803), message: message.into(), data: None }
 }
 
 fn workspace_symbols(

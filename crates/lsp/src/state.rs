@@ -95,6 +95,10 @@ pub(crate) struct ClientCaps {
     pub(crate) watched_files_registration: bool,
     pub(crate) line_folding_only: bool,
     pub(crate) hierarchical_symbols: bool,
+    pub(crate) hover_markdown: bool,
+    pub(crate) definition_links: bool,
+    pub(crate) declaration_links: bool,
+    pub(crate) prepare_rename: bool,
 }
 
 /// A document the client has open.
