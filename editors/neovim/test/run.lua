@@ -227,21 +227,28 @@ local function main()
   check('documentSymbol names Ticks, Counter and Counting', names.Ticks and names.Counter and names.Counting, inspect(names))
 
   local caps = client.server_capabilities or {}
-  if caps.hoverProvider then
-    local text = vim.api.nvim_buf_get_lines(counter, 10, 11, false)[1]
-    local col = text:find('Ticks', 1, true)
-    local hover = vim.lsp.buf_request_sync(counter, 'textDocument/hover', {
-      textDocument = { uri = counter_uri },
-      position = { line = 10, character = col + 1 },
-    }, TIMEOUT) or {}
-    local contents
-    for _, r in pairs(hover) do
-      contents = contents or (r.result and r.result.contents)
-    end
-    check('hover on Ticks mentions it', contents ~= nil and inspect(contents):find('Ticks', 1, true) ~= nil, inspect(contents))
-  else
-    skip('hover', 'the server does not advertise hoverProvider yet')
+  check('the server advertises hover and definition', caps.hoverProvider and caps.definitionProvider, inspect(caps))
+  local text = vim.api.nvim_buf_get_lines(counter, 10, 11, false)[1]
+  local col = text:find('Ticks', 1, true)
+  local hover = vim.lsp.buf_request_sync(counter, 'textDocument/hover', {
+    textDocument = { uri = counter_uri },
+    position = { line = 10, character = col + 1 },
+  }, TIMEOUT) or {}
+  local contents
+  for _, r in pairs(hover) do
+    contents = contents or (r.result and r.result.contents)
   end
+  check('hover on Ticks mentions it', contents ~= nil and inspect(contents):find('Ticks', 1, true) ~= nil, inspect(contents))
+
+  -- Go to definition through the user-facing command: the cursor jumps to
+  -- `interface Ticks` on line 4 (1-based).
+  vim.api.nvim_set_current_buf(counter)
+  vim.api.nvim_win_set_cursor(0, { 11, col })
+  vim.lsp.buf.definition()
+  local jumped = vim.wait(TIMEOUT, function()
+    return vim.api.nvim_win_get_cursor(0)[1] == 4
+  end, 20)
+  check('go to definition on Ticks jumps to line 4', jumped, inspect(vim.api.nvim_win_get_cursor(0)))
 
   -- A reStructuredText .rst stays rst and gets no client.
   local notes = edit(workspace .. '/notes.rst')
