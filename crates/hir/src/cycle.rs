@@ -10,6 +10,7 @@
 
 use std::collections::HashMap;
 
+use robosim_syntax::ast::{binary_operator, operand_exprs};
 use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::defs::{file_defs, DefData, DefId, DefKind};
@@ -290,33 +291,6 @@ struct Lowerer<'a> {
     impure: Vec<TextRange>,
 }
 
-fn bin_op(node: &SyntaxNode) -> Option<SyntaxKind> {
-    node.children_with_tokens().filter_map(|e| e.into_token()).map(|t| t.kind()).find(|k| {
-        matches!(
-            k,
-            EQ2 | NEQ
-                | LT
-                | LTEQ
-                | GT
-                | GTEQ
-                | IN_KW
-                | AND
-                | OR
-                | IMPLIES
-                | IFF_KW
-                | PLUS
-                | MINUS
-                | STAR
-                | SLASH
-                | PERCENT
-        )
-    })
-}
-
-fn exprs(node: &SyntaxNode) -> Vec<SyntaxNode> {
-    node.children().filter(|c| robosim_syntax::ast::is_expr_kind(c.kind())).collect()
-}
-
 impl Lowerer<'_> {
     fn shape(&mut self, n: &SyntaxNode) -> Shape {
         match n.kind() {
@@ -326,7 +300,7 @@ impl Lowerer<'_> {
                 _ => Shape::Other,
             },
             CYCLE_EXPR => Shape::Number,
-            PAREN_EXPR => exprs(n).first().map(|e| self.shape(e)).unwrap_or(Shape::Unknown),
+            PAREN_EXPR => operand_exprs(n).first().map(|e| self.shape(e)).unwrap_or(Shape::Unknown),
             PREFIX_EXPR => {
                 if n.children_with_tokens().any(|t| t.kind() == NOT_KW) {
                     Shape::Boolean
@@ -334,10 +308,11 @@ impl Lowerer<'_> {
                     Shape::Number
                 }
             }
-            BIN_EXPR => match bin_op(n) {
+            BIN_EXPR => match binary_operator(n) {
                 Some(EQ2 | NEQ | LT | LTEQ | GT | GTEQ | IN_KW | AND | OR | IMPLIES | IFF_KW) => Shape::Boolean,
+                // Sequence concatenation, like a missing operator, has no numeric shape.
+                Some(CAT_KW | CARET) | None => Shape::Unknown,
                 Some(_) => Shape::Number,
-                None => Shape::Unknown,
             },
             SET_EXPR | SET_RANGE_EXPR | SET_COMP_EXPR | INTERVAL_EXPR => Shape::Set,
             SEQ_EXPR | TUPLE_EXPR | STRING => Shape::Other,
@@ -348,7 +323,7 @@ impl Lowerer<'_> {
                     Shape::Boolean
                 }
             }
-            IF_EXPR => exprs(n).get(1).map(|e| self.shape(e)).unwrap_or(Shape::Unknown),
+            IF_EXPR => operand_exprs(n).get(1).map(|e| self.shape(e)).unwrap_or(Shape::Unknown),
             REF_EXPR => {
                 let name = n.text().to_string().trim().trim_start_matches('^').to_string();
                 match self.consts.get(&name).cloned() {
@@ -367,26 +342,26 @@ impl Lowerer<'_> {
 
     fn formula(&mut self, n: &SyntaxNode) -> Formula {
         match n.kind() {
-            PAREN_EXPR => exprs(n).first().map(|e| self.formula(e)).unwrap_or(Formula::Unknown),
+            PAREN_EXPR => operand_exprs(n).first().map(|e| self.formula(e)).unwrap_or(Formula::Unknown),
             LITERAL => match n.first_token().map(|t| t.kind()) {
                 Some(TRUE_KW) => Formula::Const(true),
                 Some(FALSE_KW) => Formula::Const(false),
                 _ => Formula::Unknown,
             },
             PREFIX_EXPR if n.children_with_tokens().any(|t| t.kind() == NOT_KW) => {
-                Formula::Not(Box::new(exprs(n).first().map(|e| self.formula(e)).unwrap_or(Formula::Unknown)))
+                Formula::Not(Box::new(operand_exprs(n).first().map(|e| self.formula(e)).unwrap_or(Formula::Unknown)))
             }
             IF_EXPR => {
-                let e = exprs(n);
+                let e = operand_exprs(n);
                 if e.len() != 3 {
                     return Formula::Unknown;
                 }
                 Formula::If(Box::new(self.formula(&e[0])), Box::new(self.formula(&e[1])), Box::new(self.formula(&e[2])))
             }
             BIN_EXPR => {
-                let e = exprs(n);
+                let e = operand_exprs(n);
                 let (Some(a), Some(b)) = (e.first(), e.get(1)) else { return Formula::Unknown };
-                match bin_op(n) {
+                match binary_operator(n) {
                     Some(AND) => Formula::And(Box::new(self.formula(a)), Box::new(self.formula(b))),
                     Some(OR) => Formula::Or(Box::new(self.formula(a)), Box::new(self.formula(b))),
                     Some(IMPLIES) => Formula::Implies(Box::new(self.formula(a)), Box::new(self.formula(b))),
@@ -432,7 +407,7 @@ impl Lowerer<'_> {
         if t == Term::Unknown {
             return Formula::Unknown;
         }
-        let e = exprs(set);
+        let e = operand_exprs(set);
         match set.kind() {
             SET_EXPR => e
                 .iter()
@@ -490,8 +465,8 @@ impl Lowerer<'_> {
                         .unwrap_or(Term::Unknown),
                 }
             }
-            PAREN_EXPR => exprs(n).first().map(|e| self.term(e)).unwrap_or(Term::Unknown),
-            PREFIX_EXPR => match exprs(n).first().map(|e| self.term(e)) {
+            PAREN_EXPR => operand_exprs(n).first().map(|e| self.term(e)).unwrap_or(Term::Unknown),
+            PREFIX_EXPR => match operand_exprs(n).first().map(|e| self.term(e)) {
                 Some(Term::Lin(a, b)) => Term::Lin(a.neg(), b.neg()),
                 _ => Term::Unknown,
             },
@@ -513,12 +488,12 @@ impl Lowerer<'_> {
                 }
             }
             BIN_EXPR => {
-                let e = exprs(n);
+                let e = operand_exprs(n);
                 let (Some(a), Some(b)) = (e.first(), e.get(1)) else { return Term::Unknown };
                 let (x, y) = (self.term(a), self.term(b));
                 let (Term::Lin(a1, b1), Term::Lin(a2, b2)) = (x, y) else { return Term::Unknown };
                 let zero = Rational::int(0);
-                let r = match bin_op(n) {
+                let r = match binary_operator(n) {
                     Some(PLUS) => a1.add(a2).zip(b1.add(b2)),
                     Some(MINUS) => a1.add(a2.neg()).zip(b1.add(b2.neg())),
                     Some(STAR) if a2 == zero => a1.mul(b2).zip(b1.mul(b2)),

@@ -7,6 +7,7 @@
 use std::collections::HashMap;
 use std::fmt;
 
+use robosim_syntax::ast::{binary_operator, operand_exprs};
 use robosim_syntax::{ast, FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::body::body_resolution;
@@ -281,35 +282,6 @@ struct Typer<'a> {
     result: Option<Ty>,
 }
 
-fn exprs(n: &SyntaxNode) -> Vec<SyntaxNode> {
-    n.children().filter(|c| ast::is_expr_kind(c.kind())).collect()
-}
-
-fn op_of(n: &SyntaxNode) -> Option<SyntaxKind> {
-    n.children_with_tokens().filter_map(|e| e.into_token()).map(|t| t.kind()).find(|k| {
-        matches!(
-            k,
-            EQ2 | NEQ
-                | LT
-                | LTEQ
-                | GT
-                | GTEQ
-                | IN_KW
-                | AND
-                | OR
-                | IMPLIES
-                | IFF_KW
-                | PLUS
-                | MINUS
-                | STAR
-                | SLASH
-                | PERCENT
-                | CAT_KW
-                | CARET
-        )
-    })
-}
-
 fn op_text(k: SyntaxKind) -> &'static str {
     k.text().unwrap_or("?")
 }
@@ -317,7 +289,7 @@ fn op_text(k: SyntaxKind) -> &'static str {
 fn unparen(n: &SyntaxNode) -> SyntaxNode {
     let mut n = n.clone();
     while n.kind() == PAREN_EXPR {
-        match exprs(&n).into_iter().next() {
+        match operand_exprs(&n).into_iter().next() {
             Some(inner) => n = inner,
             None => break,
         }
@@ -339,7 +311,7 @@ impl Typer<'_> {
         for n in node.descendants() {
             match n.kind() {
                 CONDITION => {
-                    if let Some(e) = exprs(&n).first() {
+                    if let Some(e) = operand_exprs(&n).first() {
                         let t = self.expr(e);
                         self.expect_bool(
                             &t,
@@ -351,7 +323,7 @@ impl Typer<'_> {
                 }
                 PRECONDITION | POSTCONDITION => {
                     self.result = self.function_result(&n);
-                    if let Some(e) = exprs(&n).first() {
+                    if let Some(e) = operand_exprs(&n).first() {
                         let t = self.expr(e);
                         self.expect_bool(&t, e, "RC-EXP-13", "a pre- or postcondition");
                     }
@@ -360,13 +332,13 @@ impl Typer<'_> {
                 VARIABLE => self.initialiser(&n),
                 ASSIGN_STMT => self.assignment(&n),
                 IF_STMT => {
-                    if let Some(e) = exprs(&n).first() {
+                    if let Some(e) = operand_exprs(&n).first() {
                         let t = self.expr(e);
                         self.expect_bool(&t, e, "RC-STMT-03", "the condition of `if`");
                     }
                 }
                 WAIT_STMT => {
-                    if let Some(e) = exprs(&n).first() {
+                    if let Some(e) = operand_exprs(&n).first() {
                         let t = self.expr(e);
                         let ok = compatible(&t, &Ty::Int) || compatible(&t, &Ty::Set(Box::new(Ty::Int)));
                         if !ok {
@@ -508,7 +480,7 @@ impl Typer<'_> {
         if let Some(st) =
             n.children().filter(|c| c.kind() == BINDERS).flat_map(|b| b.children()).find(|c| c.kind() == SUCH_THAT)
         {
-            if let Some(e) = exprs(&st).first() {
+            if let Some(e) = operand_exprs(&st).first() {
                 let t = self.expr(e);
                 self.expect_bool(&t, e, "RC-EXP-14", "the predicate of a binder");
             }
@@ -532,7 +504,7 @@ impl Typer<'_> {
                 self.bare_literal(n);
                 self.name_type(n)
             }
-            PAREN_EXPR => exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error),
+            PAREN_EXPR => operand_exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error),
             ENUM_LITERAL_EXPR => {
                 self.bare_literal(n);
                 let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
@@ -550,7 +522,7 @@ impl Typer<'_> {
                     resolve_item(self.db, self.ws, self.file, &[nm], |k| k == DefKind::Record).first().copied()
                 });
                 for fv in n.children().filter(|c| c.kind() == FIELD_VALUE) {
-                    let Some(e) = exprs(&fv).first().cloned() else { continue };
+                    let Some(e) = operand_exprs(&fv).first().cloned() else { continue };
                     let t = self.expr(&e);
                     // RC-EXP-12: each value fits its field.
                     let (Some(loc), Some(f)) = (loc, fv.children().find(|c| c.kind() == NAME_REF)) else { continue };
@@ -580,7 +552,7 @@ impl Typer<'_> {
                 }
             }
             PREFIX_EXPR => {
-                let e = exprs(n);
+                let e = operand_exprs(n);
                 let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
                 if n.children_with_tokens().any(|t| t.kind() == NOT_KW) {
                     if let Some(x) = e.first() {
@@ -608,7 +580,7 @@ impl Typer<'_> {
             }
             BIN_EXPR => self.binary(n),
             IF_EXPR => {
-                let e = exprs(n);
+                let e = operand_exprs(n);
                 if e.len() != 3 {
                     return Ty::Error;
                 }
@@ -627,7 +599,7 @@ impl Typer<'_> {
                 join(&a, &b)
             }
             TYPE_TEST_EXPR => {
-                let e = exprs(n);
+                let e = operand_exprs(n);
                 let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
                 let target = n
                     .children()
@@ -658,7 +630,7 @@ impl Typer<'_> {
             FORALL_EXPR | EXISTS_EXPR => {
                 let mark = self.bind(n);
                 self.such_that(n);
-                if let Some(body) = exprs(n).last() {
+                if let Some(body) = operand_exprs(n).last() {
                     let t = self.expr(body);
                     self.expect_bool(&t, body, "RC-EXP-14", "the body of a quantifier");
                 }
@@ -669,7 +641,7 @@ impl Typer<'_> {
                 let mark = self.bind(n);
                 let dom = self.binder_types(n, mark);
                 self.such_that(n);
-                let body = exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
+                let body = operand_exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
                 self.env.truncate(mark);
                 let dom = if dom.len() == 1 { dom.into_iter().next().unwrap() } else { Ty::Product(dom) };
                 Ty::Function(Box::new(dom), Box::new(body))
@@ -677,7 +649,7 @@ impl Typer<'_> {
             THE_EXPR => {
                 let mark = self.bind(n);
                 self.such_that(n);
-                let t = exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
+                let t = operand_exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
                 self.env.truncate(mark);
                 t
             }
@@ -690,7 +662,7 @@ impl Typer<'_> {
                 if n.children_with_tokens().any(|t| t.kind() == AT) {
                     self.such_that(n);
                 }
-                let t = match exprs(n).last() {
+                let t = match operand_exprs(n).last() {
                     Some(b) => self.expr(b),
                     None if dom.len() == 1 => dom[0].clone(),
                     None => Ty::Product(dom),
@@ -701,18 +673,18 @@ impl Typer<'_> {
             LET_EXPR => {
                 let mark = self.env.len();
                 for d in n.children().filter(|c| c.kind() == LET_DECL) {
-                    let t = exprs(&d).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
+                    let t = operand_exprs(&d).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
                     if let Some(name) = d.children().find(|c| c.kind() == NAME) {
                         self.env.push((name.text().to_string().trim().trim_start_matches('^').to_string(), t));
                     }
                 }
-                let t = exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
+                let t = operand_exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
                 self.env.truncate(mark);
                 t
             }
             SET_EXPR => {
                 let mut el = Ty::Any;
-                for e in exprs(n) {
+                for e in operand_exprs(n) {
                     let t = self.expr(&e);
                     el = join(&el, &t);
                 }
@@ -720,7 +692,7 @@ impl Typer<'_> {
             }
             SEQ_EXPR => {
                 let mut el = Ty::Any;
-                for e in exprs(n) {
+                for e in operand_exprs(n) {
                     let t = self.expr(&e);
                     el = join(&el, &t);
                 }
@@ -728,7 +700,7 @@ impl Typer<'_> {
             }
             SET_RANGE_EXPR | INTERVAL_EXPR => {
                 let mut el = Ty::Nat;
-                for e in exprs(n) {
+                for e in operand_exprs(n) {
                     let t = self.expr(&e);
                     if !t.is_numeric() {
                         self.problem(
@@ -741,12 +713,12 @@ impl Typer<'_> {
                 }
                 Ty::Set(Box::new(el))
             }
-            TUPLE_EXPR => Ty::Product(exprs(n).iter().map(|e| self.expr(e)).collect()),
+            TUPLE_EXPR => Ty::Product(operand_exprs(n).iter().map(|e| self.expr(e)).collect()),
             MATRIX_EXPR => {
                 let rows: Vec<Vec<Ty>> = n
                     .children()
                     .filter(|c| c.kind() == MATRIX_ROW)
-                    .map(|r| exprs(&r).iter().map(|e| self.expr(e)).collect())
+                    .map(|r| operand_exprs(&r).iter().map(|e| self.expr(e)).collect())
                     .collect();
                 let el = rows.iter().flatten().fold(Ty::Any, |a, t| join(&a, t));
                 if rows.len() == 1 {
@@ -756,7 +728,7 @@ impl Typer<'_> {
                 }
             }
             INVERSE_EXPR | TRANSPOSE_EXPR => {
-                let t = exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
+                let t = operand_exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
                 match (n.kind(), t) {
                     (TRANSPOSE_EXPR, Ty::Matrix(a, r, c)) => Ty::Matrix(a, c, r),
                     (_, t) => t,
@@ -764,10 +736,9 @@ impl Typer<'_> {
             }
             SINCE_EXPR | SINCE_ENTRY_EXPR => {
                 // Only as a direct operand of a comparison (RC:TE4).
-                let parent_ok =
-                    n.ancestors().skip(1).find(|a| a.kind() != PAREN_EXPR).is_some_and(|p| {
-                        p.kind() == BIN_EXPR && matches!(op_of(&p), Some(LT | LTEQ | GT | GTEQ | EQ2))
-                    });
+                let parent_ok = n.ancestors().skip(1).find(|a| a.kind() != PAREN_EXPR).is_some_and(|p| {
+                    p.kind() == BIN_EXPR && matches!(binary_operator(&p), Some(LT | LTEQ | GT | GTEQ | EQ2))
+                });
                 let in_action = n
                     .ancestors()
                     .any(|a| matches!(a.kind(), ENTRY_ACTION | DURING_ACTION | EXIT_ACTION | TRANSITION_ACTION));
@@ -781,7 +752,7 @@ impl Typer<'_> {
                 Ty::Int
             }
             SELECT_EXPR => {
-                let t = exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
+                let t = operand_exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
                 let field = n
                     .children()
                     .filter(|c| c.kind() == NAME_REF)
@@ -813,7 +784,7 @@ impl Typer<'_> {
                 }
             }
             INDEX_EXPR => {
-                let e = exprs(n);
+                let e = operand_exprs(n);
                 let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
                 let idx: Vec<Ty> = e.iter().skip(1).map(|x| self.expr(x)).collect();
                 for (x, it) in e.iter().skip(1).zip(&idx) {
@@ -871,7 +842,7 @@ impl Typer<'_> {
                 // `$e` (an event) is boolean; `$v` has v's type.
                 let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return Ty::Error };
                 if let Some(suffix) = n.children().find(|c| matches!(c.kind(), SIM_SYNC_SUFFIX | SIM_INPUT_SUFFIX)) {
-                    for e in exprs(&suffix) {
+                    for e in operand_exprs(&suffix) {
                         self.expr(&e);
                     }
                     // `$e?x`: the event's values must fit the variable (RS-IO-07).
@@ -911,9 +882,9 @@ impl Typer<'_> {
     }
 
     fn binary(&mut self, n: &SyntaxNode) -> Ty {
-        let e = exprs(n);
+        let e = operand_exprs(n);
         let (Some(a), Some(b)) = (e.first(), e.get(1)) else { return Ty::Error };
-        let Some(op) = op_of(n) else { return Ty::Error };
+        let Some(op) = binary_operator(n) else { return Ty::Error };
         let (x, y) = (self.expr(a), self.expr(b));
         let bad = |t: &Ty| !t.is_unknown();
         match op {
@@ -1020,13 +991,13 @@ impl Typer<'_> {
     }
 
     fn call_expr(&mut self, n: &SyntaxNode) -> Ty {
-        let e = exprs(n);
+        let e = operand_exprs(n);
         let Some(callee) = e.first() else { return Ty::Error };
         let args: Vec<(SyntaxNode, Ty)> = n
             .children()
             .find(|c| c.kind() == ARG_LIST)
             .map(|al| {
-                exprs(&al)
+                operand_exprs(&al)
                     .into_iter()
                     .map(|x| {
                         let t = self.expr(&x);
@@ -1154,7 +1125,7 @@ impl Typer<'_> {
     /// RC-EXP-05: a literal that takes arguments is not used bare.
     fn bare_literal(&mut self, e: &SyntaxNode) {
         let Some((loc, i)) = self.literal_of(e) else { return };
-        let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && exprs(&p).first() == Some(e));
+        let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && operand_exprs(&p).first() == Some(e));
         let lit = &loc.summary(self.db).members[i as usize];
         if !is_callee && !lit.params.is_empty() {
             let msg = format!(
@@ -1168,7 +1139,7 @@ impl Typer<'_> {
     }
 
     fn initialiser(&mut self, n: &SyntaxNode) {
-        let Some(init) = exprs(n).into_iter().next() else { return };
+        let Some(init) = operand_exprs(n).into_iter().next() else { return };
         let Some(ty) = n.children().find(|c| ast::is_type_kind(c.kind())) else { return };
         let declared = lower(self.db, self.ws, self.file, &lower_type(&ty));
         let t = self.expr(&init);
@@ -1184,7 +1155,7 @@ impl Typer<'_> {
 
     fn assignment(&mut self, n: &SyntaxNode) {
         let Some(target) = n.children().find(|c| c.kind() == ASSIGNABLE) else { return };
-        let Some(value) = exprs(n).into_iter().next() else { return };
+        let Some(value) = operand_exprs(n).into_iter().next() else { return };
         let Some(q) = target.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
         let mut ty = match self.targets.get(&q.text_range()) {
             Some(t) => self.target_type(*t),
@@ -1221,7 +1192,7 @@ impl Typer<'_> {
                 (FIELD_ACCESS | INDEX_ACCESS, _) => Ty::Error,
                 _ => ty,
             };
-            for e in exprs(&s) {
+            for e in operand_exprs(&s) {
                 self.expr(&e);
             }
         }
@@ -1241,7 +1212,7 @@ impl Typer<'_> {
             .children()
             .find(|c| c.kind() == ARG_LIST)
             .map(|al| {
-                exprs(&al)
+                operand_exprs(&al)
                     .into_iter()
                     .map(|x| {
                         let t = self.expr(&x);
@@ -1339,7 +1310,7 @@ impl Typer<'_> {
                     }
                 }
                 _ => {
-                    if let Some(v) = exprs(&p).first() {
+                    if let Some(v) = operand_exprs(&p).first() {
                         let vt = self.expr(v);
                         if !compatible(&vt, &et) {
                             let code = if p.kind() == COMM_OUTPUT { "RC-COMM-02" } else { "RC-COMM-03" };
@@ -1360,7 +1331,7 @@ impl Typer<'_> {
         let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
         let Some(ety) = self.event_type(&q) else { return };
         let name = q.text().to_string().trim().to_string();
-        match (exprs(n).first(), ety) {
+        match (operand_exprs(n).first(), ety) {
             (None, Some(t)) => self.problem(
                 "RS-IO-06",
                 q.text_range(),
@@ -1384,7 +1355,7 @@ impl Typer<'_> {
     }
 
     fn probability(&mut self, n: &SyntaxNode) {
-        let Some(e) = exprs(n).into_iter().next() else { return };
+        let Some(e) = operand_exprs(n).into_iter().next() else { return };
         let t = self.expr(&e);
         if !compatible(&t, &Ty::Real) {
             self.problem("RC:PT2", e.text_range(), format!("a probability is a number in [0, 1]; this has type {t}"));

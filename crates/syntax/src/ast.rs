@@ -612,6 +612,38 @@ pub fn is_type_kind(kind: SyntaxKind) -> bool {
     )
 }
 
+/// The operator token of a `BIN_EXPR` (`==`, `<`, `/\\`, `+`, `cat`, `^`, …),
+/// or `None` when recovery left it out.
+pub fn binary_operator(node: &SyntaxNode) -> Option<SyntaxKind> {
+    node.children_with_tokens().filter_map(|e| e.into_token()).map(|t| t.kind()).find(|k| {
+        matches!(
+            k,
+            EQ2 | NEQ
+                | LT
+                | LTEQ
+                | GT
+                | GTEQ
+                | IN_KW
+                | AND
+                | OR
+                | IMPLIES
+                | IFF_KW
+                | PLUS
+                | MINUS
+                | STAR
+                | SLASH
+                | PERCENT
+                | CAT_KW
+                | CARET
+        )
+    })
+}
+
+/// The expression children of `node`, in order (the operands of an operator).
+pub fn operand_exprs(node: &SyntaxNode) -> Vec<SyntaxNode> {
+    node.children().filter(|c| is_expr_kind(c.kind())).collect()
+}
+
 /// Whether `kind` is an expression node.
 pub fn is_expr_kind(kind: SyntaxKind) -> bool {
     matches!(
