@@ -17,10 +17,13 @@
 //! the version follows as a second publish, measured in a second pass with
 //! pauses long enough for it to finish.
 
+#[path = "../tests/lsp_support/framing.rs"]
+mod framing;
 #[path = "../../syntax/benches/generated.rs"]
 mod generated;
+use framing::{frame, read_message};
 
-use std::io::{BufRead, BufReader, Write};
+use std::io::{BufReader, Write};
 use std::process::{ChildStdin, Command, Stdio};
 use std::sync::mpsc::{channel, Receiver};
 use std::time::{Duration, Instant};
@@ -38,9 +41,7 @@ struct Client {
 
 impl Client {
     fn send(&mut self, msg: &Value) {
-        let body = msg.to_string();
-        let framed = format!("Content-Length: {}\r\n\r\n{body}", body.len());
-        self.stdin.write_all(framed.as_bytes()).expect("the server's stdin closed");
+        self.stdin.write_all(frame(msg).as_bytes()).expect("the server's stdin closed");
         self.stdin.flush().expect("the server's stdin closed");
     }
 
@@ -69,26 +70,6 @@ impl Client {
         assert!(msg.get("result").is_some(), "{method} failed: {msg}");
         at - start
     }
-}
-
-fn read_message(reader: &mut impl BufRead) -> Option<Value> {
-    let mut length = None;
-    loop {
-        let mut line = String::new();
-        if reader.read_line(&mut line).ok()? == 0 {
-            return None;
-        }
-        let line = line.trim_end();
-        if line.is_empty() {
-            break;
-        }
-        if let Some(v) = line.strip_prefix("Content-Length:") {
-            length = v.trim().parse::<usize>().ok();
-        }
-    }
-    let mut body = vec![0; length?];
-    reader.read_exact(&mut body).ok()?;
-    serde_json::from_slice(&body).ok()
 }
 
 fn percentile(sorted: &[Duration], p: f64) -> Duration {

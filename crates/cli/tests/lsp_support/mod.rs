@@ -4,12 +4,15 @@
 
 #![allow(dead_code)] // Each test binary uses a different part.
 
-use std::io::{BufRead, BufReader, Write};
+use std::io::{BufReader, Write};
 use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
 use std::sync::mpsc::{channel, Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
+
+mod framing;
+use framing::{frame, read_message};
 
 /// How long to wait for any one expected message. Generous: CI machines
 /// are slow, and a passing test never waits this long.
@@ -74,9 +77,7 @@ impl Server {
 
     /// Sends one message, framed.
     pub fn send(&mut self, msg: &Value) {
-        let body = msg.to_string();
-        let framed = format!("Content-Length: {}\r\n\r\n{body}", body.len());
-        self.send_raw(framed.as_bytes());
+        self.send_raw(frame(msg).as_bytes());
     }
 
     pub fn notify(&mut self, method: &str, params: Value) {
@@ -200,28 +201,6 @@ impl Drop for Server {
             let _ = self.child.wait();
         }
     }
-}
-
-fn read_message(reader: &mut impl BufRead) -> Option<Value> {
-    let mut length = None;
-    loop {
-        let mut line = String::new();
-        if reader.read_line(&mut line).ok()? == 0 {
-            return None;
-        }
-        let line = line.trim_end();
-        if line.is_empty() {
-            break;
-        }
-        if let Some((name, value)) = line.split_once(':') {
-            if name.eq_ignore_ascii_case("content-length") {
-                length = value.trim().parse::<usize>().ok();
-            }
-        }
-    }
-    let mut body = vec![0; length?];
-    reader.read_exact(&mut body).ok()?;
-    serde_json::from_slice(&body).ok()
 }
 
 /// Whether `actual` matches `pattern`: objects match when every key of the
