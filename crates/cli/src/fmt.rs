@@ -9,7 +9,9 @@ use std::process::ExitCode;
 use robosim_fmt::Options;
 use robosim_syntax::FileKind;
 
-use crate::workspace::{find_model_files, io_msg, looks_like_restructured_text};
+use robosim_ide::workspace_files::looks_like_restructured_text;
+
+use crate::workspace::{find_model_files, io_msg};
 
 /// What happened to the files of one run, for the exit status.
 #[derive(Default)]

@@ -9,6 +9,8 @@ use robosim_hir::{RootDatabase, RuleSet};
 use robosim_syntax::line_index::LineIndex;
 use robosim_syntax::{FileKind, Parse, TextRange, TextSize};
 
+use robosim_ide::workspace_files::{self, looks_like_restructured_text, read_model_file};
+
 use crate::diagnostics::{Diagnostic, Related, Severity};
 
 /// One loaded model file.
@@ -42,37 +44,14 @@ impl fmt::Display for LoadError {
     }
 }
 
-/// Directories never searched.
-fn skipped_dir(name: &str) -> bool {
-    name.starts_with('.') || matches!(name, "target" | "node_modules")
-}
-
-/// A `.rst` file is RoboSim unless it looks like reStructuredText.
-pub(crate) fn looks_like_restructured_text(text: &str) -> bool {
-    text.lines().any(|l| {
-        let t = l.trim_end();
-        t.starts_with(".. ")
-            || (t.len() >= 3
-                && t.chars().all(|c| matches!(c, '=' | '-' | '~' | '^' | '*' | '#' | '+'))
-                && t.chars().all(|c| c == t.chars().next().unwrap_or(' ')))
-    })
-}
-
 impl Workspace {
     pub fn load(paths: &[PathBuf], rules: RuleSet) -> Result<Workspace, LoadError> {
         let found = find_model_files(paths)?;
         let mut loaded = Vec::new();
         for (p, explicit) in found {
-            let bytes =
-                std::fs::read(&p).map_err(|e| LoadError(format!("cannot read `{}`: {}", p.display(), io_msg(&e))))?;
+            let (text, invalid_utf8) =
+                read_model_file(&p).map_err(|e| LoadError(format!("cannot read `{}`: {}", p.display(), io_msg(&e))))?;
             let kind = FileKind::from_path(&p).unwrap_or(FileKind::RoboChart);
-            let (text, invalid_utf8) = match String::from_utf8(bytes) {
-                Ok(t) => (t, None),
-                Err(e) => {
-                    let at = e.utf8_error().valid_up_to();
-                    (String::from_utf8_lossy(e.as_bytes()).into_owned(), Some(at))
-                }
-            };
             if kind == FileKind::RoboSim && !explicit && looks_like_restructured_text(&text) {
                 continue;
             }
@@ -177,23 +156,14 @@ pub(crate) fn find_model_files(paths: &[PathBuf]) -> Result<Vec<(PathBuf, bool)>
     Ok(found)
 }
 
+/// The model files under `dir`; a folder that cannot be read stops the
+/// run (exit status 2) rather than being skipped silently.
 fn walk(dir: &Path, out: &mut Vec<(PathBuf, bool)>) -> Result<(), LoadError> {
-    let rd =
-        std::fs::read_dir(dir).map_err(|e| LoadError(format!("cannot read `{}`: {}", dir.display(), io_msg(&e))))?;
-    let mut entries: Vec<PathBuf> = rd.flatten().map(|e| e.path()).collect();
-    entries.sort();
-    for p in entries {
-        let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        // Symlinked folders are not followed, so cycles cannot hang the walk.
-        let Ok(meta) = std::fs::symlink_metadata(&p) else { continue };
-        if meta.is_dir() {
-            if !skipped_dir(&name) {
-                walk(&p, out)?;
-            }
-        } else if FileKind::from_path(&p).is_some() && std::fs::metadata(&p).is_ok_and(|m| m.is_file()) {
-            out.push((p, false));
-        }
+    let (files, errors) = workspace_files::find_model_files(dir);
+    if let Some((d, e)) = errors.first() {
+        return Err(LoadError(format!("cannot read `{}`: {}", d.display(), io_msg(e))));
     }
+    out.extend(files.into_iter().map(|p| (p, false)));
     Ok(())
 }
 
