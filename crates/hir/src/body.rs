@@ -121,19 +121,7 @@ impl Body<'_> {
     /// The context whose members a name at `range` sees.
     fn context(&self, range: TextRange) -> Option<crate::defs::DefId> {
         let inner = self.defs.innermost(range)?;
-        enclosing(
-            self.defs,
-            inner,
-            &[
-                DefKind::Operation,
-                DefKind::StateMachine,
-                DefKind::Controller,
-                DefKind::Function,
-                DefKind::Interface,
-                DefKind::Platform,
-                DefKind::Module,
-            ],
-        )
+        enclosing(self.defs, inner, crate::resolve::MEMBER_CONTEXTS)
     }
 
     fn members(&mut self, ctx: crate::defs::DefId) -> Vec<Member> {

@@ -273,6 +273,19 @@ fn ref_accept(k: DefKind) -> fn(DefKind) -> bool {
     }
 }
 
+/// The definitions whose members (variables, constants, events, operations,
+/// parameters) a name in behaviour sees: the nearest one of these kinds
+/// around it, found with [`enclosing`].
+pub const MEMBER_CONTEXTS: &[DefKind] = &[
+    DefKind::Operation,
+    DefKind::StateMachine,
+    DefKind::Controller,
+    DefKind::Function,
+    DefKind::Interface,
+    DefKind::Platform,
+    DefKind::Module,
+];
+
 /// The nearest enclosing definition of one of the given kinds.
 pub fn enclosing(defs: &FileDefs, mut id: DefId, kinds: &[DefKind]) -> Option<DefId> {
     loop {

@@ -23,7 +23,7 @@
 use robosim_hir::defs::{file_defs, DefId, DefKind, Io, UseKind};
 use robosim_hir::index::{file_summary, resolve_item, workspace_index};
 use robosim_hir::nav::type_ref_text;
-use robosim_hir::resolve::{ctx_members, enclosing, node_ctx, Ctx, Member};
+use robosim_hir::resolve::{ctx_members, enclosing, node_ctx, Ctx, Member, MEMBER_CONTEXTS};
 use robosim_hir::{Db, File, Workspace};
 use robosim_syntax::{FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken, TextRange, TextSize};
 
@@ -536,16 +536,7 @@ impl Cx<'_> {
     fn operands(&self, position: Position, acc: &mut Acc) {
         let rs = self.file.kind(self.db) == FileKind::RoboSim;
         let statement = position == Position::Statement;
-        let kinds = [
-            DefKind::Operation,
-            DefKind::StateMachine,
-            DefKind::Controller,
-            DefKind::Function,
-            DefKind::Interface,
-            DefKind::Platform,
-            DefKind::Module,
-        ];
-        if let Some(ctx) = self.context(&kinds) {
+        if let Some(ctx) = self.context(MEMBER_CONTEXTS) {
             for m in ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)) {
                 // RoboSim inputs and outputs are written with `$`.
                 if rs && m.io.is_some() {
