@@ -194,40 +194,13 @@ fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
         }
         Ctx::Item(loc) => {
             let s = loc.summary(db);
-            for (i, m) in s.members.iter().enumerate() {
-                if is_member_kind(m.kind) {
-                    out.push(Member {
-                        name: m.name.clone(),
-                        kind: m.kind,
-                        io: m.io,
-                        via: None,
-                        ty: m.ty.clone(),
-                        target: Target::Member(loc, i as u32),
-                        broadcast: m.broadcast,
-                        params: m.params.iter().map(|(n, _)| n.clone()).collect(),
-                    });
-                }
-            }
+            push_summary_members(loc, &s.members, |m| m.io, None, &mut out);
             (loc.file, s.uses.clone())
         }
     };
     for (kind, path, io) in uses {
         for loc in resolve_item(db, ws, file, &path, accept_interface).into_iter().take(1) {
-            let s = loc.summary(db);
-            for (i, m) in s.members.iter().enumerate() {
-                if is_member_kind(m.kind) {
-                    out.push(Member {
-                        name: m.name.clone(),
-                        kind: m.kind,
-                        io,
-                        via: Some(kind),
-                        ty: m.ty.clone(),
-                        target: Target::Member(loc, i as u32),
-                        broadcast: m.broadcast,
-                        params: m.params.iter().map(|(n, _)| n.clone()).collect(),
-                    });
-                }
-            }
+            push_summary_members(loc, &loc.summary(db).members, |_| io, Some(kind), &mut out);
         }
     }
     out
@@ -235,6 +208,31 @@ fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
 
 /// A use as written: keyword, path, I/O context.
 type UseSummary = (UseKind, Vec<String>, Option<Io>);
+
+/// Pushes the members of the summarised item at `loc`; `io` gives each
+/// one's I/O context (its own, or that of the use that brought it).
+fn push_summary_members(
+    loc: ItemLoc,
+    members: &[crate::index::MemberSummary],
+    io: impl Fn(&crate::index::MemberSummary) -> Option<Io>,
+    via: Option<UseKind>,
+    out: &mut Vec<Member>,
+) {
+    for (i, m) in members.iter().enumerate() {
+        if is_member_kind(m.kind) {
+            out.push(Member {
+                name: m.name.clone(),
+                kind: m.kind,
+                io: io(m),
+                via,
+                ty: m.ty.clone(),
+                target: Target::Member(loc, i as u32),
+                broadcast: m.broadcast,
+                params: m.params.iter().map(|(n, _)| n.clone()).collect(),
+            });
+        }
+    }
+}
 
 fn is_member_kind(k: DefKind) -> bool {
     matches!(k, DefKind::Event | DefKind::Variable | DefKind::Constant | DefKind::Clock | DefKind::OperationSig)
