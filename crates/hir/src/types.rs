@@ -1023,12 +1023,7 @@ impl Typer<'_> {
                             self.problem(
                                 "RC-EXP-09",
                                 n.text_range(),
-                                format!(
-                                    "`{name}` takes {} argument{}, not {}",
-                                    params.len(),
-                                    if params.len() == 1 { "" } else { "s" },
-                                    args.len()
-                                ),
+                                format!("`{name}` takes {}, not {}", arguments(params.len()), args.len()),
                             );
                             return substitute(&result, &HashMap::new());
                         }
@@ -1079,12 +1074,7 @@ impl Typer<'_> {
                 self.problem(
                     "RC-EXP-07",
                     n.text_range(),
-                    format!(
-                        "`{name}` takes {} argument{}, not {}",
-                        params.len(),
-                        if params.len() == 1 { "" } else { "s" },
-                        args.len()
-                    ),
+                    format!("`{name}` takes {}, not {}", arguments(params.len()), args.len()),
                 );
             } else {
                 for (k, (p, (x, a))) in params.iter().zip(&args).enumerate() {
@@ -1128,12 +1118,7 @@ impl Typer<'_> {
         let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && operand_exprs(&p).first() == Some(e));
         let lit = &loc.summary(self.db).members[i as usize];
         if !is_callee && !lit.params.is_empty() {
-            let msg = format!(
-                "`{}` expects {} argument{}",
-                lit.name,
-                lit.params.len(),
-                if lit.params.len() == 1 { "" } else { "s" }
-            );
+            let msg = format!("`{}` expects {}", lit.name, arguments(lit.params.len()));
             self.problem("RC-EXP-05", e.text_range(), msg);
         }
     }
@@ -1243,12 +1228,7 @@ impl Typer<'_> {
             self.problem(
                 "RC-STMT-05",
                 n.text_range(),
-                format!(
-                    "operation `{name}` takes {} argument{}, not {}",
-                    params.len(),
-                    if params.len() == 1 { "" } else { "s" },
-                    args.len()
-                ),
+                format!("operation `{name}` takes {}, not {}", arguments(params.len()), args.len()),
             );
             return;
         }
@@ -1383,4 +1363,9 @@ impl Typer<'_> {
             }
         }
     }
+}
+
+/// `1 argument`, `2 arguments`, … for arity messages.
+fn arguments(n: usize) -> String {
+    format!("{n} argument{}", if n == 1 { "" } else { "s" })
 }
