@@ -13,23 +13,12 @@ use std::path::{Path, PathBuf};
 use robosim_fmt::{format, FormatError, Indent, Options};
 use robosim_syntax::{lexer, parse, FileKind, Severity, SyntaxKind};
 
+#[path = "../../syntax/tests/support/inputs.rs"]
+mod inputs;
+use inputs::model_files;
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().map(|e| e.path()).collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            if p.file_name().is_some_and(|n| n == ".git") {
-                continue;
-            }
-            model_files(&p, out);
-        } else if FileKind::from_path(&p).is_some() {
-            out.push(p);
-        }
-    }
 }
 
 /// Every corpus model, example and parser `ok` fixture.

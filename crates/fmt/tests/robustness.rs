@@ -12,22 +12,10 @@ use robosim_syntax::{lexer, parse, FileKind, Severity, SyntaxKind};
 
 #[path = "../../syntax/tests/support/inputs.rs"]
 mod inputs;
-use inputs::{MODEL, SOUP};
+use inputs::{model_files, MODEL, SOUP};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().map(|e| e.path()).collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            model_files(&p, out);
-        } else if FileKind::from_path(&p).is_some() {
-            out.push(p);
-        }
-    }
 }
 
 fn kept(text: &str, kind: FileKind) -> Vec<(SyntaxKind, String)> {

@@ -6,23 +6,13 @@ use std::path::{Path, PathBuf};
 
 use robosim_syntax::{parse, FileKind, Severity};
 
+mod support {
+    pub mod inputs;
+}
+use support::inputs::model_files;
+
 fn corpus_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus")
-}
-
-fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().map(|e| e.path()).collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            if p.file_name().is_some_and(|n| n == ".git") {
-                continue;
-            }
-            model_files(&p, out);
-        } else if FileKind::from_path(&p).is_some() {
-            out.push(p);
-        }
-    }
 }
 
 /// The MANIFEST's "Files that RoboTool's current grammar rejects", with the

@@ -1,7 +1,31 @@
-//! Inputs shared by the robustness tests of the parser and of the formatter
-//! (`crates/fmt/tests/robustness.rs` includes this file by path): a soup of
-//! tokens and keywords of all four languages, and a small model that uses
-//! most constructs.
+//! Inputs shared by the tests of the parser and of the formatter (the
+//! formatter's tests include this file by path): the model files under a
+//! folder, a soup of tokens and keywords of all four languages, and a small
+//! model that uses most constructs.
+
+// Each test binary uses only some of these.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use robosim_syntax::FileKind;
+
+/// Appends the model files under `dir` (recursively, sorted, skipping `.git`)
+/// to `out`.
+pub fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().map(|e| e.path()).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            if p.file_name().is_some_and(|n| n == ".git") {
+                continue;
+            }
+            model_files(&p, out);
+        } else if FileKind::from_path(&p).is_some() {
+            out.push(p);
+        }
+    }
+}
 
 /// Words proptest strings together into arbitrary, mostly broken, input.
 pub const SOUP: &[&str] = &[
