@@ -55,7 +55,7 @@ where
         }
     });
 
-    let mut reader = Reader { input, buf: Vec::with_capacity(64 << 10), eof: false };
+    let mut reader = Reader { input, buf: Vec::with_capacity(64 << 10), eof: false, resync: false };
     loop {
         let body = match reader.next_body().await {
             Ok(Some(body)) => body,
@@ -176,6 +176,10 @@ struct Reader<I> {
     input: I,
     buf: Vec<u8>,
     eof: bool,
+    /// After a framing error: drop input up to the next `Content-Length`
+    /// before reading a header. Kept as state, not done at once, because
+    /// the next header may not have arrived yet when the error is found.
+    resync: bool,
 }
 
 impl<I: AsyncRead + Unpin> Reader<I> {
@@ -197,32 +201,38 @@ impl<I: AsyncRead + Unpin> Reader<I> {
         }
     }
 
-    /// Drops bytes up to the next `Content-Length` at or after `from`, to
-    /// resynchronise after garbage.
-    fn skip_garbage(&mut self, from: usize) {
+    /// Drops bytes up to the next `Content-Length`, reading more input as
+    /// needed; false at the end of input.
+    async fn skip_garbage(&mut self) -> bool {
         let needle = b"Content-Length";
-        let found = self.buf.windows(needle.len()).skip(from).position(|w| w == needle).map(|i| i + from);
-        match found {
-            Some(i) => {
+        loop {
+            if let Some(i) = find(&self.buf, needle) {
                 self.buf.drain(..i);
+                self.resync = false;
+                return true;
             }
-            None => {
-                // Keep a tail that may be the start of the next header.
-                let keep = self.buf.len().min(needle.len() - 1);
-                self.buf.drain(..self.buf.len() - keep);
+            // Keep a tail that may be the start of the next header.
+            let keep = self.buf.len().min(needle.len() - 1);
+            self.buf.drain(..self.buf.len() - keep);
+            if !self.fill().await {
+                return false;
             }
         }
     }
 
     /// The next message body; `Ok(None)` at the end of input.
     async fn next_body(&mut self) -> Result<Option<Vec<u8>>, FrameError> {
+        if self.resync && !self.skip_garbage().await {
+            return Ok(None);
+        }
         let header_end = loop {
             if let Some(i) = find(&self.buf, b"\r\n\r\n") {
                 break i;
             }
             if self.buf.len() > MAX_HEADER {
                 // The start is garbage even if it reads `Content-Length`.
-                self.skip_garbage(1);
+                self.buf.drain(..1);
+                self.resync = true;
                 return Err(FrameError("Parse error: no message header (`Content-Length: N` and a blank line)".into()));
             }
             if !self.fill().await {
@@ -245,11 +255,11 @@ impl<I: AsyncRead + Unpin> Reader<I> {
         }
         let Some(length) = length else {
             // The bad header is gone: what follows may be a good one.
-            self.skip_garbage(0);
+            self.resync = true;
             return Err(FrameError(format!("Parse error: missing or invalid `Content-Length` in header {header:?}")));
         };
         if length > MAX_BODY {
-            self.skip_garbage(0);
+            self.resync = true;
             return Err(FrameError(format!("Parse error: message of {length} bytes is too large")));
         }
         while self.buf.len() < length {
@@ -274,8 +284,29 @@ mod tests {
         format!("Content-Length: {}\r\n\r\n{body}", body.len())
     }
 
+    /// Input delivered in the given pieces, one per read, as a pipe may.
+    struct Pieces(std::collections::VecDeque<Vec<u8>>);
+
+    impl AsyncRead for Pieces {
+        fn poll_read(
+            mut self: std::pin::Pin<&mut Self>,
+            _: &mut std::task::Context<'_>,
+            buf: &mut tokio::io::ReadBuf<'_>,
+        ) -> std::task::Poll<std::io::Result<()>> {
+            if let Some(piece) = self.0.pop_front() {
+                buf.put_slice(&piece);
+            }
+            std::task::Poll::Ready(Ok(()))
+        }
+    }
+
     async fn bodies(input: &str) -> Vec<Result<String, String>> {
-        let mut r = Reader { input: input.as_bytes(), buf: Vec::new(), eof: false };
+        bodies_in_pieces(&[input]).await
+    }
+
+    async fn bodies_in_pieces(pieces: &[&str]) -> Vec<Result<String, String>> {
+        let input = Pieces(pieces.iter().map(|p| p.as_bytes().to_vec()).collect());
+        let mut r = Reader { input, buf: Vec::new(), eof: false, resync: false };
         let mut out = Vec::new();
         loop {
             match r.next_body().await {
@@ -303,6 +334,18 @@ mod tests {
         // Truncated body at the end of input.
         assert!(got[5].is_err());
         assert_eq!(got.len(), 6);
+    }
+
+    /// Garbage after a bad header, then a good frame that arrives in a later
+    /// read: the good frame is found (this once lost a request).
+    #[tokio::test]
+    async fn resynchronises_on_input_that_arrives_later() {
+        let good = framed("{\"id\":1}");
+        let got = bodies_in_pieces(&["Content-Length: abc\r\n\r\n{}", &good, "Content", &good[7..]]).await;
+        assert!(got[0].is_err(), "{got:?}");
+        assert_eq!(got[1], Ok("{\"id\":1}".to_string()));
+        assert_eq!(got[2], Ok("{\"id\":1}".to_string()));
+        assert_eq!(got.len(), 3, "{got:?}");
     }
 
     #[test]
