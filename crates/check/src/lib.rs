@@ -1,0 +1,5 @@
+//! Native verification for RoboChart and RoboSim: the models' tock-CSP
+//! semantics as transition systems explored on the fly, and the checks the
+//! paper runs with FDR (schedulability, deadlock freedom, refinement).
+
+pub mod lts;
