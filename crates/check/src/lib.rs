@@ -2,4 +2,5 @@
 //! semantics as transition systems explored on the fly, and the checks the
 //! paper runs with FDR (schedulability, deadlock freedom, refinement).
 
+pub mod assertions;
 pub mod lts;
