@@ -2,5 +2,7 @@
 //! semantics as transition systems explored on the fly, and the checks the
 //! paper runs with FDR (schedulability, deadlock freedom, refinement).
 
+pub mod algo;
 pub mod assertions;
+pub mod budget;
 pub mod lts;

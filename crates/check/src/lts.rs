@@ -65,4 +65,12 @@ pub trait Lts: Sync {
             e => format!("e{e}"),
         }
     }
+
+    /// The memory a stored `state` takes, in bytes, for the algorithms'
+    /// memory budget. The default is the inline size; models whose states
+    /// own heap data (vectors, boxed slices) override it to add that data.
+    fn state_bytes(&self, state: &Self::State) -> usize {
+        let _ = state;
+        std::mem::size_of::<Self::State>()
+    }
 }

@@ -1,0 +1,108 @@
+//! Deadlock search (semantics.md §7.2, §8.2): a breadth-first search for a
+//! reachable state with no transition at all, with the shortest path to it.
+//!
+//! Models have already applied hiding and priority, so "no transition"
+//! after priority is exactly FDR's `deadlock free [F]` on the prioritised
+//! process. The one exception is successful termination: the state a ✓
+//! step leads to has no transitions but is not a deadlock. A state with no
+//! transitions is a deadlock when some path reaches it by a step other than
+//! ✓ (or it is the initial state).
+
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
+use crate::lts::{Label, Lts, TICK};
+
+use super::{explore, fx, Flow, Path, Visited, NO_PARENT};
+
+/// The verdict of [`find_deadlock`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum DeadlockResult<S> {
+    /// No reachable state deadlocks.
+    Free,
+    /// The shortest path (in steps, τ included) to a deadlocked state: the
+    /// first one in breadth-first order.
+    Deadlock(Path<S>),
+    /// The budget ran out first.
+    Inconclusive(Stop),
+}
+
+/// Searches `lts` for a reachable deadlock, breadth first.
+pub fn find_deadlock<L: Lts>(
+    lts: &L,
+    budget: &Budget,
+    progress: Option<ProgressFn>,
+) -> (DeadlockResult<L::State>, Stats) {
+    let mut meter = Meter::new(budget, progress);
+    let result = match search(lts, &mut meter) {
+        Ok(Some(path)) => DeadlockResult::Deadlock(path),
+        Ok(None) => DeadlockResult::Free,
+        Err(stop) => DeadlockResult::Inconclusive(stop),
+    };
+    (result, meter.finish())
+}
+
+/// Where a deadlock was found: the state, or (for a terminated state also
+/// reached by a non-✓ step) the source and label of that step.
+enum Found {
+    State(u32),
+    Via(u32, Label, u32),
+}
+
+fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Path<L::State>>, Stop> {
+    let mut visited: Visited<L::State> = Visited::new(fx::<L::State>);
+    let heap = |s: &L::State| lts.state_bytes(s).saturating_sub(std::mem::size_of::<L::State>());
+    let init = lts.initial();
+    let h = fx(&init);
+    visited.insert(meter, h, |_| false, || init, heap, NO_PARENT, Label::TAU)?;
+
+    // ✓ bookkeeping, only ever non-empty for models that terminate:
+    // states first reached by ✓; those of them found to have no
+    // transitions; and the first non-✓ step into a ✓-reached state that
+    // was not expanded yet.
+    let mut tick_reached: FxHashSet<u32> = FxHashSet::default();
+    let mut terminated: FxHashSet<u32> = FxHashSet::default();
+    let mut other_entry: FxHashMap<u32, (u32, Label)> = FxHashMap::default();
+
+    let found = explore(
+        &mut visited,
+        meter,
+        |s: &L::State, out: &mut Vec<(Label, L::State)>| lts.successors(s, out),
+        |s: &L::State| fx(s),
+        |visited, meter, i, succ, hashes| {
+            if succ.is_empty() {
+                let by_tick = visited.parent(i) != NO_PARENT && visited.label(i).event == TICK;
+                if !by_tick {
+                    return Ok(Flow::Break(Found::State(i)));
+                }
+                if let Some(&(src, label)) = other_entry.get(&i) {
+                    return Ok(Flow::Break(Found::Via(src, label, i)));
+                }
+                terminated.insert(i);
+                return Ok(Flow::Continue);
+            }
+            for ((label, t), &h) in succ.iter().zip(hashes) {
+                let (j, new) = visited.insert(meter, h, |s| s == t, || t.clone(), heap, i, *label)?;
+                if new {
+                    if label.event == TICK {
+                        tick_reached.insert(j);
+                    }
+                } else if label.event != TICK && tick_reached.contains(&j) {
+                    if terminated.contains(&j) {
+                        return Ok(Flow::Break(Found::Via(i, *label, j)));
+                    }
+                    other_entry.entry(j).or_insert((i, *label));
+                }
+            }
+            Ok(Flow::Continue)
+        },
+    )?;
+    Ok(found.map(|f| match f {
+        Found::State(i) => visited.path_to(i, Clone::clone),
+        Found::Via(src, label, target) => {
+            let mut path = visited.path_to(src, Clone::clone);
+            path.steps.push((label, visited.node(target).clone()));
+            path
+        }
+    }))
+}
