@@ -89,13 +89,95 @@ pub(crate) fn pair_hash<S: Hash>(pair: &(u32, S)) -> u64 {
     pair_hash_from(pair.0, fx(&pair.1))
 }
 
+/// log2 of the entries per segment of [`Segments`].
+const SEG_SHIFT: u32 = 16;
+/// Entries per segment of [`Segments`].
+const SEG: usize = 1 << SEG_SHIFT;
+
+/// A growable array stored in segments of [`SEG`] entries: growing never
+/// moves or copies what is stored, and the unused reserve is at most one
+/// segment (a `Vec` doubling wastes up to half its memory). The first
+/// segment grows by doubling, so tiny searches stay tiny.
+struct Segments<T> {
+    segs: Vec<Vec<T>>,
+    len: usize,
+}
+
+impl<T> Segments<T> {
+    fn new() -> Self {
+        Segments { segs: Vec::new(), len: 0 }
+    }
+
+    fn get(&self, i: usize) -> &T {
+        &self.segs[i >> SEG_SHIFT][i & (SEG - 1)]
+    }
+
+    /// Entries `lo..hi`, which must lie in one segment.
+    fn slice(&self, lo: usize, hi: usize) -> &[T] {
+        &self.segs[lo >> SEG_SHIFT][lo & (SEG - 1)..hi - (lo & !(SEG - 1))]
+    }
+
+    /// Allocated entries.
+    fn capacity(&self) -> usize {
+        match self.segs.last() {
+            None => 0,
+            Some(last) => (self.segs.len() - 1) * SEG + last.capacity(),
+        }
+    }
+
+    /// The entries the next push allocates room for (0 if there is room).
+    fn next_growth(&self) -> usize {
+        match self.segs.last() {
+            None => 4,
+            Some(last) if last.len() < last.capacity() => 0,
+            Some(last) if last.len() == SEG => SEG,
+            Some(last) => (last.capacity() * 2).min(SEG) - last.capacity(),
+        }
+    }
+
+    /// Makes room for one more entry; fails if the allocator refuses.
+    fn reserve_one(&mut self) -> Result<(), std::collections::TryReserveError> {
+        let grow = self.next_growth();
+        if grow == 0 {
+            return Ok(());
+        }
+        match self.segs.last_mut() {
+            Some(last) if last.len() < SEG => last.try_reserve_exact(grow),
+            _ => {
+                let mut seg = Vec::new();
+                seg.try_reserve_exact(if self.segs.is_empty() { 4 } else { SEG })?;
+                self.segs.try_reserve(1)?;
+                self.segs.push(seg);
+                Ok(())
+            }
+        }
+    }
+
+    /// Appends an entry, after [`Segments::reserve_one`].
+    fn push(&mut self, value: T) {
+        if self.segs.last().is_none_or(|last| last.len() == SEG) {
+            self.segs.push(Vec::with_capacity(SEG));
+        }
+        if let Some(last) = self.segs.last_mut() {
+            last.push(value);
+        }
+        self.len += 1;
+    }
+}
+
+/// How a node was discovered: the node it came from and the step's label.
+#[derive(Clone, Copy)]
+struct Origin {
+    parent: u32,
+    label: Label,
+}
+
 /// The visited table of a BFS: nodes in discovery order (so a ply is a
 /// contiguous index range), each with the index of the node it was
 /// discovered from and the label of that step.
 pub(crate) struct Visited<N> {
-    nodes: Vec<N>,
-    parent: Vec<u32>,
-    label: Vec<Label>,
+    nodes: Segments<N>,
+    origins: Segments<Origin>,
     /// Indices into `nodes`, hashed by node (the nodes are stored once).
     table: HashTable<u32>,
     hash: fn(&N) -> u64,
@@ -110,31 +192,31 @@ impl<N: Eq> Visited<N> {
     /// An empty table hashing nodes with `hash` (which must agree with the
     /// hashes passed to [`Visited::insert`]).
     pub(crate) fn new(hash: fn(&N) -> u64) -> Visited<N> {
-        Visited { nodes: Vec::new(), parent: Vec::new(), label: Vec::new(), table: HashTable::new(), hash, heap: 0 }
+        Visited { nodes: Segments::new(), origins: Segments::new(), table: HashTable::new(), hash, heap: 0 }
     }
 
     /// The number of nodes.
     pub(crate) fn len(&self) -> usize {
-        self.nodes.len()
+        self.nodes.len
     }
 
     /// The node with index `i`.
     pub(crate) fn node(&self, i: u32) -> &N {
-        &self.nodes[i as usize]
+        self.nodes.get(i as usize)
     }
 
     /// The label of the step that discovered node `i` (meaningless for the root).
     pub(crate) fn label(&self, i: u32) -> Label {
-        self.label[i as usize]
+        self.origins.get(i as usize).label
     }
 
     /// The node `i` was discovered from, or [`NO_PARENT`] for the root.
     pub(crate) fn parent(&self, i: u32) -> u32 {
-        self.parent[i as usize]
+        self.origins.get(i as usize).parent
     }
 
     fn bytes_for(&self, node_slots: usize, table_slots: usize) -> u64 {
-        let per_node = (std::mem::size_of::<N>() + 4 + std::mem::size_of::<Label>()) as u64;
+        let per_node = (std::mem::size_of::<N>() + std::mem::size_of::<Origin>()) as u64;
         // hashbrown keeps 1/8 of its buckets free.
         let buckets = table_slots as u64 * 8 / 7;
         node_slots as u64 * per_node + buckets * TABLE_SLOT_BYTES + self.heap
@@ -161,10 +243,10 @@ impl<N: Eq> Visited<N> {
         label: Label,
     ) -> Result<(u32, bool), Stop> {
         let nodes = &self.nodes;
-        if let Some(&i) = self.table.find(hash, |&i| eq(&nodes[i as usize])) {
+        if let Some(&i) = self.table.find(hash, |&i| eq(nodes.get(i as usize))) {
             return Ok((i, false));
         }
-        let len = self.nodes.len();
+        let len = self.nodes.len;
         // Indices are u32 with one value reserved for NO_PARENT.
         let limit = meter.budget.max_states.min(u64::from(u32::MAX - 1));
         if len as u64 >= limit {
@@ -174,47 +256,47 @@ impl<N: Eq> Visited<N> {
         let node = make();
         self.heap += heap(&node) as u64;
         self.nodes.push(node);
-        self.parent.push(parent);
-        self.label.push(label);
+        self.origins.push(Origin { parent, label });
         let (nodes, h) = (&self.nodes, self.hash);
-        self.table.insert_unique(hash, len as u32, |&i| h(&nodes[i as usize]));
-        meter.stats.states = self.nodes.len() as u64;
+        self.table.insert_unique(hash, len as u32, |&i| h(nodes.get(i as usize)));
+        meter.stats.states = self.nodes.len as u64;
         meter.set_table_bytes(self.bytes())?;
         Ok((len as u32, true))
     }
 
     /// Makes room for one more node, refusing growth past the memory budget
-    /// (checked before allocating, so a doubling never overshoots it) and
-    /// turning allocation failure into [`Stop::Memory`].
+    /// (checked before allocating, so a table doubling never overshoots it)
+    /// and turning allocation failure into [`Stop::Memory`].
     fn reserve_one(&mut self, meter: &mut Meter<'_>) -> Result<(), Stop> {
-        let len = self.nodes.len();
-        let grow_nodes = len == self.nodes.capacity() || len == self.parent.capacity() || len == self.label.capacity();
+        let grow_nodes = self.nodes.next_growth();
         let grow_table = self.table.len() == self.table.capacity();
-        if !grow_nodes && !grow_table {
+        if grow_nodes == 0 && !grow_table {
             return Ok(());
         }
-        let node_slots = if grow_nodes { (self.nodes.capacity() * 2).max(4) } else { self.nodes.capacity() };
+        let node_slots = self.nodes.capacity() + grow_nodes;
         let table_slots = if grow_table { (self.table.capacity() * 2).max(4) } else { self.table.capacity() };
         let projected = self.bytes_for(node_slots, table_slots);
         meter.check_bytes(projected.saturating_sub(self.bytes()))?;
-        if grow_nodes {
-            self.nodes.try_reserve(1).map_err(|_| Stop::Memory)?;
-            self.parent.try_reserve(1).map_err(|_| Stop::Memory)?;
-            self.label.try_reserve(1).map_err(|_| Stop::Memory)?;
-        }
+        self.nodes.reserve_one().map_err(|_| Stop::Memory)?;
+        self.origins.reserve_one().map_err(|_| Stop::Memory)?;
         if grow_table {
             let (nodes, h) = (&self.nodes, self.hash);
-            self.table.try_reserve(1, |&i| h(&nodes[i as usize])).map_err(|_| Stop::Memory)?;
+            self.table.try_reserve(1, |&i| h(nodes.get(i as usize))).map_err(|_| Stop::Memory)?;
         }
         Ok(())
+    }
+
+    /// Nodes `lo..hi`, which must not cross a multiple of [`SEG`].
+    fn slice(&self, lo: usize, hi: usize) -> &[N] {
+        self.nodes.slice(lo, hi)
     }
 
     /// The indices from the root to `i`, both included.
     pub(crate) fn ancestry(&self, i: u32) -> Vec<u32> {
         let mut chain = vec![i];
         let mut at = i;
-        while self.parent[at as usize] != NO_PARENT {
-            at = self.parent[at as usize];
+        while self.parent(at) != NO_PARENT {
+            at = self.parent(at);
             chain.push(at);
         }
         chain.reverse();
@@ -225,8 +307,8 @@ impl<N: Eq> Visited<N> {
     pub(crate) fn path_to<S>(&self, i: u32, view: impl Fn(&N) -> S) -> Path<S> {
         let chain = self.ancestry(i);
         Path {
-            initial: view(&self.nodes[chain[0] as usize]),
-            steps: chain[1..].iter().map(|&k| (self.label[k as usize], view(&self.nodes[k as usize]))).collect(),
+            initial: view(self.node(chain[0])),
+            steps: chain[1..].iter().map(|&k| (self.label(k), view(self.node(k)))).collect(),
         }
     }
 }
@@ -303,8 +385,9 @@ where
             ply_end = visited.len();
             meter.stats.plies += 1;
         }
-        let end = ply_end.min(head + batch_size);
-        let chunks = expand_batch(&visited.nodes[head..end], threads, &mut bufs, meter, &expand, &succ_hash)?;
+        // A batch stays within one storage segment, to be one slice.
+        let end = ply_end.min(head + batch_size).min((head / SEG + 1) * SEG);
+        let chunks = expand_batch(visited.slice(head, end), threads, &mut bufs, meter, &expand, &succ_hash)?;
         let mut source = head as u32;
         for buf in &bufs[..chunks] {
             let mut start = 0;
@@ -597,6 +680,21 @@ mod tests {
         let mut sorted = edges.to_vec();
         sorted.sort();
         (start, sorted.iter().map(|&(_, b)| b).collect())
+    }
+
+    #[test]
+    fn segments_grow_without_moving_and_slice_within_a_segment() {
+        let mut seg: Segments<u32> = Segments::new();
+        assert_eq!((seg.capacity(), seg.next_growth()), (0, 4));
+        for i in 0..(2 * SEG + 10) as u32 {
+            seg.reserve_one().expect("memory");
+            seg.push(i);
+        }
+        assert_eq!(seg.len, 2 * SEG + 10);
+        assert_eq!(seg.capacity(), 3 * SEG);
+        assert_eq!(*seg.get(SEG + 5), SEG as u32 + 5);
+        assert_eq!(seg.slice(SEG - 2, SEG), &[SEG as u32 - 2, SEG as u32 - 1]);
+        assert_eq!(seg.slice(2 * SEG, 2 * SEG + 3), &[2 * SEG as u32, 2 * SEG as u32 + 1, 2 * SEG as u32 + 2]);
     }
 
     #[test]
