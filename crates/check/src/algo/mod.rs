@@ -600,15 +600,16 @@ pub(crate) fn shortest_cycle(start: &[usize], targets: &[u32], comp: &[u32], fro
                 let mut edges = vec![pos];
                 let mut at = v;
                 while at != from {
-                    let p = reached[&at];
+                    // Every node reached but `from` has a BFS parent edge.
+                    let &p = reached.get(&at)?;
                     edges.push(p);
                     at = source_of(start, p);
                 }
                 edges.reverse();
                 return Some(edges);
             }
-            if w != from && !reached.contains_key(&w) {
-                reached.insert(w, pos);
+            if let std::collections::hash_map::Entry::Vacant(e) = reached.entry(w) {
+                e.insert(pos);
                 queue.push_back(w);
             }
         }
