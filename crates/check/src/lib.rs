@@ -5,4 +5,10 @@
 pub mod algo;
 pub mod assertions;
 pub mod budget;
+pub mod events;
+pub mod ir;
+pub mod lower;
 pub mod lts;
+pub mod machine;
+pub mod sched;
+pub mod verify;

@@ -53,7 +53,8 @@ pub trait Lts: Sync {
     /// The initial state.
     fn initial(&self) -> Self::State;
 
-    /// Appends the transitions of `state` to `out` (which the caller clears).
+    /// Appends the transitions of `state` to `out`. `out` may already hold
+    /// other states' transitions: implementations only add to it.
     fn successors(&self, state: &Self::State, out: &mut Vec<(Label, Self::State)>);
 
     /// A name for `event`, for counterexamples (`tock`, `registerRead.i_obstacle.true`).

@@ -2,6 +2,7 @@
 
 mod diagnostics;
 mod fmt;
+mod verify;
 mod workspace;
 
 use std::io::{IsTerminal, Write};
@@ -59,12 +60,40 @@ enum Command {
         #[arg(required = true)]
         paths: Vec<PathBuf>,
     },
+    /// Run the assertions of the workspace's .rsa and .assertions files
+    /// (schedulability, …) with the native checker.
+    Verify {
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = Format::Human)]
+        format: Format,
+        /// The semantics: what RoboTool 3 generates, or the 2019 paper's.
+        #[arg(long, value_enum, default_value_t = Semantics::Robotool3)]
+        semantics: Semantics,
+        /// Stop a check after exploring this many states (inconclusive).
+        #[arg(long)]
+        max_states: Option<u64>,
+        /// Stop a check after this many seconds (inconclusive).
+        #[arg(long)]
+        timeout: Option<f64>,
+        /// Worker threads for the search (default: the number of cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Model files or folders: the whole workspace the assertions refer to.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+    },
     /// Run the language server (LSP over stdin/stdout).
     Lsp,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum Format {
+enum Semantics {
+    Robotool3,
+    Paper2019,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum Format {
     Human,
     Json,
 }
@@ -95,11 +124,22 @@ fn main() -> ExitCode {
         Command::Check { format, rules, color, paths } => check(format, rules, color, &paths),
         Command::Parse { tree, file } => parse(tree, &file),
         Command::Fmt { check, paths } => fmt::run(check, &paths),
+        Command::Verify { format, semantics, max_states, timeout, threads, paths } => verify::run(verify::Args {
+            format,
+            profile: match semantics {
+                Semantics::Robotool3 => robosim_check::verify::Profile::RoboTool3,
+                Semantics::Paper2019 => robosim_check::verify::Profile::Paper2019,
+            },
+            max_states,
+            timeout,
+            threads,
+            paths,
+        }),
         Command::Lsp => robosim_lsp::run_stdio(),
     }
 }
 
-fn fail(msg: impl std::fmt::Display) -> ExitCode {
+pub(crate) fn fail(msg: impl std::fmt::Display) -> ExitCode {
     eprintln!("robosim: {msg}");
     ExitCode::from(2)
 }

@@ -1,0 +1,106 @@
+//! Event tables: channels with bounded parameters, numbered densely so that
+//! an event is a `u32` computed from its channel and argument values
+//! (mixed radix), and named back for counterexamples.
+
+use crate::ir::{Dom, Val};
+use crate::lts::{Event, FIRST_VISIBLE};
+
+/// How a parameter is printed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Param {
+    /// A number in a domain.
+    Num(Dom),
+    /// `true`/`false`.
+    Bool,
+}
+
+impl Param {
+    fn dom(self) -> Dom {
+        match self {
+            Param::Num(d) => d,
+            Param::Bool => Dom::BOOL,
+        }
+    }
+}
+
+/// A channel of the table.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Group {
+    /// Printed name (`registerRead.i_obstacle`, `moveCall`).
+    pub name: String,
+    /// Parameters.
+    pub params: Vec<Param>,
+    /// First event id.
+    pub base: Event,
+    /// Number of events.
+    pub size: u64,
+}
+
+/// A table of channels.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct EventTable {
+    groups: Vec<Group>,
+}
+
+/// The table would need more than `u32` events.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TooManyEvents(pub String);
+
+impl EventTable {
+    /// Adds a channel; returns its index.
+    pub fn add(&mut self, name: impl Into<String>, params: Vec<Param>) -> Result<usize, TooManyEvents> {
+        let name = name.into();
+        let size = params.iter().try_fold(1u64, |acc, p| acc.checked_mul(p.dom().size().max(1)));
+        let base = self.groups.last().map_or(FIRST_VISIBLE as u64, |g| g.base as u64 + g.size);
+        let size = size.filter(|s| base + s < u32::MAX as u64).ok_or_else(|| TooManyEvents(name.clone()))?;
+        self.groups.push(Group { name, params, base: base as Event, size });
+        Ok(self.groups.len() - 1)
+    }
+
+    /// The event of channel `group` with `args` (values outside the
+    /// domains are clamped: callers only pass values of the domains).
+    pub fn event(&self, group: usize, args: &[Val]) -> Event {
+        let g = &self.groups[group];
+        let mut ix: u64 = 0;
+        for (p, &v) in g.params.iter().zip(args) {
+            let d = p.dom();
+            ix = ix * d.size().max(1) + (v.clamp(d.lo, d.hi) - d.lo) as u64;
+        }
+        g.base + ix as Event
+    }
+
+    /// The channel and arguments of `event`.
+    pub fn decode(&self, event: Event) -> Option<(usize, Vec<Val>)> {
+        let gi = self.groups.iter().position(|g| event >= g.base && ((event - g.base) as u64) < g.size)?;
+        let g = &self.groups[gi];
+        let mut ix = (event - g.base) as u64;
+        let mut args = vec![0; g.params.len()];
+        for (i, p) in g.params.iter().enumerate().rev() {
+            let d = p.dom();
+            let n = d.size().max(1);
+            args[i] = d.lo + (ix % n) as Val;
+            ix /= n;
+        }
+        Some((gi, args))
+    }
+
+    /// The printed name of `event` (`registerRead.i_obstacle.true`).
+    pub fn name(&self, event: Event) -> Option<String> {
+        let (gi, args) = self.decode(event)?;
+        let g = &self.groups[gi];
+        let mut s = g.name.clone();
+        for (p, v) in g.params.iter().zip(args) {
+            s.push('.');
+            match p {
+                Param::Bool => s.push_str(if v != 0 { "true" } else { "false" }),
+                Param::Num(_) => s.push_str(&v.to_string()),
+            }
+        }
+        Some(s)
+    }
+
+    /// The channel's description.
+    pub fn group(&self, group: usize) -> &Group {
+        &self.groups[group]
+    }
+}

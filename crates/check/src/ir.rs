@@ -1,0 +1,410 @@
+//! The compiled form of RoboChart machines: bounded data, expressions over
+//! slots of a flat state vector, and statements as a small instruction list
+//! per machine. Built by [`crate::lower`], executed by [`crate::machine`].
+
+use robosim_syntax::TextRange;
+
+/// A value: every type the engine supports is a bounded integer range
+/// (booleans are `0..=1`, enumerations `0..n`, reals are integers as in
+/// RoboTool).
+pub type Val = i64;
+
+/// A bounded domain `lo..=hi`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Dom {
+    /// Least value.
+    pub lo: Val,
+    /// Greatest value.
+    pub hi: Val,
+}
+
+impl Dom {
+    /// Booleans.
+    pub const BOOL: Dom = Dom { lo: 0, hi: 1 };
+
+    /// Whether `v` is in the domain.
+    pub fn contains(self, v: Val) -> bool {
+        self.lo <= v && v <= self.hi
+    }
+
+    /// The number of values.
+    pub fn size(self) -> u64 {
+        (self.hi - self.lo + 1).max(0) as u64
+    }
+}
+
+/// Arithmetic operators, sticky on overflow as RoboTool's `Plus`, `Minus`…
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum ArOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+}
+
+/// Comparison operators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum CmpOp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+/// Logical connectives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum LogOp {
+    And,
+    Or,
+    Implies,
+    Iff,
+}
+
+/// An expression over the state vector.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Expr {
+    /// A literal or a constant's value.
+    Const(Val),
+    /// The variable in this slot.
+    Slot(u16),
+    /// The clock in this slot (`since(C)`, `sinceEntry(S)`).
+    Clock(u16),
+    /// `-e`, sticky in the domain.
+    Neg(Box<Expr>, Dom),
+    /// `not e`.
+    Not(Box<Expr>),
+    /// `a op b`, sticky in the domain: the left operand when the result
+    /// falls outside it.
+    Arith(ArOp, Box<Expr>, Box<Expr>, Dom),
+    /// `a op b` on numbers.
+    Cmp(CmpOp, Box<Expr>, Box<Expr>),
+    /// `a op b` on booleans.
+    Log(LogOp, Box<Expr>, Box<Expr>),
+    /// `if c then a else b end`.
+    If(Box<Expr>, Box<Expr>, Box<Expr>),
+}
+
+/// Why an evaluation failed (reported, never a panic).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum EvalError {
+    /// Division or modulus by zero.
+    DivByZero,
+}
+
+impl Expr {
+    /// Evaluates over `st`. `saturated` is set when sticky arithmetic kept
+    /// its left operand.
+    pub fn eval(&self, st: &[i32], saturated: &mut bool) -> Result<Val, EvalError> {
+        Ok(match self {
+            Expr::Const(v) => *v,
+            Expr::Slot(s) | Expr::Clock(s) => st[*s as usize] as Val,
+            Expr::Neg(e, d) => {
+                let v = e.eval(st, saturated)?;
+                if d.contains(-v) {
+                    -v
+                } else {
+                    *saturated = true;
+                    v
+                }
+            }
+            Expr::Not(e) => (e.eval(st, saturated)? == 0) as Val,
+            Expr::Arith(op, a, b, d) => {
+                let x = a.eval(st, saturated)?;
+                let y = b.eval(st, saturated)?;
+                let r = match op {
+                    ArOp::Add => x + y,
+                    ArOp::Sub => x - y,
+                    ArOp::Mul => x.saturating_mul(y),
+                    // CSPm division and modulus truncate towards zero.
+                    ArOp::Div => x.checked_div(y).ok_or(EvalError::DivByZero)?,
+                    ArOp::Mod => x.checked_rem(y).ok_or(EvalError::DivByZero)?,
+                };
+                if d.contains(r) {
+                    r
+                } else {
+                    *saturated = true;
+                    x
+                }
+            }
+            Expr::Cmp(op, a, b) => {
+                let x = a.eval(st, saturated)?;
+                let y = b.eval(st, saturated)?;
+                (match op {
+                    CmpOp::Eq => x == y,
+                    CmpOp::Ne => x != y,
+                    CmpOp::Lt => x < y,
+                    CmpOp::Le => x <= y,
+                    CmpOp::Gt => x > y,
+                    CmpOp::Ge => x >= y,
+                }) as Val
+            }
+            Expr::Log(op, a, b) => {
+                let x = a.eval(st, saturated)? != 0;
+                // Short-circuit like CSPm's `and`/`or`.
+                let r = match op {
+                    LogOp::And => x && b.eval(st, saturated)? != 0,
+                    LogOp::Or => x || b.eval(st, saturated)? != 0,
+                    LogOp::Implies => !x || b.eval(st, saturated)? != 0,
+                    LogOp::Iff => x == (b.eval(st, saturated)? != 0),
+                };
+                r as Val
+            }
+            Expr::If(c, a, b) => {
+                if c.eval(st, saturated)? != 0 {
+                    a.eval(st, saturated)?
+                } else {
+                    b.eval(st, saturated)?
+                }
+            }
+        })
+    }
+
+    /// The value when it does not depend on the state.
+    pub fn constant(&self) -> Option<Val> {
+        let mut sat = false;
+        if self.is_static() {
+            self.eval(&[], &mut sat).ok()
+        } else {
+            None
+        }
+    }
+
+    fn is_static(&self) -> bool {
+        match self {
+            Expr::Const(_) => true,
+            Expr::Slot(_) | Expr::Clock(_) => false,
+            Expr::Neg(e, _) | Expr::Not(e) => e.is_static(),
+            Expr::Arith(_, a, b, _) | Expr::Cmp(_, a, b) | Expr::Log(_, a, b) => a.is_static() && b.is_static(),
+            Expr::If(c, a, b) => c.is_static() && a.is_static() && b.is_static(),
+        }
+    }
+}
+
+/// A communication channel of a machine, as seen from the module.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Channel {
+    /// The platform's name for it (`obstacle`, `move`).
+    pub name: String,
+    /// Direction, from the software's point of view.
+    pub dir: Dir,
+    /// Whether it is a platform operation call (`moveCall`).
+    pub is_call: bool,
+    /// The domains of its arguments (one for a typed event).
+    pub params: Vec<Dom>,
+}
+
+/// Direction of a channel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Dir {
+    /// From the platform to the software.
+    In,
+    /// From the software to the platform.
+    Out,
+}
+
+/// One instruction of a machine's code.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Instr {
+    /// `x = e`; `shared` variables are written in a step of their own so
+    /// that other machines can observe the order of writes.
+    Assign {
+        /// The variable's slot.
+        slot: u16,
+        /// The value.
+        expr: Expr,
+        /// The variable's domain (an out-of-range value leaves it unchanged).
+        dom: Dom,
+        /// Whether another machine can read it.
+        shared: bool,
+    },
+    /// `#C`.
+    ResetClock(u16),
+    /// An output: `e!v`, `e`, or a platform operation call (urgent).
+    Out {
+        /// Channel index.
+        chan: u16,
+        /// Argument values.
+        args: Vec<Expr>,
+        /// Urgent (operation calls): time cannot pass before it.
+        urgent: bool,
+    },
+    /// An input statement `e?x` / `e.v` / `e`.
+    In {
+        /// Channel index.
+        chan: u16,
+        /// `e.v`: the value required.
+        value: Option<Expr>,
+        /// `e?x`: where the value goes.
+        bind: Option<(u16, Dom)>,
+    },
+    /// Sets the machine's wait counter (`wait(e)`).
+    SetWait(Expr),
+    /// `wait([a, b])`: an internal choice of the counter in `a..=b`.
+    ChooseWait(Expr, Expr),
+    /// Waits while the counter is positive.
+    Wait,
+    /// Continues at the target when the condition is false.
+    JumpIfNot(Expr, u32),
+    /// Continues at the target.
+    Jump(u32),
+    /// Enters a node (state, junction or final).
+    Enter(u16),
+    /// Starts the exits of the current transition from the active leaf.
+    BeginExits,
+    /// The end of a node's exit action: go on exiting or run the
+    /// transition's body.
+    ExitDone(u16),
+    /// A state whose entry work is done: its transitions may fire.
+    Rest,
+    /// At a junction: one enabled outgoing transition is taken.
+    Junction(u16),
+    /// The machine has terminated.
+    Terminate,
+}
+
+/// What a node is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum NodeKind {
+    State,
+    Junction,
+    Initial,
+    Final,
+}
+
+/// A state, junction, initial or final node.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Node {
+    /// Its name.
+    pub name: String,
+    /// What it is.
+    pub kind: NodeKind,
+    /// The enclosing state.
+    pub parent: Option<u16>,
+    /// Code run on entry (states: the entry action then the initial
+    /// transition of its region, or `Rest`).
+    pub entry_pc: u32,
+    /// Code run on exit, ending in `ExitDone`.
+    pub exit_pc: u32,
+    /// The clock of `sinceEntry(S)`, if used.
+    pub since_entry: Option<u16>,
+    /// Outgoing transitions.
+    pub out: Vec<u16>,
+    /// The declaration's name range.
+    pub range: TextRange,
+}
+
+/// A transition's trigger.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Trigger {
+    /// An input communication.
+    In {
+        /// Channel index.
+        chan: u16,
+        /// `e.v`.
+        value: Option<Expr>,
+        /// `e?x`.
+        bind: Option<(u16, Dom)>,
+    },
+    /// An output communication (`e!v` as a trigger).
+    Out {
+        /// Channel index.
+        chan: u16,
+        /// Argument values.
+        args: Vec<Expr>,
+    },
+}
+
+/// A transition.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Transition {
+    /// Its name.
+    pub name: String,
+    /// Source node.
+    pub source: u16,
+    /// Target node.
+    pub target: u16,
+    /// The trigger, if any.
+    pub trigger: Option<Trigger>,
+    /// The guard, if any.
+    pub guard: Option<Expr>,
+    /// Clock resets, action and entry of the target.
+    pub body_pc: u32,
+    /// The declaration's range.
+    pub range: TextRange,
+}
+
+/// A compiled state machine.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Machine {
+    /// Its name (the reference's name in its controller).
+    pub name: String,
+    /// Nodes; the index is the node id.
+    pub nodes: Vec<Node>,
+    /// Transitions.
+    pub transitions: Vec<Transition>,
+    /// Instructions.
+    pub code: Vec<Instr>,
+    /// The source range of each instruction (statement, transition, state).
+    pub code_ranges: Vec<TextRange>,
+    /// Where execution starts (the root region's initial transition).
+    pub start_pc: u32,
+    /// First of the machine's four control slots (leaf, pc, wait counter,
+    /// current transition).
+    pub base: u16,
+    /// The file the machine is declared in (index into the model's files).
+    pub file: u16,
+}
+
+/// A clock: its slot and the value at which it saturates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Clock {
+    /// Name, for messages (`MBC`, `sinceEntry(Moving)`).
+    pub name: String,
+    /// Slot in the state vector.
+    pub slot: u16,
+    /// The greatest value kept (one more than the greatest compared value).
+    pub cap: i32,
+}
+
+/// A variable's slot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Var {
+    /// Qualified name for messages.
+    pub name: String,
+    /// Slot.
+    pub slot: u16,
+    /// Domain.
+    pub dom: Dom,
+    /// Initial value.
+    pub init: Val,
+}
+
+/// A RoboChart module (or controller, or machine) compiled for checking.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Design {
+    /// The element's qualified name.
+    pub name: String,
+    /// Machines, all running in parallel.
+    pub machines: Vec<Machine>,
+    /// External channels (inputs, outputs, operation calls).
+    pub channels: Vec<Channel>,
+    /// Variables.
+    pub vars: Vec<Var>,
+    /// Clocks.
+    pub clocks: Vec<Clock>,
+    /// Number of slots used by the design.
+    pub slots: u16,
+    /// Files, for source locations.
+    pub files: Vec<String>,
+    /// Domains used (`core_int` …), for the report.
+    pub domains: Vec<(String, Dom)>,
+    /// Constants and the values used.
+    pub constants: Vec<(String, Val)>,
+}

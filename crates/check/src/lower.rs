@@ -1,0 +1,1321 @@
+//! Lowering of a resolved RoboChart module, controller or machine into the
+//! compiled [`Design`]: machines as instruction lists, variables and clocks as
+//! slots of a flat state vector, types as bounded ranges (semantics.md §3),
+//! events and platform operations as channels to the platform.
+//!
+//! What the engine cannot interpret yet is refused with a reason and a
+//! source location ([`Unsupported`]) instead of being approximated: a wrong
+//! verdict is worse than none.
+
+use std::collections::{BTreeSet, HashMap};
+
+use robosim_hir::defs::{file_defs, DefKind};
+use robosim_hir::index::{resolve_item, ItemLoc};
+use robosim_hir::{parse, Db, File, Workspace};
+use robosim_syntax::ast::{self, AstNode};
+use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
+
+use crate::ir::*;
+
+/// Why a model cannot be checked natively.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Unsupported {
+    /// What is not supported, as a sentence.
+    pub message: String,
+    /// Where (file path and range), when known.
+    pub location: Option<(String, TextRange)>,
+}
+
+/// A value given to a constant by an assertion (`with constant k of M set to v`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ConstValue {
+    /// The constant's name.
+    pub name: String,
+    /// The element it belongs to, as written.
+    pub of: Vec<String>,
+    /// The value.
+    pub value: Val,
+}
+
+/// The bounded primitive types (RoboTool's `core_nat`, `core_int`,
+/// `core_real`) before widening.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DomainDefaults {
+    /// `core_nat`.
+    pub nat: Dom,
+    /// `core_int`.
+    pub int: Dom,
+    /// `core_real` (reals are integers).
+    pub real: Dom,
+    /// Greatest clock value (`core_clock_type`).
+    pub clock_max: i32,
+    /// Whether the user fixed `nat`, `int`, `real` (no widening then).
+    pub fixed: [bool; 3],
+}
+
+impl Default for DomainDefaults {
+    fn default() -> Self {
+        DomainDefaults {
+            nat: Dom { lo: 0, hi: 2 },
+            int: Dom { lo: -2, hi: 2 },
+            real: Dom { lo: -2, hi: 2 },
+            clock_max: 10,
+            fixed: [false; 3],
+        }
+    }
+}
+
+impl DomainDefaults {
+    /// Applies `nametype core_X = {a..b}` instantiations.
+    pub fn set(&mut self, name: &str, lo: Val, hi: Val) {
+        let d = Dom { lo, hi };
+        match name.trim_start_matches("core_") {
+            "nat" => (self.nat, self.fixed[0]) = (d, true),
+            "int" => (self.int, self.fixed[1]) = (d, true),
+            "real" => (self.real, self.fixed[2]) = (d, true),
+            "clock_type" => self.clock_max = hi as i32,
+            _ => {}
+        }
+    }
+}
+
+/// Compiles the RoboChart module, controller or machine `loc`.
+pub fn lower_design(
+    db: &dyn Db,
+    ws: Workspace,
+    loc: ItemLoc,
+    consts: &[ConstValue],
+    defaults: &DomainDefaults,
+) -> Result<Design, Unsupported> {
+    let mut cx = Cx { db, ws, consts, defaults: defaults.clone(), design: None, files: Vec::new() };
+    cx.lower(loc)
+}
+
+struct Cx<'a> {
+    db: &'a dyn Db,
+    ws: Workspace,
+    consts: &'a [ConstValue],
+    defaults: DomainDefaults,
+    design: Option<Design>,
+    files: Vec<File>,
+}
+
+/// One machine to compile: its declaration and where it sits.
+struct Instance {
+    /// Controller reference (or controller) name; "" for a lone machine.
+    ctrl: String,
+    /// Machine reference name.
+    name: String,
+    /// The machine's own declared name (for `constant … of`).
+    decl_name: String,
+    file: File,
+    node: SyntaxNode,
+}
+
+/// A connection end: (node name, event name).
+type End = (String, String);
+
+fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<(File, SyntaxNode)> {
+    let id = loc.def(db)?;
+    let def = file_defs(db, loc.file).def(id);
+    let root = parse(db, loc.file).syntax_node();
+    let node = match root.covering_element(def.range) {
+        robosim_syntax::SyntaxElement::Node(n) => n,
+        robosim_syntax::SyntaxElement::Token(t) => t.parent()?,
+    };
+    node.ancestors().find(|n| n.kind() == def.syntax && n.text_range() == def.range).map(|n| (loc.file, n))
+}
+
+fn path_of(n: &SyntaxNode) -> Vec<String> {
+    match n.kind() {
+        QUALIFIED_NAME => ast::QualifiedName::cast(n.clone()).map(|q| q.segments()).unwrap_or_default(),
+        _ => n
+            .children()
+            .find(|c| c.kind() == QUALIFIED_NAME)
+            .and_then(ast::QualifiedName::cast)
+            .map(|q| q.segments())
+            .unwrap_or_default(),
+    }
+}
+
+fn name_of(n: &SyntaxNode) -> String {
+    n.children()
+        .find(|c| c.kind() == NAME)
+        .map(|c| c.text().to_string().trim_start_matches('^').to_string())
+        .unwrap_or_default()
+}
+
+fn ident_text(n: &SyntaxNode) -> String {
+    n.text().to_string().trim().trim_start_matches('^').to_string()
+}
+
+impl Cx<'_> {
+    fn file_index(&mut self, f: File) -> u16 {
+        if let Some(i) = self.files.iter().position(|&g| g == f) {
+            return i as u16;
+        }
+        self.files.push(f);
+        (self.files.len() - 1) as u16
+    }
+
+    fn unsupported(&self, file: File, range: TextRange, message: impl Into<String>) -> Unsupported {
+        Unsupported { message: message.into(), location: Some((file.path(self.db).clone(), range)) }
+    }
+
+    fn resolve(&self, from: File, path: &[String], accept: fn(DefKind) -> bool) -> Option<(File, SyntaxNode)> {
+        let loc = resolve_item(self.db, self.ws, from, path, accept).into_iter().next()?;
+        node_of(self.db, loc)
+    }
+
+    fn lower(&mut self, loc: ItemLoc) -> Result<Design, Unsupported> {
+        let (file, node) = node_of(self.db, loc).ok_or_else(|| Unsupported {
+            message: "the element to verify could not be found".into(),
+            location: None,
+        })?;
+        let top_name = name_of(&node);
+        let mut instances = Vec::new();
+        // Links between connection ends, and which ends belong to the platform
+        // (with the direction seen from the software).
+        let mut links: Vec<(End, End)> = Vec::new();
+        let mut platform: HashMap<End, Dir> = HashMap::new();
+        let mut async_links: Vec<(File, TextRange)> = Vec::new();
+        match node.kind() {
+            MODULE => {
+                let mut platform_names = BTreeSet::new();
+                for c in node.children() {
+                    match c.kind() {
+                        ROBOTIC_PLATFORM => {
+                            platform_names.insert(name_of(&c));
+                        }
+                        PLATFORM_REF => {
+                            platform_names.insert(name_of(&c));
+                        }
+                        CONTROLLER_REF => {
+                            let target = path_of(&c);
+                            let (cf, cn) =
+                                self.resolve(file, &target, |k| k == DefKind::Controller).ok_or_else(|| {
+                                    self.unsupported(
+                                        file,
+                                        c.text_range(),
+                                        "the referenced controller could not be resolved",
+                                    )
+                                })?;
+                            self.controller(&name_of(&c), cf, &cn, &mut instances, &mut links, &mut async_links)?;
+                        }
+                        CONTROLLER => {
+                            let n = name_of(&c);
+                            self.controller(&n, file, &c, &mut instances, &mut links, &mut async_links)?;
+                        }
+                        _ => {}
+                    }
+                }
+                for c in node.children().filter(|c| c.kind() == CONNECTION) {
+                    let (a, b, is_async) = ends(&c);
+                    if platform_names.contains(&a.0) {
+                        platform.insert(a.clone(), Dir::In);
+                    } else if platform_names.contains(&b.0) {
+                        platform.insert(b.clone(), Dir::Out);
+                    } else if is_async {
+                        async_links.push((file, c.text_range()));
+                    }
+                    links.push((a, b));
+                }
+            }
+            CONTROLLER => {
+                self.controller(&top_name, file, &node, &mut instances, &mut links, &mut async_links)?;
+                // The controller's own events face the platform.
+                for c in node.children().filter(|c| c.kind() == CONNECTION) {
+                    let (a, b, _) = ends(&c);
+                    if a.0 == top_name {
+                        platform.insert((top_name.clone(), a.1.clone()), Dir::In);
+                    }
+                    if b.0 == top_name {
+                        platform.insert((top_name.clone(), b.1.clone()), Dir::Out);
+                    }
+                }
+                // Inside `controller`, its own name is the controller end.
+                links =
+                    links.into_iter().map(|(a, b)| (rename_ctrl(a, &top_name), rename_ctrl(b, &top_name))).collect();
+                platform = platform.into_iter().map(|(e, d)| (rename_ctrl(e, &top_name), d)).collect();
+            }
+            STATE_MACHINE => {
+                instances.push(Instance {
+                    ctrl: String::new(),
+                    name: top_name.clone(),
+                    decl_name: top_name.clone(),
+                    file,
+                    node: node.clone(),
+                });
+            }
+            _ => {
+                return Err(self.unsupported(
+                    file,
+                    node.text_range(),
+                    "only RoboChart modules, controllers and state machines can be checked",
+                ))
+            }
+        }
+        if let Some(&(f, r)) = async_links.first() {
+            return Err(self.unsupported(
+                f,
+                r,
+                "asynchronous connections between controllers or machines are not supported yet",
+            ));
+        }
+        self.build(&top_name, node.kind(), instances, &links, &platform)
+    }
+
+    /// Collects the machines of a controller (referenced or inline) and its
+    /// connections, with ends named `ctrl.machine` for machines and `ctrl`
+    /// for the controller itself.
+    fn controller(
+        &mut self,
+        cref: &str,
+        file: File,
+        node: &SyntaxNode,
+        instances: &mut Vec<Instance>,
+        links: &mut Vec<(End, End)>,
+        async_links: &mut Vec<(File, TextRange)>,
+    ) -> Result<(), Unsupported> {
+        let ctrl_name = name_of(node);
+        let mut machines = BTreeSet::new();
+        for c in node.children() {
+            match c.kind() {
+                STATE_MACHINE_REF => {
+                    let target = path_of(&c);
+                    let (mf, mn) = self.resolve(file, &target, |k| k == DefKind::StateMachine).ok_or_else(|| {
+                        self.unsupported(file, c.text_range(), "the referenced state machine could not be resolved")
+                    })?;
+                    let decl_name = name_of(&mn);
+                    machines.insert(name_of(&c));
+                    instances.push(Instance {
+                        ctrl: cref.to_string(),
+                        name: name_of(&c),
+                        decl_name,
+                        file: mf,
+                        node: mn,
+                    });
+                }
+                STATE_MACHINE => {
+                    machines.insert(name_of(&c));
+                    instances.push(Instance {
+                        ctrl: cref.to_string(),
+                        name: name_of(&c),
+                        decl_name: name_of(&c),
+                        file,
+                        node: c.clone(),
+                    });
+                }
+                OPERATION_DEF | OPERATION_REF => {
+                    return Err(self.unsupported(
+                        file,
+                        c.text_range(),
+                        "operations defined in controllers are not supported by the native checker yet",
+                    ))
+                }
+                _ => {}
+            }
+        }
+        for c in node.children().filter(|c| c.kind() == CONNECTION) {
+            let (a, b, is_async) = ends(&c);
+            let qualify = |e: End| -> End {
+                if machines.contains(&e.0) {
+                    (format!("{cref}.{}", e.0), e.1)
+                } else if e.0 == ctrl_name {
+                    (cref.to_string(), e.1)
+                } else {
+                    e
+                }
+            };
+            let (a, b) = (qualify(a), qualify(b));
+            if is_async && a.0.contains('.') && b.0.contains('.') {
+                async_links.push((file, c.text_range()));
+            }
+            links.push((a, b));
+        }
+        Ok(())
+    }
+
+    fn build(
+        &mut self,
+        top_name: &str,
+        top_kind: SyntaxKind,
+        instances: Vec<Instance>,
+        links: &[(End, End)],
+        platform: &HashMap<End, Dir>,
+    ) -> Result<Design, Unsupported> {
+        // Literals of every machine widen the numeric domains (as RoboTool's
+        // generator does), and so do the constants' values.
+        let mut lits: Vec<Val> = Vec::new();
+        for inst in &instances {
+            for t in inst.node.descendants_with_tokens().filter_map(|e| e.into_token()) {
+                if t.kind() == INT_NUMBER {
+                    if let Ok(v) = t.text().parse::<Val>() {
+                        lits.push(v);
+                    }
+                }
+            }
+        }
+        lits.extend(self.consts.iter().map(|c| c.value));
+        let widen = |d: Dom, fixed: bool, nat: bool| -> Dom {
+            if fixed {
+                return d;
+            }
+            let mut d = d;
+            for &v in &lits {
+                if nat && v < 0 {
+                    continue;
+                }
+                d.lo = d.lo.min(v);
+                d.hi = d.hi.max(v);
+            }
+            d
+        };
+        let f = self.defaults.fixed;
+        self.defaults.nat = widen(self.defaults.nat, f[0], true);
+        self.defaults.int = widen(self.defaults.int, f[1], false);
+        self.defaults.real = widen(self.defaults.real, f[2], false);
+        self.design = Some(Design {
+            name: top_name.to_string(),
+            machines: Vec::new(),
+            channels: Vec::new(),
+            vars: Vec::new(),
+            clocks: Vec::new(),
+            slots: 0,
+            files: Vec::new(),
+            domains: vec![
+                ("core_nat".into(), self.defaults.nat),
+                ("core_int".into(), self.defaults.int),
+                ("core_real".into(), self.defaults.real),
+            ],
+            constants: Vec::new(),
+        });
+        // Union-find over connection ends: a machine event is external when
+        // its class contains a platform end.
+        let mut classes: Vec<BTreeSet<End>> = Vec::new();
+        for (a, b) in links {
+            let ia = classes.iter().position(|c| c.contains(a));
+            let ib = classes.iter().position(|c| c.contains(b));
+            match (ia, ib) {
+                (Some(i), Some(j)) if i != j => {
+                    let (lo, hi) = (i.min(j), i.max(j));
+                    let moved = classes.remove(hi);
+                    classes[lo].extend(moved);
+                }
+                (Some(_), Some(_)) => {}
+                (Some(i), None) => {
+                    classes[i].insert(b.clone());
+                }
+                (None, Some(j)) => {
+                    classes[j].insert(a.clone());
+                }
+                (None, None) => classes.push([a.clone(), b.clone()].into_iter().collect()),
+            }
+        }
+        let external = |machine_end: &End| -> Result<Option<(String, Dir)>, String> {
+            let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
+                return Ok(None);
+            };
+            let plat: Vec<(&End, &Dir)> = class.iter().filter_map(|e| platform.get(e).map(|d| (e, d))).collect();
+            let machines = class.iter().filter(|e| e.0.contains('.')).count();
+            if machines > 1 {
+                return Err(format!(
+                    "event `{}` connects several machines; connections between machines are not supported yet",
+                    machine_end.1
+                ));
+            }
+            match plat.first() {
+                Some((e, d)) => Ok(Some((e.1.clone(), **d))),
+                None => Ok(None),
+            }
+        };
+        let lone = top_kind == STATE_MACHINE;
+        let mut slot: u16 = 0;
+        for inst in &instances {
+            let end: End = (format!("{}.{}", inst.ctrl, inst.name), String::new());
+            let m = self.machine(inst, &mut slot, |ev: &str| {
+                if lone {
+                    return Ok(None);
+                }
+                let mut e = end.clone();
+                e.1 = ev.to_string();
+                external(&e)
+            })?;
+            self.design.as_mut().expect("design").machines.push(m);
+        }
+        let mut design = self.design.take().expect("design");
+        design.slots = slot;
+        design.files = self.files.iter().map(|f| f.path(self.db).clone()).collect();
+        Ok(design)
+    }
+
+    /// Compiles one machine. `external(e)` says which platform channel (and
+    /// direction) the machine's event `e` is connected to.
+    fn machine(
+        &mut self,
+        inst: &Instance,
+        slot: &mut u16,
+        external: impl Fn(&str) -> Result<Option<(String, Dir)>, String>,
+    ) -> Result<Machine, Unsupported> {
+        let file = inst.file;
+        let file_ix = self.file_index(file);
+        let base = *slot;
+        *slot += 4;
+        let mut mc = MachineCx {
+            cx: self,
+            file,
+            inst_prefix: if inst.ctrl.is_empty() { inst.name.clone() } else { format!("{}::{}", inst.ctrl, inst.name) },
+            names: HashMap::new(),
+            nodes: Vec::new(),
+            node_syntax: Vec::new(),
+            transitions: Vec::new(),
+            code: Vec::new(),
+            slot,
+            decl_name: inst.decl_name.clone(),
+            at: inst.node.text_range(),
+            code_ranges: Vec::new(),
+            clock_caps: HashMap::new(),
+        };
+        mc.declarations(&inst.node, &external)?;
+        mc.collect_nodes(&inst.node, None)?;
+        mc.compile(&inst.node)?;
+        let start_pc = mc.region_start(&inst.node, None)?;
+        let caps = std::mem::take(&mut mc.clock_caps);
+        let m = Machine {
+            name: mc.inst_prefix.clone(),
+            nodes: mc.nodes,
+            transitions: mc.transitions,
+            code: mc.code,
+            code_ranges: mc.code_ranges,
+            start_pc,
+            base,
+            file: file_ix,
+        };
+        // Clocks saturate one above the greatest value they are compared with.
+        let clock_max = self.defaults.clock_max;
+        let design = self.design.as_mut().expect("design");
+        for c in design.clocks.iter_mut() {
+            if let Some(&cap) = caps.get(&c.slot) {
+                c.cap = if cap < 0 { clock_max + 1 } else { cap.min(clock_max) + 1 };
+            }
+        }
+        Ok(m)
+    }
+}
+
+fn rename_ctrl(e: End, top: &str) -> End {
+    if e.0 == top {
+        (top.to_string(), e.1)
+    } else if !e.0.contains('.') && !e.0.is_empty() {
+        (format!("{top}.{}", e.0), e.1)
+    } else {
+        e
+    }
+}
+
+/// A connection's ends and whether it is asynchronous.
+fn ends(c: &SyntaxNode) -> (End, End, bool) {
+    let refs: Vec<String> = c.children().filter(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)).collect();
+    let get = |i: usize| refs.get(i).cloned().unwrap_or_default();
+    let is_async = c.children().any(|n| n.kind() == ASYNC_FLAG);
+    ((get(0), get(1)), (get(2), get(3)), is_async)
+}
+
+/// What a simple name means inside a machine.
+#[derive(Debug, Clone)]
+enum Name {
+    Var { slot: u16, dom: Dom, shared: bool },
+    Const(Val),
+    Clock(u16),
+    Event { chan: Option<(u16, Dir)>, ty: Option<Dom> },
+    Op { params: Vec<Dom>, chan: u16 },
+}
+
+struct MachineCx<'a, 'b> {
+    cx: &'a mut Cx<'b>,
+    file: File,
+    inst_prefix: String,
+    names: HashMap<String, Name>,
+    nodes: Vec<Node>,
+    node_syntax: Vec<SyntaxNode>,
+    transitions: Vec<Transition>,
+    code: Vec<Instr>,
+    slot: &'a mut u16,
+    decl_name: String,
+    /// The source range of the code being emitted, and per instruction.
+    at: TextRange,
+    code_ranges: Vec<TextRange>,
+    /// Greatest static value each clock slot is compared with (-1: unknown).
+    clock_caps: HashMap<u16, i32>,
+}
+
+impl MachineCx<'_, '_> {
+    fn err(&self, range: TextRange, msg: impl Into<String>) -> Unsupported {
+        self.cx.unsupported(self.file, range, msg)
+    }
+
+    fn emit(&mut self, i: Instr) {
+        self.code.push(i);
+        self.code_ranges.push(self.at);
+    }
+
+    fn design(&mut self) -> &mut Design {
+        self.cx.design.as_mut().expect("design")
+    }
+
+    fn new_slot(&mut self) -> u16 {
+        let s = *self.slot;
+        *self.slot += 1;
+        s
+    }
+
+    fn ty(&self, file: File, node: Option<&SyntaxNode>, at: TextRange) -> Result<Dom, Unsupported> {
+        let Some(node) = node else {
+            return Err(self.err(at, "an untyped declaration cannot be checked"));
+        };
+        let path = if node.kind() == NAMED_TYPE { path_of(node) } else { Vec::new() };
+        let last = path.last().map(String::as_str).unwrap_or("");
+        let d = &self.cx.defaults;
+        match last {
+            "boolean" => return Ok(Dom::BOOL),
+            "nat" => return Ok(d.nat),
+            "int" => return Ok(d.int),
+            "real" => return Ok(d.real),
+            _ => {}
+        }
+        if !path.is_empty() {
+            if let Some((_, en)) = self.cx.resolve(file, &path, |k| k == DefKind::Enumeration) {
+                let n = en.children().filter(|c| c.kind() == ENUM_LITERAL).count() as Val;
+                return Ok(Dom { lo: 0, hi: (n - 1).max(0) });
+            }
+        }
+        Err(self.cx.unsupported(
+            file,
+            node.text_range(),
+            format!(
+                "the type `{}` is not supported by the native checker (booleans, numbers and enumerations are)",
+                node.text()
+            ),
+        ))
+    }
+
+    fn const_value(&self, name: &str) -> Option<Val> {
+        self.cx
+            .consts
+            .iter()
+            .find(|c| c.name == name && c.of.last().is_some_and(|o| *o == self.decl_name))
+            .map(|c| c.value)
+    }
+
+    /// Variables, constants, clocks, events and operations of the machine
+    /// and of the interfaces it uses, provides or requires.
+    fn declarations(
+        &mut self,
+        node: &SyntaxNode,
+        external: &impl Fn(&str) -> Result<Option<(String, Dir)>, String>,
+    ) -> Result<(), Unsupported> {
+        let file = self.file;
+        let mut sources: Vec<(File, SyntaxNode, bool)> = vec![(file, node.clone(), false)];
+        for u in node.children().filter(|c| c.kind() == INTERFACE_USE) {
+            let path = path_of(&u);
+            let (f, n) = self
+                .cx
+                .resolve(file, &path, |k| k == DefKind::Interface)
+                .ok_or_else(|| self.err(u.text_range(), "the interface could not be resolved"))?;
+            sources.push((f, n, true));
+        }
+        for (f, n, from_interface) in sources {
+            for c in n.children() {
+                match c.kind() {
+                    VARIABLE_LIST => {
+                        let is_const = c.children_with_tokens().any(|t| t.kind() == CONST_KW);
+                        for v in c.children().filter(|v| v.kind() == VARIABLE) {
+                            let name = name_of(&v);
+                            let tnode = v.children().find(|t| ast::is_type_kind(t.kind()));
+                            let dom = self.ty(f, tnode.as_ref(), v.text_range())?;
+                            let init = v.children().find(|e| ast::is_expr_kind(e.kind()));
+                            if is_const {
+                                let value = match self.const_value(&name) {
+                                    Some(v) => v,
+                                    None => match init.as_ref().map(|e| self.expr(e)).transpose()?.and_then(|e| e.constant())
+                                    {
+                                        Some(v) => v,
+                                        None => {
+                                            return Err(self.err(
+                                                v.text_range(),
+                                                format!(
+                                                    "the constant `{name}` has no value: give it one with `with constant {name} of {} set to …` in the assertion",
+                                                    self.decl_name
+                                                ),
+                                            ))
+                                        }
+                                    },
+                                };
+                                let q = format!("{}::{name}", self.inst_prefix);
+                                self.design().constants.push((q, value));
+                                self.names.insert(name, Name::Const(value));
+                            } else {
+                                if from_interface {
+                                    return Err(self.err(
+                                        c.text_range(),
+                                        "variables shared through interfaces are not supported by the native checker yet",
+                                    ));
+                                }
+                                let slot = self.new_slot();
+                                let initv = match init.as_ref() {
+                                    Some(e) => self.expr(e)?.constant().ok_or_else(|| {
+                                        self.err(e.text_range(), "initial values must be constant expressions")
+                                    })?,
+                                    None => dom.lo.max(0).min(dom.hi),
+                                };
+                                let q = format!("{}::{name}", self.inst_prefix);
+                                self.design().vars.push(Var { name: q, slot, dom, init: initv });
+                                self.names.insert(name, Name::Var { slot, dom, shared: false });
+                            }
+                        }
+                    }
+                    CLOCK => {
+                        let name = name_of(&c);
+                        let slot = self.new_slot();
+                        let q = format!("{}::{name}", self.inst_prefix);
+                        self.design().clocks.push(Clock { name: q, slot, cap: 0 });
+                        self.clock_caps.insert(slot, 0);
+                        self.names.insert(name, Name::Clock(slot));
+                    }
+                    EVENT => {
+                        let name = name_of(&c);
+                        let tnode = c.children().find(|t| ast::is_type_kind(t.kind()));
+                        let ty = match tnode {
+                            Some(t) => Some(self.ty(f, Some(&t), c.text_range())?),
+                            None => None,
+                        };
+                        let chan = match external(&name) {
+                            Ok(Some((pname, dir))) => {
+                                Some((self.channel(&pname, dir, false, ty.into_iter().collect()), dir))
+                            }
+                            Ok(None) => None,
+                            Err(msg) => return Err(self.err(c.text_range(), msg)),
+                        };
+                        self.names.insert(name, Name::Event { chan, ty });
+                    }
+                    OPERATION_SIG => {
+                        let name = name_of(&c);
+                        let mut params = Vec::new();
+                        if let Some(pl) = c.children().find(|p| p.kind() == PARAM_LIST) {
+                            for p in pl.children().filter(|p| p.kind() == PARAM) {
+                                let tnode = p.children().find(|t| ast::is_type_kind(t.kind()));
+                                params.push(self.ty(f, tnode.as_ref(), p.text_range())?);
+                            }
+                        }
+                        let chan = self.channel(&name, Dir::Out, true, params.clone());
+                        self.names.insert(name, Name::Op { params, chan });
+                    }
+                    OPERATION_DEF | OPERATION_REF | FUNCTION => {
+                        return Err(self.err(
+                            c.text_range(),
+                            "operations and functions defined in the model are not supported by the native checker yet",
+                        ))
+                    }
+                    _ => {}
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn channel(&mut self, name: &str, dir: Dir, is_call: bool, params: Vec<Dom>) -> u16 {
+        let d = self.design();
+        if let Some(i) = d.channels.iter().position(|c| c.name == name && c.is_call == is_call) {
+            return i as u16;
+        }
+        d.channels.push(Channel { name: name.to_string(), dir, is_call, params });
+        (d.channels.len() - 1) as u16
+    }
+
+    /// Nodes of a region (the machine's or a state's), recursively.
+    fn collect_nodes(&mut self, region: &SyntaxNode, parent: Option<u16>) -> Result<(), Unsupported> {
+        for c in region.children() {
+            let kind = match c.kind() {
+                STATE => NodeKind::State,
+                JUNCTION => NodeKind::Junction,
+                INITIAL => NodeKind::Initial,
+                FINAL => NodeKind::Final,
+                PROBABILISTIC_JUNCTION => {
+                    return Err(self.err(
+                        c.text_range(),
+                        "probabilistic junctions have no meaning in the tock-CSP semantics and cannot be verified",
+                    ))
+                }
+                _ => continue,
+            };
+            let id = self.nodes.len() as u16;
+            let range = c.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(c.text_range());
+            self.nodes.push(Node {
+                name: name_of(&c),
+                kind,
+                parent,
+                entry_pc: 0,
+                exit_pc: 0,
+                since_entry: None,
+                out: Vec::new(),
+                range,
+            });
+            self.node_syntax.push(c.clone());
+            if kind == NodeKind::State {
+                self.collect_nodes(&c, Some(id))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The node named `name` in the region of `parent`.
+    fn sibling(&self, parent: Option<u16>, name: &str) -> Option<u16> {
+        self.nodes.iter().position(|n| n.parent == parent && n.name == name).map(|i| i as u16)
+    }
+
+    fn compile(&mut self, machine: &SyntaxNode) -> Result<(), Unsupported> {
+        // Transitions of every region.
+        let mut regions = vec![(machine.clone(), None)];
+        for (i, n) in self.nodes.iter().enumerate() {
+            if n.kind == NodeKind::State {
+                regions.push((self.node_syntax[i].clone(), Some(i as u16)));
+            }
+        }
+        for (region, parent) in regions {
+            for t in region.children().filter(|c| c.kind() == TRANSITION) {
+                self.transition(&t, parent)?;
+            }
+        }
+        // Entry and exit code of every node.
+        for id in 0..self.nodes.len() {
+            let syn = self.node_syntax[id].clone();
+            let node_id = id as u16;
+            self.at = self.nodes[id].range;
+            match self.nodes[id].kind {
+                NodeKind::State => {
+                    let entry_pc = self.code.len() as u32;
+                    for a in syn.children() {
+                        match a.kind() {
+                            ENTRY_ACTION => self.action_stmt(&a)?,
+                            DURING_ACTION => {
+                                return Err(self
+                                    .err(a.text_range(), "during actions are not supported by the native checker yet"))
+                            }
+                            _ => {}
+                        }
+                    }
+                    self.at = self.nodes[id].range;
+                    let has_children = self.nodes.iter().any(|n| n.parent == Some(node_id));
+                    if has_children {
+                        let pc = self.code.len() as u32;
+                        self.emit(Instr::Jump(u32::MAX));
+                        let start = self.region_start(&syn, Some(node_id))?;
+                        self.code[pc as usize] = Instr::Jump(start);
+                    } else {
+                        self.emit(Instr::Rest);
+                    }
+                    let exit_pc = self.code.len() as u32;
+                    if let Some(a) = syn.children().find(|a| a.kind() == EXIT_ACTION) {
+                        self.action_stmt(&a)?;
+                    }
+                    self.at = self.nodes[id].range;
+                    self.emit(Instr::ExitDone(node_id));
+                    self.nodes[id].entry_pc = entry_pc;
+                    self.nodes[id].exit_pc = exit_pc;
+                }
+                NodeKind::Junction => {
+                    self.nodes[id].entry_pc = self.code.len() as u32;
+                    self.emit(Instr::Junction(node_id));
+                    self.nodes[id].exit_pc = self.code.len() as u32;
+                    self.emit(Instr::ExitDone(node_id));
+                }
+                NodeKind::Final => {
+                    self.nodes[id].entry_pc = self.code.len() as u32;
+                    self.emit(if self.nodes[id].parent.is_none() { Instr::Terminate } else { Instr::Rest });
+                    self.nodes[id].exit_pc = self.code.len() as u32;
+                    self.emit(Instr::ExitDone(node_id));
+                }
+                NodeKind::Initial => {
+                    self.nodes[id].exit_pc = self.code.len() as u32;
+                    self.emit(Instr::ExitDone(node_id));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Code for the initial transition of a region; returns its pc.
+    fn region_start(&mut self, region: &SyntaxNode, parent: Option<u16>) -> Result<u32, Unsupported> {
+        let init =
+            self.nodes.iter().position(|n| n.parent == parent && n.kind == NodeKind::Initial).ok_or_else(|| {
+                self.err(region.text_range(), "a region without an initial junction cannot be executed")
+            })?;
+        let t = self.nodes[init]
+            .out
+            .first()
+            .copied()
+            .ok_or_else(|| self.err(self.nodes[init].range, "the initial junction has no transition"))?;
+        Ok(self.transitions[t as usize].body_pc)
+    }
+
+    fn transition(&mut self, t: &SyntaxNode, parent: Option<u16>) -> Result<(), Unsupported> {
+        let name = name_of(t);
+        let end = |kind: SyntaxKind| {
+            t.children()
+                .find(|c| c.kind() == kind)
+                .and_then(|c| c.children().find(|n| n.kind() == NAME_REF))
+                .map(|n| ident_text(&n))
+        };
+        let (Some(src), Some(dst)) = (end(TRANSITION_SOURCE), end(TRANSITION_TARGET)) else {
+            return Err(self.err(t.text_range(), format!("transition `{name}` lacks a source or a target")));
+        };
+        let source = self
+            .sibling(parent, &src)
+            .ok_or_else(|| self.err(t.text_range(), format!("`{src}` is not a node of this region")))?;
+        let target = self
+            .sibling(parent, &dst)
+            .ok_or_else(|| self.err(t.text_range(), format!("`{dst}` is not a node of this region")))?;
+        let mut trigger = None;
+        let mut guard = None;
+        let body_pc = self.code.len() as u32;
+        let name_range = t.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(t.text_range());
+        self.at = name_range;
+        for c in t.children() {
+            match c.kind() {
+                TRIGGER => {
+                    if let Some(comm) = c.children().find(|n| n.kind() == COMMUNICATION) {
+                        trigger = Some(self.trigger(&comm)?);
+                    }
+                }
+                CLOCK_RESET => {
+                    let n = c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)).unwrap_or_default();
+                    match self.names.get(&n) {
+                        Some(Name::Clock(s)) => self.emit(Instr::ResetClock(*s)),
+                        _ => return Err(self.err(c.text_range(), format!("`{n}` is not a clock"))),
+                    }
+                }
+                CONDITION => {
+                    if c.children().any(|n| n.kind() == ELSE_CONDITION) {
+                        return Err(self.err(c.text_range(), "`condition else` is not supported yet"));
+                    }
+                    if let Some(e) = c.children().find(|e| ast::is_expr_kind(e.kind())) {
+                        guard = Some(self.expr(&e)?);
+                    }
+                }
+                DEADLINE => {
+                    return Err(self.err(c.text_range(), "deadlines on transitions are not supported yet"));
+                }
+                EXEC_TRIGGER => {
+                    return Err(self.err(c.text_range(), "`exec` belongs to RoboSim machines"));
+                }
+                PROBABILITY => {
+                    return Err(self.err(
+                        c.text_range(),
+                        "probabilistic transitions have no meaning in the tock-CSP semantics and cannot be verified",
+                    ))
+                }
+                _ => {}
+            }
+        }
+        if let Some(a) = t.children().find(|c| c.kind() == TRANSITION_ACTION) {
+            self.action_stmt(&a)?;
+        }
+        self.at = name_range;
+        self.emit(Instr::Enter(target));
+        let id = self.transitions.len() as u16;
+        self.transitions.push(Transition {
+            name,
+            source,
+            target,
+            trigger,
+            guard,
+            body_pc,
+            range: t.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(t.text_range()),
+        });
+        self.nodes[source as usize].out.push(id);
+        Ok(())
+    }
+
+    fn trigger(&mut self, comm: &SyntaxNode) -> Result<Trigger, Unsupported> {
+        let ev = comm.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)).unwrap_or_default();
+        let (chan, dir, ty) = self.event(&ev, comm.text_range())?;
+        let (value, bind, out) = self.comm_parts(comm, ty)?;
+        Ok(match (dir, out.is_some()) {
+            (Dir::Out, _) | (_, true) => {
+                let args = out.or(value).into_iter().collect();
+                Trigger::Out { chan, args }
+            }
+            (Dir::In, false) => Trigger::In { chan, value, bind },
+        })
+    }
+
+    fn event(&self, name: &str, at: TextRange) -> Result<(u16, Dir, Option<Dom>), Unsupported> {
+        match self.names.get(name) {
+            Some(Name::Event { chan: Some((c, d)), ty }) => Ok((*c, *d, *ty)),
+            Some(Name::Event { chan: None, .. }) => Err(self.err(
+                at,
+                format!(
+                    "event `{name}` is not connected to the robotic platform; events between machines are not supported yet"
+                ),
+            )),
+            _ => Err(self.err(at, format!("`{name}` is not an event"))),
+        }
+    }
+
+    /// `e.v` value, `e?x` binding and `e!v` value of a communication.
+    #[allow(clippy::type_complexity)]
+    fn comm_parts(
+        &mut self,
+        comm: &SyntaxNode,
+        ty: Option<Dom>,
+    ) -> Result<(Option<Expr>, Option<(u16, Dom)>, Option<Expr>), Unsupported> {
+        let mut value = None;
+        let mut bind = None;
+        let mut out = None;
+        for p in comm.children() {
+            match p.kind() {
+                COMM_SYNC => {
+                    if let Some(e) = p.children().find(|e| ast::is_expr_kind(e.kind())) {
+                        value = Some(self.expr(&e)?);
+                    }
+                }
+                COMM_OUTPUT => {
+                    if let Some(e) = p.children().find(|e| ast::is_expr_kind(e.kind())) {
+                        out = Some(self.expr(&e)?);
+                    }
+                }
+                COMM_INPUT => {
+                    if p.children().any(|n| ast::is_expr_kind(n.kind()) || n.kind() == COMM_GUARD) {
+                        return Err(self.err(p.text_range(), "guarded inputs `e[|g|]?x` are not supported yet"));
+                    }
+                    let var = path_of(&p).join("::");
+                    match self.names.get(&var) {
+                        Some(Name::Var { slot, dom, .. }) => bind = Some((*slot, *dom)),
+                        _ => return Err(self.err(p.text_range(), format!("`{var}` is not a variable"))),
+                    }
+                }
+                _ => {}
+            }
+        }
+        if ty.is_none() && (value.is_some() || bind.is_some() || out.is_some()) {
+            return Err(self.err(comm.text_range(), "a value on an untyped event"));
+        }
+        Ok((value, bind, out))
+    }
+
+    fn action_stmt(&mut self, action: &SyntaxNode) -> Result<(), Unsupported> {
+        if let Some(s) = action.children().find(|s| ast::is_stmt_kind(s.kind())) {
+            self.stmt(&s)?;
+        }
+        Ok(())
+    }
+
+    fn stmt(&mut self, s: &SyntaxNode) -> Result<(), Unsupported> {
+        if s.kind() != SEQ_STMT {
+            self.at = s.text_range();
+        }
+        match s.kind() {
+            SEQ_STMT => {
+                for c in s.children().filter(|c| ast::is_stmt_kind(c.kind())) {
+                    self.stmt(&c)?;
+                }
+            }
+            SKIP_STMT => {}
+            ASSIGN_STMT => {
+                let target = s.children().find(|c| c.kind() == ASSIGNABLE).map(|a| path_of(&a).join("::"));
+                let target = target.unwrap_or_default();
+                let e = s
+                    .children()
+                    .find(|c| ast::is_expr_kind(c.kind()))
+                    .ok_or_else(|| self.err(s.text_range(), "an assignment without a value"))?;
+                let expr = self.expr(&e)?;
+                match self.names.get(&target) {
+                    Some(Name::Var { slot, dom, shared }) => {
+                        self.emit(Instr::Assign { slot: *slot, expr, dom: *dom, shared: *shared })
+                    }
+                    _ => return Err(self.err(s.text_range(), format!("`{target}` is not a variable of the machine"))),
+                }
+            }
+            CLOCK_RESET_STMT => {
+                let n = s.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)).unwrap_or_default();
+                match self.names.get(&n) {
+                    Some(Name::Clock(c)) => self.emit(Instr::ResetClock(*c)),
+                    _ => return Err(self.err(s.text_range(), format!("`{n}` is not a clock"))),
+                }
+            }
+            IF_STMT => {
+                let cond = s
+                    .children()
+                    .find(|c| ast::is_expr_kind(c.kind()))
+                    .ok_or_else(|| self.err(s.text_range(), "`if` without a condition"))?;
+                let cond = self.expr(&cond)?;
+                let branches: Vec<SyntaxNode> = s.children().filter(|c| ast::is_stmt_kind(c.kind())).collect();
+                let jif = self.code.len();
+                self.emit(Instr::JumpIfNot(cond.clone(), u32::MAX));
+                if let Some(t) = branches.first() {
+                    self.stmt(t)?;
+                }
+                if let Some(e) = branches.get(1) {
+                    let jend = self.code.len();
+                    self.emit(Instr::Jump(u32::MAX));
+                    self.code[jif] = Instr::JumpIfNot(cond, self.code.len() as u32);
+                    self.stmt(e)?;
+                    self.code[jend] = Instr::Jump(self.code.len() as u32);
+                } else {
+                    self.code[jif] = Instr::JumpIfNot(cond, self.code.len() as u32);
+                }
+            }
+            COMM_STMT => {
+                let comm = s
+                    .children()
+                    .find(|c| c.kind() == COMMUNICATION)
+                    .ok_or_else(|| self.err(s.text_range(), "an incomplete communication"))?;
+                let ev = comm.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)).unwrap_or_default();
+                let (chan, dir, ty) = self.event(&ev, comm.text_range())?;
+                let (value, bind, out) = self.comm_parts(&comm, ty)?;
+                match dir {
+                    Dir::Out => {
+                        if bind.is_some() {
+                            return Err(self.err(comm.text_range(), format!("`{ev}` is an output: it cannot receive")));
+                        }
+                        let args = out.or(value).into_iter().collect();
+                        self.emit(Instr::Out { chan, args, urgent: false });
+                    }
+                    Dir::In => {
+                        if out.is_some() {
+                            return Err(self.err(comm.text_range(), format!("`{ev}` is an input: it cannot send")));
+                        }
+                        self.emit(Instr::In { chan, value, bind });
+                    }
+                }
+            }
+            CALL_STMT => {
+                let name = path_of(s).join("::");
+                let args: Vec<SyntaxNode> = s
+                    .children()
+                    .find(|c| c.kind() == ARG_LIST)
+                    .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
+                    .unwrap_or_default();
+                let (params, chan) = match self.names.get(&name) {
+                    Some(Name::Op { params, chan }) => (params.clone(), *chan),
+                    _ => {
+                        return Err(self.err(
+                            s.text_range(),
+                            format!("`{name}` is not an operation of the robotic platform required by the machine"),
+                        ))
+                    }
+                };
+                if params.len() != args.len() {
+                    return Err(self.err(s.text_range(), format!("`{name}` takes {} arguments", params.len())));
+                }
+                let mut exprs = Vec::new();
+                for a in &args {
+                    exprs.push(self.expr(a)?);
+                }
+                self.emit(Instr::Out { chan, args: exprs, urgent: true });
+            }
+            WAIT_STMT => {
+                let e = s
+                    .children()
+                    .find(|c| ast::is_expr_kind(c.kind()))
+                    .ok_or_else(|| self.err(s.text_range(), "`wait` without a duration"))?;
+                if e.kind() == INTERVAL_EXPR {
+                    let bounds: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                    let [lo, hi] = bounds.as_slice() else {
+                        return Err(self.err(e.text_range(), "an interval needs two bounds"));
+                    };
+                    let open_lo = e.first_token().is_some_and(|t| t.kind() == L_PAREN);
+                    let open_hi = e.last_token().is_some_and(|t| t.kind() == R_PAREN);
+                    let mut lo = self.expr(lo)?;
+                    let mut hi = self.expr(hi)?;
+                    let wide = Dom { lo: Val::MIN / 4, hi: Val::MAX / 4 };
+                    if open_lo {
+                        lo = Expr::Arith(ArOp::Add, Box::new(lo), Box::new(Expr::Const(1)), wide);
+                    }
+                    if open_hi {
+                        hi = Expr::Arith(ArOp::Sub, Box::new(hi), Box::new(Expr::Const(1)), wide);
+                    }
+                    self.emit(Instr::ChooseWait(lo, hi));
+                } else {
+                    let n = self.expr(&e)?;
+                    self.emit(Instr::SetWait(n));
+                }
+                self.emit(Instr::Wait);
+            }
+            SIM_CALL_STMT | OUTPUT_COMM_STMT => {
+                return Err(self.err(s.text_range(), "`$` statements belong to RoboSim machines"));
+            }
+            TIMED_STMT => {
+                return Err(self.err(s.text_range(), "statement deadlines `<{d}` are not supported yet"));
+            }
+            k => {
+                return Err(self.err(
+                    s.text_range(),
+                    format!("this statement ({}) is not supported by the native checker yet", kind_words(k)),
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    fn expr(&mut self, e: &SyntaxNode) -> Result<Expr, Unsupported> {
+        let num = self.cx.defaults.real;
+        let int_dom = Dom { lo: self.cx.defaults.int.lo.min(num.lo), hi: self.cx.defaults.int.hi.max(num.hi) };
+        Ok(match e.kind() {
+            PAREN_EXPR => {
+                let inner = e
+                    .children()
+                    .find(|c| ast::is_expr_kind(c.kind()))
+                    .ok_or_else(|| self.err(e.text_range(), "empty parentheses"))?;
+                self.expr(&inner)?
+            }
+            LITERAL => {
+                let tok = e.first_token().ok_or_else(|| self.err(e.text_range(), "an empty literal"))?;
+                match tok.kind() {
+                    INT_NUMBER => Expr::Const(
+                        tok.text().parse().map_err(|_| self.err(e.text_range(), "this number is too large"))?,
+                    ),
+                    TRUE_KW => Expr::Const(1),
+                    FALSE_KW => Expr::Const(0),
+                    FLOAT_NUMBER => {
+                        let v: f64 = tok.text().parse().unwrap_or(f64::NAN);
+                        if v.fract() == 0.0 && v.abs() < 1e15 {
+                            Expr::Const(v as Val)
+                        } else {
+                            return Err(self.err(
+                                e.text_range(),
+                                "real numbers with a fractional part are not supported (reals are bounded integers, as in RoboTool)",
+                            ));
+                        }
+                    }
+                    _ => return Err(self.err(e.text_range(), "this literal is not supported by the native checker")),
+                }
+            }
+            REF_EXPR => {
+                let n = ident_text(e);
+                match self.names.get(&n) {
+                    Some(Name::Var { slot, .. }) => Expr::Slot(*slot),
+                    Some(Name::Const(v)) => Expr::Const(*v),
+                    _ => return Err(self.err(e.text_range(), format!("`{n}` is not a variable or constant"))),
+                }
+            }
+            ENUM_LITERAL_EXPR => {
+                let parts: Vec<String> =
+                    e.children().filter(|c| c.kind() == NAME_REF).map(|c| ident_text(&c)).collect();
+                let (lit, en) = parts.split_last().ok_or_else(|| self.err(e.text_range(), "an empty literal"))?;
+                let (_, decl) = self
+                    .cx
+                    .resolve(self.file, en, |k| k == DefKind::Enumeration)
+                    .ok_or_else(|| self.err(e.text_range(), "the enumeration could not be resolved"))?;
+                let ix =
+                    decl.children().filter(|c| c.kind() == ENUM_LITERAL).position(|c| name_of(&c) == *lit).ok_or_else(
+                        || self.err(e.text_range(), format!("`{lit}` is not a literal of the enumeration")),
+                    )?;
+                Expr::Const(ix as Val)
+            }
+            SINCE_EXPR => {
+                let n = e.children().find(|c| c.kind() == NAME_REF).map(|c| ident_text(&c)).unwrap_or_default();
+                match self.names.get(&n) {
+                    Some(Name::Clock(s)) => Expr::Clock(*s),
+                    _ => return Err(self.err(e.text_range(), format!("`{n}` is not a clock"))),
+                }
+            }
+            SINCE_ENTRY_EXPR => {
+                let path = path_of(e);
+                let n = path.last().cloned().unwrap_or_default();
+                let Some(node) = self.nodes.iter().position(|x| x.name == n && x.kind == NodeKind::State) else {
+                    return Err(self.err(e.text_range(), format!("`{n}` is not a state of the machine")));
+                };
+                let slot = match self.nodes[node].since_entry {
+                    Some(s) => s,
+                    None => {
+                        let s = self.new_slot();
+                        self.nodes[node].since_entry = Some(s);
+                        let q = format!("{}::sinceEntry({n})", self.inst_prefix);
+                        self.design().clocks.push(Clock { name: q, slot: s, cap: 0 });
+                        self.clock_caps.insert(s, 0);
+                        s
+                    }
+                };
+                Expr::Clock(slot)
+            }
+            PREFIX_EXPR => {
+                let op = e.first_token().map(|t| t.kind());
+                let inner = e
+                    .children()
+                    .find(|c| ast::is_expr_kind(c.kind()))
+                    .ok_or_else(|| self.err(e.text_range(), "an operator without an operand"))?;
+                let inner = self.expr(&inner)?;
+                match op {
+                    Some(NOT_KW) => Expr::Not(Box::new(inner)),
+                    Some(MINUS) => match inner.constant() {
+                        Some(v) => Expr::Const(-v),
+                        None => Expr::Neg(Box::new(inner), int_dom),
+                    },
+                    _ => return Err(self.err(e.text_range(), "this operator is not supported by the native checker")),
+                }
+            }
+            BIN_EXPR => {
+                let ops = ast::operand_exprs(e);
+                let [a, b] = ops.as_slice() else {
+                    return Err(self.err(e.text_range(), "an incomplete expression"));
+                };
+                let op = ast::binary_operator(e);
+                let x = self.expr(a)?;
+                let y = self.expr(b)?;
+                // Clock comparisons bound the clock's range.
+                if let Some(op @ (EQ2 | NEQ | LT | LTEQ | GT | GTEQ)) = op {
+                    let _ = op;
+                    for (c, other) in [(&x, &y), (&y, &x)] {
+                        if let Expr::Clock(s) = c {
+                            let v = other.constant().map(|v| v.clamp(0, i32::MAX as Val) as i32).unwrap_or(-1);
+                            let cap = self.clock_caps.entry(*s).or_insert(0);
+                            *cap = if v < 0 || *cap < 0 { -1 } else { (*cap).max(v) };
+                        }
+                    }
+                }
+                let ar = |op| Expr::Arith(op, Box::new(x.clone()), Box::new(y.clone()), int_dom);
+                let result = match op {
+                    Some(PLUS) => ar(ArOp::Add),
+                    Some(MINUS) => ar(ArOp::Sub),
+                    Some(STAR) => ar(ArOp::Mul),
+                    Some(SLASH) => ar(ArOp::Div),
+                    Some(PERCENT) => ar(ArOp::Mod),
+                    Some(EQ2) => Expr::Cmp(CmpOp::Eq, Box::new(x), Box::new(y)),
+                    Some(NEQ) => Expr::Cmp(CmpOp::Ne, Box::new(x), Box::new(y)),
+                    Some(LT) => Expr::Cmp(CmpOp::Lt, Box::new(x), Box::new(y)),
+                    Some(LTEQ) => Expr::Cmp(CmpOp::Le, Box::new(x), Box::new(y)),
+                    Some(GT) => Expr::Cmp(CmpOp::Gt, Box::new(x), Box::new(y)),
+                    Some(GTEQ) => Expr::Cmp(CmpOp::Ge, Box::new(x), Box::new(y)),
+                    Some(AND) => Expr::Log(LogOp::And, Box::new(x), Box::new(y)),
+                    Some(OR) => Expr::Log(LogOp::Or, Box::new(x), Box::new(y)),
+                    Some(IMPLIES) => Expr::Log(LogOp::Implies, Box::new(x), Box::new(y)),
+                    Some(IFF_KW) => Expr::Log(LogOp::Iff, Box::new(x), Box::new(y)),
+                    _ => return Err(self.err(e.text_range(), "this operator is not supported by the native checker")),
+                };
+                // Fold constant subexpressions (`PI / av`).
+                match result.constant() {
+                    Some(v) if matches!(result, Expr::Arith(..)) => Expr::Const(v),
+                    _ => result,
+                }
+            }
+            IF_EXPR => {
+                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let [c, a, b] = parts.as_slice() else {
+                    return Err(self.err(e.text_range(), "an incomplete conditional"));
+                };
+                Expr::If(Box::new(self.expr(c)?), Box::new(self.expr(a)?), Box::new(self.expr(b)?))
+            }
+            k => {
+                return Err(self.err(
+                    e.text_range(),
+                    format!("this expression ({}) is not supported by the native checker yet", kind_words(k)),
+                ))
+            }
+        })
+    }
+}
+
+fn kind_words(k: SyntaxKind) -> String {
+    format!("{k:?}").to_lowercase().replace('_', " ")
+}

@@ -1,0 +1,228 @@
+//! Schedulability (`S is schedulable`) on small models, one construct at a
+//! time, and on the paper's running example against the reference oracle
+//! (`../shared/spec/semantics_oracle.py`, run with python3).
+
+use robosim_check::verify::{trace_text, verify_workspace, Options, Report, Verdict};
+
+/// Runs the assertions of `rsa` over the design `rct`.
+fn run(rct: &str, rsa: &str) -> Vec<Report> {
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(
+        &db,
+        [("design.rct".to_string(), rct.to_string()), ("checks.rsa".to_string(), rsa.to_string())],
+        robosim_hir::RuleSet::Paper,
+    );
+    verify_workspace(&db, ws, &Options::default(), None)
+}
+
+/// A module around one machine `M` with the platform events and operations
+/// of interface `I` (inputs `i`, `v`; outputs `o`, `w`; operations `op`, `op2(x)`).
+fn module(machine: &str) -> String {
+    format!(
+        "interface I {{ event i event v : nat event o event w : nat op() op2(x : nat) }}
+         enumeration Colour {{ Red Green Blue }}
+         {machine}
+         controller C {{ uses I requires I sref m = M
+           connection C on i to m on i connection C on v to m on v
+           connection m on o to C on o connection m on w to C on w }}
+         module Mod {{ robotic platform P {{ uses I provides I }} cref c = C
+           connection P on i to c on i connection P on v to c on v
+           connection c on o to P on o connection c on w to P on w }}"
+    )
+}
+
+/// `Mod` checked with period `p`: (verdict of `is schedulable`, states, trace).
+fn sched(machine: &str, p: u32) -> (Verdict, u64, String) {
+    let rsa = format!("simulation S of Mod {{ cycleDef cycle == {p} }}\nassertion A : S is schedulable");
+    let r = run(&module(machine), &rsa).remove(0);
+    let trace = r.counterexample.as_ref().map(|c| trace_text(&c.steps)).unwrap_or_default();
+    (r.verdict, r.stats.states, if r.verdict == Verdict::Unsupported { r.reason.unwrap_or_default() } else { trace })
+}
+
+/// One construct per case: the machine, the period, the verdict of
+/// `S is schedulable`, the states explored, and the counterexample's trace
+/// (hidden design events in parentheses) or the reason it is unsupported.
+const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
+    ("idle machine", "stm M { uses I initial i0 state S { } transition t { from i0 to S } }", 1, Verdict::Pass, 32, ""),
+    (
+        "one call per cycle",
+        "stm M { requires I initial i0 state S { entry op(); wait(1) } transition t { from i0 to S }
+         transition u { from S to S } }",
+        1, Verdict::Pass, 143, "",
+    ),
+    (
+        "two calls in one cycle",
+        "stm M { requires I initial i0 state S { entry op(); op() } transition t { from i0 to S } }",
+        1, Verdict::Fail, 31, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op",
+    ),
+    (
+        "calls of two operations in one cycle",
+        "stm M { requires I initial i0 state S { entry op(); op2(1) } transition t { from i0 to S } }",
+        1, Verdict::Pass, 79, "",
+    ),
+    (
+        "a call due between samples",
+        "stm M { requires I initial i0 state S { entry op(); wait(1); op2(2); wait(1) } transition t { from i0 to S }
+         transition u { from S to S } }",
+        2, Verdict::Fail, 39, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
+    ),
+    (
+        // The guard sees the value of `x` before the input (as in RoboChart).
+        "an input trigger binding a value, guarded output",
+        "stm M { uses I var x : nat initial i0 state S { } transition t { from i0 to S }
+         transition u { from S to S trigger v?x condition x < 2 action w!(x + 1) } }",
+        1, Verdict::Pass, 118, "",
+    ),
+    (
+        // Outputs are delayable: the second waits for the next cycle.
+        "an output event twice in a cycle",
+        "stm M { uses I initial i0 state S { } transition t { from i0 to S }
+         transition u { from S to S trigger i action o; o } }",
+        1, Verdict::Pass, 144, "",
+    ),
+    (
+        "wait interval at period 1",
+        "stm M { requires I initial i0 state S { entry op(); wait([1, 2]) } transition t { from i0 to S }
+         transition u { from S to S } }",
+        1, Verdict::Pass, 271, "",
+    ),
+    (
+        "wait interval with period 2",
+        "stm M { requires I initial i0 state S { entry op(); wait([1, 2]) } transition t { from i0 to S }
+         transition u { from S to S } }",
+        2, Verdict::Fail, 95, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
+    ),
+    (
+        "clock guard with since",
+        "stm M { requires I clock C initial i0 state S { entry op() } state T { }
+         transition t { from i0 to S action #C } transition u { from S to T condition since(C) >= 2 }
+         transition w { from T to S action #C } }",
+        1, Verdict::Pass, 239, "",
+    ),
+    (
+        "sinceEntry guard with an odd delay at period 2",
+        "stm M { requires I initial i0 state S { entry op() } state T { entry op2(0) }
+         transition t { from i0 to S } transition u { from S to T condition sinceEntry(S) >= 3 }
+         transition w { from T to S condition sinceEntry(T) >= 3 } }",
+        2, Verdict::Fail, 108, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock tock registerRead.i_i.true registerRead.i_v.true.0 tock",
+    ),
+    (
+        "composite state: entry, inner initial, exit order",
+        "stm M { requires I initial i0
+           state A { entry op() exit op2(1) initial j state B { } transition tb { from j to B } }
+           state D { }
+           transition t { from i0 to A } transition u { from A to D trigger i } }",
+        1, Verdict::Pass, 115, "",
+    ),
+    (
+        "junction choosing on a variable, with if and arithmetic",
+        "stm M { requires I var n : nat initial i0 junction J state S { entry n = n + 1; if n > 1 then op() else op2(n) end; wait(1) }
+         transition t { from i0 to S } transition u { from S to J }
+         transition a { from J to S condition n < 2 } transition b { from J to S condition n >= 2 action n = 0 } }",
+        1, Verdict::Pass, 287, "",
+    ),
+    (
+        "enumeration variable",
+        "stm M { requires I var c : Colour = Colour::Red initial i0 state S { entry if c == Colour::Blue then op() end; wait(1) }
+         transition t { from i0 to S } transition u { from S to S action c = Colour::Blue } }",
+        1, Verdict::Pass, 127, "",
+    ),
+    (
+        "termination",
+        "stm M { requires I initial i0 final F transition t { from i0 to F action op() } }",
+        1, Verdict::Pass, 39, "",
+    ),
+    (
+        "during actions are refused",
+        "stm M { requires I initial i0 state S { during op() } transition t { from i0 to S } }",
+        1, Verdict::Unsupported, 0, "during actions are not supported",
+    ),
+    (
+        "probabilistic junctions are refused",
+        "stm M { requires I initial i0 probabilistic P state S { } transition t { from i0 to P }
+         transition a { from P to S probability 0.5 } transition b { from P to S probability 0.5 } }",
+        1, Verdict::Unsupported, 0, "probabilistic junctions have no meaning",
+    ),
+];
+
+#[test]
+fn constructs() {
+    let mut failures = Vec::new();
+    for &(name, machine, p, verdict, states, text) in CASES {
+        let got = sched(machine, p);
+        let ok = got.0 == verdict
+            && got.1 == states
+            && (got.2 == text || (verdict == Verdict::Unsupported && got.2.contains(text)));
+        println!("{name}: {:?} {} {:?}", got.0, got.1, got.2);
+        if !ok {
+            failures.push(format!("{name}: expected {verdict:?} {states} {text:?}, got {got:?}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The paper's Figure 1 (examples/paper/design.rct) and its variants, as the
+/// oracle names them.
+fn figure1(variant: &str) -> String {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/paper/design.rct"))
+        .expect("examples/paper/design.rct");
+    let out = match variant {
+        "Fig.1" => text.clone(),
+        "Fig.1 without wait(1) in Moving" => text.replace("entry move(lv, 0); wait(1)", "entry move(lv, 0)"),
+        "Fig.1 with wait([0,1]) fixed to 0" => text.replace("wait([0, 1])", "wait(0)"),
+        v => panic!("unknown variant {v}"),
+    };
+    assert!(variant == "Fig.1" || out != text, "the variant edit of {variant} did not apply");
+    out
+}
+
+/// The oracle's event names in ours (lv = 1, av = 15, registers `i_`/`o_`).
+fn oracle_trace(t: &str) -> String {
+    t.split_whitespace()
+        .map(|e| match e {
+            "registerRead.obstacle.True" => "registerRead.i_obstacle.true",
+            "registerRead.obstacle.False" => "registerRead.i_obstacle.false",
+            "(moveCall.lv.0)" => "(moveCall.1.0)",
+            "(moveCall.0.av)" => "(moveCall.0.15)",
+            "registerWrite.move.lv.0" => "registerWrite.o_move.1.0",
+            "registerWrite.move.0.av" => "registerWrite.o_move.0.15",
+            "registerWrite.stop" => "registerWrite.o_stop",
+            "(obstacle)" => "(obstacle.in)",
+            other => other,
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Every schedulability case of the oracle in the `robotool3` profile:
+/// same verdict and, for failures, the same shortest counterexample (the
+/// oracle's state counts are not compared: it steps through every
+/// internal instruction, we run straight-line code in one step).
+#[test]
+fn agrees_with_the_oracle_on_the_running_example() {
+    let oracle = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/spec/semantics_oracle.py");
+    let out = std::process::Command::new("python3").arg(oracle).output().expect("python3 runs the oracle");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).expect("utf-8");
+    let mut compared = 0;
+    for line in text.lines().filter(|l| l.starts_with("robotool3 ")) {
+        let rest = line["robotool3 ".len()..].trim_start();
+        let (variant, rest) = rest.split_once("  p=").expect("variant and period");
+        let variant = variant.trim();
+        let p: u32 = rest[..1].parse().expect("period");
+        let (verdict, trace) = match rest.split_once("NOT schedulable: ") {
+            Some((_, t)) => (Verdict::Fail, oracle_trace(t)),
+            None => (Verdict::Pass, String::new()),
+        };
+        let rsa = format!(
+            "simulation S of paper_design::CFootBot {{ cycleDef cycle == {p} }}
+             assertion A : S is schedulable with constant PI of paper_design::SMovement set to 45,
+               constant av of paper_design::SMovement set to 15, and constant lv of paper_design::SMovement set to 1 ."
+        );
+        let r = run(&figure1(variant), &rsa).remove(0);
+        let got = r.counterexample.as_ref().map(|c| trace_text(&c.steps)).unwrap_or_default();
+        assert_eq!((r.verdict, got.as_str()), (verdict, trace.as_str()), "{variant}, p = {p}");
+        compared += 1;
+    }
+    assert_eq!(compared, 12, "the oracle's robotool3 schedulability lines");
+}

@@ -1,0 +1,261 @@
+//! `robosim verify`: runs the assertions of the workspace's assertion files
+//! with the native checker and reports verdicts, statistics and
+//! counterexamples (a table for people, one JSON object for machines).
+
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use robosim_check::budget::{Budget, Stats};
+use robosim_check::verify::{verify_workspace, Counterexample, Location, Options, Profile, Report, Verdict};
+use serde_json::{json, Value};
+
+use crate::workspace::Workspace;
+use crate::{fail, Format};
+
+/// The command's arguments.
+pub struct Args {
+    pub format: Format,
+    pub profile: Profile,
+    pub max_states: Option<u64>,
+    pub timeout: Option<f64>,
+    pub threads: Option<usize>,
+    pub paths: Vec<PathBuf>,
+}
+
+pub fn run(args: Args) -> ExitCode {
+    let ws = match Workspace::load(&args.paths, robosim_hir::RuleSet::Paper) {
+        Ok(ws) => ws,
+        Err(e) => return fail(e),
+    };
+    let mut budget = Budget::default();
+    if let Some(n) = args.max_states {
+        budget.max_states = n;
+    }
+    if let Some(t) = args.timeout {
+        if !(t.is_finite() && t > 0.0) {
+            return fail("--timeout takes a positive number of seconds");
+        }
+        budget.timeout = Some(Duration::from_secs_f64(t));
+    }
+    if let Some(n) = args.threads {
+        budget = budget.with_threads(n.max(1));
+    }
+    let opts = Options { profile: args.profile, budget };
+    // A progress line on a terminal, for checks that take a while.
+    let show_progress = std::io::stderr().is_terminal() && matches!(args.format, Format::Human);
+    let started = Instant::now();
+    let last = Mutex::new(Instant::now());
+    let progress = |s: &Stats| {
+        if !show_progress || started.elapsed() < Duration::from_millis(500) {
+            return;
+        }
+        if let Ok(mut l) = last.lock() {
+            if l.elapsed() >= Duration::from_millis(200) {
+                *l = Instant::now();
+                eprint!("\r  exploring: {} states, {} transitions, ply {} …   ", s.states, s.transitions, s.plies);
+            }
+        }
+    };
+    let reports = verify_workspace(&ws.db, ws.input, &opts, Some(&progress));
+    if show_progress && started.elapsed() >= Duration::from_millis(500) {
+        eprint!("\r{}\r", " ".repeat(72));
+    }
+    let out = std::io::stdout();
+    let result = match args.format {
+        Format::Json => writeln!(out.lock(), "{}", to_json(&ws, &reports)),
+        Format::Human => write!(out.lock(), "{}", render_human(&ws, &reports, args.profile)),
+    };
+    if let Err(e) = result {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            return fail(format!("cannot write the report: {e}"));
+        }
+    }
+    ExitCode::from(exit_status(&reports))
+}
+
+/// 0 when every assertion passes, 1 when one fails, 3 when none fails but
+/// some could not be decided.
+fn exit_status(reports: &[Report]) -> u8 {
+    if reports.iter().any(|r| r.verdict == Verdict::Fail) {
+        1
+    } else if reports.iter().all(|r| r.verdict == Verdict::Pass) {
+        0
+    } else {
+        3
+    }
+}
+
+/// A (0-based line, column) pair.
+type LineCol = (u32, u32);
+
+/// The start and end of `loc` in its file, when the file is loaded.
+fn position(ws: &Workspace, loc: &Location) -> Option<(LineCol, LineCol)> {
+    let f = ws.files.iter().find(|f| f.path == loc.file)?;
+    let s = f.line_index.line_col(&f.text, loc.range.start());
+    let e = f.line_index.line_col(&f.text, loc.range.end());
+    Some(((s.line, s.col), (e.line, e.col)))
+}
+
+fn json_location(ws: &Workspace, loc: &Location) -> Value {
+    match position(ws, loc) {
+        Some((s, e)) => json!({
+            "file": loc.file,
+            "range": {"start": {"line": s.0, "character": s.1}, "end": {"line": e.0, "character": e.1}},
+        }),
+        None => json!({ "file": loc.file }),
+    }
+}
+
+fn json_counterexample(ws: &Workspace, c: &Counterexample) -> Value {
+    json!({
+        "kind": c.kind,
+        "steps": c.steps.iter().map(|s| json!({
+            "event": s.event,
+            "visible": s.visible,
+            "cycle": s.cycle,
+            "time": s.time,
+            "description": s.description,
+            "location": s.location.as_ref().map(|l| json_location(ws, l)),
+        })).collect::<Vec<_>>(),
+        "explanation": c.explanation,
+        "stuckAt": c.stuck_at.iter().map(|l| json_location(ws, l)).collect::<Vec<_>>(),
+    })
+}
+
+/// `{"assertions": [...]}`.
+pub fn to_json(ws: &Workspace, reports: &[Report]) -> Value {
+    let list: Vec<Value> = reports
+        .iter()
+        .map(|r| {
+            let at = Location { file: r.file.clone(), range: r.range };
+            json!({
+                "file": r.file,
+                "name": r.name,
+                "text": r.text,
+                "range": json_location(ws, &at)["range"].clone(),
+                "verdict": r.verdict.name(),
+                "states": r.stats.states,
+                "transitions": r.stats.transitions,
+                "seconds": r.stats.seconds,
+                "counterexample": r.counterexample.as_ref().map(|c| json_counterexample(ws, c)),
+                "reason": r.reason,
+                "notes": r.notes,
+            })
+        })
+        .collect();
+    json!({ "assertions": list })
+}
+
+/// The assertion's claim without its keyword, name and `with …` clauses.
+fn headline(text: &str) -> &str {
+    let body = text.split_once(':').map_or(text, |(_, b)| b.trim());
+    body.split_once(" with ").map_or(body, |(b, _)| b).trim_end_matches(" .").trim_end_matches('.').trim()
+}
+
+fn short_location(ws: &Workspace, loc: &Location) -> String {
+    match position(ws, loc) {
+        Some((s, _)) => format!("{}:{}:{}", loc.file, s.0 + 1, s.1 + 1),
+        None => loc.file.clone(),
+    }
+}
+
+/// The verdict table, then the details of each failure.
+pub fn render_human(ws: &Workspace, reports: &[Report], profile: Profile) -> String {
+    let mut s = String::new();
+    if reports.is_empty() {
+        s.push_str("no assertions found (assertions live in .rsa and .assertions files)\n");
+        return s;
+    }
+    let mut file = "";
+    for r in reports {
+        if r.file != file {
+            file = &r.file;
+            s.push_str(&format!("{file}\n"));
+        }
+        let stats = if r.stats.states > 0 {
+            format!("  ({} states, {} transitions, {:.3} s)", r.stats.states, r.stats.transitions, r.stats.seconds)
+        } else {
+            String::new()
+        };
+        s.push_str(&format!("  {:<13} {}: {}{stats}\n", r.verdict.name(), r.name, headline(&r.text)));
+        if r.verdict != Verdict::Pass {
+            if let Some(reason) = &r.reason {
+                s.push_str(&format!("                {reason}\n"));
+            }
+        }
+        if let Some(c) = &r.counterexample {
+            if r.verdict == Verdict::Fail {
+                render_counterexample(&mut s, ws, c);
+            }
+        }
+    }
+    let count = |v: Verdict| reports.iter().filter(|r| r.verdict == v).count();
+    s.push_str(&format!(
+        "verified {} assertions ({}): {} pass, {} fail, {} inconclusive, {} unsupported\n",
+        reports.len(),
+        profile.name(),
+        count(Verdict::Pass),
+        count(Verdict::Fail),
+        count(Verdict::Inconclusive),
+        count(Verdict::Unsupported)
+    ));
+    s
+}
+
+/// A counterexample grouped by cycle: reads, the design's hidden steps with
+/// their source, writes, and time passing.
+fn render_counterexample(s: &mut String, ws: &Workspace, c: &Counterexample) {
+    let pad = "                ";
+    s.push_str(&format!("{pad}{} reached by:\n", c.kind));
+    let mut cycle = u32::MAX;
+    let mut tocks = 0;
+    let flush = |s: &mut String, tocks: &mut u32| {
+        if *tocks > 0 {
+            let unit = if *tocks == 1 { "time unit passes" } else { "time units pass" };
+            s.push_str(&format!("{pad}             {tocks} {unit}\n"));
+            *tocks = 0;
+        }
+    };
+    for step in &c.steps {
+        if step.event == "tock" {
+            tocks += 1;
+            continue;
+        }
+        flush(s, &mut tocks);
+        if step.cycle != cycle {
+            cycle = step.cycle;
+            s.push_str(&format!("{pad}  cycle {cycle}  t = {}\n", step.time));
+        }
+        let (what, event) = if let Some(e) = step.event.strip_prefix("registerRead.") {
+            ("read  ", e.to_string())
+        } else if let Some(e) = step.event.strip_prefix("registerWrite.") {
+            ("write ", e.to_string())
+        } else if step.visible {
+            ("event ", step.event.clone())
+        } else {
+            ("design", step.event.clone())
+        };
+        if !step.visible && step.description.is_none() && event == "τ" {
+            continue;
+        }
+        let mut line = format!("{pad}    {what} {event}");
+        if let Some(d) = &step.description {
+            line.push_str(&format!("  {d}"));
+        }
+        if let Some(l) = &step.location {
+            line.push_str(&format!("  --> {}", short_location(ws, l)));
+        }
+        s.push_str(&line);
+        s.push('\n');
+    }
+    flush(s, &mut tocks);
+    for e in &c.explanation {
+        s.push_str(&format!("{pad}  stuck: {e}\n"));
+    }
+    for l in &c.stuck_at {
+        s.push_str(&format!("{pad}    --> {}\n", short_location(ws, l)));
+    }
+}

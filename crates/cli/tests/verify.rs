@@ -1,0 +1,106 @@
+//! End-to-end tests of `robosim verify`: verdicts on the paper's running
+//! example, the JSON contract, the human rendering of a counterexample and
+//! the exit codes.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use expect_test::expect_file;
+
+fn robosim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_robosim"))
+}
+
+fn data() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/verify")
+}
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+fn json(args: &[&str], path: &Path) -> (Option<i32>, serde_json::Value) {
+    let out = robosim().arg("verify").args(args).args(["--format", "json"]).arg(path).output().unwrap();
+    let v = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!("{e}: {}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr))
+    });
+    (out.status.code(), v)
+}
+
+fn find<'a>(v: &'a serde_json::Value, file: &str, name: &str) -> &'a serde_json::Value {
+    v["assertions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|a| a["file"].as_str().unwrap().ends_with(file) && a["name"] == name)
+        .unwrap_or_else(|| panic!("no assertion {name} of {file} in {v:#}"))
+}
+
+/// GT-1, GT-2a and GT-2b of the running example (Figure 1 with PI = 45,
+/// av = 15, lv = 1): schedulable with period 1, not with 2 or 3.
+#[test]
+fn running_example_schedulability() {
+    let (code, v) = json(&[], &examples().join("paper"));
+    let s1 = find(&v, "assertions.rsa", "S1");
+    assert_eq!(s1["verdict"], "pass", "{s1:#}");
+    assert_eq!(s1["counterexample"], serde_json::Value::Null);
+    assert!(s1["states"].as_u64().unwrap() > 0);
+    let s2 = find(&v, "assertions.rsa", "S2");
+    assert_eq!(s2["verdict"], "pass", "{s2:#}");
+    // `is not schedulable` passes with the deadlock as its witness.
+    let steps = s2["counterexample"]["steps"].as_array().unwrap();
+    let events: Vec<&str> = steps.iter().map(|s| s["event"].as_str().unwrap()).filter(|e| *e != "τ").collect();
+    assert_eq!(
+        events.join(" "),
+        "registerRead.i_obstacle.true (moveCall.1.0) registerWrite.o_move.1.0 tock tock \
+         registerRead.i_obstacle.true (obstacle.in) (stopCall) registerWrite.o_stop tock"
+    );
+    // The design's steps point at the model: move(lv, 0) in Moving's entry.
+    let call = steps.iter().find(|s| s["event"] == "(moveCall.1.0)").unwrap();
+    assert!(call["location"]["file"].as_str().unwrap().ends_with("design.rct"));
+    assert_eq!(call["location"]["range"]["start"], serde_json::json!({"line": 33, "character": 14}));
+    assert_eq!(steps.last().unwrap()["cycle"], 1);
+    assert_eq!(find(&v, "assertions.rsa", "S3")["verdict"], "pass");
+    // Refinement is not checked yet: unsupported, with the reason.
+    let r1 = find(&v, "assertions.rsa", "R1");
+    assert_eq!(r1["verdict"], "unsupported");
+    assert!(r1["reason"].as_str().unwrap().contains("refinement"), "{r1:#}");
+    // No failure, some unsupported: exit 3.
+    assert_eq!(code, Some(3));
+}
+
+/// GT-3: without the wait(1) the design cannot be scheduled; the
+/// counterexample is the paper's, rendered by cycle with source locations.
+#[test]
+fn unschedulable_variant_counterexample() {
+    let out = robosim().current_dir(data()).args(["verify", "gt3"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let text: String = text
+        .lines()
+        .map(|l| match l.find("  (") {
+            // Timings vary from run to run.
+            Some(i) if l.contains(" s)") => format!("{}{}", &l[..i], "  (…)"),
+            _ => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    expect_file!["data/verify/gt3.txt"].assert_eq(&text);
+}
+
+#[test]
+fn budget_exhaustion_is_inconclusive() {
+    let (code, v) = json(&["--max-states", "5"], &examples().join("paper"));
+    let s1 = find(&v, "assertions.rsa", "S1");
+    assert_eq!(s1["verdict"], "inconclusive", "{s1:#}");
+    assert!(s1["reason"].as_str().unwrap().contains("state"), "{s1:#}");
+    assert_eq!(code, Some(3));
+}
+
+#[test]
+fn usage_errors() {
+    let out = robosim().args(["verify", "/nonexistent/robosim"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let out = robosim().args(["verify", "--timeout", "-1"]).arg(examples()).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
