@@ -9,7 +9,7 @@ use robosim_check::algo::{find_deadlock, DeadlockResult};
 use robosim_check::budget::Budget;
 use robosim_check::ir::Design;
 use robosim_check::lower::{lower_design, ConstValue, DomainDefaults};
-use robosim_check::sched::Constrained;
+use robosim_check::sched::{Constrained, Profile};
 
 fn main() {
     divan::main();
@@ -56,7 +56,7 @@ fn design(text: &str, item: &str, consts: &[ConstValue]) -> Design {
 
 /// The search alone (the design is compiled once): (states, bytes stored).
 fn check(design: &Design, p: u32) -> (u64, u64) {
-    let lts = Constrained::new(design, p).expect("encodable");
+    let lts = Constrained::new(design, p, Profile::RoboTool3).expect("encodable");
     let (result, stats) = find_deadlock(&lts, &Budget::default().with_threads(1), None);
     assert!(matches!(result, DeadlockResult::Free | DeadlockResult::Deadlock(_)));
     (stats.states, stats.bytes)

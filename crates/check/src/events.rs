@@ -69,6 +69,11 @@ impl EventTable {
         g.base + ix as Event
     }
 
+    /// The id the next added channel starts at.
+    pub fn next_event(&self) -> Event {
+        self.groups.last().map_or(FIRST_VISIBLE, |g| g.base + g.size as Event)
+    }
+
     /// The channel and arguments of `event`.
     pub fn decode(&self, event: Event) -> Option<(usize, Vec<Val>)> {
         let gi = self.groups.iter().position(|g| event >= g.base && ((event - g.base) as u64) < g.size)?;

@@ -1,11 +1,21 @@
-//! The constrained design of a schedulability check (semantics.md §4.2–4.3,
-//! RoboTool 3 profile): the compiled design in parallel with the
-//! simulation assumptions A1 (inputs are read from registers), A2 (each
-//! output is written to its register, at most once per period) and A3 (the
-//! cycle: reads, execution, quiescence until the next sample time), with
-//! the design's external events hidden, τ before `tock`, and RoboTool's
-//! timelock escape (`TLFree`). `S is schedulable` holds iff this LTS has
-//! no deadlock.
+//! The constrained design of a schedulability check (semantics.md §4):
+//! the compiled design in parallel with the simulation assumptions, in two
+//! profiles.
+//!
+//! - `robotool3` (§4.2–4.3, what RoboTool 3 generates): A1 (inputs are read
+//!   from registers), A2 (each output is written to its register at once, at
+//!   most once per period) and A3 (the cycle: reads, execution, quiescence
+//!   until the next sample time), with the design's external events hidden,
+//!   τ before `tock`, and RoboTool's timelock escape (`TLFree`).
+//! - `paper2019` (§4.4, the paper's definitions): calls return (`opRet`),
+//!   TA2 buffers the outputs of a cycle and writes them in order as
+//!   `registerWrite.o.true.args`, then `false` for the others; TA3 admits
+//!   one write per register and then exactly `p` tocks; external events stay
+//!   visible and have priority over writes and `tock`. TA1 is the external
+//!   choice (the internal one printed in the paper contradicts its verdict
+//!   on Figure 13).
+//!
+//! `S is schedulable` holds iff this LTS has no deadlock.
 
 use std::sync::Mutex;
 
@@ -28,10 +38,33 @@ const DONE: i32 = 2;
 const READ: i32 = 0;
 const RUN: i32 = 1;
 const WAIT: i32 = 2;
+/// `paper2019`: writing the registers of the cycle (`arg`: those left).
+const WRITES: i32 = 3;
+
+/// Which semantics (semantics.md §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Profile {
+    /// What RoboTool 3 generates (the default).
+    #[default]
+    RoboTool3,
+    /// The definitions of the 2019 paper.
+    Paper2019,
+}
+
+impl Profile {
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Profile::RoboTool3 => "robotool3",
+            Profile::Paper2019 => "paper2019",
+        }
+    }
+}
 
 /// The constrained design of `simulation S of M` with period `p`.
 pub struct Constrained<'a> {
     design: &'a Design,
+    profile: Profile,
     period: i32,
     /// Channel indices of the inputs and outputs, in order.
     inputs: Vec<u16>,
@@ -41,10 +74,17 @@ pub struct Constrained<'a> {
     /// the design's own (hidden) events per channel, `timelock`, `terminate`.
     read_group: Vec<usize>,
     write_group: Vec<usize>,
+    /// `paper2019`: `registerWrite.o.false` per output.
+    false_group: Vec<usize>,
     design_group: Vec<usize>,
+    /// `paper2019`: `opRet` per channel (calls only).
+    ret_group: Vec<usize>,
+    /// The ids of register writes (true and false) are `writes.0..writes.1`.
+    writes: (Event, Event),
     timelock: Event,
     terminate: Event,
-    // Slots.
+    // Slots. In `paper2019`, `avail` holds the outputs not produced yet in
+    // this cycle and `pend` the absences still to write (-1: none yet).
     mode: usize,
     a1: usize,
     avail: usize,
@@ -52,6 +92,11 @@ pub struct Constrained<'a> {
     k: usize,
     phase: usize,
     arg: usize,
+    /// `paper2019`: the outputs produced in this cycle (their write events,
+    /// in order; 0 = none), and per machine the channel of a call awaiting
+    /// its return (+1; 0 = none).
+    occ: usize,
+    ret: usize,
     len: usize,
     /// The first run-time error met (division by zero …): the search
     /// result is then inconclusive.
@@ -64,7 +109,7 @@ pub const MAX_OUTPUTS: usize = 30;
 
 impl<'a> Constrained<'a> {
     /// Builds the constrained design; fails on designs too large to encode.
-    pub fn new(design: &'a Design, period: u32) -> Result<Constrained<'a>, String> {
+    pub fn new(design: &'a Design, period: u32, profile: Profile) -> Result<Constrained<'a>, String> {
         let inputs: Vec<u16> =
             design.channels.iter().enumerate().filter(|(_, c)| c.dir == Dir::In).map(|(i, _)| i as u16).collect();
         let outputs: Vec<u16> =
@@ -77,28 +122,46 @@ impl<'a> Constrained<'a> {
         }
         let mut events = EventTable::default();
         let too_many = |e: crate::events::TooManyEvents| format!("the channel `{}` has too many values", e.0);
+        let paper = profile == Profile::Paper2019;
         let mut read_group = Vec::new();
         let mut write_group = Vec::new();
+        let mut false_group = Vec::new();
         let mut design_group = vec![usize::MAX; design.channels.len()];
+        let mut ret_group = vec![usize::MAX; design.channels.len()];
         for &i in &inputs {
             let c = &design.channels[i as usize];
             let mut params = vec![Param::Bool];
             params.extend(c.params.iter().map(|&d| Param::Num(d)));
-            read_group.push(events.add(format!("registerRead.i_{}", c.name), params).map_err(too_many)?);
+            let name = if paper { format!("registerRead.{}U", c.name) } else { format!("registerRead.i_{}", c.name) };
+            read_group.push(events.add(name, params).map_err(too_many)?);
         }
+        let first_write = events.next_event();
         for &o in &outputs {
             let c = &design.channels[o as usize];
             let params = c.params.iter().map(|&d| Param::Num(d)).collect();
-            write_group.push(events.add(format!("registerWrite.o_{}", c.name), params).map_err(too_many)?);
+            let name =
+                if paper { format!("registerWrite.{}U.true", c.name) } else { format!("registerWrite.o_{}", c.name) };
+            write_group.push(events.add(name, params).map_err(too_many)?);
         }
+        if paper {
+            for &o in &outputs {
+                let c = &design.channels[o as usize];
+                false_group.push(events.add(format!("registerWrite.{}U.false", c.name), Vec::new()).map_err(too_many)?);
+            }
+        }
+        let writes = (first_write, events.next_event());
         for (i, c) in design.channels.iter().enumerate() {
-            let name = match (c.is_call, c.dir) {
-                (true, _) => format!("{}Call", c.name),
-                (false, Dir::In) => format!("{}.in", c.name),
-                (false, Dir::Out) => format!("{}.out", c.name),
+            let name = match (c.is_call, c.dir, paper) {
+                (true, _, _) => format!("{}Call", c.name),
+                (false, _, true) => c.name.clone(),
+                (false, Dir::In, false) => format!("{}.in", c.name),
+                (false, Dir::Out, false) => format!("{}.out", c.name),
             };
             let params = c.params.iter().map(|&d| Param::Num(d)).collect();
             design_group[i] = events.add(name, params).map_err(too_many)?;
+            if paper && c.is_call {
+                ret_group[i] = events.add(format!("{}Ret", c.name), Vec::new()).map_err(too_many)?;
+            }
         }
         let g = events.add("timelock", Vec::new()).map_err(too_many)?;
         let timelock = events.event(g, &[]);
@@ -107,15 +170,22 @@ impl<'a> Constrained<'a> {
         let mode = design.slots as usize;
         let a1 = mode + 1;
         let avail = a1 + 2 * inputs.len();
+        let occ = avail + 5;
+        let ret = occ + outputs.len();
+        let len = ret + design.machines.len();
         Ok(Constrained {
             design,
+            profile,
             period: period.max(1) as i32,
             inputs,
             outputs,
             events,
             read_group,
             write_group,
+            false_group,
             design_group,
+            ret_group,
+            writes,
             timelock,
             terminate,
             mode,
@@ -125,7 +195,9 @@ impl<'a> Constrained<'a> {
             k: avail + 2,
             phase: avail + 3,
             arg: avail + 4,
-            len: avail + 5,
+            occ,
+            ret,
+            len,
             error: Mutex::new(None),
         })
     }
@@ -223,13 +295,7 @@ impl<'a> Constrained<'a> {
 
     fn tock(&self, st: &mut [i32]) -> Result<(), String> {
         if st[self.mode] == RUNNING {
-            for c in &self.design.clocks {
-                let v = &mut st[c.slot as usize];
-                *v = (*v + 1).min(c.cap);
-            }
-            for m in &self.design.machines {
-                m.tock(st, &self.design.clocks).map_err(|e| e.0)?;
-            }
+            self.advance_design(st)?;
         }
         // A2: the period counter.
         let k = if st[self.k] < 0 { self.period - 1 } else { st[self.k] - 1 };
@@ -250,42 +316,237 @@ impl<'a> Constrained<'a> {
         Ok(())
     }
 
-    fn successors_inner(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
-        let start = out.len();
-        let mode = st[self.mode];
-        let phase = st[self.phase];
-        // A3 reads the input registers, in any order.
-        if phase == READ {
-            for (i, &chan) in self.inputs.iter().enumerate() {
-                if st[self.arg] & (1 << i) == 0 {
-                    continue;
-                }
-                let c = &self.design.channels[chan as usize];
-                let dom = c.params.first().copied();
-                for present in [1, 0] {
-                    // The value of an absent input is never observed: one
-                    // representative stands for all.
-                    let values: Vec<Option<Val>> = match dom {
-                        Some(d) if present == 1 => (d.lo..=d.hi).map(Some).collect(),
-                        Some(d) => vec![Some(d.lo)],
-                        None => vec![None],
-                    };
-                    for v in values {
-                        let mut args = vec![present];
-                        args.extend(v);
-                        let ev = self.events.event(self.read_group[i], &args);
-                        let mut n = st.clone();
-                        n[self.a1 + 2 * i] = present as i32;
-                        n[self.a1 + 2 * i + 1] = v.unwrap_or(0) as i32;
-                        n[self.arg] &= !(1 << i);
-                        if n[self.arg] == 0 {
-                            n[self.phase] = RUN;
-                        }
-                        out.push((Label::plain(ev), n));
+    /// A3 reads the input registers, in any order (A1 keeps what was read).
+    fn reads(&self, st: &State, out: &mut Vec<(Label, State)>) {
+        if st[self.phase] != READ {
+            return;
+        }
+        for (i, &chan) in self.inputs.iter().enumerate() {
+            if st[self.arg] & (1 << i) == 0 {
+                continue;
+            }
+            let c = &self.design.channels[chan as usize];
+            let dom = c.params.first().copied();
+            for present in [1, 0] {
+                // The value of an absent input is never observed: one
+                // representative stands for all.
+                let values: Vec<Option<Val>> = match dom {
+                    Some(d) if present == 1 => (d.lo..=d.hi).map(Some).collect(),
+                    Some(d) => vec![Some(d.lo)],
+                    None => vec![None],
+                };
+                for v in values {
+                    let mut args = vec![present];
+                    args.extend(v);
+                    let ev = self.events.event(self.read_group[i], &args);
+                    let mut n = st.clone();
+                    n[self.a1 + 2 * i] = present as i32;
+                    n[self.a1 + 2 * i + 1] = v.unwrap_or(0) as i32;
+                    n[self.arg] &= !(1 << i);
+                    if n[self.arg] == 0 {
+                        n[self.phase] = RUN;
                     }
+                    out.push((Label::plain(ev), n));
                 }
             }
         }
+    }
+
+    /// An input the design may take now (A1): the input's index and value.
+    fn input_allowed(&self, st: &[i32], chan: u16, value: Option<Val>) -> Option<(usize, Val)> {
+        let i = self.inputs.iter().position(|&c| c == chan)?;
+        if st[self.phase] != RUN || st[self.a1 + 2 * i] == 0 {
+            return None;
+        }
+        let v = st[self.a1 + 2 * i + 1] as Val;
+        (value.is_none_or(|x| x == v)).then_some((i, v))
+    }
+
+    /// `paper2019` TA3 on a write of output `o`: the next phase and argument.
+    fn ta3_write(&self, st: &[i32], o: usize) -> Option<(i32, i32)> {
+        let rem = match st[self.phase] {
+            RUN => self.all_outputs() & !(1 << o),
+            WRITES if st[self.arg] & (1 << o) != 0 => st[self.arg] & !(1 << o),
+            _ => return None,
+        };
+        Some(if rem != 0 { (WRITES, rem) } else { (WAIT, self.period) })
+    }
+
+    /// `paper2019` TA2: writes of absences for the outputs in `pool`.
+    fn false_writes(&self, st: &State, pool: i32, out: &mut Vec<(Label, State)>) {
+        for o in 0..self.outputs.len() {
+            if pool & (1 << o) == 0 {
+                continue;
+            }
+            let Some((ph, arg)) = self.ta3_write(st, o) else { continue };
+            let rem = pool & !(1 << o);
+            let mut n = st.clone();
+            if rem == 0 {
+                n[self.avail] = self.all_outputs();
+                n[self.pend] = -1;
+            } else {
+                n[self.pend] = rem;
+            }
+            n[self.phase] = ph;
+            n[self.arg] = arg;
+            out.push((Label::plain(self.events.event(self.false_group[o], &[])), n));
+        }
+    }
+
+    fn successors_paper(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+        let start = out.len();
+        let nout = self.outputs.len();
+        self.reads(st, out);
+        // TA2: the outputs of the cycle in order, then the absences.
+        let fm = st[self.pend];
+        if fm >= 0 {
+            self.false_writes(st, fm, out);
+        } else if st[self.occ] != 0 {
+            let head = st[self.occ] as Event;
+            if let Some(o) = self.write_group.iter().position(|&g| {
+                let grp = self.events.group(g);
+                head >= grp.base && ((head - grp.base) as u64) < grp.size
+            }) {
+                if let Some((ph, arg)) = self.ta3_write(st, o) {
+                    let mut n = st.clone();
+                    for j in 0..nout.saturating_sub(1) {
+                        n[self.occ + j] = n[self.occ + j + 1];
+                    }
+                    n[self.occ + nout - 1] = 0;
+                    n[self.phase] = ph;
+                    n[self.arg] = arg;
+                    out.push((Label::plain(head), n));
+                }
+            }
+        } else if st[self.avail] == 0 {
+            // Every output was produced and written: TA2 starts over.
+            let mut n = st.clone();
+            n[self.avail] = self.all_outputs();
+            out.push((Label::TAU, n));
+        } else {
+            self.false_writes(st, st[self.avail], out);
+        }
+        let phase = st[self.phase];
+        let mut design_tock = true;
+        if st[self.mode] == RUNNING {
+            let mut moves = Vec::new();
+            let mut returning = false;
+            for (mi, m) in self.design.machines.iter().enumerate() {
+                let ret = st[self.ret + mi];
+                if ret != 0 {
+                    // The platform returns from a call before the machine goes on.
+                    returning = true;
+                    design_tock = false;
+                    if phase == RUN {
+                        let mut n = st.clone();
+                        n[self.ret + mi] = 0;
+                        out.push((Label::plain(self.events.event(self.ret_group[(ret - 1) as usize], &[])), n));
+                    }
+                    continue;
+                }
+                moves.clear();
+                m.moves(st, &mut moves).map_err(|e| e.0)?;
+                design_tock &= m.can_tock(st);
+                for mv in &moves {
+                    match &mv.offer {
+                        Offer::Tau => {
+                            let mut n = st.clone();
+                            m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                            out.push((Label::TAU, n));
+                        }
+                        Offer::In { chan, value } => {
+                            let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
+                            let has_value = !self.design.channels[*chan as usize].params.is_empty();
+                            let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
+                            let mut n = st.clone();
+                            m.apply(&mut n, &self.design.clocks, mv.act, has_value.then_some(v)).map_err(|e| e.0)?;
+                            n[self.a1 + 2 * i] = 0;
+                            out.push((Label::plain(self.design_event(*chan, &args)), n));
+                        }
+                        Offer::Out { chan, args } => {
+                            let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
+                            let len = (0..nout).take_while(|&j| st[self.occ + j] != 0).count();
+                            // Order: at most one output per register per cycle is buffered.
+                            if phase != RUN || fm >= 0 || len >= nout {
+                                continue;
+                            }
+                            let mut n = st.clone();
+                            m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                            n[self.occ + len] = self.events.event(self.write_group[o], args) as i32;
+                            n[self.avail] &= !(1 << o);
+                            if self.design.channels[*chan as usize].is_call {
+                                n[self.ret + mi] = i32::from(*chan) + 1;
+                            }
+                            out.push((Label::plain(self.design_event(*chan, args)), n));
+                        }
+                    }
+                }
+            }
+            // Termination (`end`) only at a cycle's end, before time passes.
+            let terminated = !returning && self.design.machines.iter().all(|m| m.terminated(st));
+            if terminated && phase == WAIT && st[self.arg] == self.period {
+                let mut n = st.clone();
+                n[self.mode] = DONE;
+                out.push((Label { event: TAU, note: self.terminate }, n));
+            }
+        }
+        // TA3: exactly `p` tocks after the writes.
+        if design_tock && phase == WAIT {
+            let mut n = st.clone();
+            if n[self.mode] == RUNNING {
+                self.advance_design(&mut n)?;
+            }
+            if n[self.arg] <= 1 {
+                self.start_cycle(&mut n);
+            } else {
+                n[self.arg] -= 1;
+            }
+            out.push((Label::TOCK, n));
+        }
+        // Priority ⟨External, {registerWrite, tock}⟩: while τ or an external
+        // event is possible, no write and no tock (register reads are unranked).
+        let (lo, hi) = self.writes;
+        let external = out[start..].iter().any(|(l, _)| {
+            l.event == TAU || (l.event != TOCK && !(lo..hi).contains(&l.event) && !self.is_read(l.event))
+        });
+        if external {
+            let mut keep = start;
+            for j in start..out.len() {
+                let e = out[j].0.event;
+                if e != TOCK && !(lo..hi).contains(&e) {
+                    out.swap(keep, j);
+                    keep += 1;
+                }
+            }
+            out.truncate(keep);
+        }
+        Ok(())
+    }
+
+    fn is_read(&self, e: Event) -> bool {
+        self.read_group.iter().any(|&g| {
+            let grp = self.events.group(g);
+            e >= grp.base && ((e - grp.base) as u64) < grp.size
+        })
+    }
+
+    /// One time unit for the design: clocks, waits.
+    fn advance_design(&self, st: &mut [i32]) -> Result<(), String> {
+        for c in &self.design.clocks {
+            let v = &mut st[c.slot as usize];
+            *v = (*v + 1).min(c.cap);
+        }
+        for m in &self.design.machines {
+            m.tock(st, &self.design.clocks).map_err(|e| e.0)?;
+        }
+        Ok(())
+    }
+
+    fn successors_rt3(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+        let start = out.len();
+        let mode = st[self.mode];
+        let phase = st[self.phase];
+        self.reads(st, out);
         // A2 writes the register of the output just produced.
         if st[self.pend] != 0 {
             let mut n = st.clone();
@@ -311,15 +572,7 @@ impl<'a> Constrained<'a> {
                             out.push((Label::TAU, n));
                         }
                         Offer::In { chan, value } => {
-                            let Some(i) = self.inputs.iter().position(|c| c == chan) else { continue };
-                            // A1: only an input read as present, with its value.
-                            if phase != RUN || st[self.a1 + 2 * i] == 0 {
-                                continue;
-                            }
-                            let v = st[self.a1 + 2 * i + 1] as Val;
-                            if value.is_some_and(|x| x != v) {
-                                continue;
-                            }
+                            let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
                             let has_value = !self.design.channels[*chan as usize].params.is_empty();
                             let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
                             let note = self.design_event(*chan, &args);
@@ -396,7 +649,7 @@ impl Lts for Constrained<'_> {
         }
         st[self.mode] = RUNNING;
         st[self.avail] = self.all_outputs();
-        st[self.pend] = 0;
+        st[self.pend] = if self.profile == Profile::Paper2019 { -1 } else { 0 };
         st[self.k] = -1;
         self.start_cycle(&mut st);
         st.into_boxed_slice()
@@ -409,7 +662,11 @@ impl Lts for Constrained<'_> {
             return;
         }
         let start = out.len();
-        if let Err(e) = self.successors_inner(st, out) {
+        let result = match self.profile {
+            Profile::RoboTool3 => self.successors_rt3(st, out),
+            Profile::Paper2019 => self.successors_paper(st, out),
+        };
+        if let Err(e) = result {
             self.fail(e);
             // Keep the search going elsewhere; the verdict becomes inconclusive.
             out.truncate(start);

@@ -18,25 +18,7 @@ use crate::lts::{Label, Lts, TAU, TOCK};
 use crate::machine::{Act, Offer};
 use crate::sched::{Constrained, State};
 
-/// Which semantics the checks follow (semantics.md §2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Profile {
-    /// What RoboTool 3 generates (the default).
-    #[default]
-    RoboTool3,
-    /// The definitions of the 2019 paper.
-    Paper2019,
-}
-
-impl Profile {
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Profile::RoboTool3 => "robotool3",
-            Profile::Paper2019 => "paper2019",
-        }
-    }
-}
+pub use crate::sched::Profile;
 
 /// How to run checks.
 #[derive(Debug, Clone, Default)]
@@ -228,10 +210,6 @@ fn schedulable(
     progress: Option<ProgressFn>,
     report: &mut Report,
 ) {
-    if opts.profile == Profile::Paper2019 {
-        report.reason = Some("the paper2019 profile is not supported for schedulability yet; use robotool3".into());
-        return;
-    }
     // `S` is a simulation declared in this file or another assertion file.
     let name = a.subject.join("::");
     let found = read
@@ -291,7 +269,7 @@ fn schedulable(
             return;
         }
     };
-    let lts = match Constrained::new(&design, period as u32) {
+    let lts = match Constrained::new(&design, period as u32, opts.profile) {
         Ok(l) => l,
         Err(e) => {
             report.reason = Some(e);

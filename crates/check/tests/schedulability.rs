@@ -2,17 +2,21 @@
 //! time, and on the paper's running example against the reference oracle
 //! (`../shared/spec/semantics_oracle.py`, run with python3).
 
-use robosim_check::verify::{trace_text, verify_workspace, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_workspace, Options, Profile, Report, Verdict};
 
 /// Runs the assertions of `rsa` over the design `rct`.
 fn run(rct: &str, rsa: &str) -> Vec<Report> {
+    run_with(rct, rsa, Profile::RoboTool3)
+}
+
+fn run_with(rct: &str, rsa: &str, profile: Profile) -> Vec<Report> {
     let db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(
         &db,
         [("design.rct".to_string(), rct.to_string()), ("checks.rsa".to_string(), rsa.to_string())],
         robosim_hir::RuleSet::Paper,
     );
-    verify_workspace(&db, ws, &Options::default(), None)
+    verify_workspace(&db, ws, &Options { profile, ..Options::default() }, None)
 }
 
 /// A module around one machine `M` with the platform events and operations
@@ -184,6 +188,10 @@ fn oracle_trace(t: &str) -> String {
             "registerRead.obstacle.False" => "registerRead.i_obstacle.false",
             "(moveCall.lv.0)" => "(moveCall.1.0)",
             "(moveCall.0.av)" => "(moveCall.0.15)",
+            "moveCall.lv.0" => "moveCall.1.0",
+            "moveCall.0.av" => "moveCall.0.15",
+            "registerWrite.moveU.true.lv.0" => "registerWrite.moveU.true.1.0",
+            "registerWrite.moveU.true.0.av" => "registerWrite.moveU.true.0.15",
             "registerWrite.move.lv.0" => "registerWrite.o_move.1.0",
             "registerWrite.move.0.av" => "registerWrite.o_move.0.15",
             "registerWrite.stop" => "registerWrite.o_stop",
@@ -194,10 +202,11 @@ fn oracle_trace(t: &str) -> String {
         .join(" ")
 }
 
-/// Every schedulability case of the oracle in the `robotool3` profile:
-/// same verdict and, for failures, the same shortest counterexample (the
-/// oracle's state counts are not compared: it steps through every
-/// internal instruction, we run straight-line code in one step).
+/// Every schedulability case of the oracle, in both profiles: same verdict
+/// and, for failures, the same shortest counterexample event for event
+/// (GT-3 in `paper2019` is the paper's published trace). The oracle's state
+/// counts are not compared: it steps through every internal instruction,
+/// we run straight-line code in one step.
 #[test]
 fn agrees_with_the_oracle_on_the_running_example() {
     let oracle = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/spec/semantics_oracle.py");
@@ -205,7 +214,8 @@ fn agrees_with_the_oracle_on_the_running_example() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).expect("utf-8");
     let mut compared = 0;
-    for line in text.lines().filter(|l| l.starts_with("robotool3 ")) {
+    for line in text.lines().filter(|l| l.starts_with("robotool3 ") || l.starts_with("paper2019 ")) {
+        let profile = if line.starts_with("paper2019") { Profile::Paper2019 } else { Profile::RoboTool3 };
         let rest = line["robotool3 ".len()..].trim_start();
         let (variant, rest) = rest.split_once("  p=").expect("variant and period");
         let variant = variant.trim();
@@ -219,10 +229,10 @@ fn agrees_with_the_oracle_on_the_running_example() {
              assertion A : S is schedulable with constant PI of paper_design::SMovement set to 45,
                constant av of paper_design::SMovement set to 15, and constant lv of paper_design::SMovement set to 1 ."
         );
-        let r = run(&figure1(variant), &rsa).remove(0);
+        let r = run_with(&figure1(variant), &rsa, profile).remove(0);
         let got = r.counterexample.as_ref().map(|c| trace_text(&c.steps)).unwrap_or_default();
-        assert_eq!((r.verdict, got.as_str()), (verdict, trace.as_str()), "{variant}, p = {p}");
+        assert_eq!((r.verdict, got.as_str()), (verdict, trace.as_str()), "{variant}, p = {p}, {profile:?}");
         compared += 1;
     }
-    assert_eq!(compared, 12, "the oracle's robotool3 schedulability lines");
+    assert_eq!(compared, 24, "the oracle's schedulability lines");
 }

@@ -104,3 +104,27 @@ fn usage_errors() {
     let out = robosim().args(["verify", "--timeout", "-1"]).arg(examples()).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// GT-3 in the paper's own semantics: the counterexample FDR printed in the
+/// paper (§6.2), event for event (with lv = 1).
+#[test]
+fn paper_profile_prints_the_papers_counterexample() {
+    let (code, v) = json(&["--semantics", "paper2019"], &data().join("gt3"));
+    assert_eq!(code, Some(1));
+    let s1 = find(&v, "checks.rsa", "S1");
+    assert_eq!(s1["verdict"], "fail");
+    let events: Vec<&str> = s1["counterexample"]["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["event"].as_str().unwrap())
+        .filter(|e| *e != "τ")
+        .collect();
+    assert_eq!(
+        events.join(", "),
+        "registerRead.obstacleU.true, moveCall.1.0, moveRet, obstacle, stopCall, stopRet, \
+         registerWrite.moveU.true.1.0, registerWrite.stopU.true"
+    );
+    // Period 2: not schedulable either, so `S2` (negated) passes.
+    assert_eq!(find(&v, "checks.rsa", "S2")["verdict"], "pass");
+}
