@@ -172,6 +172,16 @@ fn classify(body: &[u8]) -> Incoming {
 
 struct FrameError(String);
 
+/// What resynchronising found.
+enum Skip {
+    /// The next `Content-Length` header.
+    Found,
+    /// A block of garbage ending in a blank line (its text).
+    Garbage(String),
+    /// The end of input.
+    End,
+}
+
 struct Reader<I> {
     input: I,
     buf: Vec<u8>,
@@ -202,28 +212,49 @@ impl<I: AsyncRead + Unpin> Reader<I> {
     }
 
     /// Drops bytes up to the next `Content-Length`, reading more input as
-    /// needed; false at the end of input.
-    async fn skip_garbage(&mut self) -> bool {
+    /// needed. A complete block of garbage (ending in a blank line) met
+    /// first is dropped and reported, as a header without `Content-Length`.
+    async fn skip_garbage(&mut self) -> Skip {
         let needle = b"Content-Length";
         loop {
-            if let Some(i) = find(&self.buf, needle) {
-                self.buf.drain(..i);
-                self.resync = false;
-                return true;
-            }
-            // Keep a tail that may be the start of the next header.
-            let keep = self.buf.len().min(needle.len() - 1);
-            self.buf.drain(..self.buf.len() - keep);
-            if !self.fill().await {
-                return false;
+            let header = find(&self.buf, needle);
+            let blank = find(&self.buf, b"\r\n\r\n");
+            match (header, blank) {
+                (Some(i), b) if b.is_none_or(|j| i < j) => {
+                    self.buf.drain(..i);
+                    self.resync = false;
+                    return Skip::Found;
+                }
+                (_, Some(j)) => {
+                    let text = String::from_utf8_lossy(&self.buf[..j]).into_owned();
+                    self.buf.drain(..j + 4);
+                    self.resync = false;
+                    return Skip::Garbage(text);
+                }
+                _ => {
+                    // Keep a tail that may be the start of the next header.
+                    let keep = self.buf.len().min(needle.len() - 1);
+                    self.buf.drain(..self.buf.len() - keep);
+                    if !self.fill().await {
+                        return Skip::End;
+                    }
+                }
             }
         }
     }
 
     /// The next message body; `Ok(None)` at the end of input.
     async fn next_body(&mut self) -> Result<Option<Vec<u8>>, FrameError> {
-        if self.resync && !self.skip_garbage().await {
-            return Ok(None);
+        if self.resync {
+            match self.skip_garbage().await {
+                Skip::Found => {}
+                Skip::End => return Ok(None),
+                Skip::Garbage(text) => {
+                    return Err(FrameError(format!(
+                        "Parse error: missing or invalid `Content-Length` in header {text:?}"
+                    )))
+                }
+            }
         }
         let header_end = loop {
             if let Some(i) = find(&self.buf, b"\r\n\r\n") {
