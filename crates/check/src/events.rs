@@ -15,7 +15,8 @@ pub enum Param {
 }
 
 impl Param {
-    fn dom(self) -> Dom {
+    /// The values of the parameter.
+    pub fn dom(self) -> Dom {
         match self {
             Param::Num(d) => d,
             Param::Bool => Dom::BOOL,

@@ -197,6 +197,9 @@ pub struct Channel {
     pub is_call: bool,
     /// The domains of its arguments (one for a typed event).
     pub params: Vec<Dom>,
+    /// RoboSim inputs: the slot of the register's presence flag (its value
+    /// is in the next slot).
+    pub register: Option<u16>,
 }
 
 /// Direction of a channel.
@@ -266,6 +269,12 @@ pub enum Instr {
     Junction(u16),
     /// The machine has terminated.
     Terminate,
+    /// RoboSim `exec`: the machine's cycle ends here; it resumes at the
+    /// target after the next cycle's reads.
+    Exec(u32),
+    /// RoboSim: the cycle ended by taking an `exec` transition (the current
+    /// transition); its exits, action and target run after the next reads.
+    ExecTransition,
 }
 
 /// What a node is.
@@ -336,6 +345,11 @@ pub struct Transition {
     pub guard: Option<Expr>,
     /// Clock resets, action and entry of the target.
     pub body_pc: u32,
+    /// RoboSim: triggered by `exec` (ends the cycle when taken).
+    pub exec: bool,
+    /// RoboSim: `$e?x` in the guard: the variable (slot, domain) and the
+    /// slot holding the input's value, assigned when the transition is taken.
+    pub binds: Vec<(u16, Dom, u16)>,
     /// The declaration's range.
     pub range: TextRange,
 }
@@ -355,6 +369,11 @@ pub struct Machine {
     pub code_ranges: Vec<TextRange>,
     /// Where execution starts (the root region's initial transition).
     pub start_pc: u32,
+    /// RoboSim: an `Exec(start_pc)` instruction: where a machine waits for
+    /// its first cycle.
+    pub first_cycle_pc: u32,
+    /// RoboSim: the machine's `ExecTransition` instruction.
+    pub exec_transition_pc: u32,
     /// First of the machine's four control slots (leaf, pc, wait counter,
     /// current transition).
     pub base: u16,

@@ -11,4 +11,5 @@ pub mod lower;
 pub mod lts;
 pub mod machine;
 pub mod sched;
+pub mod sim;
 pub mod verify;

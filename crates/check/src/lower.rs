@@ -87,7 +87,8 @@ pub fn lower_design(
     consts: &[ConstValue],
     defaults: &DomainDefaults,
 ) -> Result<Design, Unsupported> {
-    let mut cx = Cx { db, ws, consts, defaults: defaults.clone(), design: None, files: Vec::new() };
+    let robosim = loc.file.kind(db) == robosim_hir::FileKind::RoboSim;
+    let mut cx = Cx { db, ws, consts, defaults: defaults.clone(), design: None, files: Vec::new(), robosim };
     cx.lower(loc)
 }
 
@@ -98,6 +99,8 @@ struct Cx<'a> {
     defaults: DomainDefaults,
     design: Option<Design>,
     files: Vec<File>,
+    /// Whether the element is a RoboSim one (`$` references, `exec`).
+    robosim: bool,
 }
 
 /// One machine to compile: its declaration and where it sits.
@@ -475,11 +478,16 @@ impl Cx<'_> {
             at: inst.node.text_range(),
             code_ranges: Vec::new(),
             clock_caps: HashMap::new(),
+            binds: Vec::new(),
         };
         mc.declarations(&inst.node, &external)?;
         mc.collect_nodes(&inst.node, None)?;
         mc.compile(&inst.node)?;
         let start_pc = mc.region_start(&inst.node, None)?;
+        let first_cycle_pc = mc.code.len() as u32;
+        mc.emit(Instr::Exec(start_pc));
+        let exec_transition_pc = mc.code.len() as u32;
+        mc.emit(Instr::ExecTransition);
         let caps = std::mem::take(&mut mc.clock_caps);
         let m = Machine {
             name: mc.inst_prefix.clone(),
@@ -488,6 +496,8 @@ impl Cx<'_> {
             code: mc.code,
             code_ranges: mc.code_ranges,
             start_pc,
+            first_cycle_pc,
+            exec_transition_pc,
             base,
             file: file_ix,
         };
@@ -545,6 +555,8 @@ struct MachineCx<'a, 'b> {
     /// The source range of the code being emitted, and per instruction.
     at: TextRange,
     code_ranges: Vec<TextRange>,
+    /// `$e?x` bindings met while lowering a guard.
+    binds: Vec<(u16, Dom, u16)>,
     /// Greatest static value each clock slot is compared with (-1: unknown).
     clock_caps: HashMap<u16, i32>,
 }
@@ -616,7 +628,15 @@ impl MachineCx<'_, '_> {
     ) -> Result<(), Unsupported> {
         let file = self.file;
         let mut sources: Vec<(File, SyntaxNode, bool)> = vec![(file, node.clone(), false)];
-        for u in node.children().filter(|c| c.kind() == INTERFACE_USE) {
+        // RoboSim declares its inputs and outputs in I/O contexts.
+        let contexts: Vec<SyntaxNode> =
+            node.children().filter(|c| matches!(c.kind(), INPUT_CONTEXT | OUTPUT_CONTEXT)).collect();
+        sources.extend(contexts.iter().map(|c| (file, c.clone(), false)));
+        let uses: Vec<SyntaxNode> = std::iter::once(node.clone())
+            .chain(contexts)
+            .flat_map(|n| n.children().filter(|c| c.kind() == INTERFACE_USE).collect::<Vec<_>>())
+            .collect();
+        for u in uses {
             let path = path_of(&u);
             let (f, n) = self
                 .cx
@@ -724,11 +744,17 @@ impl MachineCx<'_, '_> {
     }
 
     fn channel(&mut self, name: &str, dir: Dir, is_call: bool, params: Vec<Dom>) -> u16 {
-        let d = self.design();
-        if let Some(i) = d.channels.iter().position(|c| c.name == name && c.is_call == is_call) {
+        if let Some(i) = self.design().channels.iter().position(|c| c.name == name && c.is_call == is_call) {
             return i as u16;
         }
-        d.channels.push(Channel { name: name.to_string(), dir, is_call, params });
+        // A RoboSim input is read into a register: presence, then value.
+        let register = (self.cx.robosim && dir == Dir::In).then(|| {
+            let s = self.new_slot();
+            self.new_slot();
+            s
+        });
+        let d = self.design();
+        d.channels.push(Channel { name: name.to_string(), dir, is_call, params, register });
         (d.channels.len() - 1) as u16
     }
 
@@ -877,6 +903,8 @@ impl MachineCx<'_, '_> {
             .ok_or_else(|| self.err(t.text_range(), format!("`{dst}` is not a node of this region")))?;
         let mut trigger = None;
         let mut guard = None;
+        let mut exec = false;
+        self.binds.clear();
         let body_pc = self.code.len() as u32;
         let name_range = t.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(t.text_range());
         self.at = name_range;
@@ -905,9 +933,7 @@ impl MachineCx<'_, '_> {
                 DEADLINE => {
                     return Err(self.err(c.text_range(), "deadlines on transitions are not supported yet"));
                 }
-                EXEC_TRIGGER => {
-                    return Err(self.err(c.text_range(), "`exec` belongs to RoboSim machines"));
-                }
+                EXEC_TRIGGER => exec = true,
                 PROBABILITY => {
                     return Err(self.err(
                         c.text_range(),
@@ -930,6 +956,8 @@ impl MachineCx<'_, '_> {
             trigger,
             guard,
             body_pc,
+            exec,
+            binds: std::mem::take(&mut self.binds),
             range: t.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(t.text_range()),
         });
         self.nodes[source as usize].out.push(id);
@@ -1142,8 +1170,45 @@ impl MachineCx<'_, '_> {
                 }
                 self.emit(Instr::Wait);
             }
-            SIM_CALL_STMT | OUTPUT_COMM_STMT => {
-                return Err(self.err(s.text_range(), "`$` statements belong to RoboSim machines"));
+            SIM_CALL_STMT => {
+                let name = path_of(s).join("::");
+                let args: Vec<SyntaxNode> = s
+                    .children()
+                    .find(|c| c.kind() == ARG_LIST)
+                    .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
+                    .unwrap_or_default();
+                let Some(Name::Op { params, chan }) = self.names.get(&name).cloned() else {
+                    return Err(self.err(s.text_range(), format!("`{name}` is not an output operation of the machine")));
+                };
+                if params.len() != args.len() {
+                    return Err(self.err(s.text_range(), format!("`{name}` takes {} arguments", params.len())));
+                }
+                let mut exprs = Vec::new();
+                for a in &args {
+                    exprs.push(self.expr(a)?);
+                }
+                // Register writes cannot be postponed (RoboTool: EDeadline(…, 0)).
+                self.emit(Instr::Out { chan, args: exprs, urgent: true });
+            }
+            OUTPUT_COMM_STMT => {
+                let name = path_of(s).join("::");
+                let (chan, dir, ty) = self.event(&name, s.text_range())?;
+                if dir != Dir::Out {
+                    return Err(self.err(s.text_range(), format!("`{name}` is not an output")));
+                }
+                let value = s.children().find(|e| ast::is_expr_kind(e.kind()));
+                let args = match value {
+                    Some(v) => vec![self.expr(&v)?],
+                    None => Vec::new(),
+                };
+                if ty.is_some() == args.is_empty() {
+                    return Err(self.err(s.text_range(), format!("`{name}` needs exactly its declared value")));
+                }
+                self.emit(Instr::Out { chan, args, urgent: true });
+            }
+            EXEC_STMT => {
+                let next = self.code.len() as u32 + 1;
+                self.emit(Instr::Exec(next));
             }
             TIMED_STMT => {
                 return Err(self.err(s.text_range(), "statement deadlines `<{d}` are not supported yet"));
@@ -1212,6 +1277,31 @@ impl MachineCx<'_, '_> {
                         || self.err(e.text_range(), format!("`{lit}` is not a literal of the enumeration")),
                     )?;
                 Expr::Const(ix as Val)
+            }
+            SIM_REF_EXPR => {
+                let name = path_of(e).join("::");
+                let Some(Name::Event { chan: Some((chan, Dir::In)), ty }) = self.names.get(&name).cloned() else {
+                    return Err(self.err(
+                        e.text_range(),
+                        format!(
+                            "`${name}` is not an input event of the machine (shared variables are not supported yet)"
+                        ),
+                    ));
+                };
+                let Some(reg) = self.design().channels[chan as usize].register else {
+                    return Err(self.err(e.text_range(), "`$` references belong to RoboSim machines"));
+                };
+                if let Some(suffix) = e.children().find(|c| c.kind() == SIM_INPUT_SUFFIX) {
+                    let var = path_of(&suffix).join("::");
+                    let Some(Name::Var { slot, dom, .. }) = self.names.get(&var).cloned() else {
+                        return Err(self.err(suffix.text_range(), format!("`{var}` is not a variable")));
+                    };
+                    if ty.is_none() {
+                        return Err(self.err(suffix.text_range(), format!("`{name}` carries no value")));
+                    }
+                    self.binds.push((slot, dom, reg + 1));
+                }
+                Expr::Slot(reg)
             }
             SINCE_EXPR => {
                 let n = e.children().find(|c| c.kind() == NAME_REF).map(|c| ident_text(&c)).unwrap_or_default();

@@ -181,7 +181,13 @@ impl Machine {
                         st[self.slot(PC)] = self.nodes[p as usize].exit_pc as i32;
                     }
                 }
-                Instr::Out { .. } | Instr::In { .. } | Instr::Rest | Instr::Junction(_) | Instr::Terminate => {
+                Instr::Out { .. }
+                | Instr::In { .. }
+                | Instr::Rest
+                | Instr::Junction(_)
+                | Instr::Terminate
+                | Instr::Exec(_)
+                | Instr::ExecTransition => {
                     return Ok(());
                 }
             }
@@ -257,7 +263,7 @@ impl Machine {
                 }
             }
             Instr::Assign { .. } => out.push(Move { offer: Offer::Tau, act: Act::Exec }),
-            Instr::Wait | Instr::Terminate => {}
+            Instr::Wait | Instr::Terminate | Instr::Exec(_) | Instr::ExecTransition => {}
             _ => return Err(StepError(format!("machine `{}` stopped at an internal instruction", self.name))),
         }
         Ok(())
@@ -285,6 +291,34 @@ impl Machine {
         matches!(self.code.get(self.pc(st) as usize), Some(Instr::Terminate))
     }
 
+    /// RoboSim: the machine starts in its first cycle's wait.
+    pub fn init_cycle(&self, st: &mut [i32]) {
+        self.init(st);
+        st[self.slot(PC)] = self.first_cycle_pc as i32;
+    }
+
+    /// RoboSim: whether the machine has ended its cycle (at an `exec`, or
+    /// terminated).
+    pub fn cycle_ended(&self, st: &[i32]) -> bool {
+        matches!(self.code.get(self.pc(st) as usize), Some(Instr::Exec(_) | Instr::ExecTransition | Instr::Terminate))
+    }
+
+    /// RoboSim: a new cycle starts (after the reads): the machine resumes
+    /// where its last cycle ended.
+    pub fn resume(&self, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
+        match self.code.get(self.pc(st) as usize) {
+            Some(Instr::Exec(target)) => st[self.slot(PC)] = *target as i32,
+            Some(Instr::ExecTransition) => {
+                let Some(leaf) = self.leaf(st) else {
+                    return Err(StepError(format!("machine `{}` resumes with no active state", self.name)));
+                };
+                st[self.slot(PC)] = self.nodes[leaf as usize].exit_pc as i32;
+            }
+            _ => return Ok(()),
+        }
+        self.settle(st, clocks, true)
+    }
+
     /// Performs `act`; `value` is the value received by an input.
     pub fn apply(&self, st: &mut [i32], clocks: &[Clock], act: Act, value: Option<Val>) -> Result<(), StepError> {
         match act {
@@ -295,7 +329,18 @@ impl Machine {
                         st[*slot as usize] = v as i32;
                     }
                 }
+                for &(var, dom, from) in &tr.binds {
+                    let v = st[from as usize] as Val;
+                    if dom.contains(v) {
+                        st[var as usize] = v as i32;
+                    }
+                }
                 st[self.slot(TRANS)] = i32::from(t);
+                if tr.exec {
+                    // The cycle ends; the rest of the transition runs in the next.
+                    st[self.slot(PC)] = self.exec_transition_pc as i32;
+                    return Ok(());
+                }
                 let Some(leaf) = self.leaf(st) else {
                     return Err(StepError(format!("machine `{}` fires with no active state", self.name)));
                 };
@@ -330,6 +375,14 @@ impl Machine {
         let at = |n: u16| self.nodes[n as usize].name.clone();
         match self.code.get(pc) {
             Some(Instr::Terminate) => "terminated".into(),
+            Some(Instr::Exec(_)) => format!(
+                "waiting for the next cycle (exec){}",
+                self.leaf(st).map(|l| format!(" in {}", at(l))).unwrap_or_default()
+            ),
+            Some(Instr::ExecTransition) => format!(
+                "taking {} in the next cycle (exec)",
+                self.transitions.get(st[self.slot(TRANS)].max(0) as usize).map_or("?", |t| t.name.as_str())
+            ),
             Some(Instr::Junction(j)) => format!("at junction {}", at(*j)),
             Some(Instr::Wait) => format!(
                 "waiting ({} left){}",

@@ -20,8 +20,8 @@
 use std::sync::Mutex;
 
 use crate::events::{EventTable, Param};
-use crate::ir::{Design, Dir, Val};
-use crate::lts::{Event, Label, Lts, TAU, TOCK};
+use crate::ir::{Design, Dir, Dom, Val};
+use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
 use crate::machine::{Act, Move, Offer};
 
 /// The state: the design's slots, then the assumptions'.
@@ -31,8 +31,10 @@ pub type State = Box<[i32]>;
 const RUNNING: i32 = 0;
 /// After `timelock`: only time passes (RoboTool's `TLFree` sink).
 const SINK: i32 = 1;
-/// After `terminate`: only time passes (`; RUN({tock})`).
+/// After `terminate`: only time passes (`; RUN({tock})`), or ✓.
 const DONE: i32 = 2;
+/// After ✓: nothing.
+const ENDED: i32 = 3;
 
 /// A3's phases.
 const READ: i32 = 0;
@@ -61,10 +63,100 @@ impl Profile {
     }
 }
 
+/// The register events of a check (`registerRead.i_e.b.v`,
+/// `registerWrite.o_e.args`; the paper profile's `registerRead.eU…`,
+/// `registerWrite.eU.true…`, `registerWrite.eU.false`), numbered first in
+/// every event table of the check, so that the two sides of a refinement
+/// agree on them. Registers are matched by the platform's name for the
+/// event or operation, as RoboTool does; their domains are the union of
+/// the sides'.
+#[derive(Debug, Clone)]
+pub struct Registers {
+    /// The table (only register events so far).
+    pub table: EventTable,
+    /// Read channel of each input, by name.
+    pub reads: Vec<(String, usize)>,
+    /// Write channel of each output, by name.
+    pub writes: Vec<(String, usize)>,
+    /// `paper2019`: the `false` write channel of each output.
+    pub false_writes: Vec<(String, usize)>,
+    /// The ids of all writes.
+    pub write_range: (Event, Event),
+}
+
+impl Registers {
+    /// The registers of the inputs and outputs of `designs`.
+    pub fn new(designs: &[&Design], profile: Profile) -> Result<Registers, String> {
+        let paper = profile == Profile::Paper2019;
+        let too_many = |e: crate::events::TooManyEvents| format!("the channel `{}` has too many values", e.0);
+        let mut ins: Vec<(String, Vec<Dom>)> = Vec::new();
+        let mut outs: Vec<(String, Vec<Dom>)> = Vec::new();
+        for d in designs {
+            for c in &d.channels {
+                let list = if c.dir == Dir::In { &mut ins } else { &mut outs };
+                match list.iter_mut().find(|(n, _)| *n == c.name) {
+                    Some((_, params)) => {
+                        if params.len() != c.params.len() {
+                            return Err(format!("the two sides disagree on the arguments of `{}`", c.name));
+                        }
+                        for (p, q) in params.iter_mut().zip(&c.params) {
+                            *p = Dom { lo: p.lo.min(q.lo), hi: p.hi.max(q.hi) };
+                        }
+                    }
+                    None => list.push((c.name.clone(), c.params.clone())),
+                }
+            }
+        }
+        let mut table = EventTable::default();
+        let mut reads = Vec::new();
+        for (name, params) in &ins {
+            let mut ps = vec![Param::Bool];
+            ps.extend(params.iter().map(|&d| Param::Num(d)));
+            let label = if paper { format!("registerRead.{name}U") } else { format!("registerRead.i_{name}") };
+            reads.push((name.clone(), table.add(label, ps).map_err(too_many)?));
+        }
+        let first_write = table.next_event();
+        let mut writes = Vec::new();
+        for (name, params) in &outs {
+            let ps = params.iter().map(|&d| Param::Num(d)).collect();
+            let label = if paper { format!("registerWrite.{name}U.true") } else { format!("registerWrite.o_{name}") };
+            writes.push((name.clone(), table.add(label, ps).map_err(too_many)?));
+        }
+        let mut false_writes = Vec::new();
+        if paper {
+            for (name, _) in &outs {
+                false_writes.push((
+                    name.clone(),
+                    table.add(format!("registerWrite.{name}U.false"), Vec::new()).map_err(too_many)?,
+                ));
+            }
+        }
+        let write_range = (first_write, table.next_event());
+        Ok(Registers { table, reads, writes, false_writes, write_range })
+    }
+
+    /// The read event of input `name`.
+    pub fn read(&self, name: &str, present: bool, value: Option<Val>) -> Option<Event> {
+        let g = self.reads.iter().find(|(n, _)| n == name)?.1;
+        let mut args = vec![present as Val];
+        args.extend(value);
+        Some(self.table.event(g, &args))
+    }
+
+    /// The write event of output `name`.
+    pub fn write(&self, name: &str, args: &[Val]) -> Option<Event> {
+        let g = self.writes.iter().find(|(n, _)| n == name)?.1;
+        Some(self.table.event(g, args))
+    }
+}
+
 /// The constrained design of `simulation S of M` with period `p`.
 pub struct Constrained<'a> {
     design: &'a Design,
     profile: Profile,
+    /// Schedulability: RoboTool's timelock escape, and time passing forever
+    /// after termination. Refinement: neither; termination is ✓.
+    tlfree: bool,
     period: i32,
     /// Channel indices of the inputs and outputs, in order.
     inputs: Vec<u16>,
@@ -110,6 +202,21 @@ pub const MAX_OUTPUTS: usize = 30;
 impl<'a> Constrained<'a> {
     /// Builds the constrained design; fails on designs too large to encode.
     pub fn new(design: &'a Design, period: u32, profile: Profile) -> Result<Constrained<'a>, String> {
+        Constrained::with_registers(design, period, profile, None, true)
+    }
+
+    /// As [`Constrained::new`], with register events numbered by `registers`
+    /// (shared with the other side of a refinement), and with or without
+    /// RoboTool's timelock escape (`TLFree`: for schedulability only; the
+    /// specification of a refinement is the plain constrained design, which
+    /// terminates with ✓).
+    pub fn with_registers(
+        design: &'a Design,
+        period: u32,
+        profile: Profile,
+        registers: Option<&Registers>,
+        tlfree: bool,
+    ) -> Result<Constrained<'a>, String> {
         let inputs: Vec<u16> =
             design.channels.iter().enumerate().filter(|(_, c)| c.dir == Dir::In).map(|(i, _)| i as u16).collect();
         let outputs: Vec<u16> =
@@ -120,36 +227,32 @@ impl<'a> Constrained<'a> {
         if inputs.len() > MAX_OUTPUTS {
             return Err(format!("the design has {} inputs; at most {MAX_OUTPUTS} are supported", inputs.len()));
         }
-        let mut events = EventTable::default();
         let too_many = |e: crate::events::TooManyEvents| format!("the channel `{}` has too many values", e.0);
         let paper = profile == Profile::Paper2019;
+        let regs = match registers {
+            Some(r) => r.clone(),
+            None => Registers::new(&[design], profile)?,
+        };
+        let mut events = regs.table.clone();
+        let group_of = |list: &[(String, usize)], name: &str| {
+            list.iter().find(|(n, _)| n == name).map(|(_, g)| *g).ok_or_else(|| format!("no register for `{name}`"))
+        };
         let mut read_group = Vec::new();
+        for &i in &inputs {
+            read_group.push(group_of(&regs.reads, &design.channels[i as usize].name)?);
+        }
         let mut write_group = Vec::new();
         let mut false_group = Vec::new();
-        let mut design_group = vec![usize::MAX; design.channels.len()];
-        let mut ret_group = vec![usize::MAX; design.channels.len()];
-        for &i in &inputs {
-            let c = &design.channels[i as usize];
-            let mut params = vec![Param::Bool];
-            params.extend(c.params.iter().map(|&d| Param::Num(d)));
-            let name = if paper { format!("registerRead.{}U", c.name) } else { format!("registerRead.i_{}", c.name) };
-            read_group.push(events.add(name, params).map_err(too_many)?);
-        }
-        let first_write = events.next_event();
         for &o in &outputs {
-            let c = &design.channels[o as usize];
-            let params = c.params.iter().map(|&d| Param::Num(d)).collect();
-            let name =
-                if paper { format!("registerWrite.{}U.true", c.name) } else { format!("registerWrite.o_{}", c.name) };
-            write_group.push(events.add(name, params).map_err(too_many)?);
-        }
-        if paper {
-            for &o in &outputs {
-                let c = &design.channels[o as usize];
-                false_group.push(events.add(format!("registerWrite.{}U.false", c.name), Vec::new()).map_err(too_many)?);
+            let name = &design.channels[o as usize].name;
+            write_group.push(group_of(&regs.writes, name)?);
+            if paper {
+                false_group.push(group_of(&regs.false_writes, name)?);
             }
         }
-        let writes = (first_write, events.next_event());
+        let writes = regs.write_range;
+        let mut design_group = vec![usize::MAX; design.channels.len()];
+        let mut ret_group = vec![usize::MAX; design.channels.len()];
         for (i, c) in design.channels.iter().enumerate() {
             let name = match (c.is_call, c.dir, paper) {
                 (true, _, _) => format!("{}Call", c.name),
@@ -176,6 +279,7 @@ impl<'a> Constrained<'a> {
         Ok(Constrained {
             design,
             profile,
+            tlfree,
             period: period.max(1) as i32,
             inputs,
             outputs,
@@ -327,12 +431,14 @@ impl<'a> Constrained<'a> {
             }
             let c = &self.design.channels[chan as usize];
             let dom = c.params.first().copied();
+            // The register's domain (shared with the other side of a check).
+            let reg_lo = self.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
             for present in [1, 0] {
                 // The value of an absent input is never observed: one
                 // representative stands for all.
                 let values: Vec<Option<Val>> = match dom {
                     Some(d) if present == 1 => (d.lo..=d.hi).map(Some).collect(),
-                    Some(d) => vec![Some(d.lo)],
+                    Some(d) => vec![Some(reg_lo.unwrap_or(d.lo))],
                     None => vec![None],
                 };
                 for v in values {
@@ -611,7 +717,7 @@ impl<'a> Constrained<'a> {
             // no output, not even let time pass — may signal `timelock` and
             // then only let time pass, so that input deadlines the
             // environment must meet are not blamed on scheduling.
-            if !design_tau && !design_out && !design_tock {
+            if self.tlfree && !design_tau && !design_out && !design_tock {
                 let mut n = st.clone();
                 n[self.mode] = SINK;
                 out.push((Label::plain(self.timelock), n));
@@ -657,8 +763,18 @@ impl Lts for Constrained<'_> {
 
     fn successors(&self, st: &State, out: &mut Vec<(Label, State)>) {
         if st[self.mode] == DONE {
-            // Termination is success: time passes forever.
-            out.push((Label::TOCK, st.clone()));
+            // Termination is success: in a schedulability check time passes
+            // forever (`; RUN({tock})`); otherwise the process ends (✓).
+            if self.tlfree {
+                out.push((Label::TOCK, st.clone()));
+            } else {
+                let mut n = st.clone();
+                n[self.mode] = ENDED;
+                out.push((Label::plain(TICK), n));
+            }
+            return;
+        }
+        if st[self.mode] == ENDED {
             return;
         }
         let start = out.len();
@@ -677,6 +793,7 @@ impl Lts for Constrained<'_> {
     fn event_name(&self, event: Event) -> String {
         match event {
             TAU => "τ".into(),
+            TICK => "✓".into(),
             TOCK => "tock".into(),
             e => self.events.name(e).unwrap_or_else(|| format!("e{e}")),
         }

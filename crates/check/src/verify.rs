@@ -6,17 +6,23 @@
 use std::time::Instant;
 
 use robosim_hir::defs::DefKind;
-use robosim_hir::index::resolve_item;
+use robosim_hir::index::{resolve_item, ItemLoc};
 use robosim_hir::{parse, Db, File, TextRange, Workspace};
 
-use crate::algo::{find_deadlock, DeadlockResult, Path};
-use crate::assertions::{read_assertions, AssertionDecl, AssertionFile, AssertionKind, Override, Value};
+use crate::algo::{
+    find_deadlock, find_timed_deadlock, refines, DeadlockResult, Path, RefinementCex, RefinementResult, SemanticModel,
+    TimedDeadlockResult,
+};
+use crate::assertions::{
+    read_assertions, AssertionDecl, AssertionFile, AssertionKind, Override, SemanticModelName, Value,
+};
 use crate::budget::{Budget, ProgressFn, Stats};
 use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_design, ConstValue, DomainDefaults, Unsupported};
 use crate::lts::{Label, Lts, TAU, TOCK};
 use crate::machine::{Act, Offer};
-use crate::sched::{Constrained, State};
+use crate::sched::{Constrained, Registers, State};
+use crate::sim::SimModule;
 
 pub use crate::sched::Profile;
 
@@ -183,11 +189,14 @@ pub fn verify_assertion(
         report.reason = Some(format!("the assertion is incomplete: {}", p.message));
         return report;
     }
+    let cx = Cx { db, ws, file, read, others, a };
     match &a.kind {
-        AssertionKind::Schedulable => schedulable(db, ws, file, read, others, a, opts, progress, &mut report),
-        AssertionKind::Refines { .. } | AssertionKind::Equals { .. } => {
-            report.reason = Some("refinement checks are not supported by the native checker yet".into());
+        AssertionKind::Schedulable => schedulable(&cx, opts, progress, &mut report),
+        AssertionKind::Refines { other, model, .. } => {
+            refinement(&cx, other, *model, false, opts, progress, &mut report)
         }
+        AssertionKind::Equals { other, model, .. } => refinement(&cx, other, *model, true, opts, progress, &mut report),
+        AssertionKind::DeadlockFree => deadlock_free(&cx, opts, progress, &mut report),
         other => {
             report.reason = Some(format!("`{}` assertions are not supported by the native checker yet", other.label()));
         }
@@ -198,139 +207,403 @@ pub fn verify_assertion(
     report
 }
 
-#[allow(clippy::too_many_arguments)]
-fn schedulable(
-    db: &dyn Db,
+/// What an assertion's subject (or other side) denotes.
+enum Target {
+    /// `simulation S of M`: the RoboChart element `M` under the simulation
+    /// assumptions with period `p`.
+    Constrained { name: String, loc: ItemLoc, period: Option<i64> },
+    /// A RoboSim module, controller or machine, with its period.
+    Simulation { name: String, loc: ItemLoc, period: Option<i64> },
+}
+
+/// Everything an assertion's check needs from the workspace.
+struct Cx<'a> {
+    db: &'a dyn Db,
     ws: Workspace,
     file: File,
-    read: &AssertionFile,
-    others: &[(File, AssertionFile)],
-    a: &AssertionDecl,
+    read: &'a AssertionFile,
+    others: &'a [(File, AssertionFile)],
+    a: &'a AssertionDecl,
+}
+
+impl Cx<'_> {
+    /// The simulation declaration, or the RoboSim element, named `path`;
+    /// `cycleDef of X set to N` overrides its period.
+    fn target(&self, path: &[String]) -> Result<Target, String> {
+        let name = path.join("::");
+        let sim = self
+            .read
+            .simulation(&name)
+            .map(|s| (self.file, s))
+            .or_else(|| self.others.iter().find_map(|(f, r)| r.simulation(path.last()?).map(|s| (*f, s))));
+        let overridden = self.a.overrides.iter().find_map(|o| match o {
+            Override::CycleDef { of, value, .. } if of.last() == path.last() => Some(value.as_int()),
+            _ => None,
+        });
+        if let Some((sim_file, sim)) = sim {
+            let loc = resolve_item(self.db, self.ws, sim_file, &sim.of, |k| {
+                matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine)
+            })
+            .into_iter()
+            .next()
+            .ok_or_else(|| format!("`{}` is not a RoboChart module, controller or machine", sim.of.join("::")))?;
+            let period = overridden.unwrap_or_else(|| sim.cycle.as_ref().and_then(Value::as_int));
+            return Ok(Target::Constrained { name: sim.name.clone(), loc, period });
+        }
+        let loc = resolve_item(self.db, self.ws, self.file, path, |k| {
+            matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine)
+        })
+        .into_iter()
+        .next()
+        .ok_or_else(|| format!("`{name}` is not a simulation, module, controller or machine"))?;
+        if loc.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
+            return Err(format!(
+                "`{name}` is a RoboChart element: only simulations (`simulation S of {name}`) and RoboSim elements are checked natively so far"
+            ));
+        }
+        let period = overridden.unwrap_or_else(|| element_cycle(self.db, loc));
+        Ok(Target::Simulation { name, loc, period })
+    }
+
+    /// The constant values the assertion gives.
+    fn constants(&self) -> Result<Vec<ConstValue>, String> {
+        let mut consts = Vec::new();
+        for o in &self.a.overrides {
+            if let Override::Constant { name, of, value, .. } = o {
+                let v = match value {
+                    Value::Int(v) => *v,
+                    Value::Bool(b) => *b as Val,
+                    Value::Other(_) => {
+                        return Err(format!("the value of constant `{name}` is not an integer or boolean literal"))
+                    }
+                };
+                consts.push(ConstValue { name: name.clone(), of: of.clone(), value: v });
+            }
+        }
+        Ok(consts)
+    }
+
+    /// The bounded types, from `nametype core_X = {a..b}` lines.
+    fn defaults(&self) -> DomainDefaults {
+        let mut defaults = DomainDefaults::default();
+        for r in std::iter::once(self.read).chain(self.others.iter().map(|(_, r)| r)) {
+            for (name, lo, hi, _) in &r.instantiations.types {
+                defaults.set(name, *lo, *hi);
+            }
+        }
+        defaults
+    }
+
+    /// The compiled element of `target` and its period.
+    fn compile(&self, target: &Target, consts: &[ConstValue]) -> Result<(Design, u32), String> {
+        let (name, loc, period) = match target {
+            Target::Constrained { name, loc, period } | Target::Simulation { name, loc, period } => {
+                (name, *loc, *period)
+            }
+        };
+        let Some(period) = period.filter(|p| (1..=1_000).contains(p)) else {
+            return Err(format!("`{name}` has no cycle period from 1 to 1000: give one with `cycleDef cycle == N`"));
+        };
+        let design =
+            lower_design(self.db, self.ws, loc, consts, &self.defaults()).map_err(|u| unsupported_reason(&u))?;
+        Ok((design, period as u32))
+    }
+}
+
+/// The period a RoboSim element declares (`cycleDef cycle == N`).
+fn element_cycle(db: &dyn Db, loc: ItemLoc) -> Option<i64> {
+    let id = loc.def(db)?;
+    let range = robosim_hir::defs::file_defs(db, loc.file).def(id).range;
+    let root = parse(db, loc.file).syntax_node();
+    let node = root.descendants().find(|n| n.text_range() == range)?;
+    let cd = node.children().find(|c| c.kind() == robosim_syntax::SyntaxKind::CYCLE_DEF)?;
+    let bin = cd.descendants().find(|c| c.kind() == robosim_syntax::SyntaxKind::BIN_EXPR)?;
+    let has_cycle = bin.children().any(|c| c.kind() == robosim_syntax::SyntaxKind::CYCLE_EXPR);
+    let lit = bin.children().find(|c| c.kind() == robosim_syntax::SyntaxKind::LITERAL)?;
+    if !has_cycle {
+        return None;
+    }
+    lit.text().to_string().trim().parse().ok()
+}
+
+/// Either side of a check, as one LTS type.
+enum Side<'a> {
+    Design(Constrained<'a>),
+    Sim(SimModule<'a>),
+}
+
+impl Side<'_> {
+    fn error(&self) -> Option<String> {
+        match self {
+            Side::Design(l) => l.error(),
+            Side::Sim(l) => l.error(),
+        }
+    }
+}
+
+impl Lts for Side<'_> {
+    type State = State;
+
+    fn initial(&self) -> State {
+        match self {
+            Side::Design(l) => l.initial(),
+            Side::Sim(l) => l.initial(),
+        }
+    }
+
+    fn successors(&self, st: &State, out: &mut Vec<(Label, State)>) {
+        match self {
+            Side::Design(l) => l.successors(st, out),
+            Side::Sim(l) => l.successors(st, out),
+        }
+    }
+
+    fn event_name(&self, e: crate::lts::Event) -> String {
+        match self {
+            Side::Design(l) => l.event_name(e),
+            Side::Sim(l) => l.event_name(e),
+        }
+    }
+
+    fn state_bytes(&self, st: &State) -> usize {
+        match self {
+            Side::Design(l) => l.state_bytes(st),
+            Side::Sim(l) => l.state_bytes(st),
+        }
+    }
+}
+
+fn side<'a>(target: &Target, design: &'a Design, period: u32, regs: &Registers) -> Result<Side<'a>, String> {
+    Ok(match target {
+        Target::Constrained { .. } => {
+            Side::Design(Constrained::with_registers(design, period, Profile::RoboTool3, Some(regs), false)?)
+        }
+        Target::Simulation { .. } => Side::Sim(SimModule::new(design, period, regs)?),
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn schedulable(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &mut Report) {
+    let a = cx.a;
+    let mut run = || -> Result<(), String> {
+        let target = cx.target(&a.subject)?;
+        let Target::Constrained { .. } = target else {
+            return Err(format!("`{}` is not a `simulation … of …` declaration", a.subject.join("::")));
+        };
+        let (design, period) = cx.compile(&target, &cx.constants()?)?;
+        let lts = Constrained::new(&design, period, opts.profile)?;
+        report.notes.push(domains_note(&design));
+        let (result, stats) = find_deadlock(&lts, &opts.budget, progress);
+        report.stats = stats;
+        if let Some(err) = lts.error() {
+            report.verdict = Verdict::Inconclusive;
+            report.reason = Some(format!("the model met a run-time error: {err}"));
+            return Ok(());
+        }
+        let holds = match result {
+            DeadlockResult::Free => true,
+            DeadlockResult::Deadlock(path) => {
+                report.counterexample = Some(deadlock_counterexample(&lts, &design, &path));
+                false
+            }
+            DeadlockResult::Inconclusive(stop) => {
+                report.verdict = Verdict::Inconclusive;
+                report.reason = Some(stop.reason(&opts.budget));
+                return Ok(());
+            }
+        };
+        report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
+        report.reason = Some(if holds {
+            format!("{} can be scheduled in cycles of period {period}", design.name)
+        } else {
+            format!("{} cannot be scheduled in cycles of period {period}", design.name)
+        });
+        Ok(())
+    };
+    if let Err(e) = run() {
+        report.verdict = Verdict::Unsupported;
+        report.reason = Some(e);
+    }
+}
+
+/// `X refines Y` (Y ⊑ X), `X equals Y` (both), in the named model.
+fn refinement(
+    cx: &Cx<'_>,
+    other: &[String],
+    model: SemanticModelName,
+    both_ways: bool,
     opts: &Options,
     progress: Option<ProgressFn>,
     report: &mut Report,
 ) {
-    // `S` is a simulation declared in this file or another assertion file.
-    let name = a.subject.join("::");
-    let found = read
-        .simulation(&name)
-        .map(|s| (file, s))
-        .or_else(|| others.iter().find_map(|(f, r)| r.simulation(a.subject.last()?).map(|s| (*f, s))));
-    let Some((sim_file, sim)) = found else {
-        report.reason = Some(format!("`{name}` is not a `simulation … of …` declaration"));
-        return;
-    };
-    let Some(loc) = resolve_item(db, ws, sim_file, &sim.of, |k| {
-        matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine)
-    })
-    .into_iter()
-    .next() else {
-        report.reason = Some(format!("`{}` is not a RoboChart module, controller or machine", sim.of.join("::")));
-        return;
-    };
-    // The period: an override of the assertion, else the simulation's.
-    let mut period = sim.cycle.as_ref().and_then(Value::as_int);
-    let mut consts = Vec::new();
-    for o in &a.overrides {
-        match o {
-            Override::CycleDef { of, value, .. } if of.last() == Some(&sim.name) => {
-                period = value.as_int();
+    let a = cx.a;
+    let mut run = || -> Result<(), String> {
+        if opts.profile != Profile::RoboTool3 {
+            return Err("refinement is checked in the robotool3 profile only so far".into());
+        }
+        let model = match model {
+            SemanticModelName::Traces => SemanticModel::Traces,
+            SemanticModelName::Failures => SemanticModel::Failures,
+            SemanticModelName::FailuresDivergences | SemanticModelName::Default => SemanticModel::FailuresDivergences,
+            SemanticModelName::TickTock => return Err("the tick-tock model is not supported yet".into()),
+        };
+        let consts = cx.constants()?;
+        let imp_t = cx.target(&a.subject)?;
+        let spec_t = cx.target(other)?;
+        let (imp_d, imp_p) = cx.compile(&imp_t, &consts)?;
+        let (spec_d, spec_p) = cx.compile(&spec_t, &consts)?;
+        let regs = Registers::new(&[&spec_d, &imp_d], Profile::RoboTool3)?;
+        let imp = side(&imp_t, &imp_d, imp_p, &regs)?;
+        let spec = side(&spec_t, &spec_d, spec_p, &regs)?;
+        report.notes.push(domains_note(&spec_d));
+        report.notes.push(domains_note(&imp_d));
+        let mut directions = vec![(&spec, &imp, &imp_d, "")];
+        if both_ways {
+            directions.push((&imp, &spec, &spec_d, " (converse)"));
+        }
+        let mut holds = true;
+        for (sp, im, im_design, which) in directions {
+            let (result, stats) = refines(sp, im, model, &opts.budget, progress);
+            report.stats.states += stats.states;
+            report.stats.transitions += stats.transitions;
+            report.stats.seconds += stats.seconds;
+            if let Some(err) = sp.error().or_else(|| im.error()) {
+                report.verdict = Verdict::Inconclusive;
+                report.reason = Some(format!("the model met a run-time error: {err}"));
+                return Ok(());
             }
-            Override::Constant { name, of, value, .. } => match value.as_int() {
-                Some(v) => consts.push(ConstValue { name: name.clone(), of: of.clone(), value: v }),
-                None => {
-                    let Value::Bool(b) = value else {
-                        report.reason =
-                            Some(format!("the value of constant `{name}` is not an integer or boolean literal"));
-                        return;
-                    };
-                    consts.push(ConstValue { name: name.clone(), of: of.clone(), value: *b as Val });
+            match result {
+                RefinementResult::Holds => {}
+                RefinementResult::Fails(cex) => {
+                    report.counterexample = Some(refinement_counterexample(im, sp, im_design, &cex));
+                    report.reason = Some(format!("refinement{which} fails: {}", describe_cex(im, sp, &cex)));
+                    holds = false;
+                    break;
                 }
-            },
-            _ => {}
+                RefinementResult::Inconclusive(stop) => {
+                    report.verdict = Verdict::Inconclusive;
+                    report.reason = Some(stop.reason(&opts.budget));
+                    return Ok(());
+                }
+            }
         }
-    }
-    let Some(period) = period.filter(|p| *p >= 1 && *p <= 1_000) else {
-        report.reason =
-            Some(format!("`{}` has no cycle period from 1 to 1000: give one with `cycleDef cycle == N`", sim.name));
-        return;
+        if holds {
+            report.reason = Some(format!(
+                "{} {} {}",
+                a.subject.join("::"),
+                if both_ways { "equals" } else { "refines" },
+                other.join("::")
+            ));
+        }
+        report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
+        Ok(())
     };
-    let mut defaults = DomainDefaults::default();
-    for (f, r) in std::iter::once((file, read)).chain(others.iter().map(|(f, r)| (*f, r))) {
-        let _ = f;
-        for (name, lo, hi, _) in &r.instantiations.types {
-            defaults.set(name, *lo, *hi);
-        }
+    if let Err(e) = run() {
+        report.verdict = Verdict::Unsupported;
+        report.reason = Some(e);
     }
-    let design = match lower_design(db, ws, loc, &consts, &defaults) {
-        Ok(d) => d,
-        Err(u) => {
-            report.reason = Some(unsupported_reason(&u));
-            return;
-        }
-    };
-    let lts = match Constrained::new(&design, period as u32, opts.profile) {
-        Ok(l) => l,
-        Err(e) => {
-            report.reason = Some(e);
-            return;
-        }
-    };
-    report.notes.push(domains_note(&design));
-    let (result, stats) = find_deadlock(&lts, &opts.budget, progress);
-    report.stats = stats;
-    if let Some(err) = lts.error() {
-        report.verdict = Verdict::Inconclusive;
-        report.reason = Some(format!("the model met a run-time error: {err}"));
-        return;
-    }
-    let holds = match result {
-        DeadlockResult::Free => true,
-        DeadlockResult::Deadlock(path) => {
-            report.counterexample = Some(deadlock_counterexample(&lts, &design, &path));
-            false
-        }
-        DeadlockResult::Inconclusive(stop) => {
+}
+
+/// `X is deadlock-free` on a RoboSim element (semantics.md §7.4): no
+/// reachable state from which only time can pass.
+fn deadlock_free(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &mut Report) {
+    let a = cx.a;
+    let mut run = || -> Result<(), String> {
+        let target = cx.target(&a.subject)?;
+        let Target::Simulation { .. } = target else {
+            return Err("deadlock freedom is checked natively for RoboSim elements only so far".into());
+        };
+        let (design, period) = cx.compile(&target, &cx.constants()?)?;
+        let regs = Registers::new(&[&design], Profile::RoboTool3)?;
+        let lts = SimModule::new(&design, period, &regs)?;
+        report.notes.push(domains_note(&design));
+        let (result, stats) = find_timed_deadlock(&lts, &opts.budget, progress);
+        report.stats = stats;
+        if let Some(err) = lts.error() {
             report.verdict = Verdict::Inconclusive;
-            report.reason = Some(stop.reason(&opts.budget));
-            return;
+            report.reason = Some(format!("the model met a run-time error: {err}"));
+            return Ok(());
         }
+        let holds = match result {
+            TimedDeadlockResult::Free => true,
+            TimedDeadlockResult::TimedDeadlock { path, .. } => {
+                let steps = sim_steps(&lts, &design, &path);
+                report.counterexample = Some(Counterexample {
+                    kind: "timed deadlock",
+                    steps,
+                    explanation: vec![format!(
+                        "from here only time passes: {}",
+                        lts.describe(path.steps.last().map(|(_, s)| s).unwrap_or(&path.initial))
+                            .into_iter()
+                            .map(|(m, d)| format!("{m} is {d}"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )],
+                    stuck_at: Vec::new(),
+                });
+                false
+            }
+            TimedDeadlockResult::Inconclusive(stop) => {
+                report.verdict = Verdict::Inconclusive;
+                report.reason = Some(stop.reason(&opts.budget));
+                return Ok(());
+            }
+        };
+        report.reason = Some(if holds {
+            format!("{} never reaches a state where only time passes", design.name)
+        } else {
+            format!("{} reaches a state where only time passes (a timed deadlock)", design.name)
+        });
+        report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
+        Ok(())
     };
-    let pass = holds != a.negated;
-    report.verdict = if pass { Verdict::Pass } else { Verdict::Fail };
-    report.reason = Some(if holds {
-        format!("{} can be scheduled in cycles of period {period}", design.name)
-    } else {
-        format!("{} cannot be scheduled in cycles of period {period}", design.name)
-    });
+    if let Err(e) = run() {
+        report.verdict = Verdict::Unsupported;
+        report.reason = Some(e);
+    }
 }
 
-fn unsupported_reason(u: &Unsupported) -> String {
-    match &u.location {
-        Some((file, range)) => {
-            format!("{} ({file} at {}..{})", u.message, u32::from(range.start()), u32::from(range.end()))
+fn describe_cex<L: Lts, S: Lts>(imp: &L, spec: &S, cex: &RefinementCex<State>) -> String {
+    let _ = spec;
+    match cex {
+        RefinementCex::Trace { event, .. } => {
+            format!("the implementation can perform {} where the specification cannot", imp.event_name(event.event))
         }
-        None => u.message.clone(),
+        RefinementCex::Refusal { acceptances, .. } => {
+            let sets: Vec<String> = acceptances
+                .iter()
+                .map(|acc| format!("{{{}}}", acc.iter().map(|e| imp.event_name(*e)).collect::<Vec<_>>().join(", ")))
+                .collect();
+            format!("the implementation refuses every event the specification must offer: one of {}", sets.join(" or "))
+        }
+        RefinementCex::Divergence { .. } => "the implementation can compute forever without finishing its cycle".into(),
     }
 }
 
-fn domains_note(design: &Design) -> String {
-    let doms: Vec<String> = design.domains.iter().map(|(n, d)| format!("{n} = {{{}..{}}}", d.lo, d.hi)).collect();
-    let mut s = format!("domains: {}", doms.join(", "));
-    if !design.constants.is_empty() {
-        let cs: Vec<String> = design.constants.iter().map(|(n, v)| format!("{n} = {v}")).collect();
-        s.push_str(&format!("; constants: {}", cs.join(", ")));
+fn refinement_counterexample<L: Lts<State = State>, S: Lts>(
+    imp: &L,
+    spec: &S,
+    design: &Design,
+    cex: &RefinementCex<State>,
+) -> Counterexample {
+    let (kind, path) = match cex {
+        RefinementCex::Trace { path, .. } => ("trace", path),
+        RefinementCex::Refusal { path, .. } => ("refusal", path),
+        RefinementCex::Divergence { path, .. } => ("divergence", path),
+    };
+    Counterexample {
+        kind,
+        steps: sim_steps(imp, design, path),
+        explanation: vec![describe_cex(imp, spec, cex)],
+        stuck_at: Vec::new(),
     }
-    s
 }
 
-/// The steps of a path, with the design's moves identified and located.
-fn path_steps(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Vec<Step> {
+/// The steps of a path of any LTS over a design's state vector.
+fn sim_steps<L: Lts<State = State>>(lts: &L, design: &Design, path: &Path<State>) -> Vec<Step> {
     let mut steps = Vec::new();
     let mut prev: &State = &path.initial;
-    let mut cycle = 0u32;
-    let mut time = 0u32;
-    let mut after_tock = false;
+    let (mut cycle, mut time, mut after_tock) = (0u32, 0u32, false);
     for (label, next) in &path.steps {
         let name = if label.event == TAU {
             if label.note != 0 {
@@ -354,6 +627,30 @@ fn path_steps(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Vec
         prev = next;
     }
     steps
+}
+
+fn unsupported_reason(u: &Unsupported) -> String {
+    match &u.location {
+        Some((file, range)) => {
+            format!("{} ({file} at {}..{})", u.message, u32::from(range.start()), u32::from(range.end()))
+        }
+        None => u.message.clone(),
+    }
+}
+
+fn domains_note(design: &Design) -> String {
+    let doms: Vec<String> = design.domains.iter().map(|(n, d)| format!("{n} = {{{}..{}}}", d.lo, d.hi)).collect();
+    let mut s = format!("domains: {}", doms.join(", "));
+    if !design.constants.is_empty() {
+        let cs: Vec<String> = design.constants.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        s.push_str(&format!("; constants: {}", cs.join(", ")));
+    }
+    s
+}
+
+/// The steps of a path, with the design's moves identified and located.
+fn path_steps(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Vec<Step> {
+    sim_steps(lts, design, path)
 }
 
 /// Which machine moved between `prev` and `next`, and what it did.

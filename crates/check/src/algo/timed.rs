@@ -5,20 +5,22 @@
 //! prioritised below every other event and hidden; natively, a `tock` is
 //! *forced* at a state where no τ and no event other than `tock` is enabled
 //! (✓ counts as another event), and a timed deadlock is a reachable cycle of
-//! forced `tock`s. One exploration records the forced edges; an iterative
-//! Tarjan on them finds the cycles. A state with no transition at all (a
+//! forced `tock`s and τ steps (the hidden `tock`s and the process's own τs
+//! together diverge: a machine that only ever lets time pass between
+//! internal steps is stuck just as much). One exploration records those
+//! edges; an iterative Tarjan on them finds the cycles. A state with no transition at all (a
 //! timelock) is not a timed deadlock; [`find_deadlock`](super::find_deadlock)
 //! reports those.
 
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
-use crate::lts::{Label, Lts, TOCK};
+use crate::lts::{Label, Lts, TAU, TOCK};
 
 use super::{cyclic_components, explore, fx, shortest_cycle, tarjan, Flow, Path, Visited, NO_PARENT};
 
 /// The verdict of [`find_timed_deadlock`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum TimedDeadlockResult<S> {
-    /// No reachable cycle of forced `tock`s.
+    /// No reachable cycle of forced `tock`s and τs.
     Free,
     /// After `path` the process can only perform `tock`, forever: `cycle`
     /// is a cycle of forced `tock`s from the end of `path` back to it.
@@ -69,7 +71,7 @@ fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Lasso<L::Stat
             let only_tock = !succ.is_empty() && succ.iter().all(|(l, _)| l.event == TOCK);
             for ((label, t), &h) in succ.iter().zip(hashes) {
                 let (j, _) = visited.insert(meter, h, |s| s == t, || t.clone(), heap, i, *label)?;
-                if only_tock {
+                if only_tock || label.event == TAU {
                     if forced.len() == forced.capacity() {
                         meter.add_extra_bytes((forced.capacity().max(4) * 12) as u64)?;
                     }
