@@ -5,6 +5,7 @@
 pub mod algo;
 pub mod assertions;
 pub mod budget;
+pub mod design;
 pub mod events;
 pub mod ir;
 pub mod lower;

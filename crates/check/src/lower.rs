@@ -436,9 +436,13 @@ impl Cx<'_> {
         let mut slot: u16 = 0;
         for inst in &instances {
             let end: End = (format!("{}.{}", inst.ctrl, inst.name), String::new());
+            // A machine on its own: every event faces the environment, as an
+            // input if the machine ever receives it, else as an output.
+            let received = received_events(&inst.node);
             let m = self.machine(inst, &mut slot, |ev: &str| {
                 if lone {
-                    return Ok(None);
+                    let dir = if received.iter().any(|r| r == ev) { Dir::In } else { Dir::Out };
+                    return Ok(Some((ev.to_string(), dir)));
                 }
                 let mut e = end.clone();
                 e.1 = ev.to_string();
@@ -521,6 +525,19 @@ fn rename_ctrl(e: End, top: &str) -> End {
     } else {
         e
     }
+}
+
+/// The events a machine receives: triggers, `e?x` and `e.v` statements.
+fn received_events(machine: &SyntaxNode) -> Vec<String> {
+    machine
+        .descendants()
+        .filter(|n| n.kind() == COMMUNICATION)
+        .filter(|c| {
+            c.parent().is_some_and(|p| p.kind() == TRIGGER)
+                || c.children().any(|p| matches!(p.kind(), COMM_INPUT | COMM_SYNC))
+        })
+        .filter_map(|c| c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)))
+        .collect()
 }
 
 /// A connection's ends and whether it is asynchronous.

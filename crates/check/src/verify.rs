@@ -10,13 +10,14 @@ use robosim_hir::index::{resolve_item, ItemLoc};
 use robosim_hir::{parse, Db, File, TextRange, Workspace};
 
 use crate::algo::{
-    find_deadlock, find_timed_deadlock, refines, DeadlockResult, Path, RefinementCex, RefinementResult, SemanticModel,
-    TimedDeadlockResult,
+    check_determinism, find_deadlock, find_divergence, find_timed_deadlock, refines, DeadlockResult, DeterminismResult,
+    DivergenceResult, Path, RefinementCex, RefinementResult, SemanticModel, TimedDeadlockResult,
 };
 use crate::assertions::{
     read_assertions, AssertionDecl, AssertionFile, AssertionKind, Override, SemanticModelName, Value,
 };
 use crate::budget::{Budget, ProgressFn, Stats};
+use crate::design::{DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_design, ConstValue, DomainDefaults, Unsupported};
 use crate::lts::{Label, Lts, TAU, TOCK};
@@ -196,7 +197,11 @@ pub fn verify_assertion(
             refinement(&cx, other, *model, false, opts, progress, &mut report)
         }
         AssertionKind::Equals { other, model, .. } => refinement(&cx, other, *model, true, opts, progress, &mut report),
-        AssertionKind::DeadlockFree => deadlock_free(&cx, opts, progress, &mut report),
+        AssertionKind::DeadlockFree
+        | AssertionKind::TimelockFree
+        | AssertionKind::DivergenceFree
+        | AssertionKind::Deterministic
+        | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
         other => {
             report.reason = Some(format!("`{}` assertions are not supported by the native checker yet", other.label()));
         }
@@ -214,6 +219,8 @@ enum Target {
     Constrained { name: String, loc: ItemLoc, period: Option<i64> },
     /// A RoboSim module, controller or machine, with its period.
     Simulation { name: String, loc: ItemLoc, period: Option<i64> },
+    /// A RoboChart module, controller or machine on its own.
+    Design { name: String, loc: ItemLoc },
 }
 
 /// Everything an assertion's check needs from the workspace.
@@ -257,9 +264,7 @@ impl Cx<'_> {
         .next()
         .ok_or_else(|| format!("`{name}` is not a simulation, module, controller or machine"))?;
         if loc.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
-            return Err(format!(
-                "`{name}` is a RoboChart element: only simulations (`simulation S of {name}`) and RoboSim elements are checked natively so far"
-            ));
+            return Ok(Target::Design { name, loc });
         }
         let period = overridden.unwrap_or_else(|| element_cycle(self.db, loc));
         Ok(Target::Simulation { name, loc, period })
@@ -300,6 +305,8 @@ impl Cx<'_> {
             Target::Constrained { name, loc, period } | Target::Simulation { name, loc, period } => {
                 (name, *loc, *period)
             }
+            // A design on its own has no period.
+            Target::Design { name, loc } => (name, *loc, Some(1)),
         };
         let Some(period) = period.filter(|p| (1..=1_000).contains(p)) else {
             return Err(format!("`{name}` has no cycle period from 1 to 1000: give one with `cycleDef cycle == N`"));
@@ -326,10 +333,11 @@ fn element_cycle(db: &dyn Db, loc: ItemLoc) -> Option<i64> {
     lit.text().to_string().trim().parse().ok()
 }
 
-/// Either side of a check, as one LTS type.
+/// Any element of a check, as one LTS type.
 enum Side<'a> {
     Design(Constrained<'a>),
     Sim(SimModule<'a>),
+    Plain(DesignLts<'a>),
 }
 
 impl Side<'_> {
@@ -337,6 +345,7 @@ impl Side<'_> {
         match self {
             Side::Design(l) => l.error(),
             Side::Sim(l) => l.error(),
+            Side::Plain(l) => l.error(),
         }
     }
 }
@@ -348,6 +357,7 @@ impl Lts for Side<'_> {
         match self {
             Side::Design(l) => l.initial(),
             Side::Sim(l) => l.initial(),
+            Side::Plain(l) => l.initial(),
         }
     }
 
@@ -355,6 +365,7 @@ impl Lts for Side<'_> {
         match self {
             Side::Design(l) => l.successors(st, out),
             Side::Sim(l) => l.successors(st, out),
+            Side::Plain(l) => l.successors(st, out),
         }
     }
 
@@ -362,6 +373,7 @@ impl Lts for Side<'_> {
         match self {
             Side::Design(l) => l.event_name(e),
             Side::Sim(l) => l.event_name(e),
+            Side::Plain(l) => l.event_name(e),
         }
     }
 
@@ -369,6 +381,7 @@ impl Lts for Side<'_> {
         match self {
             Side::Design(l) => l.state_bytes(st),
             Side::Sim(l) => l.state_bytes(st),
+            Side::Plain(l) => l.state_bytes(st),
         }
     }
 }
@@ -379,6 +392,22 @@ fn side<'a>(target: &Target, design: &'a Design, period: u32, regs: &Registers) 
             Side::Design(Constrained::with_registers(design, period, Profile::RoboTool3, Some(regs), false)?)
         }
         Target::Simulation { .. } => Side::Sim(SimModule::new(design, period, regs)?),
+        Target::Design { name, .. } => {
+            return Err(format!(
+                "`{name}` is a RoboChart element: refinement is checked between simulations (`simulation S of {name}`) and RoboSim elements so far"
+            ))
+        }
+    })
+}
+
+/// The LTS of `target` on its own (for properties of one element).
+fn single<'a>(target: &Target, design: &'a Design, period: u32) -> Result<Side<'a>, String> {
+    Ok(match target {
+        Target::Design { .. } => Side::Plain(DesignLts::new(design)?),
+        _ => {
+            let regs = Registers::new(&[design], Profile::RoboTool3)?;
+            side(target, design, period, &regs)?
+        }
     })
 }
 
@@ -504,57 +533,140 @@ fn refinement(
     }
 }
 
-/// `X is deadlock-free` on a RoboSim element (semantics.md §7.4): no
-/// reachable state from which only time can pass.
-fn deadlock_free(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &mut Report) {
+/// Whether a property holds, its witness (kind, path, what happens at its
+/// end), and the verdict in words.
+type Outcome = (bool, Option<(&'static str, Path<State>, String)>, String);
+
+/// A property of one element: `deadlock-free` (semantics.md §7.4: no
+/// reachable state from which only time passes), `timelock-free` (no state
+/// where nothing, not even time, can happen), `divergence-free`,
+/// `deterministic`, `S is reachable in M`.
+fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &mut Report) {
     let a = cx.a;
     let mut run = || -> Result<(), String> {
-        let target = cx.target(&a.subject)?;
-        let Target::Simulation { .. } = target else {
-            return Err("deadlock freedom is checked natively for RoboSim elements only so far".into());
+        if opts.profile != Profile::RoboTool3 {
+            return Err(format!("`{}` is checked in the robotool3 profile only so far", a.kind.label()));
+        }
+        let subject = match &a.kind {
+            AssertionKind::Reachable { machine, .. } => machine.clone(),
+            _ => a.subject.clone(),
         };
+        let target = cx.target(&subject)?;
         let (design, period) = cx.compile(&target, &cx.constants()?)?;
-        let regs = Registers::new(&[&design], Profile::RoboTool3)?;
-        let lts = SimModule::new(&design, period, &regs)?;
+        let lts = single(&target, &design, period)?;
         report.notes.push(domains_note(&design));
-        let (result, stats) = find_timed_deadlock(&lts, &opts.budget, progress);
-        report.stats = stats;
+        let name = subject.join("::");
+        // (holds, counterexample kind, path, explanation) or a stop.
+        let outcome: Result<Outcome, crate::budget::Stop> = match &a.kind {
+            AssertionKind::DeadlockFree => {
+                let (r, stats) = find_timed_deadlock(&lts, &opts.budget, progress);
+                report.stats = stats;
+                match r {
+                    TimedDeadlockResult::Free => {
+                        Ok((true, None, format!("{name} never reaches a state where only time passes")))
+                    }
+                    TimedDeadlockResult::TimedDeadlock { path, .. } => Ok((
+                        false,
+                        Some(("timed deadlock", path, "from here only time passes".into())),
+                        format!("{name} reaches a state where only time passes (a timed deadlock)"),
+                    )),
+                    TimedDeadlockResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            AssertionKind::TimelockFree => {
+                let (r, stats) = find_deadlock(&lts, &opts.budget, progress);
+                report.stats = stats;
+                match r {
+                    DeadlockResult::Free => Ok((true, None, format!("time can always pass in {name}"))),
+                    DeadlockResult::Deadlock(path) => Ok((
+                        false,
+                        Some(("timelock", path, "nothing can happen here, not even time passing".into())),
+                        format!("{name} reaches a timelock"),
+                    )),
+                    DeadlockResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            AssertionKind::DivergenceFree => {
+                let (r, stats) = find_divergence(&lts, &opts.budget, progress);
+                report.stats = stats;
+                match r {
+                    DivergenceResult::Free => {
+                        Ok((true, None, format!("{name} never computes forever without time passing")))
+                    }
+                    DivergenceResult::Divergent { path, .. } => Ok((
+                        false,
+                        Some(("divergence", path, "from here it can compute forever".into())),
+                        format!("{name} can diverge"),
+                    )),
+                    DivergenceResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            AssertionKind::Deterministic => {
+                let (r, stats) = check_determinism(&lts, &opts.budget, progress);
+                report.stats = stats;
+                match r {
+                    DeterminismResult::Deterministic => Ok((true, None, format!("{name} is deterministic"))),
+                    DeterminismResult::Nondeterministic { path, event } => Ok((
+                        false,
+                        Some((
+                            "nondeterminism",
+                            path,
+                            format!("here {} may be refused or performed", lts.event_name(event)),
+                        )),
+                        format!("{name} is not deterministic"),
+                    )),
+                    DeterminismResult::Divergent { path, .. } => Ok((
+                        false,
+                        Some(("divergence", path, "from here it can compute forever".into())),
+                        format!("{name} can diverge, so it is not deterministic"),
+                    )),
+                    DeterminismResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            AssertionKind::Reachable { state, .. } => {
+                let Side::Plain(plain) = &lts else {
+                    return Err("reachability is checked for RoboChart machines only so far".into());
+                };
+                let target_state = |st: &State| plain.in_state(st, state);
+                let reach = Reach { lts: plain, target: &target_state };
+                let (r, stats) = find_deadlock(&reach, &opts.budget, progress);
+                report.stats = stats;
+                let sname = state.join("::");
+                match r {
+                    DeadlockResult::Free => Ok((false, None, format!("{sname} is not reachable in {name}"))),
+                    DeadlockResult::Deadlock(path) => Ok((
+                        true,
+                        Some(("reachability", path, format!("{sname} is entered here"))),
+                        format!("{sname} is reachable in {name}"),
+                    )),
+                    DeadlockResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            other => return Err(format!("`{}` assertions are not supported by the native checker yet", other.label())),
+        };
         if let Some(err) = lts.error() {
             report.verdict = Verdict::Inconclusive;
             report.reason = Some(format!("the model met a run-time error: {err}"));
             return Ok(());
         }
-        let holds = match result {
-            TimedDeadlockResult::Free => true,
-            TimedDeadlockResult::TimedDeadlock { path, .. } => {
-                let steps = sim_steps(&lts, &design, &path);
-                report.counterexample = Some(Counterexample {
-                    kind: "timed deadlock",
-                    steps,
-                    explanation: vec![format!(
-                        "from here only time passes: {}",
-                        lts.describe(path.steps.last().map(|(_, s)| s).unwrap_or(&path.initial))
-                            .into_iter()
-                            .map(|(m, d)| format!("{m} is {d}"))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    )],
-                    stuck_at: Vec::new(),
-                });
-                false
+        match outcome {
+            Ok((holds, witness, reason)) => {
+                if let Some((kind, path, why)) = witness {
+                    report.counterexample = Some(Counterexample {
+                        kind,
+                        steps: sim_steps(&lts, &design, &path),
+                        explanation: vec![why],
+                        stuck_at: Vec::new(),
+                    });
+                }
+                report.reason = Some(reason);
+                report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
             }
-            TimedDeadlockResult::Inconclusive(stop) => {
+            Err(stop) => {
                 report.verdict = Verdict::Inconclusive;
                 report.reason = Some(stop.reason(&opts.budget));
-                return Ok(());
             }
-        };
-        report.reason = Some(if holds {
-            format!("{} never reaches a state where only time passes", design.name)
-        } else {
-            format!("{} reaches a state where only time passes (a timed deadlock)", design.name)
-        });
-        report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
+        }
         Ok(())
     };
     if let Err(e) = run() {

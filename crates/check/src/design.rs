@@ -1,0 +1,207 @@
+//! A RoboChart module, controller or machine on its own, as an LTS: its
+//! external events visible (`e.in.v`, `e.out.v`, `opCall.args`), internal
+//! steps hidden, τ before `tock` (semantics.md §4.1). This is what
+//! RoboChart assertions about a design (`deadlock-free`, `divergence-free`,
+//! `timelock-free`, `deterministic`, `reachable`) are about.
+
+use std::sync::Mutex;
+
+use crate::events::{EventTable, Param};
+use crate::ir::{Design, Dir, Val};
+use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use crate::machine::Offer;
+use crate::sched::State;
+
+/// The design as an LTS.
+pub struct DesignLts<'a> {
+    design: &'a Design,
+    events: EventTable,
+    /// Event channel of each design channel.
+    group: Vec<usize>,
+    /// Slot: 0 running, 1 terminated (✓ done).
+    ended: usize,
+    len: usize,
+    error: Mutex<Option<String>>,
+}
+
+impl<'a> DesignLts<'a> {
+    /// The design's LTS.
+    pub fn new(design: &'a Design) -> Result<DesignLts<'a>, String> {
+        let mut events = EventTable::default();
+        let mut group = Vec::new();
+        for c in &design.channels {
+            let name = match (c.is_call, c.dir) {
+                (true, _) => format!("{}Call", c.name),
+                (false, Dir::In) => format!("{}.in", c.name),
+                (false, Dir::Out) => format!("{}.out", c.name),
+            };
+            let params = c.params.iter().map(|&d| Param::Num(d)).collect();
+            group.push(events.add(name, params).map_err(|e| format!("the channel `{}` has too many values", e.0))?);
+        }
+        let ended = design.slots as usize;
+        Ok(DesignLts { design, events, group, ended, len: ended + 1, error: Mutex::new(None) })
+    }
+
+    /// The first run-time error met during exploration, if any.
+    pub fn error(&self) -> Option<String> {
+        self.error.lock().ok().and_then(|e| e.clone())
+    }
+
+    /// Whether a machine of the design is in (or inside) the state named
+    /// `path` (`M::S` or `S`).
+    pub fn in_state(&self, st: &[i32], path: &[String]) -> bool {
+        let Some(name) = path.last() else { return false };
+        self.design.machines.iter().any(|m| {
+            let mut node = m.leaf(st);
+            while let Some(n) = node {
+                if m.nodes[n as usize].name == *name {
+                    return true;
+                }
+                node = m.nodes[n as usize].parent;
+            }
+            false
+        })
+    }
+
+    fn successors_inner(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+        let start = out.len();
+        let mut can_tock = true;
+        let mut moves = Vec::new();
+        for m in &self.design.machines {
+            moves.clear();
+            m.moves(st, &mut moves).map_err(|e| e.0)?;
+            can_tock &= m.can_tock(st);
+            for mv in &moves {
+                match &mv.offer {
+                    Offer::Tau => {
+                        let mut n = st.clone();
+                        m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                        out.push((Label::TAU, n));
+                    }
+                    Offer::In { chan, value } => {
+                        let c = &self.design.channels[*chan as usize];
+                        let values: Vec<Option<Val>> = match (c.params.first(), value) {
+                            (_, Some(v)) => vec![Some(*v)],
+                            (Some(d), None) => (d.lo..=d.hi).map(Some).collect(),
+                            (None, None) => vec![None],
+                        };
+                        for v in values {
+                            let mut n = st.clone();
+                            m.apply(&mut n, &self.design.clocks, mv.act, v).map_err(|e| e.0)?;
+                            let ev = self.events.event(self.group[*chan as usize], &v.into_iter().collect::<Vec<_>>());
+                            out.push((Label::plain(ev), n));
+                        }
+                    }
+                    Offer::Out { chan, args } => {
+                        let mut n = st.clone();
+                        m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                        out.push((Label::plain(self.events.event(self.group[*chan as usize], args)), n));
+                    }
+                }
+            }
+        }
+        if self.design.machines.iter().all(|m| m.terminated(st)) {
+            let mut n = st.clone();
+            n[self.ended] = 1;
+            out.push((Label::plain(TICK), n));
+        }
+        // Maximal progress: time passes only when nothing internal can happen.
+        let tau = out[start..].iter().any(|(l, _)| l.event == TAU);
+        if can_tock && !tau {
+            let mut n = st.clone();
+            for c in &self.design.clocks {
+                let v = &mut n[c.slot as usize];
+                *v = (*v + 1).min(c.cap);
+            }
+            for m in &self.design.machines {
+                m.tock(&mut n, &self.design.clocks).map_err(|e| e.0)?;
+            }
+            out.push((Label::TOCK, n));
+        }
+        Ok(())
+    }
+}
+
+impl Lts for DesignLts<'_> {
+    type State = State;
+
+    fn initial(&self) -> State {
+        let mut st = vec![0i32; self.len];
+        for v in &self.design.vars {
+            st[v.slot as usize] = v.init as i32;
+        }
+        for m in &self.design.machines {
+            m.init(&mut st);
+            if let Err(e) = m.settle(&mut st, &self.design.clocks, true) {
+                if let Ok(mut err) = self.error.lock() {
+                    err.get_or_insert(e.0);
+                }
+            }
+        }
+        st.into_boxed_slice()
+    }
+
+    fn successors(&self, st: &State, out: &mut Vec<(Label, State)>) {
+        if st[self.ended] != 0 {
+            return;
+        }
+        let start = out.len();
+        if let Err(e) = self.successors_inner(st, out) {
+            if let Ok(mut err) = self.error.lock() {
+                err.get_or_insert(e);
+            }
+            out.truncate(start);
+        }
+    }
+
+    fn event_name(&self, event: Event) -> String {
+        match event {
+            TAU => "τ".into(),
+            TICK => "✓".into(),
+            TOCK => "tock".into(),
+            e => self.events.name(e).unwrap_or_else(|| format!("e{e}")),
+        }
+    }
+
+    fn state_bytes(&self, st: &State) -> usize {
+        std::mem::size_of::<State>() + std::mem::size_of_val(&st[..])
+    }
+}
+
+/// `lts` with the states satisfying `target` made final (no transitions)
+/// and every other state kept live, so that a deadlock search finds the
+/// shortest path to a target state.
+pub struct Reach<'a, L: Lts> {
+    /// The LTS searched.
+    pub lts: &'a L,
+    /// The states sought.
+    pub target: &'a (dyn Fn(&L::State) -> bool + Sync),
+}
+
+impl<L: Lts> Lts for Reach<'_, L> {
+    type State = L::State;
+
+    fn initial(&self) -> L::State {
+        self.lts.initial()
+    }
+
+    fn successors(&self, st: &L::State, out: &mut Vec<(Label, L::State)>) {
+        if (self.target)(st) {
+            return;
+        }
+        let start = out.len();
+        self.lts.successors(st, out);
+        if out.len() == start {
+            // A dead end of the LTS is not a target.
+            out.push((Label::TOCK, st.clone()));
+        }
+    }
+
+    fn event_name(&self, event: Event) -> String {
+        self.lts.event_name(event)
+    }
+
+    fn state_bytes(&self, st: &L::State) -> usize {
+        self.lts.state_bytes(st)
+    }
+}
