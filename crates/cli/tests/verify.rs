@@ -66,11 +66,17 @@ fn running_example_schedulability() {
         let r = find(&v, "assertions.rsa", name);
         assert_eq!(r["verdict"], "pass", "{r:#}");
     }
-    // RoboChart-only assertions are not checked natively yet: unsupported,
-    // with the reason.
-    let d2 = find(&v, "design.assertions", "D2");
-    assert_eq!(d2["verdict"], "unsupported");
-    assert!(d2["reason"].as_str().unwrap().contains("divergence-free"), "{d2:#}");
+    // The design's own properties (deadlock, divergence and timelock
+    // freedom, nondeterminism, reachability of Turning).
+    for name in ["D1", "D2", "D3", "D4", "D5"] {
+        let r = find(&v, "design.assertions", name);
+        assert_eq!(r["verdict"], "pass", "{r:#}");
+    }
+    // Clock initialisation is not checked natively yet: unsupported, with
+    // the reason.
+    let d6 = find(&v, "design.assertions", "D6");
+    assert_eq!(d6["verdict"], "unsupported");
+    assert!(d6["reason"].as_str().unwrap().contains("clock-initialised"), "{d6:#}");
     // No failure, some unsupported: exit 3.
     assert_eq!(code, Some(3));
 }
