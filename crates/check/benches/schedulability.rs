@@ -3,13 +3,18 @@
 //! machines × `k` states (each machine reacts to its own input by moving to
 //! its next state and calling its own platform operation).
 //!
+//! Refinement (soundness) speed: state pairs per second, on the running
+//! example (Figure 3 against Figure 1) and on a generated design of `n`
+//! machines × `k` states with its simulation.
+//!
 //! `cargo bench -p robosim-check --bench schedulability`
 
-use robosim_check::algo::{find_deadlock, DeadlockResult};
+use robosim_check::algo::{find_deadlock, refines, DeadlockResult, RefinementResult, SemanticModel};
 use robosim_check::budget::Budget;
 use robosim_check::ir::Design;
 use robosim_check::lower::{lower_design, ConstValue, DomainDefaults};
-use robosim_check::sched::{Constrained, Profile};
+use robosim_check::sched::{Constrained, Profile, Registers};
+use robosim_check::sim::SimModule;
 
 fn main() {
     divan::main();
@@ -46,8 +51,12 @@ fn generated(n: usize, k: usize) -> String {
 }
 
 fn design(text: &str, item: &str, consts: &[ConstValue]) -> Design {
+    compile(text, "m.rct", item, consts)
+}
+
+fn compile(text: &str, path: &str, item: &str, consts: &[ConstValue]) -> Design {
     let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, [("m.rct".to_string(), text.to_string())], robosim_hir::RuleSet::Paper);
+    let ws = robosim_hir::load_workspace(&db, [(path.to_string(), text.to_string())], robosim_hir::RuleSet::Paper);
     let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
     let path: Vec<String> = item.split("::").map(String::from).collect();
     let loc = robosim_hir::index::resolve_item(&db, ws, file, &path, |_| true)[0];
@@ -82,4 +91,76 @@ fn running_example(bencher: divan::Bencher) {
     let (states, bytes) = check(&d, 1);
     eprintln!("running example: {states} states, {} bytes/state", bytes / states.max(1));
     bencher.counter(divan::counter::ItemsCount::new(states)).bench(|| check(&d, 1));
+}
+
+/// The simulation of [`generated`]: each machine's decision is taken in
+/// the cycle after the one that entered the state, as in the paper's
+/// Figure 3.
+fn generated_sim(n: usize, k: usize) -> String {
+    let mut s = String::from("interface I {\n");
+    for i in 0..n {
+        s.push_str(&format!("    event e{i}\n    op{i}()\n"));
+    }
+    s.push_str("}\n");
+    for i in 0..n {
+        s.push_str(&format!(
+            "stm M{i} {{\n    cycleDef cycle == 1\n    input context {{ uses I }}\n    output context {{ requires I }}\n    initial i0\n"
+        ));
+        for j in 0..k {
+            s.push_str(&format!("    state S{j} {{ entry $op{i}() }}\n    state D{j} {{ }}\n    junction J{j}\n"));
+            s.push_str(&format!("    transition s{j} {{ from S{j} to D{j} }}\n    transition x{j} {{ from D{j} to J{j} exec }}\n"));
+            s.push_str(&format!("    transition y{j} {{ from J{j} to S{} condition $e{i} }}\n", (j + 1) % k));
+            s.push_str(&format!("    transition z{j} {{ from J{j} to D{j} condition not $e{i} }}\n"));
+        }
+        s.push_str("    transition t { from i0 to S0 }\n}\n");
+    }
+    s.push_str("controller C {\n    cycleDef cycle == 1\n    uses I requires I\n");
+    for i in 0..n {
+        s.push_str(&format!("    sref m{i} = M{i}\n    connection C on e{i} to m{i} on e{i}\n"));
+    }
+    s.push_str("}\nmodule Mod {\n    cycleDef cycle == 1\n    robotic platform P { uses I provides I }\n    cref c = C\n");
+    for i in 0..n {
+        s.push_str(&format!("    connection P on e{i} to c on e{i}\n"));
+    }
+    s.push_str("}\n");
+    s
+}
+
+/// `sim` refines the constrained `design` (period 1): (pairs, holds).
+fn soundness(design: &Design, sim: &Design) -> (u64, bool) {
+    let regs = Registers::new(&[design, sim], Profile::RoboTool3).expect("registers");
+    let spec = Constrained::with_registers(design, 1, Profile::RoboTool3, Some(&regs), false).expect("spec");
+    let imp = SimModule::new(sim, 1, &regs).expect("simulation");
+    let (r, stats) =
+        refines(&spec, &imp, SemanticModel::FailuresDivergences, &Budget::default().with_threads(1), None);
+    (stats.states, matches!(r, RefinementResult::Holds))
+}
+
+#[divan::bench(args = [(1, 3), (2, 3), (3, 3)])]
+fn refinement_generated(bencher: divan::Bencher, (n, k): (usize, usize)) {
+    let d = design(&generated(n, k), "Mod", &[]);
+    let s = compile(&generated_sim(n, k), "s.rst", "Mod", &[]);
+    let (pairs, holds) = soundness(&d, &s);
+    assert!(holds, "the generated simulation is sound");
+    eprintln!("refinement {n}×{k}: {pairs} pairs");
+    bencher.counter(divan::counter::ItemsCount::new(pairs)).bench(|| soundness(&d, &s));
+}
+
+#[divan::bench]
+fn refinement_running_example(bencher: divan::Bencher) {
+    let read = |f: &str| {
+        std::fs::read_to_string(format!("{}/../../examples/paper/{f}", env!("CARGO_MANIFEST_DIR"))).expect("example")
+    };
+    let consts = |m: &str| -> Vec<ConstValue> {
+        [("PI", 45), ("av", 15), ("lv", 1)]
+            .into_iter()
+            .map(|(n, v)| ConstValue { name: n.into(), of: vec![m.into()], value: v })
+            .collect()
+    };
+    let d = compile(&read("design.rct"), "design.rct", "paper_design::CFootBot", &consts("SMovement"));
+    let s = compile(&read("simulation.rst"), "sim.rst", "paper_sim::SimCFootBot", &consts("SimSMovement"));
+    let (pairs, holds) = soundness(&d, &s);
+    assert!(holds, "Figure 3 is sound");
+    eprintln!("refinement running example: {pairs} pairs");
+    bencher.counter(divan::counter::ItemsCount::new(pairs)).bench(|| soundness(&d, &s));
 }
