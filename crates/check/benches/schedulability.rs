@@ -108,7 +108,9 @@ fn generated_sim(n: usize, k: usize) -> String {
         ));
         for j in 0..k {
             s.push_str(&format!("    state S{j} {{ entry $op{i}() }}\n    state D{j} {{ }}\n    junction J{j}\n"));
-            s.push_str(&format!("    transition s{j} {{ from S{j} to D{j} }}\n    transition x{j} {{ from D{j} to J{j} exec }}\n"));
+            s.push_str(&format!(
+                "    transition s{j} {{ from S{j} to D{j} }}\n    transition x{j} {{ from D{j} to J{j} exec }}\n"
+            ));
             s.push_str(&format!("    transition y{j} {{ from J{j} to S{} condition $e{i} }}\n", (j + 1) % k));
             s.push_str(&format!("    transition z{j} {{ from J{j} to D{j} condition not $e{i} }}\n"));
         }
@@ -118,7 +120,9 @@ fn generated_sim(n: usize, k: usize) -> String {
     for i in 0..n {
         s.push_str(&format!("    sref m{i} = M{i}\n    connection C on e{i} to m{i} on e{i}\n"));
     }
-    s.push_str("}\nmodule Mod {\n    cycleDef cycle == 1\n    robotic platform P { uses I provides I }\n    cref c = C\n");
+    s.push_str(
+        "}\nmodule Mod {\n    cycleDef cycle == 1\n    robotic platform P { uses I provides I }\n    cref c = C\n",
+    );
     for i in 0..n {
         s.push_str(&format!("    connection P on e{i} to c on e{i}\n"));
     }
@@ -131,8 +135,7 @@ fn soundness(design: &Design, sim: &Design) -> (u64, bool) {
     let regs = Registers::new(&[design, sim], Profile::RoboTool3).expect("registers");
     let spec = Constrained::with_registers(design, 1, Profile::RoboTool3, Some(&regs), false).expect("spec");
     let imp = SimModule::new(sim, 1, &regs).expect("simulation");
-    let (r, stats) =
-        refines(&spec, &imp, SemanticModel::FailuresDivergences, &Budget::default().with_threads(1), None);
+    let (r, stats) = refines(&spec, &imp, SemanticModel::FailuresDivergences, &Budget::default().with_threads(1), None);
     (stats.states, matches!(r, RefinementResult::Holds))
 }
 

@@ -262,7 +262,16 @@ impl Cx<'_> {
         })
         .into_iter()
         .next()
-        .ok_or_else(|| format!("`{name}` is not a simulation, module, controller or machine"))?;
+        .ok_or_else(|| {
+            let csp = std::iter::once(self.read)
+                .chain(self.others.iter().map(|(_, r)| r))
+                .any(|r| path.last().is_some_and(|n| r.csp_block(n).is_some()));
+            if csp {
+                format!("`{name}` is defined in a `csp` block: raw CSPm is not verifiable natively (check it with FDR)")
+            } else {
+                format!("`{name}` is not a simulation, module, controller or machine")
+            }
+        })?;
         if loc.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
             return Ok(Target::Design { name, loc });
         }
@@ -311,8 +320,8 @@ impl Cx<'_> {
         let Some(period) = period.filter(|p| (1..=1_000).contains(p)) else {
             return Err(format!("`{name}` has no cycle period from 1 to 1000: give one with `cycleDef cycle == N`"));
         };
-        let design =
-            lower_design(self.db, self.ws, loc, consts, &self.defaults()).map_err(|u| unsupported_reason(&u))?;
+        let design = lower_design(self.db, self.ws, loc, consts, &self.defaults())
+            .map_err(|u| unsupported_reason(self.db, self.ws, &u))?;
         Ok((design, period as u32))
     }
 }
@@ -741,13 +750,19 @@ fn sim_steps<L: Lts<State = State>>(lts: &L, design: &Design, path: &Path<State>
     steps
 }
 
-fn unsupported_reason(u: &Unsupported) -> String {
-    match &u.location {
-        Some((file, range)) => {
-            format!("{} ({file} at {}..{})", u.message, u32::from(range.start()), u32::from(range.end()))
-        }
-        None => u.message.clone(),
-    }
+/// The reason with its place as `file:line:column` (1-based, columns in
+/// characters as editors count them).
+fn unsupported_reason(db: &dyn Db, ws: Workspace, u: &Unsupported) -> String {
+    let Some((path, range)) = &u.location else {
+        return u.message.clone();
+    };
+    let Some(file) = ws.files(db).iter().find(|f| f.path(db) == path) else {
+        return format!("{} ({path})", u.message);
+    };
+    let text = file.text(db);
+    let index = robosim_syntax::line_index::LineIndex::new(text);
+    let at = index.line_col(text, range.start());
+    format!("{} ({path}:{}:{})", u.message, at.line + 1, at.col + 1)
 }
 
 fn domains_note(design: &Design) -> String {
