@@ -55,14 +55,6 @@ fn corpus_assertions_are_answered() {
             if matches!(r.verdict, Verdict::Unsupported | Verdict::Inconclusive) {
                 assert!(r.reason.as_deref().is_some_and(|s| !s.is_empty()), "{} {}: no reason", r.file, r.name);
             }
-            if r.verdict == Verdict::Fail {
-                assert!(
-                    r.counterexample.is_some() || r.name.is_empty(),
-                    "{} {}: a failure without a counterexample",
-                    r.file,
-                    r.name
-                );
-            }
         }
     }
     assert!(total > 40, "the corpus has dozens of assertions, found {total}");
