@@ -24,6 +24,7 @@ mod navigation;
 mod rename;
 mod selection;
 mod symbols;
+pub mod verify;
 pub mod workspace_files;
 
 use std::collections::HashMap;
@@ -47,6 +48,7 @@ pub use robosim_syntax::line_index::{LineCol, LineIndex};
 pub use robosim_syntax::{FileKind, TextRange, TextSize};
 pub use salsa::{Cancelled, Durability};
 pub use symbols::{DocumentSymbol, SymbolKind, WorkspaceSymbol};
+pub use verify::{Verified, VerifyLens, VerifyTarget};
 
 /// The result of a query on a snapshot: `Err(Cancelled)` when an input
 /// changed while it ran, so the answer would describe text that is gone.
@@ -117,9 +119,14 @@ impl AnalysisHost {
     /// `kind`, or else the extension (RoboChart when neither says).
     /// `durability` says how often the text is expected to change: LOW for
     /// a buffer being edited, MEDIUM for a file on disk.
+    /// Setting the same text and language again changes nothing: no new
+    /// revision, so queries running on snapshots are not cancelled.
     pub fn set_file(&mut self, path: &str, text: String, kind: Option<FileKind>, durability: Durability) -> FileId {
         let kind = kind.or_else(|| FileKind::from_path(std::path::Path::new(path))).unwrap_or(FileKind::RoboChart);
         if let Some(&file) = self.files.get(path) {
+            if file.kind(&self.db) == kind && *file.text(&self.db) == text {
+                return FileId(file);
+            }
             if file.kind(&self.db) != kind {
                 file.set_kind(&mut self.db).with_durability(durability).to(kind);
             }
@@ -132,6 +139,16 @@ impl AnalysisHost {
         all.push(file);
         self.workspace.set_files(&mut self.db).with_durability(Durability::MEDIUM).to(all);
         FileId(file)
+    }
+
+    /// Whether [`AnalysisHost::set_file`] with these arguments would change
+    /// anything: the file is new, or its text or language differs.
+    pub fn would_change(&self, path: &str, text: &str, kind: Option<FileKind>) -> bool {
+        let kind = kind.or_else(|| FileKind::from_path(std::path::Path::new(path))).unwrap_or(FileKind::RoboChart);
+        match self.files.get(path) {
+            Some(&file) => file.kind(&self.db) != kind || file.text(&self.db) != text,
+            None => true,
+        }
     }
 
     /// Removes the file at `path`; false when there was none. Library files
@@ -343,6 +360,62 @@ impl Analysis {
     /// fmt`, or a message when it cannot be formatted (a syntax error).
     pub fn format(&self, file: FileId) -> Cancellable<Result<Vec<TextEdit>, String>> {
         self.with_db(|db| formatting::format(db, file.0))
+    }
+
+    /// The code lenses that start a verification from `file`: on each
+    /// assertion and simulation of an assertion file, and on each RoboChart
+    /// module that a simulation of the workspace simulates.
+    pub fn verify_lenses(&self, file: FileId) -> Cancellable<Vec<VerifyLens>> {
+        self.with_db(|db| verify::lenses(db, self.workspace, file.0))
+    }
+
+    /// Whether `target` names an assertion or a simulation of an assertion
+    /// file of the workspace, or what is wrong.
+    pub fn check_verify_target(&self, target: &VerifyTarget) -> Cancellable<Result<(), String>> {
+        self.with_db(|db| verify::check_target(db, self.workspace, target))
+    }
+
+    /// Runs the check of `target` with the native engine: one report per
+    /// assertion checked, or what is wrong with the target. It may run for
+    /// long: the snapshot is held meanwhile, so the caller must stop it
+    /// (through `opts.budget.cancel`) before changing an input.
+    pub fn verify(
+        &self,
+        target: &VerifyTarget,
+        opts: &verify::Options,
+        progress: Option<verify::ProgressFn>,
+    ) -> Cancellable<Result<Vec<verify::Report>, String>> {
+        self.with_db(|db| verify::run(db, self.workspace, target, opts, progress))
+    }
+
+    /// The diagnostics of the verification reports about assertions of
+    /// `file` (code `RS-VERIFY`).
+    pub fn verify_diagnostics(&self, file: FileId, verified: &[Verified]) -> Cancellable<Vec<Diagnostic>> {
+        self.with_db(|db| verify::diagnostics(db, self.workspace, file.0, verified))
+    }
+
+    /// Like [`Analysis::hover_with_diagnostics`] (or [`Analysis::hover`]
+    /// when `diagnostics` is `None`), with, on an assertion's name, the
+    /// last verification report about it among `verified`.
+    pub fn hover_with_verification(
+        &self,
+        file: FileId,
+        offset: TextSize,
+        diagnostics: Option<&[Diagnostic]>,
+        verified: &[Verified],
+    ) -> Cancellable<Option<HoverResult>> {
+        self.with_db(|db| {
+            let base = hover::hover(db, self.workspace, file.0, offset, diagnostics);
+            let text = file.0.text(db);
+            let offset = offset.min(TextSize::of(text.as_str()));
+            let Some((range, section)) = verify::hover_section(db, self.workspace, file.0, offset, verified) else {
+                return base;
+            };
+            Some(match base {
+                Some(h) => HoverResult { range: h.range, markdown: format!("{section}\n\n---\n\n{}", h.markdown) },
+                None => HoverResult { range, markdown: section },
+            })
+        })
     }
 
     /// Quick fixes for the diagnostics of `file` that touch `range`.
