@@ -17,10 +17,14 @@
 //! the edits made since (what editors do with markers anyway). The second
 //! is the complete check. A parse of a 10,000-line file takes milliseconds,
 //! the semantic rules much longer, and typing should not wait for them.
+//!
+//! The verification results about a file's assertions (`verify.rs`) are
+//! published with its diagnostics, in both publishes. A publish computed
+//! before those results changed is not sent: the change schedules another.
 
 use std::sync::Arc;
 
-use robosim_ide::{Analysis, Cancellable, FileId};
+use robosim_ide::{Analysis, Cancellable, FileId, Verified};
 use tower_lsp_server::ls_types::{self as lsp, Uri};
 
 use crate::convert::{self, Text};
@@ -29,9 +33,25 @@ use crate::state::{Phase, Shared};
 /// Starts diagnostics for `primary` (the file just changed), then, when
 /// `others`, for every other file whose diagnostics may depend on it.
 pub(crate) fn schedule(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
+    let shared_for_lenses = shared.clone();
     let shared = shared.clone();
     let runtime = shared.runtime.clone();
     runtime.spawn_blocking(move || run(&shared, primary, others));
+    // Results of verification dropped by the change: titles to update.
+    crate::verify::refresh_lenses(&shared_for_lenses);
+}
+
+/// Publishes the diagnostics of `keys` again (their verification results
+/// changed).
+pub(crate) fn republish(shared: &Arc<Shared>, keys: Vec<String>) {
+    let shared = shared.clone();
+    let runtime = shared.runtime.clone();
+    runtime.spawn_blocking(move || {
+        for key in keys {
+            let Some(seq) = shared.lock().files.get(&key).map(|e| e.seq) else { continue };
+            full(&shared, &key, seq, false);
+        }
+    });
 }
 
 /// What a job needs to know about one file, read under the lock.
@@ -41,6 +61,10 @@ struct Target {
     uri: Uri,
     version: Option<i32>,
     file: Option<FileId>,
+    /// The verification results about the file's assertions, and their
+    /// stamp.
+    verified: Vec<Verified>,
+    stamp: u64,
 }
 
 #[derive(PartialEq, Eq)]
@@ -92,12 +116,17 @@ fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
                 uri: entry.uri.clone(),
                 version: Some(doc.version),
                 file: Some(file),
+                verified: st.verify.reports_for(key),
+                stamp: st.verify.stamp(key),
             };
             (st.host.analysis(), target, carried)
         };
         let result = target.file.map(|file| -> Cancellable<_> {
             let mut diags = analysis.syntax_diagnostics(file)?;
             diags.extend(carried.unwrap_or_default());
+            if !target.verified.is_empty() {
+                diags.extend(analysis.verify_diagnostics(file, &target.verified)?);
+            }
             diags.sort_by_key(|d| (d.range.start(), d.range.end()));
             convert_all(&analysis, file, &diags)
         });
@@ -129,11 +158,22 @@ fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool) -> Outcome {
                 uri: entry.uri.clone(),
                 version: entry.open.as_ref().map(|d| d.version),
                 file: entry.file,
+                verified: st.verify.reports_for(key),
+                stamp: st.verify.stamp(key),
             };
             (st.host.analysis(), target)
         };
         let result = match target.file {
-            Some(file) => analysis.diagnostics(file).and_then(|d| Ok((convert_all(&analysis, file, &d)?, Some(d)))),
+            Some(file) => analysis.diagnostics(file).and_then(|d| {
+                if target.verified.is_empty() {
+                    return Ok((convert_all(&analysis, file, &d)?, Some(d)));
+                }
+                // Kept apart from the check's own, which later edits carry.
+                let mut all = d.clone();
+                all.extend(analysis.verify_diagnostics(file, &target.verified)?);
+                all.sort_by_key(|d| (d.range.start(), d.range.end()));
+                Ok((convert_all(&analysis, file, &all)?, Some(d)))
+            }),
             None => Ok((Vec::new(), None)),
         };
         drop(analysis);
@@ -211,6 +251,10 @@ fn publish(
     }
     {
         let mut st = shared.lock();
+        // Newer verification results: the publish they scheduled covers it.
+        if st.verify.stamp(&target.key) != target.stamp {
+            return;
+        }
         let Some(entry) = st.files.get_mut(&target.key).filter(|e| e.seq == target.seq) else { return };
         if let (Some(doc), Some(checked)) = (entry.open.as_mut(), checked) {
             doc.checked = Some(checked);

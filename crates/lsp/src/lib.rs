@@ -22,6 +22,7 @@ mod ordered;
 mod server;
 mod state;
 mod transport;
+mod verify;
 mod workspace;
 
 use std::process::ExitCode;

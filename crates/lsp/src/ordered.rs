@@ -18,6 +18,7 @@ use tower::Service;
 use tower_lsp_server::jsonrpc::{Request, Response};
 use tower_lsp_server::ls_types::{
     DidChangeTextDocumentParams, DidCloseTextDocumentParams, DidOpenTextDocumentParams, MessageType,
+    WorkDoneProgressCancelParams,
 };
 use tower_lsp_server::{ExitedError, LspService};
 
@@ -51,6 +52,13 @@ impl Service<Request> for Ordered {
             apply(&self.shared, req);
             return Box::pin(std::future::ready(Ok(None)));
         }
+        if req.method() == "window/workDoneProgress/cancel" && req.id().is_none() {
+            // tower-lsp-server has no handler for it.
+            if self.shared.phase() == Phase::Running {
+                cancel_progress(&self.shared, req);
+            }
+            return Box::pin(std::future::ready(Ok(None)));
+        }
         if req.method() == "shutdown" && req.id().is_some() && self.shared.phase() == Phase::Running {
             // Edits after `shutdown` are ignored from this very message on,
             // not from whenever the handler happens to run.
@@ -69,6 +77,14 @@ fn params<T: DeserializeOwned>(shared: &Shared, method: &str, params: Option<ser
             None
         }
     }
+}
+
+/// `window/workDoneProgress/cancel`: stops the verification job that
+/// reports under the token, if any.
+fn cancel_progress(shared: &Arc<Shared>, req: Request) {
+    let (method, _, raw) = req.into_parts();
+    let Some(p) = params::<WorkDoneProgressCancelParams>(shared, method.as_ref(), raw) else { return };
+    shared.lock().verify.cancel_token(&p.token);
 }
 
 /// Applies one document notification to the state, then starts the

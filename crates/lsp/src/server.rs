@@ -86,6 +86,11 @@ fn capabilities(caps: &ClientCaps) -> ServerCapabilities {
             ..CompletionOptions::default()
         }),
         document_formatting_provider: Some(OneOf::Left(true)),
+        code_lens_provider: Some(CodeLensOptions { resolve_provider: Some(false) }),
+        execute_command_provider: Some(ExecuteCommandOptions {
+            commands: vec![crate::verify::COMMAND.to_string()],
+            work_done_progress_options: WorkDoneProgressOptions::default(),
+        }),
         code_action_provider: Some(CodeActionProviderCapability::Options(CodeActionOptions {
             code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
             resolve_provider: Some(false),
@@ -145,6 +150,7 @@ fn client_caps(c: &ClientCapabilities) -> ClientCaps {
         definition_links: td.and_then(|t| t.definition.as_ref()).and_then(|d| d.link_support).unwrap_or(false),
         declaration_links: td.and_then(|t| t.declaration.as_ref()).and_then(|d| d.link_support).unwrap_or(false),
         prepare_rename: td.and_then(|t| t.rename.as_ref()).and_then(|r| r.prepare_support).unwrap_or(false),
+        code_lens_refresh: ws.and_then(|w| w.code_lens.as_ref()).and_then(|c| c.refresh_support).unwrap_or(false),
     }
 }
 
@@ -182,6 +188,9 @@ impl LanguageServer for Backend {
                 Err(msg) => self.shared.log(MessageType::WARNING, msg),
             }
         }
+        if let Some(options) = &params.initialization_options {
+            workspace::apply_verify_settings(&self.shared, options);
+        }
         self.shared.set_phase(Phase::Running);
         Ok(InitializeResult {
             capabilities: capabilities(&caps),
@@ -206,14 +215,18 @@ impl LanguageServer for Backend {
     }
 
     async fn shutdown(&self) -> Result<()> {
+        // Running checks are of no use any more.
+        self.shared.lock().verify.cancel_all();
         self.shared.set_phase(Phase::ShutDown);
         self.shared.shutdown_requested.store(true, std::sync::atomic::Ordering::SeqCst);
         Ok(())
     }
 
     async fn did_change_configuration(&self, params: DidChangeConfigurationParams) {
+        let verify = workspace::apply_verify_settings(&self.shared, &params.settings);
         match workspace::rules_from_settings(&params.settings) {
             Some(rules) => workspace::apply_rules(&self.shared, rules),
+            None if verify => {}
             // VS Code sends `null` settings and expects a pull.
             None => {
                 let shared = self.shared.clone();
@@ -331,12 +344,14 @@ impl LanguageServer for Backend {
         // the last complete check moved along with the edits since (the
         // parse adds the syntax ones), so the hover need not wait for the
         // check of a text just typed.
-        let shown = {
+        let (shown, verified) = {
             let st = self.shared.lock();
-            st.files.get(&key_of(&p.text_document.uri)).and_then(|e| {
+            let key = key_of(&p.text_document.uri);
+            let shown = st.files.get(&key).and_then(|e| {
                 let (doc, file) = (e.open.as_ref()?, e.file?);
                 Some(robosim_ide::carry_over(doc.checked.as_ref()?, file, &doc.edits))
-            })
+            });
+            (shown, st.verify.reports_for(&key))
         };
         self.with_file(&p.text_document.uri, move |a, file, caps| {
             let (text, index) = text_of(a, file)?;
@@ -346,9 +361,9 @@ impl LanguageServer for Backend {
                 Some(carried) => {
                     let mut diags = a.syntax_diagnostics(file)?;
                     diags.extend(carried.iter().cloned());
-                    a.hover_with_diagnostics(file, offset, &diags)?
+                    a.hover_with_verification(file, offset, Some(&diags), &verified)?
                 }
-                None => a.hover(file, offset)?,
+                None => a.hover_with_verification(file, offset, None, &verified)?,
             };
             let Some(h) = hover else { return Ok(None) };
             let kind = if caps.hover_markdown { MarkupKind::Markdown } else { MarkupKind::PlainText };
@@ -458,6 +473,38 @@ impl LanguageServer for Backend {
         .await?
         .map(Some)
         .map_err(request_failed)
+    }
+
+    async fn code_lens(&self, params: CodeLensParams) -> Result<Option<Vec<CodeLens>>> {
+        let lenses = self
+            .with_file(&params.text_document.uri, |a, file, _| {
+                let lenses = a.verify_lenses(file)?;
+                let (text, index) = text_of(a, file)?;
+                let t = Text { text: &text, index: &index };
+                Ok(lenses.into_iter().map(|l| (t.range(l.range), l)).collect::<Vec<_>>())
+            })
+            .await?;
+        let st = self.shared.lock();
+        let lenses = lenses
+            .into_iter()
+            .filter_map(|(range, lens)| {
+                let uri = uri_for(&st, lens.target.path())?;
+                Some(CodeLens {
+                    range,
+                    command: Some(Command {
+                        title: st.verify.lens_title(&lens),
+                        command: crate::verify::COMMAND.to_string(),
+                        arguments: Some(crate::verify::arguments(&uri, &lens.target)),
+                    }),
+                    data: None,
+                })
+            })
+            .collect();
+        Ok(Some(lenses))
+    }
+
+    async fn execute_command(&self, params: ExecuteCommandParams) -> Result<Option<LSPAny>> {
+        crate::verify::execute(&self.shared, params).await
     }
 
     async fn code_action(&self, params: CodeActionParams) -> Result<Option<CodeActionResponse>> {

@@ -99,6 +99,7 @@ pub(crate) struct ClientCaps {
     pub(crate) definition_links: bool,
     pub(crate) declaration_links: bool,
     pub(crate) prepare_rename: bool,
+    pub(crate) code_lens_refresh: bool,
 }
 
 /// A document the client has open.
@@ -153,6 +154,8 @@ pub(crate) struct State {
     /// sending the same list again when another file changes.
     /// With the version they were published for.
     pub(crate) published: HashMap<String, (Option<i32>, Vec<lsp::Diagnostic>)>,
+    /// Verification jobs and results (`verify.rs`).
+    pub(crate) verify: crate::verify::Verification,
 }
 
 /// The key of a URI: its path for `file:` URIs (so that a file opened in
@@ -216,6 +219,7 @@ impl State {
         if self.files.get(&key).is_some_and(|e| e.open.is_some()) {
             warnings.push(format!("`{}` was opened twice; the new text replaces the old", doc.uri.as_str()));
         }
+        self.before_write(&key, Some(&doc.text), kind);
         let file = self.host.set_file(&key, doc.text.clone(), kind, Durability::LOW);
         let seq = self.bump();
         let open = OpenDoc { version: doc.version, text: doc.text, kind, checked: None, edits: Vec::new() };
@@ -292,6 +296,7 @@ impl State {
         doc.version = params.text_document.version;
         let text = doc.text.clone();
         let kind = doc.kind;
+        self.before_write(&key, Some(&text), kind);
         let file = self.host.set_file(&key, text, kind, Durability::LOW);
         let seq = self.bump();
         let entry = self.files.get_mut(&key)?;
@@ -309,6 +314,7 @@ impl State {
         entry.open.take()?;
         let on_disk = entry.on_disk;
         if !on_disk {
+            self.before_write(&key, None, None);
             self.host.remove_file(&key);
         }
         let seq = self.bump();
@@ -330,6 +336,7 @@ impl State {
             }
         }
         let uri = self.uri_for_path(path)?;
+        self.before_write(path, Some(&text), None);
         let file = self.host.set_file(path, text, None, Durability::MEDIUM);
         let seq = self.bump();
         let entry =
@@ -348,6 +355,7 @@ impl State {
         if entry.open.is_some() || entry.file.is_none() {
             return None;
         }
+        self.before_write(path, None, None);
         self.host.remove_file(path);
         let seq = self.bump();
         let entry = self.files.get_mut(path)?;
@@ -365,7 +373,24 @@ impl State {
 
     pub(crate) fn set_rules(&mut self, rules: RuleSet) -> bool {
         let changed = self.host.rules() != rules;
+        if changed {
+            // The write waits for the verification jobs' snapshots.
+            self.verify.cancel_all();
+        }
         self.host.set_rules(rules);
         changed
+    }
+
+    /// Called before a write of `path` (`text: None` for a removal): when
+    /// it changes the workspace's text, running verification jobs stop (the
+    /// write waits for their snapshots) and their results become stale.
+    fn before_write(&mut self, path: &str, text: Option<&str>, kind: Option<FileKind>) {
+        let changes = match text {
+            Some(text) => self.host.would_change(path, text, kind),
+            None => self.host.file_id(path).is_some(),
+        };
+        if changes {
+            self.verify.invalidate();
+        }
     }
 }

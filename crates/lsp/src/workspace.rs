@@ -1,9 +1,11 @@
 //! The workspace on disk: scanning the folders (with `$/progress`),
-//! following file-watcher events, and the `robosim.rules` setting.
+//! following file-watcher events, and the settings (`robosim.rules`,
+//! `robosim.verify.semantics`, `robosim.verify.timeoutSeconds`).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use robosim_ide::verify::Profile;
 use robosim_ide::workspace_files::{find_model_files, looks_like_restructured_text, read_model_file};
 use robosim_ide::{FileKind, RuleSet};
 use serde_json::Value;
@@ -14,6 +16,7 @@ use tower_lsp_server::ls_types::{
 
 use crate::diagnostics;
 use crate::state::{Phase, Shared};
+use crate::verify::VerifySettings;
 
 /// Reads the model files under `roots` (on a blocking thread: it is I/O).
 fn scan(roots: &[PathBuf]) -> (Vec<(String, String)>, Vec<String>) {
@@ -183,6 +186,57 @@ pub(crate) fn rules_from_settings(settings: &Value) -> Option<Result<RuleSet, St
     })
 }
 
+/// A `robosim.verify.KEY` setting from a settings object, in the same forms
+/// as `robosim.rules` (and `{"verify": {KEY: …}}`, `{"verify.KEY": …}`).
+fn verify_setting<'a>(settings: &'a Value, key: &str) -> Option<&'a Value> {
+    let nested = |v: &'a Value| v.get("verify").and_then(|v| v.get(key)).or_else(|| v.get(format!("verify.{key}")));
+    settings
+        .get("robosim")
+        .and_then(nested)
+        .or_else(|| settings.get(format!("robosim.verify.{key}")))
+        .or_else(|| nested(settings))
+        .filter(|v| !v.is_null())
+}
+
+/// The verification settings of a settings object, over `current`:
+/// `None` when it has none; the messages of values that are not valid.
+pub(crate) fn verify_from_settings(settings: &Value, current: VerifySettings) -> Option<(VerifySettings, Vec<String>)> {
+    let semantics = verify_setting(settings, "semantics");
+    let timeout = verify_setting(settings, "timeoutSeconds");
+    if semantics.is_none() && timeout.is_none() {
+        return None;
+    }
+    let mut out = current;
+    let mut problems = Vec::new();
+    match semantics.map(|v| (v, v.as_str())) {
+        None => {}
+        Some((_, Some("robotool3"))) => out.profile = Profile::RoboTool3,
+        Some((_, Some("paper2019"))) => out.profile = Profile::Paper2019,
+        Some((v, _)) => {
+            problems.push(format!("`robosim.verify.semantics` must be \"robotool3\" or \"paper2019\", not {v}"))
+        }
+    }
+    if let Some(v) = timeout {
+        match v.as_f64() {
+            Some(t) if t.is_finite() && t > 0.0 && t <= 1e9 => out.timeout = std::time::Duration::from_secs_f64(t),
+            _ => problems.push(format!("`robosim.verify.timeoutSeconds` must be a positive number, not {v}")),
+        }
+    }
+    Some((out, problems))
+}
+
+/// Applies the verification settings found in `settings` (for the next
+/// runs); returns whether there were any.
+pub(crate) fn apply_verify_settings(shared: &Arc<Shared>, settings: &Value) -> bool {
+    let current = shared.lock().verify.settings;
+    let Some((new, problems)) = verify_from_settings(settings, current) else { return false };
+    shared.lock().verify.settings = new;
+    for p in problems {
+        shared.log(MessageType::WARNING, p);
+    }
+    true
+}
+
 /// Applies a rule set; re-checks everything when it changed.
 pub(crate) fn apply_rules(shared: &Arc<Shared>, rules: Result<RuleSet, String>) {
     match rules {
@@ -214,9 +268,12 @@ pub(crate) async fn pull_configuration(shared: &Arc<Shared>) {
     let item = ConfigurationItem { scope_uri: None, section: Some("robosim".to_string()) };
     match client.configuration(vec![item]).await {
         Ok(values) => {
-            // The section's value itself: `{"rules": …}`.
+            // The section's value itself: `{"rules": …, "verify": {…}}`.
             if let Some(rules) = values.first().and_then(rules_from_settings) {
                 apply_rules(shared, rules);
+            }
+            if let Some(section) = values.first() {
+                apply_verify_settings(shared, section);
             }
         }
         Err(e) => shared.log(MessageType::WARNING, format!("could not read the `robosim` settings: {}", e.message)),
@@ -236,5 +293,31 @@ mod tests {
         assert!(matches!(rules_from_settings(&json!({"rules": 3})), Some(Err(_))));
         assert_eq!(rules_from_settings(&json!({"other": 1})), None);
         assert_eq!(rules_from_settings(&json!(null)), None);
+    }
+
+    #[test]
+    fn verify_setting_forms() {
+        let d = VerifySettings::default();
+        assert_eq!(d.profile, Profile::RoboTool3);
+        assert_eq!(d.timeout, std::time::Duration::from_secs(60));
+        let paper = VerifySettings { profile: Profile::Paper2019, ..d };
+        for form in [
+            json!({"verify": {"semantics": "paper2019"}}),
+            json!({"robosim": {"verify": {"semantics": "paper2019"}}}),
+            json!({"robosim.verify.semantics": "paper2019"}),
+            json!({"verify.semantics": "paper2019"}),
+        ] {
+            assert_eq!(verify_from_settings(&form, d), Some((paper, vec![])), "{form}");
+        }
+        let (s, problems) = verify_from_settings(&json!({"verify": {"timeoutSeconds": 2.5}}), paper).unwrap();
+        assert_eq!(
+            (s.profile, s.timeout, problems.len()),
+            (Profile::Paper2019, std::time::Duration::from_millis(2500), 0)
+        );
+        let (s, problems) =
+            verify_from_settings(&json!({"verify": {"semantics": "fdr", "timeoutSeconds": -1}}), d).unwrap();
+        assert_eq!((s, problems.len()), (d, 2));
+        assert_eq!(verify_from_settings(&json!({"rules": "paper"}), d), None);
+        assert_eq!(verify_from_settings(&json!(null), d), None);
     }
 }
