@@ -96,6 +96,10 @@ async function startClient(): Promise<void> {
     synchronize: { configurationSection: "robosim" },
     initializationOptions: {
       rules: vscode.workspace.getConfiguration("robosim").get<string>("rules", "paper"),
+      verify: {
+        semantics: vscode.workspace.getConfiguration("robosim").get<string>("verify.semantics", "robotool3"),
+        timeoutSeconds: vscode.workspace.getConfiguration("robosim").get<number>("verify.timeoutSeconds", 60),
+      },
     },
   };
   const c = new LanguageClient(CLIENT_ID, CLIENT_NAME, serverOptions, clientOptions);

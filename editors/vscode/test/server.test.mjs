@@ -31,6 +31,8 @@ const {
   DocumentFormattingRequest,
   FoldingRangeRequest,
   SemanticTokensRequest,
+  CodeLensRequest,
+  ExecuteCommandRequest,
   DiagnosticSeverity,
 } = require("vscode-languageserver-protocol/node");
 
@@ -291,6 +293,51 @@ describe("robosim lsp over stdio", { timeout: 120000 }, () => {
       options: { tabSize: 4, insertSpaces: true },
     });
     assert.ok(edits === null || Array.isArray(edits), "formatting edits");
+  });
+
+  it("offers verification lenses whose command runs through workspace/executeCommand", async () => {
+    // vscode-languageclient registers every command of
+    // `executeCommandProvider` and sends `workspace/executeCommand` with the
+    // lens's arguments as they are: nothing to register in the extension.
+    assert.deepEqual(initResult.capabilities.executeCommandProvider?.commands, ["robosim.verify"]);
+    assert.ok(initResult.capabilities.codeLensProvider, "the server advertises codeLensProvider");
+    const gt3 = join(extensionRoot, "..", "..", "crates", "cli", "tests", "data", "verify", "gt3");
+    const uri = (name) => pathToFileURL(join(workspace, "gt3", name)).href;
+    for (const [name, languageId] of [
+      ["design.rct", "robochart"],
+      ["checks.rsa", "robosim-assertions"],
+    ]) {
+      conn.sendNotification(DidOpenTextDocumentNotification.type, {
+        textDocument: { uri: uri(name), languageId, version: 1, text: readFileSync(join(gt3, name), "utf8") },
+      });
+    }
+    const lenses = await withTimeout(
+      conn.sendRequest(CodeLensRequest.type, { textDocument: { uri: uri("checks.rsa") } }),
+      TIMEOUT,
+      "codeLens",
+    );
+    const s1 = lenses.find((l) => l.command?.arguments?.[1] === "S1");
+    assert.ok(s1, `lenses: ${JSON.stringify(lenses)}`);
+    assert.equal(s1.command.command, "robosim.verify");
+    assert.equal(s1.command.title, "▶ Verify");
+    const from = (published.get(uri("checks.rsa")) ?? []).length;
+    const result = await withTimeout(
+      conn.sendRequest(ExecuteCommandRequest.type, { command: s1.command.command, arguments: s1.command.arguments }),
+      TIMEOUT,
+      "executeCommand",
+    );
+    assert.equal(result, null);
+    const p = await waitForDiagnostics(
+      uri("checks.rsa"),
+      (p) => p.diagnostics.some((d) => d.code === "RS-VERIFY"),
+      from,
+    );
+    const d = p.diagnostics.find((d) => d.code === "RS-VERIFY");
+    assert.equal(d.severity, DiagnosticSeverity.Error);
+    assert.equal(d.message, "CFootBot cannot be scheduled in cycles of period 1");
+    assert.ok(d.relatedInformation.length > 0 && d.relatedInformation.every((r) => r.location.uri === uri("design.rct")));
+    const after = await conn.sendRequest(CodeLensRequest.type, { textDocument: { uri: uri("checks.rsa") } });
+    assert.equal(after.find((l) => l.command?.arguments?.[1] === "S1").command.title, "✘ fail — re-run");
   });
 
   it("accepts a configuration change and keeps serving", async () => {

@@ -127,6 +127,10 @@ test("settings, commands and restricted-mode declarations", () => {
   assert.equal(props["robosim.rules"].default, "paper");
   assert.deepEqual(props["robosim.trace.server"].enum, ["off", "messages", "verbose"]);
   assert.equal(props["robosim.rst.detect"].type, "boolean");
+  assert.deepEqual(props["robosim.verify.semantics"].enum, ["robotool3", "paper2019"]);
+  assert.equal(props["robosim.verify.semantics"].default, "robotool3");
+  assert.equal(props["robosim.verify.timeoutSeconds"].type, "number");
+  assert.equal(props["robosim.verify.timeoutSeconds"].default, 60);
   const commands = manifest.contributes.commands.map((c) => c.command).sort();
   assert.deepEqual(commands, ["robosim.restartServer", "robosim.showOutput"]);
   const untrusted = manifest.capabilities.untrustedWorkspaces;
