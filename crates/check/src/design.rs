@@ -4,11 +4,9 @@
 //! RoboChart assertions about a design (`deadlock-free`, `divergence-free`,
 //! `timelock-free`, `deterministic`, `reachable`) are about.
 
-use std::sync::Mutex;
-
 use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Val};
-use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
 use crate::sched::State;
 
@@ -21,7 +19,7 @@ pub struct DesignLts<'a> {
     /// Slot: 0 running, 1 terminated (✓ done).
     ended: usize,
     len: usize,
-    error: Mutex<Option<String>>,
+    error: FirstError,
 }
 
 impl<'a> DesignLts<'a> {
@@ -39,12 +37,12 @@ impl<'a> DesignLts<'a> {
             group.push(events.add(name, params).map_err(|e| format!("the channel `{}` has too many values", e.0))?);
         }
         let ended = design.slots as usize;
-        Ok(DesignLts { design, events, group, ended, len: ended + 1, error: Mutex::new(None) })
+        Ok(DesignLts { design, events, group, ended, len: ended + 1, error: FirstError::default() })
     }
 
     /// The first run-time error met during exploration, if any.
     pub fn error(&self) -> Option<String> {
-        self.error.lock().ok().and_then(|e| e.clone())
+        self.error.get()
     }
 
     /// Whether a machine of the design is in (or inside) the state named
@@ -74,8 +72,7 @@ impl<'a> DesignLts<'a> {
             for mv in &moves {
                 match &mv.offer {
                     Offer::Tau => {
-                        let mut n = st.clone();
-                        m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                        let n = self.design.after(m, st, mv.act, None)?;
                         out.push((Label::TAU, n));
                     }
                     Offer::In { chan, value } => {
@@ -86,15 +83,13 @@ impl<'a> DesignLts<'a> {
                             (None, None) => vec![None],
                         };
                         for v in values {
-                            let mut n = st.clone();
-                            m.apply(&mut n, &self.design.clocks, mv.act, v).map_err(|e| e.0)?;
+                            let n = self.design.after(m, st, mv.act, v)?;
                             let ev = self.events.event(self.group[*chan as usize], &v.into_iter().collect::<Vec<_>>());
                             out.push((Label::plain(ev), n));
                         }
                     }
                     Offer::Out { chan, args } => {
-                        let mut n = st.clone();
-                        m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                        let n = self.design.after(m, st, mv.act, None)?;
                         out.push((Label::plain(self.events.event(self.group[*chan as usize], args)), n));
                     }
                 }
@@ -109,13 +104,7 @@ impl<'a> DesignLts<'a> {
         let tau = out[start..].iter().any(|(l, _)| l.event == TAU);
         if can_tock && !tau {
             let mut n = st.clone();
-            for c in &self.design.clocks {
-                let v = &mut n[c.slot as usize];
-                *v = (*v + 1).min(c.cap);
-            }
-            for m in &self.design.machines {
-                m.tock(&mut n, &self.design.clocks).map_err(|e| e.0)?;
-            }
+            self.design.advance_time(&mut n)?;
             out.push((Label::TOCK, n));
         }
         Ok(())
@@ -126,17 +115,9 @@ impl Lts for DesignLts<'_> {
     type State = State;
 
     fn initial(&self) -> State {
-        let mut st = vec![0i32; self.len];
-        for v in &self.design.vars {
-            st[v.slot as usize] = v.init as i32;
-        }
-        for m in &self.design.machines {
-            m.init(&mut st);
-            if let Err(e) = m.settle(&mut st, &self.design.clocks, true) {
-                if let Ok(mut err) = self.error.lock() {
-                    err.get_or_insert(e.0);
-                }
-            }
+        let (st, error) = self.design.initial_state(self.len, true);
+        if let Some(e) = error {
+            self.error.set(e);
         }
         st.into_boxed_slice()
     }
@@ -147,20 +128,13 @@ impl Lts for DesignLts<'_> {
         }
         let start = out.len();
         if let Err(e) = self.successors_inner(st, out) {
-            if let Ok(mut err) = self.error.lock() {
-                err.get_or_insert(e);
-            }
+            self.error.set(e);
             out.truncate(start);
         }
     }
 
     fn event_name(&self, event: Event) -> String {
-        match event {
-            TAU => "τ".into(),
-            TICK => "✓".into(),
-            TOCK => "tock".into(),
-            e => self.events.name(e).unwrap_or_else(|| format!("e{e}")),
-        }
+        event_name_in(&self.events, event)
     }
 
     fn state_bytes(&self, st: &State) -> usize {

@@ -427,3 +427,71 @@ pub struct Design {
     /// Constants and the values used.
     pub constants: Vec<(String, Val)>,
 }
+
+impl Design {
+    /// A state vector of `len` slots with the variables' initial values and
+    /// every machine before its first step; with `settle`, each machine runs
+    /// its initial transition's internal code (RoboChart; a RoboSim machine
+    /// waits for its first cycle instead). Returns the first error met.
+    pub fn initial_state(&self, len: usize, settle: bool) -> (Vec<i32>, Option<String>) {
+        let mut st = vec![0i32; len];
+        for v in &self.vars {
+            st[v.slot as usize] = v.init as i32;
+        }
+        let mut error = None;
+        for m in &self.machines {
+            if settle {
+                m.init(&mut st);
+                if let Err(e) = m.settle(&mut st, &self.clocks, true) {
+                    error.get_or_insert(e.0);
+                }
+            } else {
+                m.init_cycle(&mut st);
+            }
+        }
+        (st, error)
+    }
+
+    /// The state after machine `m` performs `act` in `st` (`value`: the
+    /// value an input received).
+    pub fn after(
+        &self,
+        m: &Machine,
+        st: &[i32],
+        act: crate::machine::Act,
+        value: Option<Val>,
+    ) -> Result<Box<[i32]>, String> {
+        let mut n: Box<[i32]> = st.into();
+        m.apply(&mut n, &self.clocks, act, value).map_err(|e| e.0)?;
+        Ok(n)
+    }
+
+    /// One time unit passes: clocks advance (saturating), waits count down.
+    pub fn advance_time(&self, st: &mut [i32]) -> Result<(), String> {
+        for c in &self.clocks {
+            let v = &mut st[c.slot as usize];
+            *v = (*v + 1).min(c.cap);
+        }
+        for m in &self.machines {
+            m.tock(st, &self.clocks).map_err(|e| e.0)?;
+        }
+        Ok(())
+    }
+}
+
+impl Channel {
+    /// The values a register read of this input may carry, as
+    /// (present, value): every value when present; when absent one
+    /// representative, `absent` (the value is never observed).
+    pub fn read_values(&self, absent: Option<Val>) -> Vec<(Val, Option<Val>)> {
+        let mut out = Vec::new();
+        match self.params.first() {
+            Some(d) => {
+                out.extend((d.lo..=d.hi).map(|v| (1, Some(v))));
+                out.push((0, Some(absent.unwrap_or(d.lo))));
+            }
+            None => out.extend([(1, None), (0, None)]),
+        }
+        out
+    }
+}

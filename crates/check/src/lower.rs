@@ -1135,29 +1135,8 @@ impl MachineCx<'_, '_> {
                 }
             }
             CALL_STMT => {
-                let name = path_of(s).join("::");
-                let args: Vec<SyntaxNode> = s
-                    .children()
-                    .find(|c| c.kind() == ARG_LIST)
-                    .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
-                    .unwrap_or_default();
-                let (params, chan) = match self.names.get(&name) {
-                    Some(Name::Op { params, chan }) => (params.clone(), *chan),
-                    _ => {
-                        return Err(self.err(
-                            s.text_range(),
-                            format!("`{name}` is not an operation of the robotic platform required by the machine"),
-                        ))
-                    }
-                };
-                if params.len() != args.len() {
-                    return Err(self.err(s.text_range(), format!("`{name}` takes {} arguments", params.len())));
-                }
-                let mut exprs = Vec::new();
-                for a in &args {
-                    exprs.push(self.expr(a)?);
-                }
-                self.emit(Instr::Out { chan, args: exprs, urgent: true });
+                let (chan, args) = self.call(s, "an operation of the robotic platform required by the machine")?;
+                self.emit(Instr::Out { chan, args, urgent: true });
             }
             WAIT_STMT => {
                 let e = s
@@ -1188,24 +1167,9 @@ impl MachineCx<'_, '_> {
                 self.emit(Instr::Wait);
             }
             SIM_CALL_STMT => {
-                let name = path_of(s).join("::");
-                let args: Vec<SyntaxNode> = s
-                    .children()
-                    .find(|c| c.kind() == ARG_LIST)
-                    .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
-                    .unwrap_or_default();
-                let Some(Name::Op { params, chan }) = self.names.get(&name).cloned() else {
-                    return Err(self.err(s.text_range(), format!("`{name}` is not an output operation of the machine")));
-                };
-                if params.len() != args.len() {
-                    return Err(self.err(s.text_range(), format!("`{name}` takes {} arguments", params.len())));
-                }
-                let mut exprs = Vec::new();
-                for a in &args {
-                    exprs.push(self.expr(a)?);
-                }
                 // Register writes cannot be postponed (RoboTool: EDeadline(…, 0)).
-                self.emit(Instr::Out { chan, args: exprs, urgent: true });
+                let (chan, args) = self.call(s, "an output operation of the machine")?;
+                self.emit(Instr::Out { chan, args, urgent: true });
             }
             OUTPUT_COMM_STMT => {
                 let name = path_of(s).join("::");
@@ -1238,6 +1202,28 @@ impl MachineCx<'_, '_> {
             }
         }
         Ok(())
+    }
+
+    /// The channel and argument values of a call `op(args)` / `$op(args)`
+    /// of a platform operation (`what` says what `op` must be).
+    fn call(&mut self, s: &SyntaxNode, what: &str) -> Result<(u16, Vec<Expr>), Unsupported> {
+        let name = path_of(s).join("::");
+        let args: Vec<SyntaxNode> = s
+            .children()
+            .find(|c| c.kind() == ARG_LIST)
+            .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
+            .unwrap_or_default();
+        let Some(Name::Op { params, chan }) = self.names.get(&name).cloned() else {
+            return Err(self.err(s.text_range(), format!("`{name}` is not {what}")));
+        };
+        if params.len() != args.len() {
+            return Err(self.err(s.text_range(), format!("`{name}` takes {} arguments", params.len())));
+        }
+        let mut exprs = Vec::new();
+        for a in &args {
+            exprs.push(self.expr(a)?);
+        }
+        Ok((chan, exprs))
     }
 
     fn expr(&mut self, e: &SyntaxNode) -> Result<Expr, Unsupported> {

@@ -75,3 +75,33 @@ pub trait Lts: Sync {
         std::mem::size_of::<Self::State>()
     }
 }
+
+/// The name of `event` in `table`, with the reserved events' names.
+pub fn event_name_in(table: &crate::events::EventTable, event: Event) -> String {
+    match event {
+        TAU => "τ".into(),
+        TICK => "✓".into(),
+        TOCK => "tock".into(),
+        e => table.name(e).unwrap_or_else(|| format!("e{e}")),
+    }
+}
+
+/// The first run-time error a model met while being explored (division by
+/// zero, …): it makes the check's result inconclusive. Successor functions
+/// take `&self`, so the cell is shared.
+#[derive(Debug, Default)]
+pub struct FirstError(std::sync::Mutex<Option<String>>);
+
+impl FirstError {
+    /// Records `msg` unless an error is already recorded.
+    pub fn set(&self, msg: String) {
+        if let Ok(mut e) = self.0.lock() {
+            e.get_or_insert(msg);
+        }
+    }
+
+    /// The recorded error.
+    pub fn get(&self) -> Option<String> {
+        self.0.lock().ok().and_then(|e| e.clone())
+    }
+}

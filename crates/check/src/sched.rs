@@ -17,29 +17,27 @@
 //!
 //! `S is schedulable` holds iff this LTS has no deadlock.
 
-use std::sync::Mutex;
-
 use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Dom, Val};
-use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK, TOCK};
 use crate::machine::{Act, Move, Offer};
 
 /// The state: the design's slots, then the assumptions'.
 pub type State = Box<[i32]>;
 
 /// What the design is doing as a whole.
-const RUNNING: i32 = 0;
+pub(crate) const RUNNING: i32 = 0;
 /// After `timelock`: only time passes (RoboTool's `TLFree` sink).
 const SINK: i32 = 1;
 /// After `terminate`: only time passes (`; RUN({tock})`), or ✓.
-const DONE: i32 = 2;
+pub(crate) const DONE: i32 = 2;
 /// After ✓: nothing.
-const ENDED: i32 = 3;
+pub(crate) const ENDED: i32 = 3;
 
-/// A3's phases.
-const READ: i32 = 0;
-const RUN: i32 = 1;
-const WAIT: i32 = 2;
+/// A3's phases (and a RoboSim cycle's).
+pub(crate) const READ: i32 = 0;
+pub(crate) const RUN: i32 = 1;
+pub(crate) const WAIT: i32 = 2;
 /// `paper2019`: writing the registers of the cycle (`arg`: those left).
 const WRITES: i32 = 3;
 
@@ -192,7 +190,7 @@ pub struct Constrained<'a> {
     len: usize,
     /// The first run-time error met (division by zero …): the search
     /// result is then inconclusive.
-    error: Mutex<Option<String>>,
+    error: FirstError,
 }
 
 /// The design has more outputs than the engine tracks (A2's set of outputs
@@ -302,7 +300,7 @@ impl<'a> Constrained<'a> {
             occ,
             ret,
             len,
-            error: Mutex::new(None),
+            error: FirstError::default(),
         })
     }
 
@@ -313,13 +311,7 @@ impl<'a> Constrained<'a> {
 
     /// The first run-time error met during exploration, if any.
     pub fn error(&self) -> Option<String> {
-        self.error.lock().ok().and_then(|e| e.clone())
-    }
-
-    fn fail(&self, msg: String) {
-        if let Ok(mut e) = self.error.lock() {
-            e.get_or_insert(msg);
-        }
+        self.error.get()
     }
 
     fn all_inputs(&self) -> i32 {
@@ -399,7 +391,7 @@ impl<'a> Constrained<'a> {
 
     fn tock(&self, st: &mut [i32]) -> Result<(), String> {
         if st[self.mode] == RUNNING {
-            self.advance_design(st)?;
+            self.design.advance_time(st)?;
         }
         // A2: the period counter.
         let k = if st[self.k] < 0 { self.period - 1 } else { st[self.k] - 1 };
@@ -430,30 +422,20 @@ impl<'a> Constrained<'a> {
                 continue;
             }
             let c = &self.design.channels[chan as usize];
-            let dom = c.params.first().copied();
             // The register's domain (shared with the other side of a check).
             let reg_lo = self.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
-            for present in [1, 0] {
-                // The value of an absent input is never observed: one
-                // representative stands for all.
-                let values: Vec<Option<Val>> = match dom {
-                    Some(d) if present == 1 => (d.lo..=d.hi).map(Some).collect(),
-                    Some(d) => vec![Some(reg_lo.unwrap_or(d.lo))],
-                    None => vec![None],
-                };
-                for v in values {
-                    let mut args = vec![present];
-                    args.extend(v);
-                    let ev = self.events.event(self.read_group[i], &args);
-                    let mut n = st.clone();
-                    n[self.a1 + 2 * i] = present as i32;
-                    n[self.a1 + 2 * i + 1] = v.unwrap_or(0) as i32;
-                    n[self.arg] &= !(1 << i);
-                    if n[self.arg] == 0 {
-                        n[self.phase] = RUN;
-                    }
-                    out.push((Label::plain(ev), n));
+            for (present, v) in c.read_values(reg_lo) {
+                let mut args = vec![present];
+                args.extend(v);
+                let ev = self.events.event(self.read_group[i], &args);
+                let mut n = st.clone();
+                n[self.a1 + 2 * i] = present as i32;
+                n[self.a1 + 2 * i + 1] = v.unwrap_or(0) as i32;
+                n[self.arg] &= !(1 << i);
+                if n[self.arg] == 0 {
+                    n[self.phase] = RUN;
                 }
+                out.push((Label::plain(ev), n));
             }
         }
     }
@@ -556,16 +538,14 @@ impl<'a> Constrained<'a> {
                 for mv in &moves {
                     match &mv.offer {
                         Offer::Tau => {
-                            let mut n = st.clone();
-                            m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                            let n = self.design.after(m, st, mv.act, None)?;
                             out.push((Label::TAU, n));
                         }
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
                             let has_value = !self.design.channels[*chan as usize].params.is_empty();
                             let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
-                            let mut n = st.clone();
-                            m.apply(&mut n, &self.design.clocks, mv.act, has_value.then_some(v)).map_err(|e| e.0)?;
+                            let mut n = self.design.after(m, st, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
                             out.push((Label::plain(self.design_event(*chan, &args)), n));
                         }
@@ -576,8 +556,7 @@ impl<'a> Constrained<'a> {
                             if phase != RUN || fm >= 0 || len >= nout {
                                 continue;
                             }
-                            let mut n = st.clone();
-                            m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                            let mut n = self.design.after(m, st, mv.act, None)?;
                             n[self.occ + len] = self.events.event(self.write_group[o], args) as i32;
                             n[self.avail] &= !(1 << o);
                             if self.design.channels[*chan as usize].is_call {
@@ -600,7 +579,7 @@ impl<'a> Constrained<'a> {
         if design_tock && phase == WAIT {
             let mut n = st.clone();
             if n[self.mode] == RUNNING {
-                self.advance_design(&mut n)?;
+                self.design.advance_time(&mut n)?;
             }
             if n[self.arg] <= 1 {
                 self.start_cycle(&mut n);
@@ -636,18 +615,6 @@ impl<'a> Constrained<'a> {
         })
     }
 
-    /// One time unit for the design: clocks, waits.
-    fn advance_design(&self, st: &mut [i32]) -> Result<(), String> {
-        for c in &self.design.clocks {
-            let v = &mut st[c.slot as usize];
-            *v = (*v + 1).min(c.cap);
-        }
-        for m in &self.design.machines {
-            m.tock(st, &self.design.clocks).map_err(|e| e.0)?;
-        }
-        Ok(())
-    }
-
     fn successors_rt3(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
         let start = out.len();
         let mode = st[self.mode];
@@ -673,8 +640,7 @@ impl<'a> Constrained<'a> {
                     match &mv.offer {
                         Offer::Tau => {
                             design_tau = true;
-                            let mut n = st.clone();
-                            m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                            let n = self.design.after(m, st, mv.act, None)?;
                             out.push((Label::TAU, n));
                         }
                         Offer::In { chan, value } => {
@@ -682,8 +648,7 @@ impl<'a> Constrained<'a> {
                             let has_value = !self.design.channels[*chan as usize].params.is_empty();
                             let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
                             let note = self.design_event(*chan, &args);
-                            let mut n = st.clone();
-                            m.apply(&mut n, &self.design.clocks, mv.act, has_value.then_some(v)).map_err(|e| e.0)?;
+                            let mut n = self.design.after(m, st, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
                             out.push((Label { event: TAU, note }, n));
                         }
@@ -695,8 +660,7 @@ impl<'a> Constrained<'a> {
                                 continue;
                             }
                             let note = self.design_event(*chan, args);
-                            let mut n = st.clone();
-                            m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                            let mut n = self.design.after(m, st, mv.act, None)?;
                             n[self.pend] = self.events.event(self.write_group[o], args) as i32;
                             n[self.avail] &= !(1 << o);
                             out.push((Label { event: TAU, note }, n));
@@ -743,15 +707,9 @@ impl Lts for Constrained<'_> {
     type State = State;
 
     fn initial(&self) -> State {
-        let mut st = vec![0i32; self.len];
-        for v in &self.design.vars {
-            st[v.slot as usize] = v.init as i32;
-        }
-        for m in &self.design.machines {
-            m.init(&mut st);
-            if let Err(e) = m.settle(&mut st, &self.design.clocks, true) {
-                self.fail(e.0);
-            }
+        let (mut st, error) = self.design.initial_state(self.len, true);
+        if let Some(e) = error {
+            self.error.set(e);
         }
         st[self.mode] = RUNNING;
         st[self.avail] = self.all_outputs();
@@ -783,7 +741,7 @@ impl Lts for Constrained<'_> {
             Profile::Paper2019 => self.successors_paper(st, out),
         };
         if let Err(e) = result {
-            self.fail(e);
+            self.error.set(e);
             // Keep the search going elsewhere; the verdict becomes inconclusive.
             out.truncate(start);
             out.push((Label::TOCK, st.clone()));
@@ -791,12 +749,7 @@ impl Lts for Constrained<'_> {
     }
 
     fn event_name(&self, event: Event) -> String {
-        match event {
-            TAU => "τ".into(),
-            TICK => "✓".into(),
-            TOCK => "tock".into(),
-            e => self.events.name(e).unwrap_or_else(|| format!("e{e}")),
-        }
+        event_name_in(&self.events, event)
     }
 
     fn state_bytes(&self, st: &State) -> usize {

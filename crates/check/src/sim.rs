@@ -6,21 +6,11 @@
 //! pass, or terminates when every machine has. Visible: `registerRead`,
 //! `registerWrite`, `tock` (and ✓).
 
-use std::sync::Mutex;
-
 use crate::events::EventTable;
-use crate::ir::{Design, Dir, Val};
-use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use crate::ir::{Design, Dir};
+use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
-use crate::sched::{Registers, State};
-
-const READ: i32 = 0;
-const RUN: i32 = 1;
-const WAIT: i32 = 2;
-
-const RUNNING: i32 = 0;
-const DONE: i32 = 1;
-const ENDED: i32 = 2;
+use crate::sched::{Registers, State, DONE, ENDED, READ, RUN, RUNNING, WAIT};
 
 /// A compiled RoboSim module (or controller, or machine) with period `p`.
 pub struct SimModule<'a> {
@@ -39,7 +29,7 @@ pub struct SimModule<'a> {
     written: usize,
     mode: usize,
     len: usize,
-    error: Mutex<Option<String>>,
+    error: FirstError,
 }
 
 impl<'a> SimModule<'a> {
@@ -86,19 +76,13 @@ impl<'a> SimModule<'a> {
             written: base + 2,
             mode: base + 3,
             len: base + 4,
-            error: Mutex::new(None),
+            error: FirstError::default(),
         })
     }
 
     /// The first run-time error met during exploration, if any.
     pub fn error(&self) -> Option<String> {
-        self.error.lock().ok().and_then(|e| e.clone())
-    }
-
-    fn fail(&self, msg: String) {
-        if let Ok(mut e) = self.error.lock() {
-            e.get_or_insert(msg);
-        }
+        self.error.get()
     }
 
     /// The next cycle: reads, or straight to execution without inputs.
@@ -123,10 +107,7 @@ impl<'a> SimModule<'a> {
     }
 
     fn tock(&self, st: &mut [i32]) -> Result<(), String> {
-        for c in &self.design.clocks {
-            let v = &mut st[c.slot as usize];
-            *v = (*v + 1).min(c.cap);
-        }
+        self.design.advance_time(st)?;
         let left = if st[self.phase] == RUN { self.period - 1 } else { st[self.arg] - 1 };
         if left <= 0 {
             self.begin_cycle(st)
@@ -147,25 +128,18 @@ impl<'a> SimModule<'a> {
                     let c = &self.design.channels[chan as usize];
                     let reg = c.register.unwrap_or_default() as usize;
                     let reg_lo = self.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
-                    for present in [1, 0] {
-                        let values: Vec<Option<Val>> = match c.params.first() {
-                            Some(d) if present == 1 => (d.lo..=d.hi).map(Some).collect(),
-                            Some(d) => vec![Some(reg_lo.unwrap_or(d.lo))],
-                            None => vec![None],
-                        };
-                        for v in values {
-                            let mut args = vec![present];
-                            args.extend(v);
-                            let ev = self.events.event(self.read_group[i], &args);
-                            let mut n = st.clone();
-                            n[reg] = present as i32;
-                            n[reg + 1] = v.unwrap_or(0) as i32;
-                            n[self.arg] &= !(1 << i);
-                            if n[self.arg] == 0 {
-                                self.begin_run(&mut n)?;
-                            }
-                            out.push((Label::plain(ev), n));
+                    for (present, v) in c.read_values(reg_lo) {
+                        let mut args = vec![present];
+                        args.extend(v);
+                        let ev = self.events.event(self.read_group[i], &args);
+                        let mut n = st.clone();
+                        n[reg] = present as i32;
+                        n[reg + 1] = v.unwrap_or(0) as i32;
+                        n[self.arg] &= !(1 << i);
+                        if n[self.arg] == 0 {
+                            self.begin_run(&mut n)?;
                         }
+                        out.push((Label::plain(ev), n));
                     }
                 }
             }
@@ -177,8 +151,7 @@ impl<'a> SimModule<'a> {
                     for mv in &moves {
                         match &mv.offer {
                             Offer::Tau => {
-                                let mut n = st.clone();
-                                m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                                let n = self.design.after(m, st, mv.act, None)?;
                                 out.push((Label::TAU, n));
                             }
                             Offer::Out { chan, args } => {
@@ -188,8 +161,7 @@ impl<'a> SimModule<'a> {
                                 if st[self.written] & (1 << o) != 0 {
                                     continue;
                                 }
-                                let mut n = st.clone();
-                                m.apply(&mut n, &self.design.clocks, mv.act, None).map_err(|e| e.0)?;
+                                let mut n = self.design.after(m, st, mv.act, None)?;
                                 n[self.written] |= 1 << o;
                                 out.push((Label::plain(self.events.event(self.write_group[o], args)), n));
                             }
@@ -231,16 +203,10 @@ impl Lts for SimModule<'_> {
     type State = State;
 
     fn initial(&self) -> State {
-        let mut st = vec![0i32; self.len];
-        for v in &self.design.vars {
-            st[v.slot as usize] = v.init as i32;
-        }
-        for m in &self.design.machines {
-            m.init_cycle(&mut st);
-        }
+        let (mut st, _) = self.design.initial_state(self.len, false);
         st[self.mode] = RUNNING;
         if let Err(e) = self.begin_cycle(&mut st) {
-            self.fail(e);
+            self.error.set(e);
         }
         st.into_boxed_slice()
     }
@@ -258,18 +224,13 @@ impl Lts for SimModule<'_> {
         }
         let start = out.len();
         if let Err(e) = self.successors_inner(st, out) {
-            self.fail(e);
+            self.error.set(e);
             out.truncate(start);
         }
     }
 
     fn event_name(&self, event: Event) -> String {
-        match event {
-            TAU => "τ".into(),
-            TICK => "✓".into(),
-            TOCK => "tock".into(),
-            e => self.events.name(e).unwrap_or_else(|| format!("e{e}")),
-        }
+        event_name_in(&self.events, event)
     }
 
     fn state_bytes(&self, st: &State) -> usize {
