@@ -11,6 +11,7 @@
 
 use robosim_check::algo::{find_deadlock, refines, DeadlockResult, RefinementResult, SemanticModel};
 use robosim_check::budget::Budget;
+use robosim_check::generate;
 use robosim_check::ir::Design;
 use robosim_check::lower::{lower_design, ConstValue, DomainDefaults};
 use robosim_check::sched::{Constrained, Profile, Registers};
@@ -18,36 +19,6 @@ use robosim_check::sim::SimModule;
 
 fn main() {
     divan::main();
-}
-
-/// A module of `n` machines with `k` states each.
-fn generated(n: usize, k: usize) -> String {
-    let mut s = String::from("interface I {\n");
-    for i in 0..n {
-        s.push_str(&format!("    event e{i}\n    op{i}()\n"));
-    }
-    s.push_str("}\n");
-    for i in 0..n {
-        s.push_str(&format!("stm M{i} {{\n    uses I requires I\n    initial i0\n"));
-        for j in 0..k {
-            s.push_str(&format!("    state S{j} {{ entry op{i}(); wait(1) }}\n"));
-        }
-        s.push_str("    transition t { from i0 to S0 }\n");
-        for j in 0..k {
-            s.push_str(&format!("    transition t{j} {{ from S{j} to S{} trigger e{i} }}\n", (j + 1) % k));
-        }
-        s.push_str("}\n");
-    }
-    s.push_str("controller C {\n    uses I requires I\n");
-    for i in 0..n {
-        s.push_str(&format!("    sref m{i} = M{i}\n    connection C on e{i} to m{i} on e{i}\n"));
-    }
-    s.push_str("}\nmodule Mod {\n    robotic platform P { uses I provides I }\n    cref c = C\n");
-    for i in 0..n {
-        s.push_str(&format!("    connection P on e{i} to c on e{i}\n"));
-    }
-    s.push_str("}\n");
-    s
 }
 
 fn design(text: &str, item: &str, consts: &[ConstValue]) -> Design {
@@ -73,7 +44,7 @@ fn check(design: &Design, p: u32) -> (u64, u64) {
 
 #[divan::bench(args = [(2, 4), (3, 4), (4, 4)])]
 fn generated_design(bencher: divan::Bencher, (n, k): (usize, usize)) {
-    let d = design(&generated(n, k), "Mod", &[]);
+    let d = design(&generate::design(n, k), "Mod", &[]);
     let (states, bytes) = check(&d, 1);
     eprintln!("generated {n}×{k}: {states} states, {} bytes/state", bytes / states.max(1));
     bencher.counter(divan::counter::ItemsCount::new(states)).bench(|| check(&d, 1));
@@ -93,43 +64,6 @@ fn running_example(bencher: divan::Bencher) {
     bencher.counter(divan::counter::ItemsCount::new(states)).bench(|| check(&d, 1));
 }
 
-/// The simulation of [`generated`]: each machine's decision is taken in
-/// the cycle after the one that entered the state, as in the paper's
-/// Figure 3.
-fn generated_sim(n: usize, k: usize) -> String {
-    let mut s = String::from("interface I {\n");
-    for i in 0..n {
-        s.push_str(&format!("    event e{i}\n    op{i}()\n"));
-    }
-    s.push_str("}\n");
-    for i in 0..n {
-        s.push_str(&format!(
-            "stm M{i} {{\n    cycleDef cycle == 1\n    input context {{ uses I }}\n    output context {{ requires I }}\n    initial i0\n"
-        ));
-        for j in 0..k {
-            s.push_str(&format!("    state S{j} {{ entry $op{i}() }}\n    state D{j} {{ }}\n    junction J{j}\n"));
-            s.push_str(&format!(
-                "    transition s{j} {{ from S{j} to D{j} }}\n    transition x{j} {{ from D{j} to J{j} exec }}\n"
-            ));
-            s.push_str(&format!("    transition y{j} {{ from J{j} to S{} condition $e{i} }}\n", (j + 1) % k));
-            s.push_str(&format!("    transition z{j} {{ from J{j} to D{j} condition not $e{i} }}\n"));
-        }
-        s.push_str("    transition t { from i0 to S0 }\n}\n");
-    }
-    s.push_str("controller C {\n    cycleDef cycle == 1\n    uses I requires I\n");
-    for i in 0..n {
-        s.push_str(&format!("    sref m{i} = M{i}\n    connection C on e{i} to m{i} on e{i}\n"));
-    }
-    s.push_str(
-        "}\nmodule Mod {\n    cycleDef cycle == 1\n    robotic platform P { uses I provides I }\n    cref c = C\n",
-    );
-    for i in 0..n {
-        s.push_str(&format!("    connection P on e{i} to c on e{i}\n"));
-    }
-    s.push_str("}\n");
-    s
-}
-
 /// `sim` refines the constrained `design` (period 1): (pairs, holds).
 fn soundness(design: &Design, sim: &Design) -> (u64, bool) {
     let regs = Registers::new(&[design, sim], Profile::RoboTool3).expect("registers");
@@ -141,8 +75,8 @@ fn soundness(design: &Design, sim: &Design) -> (u64, bool) {
 
 #[divan::bench(args = [(1, 3), (2, 3), (3, 3)])]
 fn refinement_generated(bencher: divan::Bencher, (n, k): (usize, usize)) {
-    let d = design(&generated(n, k), "Mod", &[]);
-    let s = compile(&generated_sim(n, k), "s.rst", "Mod", &[]);
+    let d = design(&generate::design(n, k), "Mod", &[]);
+    let s = compile(&generate::simulation(n, k), "s.rst", "Mod", &[]);
     let (pairs, holds) = soundness(&d, &s);
     assert!(holds, "the generated simulation is sound");
     eprintln!("refinement {n}×{k}: {pairs} pairs");

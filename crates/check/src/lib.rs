@@ -7,6 +7,7 @@ pub mod assertions;
 pub mod budget;
 pub mod design;
 pub mod events;
+pub mod generate;
 pub mod ir;
 pub mod lower;
 pub mod lts;

@@ -889,6 +889,60 @@ fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<S
     Counterexample { kind: "deadlock", steps, explanation, stuck_at }
 }
 
+/// A counterexample grouped by cycle, one line per step: reads, the
+/// design's steps with their description and source (`locate` prints a
+/// location), writes, time passing; then why nothing more can happen.
+/// The command line and the editor's hover both show this table.
+pub fn counterexample_table(c: &Counterexample, locate: &dyn Fn(&Location) -> String) -> String {
+    let mut lines: Vec<String> = Vec::new();
+    let mut cycle = u32::MAX;
+    let mut tocks = 0;
+    let flush = |lines: &mut Vec<String>, tocks: &mut u32| {
+        if *tocks > 0 {
+            let unit = if *tocks == 1 { "time unit passes" } else { "time units pass" };
+            lines.push(format!("           {tocks} {unit}"));
+            *tocks = 0;
+        }
+    };
+    for step in &c.steps {
+        if step.event == "tock" {
+            tocks += 1;
+            continue;
+        }
+        flush(&mut lines, &mut tocks);
+        let (what, event) = if let Some(e) = step.event.strip_prefix("registerRead.") {
+            ("read  ", e)
+        } else if let Some(e) = step.event.strip_prefix("registerWrite.") {
+            ("write ", e)
+        } else if step.visible {
+            ("event ", step.event.as_str())
+        } else {
+            ("design", step.event.as_str())
+        };
+        if !step.visible && step.description.is_none() && event == "τ" {
+            continue;
+        }
+        if step.cycle != cycle {
+            cycle = step.cycle;
+            lines.push(format!("cycle {cycle}  t = {}", step.time));
+        }
+        let mut line = format!("  {what} {event}");
+        if let Some(d) = &step.description {
+            line.push_str(&format!("  {d}"));
+        }
+        if let Some(l) = &step.location {
+            line.push_str(&format!("  --> {}", locate(l)));
+        }
+        lines.push(line);
+    }
+    flush(&mut lines, &mut tocks);
+    lines.extend(c.explanation.iter().map(|e| format!("stuck: {e}")));
+    lines.extend(c.stuck_at.iter().map(|l| format!("  --> {}", locate(l))));
+    let mut s = lines.join("\n");
+    s.push('\n');
+    s
+}
+
 /// The LTS's events of a step, for tests: visible names, hidden ones in
 /// parentheses, τ left out.
 pub fn trace_text(steps: &[Step]) -> String {

@@ -9,7 +9,9 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use robosim_check::budget::{Budget, Stats};
-use robosim_check::verify::{verify_workspace, Counterexample, Location, Options, Profile, Report, Verdict};
+use robosim_check::verify::{
+    counterexample_table, verify_workspace, Counterexample, Location, Options, Profile, Report, Verdict,
+};
 use serde_json::{json, Value};
 
 use crate::workspace::Workspace;
@@ -205,57 +207,11 @@ pub fn render_human(ws: &Workspace, reports: &[Report], profile: Profile) -> Str
     s
 }
 
-/// A counterexample grouped by cycle: reads, the design's hidden steps with
-/// their source, writes, and time passing.
+/// A counterexample grouped by cycle, indented under its assertion.
 fn render_counterexample(s: &mut String, ws: &Workspace, c: &Counterexample) {
     let pad = "                ";
     s.push_str(&format!("{pad}{} reached by:\n", c.kind));
-    let mut cycle = u32::MAX;
-    let mut tocks = 0;
-    let flush = |s: &mut String, tocks: &mut u32| {
-        if *tocks > 0 {
-            let unit = if *tocks == 1 { "time unit passes" } else { "time units pass" };
-            s.push_str(&format!("{pad}             {tocks} {unit}\n"));
-            *tocks = 0;
-        }
-    };
-    for step in &c.steps {
-        if step.event == "tock" {
-            tocks += 1;
-            continue;
-        }
-        flush(s, &mut tocks);
-        if step.cycle != cycle {
-            cycle = step.cycle;
-            s.push_str(&format!("{pad}  cycle {cycle}  t = {}\n", step.time));
-        }
-        let (what, event) = if let Some(e) = step.event.strip_prefix("registerRead.") {
-            ("read  ", e.to_string())
-        } else if let Some(e) = step.event.strip_prefix("registerWrite.") {
-            ("write ", e.to_string())
-        } else if step.visible {
-            ("event ", step.event.clone())
-        } else {
-            ("design", step.event.clone())
-        };
-        if !step.visible && step.description.is_none() && event == "τ" {
-            continue;
-        }
-        let mut line = format!("{pad}    {what} {event}");
-        if let Some(d) = &step.description {
-            line.push_str(&format!("  {d}"));
-        }
-        if let Some(l) = &step.location {
-            line.push_str(&format!("  --> {}", short_location(ws, l)));
-        }
-        s.push_str(&line);
-        s.push('\n');
-    }
-    flush(s, &mut tocks);
-    for e in &c.explanation {
-        s.push_str(&format!("{pad}  stuck: {e}\n"));
-    }
-    for l in &c.stuck_at {
-        s.push_str(&format!("{pad}    --> {}\n", short_location(ws, l)));
+    for line in counterexample_table(c, &|l| short_location(ws, l)).lines() {
+        s.push_str(&format!("{pad}  {line}\n"));
     }
 }

@@ -28,41 +28,9 @@ fn gt3_workspace(name: &str, extra: &[(&str, &str)]) -> PathBuf {
     root
 }
 
-/// A module of `n` machines with `k` states each, each reacting to its own
-/// input (crates/check/benches/schedulability.rs): 8 × 6 has far more
-/// states than a test can explore.
-fn generated(n: usize, k: usize) -> String {
-    let mut s = String::from("interface I {\n");
-    for i in 0..n {
-        s.push_str(&format!("    event e{i}\n    op{i}()\n"));
-    }
-    s.push_str("}\n");
-    for i in 0..n {
-        s.push_str(&format!("stm M{i} {{\n    uses I requires I\n    initial i0\n"));
-        for j in 0..k {
-            s.push_str(&format!("    state S{j} {{ entry op{i}(); wait(1) }}\n"));
-        }
-        s.push_str("    transition t { from i0 to S0 }\n");
-        for j in 0..k {
-            s.push_str(&format!("    transition t{j} {{ from S{j} to S{} trigger e{i} }}\n", (j + 1) % k));
-        }
-        s.push_str("}\n");
-    }
-    s.push_str("controller C {\n    uses I requires I\n");
-    for i in 0..n {
-        s.push_str(&format!("    sref m{i} = M{i}\n    connection C on e{i} to m{i} on e{i}\n"));
-    }
-    s.push_str("}\nmodule Mod {\n    robotic platform P { uses I provides I }\n    cref c = C\n");
-    for i in 0..n {
-        s.push_str(&format!("    connection P on e{i} to c on e{i}\n"));
-    }
-    s.push_str("}\n");
-    s
-}
-
 fn big_workspace(name: &str) -> PathBuf {
     let root = lsp_support::temp_dir(name);
-    std::fs::write(root.join("design.rct"), generated(8, 6)).unwrap();
+    std::fs::write(root.join("design.rct"), robosim_check::generate::design(8, 6)).unwrap();
     std::fs::write(
         root.join("checks.rsa"),
         "simulation S of Mod { cycleDef cycle == 1 }\nassertion A : S is schedulable\n",

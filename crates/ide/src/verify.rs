@@ -443,7 +443,12 @@ pub(crate) fn hover_section(
         let _ = write!(s, "\n\n{n}");
     }
     if let Some(c) = &r.counterexample {
-        let _ = write!(s, "\n\n{} reached by:\n\n```text\n{}```", c.kind, counterexample_table(db, ws, path, c));
+        let _ = write!(
+            s,
+            "\n\n{} reached by:\n\n```text\n{}```",
+            c.kind,
+            robosim_check::verify::counterexample_table(c, &|l| short_location(db, ws, path, l))
+        );
     }
     Some((r.name_range, s))
 }
@@ -464,60 +469,4 @@ fn short_location(db: &dyn Db, ws: Workspace, from: &str, loc: &Location) -> Str
         }
         None => shown,
     }
-}
-
-/// A counterexample grouped by cycle, as `robosim verify` prints it:
-/// reads, the design's hidden steps with their source, writes, and time
-/// passing; then why nothing more can happen.
-fn counterexample_table(db: &dyn Db, ws: Workspace, from: &str, c: &Counterexample) -> String {
-    let mut s = String::new();
-    let mut cycle = u32::MAX;
-    let mut tocks = 0;
-    let flush = |s: &mut String, tocks: &mut u32| {
-        if *tocks > 0 {
-            let unit = if *tocks == 1 { "time unit passes" } else { "time units pass" };
-            let _ = writeln!(s, "           {tocks} {unit}");
-            *tocks = 0;
-        }
-    };
-    for step in &c.steps {
-        if step.event == "tock" {
-            tocks += 1;
-            continue;
-        }
-        flush(&mut s, &mut tocks);
-        let (what, event) = if let Some(e) = step.event.strip_prefix("registerRead.") {
-            ("read  ", e.to_string())
-        } else if let Some(e) = step.event.strip_prefix("registerWrite.") {
-            ("write ", e.to_string())
-        } else if step.visible {
-            ("event ", step.event.clone())
-        } else {
-            ("design", step.event.clone())
-        };
-        if !step.visible && step.description.is_none() && event == "τ" {
-            continue;
-        }
-        if step.cycle != cycle {
-            cycle = step.cycle;
-            let _ = writeln!(s, "cycle {cycle}  t = {}", step.time);
-        }
-        let mut line = format!("  {what} {event}");
-        if let Some(d) = &step.description {
-            let _ = write!(line, "  {d}");
-        }
-        if let Some(l) = &step.location {
-            let _ = write!(line, "  --> {}", short_location(db, ws, from, l));
-        }
-        s.push_str(&line);
-        s.push('\n');
-    }
-    flush(&mut s, &mut tocks);
-    for e in &c.explanation {
-        let _ = writeln!(s, "stuck: {e}");
-    }
-    for l in &c.stuck_at {
-        let _ = writeln!(s, "  --> {}", short_location(db, ws, from, l));
-    }
-    s
 }
