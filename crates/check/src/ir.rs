@@ -275,6 +275,16 @@ pub enum Instr {
     /// RoboSim: the cycle ended by taking an `exec` transition (the current
     /// transition); its exits, action and target run after the next reads.
     ExecTransition,
+    /// A call of an operation defined in the model: its arguments go to its
+    /// parameters, the caller's place is saved, its body starts.
+    CallOp {
+        /// Index into the machine's operations.
+        op: u16,
+        /// Argument values.
+        args: Vec<Expr>,
+    },
+    /// The end of an operation's body: back to the caller.
+    Return(u16),
 }
 
 /// What a node is.
@@ -287,11 +297,28 @@ pub enum NodeKind {
     Final,
 }
 
+/// An operation defined in the model, compiled into its caller machine.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Operation {
+    /// Its name.
+    pub name: String,
+    /// Its parameters' slots and domains.
+    pub params: Vec<(u16, Dom)>,
+    /// The start of its body (its initial transition).
+    pub start_pc: u32,
+    /// Where the caller resumes, while the body runs.
+    pub ret_slot: u16,
+    /// The caller's active state, while the body runs.
+    pub leaf_slot: u16,
+}
+
 /// A state, junction, initial or final node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Node {
     /// Its name.
     pub name: String,
+    /// The operation whose body it belongs to (none: the machine's).
+    pub op: Option<u16>,
     /// What it is.
     pub kind: NodeKind,
     /// The enclosing state.
@@ -374,6 +401,8 @@ pub struct Machine {
     pub first_cycle_pc: u32,
     /// RoboSim: the machine's `ExecTransition` instruction.
     pub exec_transition_pc: u32,
+    /// Operations defined in the model that the machine calls.
+    pub ops: Vec<Operation>,
     /// First of the machine's four control slots (leaf, pc, wait counter,
     /// current transition).
     pub base: u16,

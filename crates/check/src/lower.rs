@@ -113,6 +113,8 @@ struct Instance {
     decl_name: String,
     file: File,
     node: SyntaxNode,
+    /// Operations its controller defines (or references): name, file, body.
+    ops: Vec<(String, File, SyntaxNode)>,
 }
 
 /// A connection end: (node name, event name).
@@ -248,6 +250,7 @@ impl Cx<'_> {
                     decl_name: top_name.clone(),
                     file,
                     node: node.clone(),
+                    ops: Vec::new(),
                 });
             }
             _ => {
@@ -282,6 +285,7 @@ impl Cx<'_> {
     ) -> Result<(), Unsupported> {
         let ctrl_name = name_of(node);
         let mut machines = BTreeSet::new();
+        let mut ops: Vec<(String, File, SyntaxNode)> = Vec::new();
         for c in node.children() {
             match c.kind() {
                 STATE_MACHINE_REF => {
@@ -297,6 +301,7 @@ impl Cx<'_> {
                         decl_name,
                         file: mf,
                         node: mn,
+                        ops: Vec::new(),
                     });
                 }
                 STATE_MACHINE => {
@@ -307,17 +312,23 @@ impl Cx<'_> {
                         decl_name: name_of(&c),
                         file,
                         node: c.clone(),
+                        ops: Vec::new(),
                     });
                 }
-                OPERATION_DEF | OPERATION_REF => {
-                    return Err(self.unsupported(
-                        file,
-                        c.text_range(),
-                        "operations defined in controllers are not supported by the native checker yet",
-                    ))
+                OPERATION_DEF => ops.push((name_of(&c), file, c.clone())),
+                OPERATION_REF => {
+                    let target = path_of(&c);
+                    let (of, on) = self.resolve(file, &target, |k| k == DefKind::Operation).ok_or_else(|| {
+                        self.unsupported(file, c.text_range(), "the referenced operation could not be resolved")
+                    })?;
+                    ops.push((name_of(&c), of, on));
                 }
                 _ => {}
             }
+        }
+        // The controller's operations serve every one of its machines.
+        for inst in instances.iter_mut().filter(|i| i.ctrl == cref) {
+            inst.ops = ops.clone();
         }
         for c in node.children().filter(|c| c.kind() == CONNECTION) {
             let (a, b, is_async) = ends(&c);
@@ -483,11 +494,17 @@ impl Cx<'_> {
             code_ranges: Vec::new(),
             clock_caps: HashMap::new(),
             binds: Vec::new(),
+            op_defs: inst.ops.clone(),
+            ops: Vec::new(),
+            op_of_def: HashMap::new(),
+            pending_ops: Vec::new(),
+            cur_op: None,
         };
         mc.declarations(&inst.node, &external)?;
         mc.collect_nodes(&inst.node, None)?;
         mc.compile(&inst.node)?;
         let start_pc = mc.region_start(&inst.node, None)?;
+        mc.operation_bodies(&external)?;
         let first_cycle_pc = mc.code.len() as u32;
         mc.emit(Instr::Exec(start_pc));
         let exec_transition_pc = mc.code.len() as u32;
@@ -502,6 +519,7 @@ impl Cx<'_> {
             start_pc,
             first_cycle_pc,
             exec_transition_pc,
+            ops: std::mem::take(&mut mc.ops),
             base,
             file: file_ix,
         };
@@ -551,11 +569,24 @@ fn ends(c: &SyntaxNode) -> (End, End, bool) {
 /// What a simple name means inside a machine.
 #[derive(Debug, Clone)]
 enum Name {
-    Var { slot: u16, dom: Dom, shared: bool },
+    Var {
+        slot: u16,
+        dom: Dom,
+        shared: bool,
+    },
     Const(Val),
     Clock(u16),
-    Event { chan: Option<(u16, Dir)>, ty: Option<Dom> },
-    Op { params: Vec<Dom>, chan: u16 },
+    Event {
+        chan: Option<(u16, Dir)>,
+        ty: Option<Dom>,
+    },
+    Op {
+        params: Vec<Dom>,
+        chan: u16,
+    },
+    /// An operation defined in the model: its index in the machine's
+    /// operations.
+    Defined(u16),
 }
 
 struct MachineCx<'a, 'b> {
@@ -574,6 +605,14 @@ struct MachineCx<'a, 'b> {
     code_ranges: Vec<TextRange>,
     /// `$e?x` bindings met while lowering a guard.
     binds: Vec<(u16, Dom, u16)>,
+    /// Operations the controller defines, and those compiled into the
+    /// machine (by index into `op_defs`), with bodies still to compile.
+    op_defs: Vec<(String, File, SyntaxNode)>,
+    ops: Vec<Operation>,
+    op_of_def: HashMap<usize, u16>,
+    pending_ops: Vec<(u16, usize)>,
+    /// The operation whose body is being compiled.
+    cur_op: Option<u16>,
     /// Greatest static value each clock slot is compared with (-1: unknown).
     clock_caps: HashMap<u16, i32>,
 }
@@ -744,15 +783,19 @@ impl MachineCx<'_, '_> {
                                 params.push(self.ty(f, tnode.as_ref(), p.text_range())?);
                             }
                         }
+                        // The controller may define it: then it is no platform call.
+                        if let Some(i) = self.op_defs.iter().position(|(n, ..)| *n == name) {
+                            let k = self.operation(i, &params)?;
+                            self.names.insert(name, Name::Defined(k));
+                            continue;
+                        }
                         let chan = self.channel(&name, Dir::Out, true, params.clone());
                         self.names.insert(name, Name::Op { params, chan });
                     }
-                    OPERATION_DEF | OPERATION_REF | FUNCTION => {
-                        return Err(self.err(
-                            c.text_range(),
-                            "operations and functions defined in the model are not supported by the native checker yet",
-                        ))
-                    }
+                    OPERATION_DEF | OPERATION_REF | FUNCTION => return Err(self.err(
+                        c.text_range(),
+                        "operations defined in machines, and functions, are not supported by the native checker yet",
+                    )),
                     _ => {}
                 }
             }
@@ -795,6 +838,7 @@ impl MachineCx<'_, '_> {
             let range = c.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(c.text_range());
             self.nodes.push(Node {
                 name: name_of(&c),
+                op: self.cur_op,
                 kind,
                 parent,
                 entry_pc: 0,
@@ -813,14 +857,14 @@ impl MachineCx<'_, '_> {
 
     /// The node named `name` in the region of `parent`.
     fn sibling(&self, parent: Option<u16>, name: &str) -> Option<u16> {
-        self.nodes.iter().position(|n| n.parent == parent && n.name == name).map(|i| i as u16)
+        self.nodes.iter().position(|n| n.op == self.cur_op && n.parent == parent && n.name == name).map(|i| i as u16)
     }
 
     fn compile(&mut self, machine: &SyntaxNode) -> Result<(), Unsupported> {
         // Transitions of every region.
         let mut regions = vec![(machine.clone(), None)];
         for (i, n) in self.nodes.iter().enumerate() {
-            if n.kind == NodeKind::State {
+            if n.kind == NodeKind::State && n.op == self.cur_op {
                 regions.push((self.node_syntax[i].clone(), Some(i as u16)));
             }
         }
@@ -831,6 +875,9 @@ impl MachineCx<'_, '_> {
         }
         // Entry and exit code of every node.
         for id in 0..self.nodes.len() {
+            if self.nodes[id].op != self.cur_op {
+                continue;
+            }
             let syn = self.node_syntax[id].clone();
             let node_id = id as u16;
             self.at = self.nodes[id].range;
@@ -874,7 +921,13 @@ impl MachineCx<'_, '_> {
                 }
                 NodeKind::Final => {
                     self.nodes[id].entry_pc = self.code.len() as u32;
-                    self.emit(if self.nodes[id].parent.is_none() { Instr::Terminate } else { Instr::Rest });
+                    // A final state ends the machine, or returns from an
+                    // operation's body; in a composite state it just rests.
+                    self.emit(match (self.nodes[id].parent, self.cur_op) {
+                        (Some(_), _) => Instr::Rest,
+                        (None, Some(op)) => Instr::Return(op),
+                        (None, None) => Instr::Terminate,
+                    });
                     self.nodes[id].exit_pc = self.code.len() as u32;
                     self.emit(Instr::ExitDone(node_id));
                 }
@@ -889,10 +942,11 @@ impl MachineCx<'_, '_> {
 
     /// Code for the initial transition of a region; returns its pc.
     fn region_start(&mut self, region: &SyntaxNode, parent: Option<u16>) -> Result<u32, Unsupported> {
-        let init =
-            self.nodes.iter().position(|n| n.parent == parent && n.kind == NodeKind::Initial).ok_or_else(|| {
-                self.err(region.text_range(), "a region without an initial junction cannot be executed")
-            })?;
+        let init = self
+            .nodes
+            .iter()
+            .position(|n| n.op == self.cur_op && n.parent == parent && n.kind == NodeKind::Initial)
+            .ok_or_else(|| self.err(region.text_range(), "a region without an initial junction cannot be executed"))?;
         let t = self.nodes[init]
             .out
             .first()
@@ -1135,8 +1189,14 @@ impl MachineCx<'_, '_> {
                 }
             }
             CALL_STMT => {
-                let (chan, args) = self.call(s, "an operation of the robotic platform required by the machine")?;
-                self.emit(Instr::Out { chan, args, urgent: true });
+                let name = path_of(s).join("::");
+                if let Some(&Name::Defined(op)) = self.names.get(&name) {
+                    let args = self.arguments(s, self.ops[op as usize].params.len(), &name)?;
+                    self.emit(Instr::CallOp { op, args });
+                } else {
+                    let (chan, args) = self.call(s, "an operation of the robotic platform required by the machine")?;
+                    self.emit(Instr::Out { chan, args, urgent: true });
+                }
             }
             WAIT_STMT => {
                 let e = s
@@ -1208,22 +1268,103 @@ impl MachineCx<'_, '_> {
     /// of a platform operation (`what` says what `op` must be).
     fn call(&mut self, s: &SyntaxNode, what: &str) -> Result<(u16, Vec<Expr>), Unsupported> {
         let name = path_of(s).join("::");
+        let Some(Name::Op { params, chan }) = self.names.get(&name).cloned() else {
+            return Err(self.err(s.text_range(), format!("`{name}` is not {what}")));
+        };
+        Ok((chan, self.arguments(s, params.len(), &name)?))
+    }
+
+    /// The `n` argument values of the call `s` of `name`.
+    fn arguments(&mut self, s: &SyntaxNode, n: usize, name: &str) -> Result<Vec<Expr>, Unsupported> {
         let args: Vec<SyntaxNode> = s
             .children()
             .find(|c| c.kind() == ARG_LIST)
             .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
             .unwrap_or_default();
-        let Some(Name::Op { params, chan }) = self.names.get(&name).cloned() else {
-            return Err(self.err(s.text_range(), format!("`{name}` is not {what}")));
-        };
-        if params.len() != args.len() {
-            return Err(self.err(s.text_range(), format!("`{name}` takes {} arguments", params.len())));
+        if n != args.len() {
+            return Err(self.err(s.text_range(), format!("`{name}` takes {n} arguments")));
         }
         let mut exprs = Vec::new();
         for a in &args {
             exprs.push(self.expr(a)?);
         }
-        Ok((chan, exprs))
+        Ok(exprs)
+    }
+
+    /// The operation of `op_defs[i]` in this machine: its parameters and
+    /// return slots now, its body once the caller's code is complete.
+    fn operation(&mut self, i: usize, params: &[Dom]) -> Result<u16, Unsupported> {
+        if let Some(&k) = self.op_of_def.get(&i) {
+            return Ok(k);
+        }
+        let (name, file, node) = self.op_defs[i].clone();
+        // The definition's own parameter types win over the signature's.
+        let mut slots = Vec::new();
+        let plist = node.children().find(|p| p.kind() == PARAM_LIST);
+        let defined: Vec<SyntaxNode> =
+            plist.map(|pl| pl.children().filter(|p| p.kind() == PARAM).collect()).unwrap_or_default();
+        if defined.len() != params.len() {
+            return Err(self.cx.unsupported(
+                file,
+                node.text_range(),
+                format!(
+                    "operation `{name}` is defined with {} parameters and required with {}",
+                    defined.len(),
+                    params.len()
+                ),
+            ));
+        }
+        for p in &defined {
+            let tnode = p.children().find(|t| ast::is_type_kind(t.kind()));
+            let dom = self.ty(file, tnode.as_ref(), p.text_range())?;
+            slots.push((self.new_slot(), dom));
+        }
+        let ret_slot = self.new_slot();
+        let leaf_slot = self.new_slot();
+        let k = self.ops.len() as u16;
+        self.ops.push(Operation { name: name.clone(), params: slots, start_pc: 0, ret_slot, leaf_slot });
+        self.op_of_def.insert(i, k);
+        self.pending_ops.push((k, i));
+        Ok(k)
+    }
+
+    /// Compiles the bodies of the operations the machine calls (each in
+    /// its own scope: its parameters and declarations; `external` maps its
+    /// events as the machine's).
+    fn operation_bodies(
+        &mut self,
+        external: &impl Fn(&str) -> Result<Option<(String, Dir)>, String>,
+    ) -> Result<(), Unsupported> {
+        while let Some((k, i)) = self.pending_ops.pop() {
+            let (name, file, node) = self.op_defs[i].clone();
+            if file != self.file {
+                return Err(self.cx.unsupported(
+                    file,
+                    node.text_range(),
+                    format!("operation `{name}` is defined in another file than its machine; not supported yet"),
+                ));
+            }
+            let saved_names = std::mem::take(&mut self.names);
+            let saved_decl = std::mem::replace(&mut self.decl_name, name.clone());
+            let saved_op = self.cur_op.replace(k);
+            let plist = node.children().find(|p| p.kind() == PARAM_LIST);
+            let params: Vec<SyntaxNode> =
+                plist.map(|pl| pl.children().filter(|p| p.kind() == PARAM).collect()).unwrap_or_default();
+            for (p, &(slot, dom)) in params.iter().zip(&self.ops[k as usize].params.clone()) {
+                self.names.insert(name_of(p), Name::Var { slot, dom, shared: false });
+            }
+            // The body runs in the caller's context: its events are the
+            // caller's connections.
+            self.declarations(&node, external)?;
+            self.collect_nodes(&node, None)?;
+            self.compile(&node)?;
+            let start = self.region_start(&node, None)?;
+            self.ops[k as usize].start_pc = start;
+            self.names = saved_names;
+            self.decl_name = saved_decl;
+            self.cur_op = saved_op;
+        }
+        Ok(())
     }
 
     fn expr(&mut self, e: &SyntaxNode) -> Result<Expr, Unsupported> {

@@ -86,6 +86,9 @@ impl Machine {
     /// Puts the machine in its initial configuration (before any step of
     /// the initial transition: that is its first τ).
     pub fn init(&self, st: &mut [i32]) {
+        for op in &self.ops {
+            st[op.ret_slot as usize] = -1;
+        }
         st[self.slot(LEAF)] = -1;
         st[self.slot(PC)] = self.start_pc as i32;
         st[self.slot(WAIT)] = 0;
@@ -142,6 +145,34 @@ impl Machine {
                     st[self.slot(PC)] = if v == 0 { *target as i32 } else { pc as i32 + 1 };
                 }
                 Instr::Jump(target) => st[self.slot(PC)] = *target as i32,
+                Instr::CallOp { op, args } => {
+                    let body = &self.ops[*op as usize];
+                    if st[body.ret_slot as usize] >= 0 {
+                        return Err(StepError(format!(
+                            "machine `{}`: operation `{}` is called while it runs (recursion is not supported)",
+                            self.name, body.name
+                        )));
+                    }
+                    let mut values = Vec::with_capacity(args.len());
+                    for a in args {
+                        values.push(a.eval(st, &mut sat).map_err(|e| self.eval_error(e))?);
+                    }
+                    for (&(slot, dom), v) in body.params.iter().zip(values) {
+                        if dom.contains(v) {
+                            st[slot as usize] = v as i32;
+                        }
+                    }
+                    st[body.ret_slot as usize] = pc as i32 + 1;
+                    st[body.leaf_slot as usize] = st[self.slot(LEAF)];
+                    st[self.slot(PC)] = body.start_pc as i32;
+                }
+                Instr::Return(op) => {
+                    let body = &self.ops[*op as usize];
+                    st[self.slot(LEAF)] = st[body.leaf_slot as usize];
+                    st[self.slot(PC)] = st[body.ret_slot as usize];
+                    st[body.ret_slot as usize] = -1;
+                    st[body.leaf_slot as usize] = 0;
+                }
                 Instr::Enter(n) => {
                     let node = &self.nodes[*n as usize];
                     match node.kind {

@@ -195,3 +195,30 @@ fn deadlock_freedom_of_simulations() {
     let d2 = &reports[1];
     assert_eq!(d2.counterexample.as_ref().map(|c| c.kind), Some("timed deadlock"));
 }
+
+/// Figure 3 with `move(0, av)` done by an operation its controller defines:
+/// still sound; with an `exec` first (the turn starts a cycle late, as in
+/// Figure 4) too; with a wrong speed, not.
+#[test]
+fn operations_defined_in_the_simulations_controller() {
+    let with_op = |body: &str| {
+        let sim = example("simulation.rst")
+            .replace("state STurning { entry $move(0, av) }", "state STurning { entry turn() }")
+            .replace("    sref sm = SimSMovement", &format!("    operation turn() {{ output context {{ requires MovementI }} initial i final f transition t {{ from i to f action {body} }} }}\n    sref sm = SimSMovement"))
+            .replace("stm SimSMovement {", "interface TurnI { turn() }\nstm SimSMovement {\n    requires TurnI");
+        assert!(sim.contains("entry turn()") && sim.contains("operation turn()"), "the edit applies");
+        check(&sim).0
+    };
+    let r = with_op("$move(0, 15)");
+    assert_eq!(r.verdict, Verdict::Pass, "{:?}", r.reason);
+    let r = with_op("exec; $move(0, 15)");
+    assert_eq!(r.verdict, Verdict::Pass, "{:?}", r.reason);
+    let r = with_op("$move(0, 14)");
+    assert_eq!(r.verdict, Verdict::Fail, "{:?}", r.reason);
+    let c = r.counterexample.as_ref().expect("a counterexample");
+    // The simulation is ready to write the wrong speed only: it refuses
+    // the design's write.
+    assert_eq!(c.kind, "refusal");
+    assert!(r.reason.as_deref().unwrap_or_default().contains("registerWrite.o_move.0.15"), "{:?}", r.reason);
+    assert!(trace_text(&c.steps).ends_with("registerWrite.o_stop"), "{}", trace_text(&c.steps));
+}
