@@ -285,6 +285,10 @@ pub enum Instr {
     },
     /// The end of an operation's body: back to the caller.
     Return(u16),
+    /// `S <{d}`: `S`, which starts here, must end within `d` time units.
+    Deadline(Expr),
+    /// The end of a statement with a deadline.
+    EndDeadline,
 }
 
 /// What a node is.
@@ -330,6 +334,9 @@ pub struct Node {
     pub exit_pc: u32,
     /// The clock of `sinceEntry(S)`, if used.
     pub since_entry: Option<u16>,
+    /// The code of its during action (`start..end`): transitions may
+    /// interrupt it.
+    pub during: Option<(u32, u32)>,
     /// Outgoing transitions.
     pub out: Vec<u16>,
     /// The declaration's name range.
@@ -403,8 +410,8 @@ pub struct Machine {
     pub exec_transition_pc: u32,
     /// Operations defined in the model that the machine calls.
     pub ops: Vec<Operation>,
-    /// First of the machine's four control slots (leaf, pc, wait counter,
-    /// current transition).
+    /// First of the machine's control slots (leaf, pc, wait counter,
+    /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,
     /// The file the machine is declared in (index into the model's files).
     pub file: u16,
@@ -455,6 +462,11 @@ pub struct Design {
     pub domains: Vec<(String, Dom)>,
     /// Constants and the values used.
     pub constants: Vec<(String, Val)>,
+}
+
+impl Machine {
+    /// How many control slots a machine has.
+    pub const SLOTS: u16 = 5;
 }
 
 impl Design {

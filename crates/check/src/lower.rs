@@ -478,7 +478,7 @@ impl Cx<'_> {
         let file = inst.file;
         let file_ix = self.file_index(file);
         let base = *slot;
-        *slot += 4;
+        *slot += Machine::SLOTS;
         let mut mc = MachineCx {
             cx: self,
             file,
@@ -844,6 +844,7 @@ impl MachineCx<'_, '_> {
                 entry_pc: 0,
                 exit_pc: 0,
                 since_entry: None,
+                during: None,
                 out: Vec::new(),
                 range,
             });
@@ -884,18 +885,25 @@ impl MachineCx<'_, '_> {
             match self.nodes[id].kind {
                 NodeKind::State => {
                     let entry_pc = self.code.len() as u32;
-                    for a in syn.children() {
-                        match a.kind() {
-                            ENTRY_ACTION => self.action_stmt(&a)?,
-                            DURING_ACTION => {
-                                return Err(self
-                                    .err(a.text_range(), "during actions are not supported by the native checker yet"))
-                            }
-                            _ => {}
-                        }
+                    if let Some(a) = syn.children().find(|a| a.kind() == ENTRY_ACTION) {
+                        self.action_stmt(&a)?;
                     }
                     self.at = self.nodes[id].range;
                     let has_children = self.nodes.iter().any(|n| n.parent == Some(node_id));
+                    // The during action runs after the entry action; any
+                    // transition of the state may interrupt it.
+                    if let Some(a) = syn.children().find(|a| a.kind() == DURING_ACTION) {
+                        if has_children {
+                            return Err(self.err(
+                                a.text_range(),
+                                "during actions of composite states are not supported by the native checker yet",
+                            ));
+                        }
+                        let start = self.code.len() as u32;
+                        self.action_stmt(&a)?;
+                        self.nodes[id].during = Some((start, self.code.len() as u32));
+                        self.at = self.nodes[id].range;
+                    }
                     if has_children {
                         let pc = self.code.len() as u32;
                         self.emit(Instr::Jump(u32::MAX));
@@ -1252,7 +1260,26 @@ impl MachineCx<'_, '_> {
                 self.emit(Instr::Exec(next));
             }
             TIMED_STMT => {
-                return Err(self.err(s.text_range(), "statement deadlines `<{d}` are not supported yet"));
+                let body = s.children().find(|c| ast::is_stmt_kind(c.kind()));
+                let limit = s
+                    .children()
+                    .find(|c| c.kind() == DEADLINE)
+                    .and_then(|d| d.children().find(|e| ast::is_expr_kind(e.kind())));
+                let (Some(body), Some(limit)) = (body, limit) else {
+                    return Err(self.err(s.text_range(), "an incomplete deadline"));
+                };
+                let limit = self.expr(&limit)?;
+                self.emit(Instr::Deadline(limit));
+                self.stmt(&body)?;
+                self.at = s.text_range();
+                self.emit(Instr::EndDeadline);
+            }
+            PAR_STMT => {
+                let inner: Vec<SyntaxNode> = s.children().filter(|c| ast::is_stmt_kind(c.kind())).collect();
+                let [one] = inner.as_slice() else {
+                    return Err(self.err(s.text_range(), "parallel statements are not supported yet"));
+                };
+                self.stmt(one)?;
             }
             k => {
                 return Err(self.err(

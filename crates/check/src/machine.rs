@@ -13,6 +13,8 @@ const LEAF: usize = 0;
 const PC: usize = 1;
 const WAIT: usize = 2;
 const TRANS: usize = 3;
+/// Time units left to finish a statement with a deadline (-1: none).
+const DEADLINE: usize = 4;
 
 /// The most internal instructions one step may run before we call it a
 /// loop (a model error such a machine would be stuck in).
@@ -93,6 +95,7 @@ impl Machine {
         st[self.slot(PC)] = self.start_pc as i32;
         st[self.slot(WAIT)] = 0;
         st[self.slot(TRANS)] = -1;
+        st[self.slot(DEADLINE)] = -1;
     }
 
     /// Runs internal instructions from the current pc until the machine
@@ -165,6 +168,21 @@ impl Machine {
                     st[body.ret_slot as usize] = pc as i32 + 1;
                     st[body.leaf_slot as usize] = st[self.slot(LEAF)];
                     st[self.slot(PC)] = body.start_pc as i32;
+                }
+                Instr::Deadline(e) => {
+                    if st[self.slot(DEADLINE)] >= 0 {
+                        return Err(StepError(format!(
+                            "machine `{}`: nested statement deadlines are not supported",
+                            self.name
+                        )));
+                    }
+                    let v = e.eval(st, &mut sat).map_err(|e| self.eval_error(e))?;
+                    st[self.slot(DEADLINE)] = v.clamp(0, i32::MAX as Val) as i32;
+                    st[self.slot(PC)] += 1;
+                }
+                Instr::EndDeadline => {
+                    st[self.slot(DEADLINE)] = -1;
+                    st[self.slot(PC)] += 1;
                 }
                 Instr::Return(op) => {
                     let body = &self.ops[*op as usize];
@@ -245,33 +263,13 @@ impl Machine {
     /// The steps the machine offers (time aside: see [`Machine::can_tock`]).
     pub fn moves(&self, st: &[i32], out: &mut Vec<Move>) -> Result<(), StepError> {
         let pc = self.pc(st) as usize;
+        if self.in_during(st) {
+            self.transition_moves(st, out)?;
+        }
         let mut sat = false;
         let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
         match &self.code[pc] {
-            Instr::Rest => {
-                // Transitions of the leaf and of every enclosing state, with
-                // no priority between levels.
-                let mut node = self.leaf(st);
-                while let Some(n) = node {
-                    for &t in &self.nodes[n as usize].out {
-                        let tr = &self.transitions[t as usize];
-                        if !self.guard(st, &tr.guard)? {
-                            continue;
-                        }
-                        let offer = match &tr.trigger {
-                            None => Offer::Tau,
-                            Some(Trigger::In { chan, value, .. }) => {
-                                Offer::In { chan: *chan, value: value.as_ref().map(&mut eval).transpose()? }
-                            }
-                            Some(Trigger::Out { chan, args }) => {
-                                Offer::Out { chan: *chan, args: args.iter().map(&mut eval).collect::<Result<_, _>>()? }
-                            }
-                        };
-                        out.push(Move { offer, act: Act::Fire(t) });
-                    }
-                    node = self.nodes[n as usize].parent;
-                }
-            }
+            Instr::Rest => self.transition_moves(st, out)?,
             Instr::Junction(j) => {
                 for &t in &self.nodes[*j as usize].out {
                     if self.guard(st, &self.transitions[t as usize].guard)? {
@@ -300,13 +298,53 @@ impl Machine {
         Ok(())
     }
 
-    /// Whether time may pass: everywhere except before an urgent call.
+    /// Transitions of the leaf and of every enclosing state, with no
+    /// priority between levels.
+    fn transition_moves(&self, st: &[i32], out: &mut Vec<Move>) -> Result<(), StepError> {
+        let mut sat = false;
+        let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
+        let mut node = self.leaf(st);
+        while let Some(n) = node {
+            for &t in &self.nodes[n as usize].out {
+                let tr = &self.transitions[t as usize];
+                if !self.guard(st, &tr.guard)? {
+                    continue;
+                }
+                let offer = match &tr.trigger {
+                    None => Offer::Tau,
+                    Some(Trigger::In { chan, value, .. }) => {
+                        Offer::In { chan: *chan, value: value.as_ref().map(&mut eval).transpose()? }
+                    }
+                    Some(Trigger::Out { chan, args }) => {
+                        Offer::Out { chan: *chan, args: args.iter().map(&mut eval).collect::<Result<_, _>>()? }
+                    }
+                };
+                out.push(Move { offer, act: Act::Fire(t) });
+            }
+            node = self.nodes[n as usize].parent;
+        }
+        Ok(())
+    }
+
+    /// Whether the machine is running the during action of its active
+    /// state (which its transitions may interrupt).
+    fn in_during(&self, st: &[i32]) -> bool {
+        let pc = self.pc(st);
+        self.leaf(st).and_then(|l| self.nodes[l as usize].during).is_some_and(|(start, end)| (start..end).contains(&pc))
+    }
+
+    /// Whether time may pass: everywhere except before an urgent call and
+    /// when a deadline has run out.
     pub fn can_tock(&self, st: &[i32]) -> bool {
         !matches!(self.code.get(self.pc(st) as usize), Some(Instr::Out { urgent: true, .. }))
+            && st[self.slot(DEADLINE)] != 0
     }
 
     /// One time unit passes for the machine (clocks are advanced by the caller).
     pub fn tock(&self, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
+        if st[self.slot(DEADLINE)] > 0 {
+            st[self.slot(DEADLINE)] -= 1;
+        }
         if matches!(self.code.get(self.pc(st) as usize), Some(Instr::Wait)) && st[self.slot(WAIT)] > 0 {
             st[self.slot(WAIT)] -= 1;
             if st[self.slot(WAIT)] == 0 {

@@ -56,13 +56,15 @@ fn failing_properties() {
         stm Loop { requires I var n : nat initial i junction J state S { }
           transition t { from i to J } transition a { from J to J action n = 1 } }
         stm Call { requires I initial i state S { entry op(); op() } transition t { from i to S } }
+        stm Late { uses I initial i state S { entry (wait(2) <{1}) } transition t { from i to S } }
         stm Choice { uses I initial i state S { } state T { }
           transition t { from i to S } transition a { from S to T trigger e } transition b { from S to S trigger e } }";
     let asserts = "assertion A : Stuck is deadlock-free
         assertion B : Loop is divergence-free
         assertion C : Choice is deterministic
         assertion D : Stuck::S is reachable in Stuck
-        assertion E : Call is timelock-free";
+        assertion E : Call is timelock-free
+        assertion F : Late is timelock-free";
     let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
     let got: Vec<(&str, Verdict, Option<&str>)> =
         reports.iter().map(|r| (r.name.as_str(), r.verdict, r.counterexample.as_ref().map(|c| c.kind))).collect();
@@ -74,6 +76,7 @@ fn failing_properties() {
             ("C", Verdict::Fail, Some("nondeterminism")),
             ("D", Verdict::Pass, Some("reachability")),
             ("E", Verdict::Pass, None),
+            ("F", Verdict::Fail, Some("timelock")),
         ],
         "{reports:#?}"
     );

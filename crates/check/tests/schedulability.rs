@@ -137,9 +137,29 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         1, Verdict::Pass, 39, "",
     ),
     (
-        "during actions are refused",
-        "stm M { requires I initial i0 state S { during op() } transition t { from i0 to S } }",
-        1, Verdict::Unsupported, 0, "during actions are not supported",
+        // One call per cycle in the during action, which the trigger interrupts.
+        "during action",
+        "stm M { requires I uses I initial i0 state S { during op2(1); wait(1); op2(1); wait(1) } state T { }
+         transition t { from i0 to S } transition u { from S to T trigger i } transition w { from T to S trigger i } }",
+        1, Verdict::Pass, 231, "",
+    ),
+    (
+        "during action calling twice in a cycle",
+        "stm M { requires I initial i0 state S { during op2(1); op2(1) } transition t { from i0 to S } }",
+        1, Verdict::Fail, 31, "registerRead.i_i.true registerRead.i_v.true.0 (op2Call.1) registerWrite.o_op2.1",
+    ),
+    (
+        // The environment must offer i within a time unit; if it does not,
+        // that is its timelock, not a scheduling failure (TLFree).
+        "input with a deadline",
+        "stm M { uses I requires I initial i0 state S { entry (i <{1}); op() } transition t { from i0 to S } }",
+        1, Verdict::Pass, 115, "",
+    ),
+    (
+        "during actions of composite states are refused",
+        "stm M { requires I initial i0 state S { during op() initial j state T { } transition a { from j to T } }
+         transition t { from i0 to S } }",
+        1, Verdict::Unsupported, 0, "during actions of composite states are not supported",
     ),
     (
         "probabilistic junctions are refused",
