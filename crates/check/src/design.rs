@@ -30,6 +30,7 @@ impl<'a> DesignLts<'a> {
         for c in &design.channels {
             let name = match (c.is_call, c.dir) {
                 (true, _) => format!("{}Call", c.name),
+                _ if c.internal => c.name.clone(),
                 (false, Dir::In) => format!("{}.in", c.name),
                 (false, Dir::Out) => format!("{}.out", c.name),
             };
@@ -65,11 +66,16 @@ impl<'a> DesignLts<'a> {
         let start = out.len();
         let mut can_tock = true;
         let mut moves = Vec::new();
-        for m in &self.design.machines {
+        let mut internal = Vec::new();
+        for (mi, m) in self.design.machines.iter().enumerate() {
             moves.clear();
             m.moves(st, &mut moves).map_err(|e| e.0)?;
             can_tock &= m.can_tock(st);
             for mv in &moves {
+                if self.design.is_internal(&mv.offer) {
+                    internal.push((mi, mv.clone()));
+                    continue;
+                }
                 match &mv.offer {
                     Offer::Tau => {
                         let n = self.design.after(m, st, mv.act, None)?;
@@ -94,6 +100,10 @@ impl<'a> DesignLts<'a> {
                     }
                 }
             }
+        }
+        // Communications between machines are hidden.
+        for (chan, args, n) in self.design.internal_steps(st, &internal)? {
+            out.push((Label { event: TAU, note: self.events.event(self.group[chan as usize], &args) }, n));
         }
         if self.design.machines.iter().all(|m| m.terminated(st)) {
             let mut n = st.clone();

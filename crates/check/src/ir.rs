@@ -200,6 +200,8 @@ pub struct Channel {
     /// RoboSim inputs: the slot of the register's presence flag (its value
     /// is in the next slot).
     pub register: Option<u16>,
+    /// Between two machines of the design (hidden), not with the platform.
+    pub internal: bool,
 }
 
 /// Direction of a channel.
@@ -517,6 +519,48 @@ impl Design {
             m.tock(st, &self.clocks).map_err(|e| e.0)?;
         }
         Ok(())
+    }
+}
+
+impl Design {
+    /// The communications between machines possible in `st`: an output of
+    /// one machine on an internal channel with an input of another that
+    /// accepts the value, performed together. Each is (channel, arguments,
+    /// the state after both steps).
+    #[allow(clippy::type_complexity)]
+    pub fn internal_steps(
+        &self,
+        st: &[i32],
+        moves: &[(usize, crate::machine::Move)],
+    ) -> Result<Vec<(u16, Vec<Val>, Box<[i32]>)>, String> {
+        use crate::machine::Offer;
+        let mut out = Vec::new();
+        for (si, send) in moves {
+            let Offer::Out { chan, args } = &send.offer else { continue };
+            if !self.channels[*chan as usize].internal {
+                continue;
+            }
+            for (ri, recv) in moves {
+                let Offer::In { chan: c2, value } = &recv.offer else { continue };
+                if c2 != chan || ri == si || value.is_some_and(|v| args.first() != Some(&v)) {
+                    continue;
+                }
+                let n = self.after(&self.machines[*si], st, send.act, None)?;
+                let n = self.after(&self.machines[*ri], &n, recv.act, args.first().copied())?;
+                out.push((*chan, args.clone(), n));
+            }
+        }
+        Ok(out)
+    }
+
+    /// Whether `offer` is on an internal channel (it happens only together
+    /// with its partner: see [`Design::internal_steps`]).
+    pub fn is_internal(&self, offer: &crate::machine::Offer) -> bool {
+        use crate::machine::Offer;
+        match offer {
+            Offer::In { chan, .. } | Offer::Out { chan, .. } => self.channels[*chan as usize].internal,
+            Offer::Tau => false,
+        }
     }
 }
 

@@ -120,6 +120,14 @@ struct Instance {
 /// A connection end: (node name, event name).
 type End = (String, String);
 
+/// Where a machine's event leads: the channel's name, the direction from
+/// the machine's side, and whether it is internal (to another machine).
+struct Link {
+    name: String,
+    dir: Dir,
+    internal: bool,
+}
+
 fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<(File, SyntaxNode)> {
     let id = loc.def(db)?;
     let def = file_defs(db, loc.file).def(id);
@@ -426,22 +434,39 @@ impl Cx<'_> {
                 (None, None) => classes.push([a.clone(), b.clone()].into_iter().collect()),
             }
         }
-        let external = |machine_end: &End| -> Result<Option<(String, Dir)>, String> {
+        // Which machine ends send (the `from` side of a connection) and
+        // which receive.
+        let mut sends: HashMap<&End, bool> = HashMap::new();
+        for (a, b) in links {
+            if a.0.contains('.') {
+                sends.insert(a, true);
+            }
+            if b.0.contains('.') {
+                sends.insert(b, false);
+            }
+        }
+        let external = |machine_end: &End| -> Result<Option<Link>, String> {
             let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
                 return Ok(None);
             };
             let plat: Vec<(&End, &Dir)> = class.iter().filter_map(|e| platform.get(e).map(|d| (e, d))).collect();
-            let machines = class.iter().filter(|e| e.0.contains('.')).count();
-            if machines > 1 {
+            if let Some((e, d)) = plat.first() {
+                return Ok(Some(Link { name: e.1.clone(), dir: **d, internal: false }));
+            }
+            // Between machines: a synchronous communication from the one
+            // sender to the one receiver, hidden in the design.
+            let ends: Vec<&End> = class.iter().filter(|e| e.0.contains('.')).collect();
+            let senders: Vec<&&End> = ends.iter().filter(|e| sends.get(**e) == Some(&true)).collect();
+            if ends.len() != 2 || senders.len() != 1 {
                 return Err(format!(
-                    "event `{}` connects several machines; connections between machines are not supported yet",
-                    machine_end.1
+                    "event `{}` connects {} machine ends; only one sender and one receiver are supported",
+                    machine_end.1,
+                    ends.len()
                 ));
             }
-            match plat.first() {
-                Some((e, d)) => Ok(Some((e.1.clone(), **d))),
-                None => Ok(None),
-            }
+            let dir = if sends.get(machine_end) == Some(&true) { Dir::Out } else { Dir::In };
+            let name = format!("{}.{}", senders[0].0, senders[0].1);
+            Ok(Some(Link { name, dir, internal: true }))
         };
         let lone = top_kind == STATE_MACHINE;
         let mut slot: u16 = 0;
@@ -453,7 +478,7 @@ impl Cx<'_> {
             let m = self.machine(inst, &mut slot, |ev: &str| {
                 if lone {
                     let dir = if received.iter().any(|r| r == ev) { Dir::In } else { Dir::Out };
-                    return Ok(Some((ev.to_string(), dir)));
+                    return Ok(Some(Link { name: ev.to_string(), dir, internal: false }));
                 }
                 let mut e = end.clone();
                 e.1 = ev.to_string();
@@ -473,7 +498,7 @@ impl Cx<'_> {
         &mut self,
         inst: &Instance,
         slot: &mut u16,
-        external: impl Fn(&str) -> Result<Option<(String, Dir)>, String>,
+        external: impl Fn(&str) -> Result<Option<Link>, String>,
     ) -> Result<Machine, Unsupported> {
         let file = inst.file;
         let file_ix = self.file_index(file);
@@ -680,7 +705,7 @@ impl MachineCx<'_, '_> {
     fn declarations(
         &mut self,
         node: &SyntaxNode,
-        external: &impl Fn(&str) -> Result<Option<(String, Dir)>, String>,
+        external: &impl Fn(&str) -> Result<Option<Link>, String>,
     ) -> Result<(), Unsupported> {
         let file = self.file;
         let mut sources: Vec<(File, SyntaxNode, bool)> = vec![(file, node.clone(), false)];
@@ -766,8 +791,14 @@ impl MachineCx<'_, '_> {
                             None => None,
                         };
                         let chan = match external(&name) {
-                            Ok(Some((pname, dir))) => {
-                                Some((self.channel(&pname, dir, false, ty.into_iter().collect()), dir))
+                            Ok(Some(link)) => {
+                                let chan = self.channel(&link.name, link.dir, false, ty.into_iter().collect());
+                                if link.internal {
+                                    let d = self.design();
+                                    d.channels[chan as usize].internal = true;
+                                    d.channels[chan as usize].register = None;
+                                }
+                                Some((chan, link.dir))
                             }
                             Ok(None) => None,
                             Err(msg) => return Err(self.err(c.text_range(), msg)),
@@ -814,7 +845,7 @@ impl MachineCx<'_, '_> {
             s
         });
         let d = self.design();
-        d.channels.push(Channel { name: name.to_string(), dir, is_call, params, register });
+        d.channels.push(Channel { name: name.to_string(), dir, is_call, params, register, internal: false });
         (d.channels.len() - 1) as u16
     }
 
@@ -1360,7 +1391,7 @@ impl MachineCx<'_, '_> {
     /// events as the machine's).
     fn operation_bodies(
         &mut self,
-        external: &impl Fn(&str) -> Result<Option<(String, Dir)>, String>,
+        external: &impl Fn(&str) -> Result<Option<Link>, String>,
     ) -> Result<(), Unsupported> {
         while let Some((k, i)) = self.pending_ops.pop() {
             let (name, file, node) = self.op_defs[i].clone();

@@ -90,7 +90,7 @@ impl Registers {
         let mut ins: Vec<(String, Vec<Dom>)> = Vec::new();
         let mut outs: Vec<(String, Vec<Dom>)> = Vec::new();
         for d in designs {
-            for c in &d.channels {
+            for c in d.channels.iter().filter(|c| !c.internal) {
                 let list = if c.dir == Dir::In { &mut ins } else { &mut outs };
                 match list.iter_mut().find(|(n, _)| *n == c.name) {
                     Some((_, params)) => {
@@ -215,10 +215,20 @@ impl<'a> Constrained<'a> {
         registers: Option<&Registers>,
         tlfree: bool,
     ) -> Result<Constrained<'a>, String> {
-        let inputs: Vec<u16> =
-            design.channels.iter().enumerate().filter(|(_, c)| c.dir == Dir::In).map(|(i, _)| i as u16).collect();
-        let outputs: Vec<u16> =
-            design.channels.iter().enumerate().filter(|(_, c)| c.dir == Dir::Out).map(|(i, _)| i as u16).collect();
+        let inputs: Vec<u16> = design
+            .channels
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.dir == Dir::In && !c.internal)
+            .map(|(i, _)| i as u16)
+            .collect();
+        let outputs: Vec<u16> = design
+            .channels
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.dir == Dir::Out && !c.internal)
+            .map(|(i, _)| i as u16)
+            .collect();
         if outputs.len() > MAX_OUTPUTS {
             return Err(format!("the design has {} outputs; at most {MAX_OUTPUTS} are supported", outputs.len()));
         }
@@ -254,6 +264,7 @@ impl<'a> Constrained<'a> {
         for (i, c) in design.channels.iter().enumerate() {
             let name = match (c.is_call, c.dir, paper) {
                 (true, _, _) => format!("{}Call", c.name),
+                _ if c.internal => c.name.clone(),
                 (false, _, true) => c.name.clone(),
                 (false, Dir::In, false) => format!("{}.in", c.name),
                 (false, Dir::Out, false) => format!("{}.out", c.name),
@@ -518,6 +529,7 @@ impl<'a> Constrained<'a> {
         let mut design_tock = true;
         if st[self.mode] == RUNNING {
             let mut moves = Vec::new();
+            let mut internal = Vec::new();
             let mut returning = false;
             for (mi, m) in self.design.machines.iter().enumerate() {
                 let ret = st[self.ret + mi];
@@ -536,6 +548,10 @@ impl<'a> Constrained<'a> {
                 m.moves(st, &mut moves).map_err(|e| e.0)?;
                 design_tock &= m.can_tock(st);
                 for mv in &moves {
+                    if self.design.is_internal(&mv.offer) {
+                        internal.push((mi, mv.clone()));
+                        continue;
+                    }
                     match &mv.offer {
                         Offer::Tau => {
                             let n = self.design.after(m, st, mv.act, None)?;
@@ -566,6 +582,9 @@ impl<'a> Constrained<'a> {
                         }
                     }
                 }
+            }
+            for (_, _, n) in self.design.internal_steps(st, &internal)? {
+                out.push((Label::TAU, n));
             }
             // Termination (`end`) only at a cycle's end, before time passes.
             let terminated = !returning && self.design.machines.iter().all(|m| m.terminated(st));
@@ -632,11 +651,16 @@ impl<'a> Constrained<'a> {
         if mode == RUNNING {
             let terminated = self.design.machines.iter().all(|m| m.terminated(st));
             let mut moves = Vec::new();
+            let mut internal = Vec::new();
             for (mi, m) in self.design.machines.iter().enumerate() {
                 moves.clear();
                 m.moves(st, &mut moves).map_err(|e| e.0)?;
                 design_tock &= m.can_tock(st);
                 for mv in &moves {
+                    if self.design.is_internal(&mv.offer) {
+                        internal.push((mi, mv.clone()));
+                        continue;
+                    }
                     match &mv.offer {
                         Offer::Tau => {
                             design_tau = true;
@@ -667,7 +691,10 @@ impl<'a> Constrained<'a> {
                         }
                     }
                 }
-                let _ = mi;
+            }
+            for (chan, args, n) in self.design.internal_steps(st, &internal)? {
+                design_tau = true;
+                out.push((Label { event: TAU, note: self.design_event(chan, &args) }, n));
             }
             if terminated {
                 design_tau = true;

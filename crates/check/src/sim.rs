@@ -36,10 +36,20 @@ impl<'a> SimModule<'a> {
     /// The module with period `period`, its register events numbered by
     /// `registers`.
     pub fn new(design: &'a Design, period: u32, registers: &Registers) -> Result<SimModule<'a>, String> {
-        let inputs: Vec<u16> =
-            design.channels.iter().enumerate().filter(|(_, c)| c.dir == Dir::In).map(|(i, _)| i as u16).collect();
-        let outputs: Vec<u16> =
-            design.channels.iter().enumerate().filter(|(_, c)| c.dir == Dir::Out).map(|(i, _)| i as u16).collect();
+        let inputs: Vec<u16> = design
+            .channels
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.dir == Dir::In && !c.internal)
+            .map(|(i, _)| i as u16)
+            .collect();
+        let outputs: Vec<u16> = design
+            .channels
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.dir == Dir::Out && !c.internal)
+            .map(|(i, _)| i as u16)
+            .collect();
         if inputs.len() > 30 || outputs.len() > 30 {
             return Err("at most 30 inputs and 30 outputs are supported".into());
         }
@@ -145,10 +155,15 @@ impl<'a> SimModule<'a> {
             }
             RUN => {
                 let mut moves = Vec::new();
-                for m in &self.design.machines {
+                let mut internal = Vec::new();
+                for (mi, m) in self.design.machines.iter().enumerate() {
                     moves.clear();
                     m.moves(st, &mut moves).map_err(|e| e.0)?;
                     for mv in &moves {
+                        if self.design.is_internal(&mv.offer) {
+                            internal.push((mi, mv.clone()));
+                            continue;
+                        }
                         match &mv.offer {
                             Offer::Tau => {
                                 let n = self.design.after(m, st, mv.act, None)?;
@@ -170,6 +185,9 @@ impl<'a> SimModule<'a> {
                             }
                         }
                     }
+                }
+                for (_, _, n) in self.design.internal_steps(st, &internal)? {
+                    out.push((Label::TAU, n));
                 }
                 // The cycle ends when every machine has ended its own.
                 if self.design.machines.iter().all(|m| m.cycle_ended(st)) {

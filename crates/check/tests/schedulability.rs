@@ -290,3 +290,29 @@ fn operations_defined_in_the_controller() {
     assert_eq!(v, Verdict::Fail, "{reason:?}");
     assert_eq!(trace, "registerRead.i_e.true (op2Call.2) registerWrite.o_op2.2");
 }
+
+/// Two machines of a controller connected synchronously: the sender's
+/// output and the receiver's input happen together, hidden.
+#[test]
+fn machines_connected_synchronously() {
+    let model = |action: &str| {
+        format!(
+            "interface I {{ event i op2(x : nat) }}
+             interface L {{ event c : nat }}
+             stm P {{ uses I uses L initial i0 state S {{ }} transition t {{ from i0 to S }}
+               transition u {{ from S to S trigger i action c!2 }} }}
+             stm Q {{ uses L requires I var x : nat initial i0 state S {{ }} transition t {{ from i0 to S }}
+               transition u {{ from S to S trigger c?x action {action} }} }}
+             controller C {{ uses I requires I sref p = P sref q = Q
+               connection C on i to p on i connection p on c to q on c }}
+             module Mod {{ robotic platform R {{ uses I provides I }} cref k = C connection R on i to k on i }}"
+        )
+    };
+    let rsa = "simulation S of Mod { cycleDef cycle == 1 }\nassertion A : S is schedulable";
+    let r = run(&model("op2(x)"), rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Pass, "{:?}", r.reason);
+    let r = run(&model("op2(x); op2(x)"), rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Fail, "{:?}", r.reason);
+    let trace = trace_text(&r.counterexample.as_ref().expect("a counterexample").steps);
+    assert_eq!(trace, "registerRead.i_i.true (i.in) (k.p.c.2) (op2Call.2) registerWrite.o_op2.2");
+}
