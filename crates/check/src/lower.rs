@@ -88,7 +88,18 @@ pub fn lower_design(
     defaults: &DomainDefaults,
 ) -> Result<Design, Unsupported> {
     let robosim = loc.file.kind(db) == robosim_hir::FileKind::RoboSim;
-    let mut cx = Cx { db, ws, consts, defaults: defaults.clone(), design: None, files: Vec::new(), robosim };
+    let mut cx = Cx {
+        db,
+        ws,
+        consts,
+        defaults: defaults.clone(),
+        design: None,
+        files: Vec::new(),
+        robosim,
+        shared_vars: HashMap::new(),
+        platform_vars: BTreeSet::new(),
+        machine_count: 0,
+    };
     cx.lower(loc)
 }
 
@@ -101,6 +112,12 @@ struct Cx<'a> {
     files: Vec<File>,
     /// Whether the element is a RoboSim one (`$` references, `exec`).
     robosim: bool,
+    /// Variables shared by the machines (required through interfaces).
+    shared_vars: HashMap<String, (u16, Dom)>,
+    /// Variables of the robotic platform (by name).
+    platform_vars: BTreeSet<String>,
+    /// How many machines the design has.
+    machine_count: usize,
 }
 
 /// One machine to compile: its declaration and where it sits.
@@ -180,6 +197,23 @@ impl Cx<'_> {
         node_of(self.db, loc)
     }
 
+    /// Records the variables a robotic platform declares or provides.
+    fn platform_variables(&mut self, file: File, platform: &SyntaxNode) {
+        let mut sources = vec![platform.clone()];
+        for u in platform.children().filter(|c| c.kind() == INTERFACE_USE) {
+            if let Some((_, i)) = self.resolve(file, &path_of(&u), |k| k == DefKind::Interface) {
+                sources.push(i);
+            }
+        }
+        for n in sources {
+            for v in n.children().filter(|c| c.kind() == VARIABLE_LIST).flat_map(|l| l.children()) {
+                if v.kind() == VARIABLE {
+                    self.platform_vars.insert(name_of(&v));
+                }
+            }
+        }
+    }
+
     fn lower(&mut self, loc: ItemLoc) -> Result<Design, Unsupported> {
         let (file, node) = node_of(self.db, loc).ok_or_else(|| Unsupported {
             message: "the element to verify could not be found".into(),
@@ -199,9 +233,13 @@ impl Cx<'_> {
                     match c.kind() {
                         ROBOTIC_PLATFORM => {
                             platform_names.insert(name_of(&c));
+                            self.platform_variables(file, &c);
                         }
                         PLATFORM_REF => {
                             platform_names.insert(name_of(&c));
+                            if let Some((pf, pn)) = self.resolve(file, &path_of(&c), |k| k == DefKind::Platform) {
+                                self.platform_variables(pf, &pn);
+                            }
                         }
                         CONTROLLER_REF => {
                             let target = path_of(&c);
@@ -469,6 +507,7 @@ impl Cx<'_> {
             Ok(Some(Link { name, dir, internal: true }))
         };
         let lone = top_kind == STATE_MACHINE;
+        self.machine_count = instances.len();
         let mut slot: u16 = 0;
         for inst in &instances {
             let end: End = (format!("{}.{}", inst.ctrl, inst.name), String::new());
@@ -757,10 +796,10 @@ impl MachineCx<'_, '_> {
                                 self.names.insert(name, Name::Const(value));
                             } else {
                                 if from_interface {
-                                    return Err(self.err(
-                                        c.text_range(),
-                                        "variables shared through interfaces are not supported by the native checker yet",
-                                    ));
+                                    // A variable the machine requires: shared
+                                    // by every machine of the design.
+                                    self.shared_variable(&c, &name, dom, init.as_ref())?;
+                                    continue;
                                 }
                                 let slot = self.new_slot();
                                 let initv = match init.as_ref() {
@@ -831,6 +870,46 @@ impl MachineCx<'_, '_> {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The slot of the shared variable `name` (one per design), made on
+    /// first use. Variables of the robotic platform are its inputs and
+    /// outputs (RoboSim registers): not supported yet.
+    fn shared_variable(
+        &mut self,
+        decl: &SyntaxNode,
+        name: &str,
+        dom: Dom,
+        init: Option<&SyntaxNode>,
+    ) -> Result<(), Unsupported> {
+        if self.cx.robosim || self.cx.platform_vars.contains(name) {
+            return Err(self.err(
+                decl.text_range(),
+                format!("`{name}` is a variable of the robotic platform: platform variables are not supported yet"),
+            ));
+        }
+        let slot = match self.cx.shared_vars.get(name) {
+            Some(&(slot, d)) if d == dom => slot,
+            Some(_) => {
+                return Err(self.err(decl.text_range(), format!("`{name}` is required with two different types")))
+            }
+            None => {
+                let slot = self.new_slot();
+                let value = match init {
+                    Some(e) => self
+                        .expr(e)?
+                        .constant()
+                        .ok_or_else(|| self.err(e.text_range(), "initial values must be constant expressions"))?,
+                    None => dom.lo.max(0).min(dom.hi),
+                };
+                self.design().vars.push(Var { name: name.to_string(), slot, dom, init: value });
+                self.cx.shared_vars.insert(name.to_string(), (slot, dom));
+                slot
+            }
+        };
+        let shared = self.cx.machine_count > 1;
+        self.names.insert(name.to_string(), Name::Var { slot, dom, shared });
         Ok(())
     }
 

@@ -316,3 +316,34 @@ fn machines_connected_synchronously() {
     let trace = trace_text(&r.counterexample.as_ref().expect("a counterexample").steps);
     assert_eq!(trace, "registerRead.i_i.true (i.in) (k.p.c.2) (op2Call.2) registerWrite.o_op2.2");
 }
+
+/// Two machines sharing a variable the controller provides: one sets it on
+/// an input, the other reacts to it. A variable of the platform is refused.
+#[test]
+fn shared_variables() {
+    let model = |extra: &str| {
+        format!(
+            "interface I {{ event i op() {extra} }}
+             interface Sh {{ var n : nat }}
+             stm A {{ uses I requires Sh initial i0 state S {{ }} transition t {{ from i0 to S }}
+               transition u {{ from S to S trigger i action n = 1 }} }}
+             stm B {{ requires I requires Sh initial i0 state S {{ }} transition t {{ from i0 to S }}
+               transition u {{ from S to S condition n == 1 action op(); n = 0 }} }}
+             controller C {{ uses I requires I provides Sh sref a = A sref b = B connection C on i to a on i }}
+             module Mod {{ robotic platform R {{ uses I provides I }} cref k = C connection R on i to k on i }}"
+        )
+    };
+    let rsa = "simulation S of Mod { cycleDef cycle == 1 }\nassertion A : S is schedulable";
+    let r = run(&model(""), rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Pass, "{:?}", r.reason);
+    assert!(r.stats.states > 10, "{}", r.stats.states);
+    // B sees A's write: calling twice when it does is not schedulable.
+    let twice = model("").replace("action op(); n = 0", "action op(); op(); n = 0");
+    let r = run(&twice, rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Fail, "{:?}", r.reason);
+    let platform = model("")
+        .replace("robotic platform R { uses I provides I }", "robotic platform R { uses I provides I provides Sh }");
+    let r = run(&platform, rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Unsupported);
+    assert!(r.reason.as_deref().unwrap_or_default().contains("platform variables"), "{:?}", r.reason);
+}
