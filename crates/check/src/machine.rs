@@ -100,8 +100,19 @@ impl Machine {
 
     /// Runs internal instructions from the current pc until the machine
     /// offers something. `first` allows one shared write at the start.
-    pub fn settle(&self, st: &mut [i32], clocks: &[Clock], mut first: bool) -> Result<(), StepError> {
-        let mut sat = false;
+    pub fn settle(&self, st: &mut [i32], clocks: &[Clock], first: bool) -> Result<(), StepError> {
+        self.settle_noting(st, clocks, first, &mut false)
+    }
+
+    /// [`Machine::settle`], setting `sat` when sticky arithmetic kept an
+    /// operand because the result fell outside its type.
+    fn settle_noting(
+        &self,
+        st: &mut [i32],
+        clocks: &[Clock],
+        mut first: bool,
+        sat: &mut bool,
+    ) -> Result<(), StepError> {
         for _ in 0..MAX_INTERNAL {
             let pc = st[self.slot(PC)] as usize;
             let Some(instr) = self.code.get(pc) else {
@@ -112,7 +123,7 @@ impl Machine {
                     if *shared && !first {
                         return Ok(());
                     }
-                    let v = expr.eval(st, &mut sat).map_err(|e| self.eval_error(e))?;
+                    let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
                     if dom.contains(v) {
                         st[*slot as usize] = v as i32;
                     }
@@ -123,13 +134,13 @@ impl Machine {
                     st[self.slot(PC)] += 1;
                 }
                 Instr::SetWait(e) => {
-                    let v = e.eval(st, &mut sat).map_err(|e| self.eval_error(e))?;
+                    let v = e.eval(st, sat).map_err(|e| self.eval_error(e))?;
                     st[self.slot(WAIT)] = v.clamp(0, i32::MAX as Val) as i32;
                     st[self.slot(PC)] += 1;
                 }
                 Instr::ChooseWait(lo, hi) => {
-                    let a = lo.eval(st, &mut sat).map_err(|e| self.eval_error(e))?;
-                    let b = hi.eval(st, &mut sat).map_err(|e| self.eval_error(e))?;
+                    let a = lo.eval(st, sat).map_err(|e| self.eval_error(e))?;
+                    let b = hi.eval(st, sat).map_err(|e| self.eval_error(e))?;
                     if a < b {
                         return Ok(());
                     }
@@ -144,7 +155,7 @@ impl Machine {
                     st[self.slot(PC)] += 1;
                 }
                 Instr::JumpIfNot(c, target) => {
-                    let v = c.eval(st, &mut sat).map_err(|e| self.eval_error(e))?;
+                    let v = c.eval(st, sat).map_err(|e| self.eval_error(e))?;
                     st[self.slot(PC)] = if v == 0 { *target as i32 } else { pc as i32 + 1 };
                 }
                 Instr::Jump(target) => st[self.slot(PC)] = *target as i32,
@@ -158,7 +169,7 @@ impl Machine {
                     }
                     let mut values = Vec::with_capacity(args.len());
                     for a in args {
-                        values.push(a.eval(st, &mut sat).map_err(|e| self.eval_error(e))?);
+                        values.push(a.eval(st, sat).map_err(|e| self.eval_error(e))?);
                     }
                     for (&(slot, dom), v) in body.params.iter().zip(values) {
                         if dom.contains(v) {
@@ -176,7 +187,7 @@ impl Machine {
                             self.name
                         )));
                     }
-                    let v = e.eval(st, &mut sat).map_err(|e| self.eval_error(e))?;
+                    let v = e.eval(st, sat).map_err(|e| self.eval_error(e))?;
                     st[self.slot(DEADLINE)] = v.clamp(0, i32::MAX as Val) as i32;
                     st[self.slot(PC)] += 1;
                 }
@@ -390,6 +401,19 @@ impl Machine {
 
     /// Performs `act`; `value` is the value received by an input.
     pub fn apply(&self, st: &mut [i32], clocks: &[Clock], act: Act, value: Option<Val>) -> Result<(), StepError> {
+        self.apply_noting(st, clocks, act, value, &mut false)
+    }
+
+    /// [`Machine::apply`], setting `sat` when the step's arithmetic
+    /// saturated (for the note on counterexamples that depend on it).
+    pub fn apply_noting(
+        &self,
+        st: &mut [i32],
+        clocks: &[Clock],
+        act: Act,
+        value: Option<Val>,
+        sat: &mut bool,
+    ) -> Result<(), StepError> {
         match act {
             Act::Fire(t) => {
                 let tr = &self.transitions[t as usize];
@@ -435,7 +459,7 @@ impl Machine {
             }
             Act::Exec => {}
         }
-        self.settle(st, clocks, true)
+        self.settle_noting(st, clocks, true, sat)
     }
 
     /// A description of the machine's control state, for counterexamples.

@@ -661,12 +661,10 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
         match outcome {
             Ok((holds, witness, reason)) => {
                 if let Some((kind, path, why)) = witness {
-                    report.counterexample = Some(Counterexample {
-                        kind,
-                        steps: sim_steps(&lts, &design, &path),
-                        explanation: vec![why],
-                        stuck_at: Vec::new(),
-                    });
+                    let steps = sim_steps(&lts, &design, &path);
+                    let mut explanation = vec![why];
+                    explanation.extend(saturation_note(&steps));
+                    report.counterexample = Some(Counterexample { kind, steps, explanation, stuck_at: Vec::new() });
                 }
                 report.reason = Some(reason);
                 report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
@@ -712,12 +710,10 @@ fn refinement_counterexample<L: Lts<State = State>, S: Lts>(
         RefinementCex::Refusal { path, .. } => ("refusal", path),
         RefinementCex::Divergence { path, .. } => ("divergence", path),
     };
-    Counterexample {
-        kind,
-        steps: sim_steps(imp, design, path),
-        explanation: vec![describe_cex(imp, spec, cex)],
-        stuck_at: Vec::new(),
-    }
+    let steps = sim_steps(imp, design, path);
+    let mut explanation = vec![describe_cex(imp, spec, cex)];
+    explanation.extend(saturation_note(&steps));
+    Counterexample { kind, steps, explanation, stuck_at: Vec::new() }
 }
 
 /// The steps of a path of any LTS over a design's state vector.
@@ -791,53 +787,70 @@ fn describe_move(design: &Design, prev: &[i32], next: &[i32], _label: &Label) ->
         if m.moves(prev, &mut moves).is_err() {
             continue;
         }
-        let file = design.files.get(m.file as usize).cloned().unwrap_or_default();
         // The move whose effect matches (a tock, or a settle after it, is not in `moves`).
         for mv in &moves {
             let mut trial = prev.to_vec();
-            if m.apply(&mut trial, &design.clocks, mv.act, None).is_err() {
+            let mut saturated = false;
+            if m.apply_noting(&mut trial, &design.clocks, mv.act, None, &mut saturated).is_err() {
                 continue;
             }
             if ctl(&trial) != ctl(next) {
                 continue;
             }
-            let at = |n: Option<u16>| n.map(|n| m.nodes[n as usize].name.clone()).unwrap_or_else(|| "-".into());
-            return match mv.act {
-                Act::Fire(t) | Act::Junction(t) => {
-                    let tr = &m.transitions[t as usize];
-                    let what = format!(
-                        "{}: takes {} ({} → {})",
-                        m.name, tr.name, m.nodes[tr.source as usize].name, m.nodes[tr.target as usize].name,
-                    );
-                    (Some(what), Some(Location { file, range: tr.range }))
-                }
-                Act::Comm => {
-                    let pc = m.pc(prev) as usize;
-                    let what = match &m.code[pc] {
-                        Instr::Out { urgent: true, .. } => "calls the platform operation",
-                        Instr::Out { .. } => "outputs",
-                        _ => "receives",
-                    };
-                    let range = m.code_ranges.get(pc).copied();
-                    (
-                        Some(format!("{}: {what} in {}", m.name, at(m.leaf(prev)))),
-                        range.map(|range| Location { file, range }),
-                    )
-                }
-                Act::Choose(n) => {
-                    let pc = m.pc(prev) as usize;
-                    let range = m.code_ranges.get(pc).copied();
-                    (
-                        Some(format!("{}: the wait interval resolves to {n}", m.name)),
-                        range.map(|range| Location { file, range }),
-                    )
-                }
-                Act::Exec => (Some(format!("{}: writes a shared variable", m.name)), None),
-            };
+            let (what, at) = describe_act(design, m, mv.act, prev, next);
+            let what = what.map(|w| if saturated { format!("{w} {SATURATED}") } else { w });
+            return (what, at);
         }
         return (Some(format!("{}: now {}", m.name, m.describe(next))), None);
     }
     (None, None)
+}
+
+/// Marks a step whose arithmetic saturated.
+const SATURATED: &str = "(arithmetic saturated)";
+
+/// The note added to a counterexample that depends on saturation.
+fn saturation_note(steps: &[Step]) -> Option<String> {
+    let step = steps.iter().position(|s| s.description.as_deref().is_some_and(|d| d.ends_with(SATURATED)))?;
+    Some(format!(
+        "note: at step {} a result left its type and RoboTool's sticky arithmetic kept the left operand; \
+         the verdict depends on the bounds of the types (widen them with `nametype core_X = {{a..b}}`)",
+        step + 1
+    ))
+}
+
+/// What machine `m` did by `act`, and where in the model.
+fn describe_act(
+    design: &Design,
+    m: &crate::ir::Machine,
+    act: Act,
+    prev: &[i32],
+    next: &[i32],
+) -> (Option<String>, Option<Location>) {
+    let file = design.files.get(m.file as usize).cloned().unwrap_or_default();
+    let at = |n: Option<u16>| n.map(|n| m.nodes[n as usize].name.clone()).unwrap_or_else(|| "-".into());
+    let pc = m.pc(prev) as usize;
+    let here = m.code_ranges.get(pc).copied().map(|range| Location { file: file.clone(), range });
+    match act {
+        Act::Fire(t) | Act::Junction(t) => {
+            let tr = &m.transitions[t as usize];
+            let what = format!(
+                "{}: takes {} ({} → {})",
+                m.name, tr.name, m.nodes[tr.source as usize].name, m.nodes[tr.target as usize].name,
+            );
+            (Some(what), Some(Location { file, range: tr.range }))
+        }
+        Act::Comm => {
+            let what = match &m.code[pc] {
+                Instr::Out { urgent: true, .. } => "calls the platform operation",
+                Instr::Out { .. } => "outputs",
+                _ => "receives",
+            };
+            (Some(format!("{}: {what} in {}", m.name, at(m.leaf(prev)))), here)
+        }
+        Act::Choose(n) => (Some(format!("{}: the wait interval resolves to {n}", m.name)), here),
+        Act::Exec => (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here),
+    }
 }
 
 fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Counterexample {
@@ -886,6 +899,7 @@ fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<S
                 .join(", ")
         ));
     }
+    explanation.extend(saturation_note(&steps));
     Counterexample { kind: "deadlock", steps, explanation, stuck_at }
 }
 

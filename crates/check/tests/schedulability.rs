@@ -347,3 +347,22 @@ fn shared_variables() {
     assert_eq!(r.verdict, Verdict::Unsupported);
     assert!(r.reason.as_deref().unwrap_or_default().contains("platform variables"), "{:?}", r.reason);
 }
+
+/// A counterexample that depends on RoboTool's sticky arithmetic says so.
+#[test]
+fn saturation_is_noted() {
+    // n counts 0, 1, 2 and sticks at 2 (nat is {0..2} here): op2 is then
+    // called twice in a cycle, which the unbounded count would never do.
+    let m = "stm M { requires I uses I var n : nat initial i0 state S { } transition t { from i0 to S }
+             transition u { from S to S trigger i action n = n + 1; if n == 2 then op2(n); op2(n) end } }";
+    let rsa = "simulation S of Mod { cycleDef cycle == 1 }\nassertion A : S is schedulable";
+    let r = run(&module(m), rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Fail, "{:?}", r.reason);
+    let c = r.counterexample.expect("a counterexample");
+    assert!(c.explanation.iter().all(|e| !e.contains("sticky")), "no saturation on the way: {:?}", c.explanation);
+    let m2 = m.replace("if n == 2", "if n == 2 /\\ n + 1 == 2");
+    let r = run(&module(&m2), rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Fail, "{:?}", r.reason);
+    let c = r.counterexample.expect("a counterexample");
+    assert!(c.explanation.iter().any(|e| e.contains("sticky arithmetic")), "{:?}", c.explanation);
+}
