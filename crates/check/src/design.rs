@@ -8,6 +8,7 @@ use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Val};
 use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
+use crate::pack::{initial_packed, successors_packed, Layout, Packed};
 use crate::sched::State;
 
 /// The design as an LTS.
@@ -19,6 +20,7 @@ pub struct DesignLts<'a> {
     /// Slot: 0 running, 1 terminated (✓ done).
     ended: usize,
     len: usize,
+    layout: Layout,
     error: FirstError,
 }
 
@@ -38,7 +40,10 @@ impl<'a> DesignLts<'a> {
             group.push(events.add(name, params).map_err(|e| format!("the channel `{}` has too many values", e.0))?);
         }
         let ended = design.slots as usize;
-        Ok(DesignLts { design, events, group, ended, len: ended + 1, error: FirstError::default() })
+        let mut bounds = design.slot_bounds();
+        bounds.push((0, 1));
+        let layout = Layout::new(&bounds);
+        Ok(DesignLts { design, events, group, ended, len: ended + 1, layout, error: FirstError::default() })
     }
 
     /// The first run-time error met during exploration, if any.
@@ -121,10 +126,9 @@ impl<'a> DesignLts<'a> {
     }
 }
 
-impl Lts for DesignLts<'_> {
-    type State = State;
-
-    fn initial(&self) -> State {
+impl DesignLts<'_> {
+    /// The initial state vector.
+    pub fn initial_values(&self) -> State {
         let (st, error) = self.design.initial_state(self.len, true);
         if let Some(e) = error {
             self.error.set(e);
@@ -132,7 +136,7 @@ impl Lts for DesignLts<'_> {
         st.into_boxed_slice()
     }
 
-    fn successors(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn successor_values(&self, st: &State, out: &mut Vec<(Label, State)>) {
         if st[self.ended] != 0 {
             return;
         }
@@ -143,12 +147,29 @@ impl Lts for DesignLts<'_> {
         }
     }
 
+    /// The state vector of a packed state.
+    pub fn values(&self, st: &Packed) -> State {
+        self.layout.unpack(st)
+    }
+}
+
+impl Lts for DesignLts<'_> {
+    type State = Packed;
+
+    fn initial(&self) -> Packed {
+        initial_packed(&self.layout, &self.error, &self.initial_values())
+    }
+
+    fn successors(&self, st: &Packed, out: &mut Vec<(Label, Packed)>) {
+        successors_packed(&self.layout, &self.error, st, out, |v, next| self.successor_values(v, next));
+    }
+
     fn event_name(&self, event: Event) -> String {
         event_name_in(&self.events, event)
     }
 
-    fn state_bytes(&self, st: &State) -> usize {
-        std::mem::size_of::<State>() + std::mem::size_of_val(&st[..])
+    fn state_bytes(&self, st: &Packed) -> usize {
+        std::mem::size_of::<Packed>() + st.heap_bytes()
     }
 }
 

@@ -472,6 +472,59 @@ impl Machine {
 }
 
 impl Design {
+    /// The range of every slot of the design's state vector, for packing:
+    /// exact where the model bounds the slot, the whole `i32` range where a
+    /// value comes from an expression the lowering cannot bound.
+    pub fn slot_bounds(&self) -> Vec<(i64, i64)> {
+        let full = (i32::MIN as i64, i32::MAX as i64);
+        let mut b = vec![full; self.slots as usize];
+        let mut set = |slot: u16, lo: i64, hi: i64| {
+            if let Some(x) = b.get_mut(slot as usize) {
+                *x = (lo, hi.max(lo));
+            }
+        };
+        for m in &self.machines {
+            // The largest static wait and deadline, or unbounded.
+            let (mut wait, mut deadline) = (0i64, 0i64);
+            for i in &m.code {
+                let bound = |e: &Expr| e.constant().map_or(i32::MAX as i64, |v| v.clamp(0, i32::MAX as i64));
+                match i {
+                    Instr::SetWait(e) => wait = wait.max(bound(e)),
+                    Instr::ChooseWait(_, hi) => wait = wait.max(bound(hi)),
+                    Instr::Deadline(e) => deadline = deadline.max(bound(e)),
+                    _ => {}
+                }
+            }
+            let (nodes, code, trans) = (m.nodes.len() as i64, m.code.len() as i64, m.transitions.len() as i64);
+            set(m.base, -1, nodes);
+            set(m.base + 1, 0, code);
+            set(m.base + 2, 0, wait);
+            set(m.base + 3, -1, trans);
+            set(m.base + 4, -1, deadline);
+            for op in &m.ops {
+                for &(slot, dom) in &op.params {
+                    set(slot, dom.lo, dom.hi);
+                }
+                set(op.ret_slot, -1, code);
+                set(op.leaf_slot, -1, nodes);
+            }
+        }
+        for v in &self.vars {
+            set(v.slot, v.dom.lo.min(v.init), v.dom.hi.max(v.init));
+        }
+        for c in &self.clocks {
+            set(c.slot, 0, c.cap as i64);
+        }
+        for c in &self.channels {
+            if let Some(r) = c.register {
+                set(r, 0, 1);
+                let d = c.params.first().copied().unwrap_or(Dom { lo: 0, hi: 0 });
+                set(r + 1, d.lo.min(0), d.hi.max(0));
+            }
+        }
+        b
+    }
+
     /// A state vector of `len` slots with the variables' initial values and
     /// every machine before its first step; with `settle`, each machine runs
     /// its initial transition's internal code (RoboChart; a RoboSim machine

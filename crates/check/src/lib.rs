@@ -12,6 +12,7 @@ pub mod ir;
 pub mod lower;
 pub mod lts;
 pub mod machine;
+pub mod pack;
 pub mod sched;
 pub mod sim;
 pub mod verify;

@@ -21,6 +21,7 @@ use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Dom, Val};
 use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK, TOCK};
 use crate::machine::{Act, Move, Offer};
+use crate::pack::{initial_packed, successors_packed, Layout, Packed};
 
 /// The state: the design's slots, then the assumptions'.
 pub type State = Box<[i32]>;
@@ -188,6 +189,7 @@ pub struct Constrained<'a> {
     occ: usize,
     ret: usize,
     len: usize,
+    layout: Layout,
     /// The first run-time error met (division by zero …): the search
     /// result is then inconclusive.
     error: FirstError,
@@ -285,6 +287,27 @@ impl<'a> Constrained<'a> {
         let occ = avail + 5;
         let ret = occ + outputs.len();
         let len = ret + design.machines.len();
+        // The ranges of the assumptions' slots, after the design's.
+        let mut bounds = design.slot_bounds();
+        let max_event = events.next_event() as i64 + 2;
+        let p = period.max(1) as i64;
+        bounds.push((0, 3));
+        for &i in &inputs {
+            let d = design.channels[i as usize].params.first().copied().unwrap_or(Dom { lo: 0, hi: 0 });
+            bounds.extend([(0, 1), (d.lo.min(0), d.hi.max(0))]);
+        }
+        let out_mask = (1i64 << outputs.len()) - 1;
+        let in_mask = (1i64 << inputs.len()) - 1;
+        bounds.extend([
+            (0, out_mask),
+            (-1, out_mask.max(max_event)),
+            (-1, p),
+            (0, 3),
+            (0, in_mask.max(out_mask).max(p)),
+        ]);
+        bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
+        bounds.extend(std::iter::repeat_n((0, design.channels.len() as i64 + 1), design.machines.len()));
+        let layout = Layout::new(&bounds);
         Ok(Constrained {
             design,
             profile,
@@ -311,6 +334,7 @@ impl<'a> Constrained<'a> {
             occ,
             ret,
             len,
+            layout,
             error: FirstError::default(),
         })
     }
@@ -441,7 +465,7 @@ impl<'a> Constrained<'a> {
                 let ev = self.events.event(self.read_group[i], &args);
                 let mut n = st.clone();
                 n[self.a1 + 2 * i] = present as i32;
-                n[self.a1 + 2 * i + 1] = v.unwrap_or(0) as i32;
+                n[self.a1 + 2 * i + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
                 n[self.arg] &= !(1 << i);
                 if n[self.arg] == 0 {
                     n[self.phase] = RUN;
@@ -730,10 +754,9 @@ impl<'a> Constrained<'a> {
     }
 }
 
-impl Lts for Constrained<'_> {
-    type State = State;
-
-    fn initial(&self) -> State {
+impl Constrained<'_> {
+    /// The initial state vector.
+    pub fn initial_values(&self) -> State {
         let (mut st, error) = self.design.initial_state(self.len, true);
         if let Some(e) = error {
             self.error.set(e);
@@ -746,7 +769,7 @@ impl Lts for Constrained<'_> {
         st.into_boxed_slice()
     }
 
-    fn successors(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn successor_values(&self, st: &State, out: &mut Vec<(Label, State)>) {
         if st[self.mode] == DONE {
             // Termination is success: in a schedulability check time passes
             // forever (`; RUN({tock})`); otherwise the process ends (✓).
@@ -775,12 +798,29 @@ impl Lts for Constrained<'_> {
         }
     }
 
+    /// The state vector of a packed state.
+    pub fn values(&self, st: &Packed) -> State {
+        self.layout.unpack(st)
+    }
+}
+
+impl Lts for Constrained<'_> {
+    type State = Packed;
+
+    fn initial(&self) -> Packed {
+        initial_packed(&self.layout, &self.error, &self.initial_values())
+    }
+
+    fn successors(&self, st: &Packed, out: &mut Vec<(Label, Packed)>) {
+        successors_packed(&self.layout, &self.error, st, out, |v, next| self.successor_values(v, next));
+    }
+
     fn event_name(&self, event: Event) -> String {
         event_name_in(&self.events, event)
     }
 
-    fn state_bytes(&self, st: &State) -> usize {
-        std::mem::size_of::<State>() + std::mem::size_of_val(&st[..])
+    fn state_bytes(&self, st: &Packed) -> usize {
+        std::mem::size_of::<Packed>() + st.heap_bytes()
     }
 }
 

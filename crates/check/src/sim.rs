@@ -10,6 +10,7 @@ use crate::events::EventTable;
 use crate::ir::{Design, Dir};
 use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
+use crate::pack::{initial_packed, successors_packed, Layout, Packed};
 use crate::sched::{Registers, State, DONE, ENDED, READ, RUN, RUNNING, WAIT};
 
 /// A compiled RoboSim module (or controller, or machine) with period `p`.
@@ -29,6 +30,7 @@ pub struct SimModule<'a> {
     written: usize,
     mode: usize,
     len: usize,
+    layout: Layout,
     error: FirstError,
 }
 
@@ -72,9 +74,14 @@ impl<'a> SimModule<'a> {
         let g = events.add("terminate", Vec::new()).map_err(|e| e.0)?;
         let terminate = events.event(g, &[]);
         let base = design.slots as usize;
+        let period = period.max(1) as i32;
+        let mut bounds = design.slot_bounds();
+        let inputs_mask = (1i64 << inputs.len()) - 1;
+        bounds.extend([(0, 2), (0, inputs_mask.max(period as i64)), (0, (1i64 << outputs.len()) - 1), (0, 3)]);
+        let layout = Layout::new(&bounds);
         Ok(SimModule {
             design,
-            period: period.max(1) as i32,
+            period,
             inputs,
             outputs,
             events,
@@ -86,6 +93,7 @@ impl<'a> SimModule<'a> {
             written: base + 2,
             mode: base + 3,
             len: base + 4,
+            layout,
             error: FirstError::default(),
         })
     }
@@ -144,7 +152,7 @@ impl<'a> SimModule<'a> {
                         let ev = self.events.event(self.read_group[i], &args);
                         let mut n = st.clone();
                         n[reg] = present as i32;
-                        n[reg + 1] = v.unwrap_or(0) as i32;
+                        n[reg + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
                         n[self.arg] &= !(1 << i);
                         if n[self.arg] == 0 {
                             self.begin_run(&mut n)?;
@@ -217,10 +225,9 @@ impl<'a> SimModule<'a> {
     }
 }
 
-impl Lts for SimModule<'_> {
-    type State = State;
-
-    fn initial(&self) -> State {
+impl SimModule<'_> {
+    /// The initial state vector.
+    pub fn initial_values(&self) -> State {
         let (mut st, _) = self.design.initial_state(self.len, false);
         st[self.mode] = RUNNING;
         if let Err(e) = self.begin_cycle(&mut st) {
@@ -229,7 +236,7 @@ impl Lts for SimModule<'_> {
         st.into_boxed_slice()
     }
 
-    fn successors(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn successor_values(&self, st: &State, out: &mut Vec<(Label, State)>) {
         match st[self.mode] {
             DONE => {
                 let mut n = st.clone();
@@ -247,11 +254,28 @@ impl Lts for SimModule<'_> {
         }
     }
 
+    /// The state vector of a packed state.
+    pub fn values(&self, st: &Packed) -> State {
+        self.layout.unpack(st)
+    }
+}
+
+impl Lts for SimModule<'_> {
+    type State = Packed;
+
+    fn initial(&self) -> Packed {
+        initial_packed(&self.layout, &self.error, &self.initial_values())
+    }
+
+    fn successors(&self, st: &Packed, out: &mut Vec<(Label, Packed)>) {
+        successors_packed(&self.layout, &self.error, st, out, |v, next| self.successor_values(v, next));
+    }
+
     fn event_name(&self, event: Event) -> String {
         event_name_in(&self.events, event)
     }
 
-    fn state_bytes(&self, st: &State) -> usize {
-        std::mem::size_of::<State>() + std::mem::size_of_val(&st[..])
+    fn state_bytes(&self, st: &Packed) -> usize {
+        std::mem::size_of::<Packed>() + st.heap_bytes()
     }
 }

@@ -22,6 +22,7 @@ use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_design, ConstValue, DomainDefaults, Unsupported};
 use crate::lts::{Label, Lts, TAU, TOCK};
 use crate::machine::{Act, Offer};
+use crate::pack::Packed;
 use crate::sched::{Constrained, Registers, State};
 use crate::sim::SimModule;
 
@@ -350,6 +351,15 @@ enum Side<'a> {
 }
 
 impl Side<'_> {
+    /// The state vector of a packed state.
+    fn values(&self, st: &Packed) -> State {
+        match self {
+            Side::Design(l) => l.values(st),
+            Side::Sim(l) => l.values(st),
+            Side::Plain(l) => l.values(st),
+        }
+    }
+
     fn error(&self) -> Option<String> {
         match self {
             Side::Design(l) => l.error(),
@@ -360,9 +370,9 @@ impl Side<'_> {
 }
 
 impl Lts for Side<'_> {
-    type State = State;
+    type State = Packed;
 
-    fn initial(&self) -> State {
+    fn initial(&self) -> Packed {
         match self {
             Side::Design(l) => l.initial(),
             Side::Sim(l) => l.initial(),
@@ -370,7 +380,7 @@ impl Lts for Side<'_> {
         }
     }
 
-    fn successors(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn successors(&self, st: &Packed, out: &mut Vec<(Label, Packed)>) {
         match self {
             Side::Design(l) => l.successors(st, out),
             Side::Sim(l) => l.successors(st, out),
@@ -386,7 +396,7 @@ impl Lts for Side<'_> {
         }
     }
 
-    fn state_bytes(&self, st: &State) -> usize {
+    fn state_bytes(&self, st: &Packed) -> usize {
         match self {
             Side::Design(l) => l.state_bytes(st),
             Side::Sim(l) => l.state_bytes(st),
@@ -544,7 +554,7 @@ fn refinement(
 
 /// Whether a property holds, its witness (kind, path, what happens at its
 /// end), and the verdict in words.
-type Outcome = (bool, Option<(&'static str, Path<State>, String)>, String);
+type Outcome = (bool, Option<(&'static str, Path<Packed>, String)>, String);
 
 /// A property of one element: `deadlock-free` (semantics.md §7.4: no
 /// reachable state from which only time passes), `timelock-free` (no state
@@ -636,7 +646,7 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                 let Side::Plain(plain) = &lts else {
                     return Err("reachability is checked for RoboChart machines only so far".into());
                 };
-                let target_state = |st: &State| plain.in_state(st, state);
+                let target_state = |st: &Packed| plain.in_state(&plain.values(st), state);
                 let reach = Reach { lts: plain, target: &target_state };
                 let (r, stats) = find_deadlock(&reach, &opts.budget, progress);
                 report.stats = stats;
@@ -661,7 +671,7 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
         match outcome {
             Ok((holds, witness, reason)) => {
                 if let Some((kind, path, why)) = witness {
-                    let steps = sim_steps(&lts, &design, &path);
+                    let steps = sim_steps(&lts, &design, &values_path(&path, |p| lts.values(p)));
                     let mut explanation = vec![why];
                     explanation.extend(saturation_note(&steps));
                     report.counterexample = Some(Counterexample { kind, steps, explanation, stuck_at: Vec::new() });
@@ -682,7 +692,7 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
     }
 }
 
-fn describe_cex<L: Lts, S: Lts>(imp: &L, spec: &S, cex: &RefinementCex<State>) -> String {
+fn describe_cex<L: Lts, S: Lts, X>(imp: &L, spec: &S, cex: &RefinementCex<X>) -> String {
     let _ = spec;
     match cex {
         RefinementCex::Trace { event, .. } => {
@@ -699,25 +709,30 @@ fn describe_cex<L: Lts, S: Lts>(imp: &L, spec: &S, cex: &RefinementCex<State>) -
     }
 }
 
-fn refinement_counterexample<L: Lts<State = State>, S: Lts>(
-    imp: &L,
+fn refinement_counterexample<S: Lts>(
+    imp: &Side<'_>,
     spec: &S,
     design: &Design,
-    cex: &RefinementCex<State>,
+    cex: &RefinementCex<Packed>,
 ) -> Counterexample {
     let (kind, path) = match cex {
         RefinementCex::Trace { path, .. } => ("trace", path),
         RefinementCex::Refusal { path, .. } => ("refusal", path),
         RefinementCex::Divergence { path, .. } => ("divergence", path),
     };
-    let steps = sim_steps(imp, design, path);
+    let steps = sim_steps(imp, design, &values_path(path, |p| imp.values(p)));
     let mut explanation = vec![describe_cex(imp, spec, cex)];
     explanation.extend(saturation_note(&steps));
     Counterexample { kind, steps, explanation, stuck_at: Vec::new() }
 }
 
 /// The steps of a path of any LTS over a design's state vector.
-fn sim_steps<L: Lts<State = State>>(lts: &L, design: &Design, path: &Path<State>) -> Vec<Step> {
+/// A path of packed states as state vectors.
+fn values_path(path: &Path<Packed>, values: impl Fn(&Packed) -> State) -> Path<State> {
+    Path { initial: values(&path.initial), steps: path.steps.iter().map(|(l, s)| (*l, values(s))).collect() }
+}
+
+fn sim_steps<L: Lts>(lts: &L, design: &Design, path: &Path<State>) -> Vec<Step> {
     let mut steps = Vec::new();
     let mut prev: &State = &path.initial;
     let (mut cycle, mut time, mut after_tock) = (0u32, 0u32, false);
@@ -853,7 +868,8 @@ fn describe_act(
     }
 }
 
-fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Counterexample {
+fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<Packed>) -> Counterexample {
+    let path = &values_path(path, |p| lts.values(p));
     let steps = path_steps(lts, design, path);
     let last: &State = path.steps.last().map(|(_, s)| s).unwrap_or(&path.initial);
     let mut explanation = Vec::new();

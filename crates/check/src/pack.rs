@@ -1,0 +1,181 @@
+//! Compact states: the slots of a state vector packed into as few bits as
+//! their ranges need (semantics.md §8.6). A state of up to 128 bits is
+//! stored inline; larger ones use one allocation. A value out
+//! of its slot's range is an error (the check becomes inconclusive), never
+//! a silently wrong state.
+
+/// A packed state.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Packed {
+    /// Up to 64 bits.
+    Word(u64),
+    /// Up to 128 bits.
+    Pair(u64, u64),
+    /// More: the words (a thin pointer keeps the enum small).
+    Words(Box<Box<[u64]>>),
+}
+
+impl Packed {
+    /// Heap bytes used beyond the enum itself.
+    pub fn heap_bytes(&self) -> usize {
+        match self {
+            Packed::Word(_) | Packed::Pair(..) => 0,
+            Packed::Words(w) => std::mem::size_of::<Box<[u64]>>() + w.len() * 8,
+        }
+    }
+}
+
+/// One slot's place: word, shift, width and offset (the least value).
+#[derive(Debug, Clone, Copy)]
+struct Field {
+    word: usize,
+    shift: u32,
+    bits: u32,
+    lo: i64,
+    hi: i64,
+}
+
+/// How the slots of a state vector are packed.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    fields: Vec<Field>,
+    words: usize,
+}
+
+impl Layout {
+    /// The layout for slots with these inclusive ranges.
+    pub fn new(bounds: &[(i64, i64)]) -> Layout {
+        let mut fields = Vec::with_capacity(bounds.len());
+        let (mut word, mut used) = (0usize, 0u32);
+        for &(lo, hi) in bounds {
+            let span = (hi - lo).max(0) as u64;
+            let bits = 64 - span.leading_zeros();
+            // Fields do not straddle words.
+            if used + bits > 64 {
+                word += 1;
+                used = 0;
+            }
+            fields.push(Field { word, shift: used, bits, lo, hi });
+            used += bits;
+        }
+        Layout { fields, words: word + 1 }
+    }
+
+    /// The number of slots.
+    pub fn len(&self) -> usize {
+        self.fields.len()
+    }
+
+    /// Whether there are no slots.
+    pub fn is_empty(&self) -> bool {
+        self.fields.is_empty()
+    }
+
+    /// Packs `st`; an error names the first slot out of its range.
+    pub fn pack(&self, st: &[i32]) -> Result<Packed, String> {
+        // Up to two words without an allocation: the common case.
+        let mut small = [0u64; 2];
+        let mut words = if self.words > 2 { vec![0u64; self.words] } else { Vec::new() };
+        for (i, (f, &v)) in self.fields.iter().zip(st).enumerate() {
+            let v = v as i64;
+            if v < f.lo || v > f.hi {
+                return Err(format!("slot {i} holds {v}, outside {}..{} (a bound of the encoding)", f.lo, f.hi));
+            }
+            if f.bits > 0 {
+                let bits = ((v - f.lo) as u64) << f.shift;
+                match words.get_mut(f.word) {
+                    Some(w) => *w |= bits,
+                    None => small[f.word] |= bits,
+                }
+            }
+        }
+        Ok(match self.words {
+            1 => Packed::Word(small[0]),
+            2 => Packed::Pair(small[0], small[1]),
+            _ => Packed::Words(Box::new(words.into_boxed_slice())),
+        })
+    }
+
+    /// The slots of `p`.
+    pub fn unpack(&self, p: &Packed) -> Box<[i32]> {
+        let pair;
+        let words: &[u64] = match p {
+            Packed::Word(w) => std::slice::from_ref(w),
+            Packed::Pair(a, b) => {
+                pair = [*a, *b];
+                &pair
+            }
+            Packed::Words(w) => w,
+        };
+        self.fields
+            .iter()
+            .map(|f| {
+                let raw = if f.bits == 0 {
+                    0
+                } else {
+                    let mask = if f.bits == 64 { u64::MAX } else { (1u64 << f.bits) - 1 };
+                    (words.get(f.word).copied().unwrap_or(0) >> f.shift) & mask
+                };
+                (f.lo + raw as i64) as i32
+            })
+            .collect()
+    }
+}
+
+/// The packed side of an LTS whose successor function works on unpacked
+/// state vectors: unpack, run `succ`, pack the successors. A successor that
+/// does not fit its encoding is dropped and `error` records why (the
+/// check's result is then inconclusive).
+pub fn successors_packed(
+    layout: &Layout,
+    error: &crate::lts::FirstError,
+    st: &Packed,
+    out: &mut Vec<(crate::lts::Label, Packed)>,
+    succ: impl FnOnce(&Box<[i32]>, &mut Vec<(crate::lts::Label, Box<[i32]>)>),
+) {
+    let vals = layout.unpack(st);
+    let mut next = Vec::new();
+    succ(&vals, &mut next);
+    for (label, v) in next {
+        match layout.pack(&v) {
+            Ok(p) => out.push((label, p)),
+            Err(e) => error.set(e),
+        }
+    }
+}
+
+/// The packed initial state (a state that does not fit is recorded as an
+/// error and replaced by the all-least one).
+pub fn initial_packed(layout: &Layout, error: &crate::lts::FirstError, st: &[i32]) -> Packed {
+    layout.pack(st).unwrap_or_else(|e| {
+        error.set(e);
+        Packed::Word(0)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_bounds() {
+        let layout = Layout::new(&[(-1, 5), (0, 1), (0, 0), (-3, 3), (i32::MIN as i64, i32::MAX as i64)]);
+        for st in [[-1, 0, 0, -3, i32::MIN], [5, 1, 0, 3, i32::MAX], [2, 1, 0, 0, -7]] {
+            let p = layout.pack(&st).unwrap();
+            assert_eq!(&*layout.unpack(&p), &st);
+        }
+        assert!(layout.pack(&[6, 0, 0, 0, 0]).is_err());
+        assert!(layout.pack(&[0, 0, 1, 0, 0]).is_err());
+        // 3 + 1 + 0 + 3 bits, then a 32-bit slot: one word.
+        assert!(matches!(layout.pack(&[0, 0, 0, 0, 0]).unwrap(), Packed::Word(_)));
+        let two = Layout::new(&[(0, i32::MAX as i64); 3]);
+        let p = two.pack(&[1, 2, 3]).unwrap();
+        assert!(matches!(p, Packed::Pair(..)));
+        assert_eq!(&*two.unpack(&p), &[1, 2, 3]);
+        let wide = Layout::new(&[(0, i32::MAX as i64); 5]);
+        let p = wide.pack(&[1, 2, 3, 4, 5]).unwrap();
+        assert!(matches!(p, Packed::Words(_)));
+        assert_eq!(&*wide.unpack(&p), &[1, 2, 3, 4, 5]);
+        assert_eq!(std::mem::size_of::<Packed>(), 24);
+    }
+}
