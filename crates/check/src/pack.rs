@@ -33,6 +33,8 @@ struct Field {
     bits: u32,
     lo: i64,
     hi: i64,
+    /// `hi - lo`: a value fits when its offset from `lo` is at most this.
+    span: u64,
 }
 
 /// How the slots of a state vector are packed.
@@ -55,7 +57,7 @@ impl Layout {
                 word += 1;
                 used = 0;
             }
-            fields.push(Field { word, shift: used, bits, lo, hi });
+            fields.push(Field { word, shift: used, bits, lo, hi, span });
             used += bits;
         }
         Layout { fields, words: word + 1 }
@@ -73,27 +75,42 @@ impl Layout {
 
     /// Packs `st`; an error names the first slot out of its range.
     pub fn pack(&self, st: &[i32]) -> Result<Packed, String> {
-        // Up to two words without an allocation: the common case.
-        let mut small = [0u64; 2];
-        let mut words = if self.words > 2 { vec![0u64; self.words] } else { Vec::new() };
+        // Up to two words without an allocation: the common case, and the
+        // hot path of every search.
+        if self.words <= 2 {
+            let mut small = [0u64; 2];
+            for (f, &v) in self.fields.iter().zip(st) {
+                let off = (v as i64).wrapping_sub(f.lo) as u64;
+                if off > f.span {
+                    return Err(self.out_of_range(st));
+                }
+                if off != 0 {
+                    small[f.word & 1] |= off << f.shift;
+                }
+            }
+            return Ok(if self.words == 1 { Packed::Word(small[0]) } else { Packed::Pair(small[0], small[1]) });
+        }
+        let mut words = vec![0u64; self.words];
+        for (f, &v) in self.fields.iter().zip(st) {
+            let off = (v as i64).wrapping_sub(f.lo) as u64;
+            if off > f.span {
+                return Err(self.out_of_range(st));
+            }
+            if off != 0 {
+                words[f.word] |= off << f.shift;
+            }
+        }
+        Ok(Packed::Words(Box::new(words.into_boxed_slice())))
+    }
+
+    fn out_of_range(&self, st: &[i32]) -> String {
         for (i, (f, &v)) in self.fields.iter().zip(st).enumerate() {
             let v = v as i64;
             if v < f.lo || v > f.hi {
-                return Err(format!("slot {i} holds {v}, outside {}..{} (a bound of the encoding)", f.lo, f.hi));
-            }
-            if f.bits > 0 {
-                let bits = ((v - f.lo) as u64) << f.shift;
-                match words.get_mut(f.word) {
-                    Some(w) => *w |= bits,
-                    None => small[f.word] |= bits,
-                }
+                return format!("slot {i} holds {v}, outside {}..{} (a bound of the encoding)", f.lo, f.hi);
             }
         }
-        Ok(match self.words {
-            1 => Packed::Word(small[0]),
-            2 => Packed::Pair(small[0], small[1]),
-            _ => Packed::Words(Box::new(words.into_boxed_slice())),
-        })
+        "a state does not fit its encoding".to_string()
     }
 
     /// The slots of `p`.
