@@ -154,7 +154,9 @@ pub struct Constrained<'a> {
     design: &'a Design,
     profile: Profile,
     /// Schedulability: RoboTool's timelock escape, and time passing forever
-    /// after termination. Refinement: neither; termination is ✓.
+    /// after termination. Refinement: neither; termination is ✓, and in the
+    /// paper profile the external events are hidden after priority
+    /// (`PConstrained \ ExternalEvents`).
     tlfree: bool,
     period: i32,
     /// Channel indices of the inputs and outputs, in order.
@@ -647,6 +649,15 @@ impl<'a> Constrained<'a> {
                 }
             }
             out.truncate(keep);
+        }
+        if !self.tlfree {
+            // As the specification of a refinement: external events hidden.
+            for (label, _) in &mut out[start..] {
+                let e = label.event;
+                if e != TAU && e != TOCK && !(lo..hi).contains(&e) && !self.is_read(e) {
+                    *label = Label { event: TAU, note: e };
+                }
+            }
         }
         Ok(())
     }

@@ -11,7 +11,11 @@ use crate::ir::{Design, Dir};
 use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
 use crate::pack::{initial_packed, successors_packed, Layout, Packed};
-use crate::sched::{Registers, State, DONE, ENDED, READ, RUN, RUNNING, WAIT};
+use crate::sched::{Profile, Registers, State, DONE, ENDED, READ, RUN, RUNNING, WAIT};
+
+/// `paper2019`: writing the cycle's buffered outputs (`arg`: the outputs
+/// whose absence is still to be written).
+const WRITES: i32 = 3;
 
 /// A compiled RoboSim module (or controller, or machine) with period `p`.
 pub struct SimModule<'a> {
@@ -22,6 +26,9 @@ pub struct SimModule<'a> {
     events: EventTable,
     read_group: Vec<usize>,
     write_group: Vec<usize>,
+    /// `paper2019`: `registerWrite.o.false` per output.
+    false_group: Vec<usize>,
+    profile: Profile,
     terminate: Event,
     // Slots after the design's: the cycle phase and its argument (inputs
     // still to read, or time units left), outputs written this cycle, mode.
@@ -29,6 +36,9 @@ pub struct SimModule<'a> {
     arg: usize,
     written: usize,
     mode: usize,
+    /// `paper2019`: the outputs produced in the cycle, in order (their
+    /// write events; 0 = none), written after the cycle's execution.
+    occ: usize,
     len: usize,
     layout: Layout,
     error: FirstError,
@@ -38,6 +48,20 @@ impl<'a> SimModule<'a> {
     /// The module with period `period`, its register events numbered by
     /// `registers`.
     pub fn new(design: &'a Design, period: u32, registers: &Registers) -> Result<SimModule<'a>, String> {
+        SimModule::with_profile(design, period, registers, Profile::RoboTool3)
+    }
+
+    /// As [`SimModule::new`], in either profile: RoboTool 3 writes each
+    /// output at once; the paper (Rules 4 and 12) buffers the outputs of a
+    /// cycle and writes them when every machine has ended it, in order as
+    /// `registerWrite.o.true.args`, then `registerWrite.o.false` for the
+    /// outputs not produced.
+    pub fn with_profile(
+        design: &'a Design,
+        period: u32,
+        registers: &Registers,
+        profile: Profile,
+    ) -> Result<SimModule<'a>, String> {
         let inputs: Vec<u16> = design
             .channels
             .iter()
@@ -67,8 +91,13 @@ impl<'a> SimModule<'a> {
             read_group.push(group(&registers.reads, &c.name)?);
         }
         let mut write_group = Vec::new();
+        let mut false_group = Vec::new();
         for &o in &outputs {
-            write_group.push(group(&registers.writes, &design.channels[o as usize].name)?);
+            let name = &design.channels[o as usize].name;
+            write_group.push(group(&registers.writes, name)?);
+            if profile == Profile::Paper2019 {
+                false_group.push(group(&registers.false_writes, name)?);
+            }
         }
         let mut events = registers.table.clone();
         let g = events.add("terminate", Vec::new()).map_err(|e| e.0)?;
@@ -77,7 +106,11 @@ impl<'a> SimModule<'a> {
         let period = period.max(1) as i32;
         let mut bounds = design.slot_bounds();
         let inputs_mask = (1i64 << inputs.len()) - 1;
-        bounds.extend([(0, 2), (0, inputs_mask.max(period as i64)), (0, (1i64 << outputs.len()) - 1), (0, 3)]);
+        let nout = outputs.len();
+        let out_mask = (1i64 << nout) - 1;
+        bounds.extend([(0, 3), (0, inputs_mask.max(out_mask).max(period as i64)), (0, out_mask), (0, 3)]);
+        let max_event = events.next_event() as i64;
+        bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
         let layout = Layout::new(&bounds);
         Ok(SimModule {
             design,
@@ -87,12 +120,15 @@ impl<'a> SimModule<'a> {
             events,
             read_group,
             write_group,
+            false_group,
+            profile,
             terminate,
             phase: base,
             arg: base + 1,
             written: base + 2,
             mode: base + 3,
-            len: base + 4,
+            occ: base + 4,
+            len: base + 4 + nout,
             layout,
             error: FirstError::default(),
         })
@@ -179,6 +215,21 @@ impl<'a> SimModule<'a> {
                             }
                             Offer::Out { chan, args } => {
                                 let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
+                                let write = self.events.event(self.write_group[o], args);
+                                if self.profile == Profile::Paper2019 {
+                                    // Rule 12: into the buffer (as many outputs as
+                                    // there are registers), written at the cycle's end.
+                                    let nout = self.outputs.len();
+                                    let len = (0..nout).take_while(|&j| st[self.occ + j] != 0).count();
+                                    if len >= nout {
+                                        continue;
+                                    }
+                                    let mut n = self.design.after(m, st, mv.act, None)?;
+                                    n[self.occ + len] = write as i32;
+                                    n[self.written] |= 1 << o;
+                                    out.push((Label::TAU, n));
+                                    continue;
+                                }
                                 // One write per register per cycle: a second one
                                 // cannot happen, and the cycle never ends.
                                 if st[self.written] & (1 << o) != 0 {
@@ -186,7 +237,7 @@ impl<'a> SimModule<'a> {
                                 }
                                 let mut n = self.design.after(m, st, mv.act, None)?;
                                 n[self.written] |= 1 << o;
-                                out.push((Label::plain(self.events.event(self.write_group[o], args)), n));
+                                out.push((Label::plain(write), n));
                             }
                             Offer::In { .. } => {
                                 return Err(format!("machine `{}` waits for an input event", m.name));
@@ -199,15 +250,34 @@ impl<'a> SimModule<'a> {
                 }
                 // The cycle ends when every machine has ended its own.
                 if self.design.machines.iter().all(|m| m.cycle_ended(st)) {
-                    if self.design.machines.iter().all(|m| m.terminated(st)) {
+                    if self.profile == Profile::Paper2019 {
+                        // Rule 4: then the buffered outputs are written.
                         let mut n = st.clone();
-                        n[self.mode] = DONE;
-                        out.push((Label { event: TAU, note: self.terminate }, n));
+                        n[self.phase] = WRITES;
+                        n[self.arg] = ((1i64 << self.outputs.len()) - 1) as i32 & !st[self.written];
+                        out.push((Label::TAU, n));
                     } else {
-                        let mut n = st.clone();
-                        self.tock(&mut n)?;
-                        out.push((Label::TOCK, n));
+                        self.end_cycle(st, out)?;
                     }
+                }
+            }
+            WRITES => {
+                let nout = self.outputs.len();
+                if nout > 0 && st[self.occ] != 0 {
+                    let mut n = st.clone();
+                    for j in 0..nout - 1 {
+                        n[self.occ + j] = n[self.occ + j + 1];
+                    }
+                    n[self.occ + nout - 1] = 0;
+                    out.push((Label::plain(st[self.occ] as Event), n));
+                } else if st[self.arg] != 0 {
+                    for o in (0..nout).filter(|o| st[self.arg] & (1 << o) != 0) {
+                        let mut n = st.clone();
+                        n[self.arg] &= !(1 << o);
+                        out.push((Label::plain(self.events.event(self.false_group[o], &[])), n));
+                    }
+                } else {
+                    self.end_cycle(st, out)?;
                 }
             }
             _ => {
@@ -215,6 +285,20 @@ impl<'a> SimModule<'a> {
                 self.tock(&mut n)?;
                 out.push((Label::TOCK, n));
             }
+        }
+        Ok(())
+    }
+
+    /// The end of a cycle: termination when every machine has terminated,
+    /// else time passes until the next.
+    fn end_cycle(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+        let mut n = st.clone();
+        if self.design.machines.iter().all(|m| m.terminated(st)) {
+            n[self.mode] = DONE;
+            out.push((Label { event: TAU, note: self.terminate }, n));
+        } else {
+            self.tock(&mut n)?;
+            out.push((Label::TOCK, n));
         }
         Ok(())
     }

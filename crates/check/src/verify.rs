@@ -405,12 +405,18 @@ impl Lts for Side<'_> {
     }
 }
 
-fn side<'a>(target: &Target, design: &'a Design, period: u32, regs: &Registers) -> Result<Side<'a>, String> {
+fn side<'a>(
+    target: &Target,
+    design: &'a Design,
+    period: u32,
+    regs: &Registers,
+    profile: Profile,
+) -> Result<Side<'a>, String> {
     Ok(match target {
         Target::Constrained { .. } => {
-            Side::Design(Constrained::with_registers(design, period, Profile::RoboTool3, Some(regs), false)?)
+            Side::Design(Constrained::with_registers(design, period, profile, Some(regs), false)?)
         }
-        Target::Simulation { .. } => Side::Sim(SimModule::new(design, period, regs)?),
+        Target::Simulation { .. } => Side::Sim(SimModule::with_profile(design, period, regs, profile)?),
         Target::Design { name, .. } => {
             return Err(format!(
                 "`{name}` is a RoboChart element: refinement is checked between simulations (`simulation S of {name}`) and RoboSim elements so far"
@@ -420,12 +426,12 @@ fn side<'a>(target: &Target, design: &'a Design, period: u32, regs: &Registers) 
 }
 
 /// The LTS of `target` on its own (for properties of one element).
-fn single<'a>(target: &Target, design: &'a Design, period: u32) -> Result<Side<'a>, String> {
+fn single<'a>(target: &Target, design: &'a Design, period: u32, profile: Profile) -> Result<Side<'a>, String> {
     Ok(match target {
         Target::Design { .. } => Side::Plain(DesignLts::new(design)?),
         _ => {
-            let regs = Registers::new(&[design], Profile::RoboTool3)?;
-            side(target, design, period, &regs)?
+            let regs = Registers::new(&[design], profile)?;
+            side(target, design, period, &regs, profile)?
         }
     })
 }
@@ -486,9 +492,6 @@ fn refinement(
 ) {
     let a = cx.a;
     let mut run = || -> Result<(), String> {
-        if opts.profile != Profile::RoboTool3 {
-            return Err("refinement is checked in the robotool3 profile only so far".into());
-        }
         let model = match model {
             SemanticModelName::Traces => SemanticModel::Traces,
             SemanticModelName::Failures => SemanticModel::Failures,
@@ -500,9 +503,9 @@ fn refinement(
         let spec_t = cx.target(other)?;
         let (imp_d, imp_p) = cx.compile(&imp_t, &consts)?;
         let (spec_d, spec_p) = cx.compile(&spec_t, &consts)?;
-        let regs = Registers::new(&[&spec_d, &imp_d], Profile::RoboTool3)?;
-        let imp = side(&imp_t, &imp_d, imp_p, &regs)?;
-        let spec = side(&spec_t, &spec_d, spec_p, &regs)?;
+        let regs = Registers::new(&[&spec_d, &imp_d], opts.profile)?;
+        let imp = side(&imp_t, &imp_d, imp_p, &regs, opts.profile)?;
+        let spec = side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?;
         report.notes.push(domains_note(&spec_d));
         report.notes.push(domains_note(&imp_d));
         let mut directions = vec![(&spec, &imp, &imp_d, "")];
@@ -563,16 +566,13 @@ type Outcome = (bool, Option<(&'static str, Path<Packed>, String)>, String);
 fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &mut Report) {
     let a = cx.a;
     let mut run = || -> Result<(), String> {
-        if opts.profile != Profile::RoboTool3 {
-            return Err(format!("`{}` is checked in the robotool3 profile only so far", a.kind.label()));
-        }
         let subject = match &a.kind {
             AssertionKind::Reachable { machine, .. } => machine.clone(),
             _ => a.subject.clone(),
         };
         let target = cx.target(&subject)?;
         let (design, period) = cx.compile(&target, &cx.constants()?)?;
-        let lts = single(&target, &design, period)?;
+        let lts = single(&target, &design, period, opts.profile)?;
         report.notes.push(domains_note(&design));
         let name = subject.join("::");
         // (holds, counterexample kind, path, explanation) or a stop.

@@ -4,7 +4,7 @@
 //! checked against the reference oracle (`../shared/spec/semantics_oracle.py`):
 //! same verdicts, same kind of counterexample after the same trace.
 
-use robosim_check::verify::{trace_text, verify_workspace, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_workspace, Options, Profile, Report, Verdict};
 
 fn example(name: &str) -> String {
     std::fs::read_to_string(format!("{}/../../examples/paper/{name}", env!("CARGO_MANIFEST_DIR")))
@@ -18,6 +18,10 @@ const CONSTANTS: &str =
 
 /// `Sim refines P` and `P refines Sim` for the simulation text `sim`.
 fn check(sim: &str) -> (Report, Report) {
+    check_in(sim, Profile::RoboTool3)
+}
+
+fn check_in(sim: &str, profile: Profile) -> (Report, Report) {
     let package = if sim.contains("package paper_sim_alt") { "paper_sim_alt" } else { "paper_sim" };
     let rsa = format!(
         "simulation P of paper_design::CFootBot {{ cycleDef cycle == 1 }}
@@ -36,7 +40,7 @@ fn check(sim: &str) -> (Report, Report) {
         ],
         robosim_hir::RuleSet::Paper,
     );
-    let mut reports = verify_workspace(&db, ws, &Options::default(), None);
+    let mut reports = verify_workspace(&db, ws, &Options { profile, ..Options::default() }, None);
     let c = reports.pop().expect("C");
     let r = reports.pop().expect("R");
     (r, c)
@@ -221,4 +225,31 @@ fn operations_defined_in_the_simulations_controller() {
     assert_eq!(c.kind, "refusal");
     assert!(r.reason.as_deref().unwrap_or_default().contains("registerWrite.o_move.0.15"), "{:?}", r.reason);
     assert!(trace_text(&c.steps).ends_with("registerWrite.o_stop"), "{}", trace_text(&c.steps));
+}
+
+/// The same verdicts in the paper's semantics (buffered outputs written at
+/// the end of the cycle, `true`/`false` writes, external events over writes
+/// and time): Figures 3 and 4 are sound, every mutant is not.
+#[test]
+fn paper_profile_verdicts() {
+    for (label, sound) in [
+        ("Fig.3", true),
+        ("Fig.4", true),
+        ("Fig.9 missing entry action", false),
+        ("Fig.10 missing exec", false),
+        ("Fig.11 missing guard", false),
+        ("Fig.12 swapped guards", false),
+        ("Fig.13 extra exec self-loop", false),
+        ("Fig.14 wrong cycle allocation", false),
+    ] {
+        let sim = if label == "Fig.4" { example("simulation_alt.rst") } else { mutant(label) };
+        let (r, _) = check_in(&sim, Profile::Paper2019);
+        let expected = if sound { Verdict::Pass } else { Verdict::Fail };
+        assert_eq!(r.verdict, expected, "{label}: {:?}", r.reason);
+        if !sound {
+            let c = r.counterexample.as_ref().expect("a counterexample");
+            // The paper's vocabulary: registers `eU`, writes `true`/`false`.
+            assert!(trace_text(&c.steps).contains("registerRead.obstacleU."), "{label}: {}", trace_text(&c.steps));
+        }
+    }
 }
