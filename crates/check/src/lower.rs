@@ -558,6 +558,7 @@ impl Cx<'_> {
             code_ranges: Vec::new(),
             clock_caps: HashMap::new(),
             binds: Vec::new(),
+            else_transitions: Vec::new(),
             op_defs: inst.ops.clone(),
             ops: Vec::new(),
             op_of_def: HashMap::new(),
@@ -669,6 +670,8 @@ struct MachineCx<'a, 'b> {
     code_ranges: Vec<TextRange>,
     /// `$e?x` bindings met while lowering a guard.
     binds: Vec<(u16, Dom, u16)>,
+    /// Transitions with `condition else`, to complete.
+    else_transitions: Vec<u16>,
     /// Operations the controller defines, and those compiled into the
     /// machine (by index into `op_defs`), with bodies still to compile.
     op_defs: Vec<(String, File, SyntaxNode)>,
@@ -984,6 +987,23 @@ impl MachineCx<'_, '_> {
                 self.transition(&t, parent)?;
             }
         }
+        // `condition else`: enabled when no other transition of the same
+        // source is.
+        for t in std::mem::take(&mut self.else_transitions) {
+            let source = self.transitions[t as usize].source;
+            let others: Vec<Expr> = self
+                .transitions
+                .iter()
+                .enumerate()
+                .filter(|(i, o)| *i != t as usize && o.source == source)
+                .map(|(_, o)| o.guard.clone().unwrap_or(Expr::Const(1)))
+                .collect();
+            let any = others.into_iter().reduce(|a, b| Expr::Log(LogOp::Or, Box::new(a), Box::new(b)));
+            self.transitions[t as usize].guard = Some(match any {
+                Some(e) => Expr::Not(Box::new(e)),
+                None => Expr::Const(1),
+            });
+        }
         // Entry and exit code of every node.
         for id in 0..self.nodes.len() {
             if self.nodes[id].op != self.cur_op {
@@ -1093,6 +1113,7 @@ impl MachineCx<'_, '_> {
         let mut trigger = None;
         let mut guard = None;
         let mut exec = false;
+        let mut is_else = false;
         self.binds.clear();
         let body_pc = self.code.len() as u32;
         let name_range = t.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(t.text_range());
@@ -1113,7 +1134,8 @@ impl MachineCx<'_, '_> {
                 }
                 CONDITION => {
                     if c.children().any(|n| n.kind() == ELSE_CONDITION) {
-                        return Err(self.err(c.text_range(), "`condition else` is not supported yet"));
+                        // Completed once every transition of the source is known.
+                        is_else = true;
                     }
                     if let Some(e) = c.children().find(|e| ast::is_expr_kind(e.kind())) {
                         guard = Some(self.expr(&e)?);
@@ -1138,6 +1160,9 @@ impl MachineCx<'_, '_> {
         self.at = name_range;
         self.emit(Instr::Enter(target));
         let id = self.transitions.len() as u16;
+        if is_else {
+            self.else_transitions.push(id);
+        }
         self.transitions.push(Transition {
             name,
             source,

@@ -253,3 +253,16 @@ fn paper_profile_verdicts() {
         }
     }
 }
+
+/// `condition else` on the junction of Figure 3 is the negation of the
+/// other guards: the simulation stays sound.
+#[test]
+fn else_guards() {
+    let sim = example("simulation.rst").replace(
+        "transition t3 { from j0 to DMoving condition not $obstacle }",
+        "transition t3 { from j0 to DMoving condition else }",
+    );
+    assert!(sim.contains("condition else"), "the edit applies");
+    let (r, _) = check(&sim);
+    assert_eq!(r.verdict, Verdict::Pass, "{:?}", r.reason);
+}
