@@ -51,6 +51,12 @@ pub struct DomainDefaults {
     pub clock_max: i32,
     /// Whether the user fixed `nat`, `int`, `real` (no widening then).
     pub fixed: [bool; 3],
+    /// Every `nametype X = {a..b}` of the instantiations (for primitive
+    /// types the model declares, such as `type ID`).
+    pub types: Vec<(String, Dom)>,
+    /// Constant values of the instantiations (`pkg_Machine_k = v`,
+    /// `Machine_k = v`), used for constants given no other value.
+    pub constants: Vec<(String, Val)>,
 }
 
 impl Default for DomainDefaults {
@@ -61,6 +67,8 @@ impl Default for DomainDefaults {
             real: Dom { lo: -2, hi: 2 },
             clock_max: 10,
             fixed: [false; 3],
+            types: Vec::new(),
+            constants: Vec::new(),
         }
     }
 }
@@ -69,6 +77,7 @@ impl DomainDefaults {
     /// Applies `nametype core_X = {a..b}` instantiations.
     pub fn set(&mut self, name: &str, lo: Val, hi: Val) {
         let d = Dom { lo, hi };
+        self.types.push((name.to_string(), d));
         match name.trim_start_matches("core_") {
             "nat" => (self.nat, self.fixed[0]) = (d, true),
             "int" => (self.int, self.fixed[1]) = (d, true),
@@ -719,6 +728,20 @@ impl MachineCx<'_, '_> {
             _ => {}
         }
         if !path.is_empty() {
+            // A primitive type the model declares (`type ID`) takes the range
+            // an instantiation gives it (`nametype ID = {0..1}`).
+            if self.cx.resolve(file, &path, |k| k == DefKind::PrimitiveType).is_some() {
+                let name = last.to_string();
+                let core = format!("core_{name}");
+                return match d.types.iter().rev().find(|(n, _)| *n == name || *n == core) {
+                    Some((_, dom)) => Ok(*dom),
+                    None => Err(self.cx.unsupported(
+                        file,
+                        node.text_range(),
+                        format!("the type `{name}` has no range: give it one with `nametype {name} = {{a..b}}` in a `csp` block of an assertion file"),
+                    )),
+                };
+            }
             if let Some((_, en)) = self.cx.resolve(file, &path, |k| k == DefKind::Enumeration) {
                 let n = en.children().filter(|c| c.kind() == ENUM_LITERAL).count() as Val;
                 return Ok(Dom { lo: 0, hi: (n - 1).max(0) });
@@ -734,12 +757,23 @@ impl MachineCx<'_, '_> {
         ))
     }
 
+    /// The value an assertion gives the constant `name`, else the one an
+    /// instantiation block gives it (RoboTool's `pkg_Machine_name` or
+    /// `Machine_name`).
     fn const_value(&self, name: &str) -> Option<Val> {
-        self.cx
+        let given = self
+            .cx
             .consts
             .iter()
             .find(|c| c.name == name && c.of.last().is_some_and(|o| *o == self.decl_name))
-            .map(|c| c.value)
+            .map(|c| c.value);
+        given.or_else(|| {
+            let package = robosim_hir::index::file_summary(self.cx.db, self.file).package.join("_");
+            let short = format!("{}_{name}", self.decl_name);
+            let long = format!("{package}_{short}");
+            let candidates = [long, short, format!("const_{}_{name}", self.decl_name)];
+            self.cx.defaults.constants.iter().find(|(n, _)| candidates.contains(n)).map(|(_, v)| *v)
+        })
     }
 
     /// Variables, constants, clocks, events and operations of the machine

@@ -305,6 +305,14 @@ impl Cx<'_> {
             for (name, lo, hi, _) in &r.instantiations.types {
                 defaults.set(name, *lo, *hi);
             }
+            for (name, value, _) in &r.instantiations.constants {
+                let v = match value {
+                    Value::Int(v) => *v,
+                    Value::Bool(b) => *b as Val,
+                    Value::Other(_) => continue,
+                };
+                defaults.constants.push((name.clone(), v));
+            }
         }
         defaults
     }

@@ -366,3 +366,23 @@ fn saturation_is_noted() {
     let c = r.counterexample.expect("a counterexample");
     assert!(c.explanation.iter().any(|e| e.contains("sticky arithmetic")), "{:?}", c.explanation);
 }
+
+/// RoboTool's instantiation blocks: a primitive type the model declares
+/// gets its range from `nametype`, a constant with no value its value from
+/// `Machine_k = v` (as RoboTool's generated instantiations name them).
+#[test]
+fn instantiations_give_types_and_constants() {
+    let m = "type ID
+             stm M { requires I const k : nat var who : ID initial i0
+               state S { entry who = 1; op2(k); wait(1) } transition t { from i0 to S } transition u { from S to S } }";
+    let block = "csp Instantiations csp-begin\nnametype ID = {0..1}\nM_k = 2\ncsp-end\n";
+    let rsa = format!("{block}simulation S of Mod {{ cycleDef cycle == 1 }}\nassertion A : S is schedulable");
+    let r = run(&module(m), &rsa).remove(0);
+    assert_eq!(r.verdict, Verdict::Pass, "{:?}", r.reason);
+    assert!(r.notes.iter().any(|n| n.contains("M::k = 2") || n.contains("m::k = 2")), "{:?}", r.notes);
+    // Without them, the reasons say what to add.
+    let r = run(&module(m), "simulation S of Mod { cycleDef cycle == 1 }\nassertion A : S is schedulable").remove(0);
+    assert_eq!(r.verdict, Verdict::Unsupported);
+    let reason = r.reason.unwrap_or_default();
+    assert!(reason.contains("`k` has no value") || reason.contains("`ID` has no range"), "{reason}");
+}
