@@ -515,11 +515,15 @@ fn progress_is_reported_periodically_and_at_the_end() {
         calls.fetch_add(1, Ordering::Relaxed);
         *last.lock().expect("lock") = *s;
     };
-    let budget = Budget { timeout: Some(Duration::from_millis(350)), ..Budget::default() };
+    // Reports come about every 100 ms from the searching thread; on a
+    // loaded machine it may be descheduled, so only the order of magnitude
+    // is asserted: at least one report before the final one, and not one
+    // per state.
+    let budget = Budget { timeout: Some(Duration::from_millis(1000)), ..Budget::default() };
     let (r, stats) = find_deadlock(&Tree, &budget, Some(&report));
     assert_eq!(r, DeadlockResult::Inconclusive(Stop::Time));
     let n = calls.load(Ordering::Relaxed);
-    assert!((3..=6).contains(&n), "{n} progress calls");
+    assert!((2..=15).contains(&n), "{n} progress calls");
     assert_eq!(*last.lock().expect("lock"), stats);
 }
 
