@@ -1,6 +1,7 @@
 //! The `robosim` command.
 
 mod diagnostics;
+mod diagram;
 mod fmt;
 mod verify;
 mod workspace;
@@ -82,6 +83,28 @@ enum Command {
         #[arg(required = true)]
         paths: Vec<PathBuf>,
     },
+    /// Draw state machines, operations, controllers and modules: one SVG
+    /// (or DOT) file each in `-o DIR`, or one on stdout.
+    Diagram {
+        /// SVG output (the default).
+        #[arg(long, conflicts_with_all = ["dot", "json"])]
+        svg: bool,
+        /// Graphviz DOT output, composite states as clusters.
+        #[arg(long, conflicts_with = "json")]
+        dot: bool,
+        /// The diagram model as JSON on stdout, for other tools.
+        #[arg(long)]
+        json: bool,
+        /// Write one file per diagram into this folder.
+        #[arg(short = 'o', long = "out")]
+        out: Option<PathBuf>,
+        /// Only the element with this name (or qualified name).
+        #[arg(long)]
+        element: Option<String>,
+        /// Model files or folders.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+    },
     /// Run the language server (LSP over stdin/stdout).
     Lsp,
 }
@@ -133,6 +156,18 @@ fn main() -> ExitCode {
             max_states,
             timeout,
             threads,
+            paths,
+        }),
+        Command::Diagram { svg: _, dot, json, out, element, paths } => diagram::run(diagram::Args {
+            output: if json {
+                diagram::Output::Json
+            } else if dot {
+                diagram::Output::Dot
+            } else {
+                diagram::Output::Svg
+            },
+            dir: out,
+            element,
             paths,
         }),
         Command::Lsp => robosim_lsp::run_stdio(),

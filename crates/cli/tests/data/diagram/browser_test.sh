@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# The diagrams in a real browser: renders the paper's running example
+# (examples/paper) and the nested fixture with `robosim diagram`, loads the
+# SVGs in headless Chromium, and checks from the DOM's bounding boxes that
+# every state is drawn inside its parent's box and that no two labels
+# overlap (geometry.js). Keeps a screenshot of each page as a test artefact
+# in target/diagram-test/. Installs Chromium (Debian's `chromium`) and the
+# DejaVu fonts with apt-get when they are missing. Never skips.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+repo="$(cd "$here/../../../../.." && pwd)"
+cd "$repo"
+out="${CARGO_TARGET_DIR:-$repo/target}/diagram-test"
+rm -rf "$out"
+mkdir -p "$out/svg"
+
+browser=""
+for b in chromium chromium-browser google-chrome; do
+  if command -v "$b" >/dev/null 2>&1; then browser="$b"; break; fi
+done
+if [ -z "$browser" ] || ! fc-list 2>/dev/null | grep -qi "DejaVu Sans Mono"; then
+  echo "diagram-browser: installing chromium and fonts-dejavu-core with apt-get"
+  if [ "$(id -u)" -eq 0 ]; then sudo=""; else sudo="sudo"; fi
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core >/dev/null
+  browser=chromium
+fi
+echo "diagram-browser: using $($browser --version 2>/dev/null | head -1)"
+
+bin="${ROBOSIM_BIN:-}"
+if [ -z "$bin" ]; then
+  cargo build -q -p robosim-cli
+  bin="${CARGO_TARGET_DIR:-$repo/target}/debug/robosim"
+fi
+
+"$bin" diagram -o "$out/svg" examples/paper crates/cli/tests/data/diagram/nested.rct >/dev/null
+
+# One page per diagram (each SVG inline, so that the DOM can be measured),
+# with the states it must show.
+pages=()
+declare -A sizes
+page() { # name svg expected-states
+  local html="$out/$1.html"
+  # The screenshot is as large as the drawing.
+  sizes[$1]="$(head -1 "$2" | sed -E 's/.* width="([0-9.]+)" height="([0-9.]+)".*/\1,\2/' | awk -F, '{printf "%d,%d", $1 + 1, $2 + 40}')"
+  {
+    echo '<!DOCTYPE html><html><head><meta charset="utf-8"><style>body{margin:0;background:#fff}</style></head><body>'
+    echo "<div data-expect-states=\"$3\">"
+    cat "$2"
+    echo '</div><script>'
+    cat "$here/geometry.js"
+    echo '</script></body></html>'
+  } >"$html"
+  pages+=("$1")
+}
+page running-example-design "$out/svg/paper_design.SMovement.svg" "Moving Turning"
+page running-example-simulation "$out/svg/paper_sim.SimSMovement.svg" "SMoving DMoving STurning DTurning"
+page running-example-module "$out/svg/paper_design.CFootBot.svg" ""
+page running-example-controller "$out/svg/paper_design.Movement.svg" ""
+page nested "$out/svg/nested.Robot.svg" "Working Working::Searching Working::Searching::Scanning Working::Searching::Turning Working::Charging"
+
+flags=(--headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run --disable-dev-shm-usage --virtual-time-budget=5000)
+passed=0
+failed=0
+for p in "${pages[@]}"; do
+  dom="$out/$p.dom.html"
+  timeout 120 "$browser" "${flags[@]}" --dump-dom "file://$out/$p.html" >"$dom" 2>"$out/$p.log" || true
+  timeout 120 "$browser" "${flags[@]}" --window-size="${sizes[$p]}" --screenshot="$out/$p.png" "file://$out/$p.html" >>"$out/$p.log" 2>&1 || true
+  result="$(sed -n '/<pre id="result">/,/<\/pre>/p' "$dom" | sed -e 's/<[^>]*>//g' -e 's/&quot;/"/g' -e 's/&amp;/\&/g')"
+  if [ -z "$result" ]; then
+    echo "diagram-browser: FAIL $p: the browser produced no result (see $out/$p.log)"
+    failed=$((failed + 1))
+  elif grep -q '^FAIL' <<<"$result"; then
+    echo "diagram-browser: $p"
+    echo "$result"
+    failed=$((failed + 1))
+  else
+    echo "diagram-browser: $result"
+    passed=$((passed + 1))
+  fi
+  if [ ! -s "$out/$p.png" ]; then
+    echo "diagram-browser: FAIL $p: no screenshot"
+    failed=$((failed + 1))
+  fi
+done
+echo "diagram-browser: screenshots in $out"
+echo "diagram-browser: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
