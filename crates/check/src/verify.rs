@@ -101,6 +101,9 @@ pub struct Counterexample {
     pub explanation: Vec<String>,
     /// Source locations involved in the stuck point.
     pub stuck_at: Vec<Location>,
+    /// For a refinement: what the specification (the design) does on the
+    /// same visible trace, its own hidden steps located in its source.
+    pub specification: Vec<Step>,
 }
 
 /// The report on one assertion.
@@ -516,12 +519,12 @@ fn refinement(
         let spec = side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?;
         report.notes.push(domains_note(&spec_d));
         report.notes.push(domains_note(&imp_d));
-        let mut directions = vec![(&spec, &imp, &imp_d, "")];
+        let mut directions = vec![(&spec, &imp, &spec_d, &imp_d, "")];
         if both_ways {
-            directions.push((&imp, &spec, &spec_d, " (converse)"));
+            directions.push((&imp, &spec, &imp_d, &spec_d, " (converse)"));
         }
         let mut holds = true;
-        for (sp, im, im_design, which) in directions {
+        for (sp, im, sp_design, im_design, which) in directions {
             let (result, stats) = refines(sp, im, model, &opts.budget, progress);
             report.stats.states += stats.states;
             report.stats.transitions += stats.transitions;
@@ -534,7 +537,9 @@ fn refinement(
             match result {
                 RefinementResult::Holds => {}
                 RefinementResult::Fails(cex) => {
-                    report.counterexample = Some(refinement_counterexample(im, sp, im_design, &cex));
+                    let mut c = refinement_counterexample(im, sp, im_design, &cex);
+                    c.specification = specification_steps(sp, sp_design, &cex, &opts.budget);
+                    report.counterexample = Some(c);
                     report.reason = Some(format!("refinement{which} fails: {}", describe_cex(im, sp, &cex)));
                     holds = false;
                     break;
@@ -682,7 +687,13 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                     let steps = sim_steps(&lts, &design, &values_path(&path, |p| lts.values(p)));
                     let mut explanation = vec![why];
                     explanation.extend(saturation_note(&steps));
-                    report.counterexample = Some(Counterexample { kind, steps, explanation, stuck_at: Vec::new() });
+                    report.counterexample = Some(Counterexample {
+                        kind,
+                        steps,
+                        explanation,
+                        stuck_at: Vec::new(),
+                        specification: Vec::new(),
+                    });
                 }
                 report.reason = Some(reason);
                 report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
@@ -731,7 +742,64 @@ fn refinement_counterexample<S: Lts>(
     let steps = sim_steps(imp, design, &values_path(path, |p| imp.values(p)));
     let mut explanation = vec![describe_cex(imp, spec, cex)];
     explanation.extend(saturation_note(&steps));
-    Counterexample { kind, steps, explanation, stuck_at: Vec::new() }
+    Counterexample { kind, steps, explanation, stuck_at: Vec::new(), specification: Vec::new() }
+}
+
+/// What the specification does on the counterexample's visible trace (up
+/// to the offending event): the shortest run of `spec` with that trace,
+/// found breadth first within a small budget, as located steps.
+fn specification_steps(spec: &Side<'_>, design: &Design, cex: &RefinementCex<Packed>, budget: &Budget) -> Vec<Step> {
+    let (path, drop_last) = match cex {
+        RefinementCex::Trace { path, .. } => (path, true),
+        RefinementCex::Refusal { path, .. } | RefinementCex::Divergence { path, .. } => (path, false),
+    };
+    let mut trace: Vec<crate::lts::Event> = path.steps.iter().map(|(l, _)| l.event).filter(|&e| e != TAU).collect();
+    if drop_last {
+        trace.pop();
+    }
+    let limit = budget.max_states.min(200_000) as usize;
+    let start = spec.initial();
+    // (state, events of the trace done) → how it was reached.
+    type Node = (Packed, usize);
+    let mut parent: std::collections::HashMap<Node, Option<(Node, Label)>> = std::collections::HashMap::new();
+    parent.insert((start.clone(), 0), None);
+    let mut queue = std::collections::VecDeque::from([(start, 0usize)]);
+    let mut found = None;
+    let mut succ = Vec::new();
+    while let Some((st, k)) = queue.pop_front() {
+        if k == trace.len() {
+            found = Some((st, k));
+            break;
+        }
+        if parent.len() > limit {
+            return Vec::new();
+        }
+        succ.clear();
+        spec.successors(&st, &mut succ);
+        for (label, next) in succ.drain(..) {
+            let k2 = if label.event == TAU {
+                k
+            } else if label.event == trace[k] {
+                k + 1
+            } else {
+                continue;
+            };
+            let key = (next, k2);
+            if !parent.contains_key(&key) {
+                parent.insert(key.clone(), Some(((st.clone(), k), label)));
+                queue.push_back(key);
+            }
+        }
+    }
+    let Some(mut at) = found else { return Vec::new() };
+    let mut steps = Vec::new();
+    while let Some(Some((prev, label))) = parent.get(&at) {
+        steps.push((*label, at.0.clone()));
+        at = prev.clone();
+    }
+    steps.reverse();
+    let packed = Path { initial: at.0, steps };
+    sim_steps(spec, design, &values_path(&packed, |p| spec.values(p)))
 }
 
 /// The steps of a path of any LTS over a design's state vector.
@@ -802,7 +870,9 @@ fn path_steps(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Vec
 /// Which machine moved between `prev` and `next`, and what it did.
 fn describe_move(design: &Design, prev: &[i32], next: &[i32], _label: &Label) -> (Option<String>, Option<Location>) {
     for m in &design.machines {
-        let ctl = |st: &[i32]| (m.leaf(st), m.pc(st));
+        // The machine's control slots (leaf, pc, wait, transition, deadline):
+        // two transitions can lead to the same leaf and pc (exec ones do).
+        let ctl = |st: &[i32]| st[m.base as usize..(m.base + crate::ir::Machine::SLOTS) as usize].to_vec();
         if ctl(prev) == ctl(next) {
             continue;
         }
@@ -924,7 +994,7 @@ fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<P
         ));
     }
     explanation.extend(saturation_note(&steps));
-    Counterexample { kind: "deadlock", steps, explanation, stuck_at }
+    Counterexample { kind: "deadlock", steps, explanation, stuck_at, specification: Vec::new() }
 }
 
 /// A counterexample grouped by cycle, one line per step: reads, the
@@ -976,6 +1046,21 @@ pub fn counterexample_table(c: &Counterexample, locate: &dyn Fn(&Location) -> St
     flush(&mut lines, &mut tocks);
     lines.extend(c.explanation.iter().map(|e| format!("stuck: {e}")));
     lines.extend(c.stuck_at.iter().map(|l| format!("  --> {}", locate(l))));
+    if !c.specification.is_empty() {
+        lines.push("the specification, on the same trace:".into());
+        let design_only: Vec<&Step> =
+            c.specification.iter().filter(|s| !s.visible && s.description.is_some()).collect();
+        for step in design_only {
+            let mut line = format!("  design {}", step.event);
+            if let Some(d) = &step.description {
+                line.push_str(&format!("  {d}"));
+            }
+            if let Some(l) = &step.location {
+                line.push_str(&format!("  --> {}", locate(l)));
+            }
+            lines.push(line);
+        }
+    }
     let mut s = lines.join("\n");
     s.push('\n');
     s

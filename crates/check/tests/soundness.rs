@@ -266,3 +266,15 @@ fn else_guards() {
     let (r, _) = check(&sim);
     assert_eq!(r.verdict, Verdict::Pass, "{:?}", r.reason);
 }
+
+/// A refinement counterexample also shows what the design does on the same
+/// trace, its hidden steps located in the design's file.
+#[test]
+fn counterexamples_show_the_design_side() {
+    let (r, _) = check(&mutant("Fig.13 extra exec self-loop"));
+    let c = r.counterexample.expect("a counterexample");
+    let call = c.specification.iter().find(|s| s.event == "(moveCall.1.0)").expect("the design's call");
+    assert_eq!(call.location.as_ref().map(|l| l.file.as_str()), Some("design.rct"));
+    // The simulation's steps name the extra transition.
+    assert!(c.steps.iter().any(|s| s.description.as_deref().is_some_and(|d| d.contains("takes tX"))), "{:#?}", c.steps);
+}

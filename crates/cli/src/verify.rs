@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use robosim_check::budget::{Budget, Stats};
 use robosim_check::verify::{
-    counterexample_table, verify_workspace, Counterexample, Location, Options, Profile, Report, Verdict,
+    counterexample_table, verify_workspace, Counterexample, Location, Options, Profile, Report, Step, Verdict,
 };
 use serde_json::{json, Value};
 
@@ -111,19 +111,24 @@ fn json_location(ws: &Workspace, loc: &Location) -> Value {
     }
 }
 
+fn json_step(ws: &Workspace, s: &Step) -> Value {
+    json!({
+        "event": s.event,
+        "visible": s.visible,
+        "cycle": s.cycle,
+        "time": s.time,
+        "description": s.description,
+        "location": s.location.as_ref().map(|l| json_location(ws, l)),
+    })
+}
+
 fn json_counterexample(ws: &Workspace, c: &Counterexample) -> Value {
     json!({
         "kind": c.kind,
-        "steps": c.steps.iter().map(|s| json!({
-            "event": s.event,
-            "visible": s.visible,
-            "cycle": s.cycle,
-            "time": s.time,
-            "description": s.description,
-            "location": s.location.as_ref().map(|l| json_location(ws, l)),
-        })).collect::<Vec<_>>(),
+        "steps": c.steps.iter().map(|s| json_step(ws, s)).collect::<Vec<_>>(),
         "explanation": c.explanation,
         "stuckAt": c.stuck_at.iter().map(|l| json_location(ws, l)).collect::<Vec<_>>(),
+        "specification": c.specification.iter().map(|s| json_step(ws, s)).collect::<Vec<_>>(),
     })
 }
 
