@@ -24,20 +24,57 @@ pub struct DesignLts<'a> {
     error: FirstError,
 }
 
+/// The printed name of a design channel's events.
+fn channel_name(c: &crate::ir::Channel) -> String {
+    match (c.is_call, c.dir) {
+        (true, _) => format!("{}Call", c.name),
+        _ if c.internal => c.name.clone(),
+        (false, Dir::In) => format!("{}.in", c.name),
+        (false, Dir::Out) => format!("{}.out", c.name),
+    }
+}
+
+/// The events of several designs in one table, matched by name (for a
+/// refinement between two designs): a channel's domains are the union of
+/// the designs'.
+pub fn shared_events(designs: &[&Design]) -> Result<EventTable, String> {
+    let mut channels: Vec<(String, Vec<crate::ir::Dom>)> = Vec::new();
+    for d in designs {
+        for c in &d.channels {
+            let name = channel_name(c);
+            match channels.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, params)) if params.len() == c.params.len() => {
+                    for (p, q) in params.iter_mut().zip(&c.params) {
+                        *p = crate::ir::Dom { lo: p.lo.min(q.lo), hi: p.hi.max(q.hi) };
+                    }
+                }
+                Some(_) => return Err(format!("the two sides disagree on the values of `{name}`")),
+                None => channels.push((name, c.params.clone())),
+            }
+        }
+    }
+    let mut events = EventTable::default();
+    for (name, params) in channels {
+        let params = params.into_iter().map(Param::Num).collect();
+        events.add(name, params).map_err(|e| format!("the channel `{}` has too many values", e.0))?;
+    }
+    Ok(events)
+}
+
 impl<'a> DesignLts<'a> {
     /// The design's LTS.
     pub fn new(design: &'a Design) -> Result<DesignLts<'a>, String> {
-        let mut events = EventTable::default();
+        DesignLts::with_events(design, &shared_events(&[design])?)
+    }
+
+    /// The design's LTS, its events numbered by `events` (see
+    /// [`shared_events`]).
+    pub fn with_events(design: &'a Design, events: &EventTable) -> Result<DesignLts<'a>, String> {
+        let events = events.clone();
         let mut group = Vec::new();
         for c in &design.channels {
-            let name = match (c.is_call, c.dir) {
-                (true, _) => format!("{}Call", c.name),
-                _ if c.internal => c.name.clone(),
-                (false, Dir::In) => format!("{}.in", c.name),
-                (false, Dir::Out) => format!("{}.out", c.name),
-            };
-            let params = c.params.iter().map(|&d| Param::Num(d)).collect();
-            group.push(events.add(name, params).map_err(|e| format!("the channel `{}` has too many values", e.0))?);
+            let name = channel_name(c);
+            group.push(events.find(&name).ok_or_else(|| format!("no events for `{name}`"))?);
         }
         let ended = design.slots as usize;
         let mut bounds = design.slot_bounds();

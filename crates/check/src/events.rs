@@ -105,6 +105,11 @@ impl EventTable {
         Some(s)
     }
 
+    /// The channel named `name`.
+    pub fn find(&self, name: &str) -> Option<usize> {
+        self.groups.iter().position(|g| g.name == name)
+    }
+
     /// The channel's description.
     pub fn group(&self, group: usize) -> &Group {
         &self.groups[group]

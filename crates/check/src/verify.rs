@@ -17,7 +17,7 @@ use crate::assertions::{
     read_assertions, AssertionDecl, AssertionFile, AssertionKind, Override, SemanticModelName, Value,
 };
 use crate::budget::{Budget, ProgressFn, Stats};
-use crate::design::{DesignLts, Reach};
+use crate::design::{shared_events, DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_design, ConstValue, DomainDefaults, Unsupported};
 use crate::lts::{Label, Lts, TAU, TOCK};
@@ -430,7 +430,7 @@ fn side<'a>(
         Target::Simulation { .. } => Side::Sim(SimModule::with_profile(design, period, regs, profile)?),
         Target::Design { name, .. } => {
             return Err(format!(
-                "`{name}` is a RoboChart element: refinement is checked between simulations (`simulation S of {name}`) and RoboSim elements so far"
+                "`{name}` is a RoboChart element: it can be compared with another RoboChart element, or as `simulation S of {name}` with a simulation"
             ))
         }
     })
@@ -514,9 +514,23 @@ fn refinement(
         let spec_t = cx.target(other)?;
         let (imp_d, imp_p) = cx.compile(&imp_t, &consts)?;
         let (spec_d, spec_p) = cx.compile(&spec_t, &consts)?;
-        let regs = Registers::new(&[&spec_d, &imp_d], opts.profile)?;
-        let imp = side(&imp_t, &imp_d, imp_p, &regs, opts.profile)?;
-        let spec = side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?;
+        let (imp, spec) = match (&imp_t, &spec_t) {
+            // Two RoboChart designs: their own events, matched by name.
+            (Target::Design { .. }, Target::Design { .. }) => {
+                let events = shared_events(&[&spec_d, &imp_d])?;
+                (
+                    Side::Plain(DesignLts::with_events(&imp_d, &events)?),
+                    Side::Plain(DesignLts::with_events(&spec_d, &events)?),
+                )
+            }
+            _ => {
+                let regs = Registers::new(&[&spec_d, &imp_d], opts.profile)?;
+                (
+                    side(&imp_t, &imp_d, imp_p, &regs, opts.profile)?,
+                    side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?,
+                )
+            }
+        };
         report.notes.push(domains_note(&spec_d));
         report.notes.push(domains_note(&imp_d));
         let mut directions = vec![(&spec, &imp, &spec_d, &imp_d, "")];

@@ -81,3 +81,36 @@ fn failing_properties() {
         "{reports:#?}"
     );
 }
+
+/// Refinement between two RoboChart machines, their events matched by
+/// name: `X refines Y` is `Y ⊑ X` in the failures-divergences model.
+#[test]
+fn refinement_between_designs() {
+    let rct = "interface I { event e event o }
+        stm Spec { uses I initial i state S { } transition t { from i to S }
+          transition a { from S to S trigger e action o } }
+        stm Same { uses I initial i state A { } transition t { from i to A }
+          transition a { from A to A trigger e action o } }
+        stm Eager { uses I initial i state S { } transition t { from i to S }
+          transition a { from S to S trigger e action o } transition b { from S to S action o } }
+        stm Lazy { uses I initial i state S { } transition t { from i to S } }";
+    let asserts = "assertion A : Same refines Spec
+        assertion B : Eager refines Spec
+        assertion C : Lazy refines Spec in the traces model
+        assertion D : Lazy refines Spec";
+    let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
+    let got: Vec<(&str, Verdict, Option<&str>)> =
+        reports.iter().map(|r| (r.name.as_str(), r.verdict, r.counterexample.as_ref().map(|c| c.kind))).collect();
+    assert_eq!(
+        got,
+        vec![
+            ("A", Verdict::Pass, None),
+            // Eager may go for `o` without `e`, refusing `e` meanwhile.
+            ("B", Verdict::Fail, Some("refusal")),
+            // Lazy does less: a traces refinement, not a failures one.
+            ("C", Verdict::Pass, None),
+            ("D", Verdict::Fail, Some("refusal")),
+        ],
+        "{reports:#?}"
+    );
+}
