@@ -279,7 +279,10 @@ impl Machine {
         }
         let mut sat = false;
         let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
-        match &self.code[pc] {
+        let Some(instr) = self.code.get(pc) else {
+            return Err(StepError(format!("machine `{}` ran off its code", self.name)));
+        };
+        match instr {
             Instr::Rest => self.transition_moves(st, out)?,
             Instr::Junction(j) => {
                 for &t in &self.nodes[*j as usize].out {
