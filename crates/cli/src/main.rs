@@ -1,5 +1,6 @@
 //! The `robosim` command.
 
+mod csp;
 mod diagnostics;
 mod diagram;
 mod fmt;
@@ -105,6 +106,20 @@ enum Command {
         #[arg(required = true)]
         paths: Vec<PathBuf>,
     },
+    /// Export the workspace's tock-CSP semantics as CSPm files for FDR, with
+    /// the assertions of its .rsa and .assertions files: one file each in
+    /// `-o DIR`, or all on stdout.
+    Csp {
+        /// The semantics: what RoboTool 3 generates, or the 2019 paper's.
+        #[arg(long, value_enum, default_value_t = Semantics::Robotool3)]
+        semantics: Semantics,
+        /// Write the files into this folder (created if needed).
+        #[arg(short = 'o', long = "out")]
+        out: Option<PathBuf>,
+        /// Model files or folders: the whole workspace.
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+    },
     /// Run the language server (LSP over stdin/stdout).
     Lsp,
 }
@@ -168,6 +183,14 @@ fn main() -> ExitCode {
             },
             dir: out,
             element,
+            paths,
+        }),
+        Command::Csp { semantics, out, paths } => csp::run(csp::Args {
+            profile: match semantics {
+                Semantics::Robotool3 => robosim_semantics::Profile::RoboTool3,
+                Semantics::Paper2019 => robosim_semantics::Profile::Paper2019,
+            },
+            out,
             paths,
         }),
         Command::Lsp => robosim_lsp::run_stdio(),

@@ -13,6 +13,7 @@
 //! UTF-16 columns is the caller's business ([`LineIndex`] does it).
 
 mod completion;
+mod csp_hover;
 mod diagnostics;
 mod edit;
 mod fixes;

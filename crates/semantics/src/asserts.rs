@@ -1,0 +1,401 @@
+//! An assertion file (`.rsa`, `.assertions`) as FDR assertions: its `csp`
+//! blocks (copied), its simulations (see `sim`) and one `assert` per
+//! assertion, with the constants and periods of its `with …` clause passed
+//! to the processes.
+
+use std::collections::HashMap;
+
+use robosim_check::assertions::{
+    AssertionDecl, AssertionFile, AssertionKind, CspLineKind, Override, SemanticModelName, Value,
+};
+use robosim_hir::defs::DefKind;
+use robosim_hir::File;
+use robosim_syntax::TextRange;
+
+use crate::cspm::{call, hide, name, Assert, AssertKind, Decl, Expr, Model};
+use crate::export::{Elem, Exporter};
+use crate::util::{self, ident};
+
+/// A subject of an assertion: a process to call, with its parameters.
+#[derive(Clone)]
+struct Subject {
+    /// The CSPm module (or the raw process name of a `csp` block).
+    module: String,
+    /// The element (none for `csp` blocks).
+    elem: Option<std::rc::Rc<Elem>>,
+    /// Whether it is a simulation (`S::D__`, `S::TLF`).
+    simulation: bool,
+    /// Default period (RoboSim elements and simulations).
+    period: Option<i64>,
+    /// The model names it can be called by in `cycleDef of X`.
+    names: Vec<Vec<String>>,
+}
+
+pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &AssertionFile) -> Vec<Decl> {
+    let mut out = Vec::new();
+    // `csp` blocks, copied; what the export already defines is commented
+    // out (constant values are applied to instantiations.csp).
+    let text = file.text(ex.db).clone();
+    let mut raw_names = Vec::new();
+    let ours = generated_names(ex);
+    for b in &read.csp_blocks {
+        let Some(tr) = b.text_range else { continue };
+        let body = &text[usize::from(tr.start())..usize::from(tr.end())];
+        let mut lines = Vec::new();
+        let mut offset = usize::from(tr.start());
+        for l in body.split_inclusive('\n') {
+            let lr = TextRange::new((offset as u32).into(), ((offset + l.len()) as u32).into());
+            offset += l.len();
+            let kind = b.lines.iter().find(|x| lr.contains_range(x.range)).map(|x| x.kind);
+            let l = l.trim_end_matches(['\n', '\r']);
+            let defined = crate::lint::raw_defined(l);
+            let clash: Vec<&String> =
+                defined.iter().filter(|n| ours.contains(n.as_str()) || ex.const_names.contains(*n)).collect();
+            if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) {
+                lines.push(format!("-- (in instantiations.csp or robosim_defs.csp) {}", l.trim()));
+            } else if let Some(n) = clash.first() {
+                let n = n.to_string();
+                let value = read.instantiations.constants.iter().find(|(c, _, r)| *c == n && lr.contains_range(*r));
+                match value.map(|(_, v, _)| v) {
+                    Some(Value::Int(v)) if ex.const_names.contains(&n) => {
+                        ex.set_constant(&n, Expr::Int(*v), format!("set by `csp {}` in {}", b.name, ex.loc(file, lr)));
+                        lines.push(format!("-- (set in instantiations.csp) {}", l.trim()));
+                    }
+                    Some(Value::Bool(v)) if ex.const_names.contains(&n) => {
+                        ex.set_constant(&n, Expr::Bool(*v), format!("set by `csp {}` in {}", b.name, ex.loc(file, lr)));
+                        lines.push(format!("-- (set in instantiations.csp) {}", l.trim()));
+                    }
+                    _ => {
+                        ex.warn(
+                            file,
+                            lr,
+                            format!("this definition of `{n}` in `csp {}` is not used: the export defines `{n}` (edit instantiations.csp)", b.name),
+                        );
+                        lines.push(format!("-- NOT USED (the export defines `{n}`): {}", l.trim()));
+                    }
+                }
+            } else {
+                lines.push(l.to_string());
+            }
+        }
+        let joined = lines.join("\n");
+        raw_names.push(b.name.clone());
+        out.push(Decl::Comment(format!(
+            "{}csp {} (copied from {}; it may use names of RoboTool's generated CSP)",
+            if b.timed { "timed " } else { "" },
+            b.name,
+            ex.loc(file, b.range)
+        )));
+        out.push(Decl::Raw(joined.trim_matches('\n').to_string(), b.name.clone()));
+        out.push(Decl::Blank);
+    }
+    // Simulations.
+    let mut sims: HashMap<String, Subject> = HashMap::new();
+    for s in &read.simulations {
+        if s.name.is_empty() || s.of.is_empty() {
+            continue;
+        }
+        let accept: fn(DefKind) -> bool =
+            |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
+        let Some((f, node)) = util::resolve(ex.db, ex.ws, file, &s.of, accept) else {
+            let msg = format!("simulation {}: `{}` could not be resolved", s.name, s.of.join("::"));
+            ex.warn(file, s.of_range, msg.clone());
+            out.push(Decl::Comment(format!("NOT EXPORTED: {msg}")));
+            continue;
+        };
+        let Some(elem) = crate::compose::element(ex, f, &node) else {
+            let msg = format!("simulation {}: `{}` is not exported", s.name, s.of.join("::"));
+            ex.warn(file, s.of_range, msg.clone());
+            out.push(Decl::Comment(format!("NOT EXPORTED: {msg}")));
+            continue;
+        };
+        let module = ex.module_name(std::slice::from_ref(&s.name));
+        match crate::sim::simulation(ex, &module, &s.name, &elem) {
+            Ok(d) => {
+                out.extend(d);
+                let period = s.cycle.as_ref().and_then(Value::as_int);
+                sims.insert(
+                    s.name.clone(),
+                    Subject {
+                        module,
+                        elem: Some(elem),
+                        simulation: true,
+                        period: Some(period.unwrap_or(1)),
+                        names: vec![vec![s.name.clone()]],
+                    },
+                );
+            }
+            Err(m) => {
+                let msg = format!("simulation {}: {m}", s.name);
+                ex.warn(file, s.range, msg.clone());
+                out.push(Decl::Comment(format!("NOT EXPORTED: {msg}")));
+            }
+        }
+    }
+    // Assertions.
+    for a in &read.assertions {
+        out.push(Decl::Comment(a.text.clone()));
+        match assertion(ex, file, a, &sims, &raw_names) {
+            Ok(asserts) => out.extend(asserts.into_iter().map(Decl::Assert)),
+            Err(m) => {
+                ex.warn(file, a.range, format!("assertion {} is not exported: {m}", a.name));
+                out.push(Decl::Comment(format!("NOT EXPORTED: {m}")));
+            }
+        }
+        out.push(Decl::Blank);
+    }
+    out
+}
+
+/// The subject named `path` in an assertion of `file`.
+fn subject(
+    ex: &mut Exporter<'_>,
+    file: File,
+    path: &[String],
+    sims: &HashMap<String, Subject>,
+    raw: &[String],
+) -> Result<Subject, String> {
+    if path.len() == 1 {
+        if let Some(s) = sims.get(&path[0]) {
+            return Ok(s.clone());
+        }
+        if raw.contains(&path[0]) {
+            return Ok(Subject { module: path[0].clone(), elem: None, simulation: false, period: None, names: vec![] });
+        }
+    }
+    let accept: fn(DefKind) -> bool = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
+    let Some((f, node)) = util::resolve(ex.db, ex.ws, file, path, accept) else {
+        return Err(format!("`{}` could not be resolved", path.join("::")));
+    };
+    let Some(elem) = crate::compose::element(ex, f, &node) else {
+        return Err(format!("`{}` is not exported", path.join("::")));
+    };
+    let period = elem.robosim.then_some(elem.period);
+    Ok(Subject {
+        module: elem.module.clone(),
+        elem: Some(elem.clone()),
+        simulation: false,
+        period,
+        names: vec![path.to_vec(), elem.path.clone()],
+    })
+}
+
+fn value(v: &Value) -> Result<Expr, String> {
+    match v {
+        Value::Int(n) => Ok(Expr::Int(*n)),
+        Value::Bool(b) => Ok(Expr::Bool(*b)),
+        Value::Other(t) => Err(format!("the value `{t}` is not supported by the export (integers and booleans are)")),
+    }
+}
+
+/// The call of `process` (`D__`, `TLF`, `VS__`) of a subject with the
+/// assertion's overrides.
+fn process(ex: &mut Exporter<'_>, file: File, a: &AssertionDecl, s: &Subject, process: &str) -> Result<Expr, String> {
+    let Some(elem) = &s.elem else { return Ok(name(s.module.clone())) };
+    let mut args = vec![Expr::Int(0)];
+    if s.simulation || elem.robosim {
+        let mut period = s.period.unwrap_or(1);
+        for o in &a.overrides {
+            if let Override::CycleDef { of, value: v, .. } = o {
+                let named = s.names.iter().any(|n| n == of || n.ends_with(of));
+                if named {
+                    period = v.as_int().ok_or_else(|| "the period must be an integer".to_string())?;
+                }
+            }
+        }
+        args.push(Expr::Int(period));
+    }
+    // Constants: the override whose element is the constant's machine.
+    let mut owners: HashMap<Vec<String>, Vec<String>> = HashMap::new();
+    for o in &a.overrides {
+        if let Override::Constant { of, .. } = o {
+            if owners.contains_key(of) {
+                continue;
+            }
+            let accept: fn(DefKind) -> bool =
+                |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine | DefKind::Interface);
+            if let Some((f, node)) = util::resolve(ex.db, ex.ws, file, of, accept) {
+                owners.insert(of.clone(), ex.path_of_node(f, &node));
+            }
+        }
+    }
+    for c in &elem.consts {
+        let mut arg = name(c.global.clone());
+        for o in &a.overrides {
+            if let Override::Constant { name: n, of, value: v, .. } = o {
+                let owner = owners.get(of).cloned().unwrap_or_else(|| of.clone());
+                if *n == c.name && (owner == c.owner || c.owner.ends_with(of)) {
+                    arg = value(v)?;
+                }
+            }
+        }
+        args.push(arg);
+    }
+    Ok(call(format!("{}::{process}", s.module), args))
+}
+
+fn model(m: SemanticModelName) -> Result<Model, String> {
+    match m {
+        SemanticModelName::Traces => Ok(Model::Traces),
+        SemanticModelName::Failures => Ok(Model::Failures),
+        SemanticModelName::FailuresDivergences | SemanticModelName::Default => Ok(Model::FailuresDivergences),
+        SemanticModelName::TickTock => {
+            Err("the tick-tock model needs RoboTool's tick-tock.csp encoding, which the export does not generate yet"
+                .into())
+        }
+    }
+}
+
+fn tau_priority() -> Option<Expr> {
+    Some(Expr::Set(vec![name("tock")]))
+}
+
+fn assertion(
+    ex: &mut Exporter<'_>,
+    file: File,
+    a: &AssertionDecl,
+    sims: &HashMap<String, Subject>,
+    raw: &[String],
+) -> Result<Vec<Assert>, String> {
+    if a.timed == Some(false) {
+        return Err("untimed assertions need RoboTool's untimed semantics, which the export does not generate".into());
+    }
+    if let Some(p) = a.problems.first() {
+        return Err(p.message.clone());
+    }
+    let one = |kind| Ok(vec![Assert { negated: a.negated, kind, tau_priority: None }]);
+    match &a.kind {
+        AssertionKind::Schedulable => {
+            let s = subject(ex, file, &a.subject, sims, raw)?;
+            if !s.simulation {
+                return Err(format!("`{}` is not a simulation: only simulations are (not) schedulable", a.subject.join("::")));
+            }
+            let p = process(ex, file, a, &s, "TLF")?;
+            Ok(vec![Assert { negated: a.negated, kind: AssertKind::DeadlockFree(p, Model::Failures), tau_priority: tau_priority() }])
+        }
+        AssertionKind::DeadlockFree => {
+            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let p = process(ex, file, a, &s, "D__")?;
+            // Timed deadlock (semantics.md §7.4): a state from which only
+            // time passes, forever.
+            let renamed = Expr::Rename(
+                Box::new(p),
+                vec![(name("tock"), name("tock")), (name("tock"), name("tock'"))],
+                vec![],
+            );
+            let prio = call(
+                "prioritise",
+                vec![
+                    renamed,
+                    Expr::SeqLit(vec![
+                        call("diff", vec![name("Events"), Expr::Set(vec![name("tock"), name("tock'")])]),
+                        Expr::Set(vec![name("tock")]),
+                    ]),
+                ],
+            );
+            one(AssertKind::DivergenceFree(hide(prio, Expr::Set(vec![name("tock")])), Model::FailuresDivergences))
+        }
+        AssertionKind::DivergenceFree => {
+            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let p = process(ex, file, a, &s, "D__")?;
+            one(AssertKind::DivergenceFree(p, Model::FailuresDivergences))
+        }
+        AssertionKind::Deterministic => {
+            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let p = process(ex, file, a, &s, "D__")?;
+            one(AssertKind::Deterministic(p, Model::FailuresDivergences))
+        }
+        AssertionKind::TimelockFree => {
+            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let p = process(ex, file, a, &s, "D__")?;
+            // Time can always pass eventually: with everything but `tock`
+            // hidden, `tock` is never refused (and no Zeno divergence).
+            let tocks = call("RUN", vec![Expr::Set(vec![name("tock")])]);
+            let p = hide(
+                crate::cspm::seq(vec![p, tocks.clone()]),
+                call("diff", vec![name("Events"), Expr::Set(vec![name("tock")])]),
+            );
+            one(AssertKind::Refines(Model::FailuresDivergences, tocks, p))
+        }
+        AssertionKind::Terminates => {
+            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let p = process(ex, file, a, &s, "D__")?;
+            one(AssertKind::Refines(Model::FailuresDivergences, Expr::Skip, hide(p, name("Events"))))
+        }
+        AssertionKind::Refines { other, model: m, .. } | AssertionKind::Equals { other, model: m, .. } => {
+            let m = model(*m)?;
+            let x = subject(ex, file, &a.subject, sims, raw)?;
+            let y = subject(ex, file, other, sims, raw)?;
+            let px = process(ex, file, a, &x, "D__")?;
+            let py = process(ex, file, a, &y, "D__")?;
+            let timed = [&x, &y].iter().any(|s| s.simulation || s.elem.as_ref().is_some_and(|e| e.robosim));
+            let tp = if timed { tau_priority() } else { None };
+            let mut v = vec![Assert { negated: a.negated, kind: AssertKind::Refines(m, py.clone(), px.clone()), tau_priority: tp.clone() }];
+            if matches!(a.kind, AssertionKind::Equals { .. }) {
+                if a.negated {
+                    return Err("`is not equal to` is a disjunction of two refinements, which FDR cannot assert at once".into());
+                }
+                v.push(Assert { negated: false, kind: AssertKind::Refines(m, px, py), tau_priority: tp });
+            }
+            Ok(v)
+        }
+        AssertionKind::Reachable { state, machine, .. } => {
+            let s = subject(ex, file, machine, sims, raw)?;
+            let Some(elem) = s.elem.clone() else { return Err("reachability needs a state machine".into()) };
+            if elem.kind != crate::export::ElemKind::Machine {
+                return Err("reachability in controllers and modules is not exported yet (only in state machines)".into());
+            }
+            let mname = elem.path.last().cloned().unwrap_or_default();
+            let pos = state.iter().position(|x| *x == mname).map(|i| i + 1).unwrap_or(0);
+            let states = &state[pos..];
+            if states.is_empty() {
+                return Err("the state is missing".into());
+            }
+            let tag = states.iter().map(|x| ident(x)).collect::<Vec<_>>().join("_");
+            let p = process(ex, file, a, &s, "VS__")?;
+            let ev = crate::cspm::dot(vec![
+                name(format!("{}::entered__", elem.module)),
+                name(format!("{}::SID_{tag}", elem.module)),
+            ]);
+            let only = hide(p, call("diff", vec![name("Events"), Expr::Set(vec![ev])]));
+            // Reachable iff the entry can happen: STOP does not trace-refine it.
+            Ok(vec![Assert { negated: !a.negated, kind: AssertKind::Refines(Model::Traces, Expr::Stop, only), tau_priority: None }])
+        }
+        AssertionKind::ClockInitialised { .. } => {
+            Err("clock initialisation checks need RoboTool's instrumented semantics, which the export does not generate yet".into())
+        }
+        AssertionKind::Other(t) => Err(format!("the assertion `{t}` could not be read")),
+    }
+}
+
+/// Names the export defines in the shared files and as modules.
+fn generated_names(ex: &Exporter<'_>) -> std::collections::HashSet<String> {
+    let mut s: std::collections::HashSet<String> = [
+        "core_nat",
+        "core_int",
+        "core_real",
+        "core_boolean",
+        "core_clock_type",
+        "core_clock_max",
+        "InOut",
+        "in",
+        "out",
+        "tock",
+        "tock'",
+        "terminate",
+        "timelock",
+        "deadline_done__",
+        "InputRegister",
+        "OutputRegister",
+        "registerRead",
+        "registerWrite",
+    ]
+    .iter()
+    .map(|x| x.to_string())
+    .collect();
+    s.extend(crate::defs::SHARED_PROCESSES.iter().map(|x| x.to_string()));
+    s.extend(ex.module_names.iter().cloned());
+    s.extend(ex.in_regs.keys().cloned());
+    s.extend(ex.out_regs.keys().cloned());
+    s
+}

@@ -1,0 +1,272 @@
+//! The two shared files: `robosim_defs.csp` (time, helper processes,
+//! sticky arithmetic, registers) and `instantiations.csp` (the bounded
+//! types and the constants' default values).
+
+use crate::cspm::{bin, call, ext, guard, hide, name, par, prefix, seq, BinOp, Decl, Expr, ReplOp};
+use crate::export::{Exporter, OutFile};
+
+/// Names the shared file defines (for the structural checker).
+pub const SHARED_PROCESSES: &[&str] = &[
+    "TimedPriority",
+    "TStop",
+    "Wait",
+    "WaitInterval",
+    "EDeadline",
+    "Delayable",
+    "EndBy",
+    "EndByTimer__",
+    "Plus",
+    "Minus",
+    "Mult",
+    "Div",
+    "Modulus",
+    "Neg",
+    "Max__",
+    "Min__",
+    "ClockTick",
+];
+
+fn def(n: &str, params: &[&str], body: Expr) -> Decl {
+    Decl::Def(n.into(), params.iter().map(|s| s.to_string()).collect(), body)
+}
+
+fn n(s: &str) -> Expr {
+    name(s)
+}
+
+fn sticky(op: BinOp) -> Expr {
+    let r = bin(op, n("e1"), n("e2"));
+    Expr::If(Box::new(call("member", vec![r.clone(), n("T")])), Box::new(r), Box::new(n("e1")))
+}
+
+pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
+    let mut d = vec![
+        Decl::Comment("Time: `tock` marks one time unit; `tock'` is its copy in timed deadlock checks.".into()),
+        Decl::Channel(vec!["tock".into(), "tock'".into()], vec![]),
+        Decl::Comment(
+            "`terminate` ends RoboSim cycles and the simulation assumptions together; `timelock` marks\n\
+             the escape of a design that can do neither an output nor `tock` (schedulability checks)."
+                .into(),
+        ),
+        Decl::Channel(vec!["terminate".into(), "timelock".into()], vec![]),
+        Decl::Channel(vec!["deadline_done__".into()], vec![]),
+        Decl::Comment("Directions of RoboChart events.".into()),
+        Decl::Datatype("InOut".into(), vec![("in".into(), vec![]), ("out".into(), vec![])]),
+        Decl::Transparent(vec!["sbisim".into()]),
+        Decl::Blank,
+    ];
+    // Registers.
+    let regs = |m: &std::collections::BTreeMap<String, Vec<Expr>>, input: bool| -> Vec<(String, Vec<Expr>)> {
+        m.iter()
+            .map(|(c, vals)| {
+                let mut f = Vec::new();
+                // Inputs carry a presence flag; paper2019 outputs carry one too.
+                if input || ex.profile == crate::Profile::Paper2019 {
+                    f.push(n("Bool"));
+                }
+                f.extend(vals.iter().cloned());
+                (c.clone(), f)
+            })
+            .collect()
+    };
+    if !ex.in_regs.is_empty() || !ex.out_regs.is_empty() {
+        d.push(Decl::Comment(
+            "Sensor and actuator registers of the RoboSim modules and of the simulations (matched by name).".into(),
+        ));
+    }
+    if !ex.in_regs.is_empty() {
+        d.push(Decl::Datatype("InputRegister".into(), regs(&ex.in_regs, true)));
+        d.push(Decl::Channel(vec!["registerRead".into()], vec![n("InputRegister")]));
+    }
+    if !ex.out_regs.is_empty() {
+        d.push(Decl::Datatype("OutputRegister".into(), regs(&ex.out_regs, false)));
+        d.push(Decl::Channel(vec!["registerWrite".into()], vec![n("OutputRegister")]));
+    }
+    d.push(Decl::Blank);
+    d.push(Decl::Comment("Maximal progress: internal events happen before time passes.".into()));
+    d.push(def(
+        "TimedPriority",
+        &["P"],
+        call("prioritise", vec![n("P"), Expr::SeqLit(vec![Expr::Set(vec![]), Expr::Set(vec![n("tock")])])]),
+    ));
+    d.push(Decl::Comment("Only time passes.".into()));
+    d.push(def("TStop", &[], prefix("tock", vec![], n("TStop"))));
+    d.push(Decl::Comment("Exactly n time units.".into()));
+    d.push(def(
+        "Wait",
+        &["n"],
+        Expr::If(
+            Box::new(bin(BinOp::Le, n("n"), Expr::Int(0))),
+            Box::new(Expr::Skip),
+            Box::new(prefix("tock", vec![], call("Wait", vec![bin(BinOp::Sub, n("n"), Expr::Int(1))]))),
+        ),
+    ));
+    d.push(Decl::Comment("wait([a, b]): an internal choice, made at once, of a duration in S.".into()));
+    d.push(def(
+        "WaitInterval",
+        &["S"],
+        Expr::Repl(ReplOp::IntChoice, vec![("n".into(), n("S"))], Box::new(call("Wait", vec![n("n")]))),
+    ));
+    d.push(Decl::Comment("The event e within d time units (urgent when d is 0), then SKIP.".into()));
+    d.push(def(
+        "EDeadline",
+        &["e", "d"],
+        ext(vec![
+            prefix("e", vec![], Expr::Skip),
+            guard(
+                bin(BinOp::Gt, n("d"), Expr::Int(0)),
+                prefix("tock", vec![], call("EDeadline", vec![n("e"), bin(BinOp::Sub, n("d"), Expr::Int(1))])),
+            ),
+        ]),
+    ));
+    d.push(Decl::Comment("The event e whenever the environment offers it; time may pass meanwhile.".into()));
+    d.push(def(
+        "Delayable",
+        &["e"],
+        ext(vec![prefix("e", vec![], Expr::Skip), prefix("tock", vec![], call("Delayable", vec![n("e")]))]),
+    ));
+    d.push(Decl::Comment("P must terminate within d time units (the statement deadline `P <{d}`).".into()));
+    d.push(def(
+        "EndBy",
+        &["P", "d"],
+        hide(
+            par(
+                seq(vec![n("P"), prefix("deadline_done__", vec![], Expr::Skip)]),
+                Expr::Set(vec![n("tock"), n("deadline_done__")]),
+                call("EndByTimer__", vec![n("d")]),
+            ),
+            Expr::Set(vec![n("deadline_done__")]),
+        ),
+    ));
+    d.push(def(
+        "EndByTimer__",
+        &["d"],
+        ext(vec![
+            prefix("deadline_done__", vec![], Expr::Skip),
+            guard(
+                bin(BinOp::Gt, n("d"), Expr::Int(0)),
+                prefix("tock", vec![], call("EndByTimer__", vec![bin(BinOp::Sub, n("d"), Expr::Int(1))])),
+            ),
+        ]),
+    ));
+    d.push(Decl::Blank);
+    d.push(Decl::Comment(
+        "RoboTool's arithmetic on the bounded types: a result outside the type T keeps the left operand.".into(),
+    ));
+    for (f, op) in [
+        ("Plus", BinOp::Add),
+        ("Minus", BinOp::Sub),
+        ("Mult", BinOp::Mul),
+        ("Div", BinOp::Div),
+        ("Modulus", BinOp::Mod),
+    ] {
+        d.push(def(f, &["e1", "e2", "T"], sticky(op)));
+    }
+    d.push(def(
+        "Neg",
+        &["e1", "T"],
+        Expr::If(
+            Box::new(call("member", vec![Expr::Neg(Box::new(n("e1"))), n("T")])),
+            Box::new(Expr::Neg(Box::new(n("e1")))),
+            Box::new(n("e1")),
+        ),
+    ));
+    d.push(def(
+        "Max__",
+        &["a", "b"],
+        Expr::If(Box::new(bin(BinOp::Gt, n("a"), n("b"))), Box::new(n("a")), Box::new(n("b"))),
+    ));
+    d.push(def(
+        "Min__",
+        &["a", "b"],
+        Expr::If(Box::new(bin(BinOp::Lt, n("a"), n("b"))), Box::new(n("a")), Box::new(n("b"))),
+    ));
+    d.push(Decl::Comment("Clocks count time units and stop at their bound m.".into()));
+    d.push(def(
+        "ClockTick",
+        &["c", "m"],
+        Expr::If(
+            Box::new(bin(BinOp::Lt, n("c"), n("m"))),
+            Box::new(bin(BinOp::Add, n("c"), Expr::Int(1))),
+            Box::new(n("c")),
+        ),
+    ));
+    OutFile {
+        name: "robosim_defs.csp".into(),
+        title: "Shared definitions: time, helper processes, sticky arithmetic and registers".into(),
+        decls: d,
+    }
+}
+
+pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
+    let mut d = vec![Decl::Comment(
+        "Bounded types (semantics.md §3): RoboTool's defaults {0..2}, {-2..2}, {-2..2}, widened to the\n\
+         integer literals of the models and of the assertions' constant values, unless a `csp` block\n\
+         of an assertion file fixes them."
+            .into(),
+    )];
+    let lits = &ex.literals;
+    let widen = |lo: i64, hi: i64, nat: bool| -> (i64, i64) {
+        let mut r = (lo, hi);
+        for &v in lits {
+            if nat && v < 0 {
+                continue;
+            }
+            r.0 = r.0.min(v);
+            r.1 = r.1.max(v);
+        }
+        r
+    };
+    let mut fixed_note = Vec::new();
+    for (t, lo, hi, nat) in [("nat", 0, 2, true), ("int", -2, 2, false), ("real", -2, 2, false)] {
+        let (lo, hi) = match ex.fixed_types.get(t) {
+            Some(&(a, b)) => {
+                fixed_note.push(format!("core_{t}"));
+                (a, b)
+            }
+            None => widen(lo, hi, nat),
+        };
+        d.push(Decl::Nametype(format!("core_{t}"), Expr::Range(Box::new(Expr::Int(lo)), Box::new(Expr::Int(hi)))));
+    }
+    if !fixed_note.is_empty() {
+        d.push(Decl::Comment(format!("{} as set by a `csp` block of an assertion file.", fixed_note.join(", "))));
+    }
+    d.push(Decl::Nametype("core_boolean".into(), n("Bool")));
+    let clock_max = ex.fixed_types.get("clock_type").map(|&(_, hi)| hi).unwrap_or(10);
+    d.push(Decl::Comment(
+        "Clocks stop one above the greatest value they are compared with, and at most at core_clock_max + 1.".into(),
+    ));
+    d.push(Decl::Def("core_clock_max".into(), vec![], Expr::Int(clock_max)));
+    d.push(Decl::Nametype(
+        "core_clock_type".into(),
+        Expr::Range(Box::new(Expr::Int(0)), Box::new(bin(BinOp::Add, n("core_clock_max"), Expr::Int(1)))),
+    ));
+    let mut abstracts: Vec<&String> = ex.abstract_types.values().collect();
+    abstracts.sort();
+    if !abstracts.is_empty() {
+        d.push(Decl::Blank);
+        d.push(Decl::Comment("Primitive types declared in the models (`type T`): two values unless set here.".into()));
+        for a in abstracts {
+            d.push(Decl::Nametype(a.clone(), Expr::Range(Box::new(Expr::Int(0)), Box::new(Expr::Int(1)))));
+        }
+    }
+    if !ex.constants.is_empty() {
+        d.push(Decl::Blank);
+        d.push(Decl::Comment(
+            "Constants: the model's value, or a default; assertions pass other values to the processes\n\
+             (`with constant k of M set to v`)."
+                .into(),
+        ));
+        for (c, v, comment) in &ex.constants {
+            if !comment.is_empty() {
+                d.push(Decl::Comment(comment.clone()));
+            }
+            d.push(Decl::Def(c.clone(), vec![], v.clone()));
+        }
+    }
+    OutFile {
+        name: "instantiations.csp".into(),
+        title: "Instantiations: bounded types and constant values".into(),
+        decls: d,
+    }
+}

@@ -1,0 +1,215 @@
+//! tock-CSP terms for hovers: on a state machine, controller or module
+//! name, a transition, an `exec`, a RoboSim output or a platform call, the
+//! CSP term the export generates for it and a one-line reading in English.
+
+use robosim_hir::{parse, Db, File, Workspace};
+use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
+
+use crate::cspm::{print_expr, Decl, Expr};
+use crate::export::{Exporter, Profile};
+use crate::machine::{Gen, Term, TermKind};
+use crate::util::{self, name_of, name_range};
+
+/// A term for a hover.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct HoverTerm {
+    /// What the term is about (the name, the `exec`, the statement).
+    pub range: TextRange,
+    /// The CSPm term.
+    pub term: String,
+    /// Its reading, in English (Markdown).
+    pub reading: String,
+}
+
+const WIDTH: usize = 80;
+
+/// The term of the construct at `offset` of `file`, if it has one.
+pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Option<HoverTerm> {
+    if !matches!(file.kind(db), FileKind::RoboChart | FileKind::RoboSim) {
+        return None;
+    }
+    let root = parse(db, file).syntax_node();
+    // The token under the cursor, or the one it ends (`Mower|`).
+    let at = root.token_at_offset(offset);
+    let token = match (at.clone().left_biased(), at.right_biased()) {
+        (Some(l), Some(r)) if r.kind().is_trivia() || !matches!(r.kind(), IDENT | EXEC_KW | DOLLAR) => {
+            if matches!(l.kind(), IDENT | EXEC_KW) {
+                l
+            } else {
+                r
+            }
+        }
+        (l, r) => r.or(l)?,
+    };
+    let node = token.parent()?;
+    // On the name of a machine, controller or module: its process.
+    if node.kind() == NAME {
+        let decl = node.parent()?;
+        if matches!(decl.kind(), STATE_MACHINE | CONTROLLER | MODULE) {
+            return element_term(db, ws, file, &decl);
+        }
+    }
+    let machine = node.ancestors().find(|n| n.kind() == STATE_MACHINE)?;
+    let mut ex = Exporter::new(db, ws, Profile::RoboTool3);
+    let path = ex.path_of_node(file, &machine);
+    let module = util::qualified(&path);
+    let out = Gen::new(&mut ex, file, &machine, true).run(module, path).ok()?;
+    // The most specific term around the offset: statements and `exec`
+    // before transitions (whose range is their name).
+    let best = out
+        .terms
+        .iter()
+        .filter(|t| t.range.contains_inclusive(offset))
+        .min_by_key(|t| (t.range.len(), t.kind == TermKind::Transition))?;
+    let reading = reading(best, file.kind(db) == FileKind::RoboSim);
+    Some(HoverTerm { range: best.range, term: print_expr(&best.expr, WIDTH), reading })
+}
+
+fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: &SyntaxNode) -> Option<HoverTerm> {
+    let mut ex = Exporter::new(db, ws, Profile::RoboTool3);
+    let robosim = file.kind(db) == FileKind::RoboSim;
+    let elem = crate::compose::element(&mut ex, file, decl)?;
+    let decls = ex.out.remove(&file).unwrap_or_default();
+    // The definitions of the element's module.
+    let module = decls.iter().find_map(|d| match d {
+        Decl::Module(n, private, exports) if *n == elem.module => Some((private.clone(), exports.clone())),
+        _ => None,
+    })?;
+    let find = |n: &str| {
+        module.0.iter().chain(module.1.iter()).find_map(|d| match d {
+            Decl::Def(x, params, body) if x == n => Some((params.clone(), body.clone())),
+            _ => None,
+        })
+    };
+    let (params, body) = find("D__")?;
+    let mut term = format!("{}::D__({})", elem.module, params.join(", "));
+    let shown = match (elem.kind, find("P__")) {
+        // A machine: what its `let` composes.
+        (crate::export::ElemKind::Machine, Some((_, Expr::Let(_, within)))) => {
+            term.push_str(&format!(
+                "\n  -- P__ with `entered__` hidden, where P__ = let … within\n{}",
+                indent(&print_expr(&abbreviate(&within), WIDTH - 4))
+            ));
+            None
+        }
+        (_, Some((_, p))) if robosim => Some(p),
+        _ => Some(body),
+    };
+    if let Some(b) = shown {
+        term.push_str(" =\n");
+        term.push_str(&indent(&print_expr(&abbreviate(&b), WIDTH - 4)));
+    }
+    let what = name_of(decl);
+    let reading = match (elem.kind, robosim) {
+        (crate::export::ElemKind::Machine, false) => format!(
+            "The machine `{what}`: its states are processes (`Enter__S` runs the entry action, `Rest__S` offers the transitions while time passes) in parallel with its memory (`Memory__`: variables, clocks, and the guards, which enable each transition's trigger); internal events are hidden and happen before time passes (`TimedPriority`)."
+        ),
+        (crate::export::ElemKind::Machine, true) => format!(
+            "The machine `{what}` (paper Rules 3–7, 13): its behaviour, its memory (inputs, variables, clocks, guards) and its cycle: read every input register, `startexec`, run until an `exec` ends the cycle (`endexec`), each output register written at once and at most once, then `cycle` time units pass."
+        ),
+        (_, false) => format!(
+            "The {} `{what}`: its components in parallel, synchronising on `tock`, their events renamed through the connections; connections between components are hidden.",
+            elem.kind.describe()
+        ),
+        (_, true) => format!(
+            "The {} `{what}` (paper Rules 1, 9–11): its components in parallel, synchronising on `tock` and `terminate`, their registers renamed through the connections.",
+            elem.kind.describe()
+        ),
+    };
+    Some(HoverTerm { range: name_range(decl), term, reading })
+}
+
+fn indent(s: &str) -> String {
+    s.lines().map(|l| format!("  {l}")).collect::<Vec<_>>().join("\n")
+}
+
+/// Long synchronisation sets shortened for display.
+fn abbreviate(e: &Expr) -> Expr {
+    match e {
+        Expr::Events(items) if items.len() > 3 => {
+            let mut v: Vec<Expr> = items.iter().take(2).cloned().collect();
+            v.push(Expr::Name("…".into()));
+            Expr::Events(v)
+        }
+        Expr::Call(f, args) => Expr::Call(f.clone(), args.iter().map(abbreviate).collect()),
+        Expr::Par(a, b, c) => Expr::Par(Box::new(abbreviate(a)), Box::new(abbreviate(b)), Box::new(abbreviate(c))),
+        Expr::Exception(a, b, c) => {
+            Expr::Exception(Box::new(abbreviate(a)), Box::new(abbreviate(b)), Box::new(abbreviate(c)))
+        }
+        Expr::Hide(a, b) => Expr::Hide(Box::new(abbreviate(a)), Box::new(abbreviate(b))),
+        Expr::Nary(op, v) => Expr::Nary(*op, v.iter().map(abbreviate).collect()),
+        Expr::Rename(p, pairs, gens) => {
+            if pairs.len() > 2 {
+                let mut v: Vec<(Expr, Expr)> = pairs.iter().take(2).cloned().collect();
+                v.push((Expr::Name("…".into()), Expr::Name("…".into())));
+                Expr::Rename(Box::new(abbreviate(p)), v, gens.clone())
+            } else {
+                Expr::Rename(Box::new(abbreviate(p)), pairs.clone(), gens.clone())
+            }
+        }
+        e => e.clone(),
+    }
+}
+
+fn reading(t: &Term, robosim: bool) -> String {
+    let text = |e: &Expr| print_expr(e, usize::MAX);
+    match t.kind {
+        TermKind::Exec => "`exec` ends this machine's cycle (`endexec`, enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6).".into(),
+        TermKind::Output => {
+            let reg = first_register(&t.expr).unwrap_or_default();
+            format!(
+                "Writes the actuator register `{reg}` at once: urgent, no time passes (`EDeadline(…, 0)`), and the cycle admits each output register at most once (RoboTool 3). In the paper's semantics (Rule 7) the output is buffered (`stmout!…U.true.… -> SKIP`) and written when the cycle's processing ends."
+            )
+        }
+        TermKind::Call => "Calls the platform operation: urgent (`EDeadline(…, 0)`), no time passes before the platform accepts the call.".into(),
+        TermKind::Event => format!(
+            "Offers `{}` to the environment; time may pass until it is accepted.",
+            text(&t.expr).split(" ->").next().unwrap_or("")
+        ),
+        TermKind::Transition => {
+            let first = match &t.expr {
+                Expr::Prefix(c, f, _) => {
+                    let mut s = c.clone();
+                    for x in f {
+                        match x {
+                            crate::cspm::Field::Dot(e) => s.push_str(&format!(".{}", text(e))),
+                            crate::cspm::Field::Out(e) => s.push_str(&format!("!{}", text(e))),
+                            crate::cspm::Field::In(v) => s.push_str(&format!("?{v}")),
+                            crate::cspm::Field::InFrom(v, _) => s.push_str(&format!("?{v}")),
+                        }
+                    }
+                    s
+                }
+                _ => String::new(),
+            };
+            let guard = match &t.guard {
+                Some(g) => format!(" The memory enables it only while `{}` holds.", text(g)),
+                None => String::new(),
+            };
+            if first.starts_with("endexec") {
+                format!("Taken at an `exec`: `{first}` ends the machine's cycle; the clock resets, action and target's entry run in the next cycle, after `startexec`.{guard}")
+            } else if first.starts_with("internal__") {
+                format!(
+                    "No trigger: `{first}` is hidden, so the transition is taken as soon as it is enabled, before time passes{}.{guard}",
+                    if robosim { "" } else { " (while it is not, time passes)" }
+                )
+            } else {
+                format!("Waits for `{first}` (time may pass meanwhile), then runs the exit actions, clock resets and action, and enters the target.{guard}")
+            }
+        }
+    }
+}
+
+fn first_register(e: &Expr) -> Option<String> {
+    match e {
+        Expr::Call(_, args) => args.iter().find_map(first_register),
+        Expr::Dot(parts) if matches!(parts.first(), Some(Expr::Name(n)) if n == "registerWrite") => {
+            match parts.get(1) {
+                Some(Expr::Name(r)) => Some(r.clone()),
+                _ => None,
+            }
+        }
+        Expr::Prefix(_, _, b) => first_register(b),
+        _ => None,
+    }
+}

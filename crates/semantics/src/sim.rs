@@ -1,0 +1,270 @@
+//! `simulation S of M { cycleDef cycle == p }`: the RoboChart design `M`
+//! under the simulation assumptions (semantics.md §4.2–4.3, RoboTool 3):
+//!
+//! - A1: an input read as present (`registerRead.i_e.true`) may be
+//!   consumed by the design once, until the next read (external choice);
+//! - A2: each output (event or platform call) is written to its register
+//!   at once, and at most once per period;
+//! - A3: the cycle: read every input register, then the design runs
+//!   (external events only now) until the first `tock`, then `p - 1` more;
+//! - `D__`: the constrained design, external events hidden, τ before
+//!   `tock` (the specification of soundness checks);
+//! - `TLF`: the same with the timelock escape (`TLFree`), whose deadlock
+//!   freedom is schedulability.
+
+use crate::cspm::{
+    bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp, ReplOp,
+};
+use crate::export::{ChanKind, Dir, Elem, Exporter};
+use crate::util::ident;
+
+/// The CSPm module of a simulation; `Err` says why it cannot be exported.
+pub(crate) fn simulation(
+    ex: &mut Exporter<'_>,
+    module: &str,
+    sim_name: &str,
+    design: &Elem,
+) -> Result<Vec<Decl>, String> {
+    if design.robosim {
+        return Err(format!(
+            "`{}` is a RoboSim element: a simulation constrains a RoboChart design",
+            design.path.join("::")
+        ));
+    }
+    if ex.profile == crate::Profile::Paper2019 {
+        return Err(
+            "the paper2019 simulation assumptions (TA2 = Order, TA3 with register writes) are not exported yet".into(),
+        );
+    }
+    let m = &design.module;
+    let q = |c: &str| format!("{m}::{c}");
+    let mut d = Vec::new();
+    // External events, in the design's vocabulary.
+    let mut inputs = Vec::new();
+    let mut outputs = Vec::new();
+    let mut a1 = Vec::new();
+    let mut reads = Vec::new();
+    let mut read_set = Vec::new();
+    let mut a2_alts = Vec::new();
+    let mut a2_flags = Vec::new();
+    for ch in &design.chans {
+        match (ch.kind, ch.dir) {
+            (ChanKind::Event, Dir::In) => {
+                let reg = ex.in_reg(&ch.model);
+                ex.register(true, &reg, &ch.values)?;
+                inputs.push(dot(vec![name(q(&ch.csp)), name("in")]));
+                read_set.push(dot(vec![name("registerRead"), name(reg.clone())]));
+                // A1_e = registerRead.i_e?b?x -> (if b then (e.in.x -> A1_e [] A1_e) else A1_e)
+                let me = format!("A1_{}", ident(&ch.model));
+                let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
+                let mut ev = vec![name(q(&ch.csp)), name("in")];
+                if !ch.values.is_empty() {
+                    rf.push(Field::In("x".into()));
+                    ev.push(name("x"));
+                }
+                let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
+                let body = prefix(
+                    "registerRead",
+                    rf.clone(),
+                    Expr::If(Box::new(name("b")), Box::new(consume), Box::new(name(me.clone()))),
+                );
+                d.push(Decl::Def(me.clone(), vec![], body));
+                a1.push(name(me));
+                reads.push(prefix("registerRead", rf, Expr::Skip));
+            }
+            (ChanKind::Event, Dir::Out) | (ChanKind::Call, _) => {
+                let reg = ex.out_reg(&ch.model);
+                ex.register(false, &reg, &ch.values)?;
+                let chan = if ch.kind == ChanKind::Event {
+                    dot(vec![name(q(&ch.csp)), name("out")])
+                } else {
+                    name(q(&ch.csp))
+                };
+                outputs.push(chan.clone());
+                let flag = format!("w_{}", ident(&ch.model));
+                a2_flags.push(flag.clone());
+                let vars: Vec<String> = (0..ch.values.len()).map(|k| format!("x{k}")).collect();
+                let mut write = vec![name("registerWrite"), name(reg)];
+                write.extend(vars.iter().map(|v| name(v.clone())));
+                let (cname, mut fields) = match ch.kind {
+                    ChanKind::Event => (q(&ch.csp), vec![Field::Dot(name("out"))]),
+                    _ => (q(&ch.csp), vec![]),
+                };
+                fields.extend(vars.iter().map(|v| Field::In(v.clone())));
+                a2_alts.push((flag, cname, fields, dot(write)));
+            }
+            (ChanKind::Ret, _) => {}
+        }
+    }
+    let set = |v: &[Expr]| if v.is_empty() { Expr::Set(vec![]) } else { Expr::Events(v.to_vec()) };
+    let mut exports = vec![
+        Decl::Comment(format!("The external events of {}: its inputs and its outputs.", design.path.join("::"))),
+        Decl::Def("Inputs".into(), vec![], set(&inputs)),
+        Decl::Def("Outputs".into(), vec![], set(&outputs)),
+        Decl::Def("External".into(), vec![], call("union", vec![name("Inputs"), name("Outputs")])),
+        Decl::Comment("A1: an input read as present can be consumed once, until the next read.".into()),
+        Decl::Def("A1".into(), vec![], if a1.is_empty() { Expr::Stop } else { nary(ProcOp::Interleave, a1) }),
+    ];
+    exports.extend(d);
+    exports.push(Decl::Def(
+        "TA1".into(),
+        vec![],
+        nary(ProcOp::Interrupt, vec![name("A1"), prefix("terminate", vec![], Expr::Skip)]),
+    ));
+    // A2.
+    exports.push(Decl::Comment("A2: each output is written to its register at once, at most once per period.".into()));
+    let mut params: Vec<String> = a2_flags.clone();
+    params.push("cycle".into());
+    let all_true: Vec<Expr> = a2_flags.iter().map(|_| Expr::Bool(true)).chain([name("cycle")]).collect();
+    let mut alts = Vec::new();
+    for (k, (flag, cname, fields, write)) in a2_alts.iter().enumerate() {
+        let mut next: Vec<Expr> = a2_flags.iter().map(|f| name(f.clone())).collect();
+        next[k] = Expr::Bool(false);
+        next.push(name("cycle"));
+        alts.push(guard(
+            name(flag.clone()),
+            prefix(cname.clone(), fields.clone(), prefix_dot(write.clone(), call("A2run__", next))),
+        ));
+    }
+    alts.push(prefix("terminate", vec![], Expr::Skip));
+    alts.push(prefix(
+        "tock",
+        vec![],
+        call("A2wait__", vec![bin(BinOp::Sub, name("cycle"), Expr::Int(1)), name("cycle")]),
+    ));
+    exports.push(Decl::Def("A2".into(), vec!["cycle".into()], call("A2run__", all_true.clone())));
+    exports.push(Decl::Def("A2run__".into(), params, ext(alts)));
+    exports.push(Decl::Def(
+        "A2wait__".into(),
+        vec!["k".into(), "cycle".into()],
+        Expr::If(
+            Box::new(bin(BinOp::Le, name("k"), Expr::Int(0))),
+            Box::new(call("A2run__", all_true)),
+            Box::new(prefix(
+                "tock",
+                vec![],
+                call("A2wait__", vec![bin(BinOp::Sub, name("k"), Expr::Int(1)), name("cycle")]),
+            )),
+        ),
+    ));
+    // A3.
+    exports.push(Decl::Comment(
+        "A3: the cycle: every input register is read (no time passes), then the design runs until\n\
+         the first `tock`, then the rest of the period."
+            .into(),
+    ));
+    exports.push(Decl::Def("Reads__".into(), vec![], nary(ProcOp::Interleave, reads)));
+    exports.push(Decl::Def(
+        "A3".into(),
+        vec!["cycle".into()],
+        seq(vec![name("Reads__"), call("A3run__", vec![name("cycle")])]),
+    ));
+    exports.push(Decl::Def(
+        "A3run__".into(),
+        vec!["cycle".into()],
+        ext(vec![
+            Expr::Repl(
+                ReplOp::ExtChoice,
+                vec![("e".into(), name("External"))],
+                Box::new(prefix("e", vec![], call("A3run__", vec![name("cycle")]))),
+            ),
+            prefix("terminate", vec![], Expr::Skip),
+            prefix(
+                "tock",
+                vec![],
+                seq(vec![
+                    call("Wait", vec![bin(BinOp::Sub, name("cycle"), Expr::Int(1))]),
+                    call("A3", vec![name("cycle")]),
+                ]),
+            ),
+        ]),
+    ));
+    let read_sync =
+        call("union", vec![set(&read_set), call("union", vec![name("Inputs"), Expr::Set(vec![name("terminate")])])]);
+    exports.push(Decl::Def(
+        "SimAssumptions".into(),
+        vec!["cycle".into()],
+        par(
+            par(name("TA1"), read_sync, call("A3", vec![name("cycle")])),
+            call("union", vec![name("Outputs"), Expr::Set(vec![name("tock"), name("terminate")])]),
+            call("A2", vec![name("cycle")]),
+        ),
+    ));
+    // The constrained design.
+    let mut dparams = vec!["id__".to_string()];
+    dparams.extend(design.consts.iter().map(|c| c.global.clone()));
+    let dargs: Vec<Expr> = dparams.iter().map(|p| name(p.clone())).collect();
+    let mut sparams = vec!["id__".to_string(), "cycle".to_string()];
+    sparams.extend(design.consts.iter().map(|c| c.global.clone()));
+    let sargs: Vec<Expr> = sparams.iter().map(|p| name(p.clone())).collect();
+    let sync = call("union", vec![name("External"), Expr::Set(vec![name("tock"), name("terminate")])]);
+    let hidden = call("union", vec![name("External"), Expr::Set(vec![name("terminate")])]);
+    let constrained = |p: Expr| {
+        hide(
+            par(
+                seq(vec![p, prefix("terminate", vec![], Expr::Skip)]),
+                sync.clone(),
+                call("SimAssumptions", vec![name("cycle")]),
+            ),
+            hidden.clone(),
+        )
+    };
+    exports.push(Decl::Comment(format!(
+        "D__: {} under the assumptions, external events hidden (the specification of soundness);\n\
+         TLF: the same with the timelock escape, deadlock-free iff schedulable (parameters: {}).",
+        design.path.join("::"),
+        sparams.join(", ")
+    )));
+    exports.push(Decl::Def(
+        "D__".into(),
+        sparams.clone(),
+        call("TimedPriority", vec![constrained(call(format!("{m}::D__"), dargs.clone()))]),
+    ));
+    exports.push(Decl::Def("O__".into(), sparams.clone(), call("sbisim", vec![call("D__", sargs)])));
+    exports.push(Decl::Def(
+        "TLFree".into(),
+        dparams,
+        call(
+            "prioritise",
+            vec![
+                nary(
+                    ProcOp::Interrupt,
+                    vec![
+                        call(format!("{m}::D__"), dargs.clone()),
+                        prefix("timelock", vec![], call("RUN", vec![Expr::Set(vec![name("tock")])])),
+                    ],
+                ),
+                Expr::SeqLit(vec![
+                    call("union", vec![name("Outputs"), Expr::Set(vec![name("tock")])]),
+                    Expr::Set(vec![name("timelock")]),
+                ]),
+            ],
+        ),
+    ));
+    exports.push(Decl::Def(
+        "TLF".into(),
+        sparams,
+        seq(vec![
+            call("TimedPriority", vec![constrained(call("TLFree", dargs))]),
+            call("RUN", vec![Expr::Set(vec![name("tock")])]),
+        ]),
+    ));
+    Ok(vec![
+        Decl::Comment(format!("simulation {sim_name} of {}", design.path.join("::"))),
+        Decl::Module(module.to_string(), vec![], exports),
+        Decl::Blank,
+    ])
+}
+
+/// `e -> P` where `e` is an event expression (`c.a.b`).
+fn prefix_dot(e: Expr, p: Expr) -> Expr {
+    match e {
+        Expr::Dot(mut parts) => {
+            let head = parts.remove(0);
+            let Expr::Name(c) = head else { return p };
+            prefix(c, parts.into_iter().map(Field::Dot).collect(), p)
+        }
+        Expr::Name(c) => prefix(c, vec![], p),
+        _ => p,
+    }
+}

@@ -1,0 +1,182 @@
+//! Small helpers over the syntax tree and names.
+
+use robosim_hir::defs::{file_defs, DefKind};
+use robosim_hir::index::{resolve_item, ItemLoc};
+use robosim_hir::{parse, Db, File, Workspace};
+use robosim_syntax::ast::{self, AstNode};
+use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
+
+/// The text of the first `NAME` child, without `^`.
+pub(crate) fn name_of(n: &SyntaxNode) -> String {
+    n.children().find(|c| c.kind() == NAME).map(|c| ident_text(&c)).unwrap_or_default()
+}
+
+/// The range of the first `NAME` child (or of the node).
+pub(crate) fn name_range(n: &SyntaxNode) -> TextRange {
+    n.children().find(|c| c.kind() == NAME).map(|c| c.text_range()).unwrap_or_else(|| n.text_range())
+}
+
+/// An identifier's text without `^` and whitespace.
+pub(crate) fn ident_text(n: &SyntaxNode) -> String {
+    n.text().to_string().trim().trim_start_matches('^').to_string()
+}
+
+/// The segments of the node's qualified name (itself or its first child).
+pub(crate) fn path_of(n: &SyntaxNode) -> Vec<String> {
+    match n.kind() {
+        QUALIFIED_NAME => ast::QualifiedName::cast(n.clone()).map(|q| q.segments()).unwrap_or_default(),
+        _ => n
+            .children()
+            .find(|c| c.kind() == QUALIFIED_NAME)
+            .and_then(ast::QualifiedName::cast)
+            .map(|q| q.segments())
+            .unwrap_or_default(),
+    }
+}
+
+/// The first `NAME_REF` child's text.
+pub(crate) fn ref_of(n: &SyntaxNode) -> Option<String> {
+    n.children().find(|c| c.kind() == NAME_REF).map(|c| ident_text(&c))
+}
+
+/// The first child of `kind`.
+pub(crate) fn child(n: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxNode> {
+    n.children().find(|c| c.kind() == kind)
+}
+
+/// The children of `kind`.
+pub(crate) fn children(n: &SyntaxNode, kind: SyntaxKind) -> impl Iterator<Item = SyntaxNode> {
+    n.children().filter(move |c| c.kind() == kind)
+}
+
+/// The first expression child.
+pub(crate) fn expr_child(n: &SyntaxNode) -> Option<SyntaxNode> {
+    n.children().find(|c| ast::is_expr_kind(c.kind()))
+}
+
+/// The first statement child.
+pub(crate) fn stmt_child(n: &SyntaxNode) -> Option<SyntaxNode> {
+    n.children().find(|c| ast::is_stmt_kind(c.kind()))
+}
+
+/// The first type child.
+pub(crate) fn type_child(n: &SyntaxNode) -> Option<SyntaxNode> {
+    n.children().find(|c| ast::is_type_kind(c.kind()))
+}
+
+/// The syntax node of a top-level item.
+pub(crate) fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<SyntaxNode> {
+    let id = loc.def(db)?;
+    let def = file_defs(db, loc.file).def(id);
+    let root = parse(db, loc.file).syntax_node();
+    let node = match root.covering_element(def.range) {
+        robosim_syntax::SyntaxElement::Node(n) => n,
+        robosim_syntax::SyntaxElement::Token(t) => t.parent()?,
+    };
+    node.ancestors().find(|n| n.kind() == def.syntax && n.text_range() == def.range)
+}
+
+/// Resolves `path`, written in `from`, to an item of one of the kinds.
+pub(crate) fn resolve(
+    db: &dyn Db,
+    ws: Workspace,
+    from: File,
+    path: &[String],
+    accept: fn(DefKind) -> bool,
+) -> Option<(File, SyntaxNode)> {
+    let loc = resolve_item(db, ws, from, path, accept).into_iter().next()?;
+    Some((loc.file, node_of(db, loc)?))
+}
+
+/// CSPm reserved words and the names of its built-in functions and
+/// processes, which generated names must avoid.
+pub(crate) const RESERVED: &[&str] = &[
+    "if",
+    "then",
+    "else",
+    "let",
+    "within",
+    "channel",
+    "datatype",
+    "subtype",
+    "nametype",
+    "assert",
+    "include",
+    "transparent",
+    "external",
+    "module",
+    "exports",
+    "endmodule",
+    "instance",
+    "print",
+    "true",
+    "false",
+    "not",
+    "and",
+    "or",
+    "STOP",
+    "SKIP",
+    "CHAOS",
+    "RUN",
+    "WAIT",
+    "Events",
+    "Int",
+    "Bool",
+    "Proc",
+    "Char",
+    "Seq",
+    "Set",
+    "Timed",
+    "union",
+    "inter",
+    "diff",
+    "member",
+    "card",
+    "empty",
+    "set",
+    "seq",
+    "length",
+    "null",
+    "head",
+    "tail",
+    "concat",
+    "elem",
+    "prioritise",
+    "in",
+    "out",
+    "tock",
+    "terminate",
+    "timelock",
+    "error",
+    "show",
+];
+
+/// A CSPm identifier made of `s`: letters, digits and `_` only, not
+/// starting with a digit, not reserved.
+pub(crate) fn ident(s: &str) -> String {
+    let mut out: String = s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }).collect();
+    if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
+        out.insert(0, 'x');
+    }
+    if RESERVED.contains(&out.as_str()) {
+        out.push('_');
+    }
+    out
+}
+
+/// `a::b::c` as one identifier `a_b_c`.
+pub(crate) fn qualified(path: &[String]) -> String {
+    ident(&path.join("_"))
+}
+
+/// The 1-based line and column of `offset` in `text`.
+pub(crate) fn line_col(text: &str, offset: u32) -> (u32, u32) {
+    let mut offset = (offset as usize).min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &text[..offset];
+    let line = before.matches('\n').count() as u32 + 1;
+    let col = before.rsplit('\n').next().map(|l| l.chars().count()).unwrap_or(0) as u32 + 1;
+    (line, col)
+}

@@ -1,0 +1,75 @@
+//! The export of the paper's running example and of every model of the
+//! reference corpus: no panic, and output that passes the structural
+//! checker (`lint::check`).
+
+use std::path::{Path, PathBuf};
+
+use robosim_semantics::{export_workspace, lint, Options, Profile};
+
+fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let mut entries: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            model_files(&p, out);
+        } else if robosim_syntax::FileKind::from_path(&p).is_some() {
+            out.push(p);
+        }
+    }
+}
+
+fn export_dir(dir: &Path, profile: Profile) -> robosim_semantics::Export {
+    let mut paths = Vec::new();
+    model_files(dir, &mut paths);
+    let files: Vec<(String, String)> = paths
+        .iter()
+        .filter_map(|p| Some((p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).ok()?).into_owned())))
+        .collect();
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    export_workspace(&db, ws, &Options { profile })
+}
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+#[test]
+fn examples_export_is_well_formed() {
+    for profile in [Profile::RoboTool3, Profile::Paper2019] {
+        let e = export_dir(&examples(), profile);
+        let problems = lint::check(&e.files);
+        assert!(problems.is_empty(), "{profile:?}: {problems:#?}");
+    }
+}
+
+#[test]
+fn corpus_exports_without_panic_and_is_well_formed() {
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
+    assert!(corpus.is_dir(), "the corpus is expected at {}", corpus.display());
+    let mut projects: Vec<PathBuf> =
+        std::fs::read_dir(&corpus).unwrap().filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
+    projects.sort();
+    let mut exported = 0;
+    let mut all_problems = Vec::new();
+    for project in projects {
+        let e = export_dir(&project, Profile::RoboTool3);
+        let modules = e
+            .files
+            .iter()
+            .flat_map(|f| &f.decls)
+            .filter(|d| matches!(d, robosim_semantics::cspm::Decl::Module(..)))
+            .count();
+        exported += modules;
+        println!("{}: {} modules, {} warnings", project.display(), modules, e.warnings.len());
+        for w in &e.warnings {
+            println!("  {w}");
+        }
+        for p in lint::check(&e.files) {
+            all_problems.push(format!("{}: {p}", project.display()));
+        }
+    }
+    assert!(all_problems.is_empty(), "{all_problems:#?}");
+    assert!(exported >= 5, "only {exported} CSPm modules exported from the corpus");
+}
