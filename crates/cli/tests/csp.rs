@@ -197,6 +197,24 @@ fn usage_and_io_errors() {
 }
 
 #[test]
+fn paper_example_export_paper2019() {
+    let dir = out_dir("paper2019");
+    let out = run(&["--semantics", "paper2019", "-o", dir.to_str().unwrap()], &[paper()]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.matches("warning:").count(), 1, "{stderr}");
+    compare(&dir, "paper2019");
+    let sim = std::fs::read_to_string(dir.join("simulation.csp")).unwrap();
+    // Rule 7: outputs go to the buffer; Rule 4: written at the cycle's end,
+    // true ones in order, the others false.
+    assert!(sim.contains("entered__.SID_SMoving -> stmout.moveU.true.lv.0 -> Rest__SMoving"), "{sim}");
+    assert!(sim.contains("registerWrite.moveU.false?x0__?x1__ -> SKIP"), "{sim}");
+    let a = std::fs::read_to_string(dir.join("assertions_assertions.csp")).unwrap();
+    assert!(a.contains("<External, union(Writes, {tock})>"), "{a}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn paper2019_profile() {
     let out = run(&["--semantics", "paper2019"], &[paper().join("design.rct")]);
     let stdout = text(&out.stdout);

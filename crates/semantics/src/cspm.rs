@@ -29,6 +29,8 @@ pub enum BinOp {
     Ge,
     And,
     Or,
+    /// `^`: sequence concatenation.
+    Cat,
 }
 
 impl BinOp {
@@ -47,6 +49,7 @@ impl BinOp {
             BinOp::Ge => ">=",
             BinOp::And => "and",
             BinOp::Or => "or",
+            BinOp::Cat => "^",
         }
     }
 
@@ -58,6 +61,7 @@ impl BinOp {
             BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => 4,
             BinOp::Add | BinOp::Sub => 5,
             BinOp::Mul | BinOp::Div | BinOp::Mod => 6,
+            BinOp::Cat => 7,
         }
     }
 }

@@ -13,6 +13,9 @@
 //!   per register and cycle;
 //! - for each `simulation S of M`, the assumptions A1–A3, the constrained
 //!   design and the schedulability process `TLF` (semantics.md §4.2–4.3);
+//! - the same in the `paper2019` profile ([`Profile`]): calls with
+//!   returns, the RoboSim buffer and end-of-cycle writes (Rules 4, 7, 12),
+//!   the paper's `TA1`–`TA3` and `PConstrained`;
 //! - the assertions of `.rsa` and `.assertions` files as FDR `assert`s;
 //! - the bounded types and constants (`instantiations.csp`).
 //!

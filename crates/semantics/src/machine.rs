@@ -1018,13 +1018,15 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    /// A RoboSim output: the register write, urgent (robotool3).
-    fn output(&mut self, model: &str, args: Vec<Expr>, r: TextRange) -> Option<Expr> {
-        if self.profile == Profile::Paper2019 {
-            self.problem(r, "the paper2019 semantics of RoboSim outputs (Rules 4, 7 and 12) is not exported yet");
-            return None;
-        }
+    /// A RoboSim output: the register write, urgent (robotool3), or its
+    /// record in the machine's buffer (paper2019, Rule 7).
+    fn output(&mut self, model: &str, args: Vec<Expr>, _r: TextRange) -> Option<Expr> {
         let ctor = self.ex.out_reg(model);
+        if self.profile == Profile::Paper2019 {
+            let mut f = vec![Field::Dot(name(ctor)), Field::Dot(Expr::Bool(true))];
+            f.extend(args.into_iter().map(Field::Dot));
+            return Some(prefix("stmout", f, Expr::Skip));
+        }
         let mut f = vec![name("registerWrite"), name(ctor)];
         f.extend(args);
         Some(call("EDeadline", vec![dot(f), Expr::Int(0)]))
@@ -1593,6 +1595,15 @@ impl<'e, 'a> Gen<'e, 'a> {
             private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
             private.push(Decl::Channel(vec!["startexec".into()], vec![]));
             private.push(Decl::Channel(vec!["endexec".into()], vec![name("TIDS")]));
+            if self.profile == Profile::Paper2019 && !self.output_regs().is_empty() {
+                private.push(Decl::Comment("The outputs buffer (Rule 12).".into()));
+                private.push(Decl::Channel(vec!["stmout".into()], vec![name("OutputRegister")]));
+                private.push(Decl::Datatype(
+                    "BufOut__".into(),
+                    vec![("noOut__".into(), vec![]), ("out__".into(), vec![name("OutputRegister")])],
+                ));
+                private.push(Decl::Channel(vec!["cyclein".into()], vec![name("BufOut__")]));
+            }
         } else {
             private.push(Decl::Channel(vec!["end__".into()], vec![]));
             hidden.push(name("end__"));
@@ -1722,10 +1733,20 @@ impl<'e, 'a> Gen<'e, 'a> {
             let inner = par(memory, Expr::Events(inner_sync), name("Cycle__"));
             let mut outer_sync = sync.clone();
             outer_sync.extend([name("endexec"), name("startexec"), name("terminate")]);
-            if has_out {
-                outer_sync.push(name("registerWrite"));
-            }
             hidden.extend([name("endexec"), name("startexec")]);
+            let inner = match (self.profile, has_out) {
+                (Profile::RoboTool3, true) => {
+                    outer_sync.push(name("registerWrite"));
+                    inner
+                }
+                // Rule 3: the outputs go through the buffer to the cycle.
+                (Profile::Paper2019, true) => {
+                    outer_sync.push(name("stmout"));
+                    hidden.extend([name("stmout"), name("cyclein")]);
+                    par(name("Buffer__"), Expr::Events(vec![name("cyclein")]), inner)
+                }
+                (_, false) => inner,
+            };
             let comp = par(name("Behaviour__"), Expr::Events(outer_sync), inner);
             call("TimedPriority", vec![hide(comp, Expr::Events(hidden))])
         } else {
@@ -1820,6 +1841,114 @@ impl<'e, 'a> Gen<'e, 'a> {
         out
     }
 
+    /// Rule 4 as the paper states it (paper2019): read every input
+    /// register, `startexec`, `endexec`, then write the buffered outputs in
+    /// order (`registerWrite.o.true.args`) and the others as absent
+    /// (`registerWrite.o.false.args`, any arguments), then terminate or
+    /// let `cycle` time units pass; the buffer of Rule 12.
+    fn cycle_paper(&mut self, reads: Expr, has_in: bool) -> (Vec<Decl>, bool, bool) {
+        let outs = self.output_regs();
+        let mut d = Vec::new();
+        let end = ext(vec![
+            prefix("terminate", vec![], Expr::Skip),
+            seq(vec![call("Wait", vec![name("cycle")]), name("Cycle__")]),
+        ]);
+        if outs.is_empty() {
+            d.push(Decl::Def(
+                "Cycle__".into(),
+                vec![],
+                seq(vec![reads, prefix("startexec", vec![], prefix("endexec", vec![Field::In("t__".into())], end))]),
+            ));
+            return (d, has_in, false);
+        }
+        let flags: Vec<String> = outs.iter().map(|(c, _)| format!("w_{c}")).collect();
+        let all = |v: bool| -> Vec<Expr> { flags.iter().map(|_| Expr::Bool(v)).collect() };
+        d.push(Decl::Def(
+            "Cycle__".into(),
+            vec![],
+            seq(vec![
+                reads,
+                prefix(
+                    "startexec",
+                    vec![],
+                    prefix("endexec", vec![Field::In("t__".into())], seq(vec![call("Collect__", all(true)), end])),
+                ),
+            ]),
+        ));
+        // CollectOutputs: the buffered outputs in order, then NoOther.
+        let mut alts = vec![prefix(
+            "cyclein",
+            vec![Field::Dot(name("noOut__"))],
+            call("NoOther__", flags.iter().map(|f| name(f.clone())).collect()),
+        )];
+        let mut others = Vec::new();
+        for (k, (c, vals)) in outs.iter().enumerate() {
+            let vars: Vec<String> = (0..vals.len()).map(|i| format!("x{i}__")).collect();
+            let mut next: Vec<Expr> = flags.iter().map(|f| name(f.clone())).collect();
+            next[k] = Expr::Bool(false);
+            let mut inf = vec![Field::Dot(name("out__")), Field::Dot(name(c.clone())), Field::In("b__".into())];
+            inf.extend(vars.iter().map(|v| Field::In(v.clone())));
+            let mut outf = vec![Field::Dot(name(c.clone())), Field::Dot(name("b__"))];
+            outf.extend(vars.iter().map(|v| Field::Dot(name(v.clone()))));
+            alts.push(guard(
+                name(flags[k].clone()),
+                prefix("cyclein", inf, prefix("registerWrite", outf, call("Collect__", next))),
+            ));
+            let mut falsef = vec![Field::Dot(name(c.clone())), Field::Dot(Expr::Bool(false))];
+            falsef.extend(vars.iter().map(|v| Field::In(v.clone())));
+            others.push(Expr::If(
+                Box::new(name(flags[k].clone())),
+                Box::new(prefix("registerWrite", falsef, Expr::Skip)),
+                Box::new(Expr::Skip),
+            ));
+        }
+        d.push(Decl::Def("Collect__".into(), flags.clone(), ext(alts)));
+        d.push(Decl::Def("NoOther__".into(), flags.clone(), nary(ProcOp::Interleave, others)));
+        // Rule 12: the buffer, of capacity the number of outputs.
+        let n = outs.len() as i64;
+        d.push(Decl::Def(
+            "Buffer__".into(),
+            vec![],
+            ext(vec![
+                prefix(
+                    "stmout",
+                    vec![Field::In("o__".into())],
+                    call("BufferF__", vec![Expr::SeqLit(vec![name("o__")])]),
+                ),
+                prefix("cyclein", vec![Field::Dot(name("noOut__"))], name("Buffer__")),
+            ]),
+        ));
+        d.push(Decl::Def(
+            "BufferF__".into(),
+            vec!["s__".into()],
+            ext(vec![
+                guard(
+                    bin(BinOp::Lt, call("length", vec![name("s__")]), Expr::Int(n)),
+                    prefix(
+                        "stmout",
+                        vec![Field::In("o__".into())],
+                        call("BufferF__", vec![bin(BinOp::Cat, name("s__"), Expr::SeqLit(vec![name("o__")]))]),
+                    ),
+                ),
+                call("Flush__", vec![name("s__")]),
+            ]),
+        ));
+        d.push(Decl::Def(
+            "Flush__".into(),
+            vec!["s__".into()],
+            Expr::If(
+                Box::new(call("null", vec![name("s__")])),
+                Box::new(name("Buffer__")),
+                Box::new(prefix(
+                    "cyclein",
+                    vec![Field::Dot(name("out__")), Field::Dot(call("head", vec![name("s__")]))],
+                    call("Flush__", vec![call("tail", vec![name("s__")])]),
+                )),
+            ),
+        ));
+        (d, has_in, true)
+    }
+
     /// Rule 4 (robotool3): read every input register (in any order, no
     /// time passing), `startexec`, accept each output register at most
     /// once until `endexec`, then terminate or let `cycle` time units pass.
@@ -1838,6 +1967,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             })
             .collect();
         let has_in = !reads.is_empty();
+        if self.profile == Profile::Paper2019 {
+            return self.cycle_paper(nary(ProcOp::Interleave, reads), has_in);
+        }
         let outs = self.output_regs();
         let has_out = !outs.is_empty();
         let flags: Vec<String> = outs.iter().map(|(c, _)| format!("w_{c}")).collect();

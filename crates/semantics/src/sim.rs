@@ -32,9 +32,7 @@ pub(crate) fn simulation(
         ));
     }
     if ex.profile == crate::Profile::Paper2019 {
-        return Err(
-            "the paper2019 simulation assumptions (TA2 = Order, TA3 with register writes) are not exported yet".into(),
-        );
+        return simulation_paper(ex, module, sim_name, design);
     }
     let m = &design.module;
     let q = |c: &str| format!("{m}::{c}");
@@ -267,4 +265,264 @@ fn prefix_dot(e: Expr, p: Expr) -> Expr {
         Expr::Name(c) => prefix(c, vec![], p),
         _ => p,
     }
+}
+
+/// An output of the paper's assumptions: its flag, channel, fields binding
+/// the values, register and value names.
+type PaperOut = (String, String, Vec<Field>, String, Vec<String>);
+
+/// The paper's assumptions (semantics.md §4.4, paper §6.1): `TA1` as in
+/// RoboTool 3 (external choice), `TA2 = Order` (outputs recorded in order,
+/// written `true` in that order, then the others `false`), `TA3` (reads,
+/// external events until the first write, every output register written
+/// once, then `terminate` or `p` time units), and
+/// `PConstrained = prioritise(Constrained, <External, {registerWrite, tock}>)`.
+fn simulation_paper(ex: &mut Exporter<'_>, module: &str, sim_name: &str, design: &Elem) -> Result<Vec<Decl>, String> {
+    let m = &design.module;
+    let q = |c: &str| format!("{m}::{c}");
+    let mut d = Vec::new();
+    let mut inputs = Vec::new();
+    let mut outputs = Vec::new();
+    let mut rets = Vec::new();
+    let mut a1 = Vec::new();
+    let mut reads = Vec::new();
+    let mut read_set = Vec::new();
+    let mut outs: Vec<PaperOut> = Vec::new();
+    for ch in &design.chans {
+        match (ch.kind, ch.dir) {
+            (ChanKind::Event, Dir::In) => {
+                let reg = ex.in_reg(&ch.model);
+                ex.register(true, &reg, &ch.values)?;
+                inputs.push(dot(vec![name(q(&ch.csp)), name("in")]));
+                read_set.push(dot(vec![name("registerRead"), name(reg.clone())]));
+                let me = format!("A1_{}", ident(&ch.model));
+                let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
+                let mut ev = vec![name(q(&ch.csp)), name("in")];
+                if !ch.values.is_empty() {
+                    rf.push(Field::In("x".into()));
+                    ev.push(name("x"));
+                }
+                let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
+                let body = prefix(
+                    "registerRead",
+                    rf.clone(),
+                    Expr::If(Box::new(name("b")), Box::new(consume), Box::new(name(me.clone()))),
+                );
+                d.push(Decl::Def(me.clone(), vec![], body));
+                a1.push(name(me));
+                reads.push(prefix("registerRead", rf, Expr::Skip));
+            }
+            (ChanKind::Event, Dir::Out) | (ChanKind::Call, _) => {
+                let reg = ex.out_reg(&ch.model);
+                ex.register(false, &reg, &ch.values)?;
+                let chan = if ch.kind == ChanKind::Event {
+                    dot(vec![name(q(&ch.csp)), name("out")])
+                } else {
+                    name(q(&ch.csp))
+                };
+                outputs.push(chan);
+                let vars: Vec<String> = (0..ch.values.len()).map(|k| format!("x{k}")).collect();
+                let mut fields = if ch.kind == ChanKind::Event { vec![Field::Dot(name("out"))] } else { vec![] };
+                fields.extend(vars.iter().map(|v| Field::In(v.clone())));
+                outs.push((format!("w_{}", ident(&ch.model)), q(&ch.csp), fields, reg, vars));
+            }
+            (ChanKind::Ret, _) => rets.push(name(q(&ch.csp))),
+        }
+    }
+    let set = |v: &[Expr]| if v.is_empty() { Expr::Set(vec![]) } else { Expr::Events(v.to_vec()) };
+    let flags: Vec<String> = outs.iter().map(|o| o.0.clone()).collect();
+    let fresh: Vec<Expr> = flags.iter().map(|_| Expr::Bool(true)).collect();
+    let writes: Vec<Expr> = outs.iter().map(|o| dot(vec![name("registerWrite"), name(o.3.clone())])).collect();
+    let mut exports = vec![
+        Decl::Comment(format!(
+            "The external events of {}: inputs, outputs (calls and output events) and returns.",
+            design.path.join("::")
+        )),
+        Decl::Def("Inputs".into(), vec![], set(&inputs)),
+        Decl::Def("Outputs".into(), vec![], set(&outputs)),
+        Decl::Def(
+            "External".into(),
+            vec![],
+            call("union", vec![name("Inputs"), call("union", vec![name("Outputs"), set(&rets)])]),
+        ),
+        Decl::Def("Writes".into(), vec![], set(&writes)),
+        Decl::Comment("TA1: an input read as present can be consumed once, until the next read.".into()),
+        Decl::Def("A1".into(), vec![], if a1.is_empty() { Expr::Stop } else { nary(ProcOp::Interleave, a1) }),
+    ];
+    exports.extend(d);
+    exports.push(Decl::Def(
+        "TA1".into(),
+        vec![],
+        nary(ProcOp::Interrupt, vec![name("A1"), prefix("terminate", vec![], Expr::Skip)]),
+    ));
+    // TA2 = Order.
+    exports.push(Decl::Comment(
+        "TA2 (Order): outputs are recorded in order, written `true` in that order, then the others\n\
+         `false`; then afresh."
+            .into(),
+    ));
+    let n = outs.len() as i64;
+    let mut params = vec!["occ".to_string()];
+    params.extend(flags.iter().cloned());
+    let cur: Vec<Expr> = flags.iter().map(|f| name(f.clone())).collect();
+    let mut record = Vec::new();
+    let mut absent = Vec::new();
+    for (k, (flag, chan, fields, reg, vars)) in outs.iter().enumerate() {
+        let mut value = vec![name(reg.clone()), Expr::Bool(true)];
+        value.extend(vars.iter().map(|v| name(v.clone())));
+        let mut args = vec![bin(BinOp::Cat, name("occ"), Expr::SeqLit(vec![dot(value)]))];
+        let mut next = cur.clone();
+        next[k] = Expr::Bool(false);
+        args.extend(next);
+        record.push(prefix(chan.clone(), fields.clone(), call("Order", args)));
+        let mut ff = vec![Field::Dot(name(reg.clone())), Field::Dot(Expr::Bool(false))];
+        ff.extend(vars.iter().map(|v| Field::In(v.clone())));
+        absent.push(Expr::If(
+            Box::new(name(flag.clone())),
+            Box::new(prefix("registerWrite", ff, Expr::Skip)),
+            Box::new(Expr::Skip),
+        ));
+    }
+    let mut fresh_args = vec![Expr::SeqLit(vec![])];
+    fresh_args.extend(fresh.iter().cloned());
+    let mut head_args = vec![call("tail", vec![name("occ")])];
+    head_args.extend(cur.iter().cloned());
+    exports.push(Decl::Def(
+        "Order".into(),
+        params.clone(),
+        ext(vec![
+            guard(bin(BinOp::Lt, call("length", vec![name("occ")]), Expr::Int(n)), ext(record)),
+            guard(
+                Expr::Not(Box::new(call("null", vec![name("occ")]))),
+                prefix("registerWrite", vec![Field::Out(call("head", vec![name("occ")]))], call("Order", head_args)),
+            ),
+            guard(
+                call("null", vec![name("occ")]),
+                seq(vec![nary(ProcOp::Interleave, absent), call("Order", fresh_args.clone())]),
+            ),
+        ]),
+    ));
+    exports.push(Decl::Def(
+        "TA2".into(),
+        vec![],
+        nary(ProcOp::Interrupt, vec![call("Order", fresh_args), prefix("terminate", vec![], Expr::Skip)]),
+    ));
+    // TA3.
+    exports.push(Decl::Comment(
+        "TA3: every input register is read; external events until the first write; every output\n\
+         register written once; then `terminate`, or `cycle` time units and the next cycle."
+            .into(),
+    ));
+    exports.push(Decl::Def("Reads__".into(), vec![], nary(ProcOp::Interleave, reads)));
+    exports.push(Decl::Def(
+        "TA3".into(),
+        vec!["cycle".into()],
+        seq(vec![name("Reads__"), call("Run__", vec![name("cycle")])]),
+    ));
+    let mut run_alts = vec![Expr::Repl(
+        ReplOp::ExtChoice,
+        vec![("e".into(), name("External"))],
+        Box::new(prefix("e", vec![], call("Run__", vec![name("cycle")]))),
+    )];
+    let mut write_alts = Vec::new();
+    for (k, (flag, _, _, reg, vars)) in outs.iter().enumerate() {
+        let mut f = vec![Field::Dot(name(reg.clone())), Field::In("b".into())];
+        f.extend(vars.iter().map(|v| Field::In(v.clone())));
+        let mut first: Vec<Expr> = fresh.clone();
+        first[k] = Expr::Bool(false);
+        first.push(name("cycle"));
+        run_alts.push(prefix("registerWrite", f.clone(), call("Writes__", first)));
+        let mut next = cur.clone();
+        next[k] = Expr::Bool(false);
+        next.push(name("cycle"));
+        write_alts.push(guard(name(flag.clone()), prefix("registerWrite", f, call("Writes__", next))));
+    }
+    exports.push(Decl::Def("Run__".into(), vec!["cycle".into()], ext(run_alts)));
+    let none_left = flags.iter().fold(Expr::Bool(true), |acc, f| {
+        let nf = Expr::Not(Box::new(name(f.clone())));
+        if acc == Expr::Bool(true) {
+            nf
+        } else {
+            bin(BinOp::And, acc, nf)
+        }
+    });
+    let mut wparams = flags.clone();
+    wparams.push("cycle".into());
+    exports.push(Decl::Def(
+        "Writes__".into(),
+        wparams,
+        Expr::If(
+            Box::new(none_left),
+            Box::new(ext(vec![
+                prefix("terminate", vec![], Expr::Skip),
+                seq(vec![call("Wait", vec![name("cycle")]), call("TA3", vec![name("cycle")])]),
+            ])),
+            Box::new(ext(write_alts)),
+        ),
+    ));
+    let read_sync =
+        call("union", vec![set(&read_set), call("union", vec![name("Inputs"), Expr::Set(vec![name("terminate")])])]);
+    exports.push(Decl::Def(
+        "TA1A2A3".into(),
+        vec!["cycle".into()],
+        par(
+            par(name("TA1"), read_sync, call("TA3", vec![name("cycle")])),
+            call(
+                "union",
+                vec![name("Outputs"), call("union", vec![name("Writes"), Expr::Set(vec![name("terminate")])])],
+            ),
+            name("TA2"),
+        ),
+    ));
+    let mut dparams = vec!["id__".to_string()];
+    dparams.extend(design.consts.iter().map(|c| c.global.clone()));
+    let dargs: Vec<Expr> = dparams.iter().map(|p| name(p.clone())).collect();
+    let mut sparams = vec!["id__".to_string(), "cycle".to_string()];
+    sparams.extend(design.consts.iter().map(|c| c.global.clone()));
+    let sargs: Vec<Expr> = sparams.iter().map(|p| name(p.clone())).collect();
+    exports.push(Decl::Comment(format!(
+        "PConstrained: {} under the assumptions, external events visible and before register\n\
+         writes and time; D__: with them hidden (the specification of soundness); TLF: deadlock-free\n\
+         iff schedulable (parameters: {}).",
+        design.path.join("::"),
+        sparams.join(", ")
+    )));
+    let constrained = hide(
+        par(
+            seq(vec![call(format!("{m}::D__"), dargs), prefix("terminate", vec![], Expr::Skip)]),
+            call("union", vec![name("External"), Expr::Set(vec![name("tock"), name("terminate")])]),
+            call("TA1A2A3", vec![name("cycle")]),
+        ),
+        Expr::Set(vec![name("terminate")]),
+    );
+    exports.push(Decl::Def(
+        "PConstrained".into(),
+        sparams.clone(),
+        call(
+            "prioritise",
+            vec![
+                constrained,
+                Expr::SeqLit(vec![
+                    name("External"),
+                    call("union", vec![name("Writes"), Expr::Set(vec![name("tock")])]),
+                ]),
+            ],
+        ),
+    ));
+    exports.push(Decl::Def(
+        "D__".into(),
+        sparams.clone(),
+        call("TimedPriority", vec![hide(call("PConstrained", sargs.clone()), name("External"))]),
+    ));
+    exports.push(Decl::Def("O__".into(), sparams.clone(), call("sbisim", vec![call("D__", sargs.clone())])));
+    exports.push(Decl::Def(
+        "TLF".into(),
+        sparams,
+        seq(vec![call("PConstrained", sargs), call("RUN", vec![Expr::Set(vec![name("tock")])])]),
+    ));
+    Ok(vec![
+        Decl::Comment(format!("simulation {sim_name} of {} (the paper's assumptions)", design.path.join("::"))),
+        Decl::Module(module.to_string(), vec![], exports),
+        Decl::Blank,
+    ])
 }
