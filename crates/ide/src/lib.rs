@@ -15,6 +15,7 @@
 mod completion;
 mod csp_hover;
 mod diagnostics;
+pub mod diagram;
 mod edit;
 mod fixes;
 mod folding;
@@ -37,6 +38,7 @@ use salsa::Setter;
 
 pub use completion::{CompletionItem, CompletionKind};
 pub use diagnostics::{carry_over, map_range, Diagnostic, Edit, RelatedInfo};
+pub use diagram::{DiagramError, DiagramLens, RenderedDiagram};
 pub use edit::{apply_edits, FileEdit, SourceChange, TextEdit};
 pub use fixes::Assist;
 pub use folding::{Fold, FoldKind};
@@ -368,6 +370,25 @@ impl Analysis {
     /// module that a simulation of the workspace simulates.
     pub fn verify_lenses(&self, file: FileId) -> Cancellable<Vec<VerifyLens>> {
         self.with_db(|db| verify::lenses(db, self.workspace, file.0))
+    }
+
+    /// The code lenses that open a diagram: on the name of each state
+    /// machine, operation, controller and module of `file`.
+    pub fn diagram_lenses(&self, file: FileId) -> Cancellable<Vec<DiagramLens>> {
+        self.with_db(|db| diagram::lenses(db, file.0))
+    }
+
+    /// The diagrams of `file` (only those named `element`, a name or a
+    /// qualified name, when it is given), in source order, each with its
+    /// SVG; an error when `element` names nothing the file declares.
+    pub fn diagrams(
+        &self,
+        file: FileId,
+        element: Option<&str>,
+    ) -> Cancellable<Result<Vec<RenderedDiagram>, DiagramError>> {
+        let models = self.with_db(|db| diagram::diagrams(db, self.workspace, file.0, element))?;
+        // The layout reads no database: it runs outside the query.
+        Ok(models.map(|all| all.into_iter().map(diagram::render).collect()))
     }
 
     /// Whether `target` names an assertion or a simulation of an assertion
