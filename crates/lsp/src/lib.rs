@@ -18,6 +18,7 @@
 
 mod convert;
 mod diagnostics;
+mod diagram;
 mod ordered;
 mod server;
 mod state;
@@ -67,7 +68,9 @@ where
     O: tokio::io::AsyncWrite + Unpin + Send + 'static,
 {
     let backend_shared = shared.clone();
-    let (inner, socket) = LspService::new(move |client| Backend::new(client, backend_shared));
+    let (inner, socket) = LspService::build(move |client| Backend::new(client, backend_shared))
+        .custom_method(diagram::METHOD, Backend::diagram)
+        .finish();
     let service = Ordered { inner, shared };
     transport::serve(input, output, service, socket).await;
 }

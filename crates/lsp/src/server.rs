@@ -29,7 +29,7 @@ impl Backend {
     /// threads. A run cancelled by an edit is retried on the new text (the
     /// client wants the answer for what it has now); after repeated edits
     /// the request fails with `ContentModified`.
-    async fn with_file<T, F>(&self, uri: &Uri, f: F) -> Result<T>
+    pub(crate) async fn with_file<T, F>(&self, uri: &Uri, f: F) -> Result<T>
     where
         T: Send + 'static,
         F: Fn(&Analysis, FileId, &ClientCaps) -> Cancellable<T> + Send + Sync + 'static,
@@ -151,6 +151,7 @@ fn client_caps(c: &ClientCapabilities) -> ClientCaps {
         declaration_links: td.and_then(|t| t.declaration.as_ref()).and_then(|d| d.link_support).unwrap_or(false),
         prepare_rename: td.and_then(|t| t.rename.as_ref()).and_then(|r| r.prepare_support).unwrap_or(false),
         code_lens_refresh: ws.and_then(|w| w.code_lens.as_ref()).and_then(|c| c.refresh_support).unwrap_or(false),
+        show_diagram: crate::diagram::client_shows_diagrams(c),
     }
 }
 
@@ -476,16 +477,17 @@ impl LanguageServer for Backend {
     }
 
     async fn code_lens(&self, params: CodeLensParams) -> Result<Option<Vec<CodeLens>>> {
-        let lenses = self
-            .with_file(&params.text_document.uri, |a, file, _| {
+        let (lenses, diagram_lenses) = self
+            .with_file(&params.text_document.uri, |a, file, caps| {
                 let lenses = a.verify_lenses(file)?;
                 let (text, index) = text_of(a, file)?;
                 let t = Text { text: &text, index: &index };
-                Ok(lenses.into_iter().map(|l| (t.range(l.range), l)).collect::<Vec<_>>())
+                let diagrams = if caps.show_diagram { crate::diagram::lenses(a, file)? } else { Vec::new() };
+                Ok((lenses.into_iter().map(|l| (t.range(l.range), l)).collect::<Vec<_>>(), diagrams))
             })
             .await?;
         let st = self.shared.lock();
-        let lenses = lenses
+        let mut lenses: Vec<CodeLens> = lenses
             .into_iter()
             .filter_map(|(range, lens)| {
                 let uri = uri_for(&st, lens.target.path())?;
@@ -500,6 +502,10 @@ impl LanguageServer for Backend {
                 })
             })
             .collect();
+        // "◇ Show diagram" after the verification lens at the same place.
+        let uri = &params.text_document.uri;
+        lenses.extend(diagram_lenses.iter().map(|(range, lens)| crate::diagram::code_lens(uri, *range, lens)));
+        lenses.sort_by_key(|l| (l.range.start.line, l.range.start.character));
         Ok(Some(lenses))
     }
 
@@ -615,7 +621,7 @@ impl Backend {
 }
 
 /// The text and line index of `file`.
-fn text_of(a: &Analysis, file: FileId) -> Cancellable<(Arc<str>, Arc<robosim_ide::LineIndex>)> {
+pub(crate) fn text_of(a: &Analysis, file: FileId) -> Cancellable<(Arc<str>, Arc<robosim_ide::LineIndex>)> {
     Ok((a.file_text(file)?, a.line_index(file)?))
 }
 

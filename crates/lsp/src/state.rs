@@ -100,6 +100,8 @@ pub(crate) struct ClientCaps {
     pub(crate) declaration_links: bool,
     pub(crate) prepare_rename: bool,
     pub(crate) code_lens_refresh: bool,
+    /// The client runs `robosim.showDiagram` itself (diagram lenses).
+    pub(crate) show_diagram: bool,
 }
 
 /// A document the client has open.
