@@ -49,6 +49,13 @@ await build({
   entryPoints: [join(root, "src", "server-path.ts"), join(root, "src", "rst-detect.ts")],
   outdir: join(root, "out", "test"),
 });
+// The diagram view, for tests that give it a stand-in for `vscode`.
+await build({
+  ...common,
+  entryPoints: [join(root, "src", "diagram.ts")],
+  outdir: join(root, "out", "test"),
+  external: ["vscode"],
+});
 
 const built = readdirSync(syntaxesOut).length;
 console.log(`build: ${built} grammars copied from syntax/, out/extension.js bundled`);

@@ -10,6 +10,7 @@ import {
   ServerOptions,
   TransportKind,
 } from "vscode-languageclient/node";
+import { DIAGRAM_REQUEST, DiagramResult, DiagramViews, SHOW_DIAGRAM } from "./diagram";
 import { RstSwitcher } from "./rst-detect";
 import { binaryName, resolveServer } from "./server-path";
 
@@ -103,6 +104,17 @@ async function startClient(): Promise<void> {
     },
   };
   const c = new LanguageClient(CLIENT_ID, CLIENT_NAME, serverOptions, clientOptions);
+  // The "◇ Show diagram" lenses run robosim.showDiagram, a command of this
+  // extension: the server gives them to clients that say they run it
+  // (rust-analyzer's `experimental.commands` convention).
+  c.registerFeature({
+    fillClientCapabilities(capabilities) {
+      capabilities.experimental = { ...(capabilities.experimental ?? {}), commands: { commands: [SHOW_DIAGRAM] } };
+    },
+    initialize() {},
+    getState: () => ({ kind: "static" }),
+    clear() {},
+  });
   client = c;
   try {
     await c.start();
@@ -116,6 +128,15 @@ async function startClient(): Promise<void> {
       if (choice) output.show(true);
     });
   }
+}
+
+/** `robosim/diagram`, once the server runs. */
+async function requestDiagrams(uri: string, element: string | undefined): Promise<DiagramResult> {
+  await ensureStarted();
+  const c = client;
+  if (!c) throw new Error("the RoboSim language server is not running");
+  const params = element === undefined ? { textDocument: { uri } } : { textDocument: { uri }, element };
+  return c.sendRequest<DiagramResult>(DIAGRAM_REQUEST, params);
 }
 
 /** Starts the client once, when the first RoboChart/RoboSim document is open. */
@@ -154,9 +175,13 @@ export function activate(context: vscode.ExtensionContext): void {
   traceOutput = vscode.window.createOutputChannel(`${CLIENT_NAME} Trace`);
   context.subscriptions.push(output, traceOutput);
 
+  const diagrams = new DiagramViews({ request: requestDiagrams, languages: LANGUAGES });
   context.subscriptions.push(
     vscode.commands.registerCommand("robosim.restartServer", restart),
     vscode.commands.registerCommand("robosim.showOutput", () => output.show(true)),
+    diagrams,
+    // Client-side: not in the server's executeCommandProvider.
+    vscode.commands.registerCommand(SHOW_DIAGRAM, (uri?: unknown, element?: unknown) => diagrams.show(uri, element)),
   );
 
   // `.rst`: switch documents that look like RoboSim (see rst-detect.ts).

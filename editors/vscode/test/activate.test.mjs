@@ -46,6 +46,7 @@ function makeVscode(state) {
       onDidOpenTextDocument: emitter(state.onOpen),
       onDidCloseTextDocument: emitter(state.onClose),
       onDidChangeConfiguration: emitter(state.onConfig),
+      onDidChangeTextDocument: emitter([]),
     },
     window: {
       createOutputChannel: (name) => ({
@@ -136,8 +137,8 @@ after(() => {
 
 const flush = () => new Promise((r) => setTimeout(r, 20));
 
-test("activate() registers the two commands and starts nothing while no model is open", () => {
-  assert.deepEqual([...state.commands.keys()].sort(), ["robosim.restartServer", "robosim.showOutput"]);
+test("activate() registers the three commands and starts nothing while no model is open", () => {
+  assert.deepEqual([...state.commands.keys()].sort(), ["robosim.restartServer", "robosim.showDiagram", "robosim.showOutput"]);
   assert.equal(state.errors.length, 0);
   assert.equal(state.onOpen.length, 1);
   state.commands.get("robosim.showOutput")();

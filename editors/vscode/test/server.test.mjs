@@ -143,6 +143,8 @@ describe("robosim lsp over stdio", { timeout: 120000 }, () => {
         initializationOptions: { rules: "paper" },
         capabilities: {
           general: { positionEncodings: ["utf-16"] },
+          // As the extension declares: it runs robosim.showDiagram itself.
+          experimental: { commands: { commands: ["robosim.showDiagram"] } },
           workspace: { configuration: true, workspaceFolders: true, didChangeConfiguration: { dynamicRegistration: false } },
           textDocument: {
             synchronization: { dynamicRegistration: false },
@@ -338,6 +340,46 @@ describe("robosim lsp over stdio", { timeout: 120000 }, () => {
     assert.ok(d.relatedInformation.length > 0 && d.relatedInformation.every((r) => r.location.uri === uri("design.rct")));
     const after = await conn.sendRequest(CodeLensRequest.type, { textDocument: { uri: uri("checks.rsa") } });
     assert.equal(after.find((l) => l.command?.arguments?.[1] === "S1").command.title, "✘ fail — re-run");
+  });
+
+  it("offers diagram lenses whose command the extension runs with robosim/diagram", async () => {
+    // Not the server's command: vscode-languageclient must not register it.
+    assert.ok(!initResult.capabilities.executeCommandProvider.commands.includes("robosim.showDiagram"));
+    const uri = pathToFileURL(join(workspace, "gt3", "design.rct")).href;
+    const lenses = await withTimeout(
+      conn.sendRequest(CodeLensRequest.type, { textDocument: { uri } }),
+      TIMEOUT,
+      "codeLens",
+    );
+    const shows = lenses.filter((l) => l.command?.command === "robosim.showDiagram");
+    assert.deepEqual(
+      shows.map((l) => [l.command.title, ...l.command.arguments]),
+      [
+        ["◇ Show diagram", uri, "paper_design::SMovement"],
+        ["◇ Show diagram", uri, "paper_design::Movement"],
+        ["◇ Show diagram", uri, "paper_design::CFootBot"],
+      ],
+    );
+    // What the extension's command sends (design.rct of GT-3 is open: the
+    // test above opened it).
+    const [target, element] = shows[0].command.arguments;
+    const result = await withTimeout(
+      conn.sendRequest("robosim/diagram", { textDocument: { uri: target }, element }),
+      TIMEOUT,
+      "robosim/diagram",
+    );
+    assert.equal(result.diagrams.length, 1);
+    assert.equal(result.diagrams[0].model.qualifiedName, "paper_design::SMovement");
+    assert.deepEqual(
+      result.diagrams[0].model.region.nodes.map((n) => n.name),
+      ["i0", "Moving", "Turning"],
+    );
+    assert.match(result.diagrams[0].svg, /^<svg [^>]*class="robosim-diagram"/);
+    assert.match(result.diagrams[0].svg, /data-id="Moving"[^>]* data-line="\d+" data-character="\d+"/);
+    await assert.rejects(
+      conn.sendRequest("robosim/diagram", { textDocument: { uri }, element: "Nowhere" }),
+      (e) => e.code === -32602 && /Nowhere/.test(e.message),
+    );
   });
 
   it("accepts a configuration change and keeps serving", async () => {

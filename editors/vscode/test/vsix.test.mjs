@@ -132,7 +132,7 @@ test("settings, commands and restricted-mode declarations", () => {
   assert.equal(props["robosim.verify.timeoutSeconds"].type, "number");
   assert.equal(props["robosim.verify.timeoutSeconds"].default, 60);
   const commands = manifest.contributes.commands.map((c) => c.command).sort();
-  assert.deepEqual(commands, ["robosim.restartServer", "robosim.showOutput"]);
+  assert.deepEqual(commands, ["robosim.restartServer", "robosim.showDiagram", "robosim.showOutput"]);
   const untrusted = manifest.capabilities.untrustedWorkspaces;
   assert.equal(untrusted.supported, "limited");
   assert.ok(untrusted.description.length > 0);
