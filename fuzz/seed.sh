@@ -15,3 +15,15 @@ open(os.path.join(out, "nested"), "w").write("function f() : int { postcondition
 open(os.path.join(out, "longline"), "w").write("interface I { var x : int = " + "1 + " * 10000 + "1 }")
 PY
 echo "$(ls "$out" | wc -l) seeds in fuzz/$out"
+
+# fuzz/corpus/verify: models whose first byte selects .rct (even) or .rst
+# (odd), checked against the fixed assertions of fuzz_targets/verify.rs
+# (which name `Mod`, `M` and `Sim`): our examples and every .rct/.rst of the
+# check crate's tests are starting points.
+out=corpus/verify
+mkdir -p "$out"
+find ../examples ../../shared/corpus -type f \( -name '*.rct' -o -name '*.rst' \) | while read -r f; do
+  case "$f" in *.rct) sel='\x00' ;; *) sel='\x01' ;; esac
+  { printf "$sel"; cat "$f"; } > "$out/$(echo "$f" | md5sum | cut -c1-16)"
+done
+echo "$(ls "$out" | wc -l) seeds in fuzz/$out"
