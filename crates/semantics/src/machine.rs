@@ -197,7 +197,13 @@ pub(crate) struct Gen<'e, 'a> {
     /// Whether a trigger is being rendered for display (hovers).
     display: bool,
     counter: usize,
+    /// Depth of the statements and expressions being translated.
+    nesting: usize,
 }
+
+/// Statements and expressions nested deeper are not exported (the
+/// translation, printing and checking recurse on them).
+const MAX_NESTING: usize = 64;
 
 const GENERATED: &[&str] = &["P__", "D__", "O__", "VS__", "Memory__", "Behaviour__", "Cycle__", "id__", "cycle"];
 
@@ -231,6 +237,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             terms: Vec::new(),
             display: false,
             counter: 0,
+            nesting: 0,
         }
     }
 
@@ -506,6 +513,17 @@ impl<'e, 'a> Gen<'e, 'a> {
     // ------------------------------------------------------ expressions
 
     fn expr(&mut self, e: &SyntaxNode, cx: ECtx, want: Option<&Ty>) -> Option<EOut> {
+        if self.nesting >= MAX_NESTING {
+            self.problem(e.text_range(), "this expression is nested too deeply for the export");
+            return None;
+        }
+        self.nesting += 1;
+        let out = self.expr_inner(e, cx, want);
+        self.nesting -= 1;
+        out
+    }
+
+    fn expr_inner(&mut self, e: &SyntaxNode, cx: ECtx, want: Option<&Ty>) -> Option<EOut> {
         let r = e.text_range();
         match e.kind() {
             PAREN_EXPR => {
@@ -809,6 +827,17 @@ impl<'e, 'a> Gen<'e, 'a> {
     // ------------------------------------------------------ statements
 
     fn stmt(&mut self, s: &SyntaxNode) -> Option<Expr> {
+        if self.nesting >= MAX_NESTING {
+            self.problem(s.text_range(), "this statement is nested too deeply for the export");
+            return None;
+        }
+        self.nesting += 1;
+        let out = self.stmt_inner(s);
+        self.nesting -= 1;
+        out
+    }
+
+    fn stmt_inner(&mut self, s: &SyntaxNode) -> Option<Expr> {
         let r = s.text_range();
         match s.kind() {
             SEQ_STMT => {
@@ -2128,12 +2157,35 @@ pub(crate) fn fold_seq(parts: Vec<Expr>) -> Expr {
     let mut acc = parts.pop().expect("a part");
     while let Some(p) = parts.pop() {
         acc = match p {
-            // (a -> B) ; C = a -> (B ; C)
-            Expr::Prefix(c, f, body) => Expr::Prefix(c, f, Box::new(fold_seq(vec![*body, acc]))),
+            // (a -> B) ; C = a -> (B ; C), while the result stays shallow:
+            // long statement sequences stay flat `;` chains.
+            Expr::Prefix(c, f, body) if depth(&acc) < 16 && depth(&body) < 16 => {
+                Expr::Prefix(c, f, Box::new(fold_seq(vec![*body, acc])))
+            }
             p => seq(vec![p, acc]),
         };
     }
     acc
+}
+
+/// How deep prefixes and sequences nest along the right of `e` (up to 16).
+fn depth(e: &Expr) -> usize {
+    let mut d = 0;
+    let mut cur = e;
+    while d < 16 {
+        cur = match cur {
+            Expr::Prefix(_, _, b) => b,
+            Expr::Nary(_, v) if !v.is_empty() => {
+                if v.len() > 8 {
+                    return 16;
+                }
+                &v[v.len() - 1]
+            }
+            _ => return d,
+        };
+        d += 1;
+    }
+    d
 }
 
 fn replace_call(d: &mut Decl, f: &str) {

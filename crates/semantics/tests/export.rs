@@ -73,3 +73,32 @@ fn corpus_exports_without_panic_and_is_well_formed() {
     assert!(all_problems.is_empty(), "{all_problems:#?}");
     assert!(exported >= 5, "only {exported} CSPm modules exported from the corpus");
 }
+
+/// Long statement sequences and deep nesting are exported (or refused)
+/// without overflowing a 2 MB stack, printed and checked.
+#[test]
+fn long_and_deep_models_do_not_overflow() {
+    let long = format!(
+        "stm Big {{\n var x : nat\n initial i\n state S {{ entry {} }}\n transition t {{ from i to S }}\n}}\n",
+        vec!["x = x + 1"; 3000].join("; ")
+    );
+    let mut deep = "x = 1".to_string();
+    for _ in 0..300 {
+        deep = format!("if x > 0 then {deep} else x = 2 end");
+    }
+    let deep = format!(
+        "stm Deep {{\n var x : nat\n initial i\n state S {{ entry {deep} }}\n transition t {{ from i to S }}\n}}\n"
+    );
+    let run = move || {
+        for (name, text) in [("big.rct", long), ("deep.rct", deep)] {
+            let db = robosim_hir::RootDatabase::default();
+            let ws = robosim_hir::load_workspace(&db, [(name.to_string(), text)], robosim_hir::RuleSet::Paper);
+            let e = export_workspace(&db, ws, &Options::default());
+            let problems = lint::check(&e.files);
+            assert!(problems.is_empty(), "{name}: {problems:#?}");
+            let texts: usize = e.files.iter().map(|f| f.text().len()).sum();
+            assert!(texts > 0);
+        }
+    };
+    std::thread::Builder::new().stack_size(2 << 20).spawn(run).unwrap().join().unwrap();
+}
