@@ -3,7 +3,8 @@
 //! paper runs with FDR (schedulability, deadlock freedom, refinement).
 
 pub mod algo;
-pub mod assertions;
+/// Assertion files, read (the reader lives with the semantic model).
+pub use robosim_hir::assertions;
 pub mod budget;
 pub mod design;
 pub mod events;

@@ -42,25 +42,9 @@ pub(crate) const WAIT: i32 = 2;
 /// `paper2019`: writing the registers of the cycle (`arg`: those left).
 const WRITES: i32 = 3;
 
-/// Which semantics (semantics.md §2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Profile {
-    /// What RoboTool 3 generates (the default).
-    #[default]
-    RoboTool3,
-    /// The definitions of the 2019 paper.
-    Paper2019,
-}
-
-impl Profile {
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Profile::RoboTool3 => "robotool3",
-            Profile::Paper2019 => "paper2019",
-        }
-    }
-}
+/// Which semantics (semantics.md §2): one definition for the checks and
+/// the CSPm export.
+pub use robosim_semantics::Profile;
 
 /// The register events of a check (`registerRead.i_e.b.v`,
 /// `registerWrite.o_e.args`; the paper profile's `registerRead.eU…`,

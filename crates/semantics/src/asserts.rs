@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 
-use robosim_check::assertions::{
+use robosim_hir::assertions::{
     AssertionDecl, AssertionFile, AssertionKind, CspLineKind, Override, SemanticModelName, Value,
 };
 use robosim_hir::defs::DefKind;

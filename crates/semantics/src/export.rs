@@ -503,14 +503,14 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
     for &f in &files {
         if f.kind(db).is_assertions() {
             let root = parse(db, f).syntax_node();
-            let read = robosim_check::assertions::read_assertions(&root);
+            let read = robosim_hir::assertions::read_assertions(&root);
             for (n, lo, hi, _) in &read.instantiations.types {
                 ex.fixed_types.insert(n.trim_start_matches("core_").to_string(), (*lo, *hi));
             }
             for a in &read.assertions {
                 for o in &a.overrides {
-                    if let robosim_check::assertions::Override::Constant {
-                        value: robosim_check::assertions::Value::Int(v),
+                    if let robosim_hir::assertions::Override::Constant {
+                        value: robosim_hir::assertions::Value::Int(v),
                         ..
                     } = o
                     {

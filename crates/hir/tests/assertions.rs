@@ -1,4 +1,4 @@
-//! Reading assertion files (`robosim_check::assertions`).
+//! Reading assertion files (`robosim_hir::assertions`).
 //!
 //! - Data-driven: each fixture `test_data/assertions/NAME.rsa|NAME.assertions`
 //!   is read and rendered, and the rendering must match the snapshot next to
@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-use robosim_check::assertions::{
+use robosim_hir::assertions::{
     read_assertions, AssertionFile, AssertionKind, CspLineKind, Override, Problem, SemanticModelName, Value,
 };
 use robosim_syntax::{parse, FileKind, SyntaxKind, TextRange};
