@@ -6,9 +6,9 @@
 
 use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Val};
-use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK};
+use crate::lts::{Event, FirstError, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
-use crate::pack::{initial_packed, successors_packed, Layout, Packed};
+use crate::pack::{Layout, VectorLts};
 use crate::sched::State;
 
 /// The design as an LTS.
@@ -163,9 +163,20 @@ impl<'a> DesignLts<'a> {
     }
 }
 
-impl DesignLts<'_> {
-    /// The initial state vector.
-    pub fn initial_values(&self) -> State {
+impl VectorLts for DesignLts<'_> {
+    fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    fn first_error(&self) -> &FirstError {
+        &self.error
+    }
+
+    fn event_table(&self) -> &EventTable {
+        &self.events
+    }
+
+    fn initial_values(&self) -> State {
         let (st, error) = self.design.initial_state(self.len, true);
         if let Some(e) = error {
             self.error.set(e);
@@ -182,31 +193,6 @@ impl DesignLts<'_> {
             self.error.set(e);
             out.truncate(start);
         }
-    }
-
-    /// The state vector of a packed state.
-    pub fn values(&self, st: &Packed) -> State {
-        self.layout.unpack(st)
-    }
-}
-
-impl Lts for DesignLts<'_> {
-    type State = Packed;
-
-    fn initial(&self) -> Packed {
-        initial_packed(&self.layout, &self.error, &self.initial_values())
-    }
-
-    fn successors(&self, st: &Packed, out: &mut Vec<(Label, Packed)>) {
-        successors_packed(&self.layout, &self.error, st, out, |v, next| self.successor_values(v, next));
-    }
-
-    fn event_name(&self, event: Event) -> String {
-        event_name_in(&self.events, event)
-    }
-
-    fn state_bytes(&self, st: &Packed) -> usize {
-        std::mem::size_of::<Packed>() + st.heap_bytes()
     }
 }
 

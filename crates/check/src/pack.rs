@@ -139,6 +139,51 @@ impl Layout {
     }
 }
 
+/// A transition system whose successor function works on state vectors
+/// and whose states are stored packed: implementing this gives the [`Lts`]
+/// (pack on the way out, unpack on the way in, errors recorded).
+///
+/// [`Lts`]: crate::lts::Lts
+pub trait VectorLts: Sync {
+    /// How states are packed.
+    fn layout(&self) -> &Layout;
+    /// Where run-time errors are recorded.
+    fn first_error(&self) -> &crate::lts::FirstError;
+    /// The names of events.
+    fn event_table(&self) -> &crate::events::EventTable;
+    /// The initial state vector.
+    fn initial_values(&self) -> Box<[i32]>;
+    /// The transitions of a state vector.
+    // The state is taken as its box: successors are clones of it.
+    #[allow(clippy::borrowed_box)]
+    fn successor_values(&self, st: &Box<[i32]>, out: &mut Vec<(crate::lts::Label, Box<[i32]>)>);
+
+    /// The state vector of a packed state.
+    fn values(&self, st: &Packed) -> Box<[i32]> {
+        self.layout().unpack(st)
+    }
+}
+
+impl<T: VectorLts> crate::lts::Lts for T {
+    type State = Packed;
+
+    fn initial(&self) -> Packed {
+        initial_packed(self.layout(), self.first_error(), &self.initial_values())
+    }
+
+    fn successors(&self, st: &Packed, out: &mut Vec<(crate::lts::Label, Packed)>) {
+        successors_packed(self.layout(), self.first_error(), st, out, |v, next| self.successor_values(v, next));
+    }
+
+    fn event_name(&self, event: crate::lts::Event) -> String {
+        crate::lts::event_name_in(self.event_table(), event)
+    }
+
+    fn state_bytes(&self, st: &Packed) -> usize {
+        std::mem::size_of::<Packed>() + st.heap_bytes()
+    }
+}
+
 /// The packed side of an LTS whose successor function works on unpacked
 /// state vectors: unpack, run `succ`, pack the successors. A successor that
 /// does not fit its encoding is dropped and `error` records why (the

@@ -19,9 +19,9 @@
 
 use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Dom, Val};
-use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK, TOCK};
+use crate::lts::{Event, FirstError, Label, TAU, TICK, TOCK};
 use crate::machine::{Act, Move, Offer};
-use crate::pack::{initial_packed, successors_packed, Layout, Packed};
+use crate::pack::{Layout, VectorLts};
 
 /// The state: the design's slots, then the assumptions'.
 pub type State = Box<[i32]>;
@@ -749,9 +749,20 @@ impl<'a> Constrained<'a> {
     }
 }
 
-impl Constrained<'_> {
-    /// The initial state vector.
-    pub fn initial_values(&self) -> State {
+impl VectorLts for Constrained<'_> {
+    fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    fn first_error(&self) -> &FirstError {
+        &self.error
+    }
+
+    fn event_table(&self) -> &EventTable {
+        &self.events
+    }
+
+    fn initial_values(&self) -> State {
         let (mut st, error) = self.design.initial_state(self.len, true);
         if let Some(e) = error {
             self.error.set(e);
@@ -791,31 +802,6 @@ impl Constrained<'_> {
             out.truncate(start);
             out.push((Label::TOCK, st.clone()));
         }
-    }
-
-    /// The state vector of a packed state.
-    pub fn values(&self, st: &Packed) -> State {
-        self.layout.unpack(st)
-    }
-}
-
-impl Lts for Constrained<'_> {
-    type State = Packed;
-
-    fn initial(&self) -> Packed {
-        initial_packed(&self.layout, &self.error, &self.initial_values())
-    }
-
-    fn successors(&self, st: &Packed, out: &mut Vec<(Label, Packed)>) {
-        successors_packed(&self.layout, &self.error, st, out, |v, next| self.successor_values(v, next));
-    }
-
-    fn event_name(&self, event: Event) -> String {
-        event_name_in(&self.events, event)
-    }
-
-    fn state_bytes(&self, st: &Packed) -> usize {
-        std::mem::size_of::<Packed>() + st.heap_bytes()
     }
 }
 

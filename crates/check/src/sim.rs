@@ -8,9 +8,9 @@
 
 use crate::events::EventTable;
 use crate::ir::{Design, Dir};
-use crate::lts::{event_name_in, Event, FirstError, Label, Lts, TAU, TICK};
+use crate::lts::{Event, FirstError, Label, TAU, TICK};
 use crate::machine::Offer;
-use crate::pack::{initial_packed, successors_packed, Layout, Packed};
+use crate::pack::{Layout, VectorLts};
 use crate::sched::{Profile, Registers, State, DONE, ENDED, READ, RUN, RUNNING, WAIT};
 
 /// `paper2019`: writing the cycle's buffered outputs (`arg`: the outputs
@@ -309,9 +309,20 @@ impl<'a> SimModule<'a> {
     }
 }
 
-impl SimModule<'_> {
-    /// The initial state vector.
-    pub fn initial_values(&self) -> State {
+impl VectorLts for SimModule<'_> {
+    fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    fn first_error(&self) -> &FirstError {
+        &self.error
+    }
+
+    fn event_table(&self) -> &EventTable {
+        &self.events
+    }
+
+    fn initial_values(&self) -> State {
         let (mut st, _) = self.design.initial_state(self.len, false);
         st[self.mode] = RUNNING;
         if let Err(e) = self.begin_cycle(&mut st) {
@@ -336,30 +347,5 @@ impl SimModule<'_> {
             self.error.set(e);
             out.truncate(start);
         }
-    }
-
-    /// The state vector of a packed state.
-    pub fn values(&self, st: &Packed) -> State {
-        self.layout.unpack(st)
-    }
-}
-
-impl Lts for SimModule<'_> {
-    type State = Packed;
-
-    fn initial(&self) -> Packed {
-        initial_packed(&self.layout, &self.error, &self.initial_values())
-    }
-
-    fn successors(&self, st: &Packed, out: &mut Vec<(Label, Packed)>) {
-        successors_packed(&self.layout, &self.error, st, out, |v, next| self.successor_values(v, next));
-    }
-
-    fn event_name(&self, event: Event) -> String {
-        event_name_in(&self.events, event)
-    }
-
-    fn state_bytes(&self, st: &Packed) -> usize {
-        std::mem::size_of::<Packed>() + st.heap_bytes()
     }
 }

@@ -22,7 +22,7 @@ use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_design, ConstValue, DomainDefaults, Unsupported};
 use crate::lts::{Label, Lts, TAU, TOCK};
 use crate::machine::{Act, Offer};
-use crate::pack::Packed;
+use crate::pack::{Packed, VectorLts};
 use crate::sched::{Constrained, Registers, State};
 use crate::sim::SimModule;
 
