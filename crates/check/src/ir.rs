@@ -472,6 +472,12 @@ impl Machine {
 }
 
 impl Design {
+    /// The channels to or from the platform in direction `dir` (internal
+    /// ones left out), by index.
+    pub fn platform_channels(&self, dir: Dir) -> Vec<u16> {
+        self.channels.iter().enumerate().filter(|(_, c)| c.dir == dir && !c.internal).map(|(i, _)| i as u16).collect()
+    }
+
     /// The range of every slot of the design's state vector, for packing:
     /// exact where the model bounds the slot, the whole `i32` range where a
     /// value comes from an expression the lowering cannot bound.

@@ -203,20 +203,7 @@ impl<'a> Constrained<'a> {
         registers: Option<&Registers>,
         tlfree: bool,
     ) -> Result<Constrained<'a>, String> {
-        let inputs: Vec<u16> = design
-            .channels
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.dir == Dir::In && !c.internal)
-            .map(|(i, _)| i as u16)
-            .collect();
-        let outputs: Vec<u16> = design
-            .channels
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.dir == Dir::Out && !c.internal)
-            .map(|(i, _)| i as u16)
-            .collect();
+        let (inputs, outputs) = (design.platform_channels(Dir::In), design.platform_channels(Dir::Out));
         if outputs.len() > MAX_OUTPUTS {
             return Err(format!("the design has {} outputs; at most {MAX_OUTPUTS} are supported", outputs.len()));
         }

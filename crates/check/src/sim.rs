@@ -62,20 +62,7 @@ impl<'a> SimModule<'a> {
         registers: &Registers,
         profile: Profile,
     ) -> Result<SimModule<'a>, String> {
-        let inputs: Vec<u16> = design
-            .channels
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.dir == Dir::In && !c.internal)
-            .map(|(i, _)| i as u16)
-            .collect();
-        let outputs: Vec<u16> = design
-            .channels
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.dir == Dir::Out && !c.internal)
-            .map(|(i, _)| i as u16)
-            .collect();
+        let (inputs, outputs) = (design.platform_channels(Dir::In), design.platform_channels(Dir::Out));
         if inputs.len() > 30 || outputs.len() > 30 {
             return Err("at most 30 inputs and 30 outputs are supported".into());
         }
