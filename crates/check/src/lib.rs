@@ -2,6 +2,8 @@
 //! semantics as transition systems explored on the fly, and the checks the
 //! paper runs with FDR (schedulability, deadlock freedom, refinement).
 
+#![warn(missing_docs)]
+
 pub mod algo;
 /// Assertion files, read (the reader lives with the semantic model).
 pub use robosim_hir::assertions;

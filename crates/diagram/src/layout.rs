@@ -112,8 +112,10 @@ impl Cubic {
     }
 }
 
-/// What a shape stands for, with its source range.
+/// What a shape stands for, with its source range (the fields are those of
+/// the diagram model's element: its id, kind, ends and range).
 #[derive(Debug, Clone, PartialEq)]
+#[allow(missing_docs)]
 pub enum Subject {
     /// A node of a machine.
     Node { id: String, kind: NodeKind, composite: bool, range: Span },

@@ -2,6 +2,8 @@
 //! computed from the semantic model ([`model`]), a layered layout with
 //! hierarchy handled inside out ([`layout`]), and SVG and DOT rendering.
 
+#![warn(missing_docs)]
+
 pub mod dot;
 pub mod layout;
 pub mod model;

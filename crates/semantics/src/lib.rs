@@ -24,6 +24,8 @@
 //! of one construct for editors. What is not supported yet is reported as
 //! a [`Warning`] and a comment in the output, never approximated.
 
+#![warn(missing_docs)]
+
 mod asserts;
 mod compose;
 pub mod cspm;
