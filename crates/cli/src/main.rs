@@ -80,6 +80,10 @@ enum Command {
         /// Worker threads for the search (default: the number of cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// Also draw each counterexample on the diagrams it passes through,
+        /// as SVG files in this folder (steps numbered by cycle).
+        #[arg(long, value_name = "DIR")]
+        diagrams: Option<PathBuf>,
         /// Model files or folders: the whole workspace the assertions refer to.
         #[arg(required = true)]
         paths: Vec<PathBuf>,
@@ -162,17 +166,20 @@ fn main() -> ExitCode {
         Command::Check { format, rules, color, paths } => check(format, rules, color, &paths),
         Command::Parse { tree, file } => parse(tree, &file),
         Command::Fmt { check, paths } => fmt::run(check, &paths),
-        Command::Verify { format, semantics, max_states, timeout, threads, paths } => verify::run(verify::Args {
-            format,
-            profile: match semantics {
-                Semantics::Robotool3 => robosim_check::verify::Profile::RoboTool3,
-                Semantics::Paper2019 => robosim_check::verify::Profile::Paper2019,
-            },
-            max_states,
-            timeout,
-            threads,
-            paths,
-        }),
+        Command::Verify { format, semantics, max_states, timeout, threads, diagrams, paths } => {
+            verify::run(verify::Args {
+                format,
+                profile: match semantics {
+                    Semantics::Robotool3 => robosim_check::verify::Profile::RoboTool3,
+                    Semantics::Paper2019 => robosim_check::verify::Profile::Paper2019,
+                },
+                max_states,
+                timeout,
+                threads,
+                diagrams,
+                paths,
+            })
+        }
         Command::Diagram { svg: _, dot, json, out, element, paths } => diagram::run(diagram::Args {
             output: if json {
                 diagram::Output::Json

@@ -24,6 +24,8 @@ pub struct Args {
     pub max_states: Option<u64>,
     pub timeout: Option<f64>,
     pub threads: Option<usize>,
+    /// Where to draw the counterexamples on diagrams, if anywhere.
+    pub diagrams: Option<PathBuf>,
     pub paths: Vec<PathBuf>,
 }
 
@@ -65,6 +67,12 @@ pub fn run(args: Args) -> ExitCode {
     if show_progress && started.elapsed() >= Duration::from_millis(500) {
         eprint!("\r{}\r", " ".repeat(72));
     }
+    if let Some(dir) = &args.diagrams {
+        match draw_counterexamples(&ws, &reports, dir) {
+            Ok(n) => eprintln!("robosim: drew {n} counterexample diagrams in {}", dir.display()),
+            Err(e) => return fail(format!("cannot write diagrams to `{}`: {e}", dir.display())),
+        }
+    }
     let out = std::io::stdout();
     let result = match args.format {
         Format::Json => writeln!(out.lock(), "{}", to_json(&ws, &reports)),
@@ -76,6 +84,45 @@ pub fn run(args: Args) -> ExitCode {
         }
     }
     ExitCode::from(exit_status(&reports))
+}
+
+/// Draws each counterexample on the diagrams of the machines it passes
+/// through: `DIR/ASSERTION.ELEMENT.svg`, the states and transitions of its
+/// steps highlighted with their cycles. Returns how many files were written.
+fn draw_counterexamples(ws: &Workspace, reports: &[Report], dir: &std::path::Path) -> std::io::Result<usize> {
+    std::fs::create_dir_all(dir)?;
+    let mut written = 0;
+    for r in reports {
+        let Some(c) = &r.counterexample else { continue };
+        for f in ws.files.iter().take(ws.user_files) {
+            let last = c.steps.last().map_or(0, |s| s.cycle);
+            let mut steps: Vec<(u32, u32)> = c
+                .steps
+                .iter()
+                .chain(&c.specification)
+                .filter_map(|s| {
+                    let l = s.location.as_ref().filter(|l| l.file == f.path)?;
+                    Some((u32::from(l.range.start()), s.cycle))
+                })
+                .collect();
+            // Where it got stuck, in the last cycle.
+            steps.extend(c.stuck_at.iter().filter(|l| l.file == f.path).map(|l| (u32::from(l.range.start()), last)));
+            if steps.is_empty() {
+                continue;
+            }
+            for d in robosim_diagram::file_diagrams(&ws.db, ws.input, f.input) {
+                let inside = steps.iter().any(|&(at, _)| d.range.start <= at && at < d.range.end);
+                if !inside || d.region.is_none() {
+                    continue;
+                }
+                let marks = robosim_diagram::Marks { steps: steps.clone() };
+                let name = format!("{}.{}.svg", r.name, d.qualified_name.replace("::", "."));
+                std::fs::write(dir.join(name), robosim_diagram::render_svg_marked(&d, &marks))?;
+                written += 1;
+            }
+        }
+    }
+    Ok(written)
 }
 
 /// 0 when every assertion passes, 1 when one fails, 3 when none fails but

@@ -140,3 +140,23 @@ fn paper_profile_prints_the_papers_counterexample() {
     // Period 2: not schedulable either, so `S2` (negated) passes.
     assert_eq!(find(&v, "checks.rsa", "S2")["verdict"], "pass");
 }
+
+/// `--diagrams DIR` draws the counterexample on the machine's diagram: the
+/// states and transitions it passes through, with their cycles.
+#[test]
+fn counterexample_on_the_diagram() {
+    let dir = std::env::temp_dir().join(format!("robosim-cex-diagrams-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = robosim().arg("verify").arg("--diagrams").arg(&dir).arg(data().join("gt3")).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let svg = std::fs::read_to_string(dir.join("S1.paper_design.SMovement.svg")).expect("the diagram of S1");
+    // Moving (its entry calls move), t1 (obstacle, stop) and Turning (stuck
+    // on its entry's call) are marked in cycle 0.
+    for id in ["Moving", "t1", "Turning"] {
+        let at = svg.find(&format!(r#"data-id="{id}""#)).unwrap_or_else(|| panic!("{id} drawn"));
+        let group_start = svg[..at].rfind("<g class=\"").expect("its group");
+        assert!(svg[group_start..at].contains("highlight"), "{id} is highlighted");
+        assert!(svg[at..].split("</g>").next().unwrap_or("").contains(">c0<"), "{id} has its cycle");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

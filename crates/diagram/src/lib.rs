@@ -11,4 +11,4 @@ pub mod svg;
 
 pub use dot::render_dot;
 pub use model::{dump, file_diagrams, Diagram, DiagramKind};
-pub use svg::render_svg;
+pub use svg::{render_svg, render_svg_marked, Marks};

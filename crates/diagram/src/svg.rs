@@ -45,6 +45,7 @@ const STYLE: &str = r#"
   .robosim-diagram .exec { font-weight: bold; }
   .robosim-diagram g[data-start] { cursor: pointer; }
   .robosim-diagram .highlight > .node-box, .robosim-diagram .highlight > .edge { stroke: #d81b60; stroke-width: 3; }
+  .robosim-diagram .cex-badge { fill: #d81b60; font-weight: bold; font-size: 11px; }
 "#;
 
 /// Renders a diagram as a standalone SVG document.
@@ -53,8 +54,83 @@ pub fn render_svg(d: &Diagram) -> String {
     render_laid(d, &laid)
 }
 
+/// Steps of a counterexample to draw on a diagram: each is a byte offset in
+/// the diagram's file (where the step's transition or statement is) and the
+/// cycle it happened in. The innermost state or transition containing the
+/// offset is highlighted and labelled with its cycles (`c0`, `c1 c2` …).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Marks {
+    /// (byte offset, cycle), in the order of the counterexample.
+    pub steps: Vec<(u32, u32)>,
+}
+
+/// Renders a diagram with the steps of a counterexample marked on it.
+pub fn render_svg_marked(d: &Diagram, marks: &Marks) -> String {
+    let laid = layout(d);
+    let mut cycles: Vec<((u32, u32), Vec<u32>)> = Vec::new();
+    for &(at, cycle) in &marks.steps {
+        // The innermost (shortest) element whose declaration contains the step.
+        let best = element_spans(&laid).into_iter().filter(|(a, b)| *a <= at && at < *b).min_by_key(|(a, b)| b - a);
+        if let Some(span) = best {
+            match cycles.iter_mut().find(|(s, _)| *s == span) {
+                Some((_, cs)) if cs.last() != Some(&cycle) => cs.push(cycle),
+                Some(_) => {}
+                None => cycles.push((span, vec![cycle])),
+            }
+        }
+    }
+    render(d, &laid, &cycles)
+}
+
+/// Declaration span → the cycles marked on it.
+type Marked = [((u32, u32), Vec<u32>)];
+
+/// The declaration spans of every shape and edge.
+fn element_spans(laid: &Laid) -> Vec<(u32, u32)> {
+    fn walk(s: &Shape, out: &mut Vec<(u32, u32)>) {
+        if let Some(r) = subject_span(&s.subject) {
+            out.push(r);
+        }
+        for c in &s.children {
+            walk(c, out);
+        }
+        for e in &s.edges {
+            out.extend(subject_span(&e.subject));
+        }
+    }
+    let mut out = Vec::new();
+    for s in &laid.shapes {
+        walk(s, &mut out);
+    }
+    out.extend(laid.edges.iter().filter_map(|e| subject_span(&e.subject)));
+    out
+}
+
+fn subject_span(s: &Subject) -> Option<(u32, u32)> {
+    match s {
+        Subject::Node { range, .. } | Subject::Transition { range, .. } => Some((range.start, range.end)),
+        _ => None,
+    }
+}
+
+/// The cycles marked on `s`, if any.
+fn marked<'m>(s: &Subject, marks: &'m Marked) -> Option<&'m [u32]> {
+    let span = subject_span(s)?;
+    marks.iter().find(|(sp, _)| *sp == span).map(|(_, c)| c.as_slice())
+}
+
+/// A badge `c0 c1` at (x, y) for a marked element.
+fn badge(out: &mut String, cycles: &[u32], x: f64, y: f64) {
+    let text: Vec<String> = cycles.iter().map(|c| format!("c{c}")).collect();
+    let _ = writeln!(out, r#"<text class="cex-badge" x="{}" y="{}">{}</text>"#, n(x), n(y), text.join(" "));
+}
+
 /// Renders an already laid-out diagram.
 pub fn render_laid(d: &Diagram, laid: &Laid) -> String {
+    render(d, laid, &[])
+}
+
+fn render(d: &Diagram, laid: &Laid, marks: &Marked) -> String {
     let title = format!("{} {}", d.kind.word(), d.qualified_name);
     let legend = d.robosim && (!d.inputs.is_empty() || !d.outputs.is_empty());
     let title_h = LINE_H + 12.0;
@@ -83,10 +159,10 @@ pub fn render_laid(d: &Diagram, laid: &Laid) -> String {
     text(&mut out, &title_line, d, "");
     let _ = writeln!(out, r#"<g class="diagram" transform="translate(8 {})">"#, 8.0 + title_h);
     for s in &laid.shapes {
-        shape(&mut out, s, d, "");
+        shape(&mut out, s, d, "", marks);
     }
     for e in &laid.edges {
-        edge(&mut out, e, d, "");
+        edge(&mut out, e, d, "", marks);
     }
     out.push_str("</g>\n");
     if legend {
@@ -247,10 +323,15 @@ fn subject_attrs(s: &Subject, parent: &str) -> (String, String) {
     }
 }
 
-fn shape(out: &mut String, s: &Shape, d: &Diagram, parent: &str) {
+fn shape(out: &mut String, s: &Shape, d: &Diagram, parent: &str, marks: &Marked) {
     let (class, attrs) = subject_attrs(&s.subject, parent);
+    let mark = marked(&s.subject, marks);
+    let class = if mark.is_some() { format!("{class} highlight") } else { class };
     let _ = writeln!(out, r#"<g class="{class}"{attrs}>"#);
     let r = &s.rect;
+    if let Some(cycles) = mark {
+        badge(out, cycles, r.x + r.w + 2.0, r.y + 10.0);
+    }
     let (cx, cy) = (r.x + r.w / 2.0, r.y + r.h / 2.0);
     match &s.subject {
         Subject::Node { kind: NodeKind::Initial, .. } => {
@@ -327,10 +408,10 @@ fn shape(out: &mut String, s: &Shape, d: &Diagram, parent: &str) {
         _ => "",
     };
     for c in &s.children {
-        shape(out, c, d, id);
+        shape(out, c, d, id, marks);
     }
     for e in &s.edges {
-        edge(out, e, d, id);
+        edge(out, e, d, id, marks);
     }
     out.push_str("</g>\n");
 }
@@ -346,9 +427,14 @@ fn path_d(path: &[Cubic]) -> String {
     s
 }
 
-fn edge(out: &mut String, e: &Edge, d: &Diagram, parent: &str) {
+fn edge(out: &mut String, e: &Edge, d: &Diagram, parent: &str, marks: &Marked) {
     let (class, attrs) = subject_attrs(&e.subject, parent);
+    let mark = marked(&e.subject, marks);
+    let class = if mark.is_some() { format!("{class} highlight") } else { class };
     let _ = writeln!(out, r#"<g class="{class}"{attrs}>"#);
+    if let (Some(cycles), Some(t)) = (mark, e.texts.first()) {
+        badge(out, cycles, t.rect.x, t.rect.y - 2.0);
+    }
     let mut edge_class = String::from("edge");
     if e.dashed {
         edge_class.push_str(" dashed");
