@@ -1,0 +1,70 @@
+//! Assertions the engine cannot decide say why, precisely: periods out of
+//! range, unknown elements, values that are not literals, budgets spent.
+
+use std::time::Duration;
+
+use robosim_check::verify::{verify_workspace, Options, Report, Verdict};
+
+const DESIGN: &str = "interface I { event i op() }
+    stm M { uses I requires I const k : nat initial i0 state S { entry op(); wait(1) }
+      transition t { from i0 to S } transition u { from S to S } }
+    controller C { uses I requires I sref m = M connection C on i to m on i }
+    module Mod { robotic platform P { uses I provides I } cref c = C connection P on i to c on i }";
+
+fn run(rsa: &str, opts: &Options) -> Vec<Report> {
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(
+        &db,
+        [("m.rct".to_string(), DESIGN.to_string()), ("a.rsa".to_string(), rsa.to_string())],
+        robosim_hir::RuleSet::Paper,
+    );
+    verify_workspace(&db, ws, opts, None)
+}
+
+fn reason(r: &Report) -> &str {
+    r.reason.as_deref().unwrap_or_default()
+}
+
+#[test]
+fn undecided_assertions_say_why() {
+    let rsa = "simulation S of Mod { cycleDef cycle == 1 }
+        simulation Z of Mod { cycleDef cycle == 0 }
+        simulation N of Nowhere { cycleDef cycle == 1 }
+        assertion A : Z is schedulable with constant k of M set to 1 .
+        assertion B : S is schedulable with constant k of M set to 1, cycleDef of S set to 5000 .
+        assertion C : N is schedulable
+        assertion D : S is schedulable with constant k of M set to k + 1 .
+        assertion E : S is schedulable
+        assertion F : T is schedulable
+        assertion G : S is schedulable with constant k of M set to 1 .";
+    let reports = run(rsa, &Options::default());
+    let by = |n: &str| reports.iter().find(|r| r.name == n).unwrap_or_else(|| panic!("{n}"));
+    for (name, expected) in [
+        ("A", "no cycle period from 1 to 1000"),
+        ("B", "no cycle period from 1 to 1000"),
+        ("C", "is not a RoboChart module, controller or machine"),
+        ("D", "is not an integer or boolean literal"),
+        ("E", "the constant `k` has no value"),
+        ("F", "is not a simulation, module, controller or machine"),
+    ] {
+        let r = by(name);
+        assert_eq!(r.verdict, Verdict::Unsupported, "{name}: {:?}", r.reason);
+        assert!(reason(r).contains(expected), "{name}: {}", reason(r));
+    }
+    assert_eq!(by("G").verdict, Verdict::Pass, "{:?}", by("G").reason);
+}
+
+#[test]
+fn spent_budgets_are_inconclusive() {
+    let rsa = "simulation S of Mod { cycleDef cycle == 1 }
+        assertion A : S is schedulable with constant k of M set to 1 .";
+    let mut opts = Options::default();
+    opts.budget.max_states = 3;
+    let r = run(rsa, &opts).remove(0);
+    assert_eq!(r.verdict, Verdict::Inconclusive);
+    assert!(reason(&r).contains('3'), "{}", reason(&r));
+    let mut opts = Options::default();
+    opts.budget.timeout = Some(Duration::ZERO);
+    let r = run(rsa, &opts).remove(0);
+    assert!(matches!(r.verdict, Verdict::Inconclusive | Verdict::Pass), "{:?}", r.verdict);
+}
