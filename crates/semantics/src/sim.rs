@@ -48,27 +48,12 @@ pub(crate) fn simulation(
     for ch in &design.chans {
         match (ch.kind, ch.dir) {
             (ChanKind::Event, Dir::In) => {
-                let reg = ex.in_reg(&ch.model);
-                ex.register(true, &reg, &ch.values)?;
-                inputs.push(dot(vec![name(q(&ch.csp)), name("in")]));
-                read_set.push(dot(vec![name("registerRead"), name(reg.clone())]));
-                // A1_e = registerRead.i_e?b?x -> (if b then (e.in.x -> A1_e [] A1_e) else A1_e)
-                let me = format!("A1_{}", ident(&ch.model));
-                let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
-                let mut ev = vec![name(q(&ch.csp)), name("in")];
-                if !ch.values.is_empty() {
-                    rf.push(Field::In("x".into()));
-                    ev.push(name("x"));
-                }
-                let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
-                let body = prefix(
-                    "registerRead",
-                    rf.clone(),
-                    Expr::If(Box::new(name("b")), Box::new(consume), Box::new(name(me.clone()))),
-                );
-                d.push(Decl::Def(me.clone(), vec![], body));
-                a1.push(name(me));
-                reads.push(prefix("registerRead", rf, Expr::Skip));
+                let a = assume_input(ex, ch, &q(&ch.csp))?;
+                inputs.push(a.input);
+                read_set.push(a.read_set);
+                d.push(a.def);
+                a1.push(a.a1);
+                reads.push(a.read);
             }
             (ChanKind::Event, Dir::Out) | (ChanKind::Call, _) => {
                 let reg = ex.out_reg(&ch.model);
@@ -267,6 +252,49 @@ fn prefix_dot(e: Expr, p: Expr) -> Expr {
     }
 }
 
+/// What an input contributes to the assumptions (the same in both profiles).
+struct AssumedInput {
+    /// The design's event (`e.in`).
+    input: Expr,
+    /// Its register's reads (`registerRead.i_e`).
+    read_set: Expr,
+    /// `A1_e`'s definition.
+    def: Decl,
+    /// `A1_e`.
+    a1: Expr,
+    /// One read of the register, then `SKIP`.
+    read: Expr,
+}
+
+/// TA1 for one input: `A1_e = registerRead.i_e?b?x -> (if b then (e.in.x ->
+/// A1_e [] A1_e) else A1_e)`, the external choice (semantics.md §4.2).
+fn assume_input(ex: &mut Exporter<'_>, ch: &crate::export::Chan, csp: &str) -> Result<AssumedInput, String> {
+    let reg = ex.in_reg(&ch.model);
+    ex.register(true, &reg, &ch.values)?;
+    let input = dot(vec![name(csp.to_string()), name("in")]);
+    let read_set = dot(vec![name("registerRead"), name(reg.clone())]);
+    let me = format!("A1_{}", ident(&ch.model));
+    let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
+    let mut ev = vec![name(csp.to_string()), name("in")];
+    if !ch.values.is_empty() {
+        rf.push(Field::In("x".into()));
+        ev.push(name("x"));
+    }
+    let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
+    let body = prefix(
+        "registerRead",
+        rf.clone(),
+        Expr::If(Box::new(name("b")), Box::new(consume), Box::new(name(me.clone()))),
+    );
+    Ok(AssumedInput {
+        input,
+        read_set,
+        def: Decl::Def(me.clone(), vec![], body),
+        a1: name(me),
+        read: prefix("registerRead", rf, Expr::Skip),
+    })
+}
+
 /// An output of the paper's assumptions: its flag, channel, fields binding
 /// the values, register and value names.
 type PaperOut = (String, String, Vec<Field>, String, Vec<String>);
@@ -291,26 +319,12 @@ fn simulation_paper(ex: &mut Exporter<'_>, module: &str, sim_name: &str, design:
     for ch in &design.chans {
         match (ch.kind, ch.dir) {
             (ChanKind::Event, Dir::In) => {
-                let reg = ex.in_reg(&ch.model);
-                ex.register(true, &reg, &ch.values)?;
-                inputs.push(dot(vec![name(q(&ch.csp)), name("in")]));
-                read_set.push(dot(vec![name("registerRead"), name(reg.clone())]));
-                let me = format!("A1_{}", ident(&ch.model));
-                let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
-                let mut ev = vec![name(q(&ch.csp)), name("in")];
-                if !ch.values.is_empty() {
-                    rf.push(Field::In("x".into()));
-                    ev.push(name("x"));
-                }
-                let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
-                let body = prefix(
-                    "registerRead",
-                    rf.clone(),
-                    Expr::If(Box::new(name("b")), Box::new(consume), Box::new(name(me.clone()))),
-                );
-                d.push(Decl::Def(me.clone(), vec![], body));
-                a1.push(name(me));
-                reads.push(prefix("registerRead", rf, Expr::Skip));
+                let a = assume_input(ex, ch, &q(&ch.csp))?;
+                inputs.push(a.input);
+                read_set.push(a.read_set);
+                d.push(a.def);
+                a1.push(a.a1);
+                reads.push(a.read);
             }
             (ChanKind::Event, Dir::Out) | (ChanKind::Call, _) => {
                 let reg = ex.out_reg(&ch.model);
