@@ -503,3 +503,30 @@ fn semantics_setting_from_the_configuration() {
     server.shutdown();
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// After a failed check, `robosim/diagram` draws its counterexample on the
+/// machine's diagram: the states and transitions it passes through are
+/// highlighted with their cycles.
+#[test]
+fn a_failed_check_is_drawn_on_the_diagram() {
+    let root = gt3_workspace("verify-diagram", &[]);
+    let checks = file_uri(&root, "checks.rsa");
+    let design = file_uri(&root, "design.rct");
+    let mut server = start(&root, full_caps(), Value::Null, 2);
+    let diagram = |server: &mut Server| {
+        let res = server.call("robosim/diagram", json!({"textDocument": {"uri": design}, "element": "SMovement"}));
+        res["result"]["diagrams"][0]["svg"].as_str().unwrap_or_else(|| panic!("{res}")).to_string()
+    };
+    assert!(!diagram(&mut server).contains(" highlight\""), "no marks before a check");
+    verify(&mut server, &checks, json!("S1"));
+    let token = created_token(&mut server);
+    progress(&mut server, &token, "end");
+    let svg = diagram(&mut server);
+    for id in ["Moving", "t1", "Turning"] {
+        let at = svg.find(&format!(r#"data-id="{id}""#)).unwrap_or_else(|| panic!("{id} drawn"));
+        let group = svg[..at].rfind("<g class=\"").expect("its group");
+        assert!(svg[group..at].contains("highlight"), "{id} is highlighted");
+    }
+    assert!(svg.contains(">c0<"), "the cycle is written");
+    server.shutdown();
+}

@@ -121,3 +121,25 @@ pub fn render(diagram: Diagram) -> RenderedDiagram {
     let svg = robosim_diagram::render_svg(&diagram);
     RenderedDiagram { diagram, svg }
 }
+
+/// Draws `diagram` with the steps of `counterexamples` that fall in it
+/// marked (states and transitions highlighted, labelled with their
+/// cycles); plainly when none does.
+pub fn render_with(diagram: Diagram, counterexamples: &[robosim_check::verify::Counterexample]) -> RenderedDiagram {
+    let mut steps = Vec::new();
+    for c in counterexamples {
+        let last = c.steps.last().map_or(0, |s| s.cycle);
+        let located = c.steps.iter().chain(&c.specification).filter_map(|s| s.location.as_ref().map(|l| (l, s.cycle)));
+        for (l, cycle) in located.chain(c.stuck_at.iter().map(|l| (l, last))) {
+            let at = u32::from(l.range.start());
+            if l.file == diagram.file && diagram.range.start <= at && at < diagram.range.end {
+                steps.push((at, cycle));
+            }
+        }
+    }
+    if steps.is_empty() {
+        return render(diagram);
+    }
+    let svg = robosim_diagram::render_svg_marked(&diagram, &robosim_diagram::Marks { steps });
+    RenderedDiagram { diagram, svg }
+}

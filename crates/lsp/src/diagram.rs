@@ -16,7 +16,7 @@
 //! declare it among their commands, as rust-analyzer's clients do
 //! (`capabilities.experimental.commands.commands`).
 
-use robosim_ide::DiagramLens;
+use robosim_ide::{DiagramLens, RenderedDiagram};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use tower_lsp_server::jsonrpc::{Error, ErrorCode, Result};
@@ -112,6 +112,14 @@ impl Backend {
             .await?;
         let diagrams =
             found.map_err(|message| Error { code: ErrorCode::InvalidParams, message: message.into(), data: None })?;
+        // After a failed check, its counterexample is drawn on the diagrams
+        // it passes through.
+        let counterexamples = self.shared.lock().verify.counterexamples();
+        let diagrams: Vec<RenderedDiagram> = if counterexamples.is_empty() {
+            diagrams
+        } else {
+            diagrams.into_iter().map(|r| robosim_ide::diagram::render_with(r.diagram, &counterexamples)).collect()
+        };
         let result = DiagramResult {
             uri,
             diagrams: diagrams.into_iter().map(|r| DiagramItem { model: r.diagram, svg: r.svg }).collect(),

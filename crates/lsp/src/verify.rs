@@ -189,6 +189,13 @@ impl Verification {
         job.is_some()
     }
 
+    /// The counterexamples of the last runs (for drawing them on diagrams).
+    pub(crate) fn counterexamples(&self) -> Vec<robosim_ide::verify::Counterexample> {
+        let mut runs: Vec<&Run> = self.runs.values().collect();
+        runs.sort_by_key(|r| r.id);
+        runs.iter().flat_map(|r| r.reports.iter().filter_map(|r| r.counterexample.clone())).collect()
+    }
+
     /// The last report about each assertion of the file `key` (by the
     /// assertion's name range), in the order the runs started.
     pub(crate) fn reports_for(&self, key: &str) -> Vec<Verified> {
