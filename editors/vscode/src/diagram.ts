@@ -281,6 +281,7 @@ export interface DiagramViewsOptions {
 export class DiagramViews implements vscode.Disposable {
   private readonly views = new Map<string, DiagramView>();
   private readonly listener: vscode.Disposable;
+  private readonly diagnostics: vscode.Disposable;
   private readonly delay: number;
 
   constructor(private readonly options: DiagramViewsOptions) {
@@ -289,6 +290,11 @@ export class DiagramViews implements vscode.Disposable {
     // outputs): an edit of any model refreshes every view.
     this.listener = vscode.workspace.onDidChangeTextDocument((e) => {
       if (e.contentChanges.length === 0 || !options.languages.includes(e.document.languageId)) return;
+      for (const view of this.views.values()) view.schedule();
+    });
+    // A verification's result arrives as diagnostics: the server then draws
+    // its counterexample on the diagrams, so they are asked for again.
+    this.diagnostics = vscode.languages.onDidChangeDiagnostics(() => {
       for (const view of this.views.values()) view.schedule();
     });
   }
@@ -369,6 +375,7 @@ export class DiagramViews implements vscode.Disposable {
 
   dispose(): void {
     this.listener.dispose();
+    this.diagnostics.dispose();
     for (const view of this.views.values()) {
       view.dispose();
       view.panel.dispose();

@@ -77,6 +77,7 @@ function makeVscode(state) {
       },
     },
     languages: {
+      onDidChangeDiagnostics: () => ({ dispose() {} }),
       setTextDocumentLanguage: (doc, language) => {
         state.switched.push({ path: doc.uri.fsPath, language });
         return Promise.resolve(doc);

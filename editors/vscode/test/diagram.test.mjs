@@ -35,6 +35,7 @@ function reset() {
   Object.assign(state, {
     panels: [],
     changeListeners: [],
+    diagnosticListeners: [],
     shown: [],
     revealed: [],
     errors: [],
@@ -118,6 +119,12 @@ const fakeVscode = {
       return Promise.resolve(undefined);
     },
     showQuickPick: (items) => Promise.resolve(items[items.length - 1]),
+  },
+  languages: {
+    onDidChangeDiagnostics(listener) {
+      state.diagnosticListeners.push(listener);
+      return { dispose() {} };
+    },
   },
   workspace: {
     onDidChangeTextDocument(listener) {
@@ -318,6 +325,17 @@ test("a lens opens a panel beside the editor with the SVG; edits refresh it once
   await wait(80);
   assert.equal(requests.length, 2, "one request for the burst");
   assert.deepEqual(panel.posted.at(-1), { type: "update", svg: "<svg>edited</svg>", message: undefined, stale: false });
+
+  // A verification ends (its diagnostics change): the diagram is asked for
+  // again, so that the counterexample the server draws shows.
+  svg = "<svg>marked</svg>";
+  for (const l of state.diagnosticListeners) l({ uris: [] });
+  await wait(80);
+  assert.equal(requests.length, 3, "one request after the diagnostics changed");
+  assert.equal(panel.posted.at(-1).svg, "<svg>marked</svg>");
+  svg = "<svg>edited</svg>";
+  edit();
+  await wait(80);
 
   // The page is reloaded (after being hidden): it gets the latest diagram.
   const before = panel.posted.length;
