@@ -38,43 +38,20 @@ pub(crate) fn simulation(
     let q = |c: &str| format!("{m}::{c}");
     let mut d = Vec::new();
     // External events, in the design's vocabulary.
-    let mut inputs = Vec::new();
+    let AssumedInputs { inputs, read_set, a1, reads } = assume_inputs(ex, design, &q, &mut d)?;
     let mut outputs = Vec::new();
-    let mut a1 = Vec::new();
-    let mut reads = Vec::new();
-    let mut read_set = Vec::new();
     let mut a2_alts = Vec::new();
     let mut a2_flags = Vec::new();
     for ch in &design.chans {
         match (ch.kind, ch.dir) {
-            (ChanKind::Event, Dir::In) => {
-                let a = assume_input(ex, ch, &q(&ch.csp))?;
-                inputs.push(a.input);
-                read_set.push(a.read_set);
-                d.push(a.def);
-                a1.push(a.a1);
-                reads.push(a.read);
-            }
+            (ChanKind::Event, Dir::In) => {}
             (ChanKind::Event, Dir::Out) | (ChanKind::Call, _) => {
-                let reg = ex.out_reg(&ch.model);
-                ex.register(false, &reg, &ch.values)?;
-                let chan = if ch.kind == ChanKind::Event {
-                    dot(vec![name(q(&ch.csp)), name("out")])
-                } else {
-                    name(q(&ch.csp))
-                };
-                outputs.push(chan.clone());
-                let flag = format!("w_{}", ident(&ch.model));
-                a2_flags.push(flag.clone());
-                let vars: Vec<String> = (0..ch.values.len()).map(|k| format!("x{k}")).collect();
-                let mut write = vec![name("registerWrite"), name(reg)];
-                write.extend(vars.iter().map(|v| name(v.clone())));
-                let (cname, mut fields) = match ch.kind {
-                    ChanKind::Event => (q(&ch.csp), vec![Field::Dot(name("out"))]),
-                    _ => (q(&ch.csp), vec![]),
-                };
-                fields.extend(vars.iter().map(|v| Field::In(v.clone())));
-                a2_alts.push((flag, cname, fields, dot(write)));
+                let o = assume_output(ex, ch, &q(&ch.csp))?;
+                outputs.push(o.chan);
+                a2_flags.push(o.flag.clone());
+                let mut write = vec![name("registerWrite"), name(o.reg)];
+                write.extend(o.vars.iter().map(|v| name(v.clone())));
+                a2_alts.push((o.flag, q(&ch.csp), o.fields, dot(write)));
             }
             (ChanKind::Ret, _) => {}
         }
@@ -252,47 +229,79 @@ fn prefix_dot(e: Expr, p: Expr) -> Expr {
     }
 }
 
-/// What an input contributes to the assumptions (the same in both profiles).
-struct AssumedInput {
-    /// The design's event (`e.in`).
-    input: Expr,
-    /// Its register's reads (`registerRead.i_e`).
-    read_set: Expr,
-    /// `A1_e`'s definition.
-    def: Decl,
-    /// `A1_e`.
-    a1: Expr,
-    /// One read of the register, then `SKIP`.
-    read: Expr,
+/// What the inputs contribute to the assumptions (the same in both profiles).
+struct AssumedInputs {
+    /// The design's input events (`e.in`).
+    inputs: Vec<Expr>,
+    /// Their registers' reads (`registerRead.i_e`).
+    read_set: Vec<Expr>,
+    /// `A1_e` for each.
+    a1: Vec<Expr>,
+    /// One read of each register, then `SKIP`.
+    reads: Vec<Expr>,
 }
 
-/// TA1 for one input: `A1_e = registerRead.i_e?b?x -> (if b then (e.in.x ->
-/// A1_e [] A1_e) else A1_e)`, the external choice (semantics.md §4.2).
-fn assume_input(ex: &mut Exporter<'_>, ch: &crate::export::Chan, csp: &str) -> Result<AssumedInput, String> {
-    let reg = ex.in_reg(&ch.model);
-    ex.register(true, &reg, &ch.values)?;
-    let input = dot(vec![name(csp.to_string()), name("in")]);
-    let read_set = dot(vec![name("registerRead"), name(reg.clone())]);
-    let me = format!("A1_{}", ident(&ch.model));
-    let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
-    let mut ev = vec![name(csp.to_string()), name("in")];
-    if !ch.values.is_empty() {
-        rf.push(Field::In("x".into()));
-        ev.push(name("x"));
+/// TA1 for the inputs of `design`, one `A1_e = registerRead.i_e?b?x ->
+/// (if b then (e.in.x -> A1_e [] A1_e) else A1_e)` each, defined in `d`: the
+/// external choice (semantics.md §4.2).
+fn assume_inputs(
+    ex: &mut Exporter<'_>,
+    design: &Elem,
+    q: &dyn Fn(&str) -> String,
+    d: &mut Vec<Decl>,
+) -> Result<AssumedInputs, String> {
+    let mut out = AssumedInputs { inputs: Vec::new(), read_set: Vec::new(), a1: Vec::new(), reads: Vec::new() };
+    for ch in design.chans.iter().filter(|c| c.kind == ChanKind::Event && c.dir == Dir::In) {
+        let csp = q(&ch.csp);
+        let reg = ex.in_reg(&ch.model);
+        ex.register(true, &reg, &ch.values)?;
+        out.inputs.push(dot(vec![name(csp.clone()), name("in")]));
+        out.read_set.push(dot(vec![name("registerRead"), name(reg.clone())]));
+        let me = format!("A1_{}", ident(&ch.model));
+        let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
+        let mut ev = vec![name(csp), name("in")];
+        if !ch.values.is_empty() {
+            rf.push(Field::In("x".into()));
+            ev.push(name("x"));
+        }
+        let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
+        let body = prefix(
+            "registerRead",
+            rf.clone(),
+            Expr::If(Box::new(name("b")), Box::new(consume), Box::new(name(me.clone()))),
+        );
+        d.push(Decl::Def(me.clone(), vec![], body));
+        out.a1.push(name(me));
+        out.reads.push(prefix("registerRead", rf, Expr::Skip));
     }
-    let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
-    let body = prefix(
-        "registerRead",
-        rf.clone(),
-        Expr::If(Box::new(name("b")), Box::new(consume), Box::new(name(me.clone()))),
-    );
-    Ok(AssumedInput {
-        input,
-        read_set,
-        def: Decl::Def(me.clone(), vec![], body),
-        a1: name(me),
-        read: prefix("registerRead", rf, Expr::Skip),
-    })
+    Ok(out)
+}
+
+/// An output as both profiles' TA2 see it.
+struct AssumedOutput {
+    /// Its register.
+    reg: String,
+    /// The design's event (`e.out` or `opCall`).
+    chan: Expr,
+    /// The flag saying it may still happen in the period (`w_e`).
+    flag: String,
+    /// Names for its values.
+    vars: Vec<String>,
+    /// The fields that bind them (after `.out` for an event).
+    fields: Vec<Field>,
+}
+
+/// The register of output `ch` (named `csp` in the design) and how TA2
+/// refers to it.
+fn assume_output(ex: &mut Exporter<'_>, ch: &crate::export::Chan, csp: &str) -> Result<AssumedOutput, String> {
+    let reg = ex.out_reg(&ch.model);
+    ex.register(false, &reg, &ch.values)?;
+    let event = ch.kind == ChanKind::Event;
+    let chan = if event { dot(vec![name(csp.to_string()), name("out")]) } else { name(csp.to_string()) };
+    let vars: Vec<String> = (0..ch.values.len()).map(|k| format!("x{k}")).collect();
+    let mut fields = if event { vec![Field::Dot(name("out"))] } else { vec![] };
+    fields.extend(vars.iter().map(|v| Field::In(v.clone())));
+    Ok(AssumedOutput { reg, chan, flag: format!("w_{}", ident(&ch.model)), vars, fields })
 }
 
 /// An output of the paper's assumptions: its flag, channel, fields binding
@@ -309,36 +318,17 @@ fn simulation_paper(ex: &mut Exporter<'_>, module: &str, sim_name: &str, design:
     let m = &design.module;
     let q = |c: &str| format!("{m}::{c}");
     let mut d = Vec::new();
-    let mut inputs = Vec::new();
+    let AssumedInputs { inputs, read_set, a1, reads } = assume_inputs(ex, design, &q, &mut d)?;
     let mut outputs = Vec::new();
     let mut rets = Vec::new();
-    let mut a1 = Vec::new();
-    let mut reads = Vec::new();
-    let mut read_set = Vec::new();
     let mut outs: Vec<PaperOut> = Vec::new();
     for ch in &design.chans {
         match (ch.kind, ch.dir) {
-            (ChanKind::Event, Dir::In) => {
-                let a = assume_input(ex, ch, &q(&ch.csp))?;
-                inputs.push(a.input);
-                read_set.push(a.read_set);
-                d.push(a.def);
-                a1.push(a.a1);
-                reads.push(a.read);
-            }
+            (ChanKind::Event, Dir::In) => {}
             (ChanKind::Event, Dir::Out) | (ChanKind::Call, _) => {
-                let reg = ex.out_reg(&ch.model);
-                ex.register(false, &reg, &ch.values)?;
-                let chan = if ch.kind == ChanKind::Event {
-                    dot(vec![name(q(&ch.csp)), name("out")])
-                } else {
-                    name(q(&ch.csp))
-                };
-                outputs.push(chan);
-                let vars: Vec<String> = (0..ch.values.len()).map(|k| format!("x{k}")).collect();
-                let mut fields = if ch.kind == ChanKind::Event { vec![Field::Dot(name("out"))] } else { vec![] };
-                fields.extend(vars.iter().map(|v| Field::In(v.clone())));
-                outs.push((format!("w_{}", ident(&ch.model)), q(&ch.csp), fields, reg, vars));
+                let o = assume_output(ex, ch, &q(&ch.csp))?;
+                outputs.push(o.chan);
+                outs.push((o.flag, q(&ch.csp), o.fields, o.reg, o.vars));
             }
             (ChanKind::Ret, _) => rets.push(name(q(&ch.csp))),
         }
