@@ -6,22 +6,21 @@
 
 use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Val};
-use crate::lts::{Event, FirstError, Label, Lts, TAU, TICK};
+use crate::lts::{Event, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
-use crate::pack::{Layout, VectorLts};
+use crate::pack::{Encoding, VectorLts};
 use crate::sched::State;
 
 /// The design as an LTS.
 pub struct DesignLts<'a> {
     design: &'a Design,
-    events: EventTable,
     /// Event channel of each design channel.
     group: Vec<usize>,
     /// Slot: 0 running, 1 terminated (✓ done).
     ended: usize,
     len: usize,
-    layout: Layout,
-    error: FirstError,
+    /// Packing, run-time errors, event names.
+    enc: Encoding,
 }
 
 /// The printed name of a design channel's events.
@@ -79,13 +78,12 @@ impl<'a> DesignLts<'a> {
         let ended = design.slots as usize;
         let mut bounds = design.slot_bounds();
         bounds.push((0, 1));
-        let layout = Layout::new(&bounds);
-        Ok(DesignLts { design, events, group, ended, len: ended + 1, layout, error: FirstError::default() })
+        Ok(DesignLts { design, group, ended, len: ended + 1, enc: Encoding::new(&bounds, events) })
     }
 
     /// The first run-time error met during exploration, if any.
     pub fn error(&self) -> Option<String> {
-        self.error.get()
+        self.enc.error.get()
     }
 
     /// Whether a machine of the design is in (or inside) the state named
@@ -132,20 +130,21 @@ impl<'a> DesignLts<'a> {
                         };
                         for v in values {
                             let n = self.design.after(m, st, mv.act, v)?;
-                            let ev = self.events.event(self.group[*chan as usize], &v.into_iter().collect::<Vec<_>>());
+                            let ev =
+                                self.enc.events.event(self.group[*chan as usize], &v.into_iter().collect::<Vec<_>>());
                             out.push((Label::plain(ev), n));
                         }
                     }
                     Offer::Out { chan, args } => {
                         let n = self.design.after(m, st, mv.act, None)?;
-                        out.push((Label::plain(self.events.event(self.group[*chan as usize], args)), n));
+                        out.push((Label::plain(self.enc.events.event(self.group[*chan as usize], args)), n));
                     }
                 }
             }
         }
         // Communications between machines are hidden.
         for (chan, args, n) in self.design.internal_steps(st, &internal)? {
-            out.push((Label { event: TAU, note: self.events.event(self.group[chan as usize], &args) }, n));
+            out.push((Label { event: TAU, note: self.enc.events.event(self.group[chan as usize], &args) }, n));
         }
         if self.design.machines.iter().all(|m| m.terminated(st)) {
             let mut n = st.clone();
@@ -164,24 +163,12 @@ impl<'a> DesignLts<'a> {
 }
 
 impl VectorLts for DesignLts<'_> {
-    fn layout(&self) -> &Layout {
-        &self.layout
-    }
-
-    fn first_error(&self) -> &FirstError {
-        &self.error
-    }
-
-    fn event_table(&self) -> &EventTable {
-        &self.events
+    fn encoding(&self) -> &Encoding {
+        &self.enc
     }
 
     fn initial_values(&self) -> State {
-        let (st, error) = self.design.initial_state(self.len, true);
-        if let Some(e) = error {
-            self.error.set(e);
-        }
-        st.into_boxed_slice()
+        self.design.initial_state(self.len, true, &self.enc.error).into_boxed_slice()
     }
 
     fn successor_values(&self, st: &State, out: &mut Vec<(Label, State)>) {
@@ -190,7 +177,7 @@ impl VectorLts for DesignLts<'_> {
         }
         let start = out.len();
         if let Err(e) = self.successors_inner(st, out) {
-            self.error.set(e);
+            self.enc.error.set(e);
             out.truncate(start);
         }
     }

@@ -534,24 +534,23 @@ impl Design {
     /// A state vector of `len` slots with the variables' initial values and
     /// every machine before its first step; with `settle`, each machine runs
     /// its initial transition's internal code (RoboChart; a RoboSim machine
-    /// waits for its first cycle instead). Returns the first error met.
-    pub fn initial_state(&self, len: usize, settle: bool) -> (Vec<i32>, Option<String>) {
+    /// waits for its first cycle instead). Run-time errors go to `errors`.
+    pub fn initial_state(&self, len: usize, settle: bool, errors: &crate::lts::FirstError) -> Vec<i32> {
         let mut st = vec![0i32; len];
         for v in &self.vars {
             st[v.slot as usize] = v.init as i32;
         }
-        let mut error = None;
         for m in &self.machines {
             if settle {
                 m.init(&mut st);
                 if let Err(e) = m.settle(&mut st, &self.clocks, true) {
-                    error.get_or_insert(e.0);
+                    errors.set(e.0);
                 }
             } else {
                 m.init_cycle(&mut st);
             }
         }
-        (st, error)
+        st
     }
 
     /// The state after machine `m` performs `act` in `st` (`value`: the

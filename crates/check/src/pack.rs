@@ -139,18 +139,33 @@ impl Layout {
     }
 }
 
+/// What a state-vector model needs to be explored packed: the layout of
+/// its states, the cell for run-time errors, and its events' names.
+#[derive(Debug)]
+pub struct Encoding {
+    /// How states are packed.
+    pub layout: Layout,
+    /// The first run-time error met while exploring.
+    pub error: crate::lts::FirstError,
+    /// The names of events.
+    pub events: crate::events::EventTable,
+}
+
+impl Encoding {
+    /// The encoding of states with these slot ranges and events.
+    pub fn new(bounds: &[(i64, i64)], events: crate::events::EventTable) -> Encoding {
+        Encoding { layout: Layout::new(bounds), error: crate::lts::FirstError::default(), events }
+    }
+}
+
 /// A transition system whose successor function works on state vectors
 /// and whose states are stored packed: implementing this gives the [`Lts`]
 /// (pack on the way out, unpack on the way in, errors recorded).
 ///
 /// [`Lts`]: crate::lts::Lts
 pub trait VectorLts: Sync {
-    /// How states are packed.
-    fn layout(&self) -> &Layout;
-    /// Where run-time errors are recorded.
-    fn first_error(&self) -> &crate::lts::FirstError;
-    /// The names of events.
-    fn event_table(&self) -> &crate::events::EventTable;
+    /// How states are packed, where errors go, how events are named.
+    fn encoding(&self) -> &Encoding;
     /// The initial state vector.
     fn initial_values(&self) -> Box<[i32]>;
     /// The transitions of a state vector.
@@ -160,7 +175,7 @@ pub trait VectorLts: Sync {
 
     /// The state vector of a packed state.
     fn values(&self, st: &Packed) -> Box<[i32]> {
-        self.layout().unpack(st)
+        self.encoding().layout.unpack(st)
     }
 }
 
@@ -168,15 +183,17 @@ impl<T: VectorLts> crate::lts::Lts for T {
     type State = Packed;
 
     fn initial(&self) -> Packed {
-        initial_packed(self.layout(), self.first_error(), &self.initial_values())
+        let e = self.encoding();
+        initial_packed(&e.layout, &e.error, &self.initial_values())
     }
 
     fn successors(&self, st: &Packed, out: &mut Vec<(crate::lts::Label, Packed)>) {
-        successors_packed(self.layout(), self.first_error(), st, out, |v, next| self.successor_values(v, next));
+        let e = self.encoding();
+        successors_packed(&e.layout, &e.error, st, out, |v, next| self.successor_values(v, next));
     }
 
     fn event_name(&self, event: crate::lts::Event) -> String {
-        crate::lts::event_name_in(self.event_table(), event)
+        crate::lts::event_name_in(&self.encoding().events, event)
     }
 
     fn state_bytes(&self, st: &Packed) -> usize {

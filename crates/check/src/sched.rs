@@ -19,9 +19,9 @@
 
 use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Dom, Val};
-use crate::lts::{Event, FirstError, Label, TAU, TICK, TOCK};
+use crate::lts::{Event, Label, TAU, TICK, TOCK};
 use crate::machine::{Act, Move, Offer};
-use crate::pack::{Layout, VectorLts};
+use crate::pack::{Encoding, VectorLts};
 
 /// The state: the design's slots, then the assumptions'.
 pub type State = Box<[i32]>;
@@ -146,7 +146,6 @@ pub struct Constrained<'a> {
     /// Channel indices of the inputs and outputs, in order.
     inputs: Vec<u16>,
     outputs: Vec<u16>,
-    events: EventTable,
     /// Event groups: register reads per input, register writes per output,
     /// the design's own (hidden) events per channel, `timelock`, `terminate`.
     read_group: Vec<usize>,
@@ -175,10 +174,8 @@ pub struct Constrained<'a> {
     occ: usize,
     ret: usize,
     len: usize,
-    layout: Layout,
-    /// The first run-time error met (division by zero …): the search
-    /// result is then inconclusive.
-    error: FirstError,
+    /// Packing, run-time errors, event names.
+    enc: Encoding,
 }
 
 /// The design has more outputs than the engine tracks (A2's set of outputs
@@ -280,7 +277,6 @@ impl<'a> Constrained<'a> {
         ]);
         bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
         bounds.extend(std::iter::repeat_n((0, design.channels.len() as i64 + 1), design.machines.len()));
-        let layout = Layout::new(&bounds);
         Ok(Constrained {
             design,
             profile,
@@ -288,7 +284,6 @@ impl<'a> Constrained<'a> {
             period: period.max(1) as i32,
             inputs,
             outputs,
-            events,
             read_group,
             write_group,
             false_group,
@@ -307,19 +302,18 @@ impl<'a> Constrained<'a> {
             occ,
             ret,
             len,
-            layout,
-            error: FirstError::default(),
+            enc: Encoding::new(&bounds, events),
         })
     }
 
     /// The event table (register events, the design's hidden events).
     pub fn events(&self) -> &EventTable {
-        &self.events
+        &self.enc.events
     }
 
     /// The first run-time error met during exploration, if any.
     pub fn error(&self) -> Option<String> {
-        self.error.get()
+        self.enc.error.get()
     }
 
     fn all_inputs(&self) -> i32 {
@@ -343,7 +337,7 @@ impl<'a> Constrained<'a> {
 
     /// The name of the design's hidden event for a machine offer.
     fn design_event(&self, chan: u16, args: &[Val]) -> Event {
-        self.events.event(self.design_group[chan as usize], args)
+        self.enc.events.event(self.design_group[chan as usize], args)
     }
 
     /// Describes the machines' control states (for counterexamples).
@@ -431,11 +425,11 @@ impl<'a> Constrained<'a> {
             }
             let c = &self.design.channels[chan as usize];
             // The register's domain (shared with the other side of a check).
-            let reg_lo = self.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
+            let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
             for (present, v) in c.read_values(reg_lo) {
                 let mut args = vec![present];
                 args.extend(v);
-                let ev = self.events.event(self.read_group[i], &args);
+                let ev = self.enc.events.event(self.read_group[i], &args);
                 let mut n = st.clone();
                 n[self.a1 + 2 * i] = present as i32;
                 n[self.a1 + 2 * i + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
@@ -485,7 +479,7 @@ impl<'a> Constrained<'a> {
             }
             n[self.phase] = ph;
             n[self.arg] = arg;
-            out.push((Label::plain(self.events.event(self.false_group[o], &[])), n));
+            out.push((Label::plain(self.enc.events.event(self.false_group[o], &[])), n));
         }
     }
 
@@ -500,7 +494,7 @@ impl<'a> Constrained<'a> {
         } else if st[self.occ] != 0 {
             let head = st[self.occ] as Event;
             if let Some(o) = self.write_group.iter().position(|&g| {
-                let grp = self.events.group(g);
+                let grp = self.enc.events.group(g);
                 head >= grp.base && ((head - grp.base) as u64) < grp.size
             }) {
                 if let Some((ph, arg)) = self.ta3_write(st, o) {
@@ -537,7 +531,7 @@ impl<'a> Constrained<'a> {
                     if phase == RUN {
                         let mut n = st.clone();
                         n[self.ret + mi] = 0;
-                        out.push((Label::plain(self.events.event(self.ret_group[(ret - 1) as usize], &[])), n));
+                        out.push((Label::plain(self.enc.events.event(self.ret_group[(ret - 1) as usize], &[])), n));
                     }
                     continue;
                 }
@@ -570,7 +564,7 @@ impl<'a> Constrained<'a> {
                                 continue;
                             }
                             let mut n = self.design.after(m, st, mv.act, None)?;
-                            n[self.occ + len] = self.events.event(self.write_group[o], args) as i32;
+                            n[self.occ + len] = self.enc.events.event(self.write_group[o], args) as i32;
                             n[self.avail] &= !(1 << o);
                             if self.design.channels[*chan as usize].is_call {
                                 n[self.ret + mi] = i32::from(*chan) + 1;
@@ -635,7 +629,7 @@ impl<'a> Constrained<'a> {
 
     fn is_read(&self, e: Event) -> bool {
         self.read_group.iter().any(|&g| {
-            let grp = self.events.group(g);
+            let grp = self.enc.events.group(g);
             e >= grp.base && ((e - grp.base) as u64) < grp.size
         })
     }
@@ -691,7 +685,7 @@ impl<'a> Constrained<'a> {
                             }
                             let note = self.design_event(*chan, args);
                             let mut n = self.design.after(m, st, mv.act, None)?;
-                            n[self.pend] = self.events.event(self.write_group[o], args) as i32;
+                            n[self.pend] = self.enc.events.event(self.write_group[o], args) as i32;
                             n[self.avail] &= !(1 << o);
                             out.push((Label { event: TAU, note }, n));
                         }
@@ -737,23 +731,12 @@ impl<'a> Constrained<'a> {
 }
 
 impl VectorLts for Constrained<'_> {
-    fn layout(&self) -> &Layout {
-        &self.layout
-    }
-
-    fn first_error(&self) -> &FirstError {
-        &self.error
-    }
-
-    fn event_table(&self) -> &EventTable {
-        &self.events
+    fn encoding(&self) -> &Encoding {
+        &self.enc
     }
 
     fn initial_values(&self) -> State {
-        let (mut st, error) = self.design.initial_state(self.len, true);
-        if let Some(e) = error {
-            self.error.set(e);
-        }
+        let mut st = self.design.initial_state(self.len, true, &self.enc.error);
         st[self.mode] = RUNNING;
         st[self.avail] = self.all_outputs();
         st[self.pend] = if self.profile == Profile::Paper2019 { -1 } else { 0 };
@@ -784,7 +767,7 @@ impl VectorLts for Constrained<'_> {
             Profile::Paper2019 => self.successors_paper(st, out),
         };
         if let Err(e) = result {
-            self.error.set(e);
+            self.enc.error.set(e);
             // Keep the search going elsewhere; the verdict becomes inconclusive.
             out.truncate(start);
             out.push((Label::TOCK, st.clone()));

@@ -6,11 +6,10 @@
 //! pass, or terminates when every machine has. Visible: `registerRead`,
 //! `registerWrite`, `tock` (and ✓).
 
-use crate::events::EventTable;
 use crate::ir::{Design, Dir};
-use crate::lts::{Event, FirstError, Label, TAU, TICK};
+use crate::lts::{Event, Label, TAU, TICK};
 use crate::machine::Offer;
-use crate::pack::{Layout, VectorLts};
+use crate::pack::{Encoding, VectorLts};
 use crate::sched::{Profile, Registers, State, DONE, ENDED, READ, RUN, RUNNING, WAIT};
 
 /// `paper2019`: writing the cycle's buffered outputs (`arg`: the outputs
@@ -23,7 +22,6 @@ pub struct SimModule<'a> {
     period: i32,
     inputs: Vec<u16>,
     outputs: Vec<u16>,
-    events: EventTable,
     read_group: Vec<usize>,
     write_group: Vec<usize>,
     /// `paper2019`: `registerWrite.o.false` per output.
@@ -40,8 +38,8 @@ pub struct SimModule<'a> {
     /// write events; 0 = none), written after the cycle's execution.
     occ: usize,
     len: usize,
-    layout: Layout,
-    error: FirstError,
+    /// Packing, run-time errors, event names.
+    enc: Encoding,
 }
 
 impl<'a> SimModule<'a> {
@@ -98,13 +96,11 @@ impl<'a> SimModule<'a> {
         bounds.extend([(0, 3), (0, inputs_mask.max(out_mask).max(period as i64)), (0, out_mask), (0, 3)]);
         let max_event = events.next_event() as i64;
         bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
-        let layout = Layout::new(&bounds);
         Ok(SimModule {
             design,
             period,
             inputs,
             outputs,
-            events,
             read_group,
             write_group,
             false_group,
@@ -116,14 +112,13 @@ impl<'a> SimModule<'a> {
             mode: base + 3,
             occ: base + 4,
             len: base + 4 + nout,
-            layout,
-            error: FirstError::default(),
+            enc: Encoding::new(&bounds, events),
         })
     }
 
     /// The first run-time error met during exploration, if any.
     pub fn error(&self) -> Option<String> {
-        self.error.get()
+        self.enc.error.get()
     }
 
     /// The next cycle: reads, or straight to execution without inputs.
@@ -168,11 +163,11 @@ impl<'a> SimModule<'a> {
                     }
                     let c = &self.design.channels[chan as usize];
                     let reg = c.register.unwrap_or_default() as usize;
-                    let reg_lo = self.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
+                    let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
                     for (present, v) in c.read_values(reg_lo) {
                         let mut args = vec![present];
                         args.extend(v);
-                        let ev = self.events.event(self.read_group[i], &args);
+                        let ev = self.enc.events.event(self.read_group[i], &args);
                         let mut n = st.clone();
                         n[reg] = present as i32;
                         n[reg + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
@@ -202,7 +197,7 @@ impl<'a> SimModule<'a> {
                             }
                             Offer::Out { chan, args } => {
                                 let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
-                                let write = self.events.event(self.write_group[o], args);
+                                let write = self.enc.events.event(self.write_group[o], args);
                                 if self.profile == Profile::Paper2019 {
                                     // Rule 12: into the buffer (as many outputs as
                                     // there are registers), written at the cycle's end.
@@ -261,7 +256,7 @@ impl<'a> SimModule<'a> {
                     for o in (0..nout).filter(|o| st[self.arg] & (1 << o) != 0) {
                         let mut n = st.clone();
                         n[self.arg] &= !(1 << o);
-                        out.push((Label::plain(self.events.event(self.false_group[o], &[])), n));
+                        out.push((Label::plain(self.enc.events.event(self.false_group[o], &[])), n));
                     }
                 } else {
                     self.end_cycle(st, out)?;
@@ -297,23 +292,15 @@ impl<'a> SimModule<'a> {
 }
 
 impl VectorLts for SimModule<'_> {
-    fn layout(&self) -> &Layout {
-        &self.layout
-    }
-
-    fn first_error(&self) -> &FirstError {
-        &self.error
-    }
-
-    fn event_table(&self) -> &EventTable {
-        &self.events
+    fn encoding(&self) -> &Encoding {
+        &self.enc
     }
 
     fn initial_values(&self) -> State {
-        let (mut st, _) = self.design.initial_state(self.len, false);
+        let mut st = self.design.initial_state(self.len, false, &self.enc.error);
         st[self.mode] = RUNNING;
         if let Err(e) = self.begin_cycle(&mut st) {
-            self.error.set(e);
+            self.enc.error.set(e);
         }
         st.into_boxed_slice()
     }
@@ -331,7 +318,7 @@ impl VectorLts for SimModule<'_> {
         }
         let start = out.len();
         if let Err(e) = self.successors_inner(st, out) {
-            self.error.set(e);
+            self.enc.error.set(e);
             out.truncate(start);
         }
     }
