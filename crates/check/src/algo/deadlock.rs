@@ -13,7 +13,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
 use crate::lts::{Label, Lts, TICK};
 
-use super::{explore, fx, Flow, Path, Visited, NO_PARENT};
+use super::{explore, fx, heap_bytes, visited_from_initial, Flow, Path, NO_PARENT};
 
 /// The verdict of [`find_deadlock`].
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -50,11 +50,8 @@ enum Found {
 }
 
 fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Path<L::State>>, Stop> {
-    let mut visited: Visited<L::State> = Visited::new(fx::<L::State>);
-    let heap = |s: &L::State| lts.state_bytes(s).saturating_sub(std::mem::size_of::<L::State>());
-    let init = lts.initial();
-    let h = fx(&init);
-    visited.insert(meter, h, |_| false, || init, heap, NO_PARENT, Label::TAU)?;
+    let mut visited = visited_from_initial(lts, meter)?;
+    let heap = |s: &L::State| heap_bytes(lts, s);
 
     // ✓ bookkeeping, only ever non-empty for models that terminate:
     // states first reached by ✓; those of them found to have no

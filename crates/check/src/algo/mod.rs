@@ -71,6 +71,23 @@ impl<S> Path<S> {
 /// The parent of the root in [`Visited`].
 pub(crate) const NO_PARENT: u32 = u32::MAX;
 
+/// A path to a state and a cycle back to it (a lasso).
+pub(crate) type Lasso<S> = (Path<S>, Vec<(Label, S)>);
+
+/// The heap bytes of a state of `lts` beyond its inline size.
+pub(crate) fn heap_bytes<L: Lts>(lts: &L, s: &L::State) -> usize {
+    lts.state_bytes(s).saturating_sub(std::mem::size_of::<L::State>())
+}
+
+/// A visited table holding the initial state of `lts` (index 0).
+pub(crate) fn visited_from_initial<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Visited<L::State>, Stop> {
+    let mut visited: Visited<L::State> = Visited::new(fx::<L::State>);
+    let init = lts.initial();
+    let h = fx(&init);
+    visited.insert(meter, h, |_| false, || init, |s| heap_bytes(lts, s), NO_PARENT, Label::TAU)?;
+    Ok(visited)
+}
+
 /// The hash every table of the engine uses (fast; states are small).
 #[inline]
 pub(crate) fn fx<T: Hash + ?Sized>(t: &T) -> u64 {

@@ -15,7 +15,9 @@
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
 use crate::lts::{Label, Lts, TAU, TOCK};
 
-use super::{cyclic_components, explore, fx, shortest_cycle, tarjan, Flow, Path, Visited, NO_PARENT};
+use super::{
+    cyclic_components, explore, fx, heap_bytes, shortest_cycle, tarjan, visited_from_initial, Flow, Lasso, Path,
+};
 
 /// The verdict of [`find_timed_deadlock`].
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -51,14 +53,9 @@ pub fn find_timed_deadlock<L: Lts>(
     (result, meter.finish())
 }
 
-type Lasso<S> = (Path<S>, Vec<(Label, S)>);
-
 fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Lasso<L::State>>, Stop> {
-    let mut visited: Visited<L::State> = Visited::new(fx::<L::State>);
-    let heap = |s: &L::State| lts.state_bytes(s).saturating_sub(std::mem::size_of::<L::State>());
-    let init = lts.initial();
-    let h = fx(&init);
-    visited.insert(meter, h, |_| false, || init, heap, NO_PARENT, Label::TAU)?;
+    let mut visited = visited_from_initial(lts, meter)?;
+    let heap = |s: &L::State| heap_bytes(lts, s);
     // Forced-tock edges (source, target, label), in source order because
     // sources are visited in index order.
     let mut forced: Vec<(u32, u32, Label)> = Vec::new();
