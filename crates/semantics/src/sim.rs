@@ -56,7 +56,6 @@ pub(crate) fn simulation(
             (ChanKind::Ret, _) => {}
         }
     }
-    let set = |v: &[Expr]| if v.is_empty() { Expr::Set(vec![]) } else { Expr::Events(v.to_vec()) };
     let mut exports = vec![
         Decl::Comment(format!("The external events of {}: its inputs and its outputs.", design.path.join("::"))),
         Decl::Def("Inputs".into(), vec![], set(&inputs)),
@@ -333,7 +332,6 @@ fn simulation_paper(ex: &mut Exporter<'_>, module: &str, sim_name: &str, design:
             (ChanKind::Ret, _) => rets.push(name(q(&ch.csp))),
         }
     }
-    let set = |v: &[Expr]| if v.is_empty() { Expr::Set(vec![]) } else { Expr::Events(v.to_vec()) };
     let flags: Vec<String> = outs.iter().map(|o| o.0.clone()).collect();
     let fresh: Vec<Expr> = flags.iter().map(|_| Expr::Bool(true)).collect();
     let writes: Vec<Expr> = outs.iter().map(|o| dot(vec![name("registerWrite"), name(o.3.clone())])).collect();
@@ -529,4 +527,13 @@ fn simulation_paper(ex: &mut Exporter<'_>, module: &str, sim_name: &str, design:
         Decl::Module(module.to_string(), vec![], exports),
         Decl::Blank,
     ])
+}
+
+/// The set of events `v` (`{}` when empty rather than an empty `{| |}`).
+fn set(v: &[Expr]) -> Expr {
+    if v.is_empty() {
+        Expr::Set(vec![])
+    } else {
+        Expr::Events(v.to_vec())
+    }
 }
