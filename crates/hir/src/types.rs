@@ -990,22 +990,23 @@ impl Typer<'_> {
         }
     }
 
+    /// The arguments of the call `n` with their types (none without an
+    /// argument list).
+    fn typed_args(&mut self, n: &SyntaxNode) -> Vec<(SyntaxNode, Ty)> {
+        let Some(al) = n.children().find(|c| c.kind() == ARG_LIST) else { return Vec::new() };
+        operand_exprs(&al)
+            .into_iter()
+            .map(|x| {
+                let t = self.expr(&x);
+                (x, t)
+            })
+            .collect()
+    }
+
     fn call_expr(&mut self, n: &SyntaxNode) -> Ty {
         let e = operand_exprs(n);
         let Some(callee) = e.first() else { return Ty::Error };
-        let args: Vec<(SyntaxNode, Ty)> = n
-            .children()
-            .find(|c| c.kind() == ARG_LIST)
-            .map(|al| {
-                operand_exprs(&al)
-                    .into_iter()
-                    .map(|x| {
-                        let t = self.expr(&x);
-                        (x, t)
-                    })
-                    .collect()
-            })
-            .unwrap_or_default();
+        let args = self.typed_args(n);
         // A function: check arity and argument types with generics.
         if callee.kind() == REF_EXPR {
             if let Some(r) = callee.children().find(|c| c.kind() == NAME_REF) {
@@ -1193,19 +1194,7 @@ impl Typer<'_> {
 
     fn call_stmt(&mut self, n: &SyntaxNode) {
         let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
-        let args: Vec<(SyntaxNode, Ty)> = n
-            .children()
-            .find(|c| c.kind() == ARG_LIST)
-            .map(|al| {
-                operand_exprs(&al)
-                    .into_iter()
-                    .map(|x| {
-                        let t = self.expr(&x);
-                        (x, t)
-                    })
-                    .collect()
-            })
-            .unwrap_or_default();
+        let args = self.typed_args(n);
         let params: Vec<Ty> = match self.targets.get(&q.text_range()) {
             Some(Target::Def(f, id)) => match &file_defs(self.db, *f).def(*id).data {
                 DefData::Signature { params, .. } => params
