@@ -323,6 +323,11 @@ fn subject_attrs(s: &Subject, parent: &str) -> (String, String) {
     }
 }
 
+/// A circle of class `class` centred on (`cx`, `cy`).
+fn circle(out: &mut String, class: &str, cx: f64, cy: f64, radius: f64) {
+    let _ = writeln!(out, r#"<circle class="{class}" cx="{}" cy="{}" r="{}"/>"#, n(cx), n(cy), n(radius));
+}
+
 fn shape(out: &mut String, s: &Shape, d: &Diagram, parent: &str, marks: &Marked) {
     let (class, attrs) = subject_attrs(&s.subject, parent);
     let mark = marked(&s.subject, marks);
@@ -334,27 +339,12 @@ fn shape(out: &mut String, s: &Shape, d: &Diagram, parent: &str, marks: &Marked)
     }
     let (cx, cy) = (r.x + r.w / 2.0, r.y + r.h / 2.0);
     match &s.subject {
-        Subject::Node { kind: NodeKind::Initial, .. } => {
-            let _ =
-                writeln!(out, r#"<circle class="initial-dot" cx="{}" cy="{}" r="{}"/>"#, n(cx), n(cy), n(r.w / 2.0));
-        }
+        Subject::Node { kind: NodeKind::Initial, .. } => circle(out, "initial-dot", cx, cy, r.w / 2.0),
         Subject::Node { kind: NodeKind::Junction, .. } if s.texts.is_empty() => {
-            let _ = writeln!(
-                out,
-                r#"<circle class="junction-dot" cx="{}" cy="{}" r="{}"/>"#,
-                n(cx),
-                n(cy),
-                n(r.w / 2.0 - 1.0)
-            );
+            circle(out, "junction-dot", cx, cy, r.w / 2.0 - 1.0);
         }
         Subject::Node { kind: NodeKind::ProbabilisticJunction, .. } => {
-            let _ = writeln!(
-                out,
-                r#"<circle class="junction-dot" cx="{}" cy="{}" r="{}"/>"#,
-                n(cx),
-                n(cy),
-                n(r.w / 2.0 - 1.0)
-            );
+            circle(out, "junction-dot", cx, cy, r.w / 2.0 - 1.0);
             let _ = writeln!(
                 out,
                 r#"<text class="prob" x="{}" y="{}" text-anchor="middle" font-size="10">P</text>"#,
@@ -363,20 +353,8 @@ fn shape(out: &mut String, s: &Shape, d: &Diagram, parent: &str, marks: &Marked)
             );
         }
         Subject::Node { kind: NodeKind::Final, .. } if s.texts.is_empty() => {
-            let _ = writeln!(
-                out,
-                r#"<circle class="final-ring" cx="{}" cy="{}" r="{}"/>"#,
-                n(cx),
-                n(cy),
-                n(r.w / 2.0 - 1.0)
-            );
-            let _ = writeln!(
-                out,
-                r#"<circle class="final-dot" cx="{}" cy="{}" r="{}"/>"#,
-                n(cx),
-                n(cy),
-                n(r.w / 2.0 - 5.0)
-            );
+            circle(out, "final-ring", cx, cy, r.w / 2.0 - 1.0);
+            circle(out, "final-dot", cx, cy, r.w / 2.0 - 5.0);
         }
         _ => {
             let rx = if matches!(s.subject, Subject::Block { .. }) { 3 } else { 10 };
