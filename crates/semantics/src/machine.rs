@@ -808,6 +808,14 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// `get_x?x -> …` for the variables and clocks `reads` mentions.
+    /// Records `expr` as the meaning of the element at `range`, for hover,
+    /// when terms are being recorded (and not while rendering a display).
+    fn record_term(&mut self, range: TextRange, kind: TermKind, expr: impl FnOnce() -> Expr) {
+        if self.record && !self.display {
+            self.terms.push(Term { range, kind, expr: expr(), guard: None });
+        }
+    }
+
     fn with_reads(&self, reads: &[String], body: Expr) -> Expr {
         let mut p = body;
         for r in reads.iter().rev() {
@@ -887,10 +895,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             COMM_STMT => {
                 let comm = child(s, COMMUNICATION)?;
                 let term = self.communication(&comm, None)?;
-                if self.record && !self.display {
-                    let head = child(&comm, NAME_REF).map(|n| n.text_range()).unwrap_or(r);
-                    self.terms.push(Term { range: head, kind: TermKind::Event, expr: term.clone(), guard: None });
-                }
+                let head = child(&comm, NAME_REF).map(|n| n.text_range()).unwrap_or(r);
+                self.record_term(head, TermKind::Event, || term.clone());
                 Some(term)
             }
             CALL_STMT => {
@@ -915,9 +921,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     p = seq(vec![p, call("EDeadline", vec![name(format!("{}Ret", ident(&op.name))), Expr::Int(0)])]);
                 }
                 let p = self.with_reads(&reads, p);
-                if self.record && !self.display {
-                    self.terms.push(Term { range: head_range(s), kind: TermKind::Call, expr: p.clone(), guard: None });
-                }
+                self.record_term(head_range(s), TermKind::Call, || p.clone());
                 Some(p)
             }
             WAIT_STMT => {
@@ -977,14 +981,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let model = self.ops[o].name.clone();
                 let p = self.output(&model, args, r)?;
                 let p = self.with_reads(&reads, p);
-                if self.record && !self.display {
-                    self.terms.push(Term {
-                        range: head_range(s),
-                        kind: TermKind::Output,
-                        expr: p.clone(),
-                        guard: None,
-                    });
-                }
+                self.record_term(head_range(s), TermKind::Output, || p.clone());
                 Some(p)
             }
             OUTPUT_COMM_STMT => {
@@ -1009,14 +1006,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let model = self.events[i].name.clone();
                 let p = self.output(&model, args, r)?;
                 let p = self.with_reads(&reads, p);
-                if self.record && !self.display {
-                    self.terms.push(Term {
-                        range: head_range(s),
-                        kind: TermKind::Output,
-                        expr: p.clone(),
-                        guard: None,
-                    });
-                }
+                self.record_term(head_range(s), TermKind::Output, || p.clone());
                 Some(p)
             }
             EXEC_STMT => {
@@ -1026,18 +1016,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 self.uses_exec_stmt = true;
                 let p = prefix("endexec", vec![Field::Dot(name("TID_exec"))], name("StartExec__"));
-                if self.record && !self.display {
-                    self.terms.push(Term {
-                        range: r,
-                        kind: TermKind::Exec,
-                        expr: prefix(
-                            "endexec",
-                            vec![Field::Dot(name("TID_exec"))],
-                            prefix("startexec", vec![], Expr::Skip),
-                        ),
-                        guard: None,
-                    });
-                }
+                self.record_term(r, TermKind::Exec, || {
+                    prefix("endexec", vec![Field::Dot(name("TID_exec"))], prefix("startexec", vec![], Expr::Skip))
+                });
                 Some(p)
             }
             k => {
@@ -1263,18 +1244,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.problem(x.text_range(), "`exec` belongs to RoboSim machines");
                 return None;
             }
-            if self.record && !self.display {
-                self.terms.push(Term {
-                    range: x.text_range(),
-                    kind: TermKind::Exec,
-                    expr: prefix(
-                        "endexec",
-                        vec![Field::Dot(name(tid.clone()))],
-                        prefix("startexec", vec![], Expr::Skip),
-                    ),
-                    guard: None,
-                });
-            }
+            self.record_term(x.text_range(), TermKind::Exec, || {
+                prefix("endexec", vec![Field::Dot(name(tid.clone()))], prefix("startexec", vec![], Expr::Skip))
+            });
             return Some(prefix("endexec", vec![Field::Dot(name(tid))], fold_seq(vec![name("StartExec__"), then])));
         }
         match child(&syn, TRIGGER).and_then(|tr| child(&tr, COMMUNICATION)) {
