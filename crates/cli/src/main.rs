@@ -16,6 +16,12 @@ use clap::{Parser, Subcommand, ValueEnum};
 use diagnostics::{Diagnostic, Severity};
 use workspace::Workspace;
 
+// The semantic model and the syntax trees allocate and free many small
+// objects (a rowan cursor node per visited node); mimalloc makes a re-check
+// after a keystroke about a third faster than the system allocator.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[derive(Parser)]
 #[command(
     name = "robosim",

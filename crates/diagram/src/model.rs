@@ -340,10 +340,10 @@ pub fn file_diagrams(db: &dyn Db, ws: Workspace, file: File) -> Vec<Diagram> {
 fn io_names(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> (Vec<String>, Vec<String>) {
     let mut inputs = BTreeSet::new();
     let mut outputs = BTreeSet::new();
-    for m in ctx_members(db, ws, Ctx::Local(file, id)) {
+    for m in ctx_members(db, ws, Ctx::Local(file, id)).iter() {
         match m.io {
-            Some(Io::Input) => inputs.insert(m.name),
-            Some(Io::Output) => outputs.insert(m.name),
+            Some(Io::Input) => inputs.insert(m.name.clone()),
+            Some(Io::Output) => outputs.insert(m.name.clone()),
             None => false,
         };
     }

@@ -32,7 +32,7 @@ pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution
         defs: file_defs(db, file),
         rs: file.kind(db) == FileKind::RoboSim,
         out: BodyResolution::default(),
-        members_cache: Vec::new(),
+        members_cache: Default::default(),
     };
     if file.kind(db).is_assertions() {
         return r.out;
@@ -63,11 +63,13 @@ struct Body<'a> {
     defs: &'a FileDefs,
     rs: bool,
     out: BodyResolution,
-    members_cache: Vec<(crate::defs::DefId, Vec<Member>)>,
+    /// Members per context, shared: a body asks for the same few contexts
+    /// once per name, and cloning the lists dominated resolution.
+    members_cache: std::collections::HashMap<crate::defs::DefId, std::rc::Rc<[Member]>>,
 }
 
 fn text_of(n: &SyntaxNode) -> String {
-    n.text().to_string().trim().trim_start_matches('^').to_string()
+    crate::defs::name_text(n)
 }
 
 fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
@@ -124,11 +126,11 @@ impl Body<'_> {
         enclosing(self.defs, inner, crate::resolve::MEMBER_CONTEXTS)
     }
 
-    fn members(&mut self, ctx: crate::defs::DefId) -> Vec<Member> {
-        if let Some((_, m)) = self.members_cache.iter().find(|(c, _)| *c == ctx) {
+    fn members(&mut self, ctx: crate::defs::DefId) -> std::rc::Rc<[Member]> {
+        if let Some(m) = self.members_cache.get(&ctx) {
             return m.clone();
         }
-        let mut m = ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx));
+        let mut m = ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)).into_owned();
         // Parameters of operations and functions.
         for (pid, p) in self.defs.children(Some(ctx)) {
             if p.kind == DefKind::Parameter {
@@ -144,7 +146,8 @@ impl Body<'_> {
                 });
             }
         }
-        self.members_cache.push((ctx, m.clone()));
+        let m: std::rc::Rc<[Member]> = m.into();
+        self.members_cache.insert(ctx, m.clone());
         m
     }
 

@@ -325,7 +325,7 @@ impl Lowerer<'_> {
             }
             IF_EXPR => operand_exprs(n).get(1).map(|e| self.shape(e)).unwrap_or(Shape::Unknown),
             REF_EXPR => {
-                let name = n.text().to_string().trim().trim_start_matches('^').to_string();
+                let name = crate::defs::name_text(n);
                 match self.consts.get(&name).cloned() {
                     Some(init) if self.depth < 16 => {
                         self.depth += 1;
@@ -379,7 +379,7 @@ impl Lowerer<'_> {
                 }
             }
             REF_EXPR => {
-                let name = n.text().to_string().trim().trim_start_matches('^').to_string();
+                let name = crate::defs::name_text(n);
                 match self.consts.get(&name).cloned() {
                     Some(init) if self.depth < 16 => {
                         self.depth += 1;
@@ -471,7 +471,7 @@ impl Lowerer<'_> {
                 _ => Term::Unknown,
             },
             REF_EXPR => {
-                let name = n.text().to_string().trim().trim_start_matches('^').to_string();
+                let name = crate::defs::name_text(n);
                 match self.consts.get(&name).cloned() {
                     Some(init) if self.depth < 16 => {
                         self.depth += 1;
@@ -542,9 +542,9 @@ fn spec_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Spec> {
     }
     let const_names: std::collections::HashSet<String> =
         crate::resolve::ctx_members(db, ws, crate::resolve::Ctx::Local(file, id))
-            .into_iter()
+            .iter()
             .filter(|m| m.kind == DefKind::Constant)
-            .map(|m| m.name)
+            .map(|m| m.name.clone())
             .collect();
     let mut l = Lowerer { consts: &consts, const_names: &const_names, depth: 0, impure: Vec::new() };
     let shape = l.shape(&node);

@@ -422,16 +422,26 @@ struct Lower {
     out: FileDefs,
 }
 
+/// The text of a name or name reference node, without surrounding space or
+/// the `^` that escapes keywords. Names are almost always one token, whose
+/// text is read directly: formatting a node's text is far slower.
+pub(crate) fn name_text(n: &SyntaxNode) -> String {
+    let mut parts = n.children_with_tokens();
+    if let (Some(rowan::NodeOrToken::Token(t)), None) = (parts.next(), parts.next()) {
+        return t.text().trim().trim_start_matches('^').to_string();
+    }
+    n.text().to_string().trim().trim_start_matches('^').to_string()
+}
+
 /// The text of the first `NAME` child (without `^`) and its range.
 fn name_of(node: &SyntaxNode) -> Option<(String, TextRange)> {
     let n = node.children().find(|c| c.kind() == NAME)?;
-    let text = n.text().to_string();
-    Some((text.trim().trim_start_matches('^').to_string(), n.text_range()))
+    Some((name_text(&n), n.text_range()))
 }
 
 fn ref_of(node: &SyntaxNode) -> Option<(String, TextRange)> {
     let n = node.children().find(|c| c.kind() == NAME_REF)?;
-    Some((n.text().to_string().trim().trim_start_matches('^').to_string(), n.text_range()))
+    Some((crate::defs::name_text(&n), n.text_range()))
 }
 
 fn path_of(node: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
@@ -621,7 +631,7 @@ impl Lower {
                 let refs: Vec<(String, TextRange)> = node
                     .children()
                     .filter(|c| c.kind() == NAME_REF)
-                    .map(|n| (n.text().to_string().trim().trim_start_matches('^').to_string(), n.text_range()))
+                    .map(|n| (crate::defs::name_text(&n), n.text_range()))
                     .collect();
                 let data = ConnectionData {
                     from: refs.first().cloned(),

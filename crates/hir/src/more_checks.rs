@@ -113,7 +113,7 @@ fn sizes(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
             match inner.kind() {
                 LITERAL if inner.first_token().is_some_and(|k| k.kind() == INT_NUMBER) => {}
                 REF_EXPR => {
-                    let name = inner.text().to_string().trim().trim_start_matches('^').to_string();
+                    let name = crate::defs::name_text(&inner);
                     // The declaration the name resolves to in its own scope.
                     let target =
                         refs.iter().find(|r| inner.text_range().contains_range(r.range)).and_then(|r| r.target);
@@ -158,7 +158,7 @@ fn machine_members(
         .filter(|(_, m)| matches!(m.kind, DefKind::StateMachine | DefKind::MachineRef))
         .filter_map(|(id, m)| {
             let ctx = node_ctx(db, ws, file, id)?;
-            Some((id, m.name.clone(), ctx, ctx_members(db, ws, ctx)))
+            Some((id, m.name.clone(), ctx, ctx_members(db, ws, ctx).into_owned()))
         })
         .collect()
 }
@@ -350,7 +350,7 @@ fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
     {
         let Some(cctx) = node_ctx(db, ws, file, cid) else { continue };
         let required: Vec<Member> =
-            ctx_members(db, ws, cctx).into_iter().filter(|r| r.via == Some(UseKind::Requires)).collect();
+            ctx_members(db, ws, cctx).iter().filter(|r| r.via == Some(UseKind::Requires)).cloned().collect();
         let defined = crate::resolve::defined_operations(db, ws, cctx);
         let mut missing = Vec::new();
         for r in &required {
@@ -416,7 +416,7 @@ fn connection_types(db: &dyn Db, ws: Workspace, file: File, owner: DefId, out: &
             DefKind::MachineRef => DefKind::StateMachine,
             k => k,
         };
-        ctx_members(db, ws, ctx).into_iter().find(|m| m.kind == DefKind::Event && m.name == ev).map(|m| (m, kind))
+        ctx_members(db, ws, ctx).iter().find(|m| m.kind == DefKind::Event && m.name == ev).map(|m| (m.clone(), kind))
     };
     for (_, c) in defs.children(Some(owner)) {
         let DefData::Connection(cd) = &c.data else { continue };
@@ -496,7 +496,7 @@ fn compute_usage(db: &dyn Db, file: File, def: DefId) -> Usage {
         match n.kind() {
             COMMUNICATION => {
                 let Some(ev) = n.children().find(|c| c.kind() == NAME_REF) else { continue };
-                let ev = ev.text().to_string().trim().trim_start_matches('^').to_string();
+                let ev = crate::defs::name_text(&ev);
                 let in_trigger = n.parent().is_some_and(|p| p.kind() == TRIGGER);
                 let payload =
                     n.children().find(|c| matches!(c.kind(), COMM_INPUT | COMM_OUTPUT | COMM_SYNC)).map(|c| c.kind());
@@ -875,7 +875,7 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
             }
             let omembers = ctx_members(db, ws, Ctx::Local(*of, *odef));
             let mut missing: Vec<(&'static str, String)> = Vec::new();
-            for m in &omembers {
+            for m in omembers.iter() {
                 let has = |want: &dyn Fn(&Member) -> bool| xmembers.iter().any(want);
                 match (m.kind, m.via, m.io) {
                     (DefKind::Variable | DefKind::Constant, Some(UseKind::Requires), None) => {

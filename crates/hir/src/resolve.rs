@@ -135,15 +135,16 @@ fn accept_interface(k: DefKind) -> bool {
 /// Members of `ctx`: its own events, variables, constants, clocks and
 /// operation signatures, plus those of the interfaces it uses, provides or
 /// requires (in I/O contexts too). Memoised per file.
-pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
+pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::borrow::Cow<'_, [Member]> {
     // Items of other files are described by their position-free summaries,
     // so that editing their bodies does not invalidate this file's results.
+    // Borrowed when memoised: checks ask for the same lists many times.
     if let Ctx::Local(file, def) = ctx {
         if let Some(m) = file_members(db, ws, file).get(&def) {
-            return m.clone();
+            return std::borrow::Cow::Borrowed(m);
         }
     }
-    compute_members(db, ws, ctx)
+    std::borrow::Cow::Owned(compute_members(db, ws, ctx))
 }
 
 /// The members of every context definition of a file, computed once per
@@ -298,7 +299,17 @@ pub fn enclosing(defs: &FileDefs, mut id: DefId, kinds: &[DefKind]) -> Option<De
 /// Resolves every declaration-level reference of `file`.
 #[salsa::tracked(returns(ref))]
 pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution {
-    let mut r = Resolver { db, ws, file, defs: file_defs(db, file), out: FileResolution::default() };
+    // One walk finds the nodes both `types` and `clocks` need.
+    let (mut named_types, mut clocks) = (Vec::new(), Vec::new());
+    for n in parse(db, file).syntax_node().descendants() {
+        match n.kind() {
+            NAMED_TYPE => named_types.push(n),
+            CLOCK_RESET | CLOCK_RESET_STMT | SINCE_EXPR => clocks.push(n),
+            _ => {}
+        }
+    }
+    let mut r =
+        Resolver { db, ws, file, defs: file_defs(db, file), named_types, clocks, out: FileResolution::default() };
     r.imports();
     r.uses();
     r.types();
@@ -312,6 +323,10 @@ struct Resolver<'a> {
     ws: Workspace,
     file: File,
     defs: &'a FileDefs,
+    /// The `NAMED_TYPE` nodes of the file, in order.
+    named_types: Vec<SyntaxNode>,
+    /// The clock resets and `since` expressions of the file, in order.
+    clocks: Vec<SyntaxNode>,
     out: FileResolution,
 }
 
@@ -372,8 +387,7 @@ impl Resolver<'_> {
     }
 
     fn types(&mut self) {
-        let root = parse(self.db, self.file).syntax_node();
-        for n in root.descendants().filter(|n| n.kind() == NAMED_TYPE) {
+        for n in std::mem::take(&mut self.named_types) {
             let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { continue };
             let path = segments(&q);
             if path.is_empty() {
@@ -539,10 +553,9 @@ impl Resolver<'_> {
 
     fn clocks(&mut self) {
         // `#C` resets (in transitions and statements) and `since(C)`.
-        let root = parse(self.db, self.file).syntax_node();
-        for n in root.descendants().filter(|n| matches!(n.kind(), CLOCK_RESET | CLOCK_RESET_STMT | SINCE_EXPR)) {
+        for n in std::mem::take(&mut self.clocks) {
             let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { continue };
-            let name = r.text().to_string().trim().trim_start_matches('^').to_string();
+            let name = crate::defs::name_text(&r);
             let Some(inner) = self.defs.innermost(n.text_range()) else { continue };
             let Some(owner) = enclosing(self.defs, inner, &[DefKind::StateMachine, DefKind::Operation]) else {
                 continue;

@@ -174,7 +174,7 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
         let mut sources: Sources = Vec::new();
         let members = ctx_members(db, ws, ctx);
         let defined: Vec<String> = controller_operation_names(db, ws, ctx);
-        for m in &members {
+        for m in members.iter() {
             if m.kind == DefKind::OperationSig && m.via == Some(UseKind::Requires) && !defined.contains(&m.op_key()) {
                 o.ops.push(m.name.clone());
             }
@@ -247,9 +247,9 @@ fn controller_machine_ctxs(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Ctx> {
 fn required_variables(db: &dyn Db, ws: Workspace, file: File, machine: DefId, out: &mut Vec<Problem>) {
     let defs = file_defs(db, file);
     let io_vars: Vec<String> = ctx_members(db, ws, Ctx::Local(file, machine))
-        .into_iter()
+        .iter()
         .filter(|m| m.io.is_some() && m.kind == DefKind::Variable && m.via == Some(UseKind::Requires))
-        .map(|m| m.name)
+        .map(|m| m.name.clone())
         .collect();
     for u in defs.uses_of(machine).filter(|u| u.kind == UseKind::Requires && u.io.is_none()) {
         let Some(loc) = resolve_item(db, ws, file, &u.path, |k| k == DefKind::Interface).first().copied() else {

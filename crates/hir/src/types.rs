@@ -5,6 +5,8 @@
 //! and is reported once, at the innermost cause (RC-EXP-14).
 
 use std::collections::HashMap;
+
+use rustc_hash::FxHashMap;
 use std::fmt;
 
 use robosim_syntax::ast::{binary_operator, operand_exprs};
@@ -247,7 +249,7 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
     if file.kind(db).is_assertions() {
         return Vec::new();
     }
-    let mut targets: HashMap<TextRange, Target> = HashMap::new();
+    let mut targets: FxHashMap<TextRange, Target> = FxHashMap::default();
     for r in file_resolution(db, ws, file).refs.iter().chain(&body_resolution(db, ws, file).refs) {
         if let Some(t) = r.target {
             targets.insert(r.range, t);
@@ -260,6 +262,7 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
         defs: file_defs(db, file),
         rs: file.kind(db) == FileKind::RoboSim,
         targets,
+        type_cache: Default::default(),
         env: Vec::new(),
         out: Vec::new(),
         result: None,
@@ -275,7 +278,10 @@ struct Typer<'a> {
     file: File,
     defs: &'a FileDefs,
     rs: bool,
-    targets: HashMap<TextRange, Target>,
+    /// Every resolved name of the file by range (tens of thousands in a
+    /// large file: a fast hash matters).
+    targets: FxHashMap<TextRange, Target>,
+    type_cache: std::cell::RefCell<FxHashMap<Target, Ty>>,
     env: Vec<(String, Ty)>,
     out: Vec<ResolveProblem>,
     /// The result type inside a function's postcondition.
@@ -308,7 +314,16 @@ impl Typer<'_> {
 
     /// Walks the tree; typed positions are checked where they occur.
     fn walk(&mut self, node: &SyntaxNode) {
-        for n in node.descendants() {
+        let mut events = node.preorder();
+        while let Some(event) = events.next() {
+            let rowan::WalkEvent::Enter(n) = event else { continue };
+            // No typed position lies inside an expression or a type, and
+            // `expr` walks the expressions it types itself: skipping them
+            // halves the nodes visited.
+            if ast::is_expr_kind(n.kind()) || ast::is_type_kind(n.kind()) {
+                events.skip_subtree();
+                continue;
+            }
             match n.kind() {
                 CONDITION => {
                     if let Some(e) = operand_exprs(&n).first() {
@@ -389,8 +404,19 @@ impl Typer<'_> {
         }
     }
 
-    /// The declared type of a resolved name.
+    /// The declared type of a resolved name, lowered once per name: a file
+    /// names the same few variables many times, and lowering resolves the
+    /// type's name each time.
     fn target_type(&self, t: Target) -> Ty {
+        if let Some(ty) = self.type_cache.borrow().get(&t) {
+            return ty.clone();
+        }
+        let ty = self.lower_target_type(t);
+        self.type_cache.borrow_mut().insert(t, ty.clone());
+        ty
+    }
+
+    fn lower_target_type(&self, t: Target) -> Ty {
         match t {
             Target::Def(f, id) => {
                 let defs = file_defs(self.db, f);
@@ -440,7 +466,7 @@ impl Typer<'_> {
 
     fn name_type(&self, n: &SyntaxNode) -> Ty {
         let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return Ty::Error };
-        let name = r.text().to_string().trim().trim_start_matches('^').to_string();
+        let name = crate::defs::name_text(&r);
         if let Some((_, t)) = self.env.iter().rev().find(|(x, _)| *x == name) {
             return t.clone();
         }
@@ -454,10 +480,7 @@ impl Typer<'_> {
         let before = self.env.len();
         for bs in n.children().filter(|c| c.kind() == BINDERS) {
             for b in bs.children().filter(|c| c.kind() == BINDER) {
-                let name = b
-                    .children()
-                    .find(|c| c.kind() == NAME)
-                    .map(|x| x.text().to_string().trim().trim_start_matches('^').to_string());
+                let name = b.children().find(|c| c.kind() == NAME).map(|x| crate::defs::name_text(&x));
                 let ty = b
                     .children()
                     .find(|c| ast::is_type_kind(c.kind()))
@@ -514,10 +537,7 @@ impl Typer<'_> {
                 }
             }
             RECORD_LITERAL => {
-                let name = n
-                    .children()
-                    .find(|c| c.kind() == NAME_REF)
-                    .map(|r| r.text().to_string().trim().trim_start_matches('^').to_string());
+                let name = n.children().find(|c| c.kind() == NAME_REF).map(|r| crate::defs::name_text(&r));
                 let loc = name.and_then(|nm| {
                     resolve_item(self.db, self.ws, self.file, &[nm], |k| k == DefKind::Record).first().copied()
                 });
@@ -526,7 +546,7 @@ impl Typer<'_> {
                     let t = self.expr(&e);
                     // RC-EXP-12: each value fits its field.
                     let (Some(loc), Some(f)) = (loc, fv.children().find(|c| c.kind() == NAME_REF)) else { continue };
-                    let fname = f.text().to_string().trim().trim_start_matches('^').to_string();
+                    let fname = crate::defs::name_text(&f);
                     let s = loc.summary(self.db);
                     match s.members.iter().find(|m| m.kind == DefKind::Field && m.name == fname).cloned() {
                         Some(m) => {
@@ -675,7 +695,7 @@ impl Typer<'_> {
                 for d in n.children().filter(|c| c.kind() == LET_DECL) {
                     let t = operand_exprs(&d).first().map(|e| self.expr(e)).unwrap_or(Ty::Error);
                     if let Some(name) = d.children().find(|c| c.kind() == NAME) {
-                        self.env.push((name.text().to_string().trim().trim_start_matches('^').to_string(), t));
+                        self.env.push((crate::defs::name_text(&name), t));
                     }
                 }
                 let t = operand_exprs(n).last().map(|b| self.expr(b)).unwrap_or(Ty::Error);
@@ -757,7 +777,7 @@ impl Typer<'_> {
                     .children()
                     .filter(|c| c.kind() == NAME_REF)
                     .last()
-                    .map(|r| (r.text().to_string().trim().trim_start_matches('^').to_string(), r.text_range()));
+                    .map(|r| (crate::defs::name_text(&r), r.text_range()));
                 let Some((field, frange)) = field else { return Ty::Error };
                 match &t {
                     Ty::Named(loc, rname, DefKind::Record) => {
@@ -1146,7 +1166,7 @@ impl Typer<'_> {
         let mut ty = match self.targets.get(&q.text_range()) {
             Some(t) => self.target_type(*t),
             None => {
-                let name = q.text().to_string().trim().trim_start_matches('^').to_string();
+                let name = crate::defs::name_text(&q);
                 self.env.iter().rev().find(|(x, _)| *x == name).map(|(_, t)| t.clone()).unwrap_or(Ty::Error)
             }
         };
@@ -1155,10 +1175,7 @@ impl Typer<'_> {
             ty = match (s.kind(), &ty) {
                 (FIELD_ACCESS, Ty::Named(loc, rname, DefKind::Record)) => {
                     let fref = s.children().find(|c| c.kind() == NAME_REF);
-                    let f = fref
-                        .as_ref()
-                        .map(|r| r.text().to_string().trim().trim_start_matches('^').to_string())
-                        .unwrap_or_default();
+                    let f = fref.as_ref().map(crate::defs::name_text).unwrap_or_default();
                     let field =
                         loc.summary(self.db).members.iter().find(|m| m.kind == DefKind::Field && m.name == f).cloned();
                     match field {
@@ -1248,7 +1265,7 @@ impl Typer<'_> {
 
     fn communication(&mut self, n: &SyntaxNode) {
         let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return };
-        let name = r.text().to_string().trim().trim_start_matches('^').to_string();
+        let name = crate::defs::name_text(&r);
         let Some(ety) = self.event_type(&r) else { return };
         let payload = n.children().find(|c| matches!(c.kind(), COMM_INPUT | COMM_OUTPUT | COMM_SYNC));
         match (payload, ety) {

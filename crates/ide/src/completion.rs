@@ -358,7 +358,7 @@ impl Cx<'_> {
 
     fn members(&self, kinds: &[DefKind]) -> Vec<Member> {
         match self.context(kinds) {
-            Some(ctx) => ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)),
+            Some(ctx) => ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)).into_owned(),
             None => Vec::new(),
         }
     }
@@ -438,7 +438,7 @@ impl Cx<'_> {
                 .and_then(|(id, _)| node_ctx(self.db, self.ws, self.file, id))
         };
         let Some(ctx) = ctx else { return };
-        for m in ctx_members(self.db, self.ws, ctx) {
+        for m in ctx_members(self.db, self.ws, ctx).into_owned() {
             if m.kind == DefKind::Event {
                 acc.member(&m, false);
             }
@@ -537,7 +537,7 @@ impl Cx<'_> {
         let rs = self.file.kind(self.db) == FileKind::RoboSim;
         let statement = position == Position::Statement;
         if let Some(ctx) = self.context(MEMBER_CONTEXTS) {
-            for m in ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)) {
+            for m in ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)).into_owned() {
                 // RoboSim inputs and outputs are written with `$`.
                 if rs && m.io.is_some() {
                     continue;

@@ -273,6 +273,7 @@ fn declare_event(db: &dyn Db, ws: Workspace, file: File, d: &Diagnostic) -> Fix 
         let var = input.descendants_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == IDENT)?;
         let var = var.text().trim_start_matches('^').to_string();
         let m = ctx_members(db, ws, Ctx::Local(file, owner))
+            .into_owned()
             .into_iter()
             .find(|m| m.name == var && matches!(m.kind, DefKind::Variable | DefKind::Parameter))?;
         ty = format!(" : {}", type_ref_text(m.ty.as_ref()?));

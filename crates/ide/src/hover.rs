@@ -175,7 +175,7 @@ fn sim_io_section(db: &dyn Db, ws: Workspace, file: File, r: &ResolvedRef, decl:
     let mut input = false;
     let mut output = false;
     if let (Some(target), Some(ctx)) = (r.target, machine_of(db, file, r.range)) {
-        for m in ctx_members(db, ws, Ctx::Local(file, ctx)) {
+        for m in ctx_members(db, ws, Ctx::Local(file, ctx)).into_owned() {
             if m.target == target {
                 input |= m.io == Some(Io::Input);
                 output |= m.io == Some(Io::Output);
