@@ -21,6 +21,7 @@ pub mod nav;
 pub mod resolve;
 mod robosim;
 pub mod types;
+mod walk;
 
 pub use db::{Db, RootDatabase};
 pub use diagnostics::{file_diagnostics, Diagnostic, Related, Severity};

@@ -300,14 +300,11 @@ pub fn enclosing(defs: &FileDefs, mut id: DefId, kinds: &[DefKind]) -> Option<De
 #[salsa::tracked(returns(ref))]
 pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution {
     // One walk finds the nodes both `types` and `clocks` need.
-    let (mut named_types, mut clocks) = (Vec::new(), Vec::new());
-    for n in parse(db, file).syntax_node().descendants() {
-        match n.kind() {
-            NAMED_TYPE => named_types.push(n),
-            CLOCK_RESET | CLOCK_RESET_STMT | SINCE_EXPR => clocks.push(n),
-            _ => {}
-        }
-    }
+    let root = parse(db, file).syntax_node();
+    let (named_types, clocks) =
+        crate::walk::find_nodes(&root, |k| matches!(k, NAMED_TYPE | CLOCK_RESET | CLOCK_RESET_STMT | SINCE_EXPR))
+            .into_iter()
+            .partition(|n| n.kind() == NAMED_TYPE);
     let mut r =
         Resolver { db, ws, file, defs: file_defs(db, file), named_types, clocks, out: FileResolution::default() };
     r.imports();
