@@ -6,7 +6,7 @@
 //! required and provided interfaces. A name that exists with the other
 //! `$` discipline gets RS:SM6 instead of a plain "cannot resolve".
 
-use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
+use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 
 use crate::defs::{file_defs, DefKind, FileDefs, Io, UseKind};
 use crate::index::resolve_item;
@@ -39,21 +39,47 @@ pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution
     }
     let root = parse(db, file).syntax_node();
     for n in root.descendants() {
-        match n.kind() {
-            REF_EXPR => r.name_expr(&n),
-            SIM_REF_EXPR => r.dollar_expr(&n),
-            ENUM_LITERAL_EXPR => r.enum_literal(&n),
-            ASSIGN_STMT => r.assignment(&n),
-            CALL_STMT => r.call(&n, false),
-            SIM_CALL_STMT => r.call(&n, true),
-            OUTPUT_COMM_STMT => r.output(&n),
-            COMM_STMT => r.communication(&n),
-            SINCE_ENTRY_EXPR => r.since_entry(&n),
-            COMM_INPUT => r.input_variable(&n),
-            _ => {}
-        }
+        r.visit(&n);
     }
     r.out
+}
+
+/// The references in behaviour whose node covers `offset`: those of
+/// [`body_resolution`] there, without resolving the rest of the file. A
+/// hover or a jump right after a keystroke needs one name, and resolving
+/// every name of a large file would make it wait.
+pub fn body_refs_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Vec<ResolvedRef> {
+    if file.kind(db).is_assertions() {
+        return Vec::new();
+    }
+    let mut r = Body {
+        db,
+        ws,
+        file,
+        defs: file_defs(db, file),
+        rs: file.kind(db) == FileKind::RoboSim,
+        out: BodyResolution::default(),
+        members_cache: Default::default(),
+    };
+    let root = parse(db, file).syntax_node();
+    // Past the end (a stale position from an editor): nothing is there.
+    if !root.text_range().contains_inclusive(offset) {
+        return Vec::new();
+    }
+    // Every reference lies inside the node that resolves it, and resolving
+    // a node depends on nothing visited before it: the ancestors of the
+    // tokens at `offset` (both, at a boundary) give exactly the references
+    // covering it. They are visited in preorder, as `body_resolution` does,
+    // so that references with the same range come in the same order.
+    let mut order: Vec<SyntaxNode> = Vec::new();
+    for token in root.token_at_offset(offset) {
+        let chain: Vec<SyntaxNode> = token.parent_ancestors().take_while(|n| !order.contains(n)).collect();
+        order.extend(chain.into_iter().rev());
+    }
+    for n in &order {
+        r.visit(n);
+    }
+    r.out.refs
 }
 
 struct Body<'a> {
@@ -112,6 +138,23 @@ fn bound_names(node: &SyntaxNode) -> Vec<String> {
 }
 
 impl Body<'_> {
+    /// Resolves the names `n` itself introduces (not those of its children).
+    fn visit(&mut self, n: &SyntaxNode) {
+        match n.kind() {
+            REF_EXPR => self.name_expr(n),
+            SIM_REF_EXPR => self.dollar_expr(n),
+            ENUM_LITERAL_EXPR => self.enum_literal(n),
+            ASSIGN_STMT => self.assignment(n),
+            CALL_STMT => self.call(n, false),
+            SIM_CALL_STMT => self.call(n, true),
+            OUTPUT_COMM_STMT => self.output(n),
+            COMM_STMT => self.communication(n),
+            SINCE_ENTRY_EXPR => self.since_entry(n),
+            COMM_INPUT => self.input_variable(n),
+            _ => {}
+        }
+    }
+
     fn push(&mut self, range: TextRange, text: String, kind: RefKind, target: Option<Target>) {
         self.out.refs.push(ResolvedRef { range, text, kind, target });
     }

@@ -5,7 +5,7 @@
 
 use robosim_syntax::{SyntaxKind::*, TextRange, TextSize};
 
-use crate::body::body_resolution;
+use crate::body::{body_refs_at, body_resolution};
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, Io, TypeRef};
 use crate::index::ItemLoc;
 use crate::resolve::{file_resolution, ResolvedRef, Target};
@@ -62,7 +62,10 @@ pub enum Symbol {
 /// The reference or declaration name covering `offset`.
 pub fn symbol_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Option<Symbol> {
     let hit = |r: TextRange| r.contains_inclusive(offset);
-    if let Some(r) = references_in(db, ws, file).into_iter().filter(|r| hit(r.range)).min_by_key(|r| r.range.len()) {
+    // Behaviour is resolved around `offset` only (see `body_refs_at`).
+    let refs = file_resolution(db, ws, file).refs.iter().cloned().chain(body_refs_at(db, ws, file, offset));
+    // Ties go to the first in source order, as in `references_in`.
+    if let Some(r) = refs.filter(|r| hit(r.range)).min_by_key(|r| (r.range.len(), r.range.start())) {
         return Some(Symbol::Reference(r));
     }
     let defs = file_defs(db, file);

@@ -50,3 +50,56 @@ fn definition_references_and_hover_across_files() {
         symbol_declaration(&db, &symbol_at(&db, ws, machine, offset_of(MACHINE, "Sensors", 0)).unwrap()).unwrap();
     assert_eq!(describe(&db, iface).doc.as_deref(), Some("The obstacle sensor.\nFires once per obstacle."));
 }
+
+/// `symbol_at` resolves behaviour only around the offset; at every offset
+/// of every example and corpus model it must find what resolving the whole
+/// file finds.
+#[test]
+fn symbol_at_agrees_with_whole_file_resolution() {
+    use robosim_hir::nav::references_in;
+    use robosim_syntax::TextRange;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut projects: Vec<std::path::PathBuf> = vec![root.join("examples/paper"), root.join("examples/lawnmower")];
+    let corpus = root.join("../shared/corpus");
+    let mut stack = vec![corpus];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            if e.path().is_dir() {
+                stack.push(e.path());
+                projects.push(e.path());
+            }
+        }
+    }
+    let mut checked = 0usize;
+    for dir in projects {
+        let files: Vec<(String, String)> = std::fs::read_dir(&dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| robosim_syntax::FileKind::from_path(p).is_some_and(|k| !k.is_assertions()))
+            .map(|p| (p.display().to_string(), std::fs::read_to_string(&p).unwrap_or_default()))
+            .collect();
+        if files.is_empty() {
+            continue;
+        }
+        let db = RootDatabase::default();
+        let ws = load_workspace(&db, files, RuleSet::Paper);
+        for &file in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
+            let all = references_in(&db, ws, file);
+            let len = file.text(&db).len() as u32;
+            for o in 0..=len {
+                let offset = TextSize::from(o);
+                let hit = |r: TextRange| r.contains_inclusive(offset);
+                let expected = all.iter().filter(|r| hit(r.range)).min_by_key(|r| r.range.len()).cloned();
+                let got = match symbol_at(&db, ws, file, offset) {
+                    Some(Symbol::Reference(r)) => Some(r),
+                    _ => None,
+                };
+                assert_eq!(got, expected, "{} at {o}", file.path(&db));
+                checked += usize::from(got.is_some());
+            }
+        }
+    }
+    assert!(checked > 10_000, "only {checked} offsets with a reference");
+}
