@@ -11,6 +11,7 @@ mod kinds;
 pub mod lexer;
 pub mod line_index;
 mod parser;
+mod tree_builder;
 
 use std::path::Path;
 use std::sync::Arc;

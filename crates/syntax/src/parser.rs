@@ -5,9 +5,10 @@
 
 use std::cell::Cell;
 
-use rowan::{GreenNode, GreenNodeBuilder};
+use rowan::GreenNode;
 
 use crate::lexer::Token;
+use crate::tree_builder::TreeBuilder;
 use crate::{FileKind, SyntaxError, SyntaxKind, TextRange, TextSize};
 use SyntaxKind::*;
 
@@ -377,24 +378,24 @@ impl CompletedMarker {
 
 /// Builds the green tree from the events and every token of the text.
 pub(crate) fn build_tree(text: &str, tokens: &[Token], mut events: Vec<Event>) -> GreenNode {
-    let mut b = GreenNodeBuilder::new();
+    let mut b = TreeBuilder::new(text);
     let mut tok = 0usize;
     let mut off = 0usize;
     let mut depth = 0usize;
     let mut parents = Vec::new();
 
-    let emit = |b: &mut GreenNodeBuilder<'_>, tok: &mut usize, off: &mut usize| {
+    let emit = |b: &mut TreeBuilder<'_>, tok: &mut usize, off: &mut usize| {
         let t = tokens[*tok];
         let len = u32::from(t.len) as usize;
-        b.token(t.kind.into(), &text[*off..*off + len]);
+        b.token(t.kind, *off, len);
         *off += len;
         *tok += 1;
     };
-    let skip_trivia = |b: &mut GreenNodeBuilder<'_>, tok: &mut usize, off: &mut usize| {
+    let skip_trivia = |b: &mut TreeBuilder<'_>, tok: &mut usize, off: &mut usize| {
         while *tok < tokens.len() && tokens[*tok].kind.is_trivia() {
             let t = tokens[*tok];
             let len = u32::from(t.len) as usize;
-            b.token(t.kind.into(), &text[*off..*off + len]);
+            b.token(t.kind, *off, len);
             *off += len;
             *tok += 1;
         }
@@ -422,7 +423,7 @@ pub(crate) fn build_tree(text: &str, tokens: &[Token], mut events: Vec<Event>) -
                     if depth > 0 {
                         skip_trivia(&mut b, &mut tok, &mut off);
                     }
-                    b.start_node(kind.into());
+                    b.start_node(kind);
                     depth += 1;
                 }
             }

@@ -1,0 +1,263 @@
+//! Green tree construction, in place of rowan's `GreenNodeBuilder`.
+//!
+//! The tree is the same, and so is what gets shared: equal tokens, and
+//! equal nodes of at most three children. What differs is the lookup.
+//! rowan hashes every token's text and every small node's children through
+//! a general-purpose hash map. Here a token of up to 16 bytes (nearly all of
+//! them) is looked up by its kind, length and bytes packed into three
+//! words, and a small node by its kind and the addresses of its (already
+//! shared) children: integer keys in an open-addressing table.
+
+use std::hash::Hasher;
+
+use rowan::{GreenNode, GreenToken, NodeOrToken};
+use rustc_hash::FxHasher;
+
+use crate::SyntaxKind;
+
+/// Nodes with at most this many children are deduplicated (as in rowan):
+/// that covers names, literals and short expressions, which repeat a lot.
+const MAX_SHARED_CHILDREN: usize = 3;
+
+/// A finished child of the node being built.
+enum Child {
+    Token(GreenToken),
+    /// `shared` says whether the node is in the node cache, which makes its
+    /// address usable as its identity.
+    Node {
+        node: GreenNode,
+        shared: bool,
+    },
+}
+
+impl Child {
+    /// The address identifying a deduplicated child.
+    fn id(&self) -> u64 {
+        match self {
+            Child::Token(t) => &**t as *const rowan::GreenTokenData as usize as u64,
+            Child::Node { node, .. } => &**node as *const rowan::GreenNodeData as usize as u64,
+        }
+    }
+
+    fn is_shared(&self) -> bool {
+        match self {
+            Child::Token(_) => true,
+            Child::Node { shared, .. } => *shared,
+        }
+    }
+
+    fn into_element(self) -> NodeOrToken<GreenNode, GreenToken> {
+        match self {
+            Child::Token(t) => NodeOrToken::Token(t),
+            Child::Node { node, .. } => NodeOrToken::Node(node),
+        }
+    }
+}
+
+/// A small node's identity: its kind, then its children's addresses (zero
+/// past the last child). Children are kept alive by the cached node, so an
+/// address cannot be reused while the key exists.
+type NodeKey = [u64; 1 + MAX_SHARED_CHILDREN];
+
+/// Open addressing with linear probing over a power-of-two number of slots,
+/// at most half full, for keys of `N` words. Keys are compared as integers:
+/// no hashing or comparing of text on the hot path.
+struct Table<const N: usize, T> {
+    slots: Vec<Option<([u64; N], T)>>,
+    len: usize,
+    /// `64 - log2(slots.len())`: the index is the top bits of the hash.
+    shift: u32,
+}
+
+impl<const N: usize, T: Clone> Table<N, T> {
+    fn with_slots(slots: usize) -> Table<N, T> {
+        debug_assert!(slots.is_power_of_two());
+        Table { slots: empty_slots(slots), len: 0, shift: 64 - slots.trailing_zeros() }
+    }
+
+    fn index(&self, key: &[u64; N]) -> usize {
+        // Multiplicative hashing (Knuth): the top bits of the product
+        // depend on all bits of the key words.
+        const K: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut h = 0u64;
+        for &w in key {
+            h = (h ^ w).wrapping_mul(K).rotate_left(23);
+        }
+        (h.wrapping_mul(K) >> self.shift) as usize
+    }
+
+    /// The value stored under `key`, or the one `make` creates (which is
+    /// then stored). A stored value that `accept` rejects is not replaced:
+    /// the new one is returned without being stored.
+    fn get_or_insert(&mut self, key: [u64; N], accept: impl Fn(&T) -> bool, make: impl FnOnce() -> T) -> T {
+        let mask = self.slots.len() - 1;
+        let mut i = self.index(&key);
+        loop {
+            match &self.slots[i] {
+                Some((k, v)) if *k == key => return if accept(v) { v.clone() } else { make() },
+                Some(_) => i = (i + 1) & mask,
+                None => break,
+            }
+        }
+        let v = make();
+        self.slots[i] = Some((key, v.clone()));
+        self.len += 1;
+        if 2 * self.len > self.slots.len() {
+            self.grow();
+        }
+        v
+    }
+
+    fn grow(&mut self) {
+        let old = std::mem::replace(&mut self.slots, empty_slots(0));
+        *self = Table { slots: empty_slots(old.len() * 2), len: self.len, shift: self.shift - 1 };
+        let mask = self.slots.len() - 1;
+        for (k, v) in old.into_iter().flatten() {
+            let mut i = self.index(&k);
+            while self.slots[i].is_some() {
+                i = (i + 1) & mask;
+            }
+            self.slots[i] = Some((k, v));
+        }
+    }
+}
+
+fn empty_slots<T>(n: usize) -> Vec<Option<T>> {
+    std::iter::repeat_with(|| None).take(n).collect()
+}
+
+/// The bytes `src[at..at + n]` (`n` from 1 to 8) as a little-endian word.
+fn word(src: &[u8], at: usize, n: usize) -> u64 {
+    debug_assert!((1..=8).contains(&n));
+    match src.get(at..at + 8) {
+        // One load and a mask instead of a byte loop.
+        Some(w) => u64::from_le_bytes(w.try_into().expect("eight bytes")) & (u64::MAX >> (64 - 8 * n)),
+        None => src[at..at + n].iter().rev().fold(0, |w, &b| (w << 8) | u64::from(b)),
+    }
+}
+
+/// Builds one green tree from `start_node` / `token` / `finish_node` calls.
+pub(crate) struct TreeBuilder<'t> {
+    /// The whole text; tokens are given as ranges of it.
+    src: &'t str,
+    parents: Vec<(SyntaxKind, usize)>,
+    children: Vec<Child>,
+    /// Tokens of up to 16 bytes (nearly all), keyed by kind, length and
+    /// bytes packed into words.
+    short_tokens: Table<3, GreenToken>,
+    /// Longer tokens, keyed by kind and length and a hash of the text; the
+    /// text is compared too.
+    long_tokens: Table<3, GreenToken>,
+    nodes: Table<{ 1 + MAX_SHARED_CHILDREN }, GreenNode>,
+}
+
+impl<'t> TreeBuilder<'t> {
+    pub(crate) fn new(src: &'t str) -> TreeBuilder<'t> {
+        TreeBuilder {
+            src,
+            parents: Vec::with_capacity(64),
+            children: Vec::with_capacity(256),
+            short_tokens: Table::with_slots(512),
+            long_tokens: Table::with_slots(16),
+            nodes: Table::with_slots(512),
+        }
+    }
+
+    pub(crate) fn start_node(&mut self, kind: SyntaxKind) {
+        self.parents.push((kind, self.children.len()));
+    }
+
+    /// Adds the token of kind `kind` at `src[start..start + len]`.
+    pub(crate) fn token(&mut self, kind: SyntaxKind, start: usize, len: usize) {
+        let bytes = self.src.as_bytes();
+        let head = kind as u64 | (len as u64) << 16;
+        let src = self.src;
+        let make = || GreenToken::new(kind.into(), &src[start..start + len]);
+        let token = match len {
+            1..=8 => self.short_tokens.get_or_insert([head, word(bytes, start, len), 0], |_| true, make),
+            9..=16 => {
+                let key = [head, word(bytes, start, 8), word(bytes, start + 8, len - 8)];
+                self.short_tokens.get_or_insert(key, |_| true, make)
+            }
+            _ => {
+                // Comments, strings and long names: rare enough that
+                // hashing the text is fine. Two texts with the same hash
+                // are not shared.
+                let text = &src[start..start + len];
+                let mut h = FxHasher::default();
+                h.write(text.as_bytes());
+                self.long_tokens.get_or_insert([head, h.finish(), 0], |t| t.text() == text, make)
+            }
+        };
+        self.children.push(Child::Token(token));
+    }
+
+    pub(crate) fn finish_node(&mut self) {
+        let (kind, first) = self.parents.pop().expect("finish_node without start_node");
+        let children = &self.children[first..];
+        let child = if children.len() <= MAX_SHARED_CHILDREN && children.iter().all(Child::is_shared) {
+            let mut key: NodeKey = [kind as u64, 0, 0, 0];
+            for (slot, c) in key[1..].iter_mut().zip(children) {
+                *slot = c.id();
+            }
+            let all = &mut self.children;
+            let node = self.nodes.get_or_insert(
+                key,
+                |_| true,
+                || GreenNode::new(kind.into(), all.drain(first..).map(Child::into_element)),
+            );
+            // On a hit the children were not used.
+            self.children.truncate(first);
+            Child::Node { node, shared: true }
+        } else {
+            let node = GreenNode::new(kind.into(), self.children.drain(first..).map(Child::into_element));
+            Child::Node { node, shared: false }
+        };
+        self.children.push(child);
+    }
+
+    pub(crate) fn finish(mut self) -> GreenNode {
+        assert_eq!(self.children.len(), 1, "unbalanced tree");
+        match self.children.pop() {
+            Some(Child::Node { node, .. }) => node,
+            _ => panic!("the root must be a node"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{parse, FileKind};
+
+    #[test]
+    fn words_pack_every_length_and_the_end_of_the_text() {
+        let src = b"abcdefghij";
+        assert_eq!(super::word(src, 0, 1), u64::from(b'a'));
+        assert_eq!(super::word(src, 0, 8), u64::from_le_bytes(*b"abcdefgh"));
+        // Fewer than eight bytes left: the byte loop.
+        assert_eq!(super::word(src, 7, 3), u64::from_le_bytes(*b"hij\0\0\0\0\0"));
+    }
+
+    #[test]
+    fn equal_tokens_are_shared_and_different_ones_are_not() {
+        // Names that differ only after 8 or 16 bytes, long names, and one
+        // at the very end of the text.
+        let text = "const abcdefgh1, abcdefgh2, abcdefghijklmnop1, abcdefghijklmnop2 : int \
+                    const averyveryverylongname_x, averyveryverylongname_y, averyveryverylongname_x : int\n\
+                    const abcdefgh1 : int abcdefgh2";
+        let parse = parse(text, FileKind::RoboChart);
+        let root = parse.syntax_node();
+        assert_eq!(root.text().to_string(), text);
+        let idents: Vec<_> = root
+            .descendants_with_tokens()
+            .filter_map(|e| e.into_token())
+            .filter(|t| t.kind() == crate::SyntaxKind::IDENT)
+            .collect();
+        for a in &idents {
+            for b in &idents {
+                let same = std::ptr::eq(a.green(), b.green());
+                assert_eq!(same, a.text() == b.text(), "{} / {}", a.text(), b.text());
+            }
+        }
+    }
+}
