@@ -13,6 +13,7 @@ use std::hash::Hasher;
 use rowan::{GreenNode, GreenToken, NodeOrToken};
 use rustc_hash::FxHasher;
 
+use crate::lexer::Token;
 use crate::SyntaxKind;
 
 /// Nodes with at most this many children are deduplicated (as in rowan):
@@ -136,11 +137,24 @@ fn word(src: &[u8], at: usize, n: usize) -> u64 {
     }
 }
 
-/// Builds one green tree from `start_node` / `token` / `finish_node` calls.
+/// The builder's position, to go back to (see `TreeBuilder::restore`).
+#[derive(Clone, Copy)]
+pub(crate) struct Saved {
+    children: usize,
+    tok: usize,
+    off: usize,
+}
+
+/// Builds one green tree over a token stream: the parser adds tokens in
+/// order and closes nodes over ranges of the children added so far.
 pub(crate) struct TreeBuilder<'t> {
-    /// The whole text; tokens are given as ranges of it.
+    /// The whole text; tokens are ranges of it.
     src: &'t str,
-    parents: Vec<(SyntaxKind, usize)>,
+    tokens: &'t [Token],
+    /// The next token to add, and where it starts.
+    tok: usize,
+    off: usize,
+    /// Finished children of the nodes still open, innermost last.
     children: Vec<Child>,
     /// Tokens of up to 16 bytes (nearly all), keyed by kind, length and
     /// bytes packed into words.
@@ -152,10 +166,12 @@ pub(crate) struct TreeBuilder<'t> {
 }
 
 impl<'t> TreeBuilder<'t> {
-    pub(crate) fn new(src: &'t str) -> TreeBuilder<'t> {
+    pub(crate) fn new(src: &'t str, tokens: &'t [Token]) -> TreeBuilder<'t> {
         TreeBuilder {
             src,
-            parents: Vec::with_capacity(64),
+            tokens,
+            tok: 0,
+            off: 0,
             children: Vec::with_capacity(256),
             short_tokens: Table::with_slots(512),
             long_tokens: Table::with_slots(16),
@@ -163,12 +179,57 @@ impl<'t> TreeBuilder<'t> {
         }
     }
 
-    pub(crate) fn start_node(&mut self, kind: SyntaxKind) {
-        self.parents.push((kind, self.children.len()));
+    /// Where the children of a node started now would begin.
+    pub(crate) fn checkpoint(&self) -> usize {
+        self.children.len()
+    }
+
+    pub(crate) fn save(&self) -> Saved {
+        Saved { children: self.children.len(), tok: self.tok, off: self.off }
+    }
+
+    /// Goes back to `saved`, which must be at or before the last checkpoint
+    /// still in use, dropping the tokens added since.
+    pub(crate) fn restore(&mut self, saved: Saved) {
+        self.children.truncate(saved.children);
+        self.tok = saved.tok;
+        self.off = saved.off;
+    }
+
+    /// Adds the trivia in front of the next token.
+    pub(crate) fn trivia(&mut self) {
+        while let Some(t) = self.tokens.get(self.tok) {
+            if !t.kind.is_trivia() {
+                break;
+            }
+            self.add(*t);
+        }
+    }
+
+    /// Adds the next non-trivia token, and the trivia in front of it.
+    pub(crate) fn token(&mut self) {
+        self.trivia();
+        if let Some(t) = self.tokens.get(self.tok) {
+            self.add(*t);
+        }
+    }
+
+    /// Adds all tokens that are left.
+    pub(crate) fn rest(&mut self) {
+        while let Some(t) = self.tokens.get(self.tok) {
+            self.add(*t);
+        }
+    }
+
+    fn add(&mut self, t: Token) {
+        let len = u32::from(t.len) as usize;
+        self.push_token(t.kind, self.off, len);
+        self.tok += 1;
+        self.off += len;
     }
 
     /// Adds the token of kind `kind` at `src[start..start + len]`.
-    pub(crate) fn token(&mut self, kind: SyntaxKind, start: usize, len: usize) {
+    fn push_token(&mut self, kind: SyntaxKind, start: usize, len: usize) {
         let bytes = self.src.as_bytes();
         let head = kind as u64 | (len as u64) << 16;
         let src = self.src;
@@ -192,8 +253,8 @@ impl<'t> TreeBuilder<'t> {
         self.children.push(Child::Token(token));
     }
 
-    pub(crate) fn finish_node(&mut self) {
-        let (kind, first) = self.parents.pop().expect("finish_node without start_node");
+    /// Makes the children from `first` on into one node of kind `kind`.
+    pub(crate) fn finish_node(&mut self, kind: SyntaxKind, first: usize) {
         let children = &self.children[first..];
         let child = if children.len() <= MAX_SHARED_CHILDREN && children.iter().all(Child::is_shared) {
             let mut key: NodeKey = [kind as u64, 0, 0, 0];
@@ -216,11 +277,18 @@ impl<'t> TreeBuilder<'t> {
         self.children.push(child);
     }
 
-    pub(crate) fn finish(mut self) -> GreenNode {
-        assert_eq!(self.children.len(), 1, "unbalanced tree");
+    /// The root. Normally the parser has closed it over everything;
+    /// after a grammar bug (a marker never completed) whatever is left
+    /// is wrapped in one more `root` node, so that no text is lost.
+    pub(crate) fn finish(mut self, root: SyntaxKind) -> GreenNode {
+        self.rest();
+        if self.children.len() != 1 || !matches!(self.children[0], Child::Node { .. }) {
+            debug_assert!(false, "unbalanced tree");
+            self.finish_node(root, 0);
+        }
         match self.children.pop() {
             Some(Child::Node { node, .. }) => node,
-            _ => panic!("the root must be a node"),
+            _ => unreachable!("a root node was just made"),
         }
     }
 }
