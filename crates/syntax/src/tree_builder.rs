@@ -87,26 +87,28 @@ impl<const N: usize, T: Clone> Table<N, T> {
         (h.wrapping_mul(K) >> self.shift) as usize
     }
 
-    /// The value stored under `key`, or the one `make` creates (which is
-    /// then stored). A stored value that `accept` rejects is not replaced:
-    /// the new one is returned without being stored.
-    fn get_or_insert(&mut self, key: [u64; N], accept: impl Fn(&T) -> bool, make: impl FnOnce() -> T) -> T {
+    /// The value stored under `key`, or else the free slot where it goes.
+    #[inline]
+    fn find(&self, key: &[u64; N]) -> Result<&T, usize> {
         let mask = self.slots.len() - 1;
-        let mut i = self.index(&key);
+        let mut i = self.index(key);
         loop {
             match &self.slots[i] {
-                Some((k, v)) if *k == key => return if accept(v) { v.clone() } else { make() },
+                Some((k, v)) if k == key => return Ok(v),
                 Some(_) => i = (i + 1) & mask,
-                None => break,
+                None => return Err(i),
             }
         }
-        let v = make();
-        self.slots[i] = Some((key, v.clone()));
+    }
+
+    /// Stores `value` in the free `slot` that `find` gave for `key`.
+    fn insert(&mut self, slot: usize, key: [u64; N], value: T) {
+        debug_assert!(self.slots[slot].is_none());
+        self.slots[slot] = Some((key, value));
         self.len += 1;
         if 2 * self.len > self.slots.len() {
             self.grow();
         }
-        v
     }
 
     fn grow(&mut self) {
@@ -221,33 +223,44 @@ impl<'t> TreeBuilder<'t> {
         }
     }
 
+    #[inline]
     fn add(&mut self, t: Token) {
-        let len = u32::from(t.len) as usize;
-        self.push_token(t.kind, self.off, len);
+        let (kind, start, len) = (t.kind, self.off, u32::from(t.len) as usize);
         self.tok += 1;
         self.off += len;
-    }
-
-    /// Adds the token of kind `kind` at `src[start..start + len]`.
-    fn push_token(&mut self, kind: SyntaxKind, start: usize, len: usize) {
         let bytes = self.src.as_bytes();
         let head = kind as u64 | (len as u64) << 16;
-        let src = self.src;
-        let make = || GreenToken::new(kind.into(), &src[start..start + len]);
-        let token = match len {
-            1..=8 => self.short_tokens.get_or_insert([head, word(bytes, start, len), 0], |_| true, make),
-            9..=16 => {
-                let key = [head, word(bytes, start, 8), word(bytes, start + 8, len - 8)];
-                self.short_tokens.get_or_insert(key, |_| true, make)
+        let key = match len {
+            1..=8 => [head, word(bytes, start, len), 0],
+            9..=16 => [head, word(bytes, start, 8), word(bytes, start + 8, len - 8)],
+            _ => return self.add_long(kind, start, len),
+        };
+        let token = match self.short_tokens.find(&key) {
+            Ok(token) => token.clone(),
+            Err(slot) => {
+                let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
+                self.short_tokens.insert(slot, key, token.clone());
+                token
             }
-            _ => {
-                // Comments, strings and long names: rare enough that
-                // hashing the text is fine. Two texts with the same hash
-                // are not shared.
-                let text = &src[start..start + len];
-                let mut h = FxHasher::default();
-                h.write(text.as_bytes());
-                self.long_tokens.get_or_insert([head, h.finish(), 0], |t| t.text() == text, make)
+        };
+        self.children.push(Child::Token(token));
+    }
+
+    /// Comments, strings and long names: rare enough that hashing the text
+    /// is fine. Two texts with the same hash are not shared.
+    #[cold]
+    fn add_long(&mut self, kind: SyntaxKind, start: usize, len: usize) {
+        let text = &self.src[start..start + len];
+        let mut h = FxHasher::default();
+        h.write(text.as_bytes());
+        let key = [kind as u64 | (len as u64) << 16, h.finish(), 0];
+        let token = match self.long_tokens.find(&key) {
+            Ok(token) if token.text() == text => token.clone(),
+            Ok(_) => GreenToken::new(kind.into(), text),
+            Err(slot) => {
+                let token = GreenToken::new(kind.into(), text);
+                self.long_tokens.insert(slot, key, token.clone());
+                token
             }
         };
         self.children.push(Child::Token(token));
@@ -256,25 +269,34 @@ impl<'t> TreeBuilder<'t> {
     /// Makes the children from `first` on into one node of kind `kind`.
     pub(crate) fn finish_node(&mut self, kind: SyntaxKind, first: usize) {
         let children = &self.children[first..];
-        let child = if children.len() <= MAX_SHARED_CHILDREN && children.iter().all(Child::is_shared) {
-            let mut key: NodeKey = [kind as u64, 0, 0, 0];
-            for (slot, c) in key[1..].iter_mut().zip(children) {
-                *slot = c.id();
+        let mut key: NodeKey = [0; 1 + MAX_SHARED_CHILDREN];
+        key[0] = kind as u64;
+        let shareable = children.len() <= MAX_SHARED_CHILDREN
+            && children.iter().zip(&mut key[1..]).all(|(c, k)| {
+                *k = c.id();
+                c.is_shared()
+            });
+        let child = if shareable {
+            match self.nodes.find(&key) {
+                Ok(node) => {
+                    let node = node.clone();
+                    self.children.truncate(first);
+                    Child::Node { node, shared: true }
+                }
+                Err(slot) => {
+                    let node = self.make_node(kind, first);
+                    self.nodes.insert(slot, key, node.clone());
+                    Child::Node { node, shared: true }
+                }
             }
-            let all = &mut self.children;
-            let node = self.nodes.get_or_insert(
-                key,
-                |_| true,
-                || GreenNode::new(kind.into(), all.drain(first..).map(Child::into_element)),
-            );
-            // On a hit the children were not used.
-            self.children.truncate(first);
-            Child::Node { node, shared: true }
         } else {
-            let node = GreenNode::new(kind.into(), self.children.drain(first..).map(Child::into_element));
-            Child::Node { node, shared: false }
+            Child::Node { node: self.make_node(kind, first), shared: false }
         };
         self.children.push(child);
+    }
+
+    fn make_node(&mut self, kind: SyntaxKind, first: usize) -> GreenNode {
+        GreenNode::new(kind.into(), self.children.drain(first..).map(Child::into_element))
     }
 
     /// The root. Normally the parser has closed it over everything;
