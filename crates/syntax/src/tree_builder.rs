@@ -237,18 +237,23 @@ impl<'t> TreeBuilder<'t> {
         };
         let token = match self.short_tokens.find(&key) {
             Ok(token) => token.clone(),
-            Err(slot) => {
-                let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
-                self.short_tokens.insert(slot, key, token.clone());
-                token
-            }
+            Err(slot) => self.new_short(slot, key, kind, start, len),
         };
         self.children.push(Child::Token(token));
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn new_short(&mut self, slot: usize, key: [u64; 3], kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
+        let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
+        self.short_tokens.insert(slot, key, token.clone());
+        token
     }
 
     /// Comments, strings and long names: rare enough that hashing the text
     /// is fine. Two texts with the same hash are not shared.
     #[cold]
+    #[inline(never)]
     fn add_long(&mut self, kind: SyntaxKind, start: usize, len: usize) {
         let text = &self.src[start..start + len];
         let mut h = FxHasher::default();
