@@ -60,20 +60,27 @@ impl Child {
 /// address cannot be reused while the key exists.
 type NodeKey = [u64; 1 + MAX_SHARED_CHILDREN];
 
-/// Open addressing with linear probing over a power-of-two number of slots,
-/// at most half full, for keys of `N` words. Keys are compared as integers:
-/// no hashing or comparing of text on the hot path.
+/// Open addressing with linear probing, for keys of `N` words. Keys are
+/// compared as integers: no hashing or comparing of text on the hot path.
+///
+/// The probed array holds only 4-byte indices into a dense list of
+/// entries, and is at most half full. Keeping it small matters: a table
+/// that outgrows the allocator's reuse makes every parse fault in fresh
+/// pages, which costs more than the lookups save.
 struct Table<const N: usize, T> {
-    slots: Vec<Option<([u64; N], T)>>,
-    len: usize,
+    /// Index + 1 into `entries`; 0 for a free slot. The length is a power
+    /// of two.
+    slots: Vec<u32>,
+    entries: Vec<([u64; N], T)>,
     /// `64 - log2(slots.len())`: the index is the top bits of the hash.
     shift: u32,
 }
 
 impl<const N: usize, T: Clone> Table<N, T> {
-    fn with_slots(slots: usize) -> Table<N, T> {
-        debug_assert!(slots.is_power_of_two());
-        Table { slots: empty_slots(slots), len: 0, shift: 64 - slots.trailing_zeros() }
+    /// A table for about `n` entries without growing.
+    fn with_capacity(n: usize) -> Table<N, T> {
+        let slots = (2 * n).next_power_of_two().max(64);
+        Table { slots: vec![0; slots], entries: Vec::with_capacity(n), shift: 64 - slots.trailing_zeros() }
     }
 
     fn index(&self, key: &[u64; N]) -> usize {
@@ -93,40 +100,40 @@ impl<const N: usize, T: Clone> Table<N, T> {
         let mask = self.slots.len() - 1;
         let mut i = self.index(key);
         loop {
-            match &self.slots[i] {
-                Some((k, v)) if k == key => return Ok(v),
-                Some(_) => i = (i + 1) & mask,
-                None => return Err(i),
+            let e = self.slots[i] as usize;
+            if e == 0 {
+                return Err(i);
             }
+            let (k, v) = &self.entries[e - 1];
+            if k == key {
+                return Ok(v);
+            }
+            i = (i + 1) & mask;
         }
     }
 
     /// Stores `value` in the free `slot` that `find` gave for `key`.
     fn insert(&mut self, slot: usize, key: [u64; N], value: T) {
-        debug_assert!(self.slots[slot].is_none());
-        self.slots[slot] = Some((key, value));
-        self.len += 1;
-        if 2 * self.len > self.slots.len() {
+        debug_assert_eq!(self.slots[slot], 0);
+        self.entries.push((key, value));
+        self.slots[slot] = self.entries.len() as u32;
+        if 2 * self.entries.len() > self.slots.len() {
             self.grow();
         }
     }
 
     fn grow(&mut self) {
-        let old = std::mem::replace(&mut self.slots, empty_slots(0));
-        *self = Table { slots: empty_slots(old.len() * 2), len: self.len, shift: self.shift - 1 };
+        self.slots = vec![0; self.slots.len() * 2];
+        self.shift -= 1;
         let mask = self.slots.len() - 1;
-        for (k, v) in old.into_iter().flatten() {
-            let mut i = self.index(&k);
-            while self.slots[i].is_some() {
+        for (n, (k, _)) in self.entries.iter().enumerate() {
+            let mut i = self.index(k);
+            while self.slots[i] != 0 {
                 i = (i + 1) & mask;
             }
-            self.slots[i] = Some((k, v));
+            self.slots[i] = n as u32 + 1;
         }
     }
-}
-
-fn empty_slots<T>(n: usize) -> Vec<Option<T>> {
-    std::iter::repeat_with(|| None).take(n).collect()
 }
 
 /// The bytes `src[at..at + n]` (`n` from 1 to 8) as a little-endian word.
@@ -175,9 +182,11 @@ impl<'t> TreeBuilder<'t> {
             tok: 0,
             off: 0,
             children: Vec::with_capacity(256),
-            short_tokens: Table::with_slots(512),
-            long_tokens: Table::with_slots(16),
-            nodes: Table::with_slots(512),
+            // Sized from what models have: one distinct token per 36 to 56
+            // bytes, one distinct small node per 19 to 28.
+            short_tokens: Table::with_capacity(src.len() / 32),
+            long_tokens: Table::with_capacity(16),
+            nodes: Table::with_capacity(src.len() / 16),
         }
     }
 
