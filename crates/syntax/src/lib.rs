@@ -11,6 +11,7 @@ mod kinds;
 pub mod lexer;
 pub mod line_index;
 mod parser;
+mod tree_builder;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -173,10 +174,9 @@ impl Parse {
 pub fn parse(text: &str, file: FileKind) -> Parse {
     let (tokens, mut errors) = lexer::lex(text, file);
     let input = parser::Input::new(&tokens, text);
-    let mut p = parser::Parser::new(&input, text, file);
+    let mut p = parser::Parser::new(&input, &tokens, text, file);
     grammar::source_file(&mut p);
-    let (events, parse_errors) = p.finish();
-    let green = parser::build_tree(text, &tokens, events);
+    let (green, parse_errors) = p.finish();
     errors.extend(parse_errors);
     errors.sort_by_key(|e| (e.range.start(), e.range.end()));
     // A stray character gets one error from the lexer; the parser's

@@ -1,13 +1,15 @@
 //! Parser infrastructure (rust-analyzer style): the grammar functions see
-//! only non-trivia tokens and emit a flat list of events; `build_tree` turns
-//! the events plus the full token stream (trivia included) into a rowan
-//! green tree, so the tree is lossless by construction.
+//! only non-trivia tokens and open, complete, abandon or wrap nodes through
+//! markers. The tree is built as they go: every consumed token is added to
+//! the green tree together with the trivia before it, so the tree is
+//! lossless by construction.
 
 use std::cell::Cell;
 
-use rowan::{GreenNode, GreenNodeBuilder};
+use rowan::GreenNode;
 
 use crate::lexer::Token;
+use crate::tree_builder::{Saved, TreeBuilder};
 use crate::{FileKind, SyntaxError, SyntaxKind, TextRange, TextSize};
 use SyntaxKind::*;
 
@@ -65,20 +67,15 @@ impl TokenSet {
     }
 }
 
-pub(crate) enum Event {
-    Start { kind: SyntaxKind, forward_parent: Option<u32> },
-    Finish,
-    Token,
-    Tombstone,
-}
-
 /// The parser state handed to every grammar function.
 pub(crate) struct Parser<'a> {
     input: &'a Input,
     text: &'a str,
     pos: usize,
     fuel: Cell<u32>,
-    events: Vec<Event>,
+    builder: TreeBuilder<'a>,
+    /// Markers started and not yet completed or abandoned.
+    open: u32,
     errors: Vec<SyntaxError>,
     pub(crate) file: FileKind,
     depth: u32,
@@ -88,13 +85,14 @@ pub(crate) struct Parser<'a> {
 }
 
 impl<'a> Parser<'a> {
-    pub(crate) fn new(input: &'a Input, text: &'a str, file: FileKind) -> Parser<'a> {
+    pub(crate) fn new(input: &'a Input, tokens: &'a [Token], text: &'a str, file: FileKind) -> Parser<'a> {
         Parser {
             input,
             text,
             pos: 0,
             fuel: Cell::new(FUEL),
-            events: Vec::with_capacity(input.kinds.len() * 2 + 16),
+            builder: TreeBuilder::new(text, tokens),
+            open: 0,
             errors: Vec::new(),
             file,
             depth: 0,
@@ -102,8 +100,9 @@ impl<'a> Parser<'a> {
         }
     }
 
-    pub(crate) fn finish(self) -> (Vec<Event>, Vec<SyntaxError>) {
-        (self.events, self.errors)
+    /// The tree and the errors.
+    pub(crate) fn finish(self) -> (GreenNode, Vec<SyntaxError>) {
+        (self.builder.finish(SOURCE_FILE), self.errors)
     }
 
     pub(crate) fn is_robosim(&self) -> bool {
@@ -175,7 +174,7 @@ impl<'a> Parser<'a> {
         }
         self.fuel.set(FUEL);
         self.pos += 1;
-        self.events.push(Event::Token);
+        self.builder.token();
     }
 
     pub(crate) fn bump(&mut self, kind: SyntaxKind) {
@@ -284,9 +283,14 @@ impl<'a> Parser<'a> {
     }
 
     pub(crate) fn start(&mut self) -> Marker {
-        let pos = self.events.len() as u32;
-        self.events.push(Event::Tombstone);
-        Marker { pos, done: false }
+        let before = self.builder.save();
+        // Trivia in front of a node belongs to its parent (the root, which
+        // has none, takes leading trivia).
+        if self.open > 0 {
+            self.builder.trivia();
+        }
+        self.open += 1;
+        Marker { first_child: self.builder.checkpoint(), before, done: false }
     }
 
     /// Whether `extra` more levels of tree nesting still fit in the budget.
@@ -329,30 +333,43 @@ fn is_close(k: SyntaxKind) -> bool {
 
 /// An open node; must be completed or abandoned.
 pub(crate) struct Marker {
-    pos: u32,
+    /// Where the node's children start in the builder.
+    first_child: usize,
+    /// The builder before `start` moved trivia into the parent, for
+    /// `abandon`.
+    before: Saved,
     done: bool,
 }
 
 impl Marker {
     pub(crate) fn complete(mut self, p: &mut Parser<'_>, kind: SyntaxKind) -> CompletedMarker {
         self.done = true;
-        p.events[self.pos as usize] = Event::Start { kind, forward_parent: None };
-        p.events.push(Event::Finish);
-        CompletedMarker { pos: self.pos }
+        p.open -= 1;
+        if p.open == 0 {
+            // The root takes everything that is left.
+            p.builder.rest();
+        }
+        p.builder.finish_node(kind, self.first_child);
+        CompletedMarker { first_child: self.first_child }
     }
 
     pub(crate) fn abandon(mut self, p: &mut Parser<'_>) {
         self.done = true;
-        if self.pos as usize == p.events.len() - 1 {
-            p.events.pop();
+        p.open -= 1;
+        // Nothing was added since `start`: undo its moving trivia into the
+        // parent, so that the trivia goes wherever the next token or node
+        // puts it, as if the marker had never been started.
+        if p.builder.checkpoint() == self.first_child {
+            p.builder.restore(self.before);
         }
     }
 }
 
 impl Drop for Marker {
     fn drop(&mut self) {
-        // A forgotten marker is a grammar bug; it stays a tombstone and the
-        // tree is still well formed, so only debug builds complain.
+        // A forgotten marker is a grammar bug; its children stay in the
+        // parent and the tree is still lossless, so only debug builds
+        // complain.
         debug_assert!(self.done || std::thread::panicking(), "marker dropped without completion");
     }
 }
@@ -360,90 +377,14 @@ impl Drop for Marker {
 /// A finished node, which can still be wrapped by a new parent.
 #[derive(Clone, Copy)]
 pub(crate) struct CompletedMarker {
-    pos: u32,
+    first_child: usize,
 }
 
 impl CompletedMarker {
     /// Starts a new node that will contain this one (for postfix and infix
     /// forms).
     pub(crate) fn precede(self, p: &mut Parser<'_>) -> Marker {
-        let m = p.start();
-        if let Event::Start { forward_parent, .. } = &mut p.events[self.pos as usize] {
-            *forward_parent = Some(m.pos - self.pos);
-        }
-        m
+        p.open += 1;
+        Marker { first_child: self.first_child, before: p.builder.save(), done: false }
     }
-}
-
-/// Builds the green tree from the events and every token of the text.
-pub(crate) fn build_tree(text: &str, tokens: &[Token], mut events: Vec<Event>) -> GreenNode {
-    let mut b = GreenNodeBuilder::new();
-    let mut tok = 0usize;
-    let mut off = 0usize;
-    let mut depth = 0usize;
-    let mut parents = Vec::new();
-
-    let emit = |b: &mut GreenNodeBuilder<'_>, tok: &mut usize, off: &mut usize| {
-        let t = tokens[*tok];
-        let len = u32::from(t.len) as usize;
-        b.token(t.kind.into(), &text[*off..*off + len]);
-        *off += len;
-        *tok += 1;
-    };
-    let skip_trivia = |b: &mut GreenNodeBuilder<'_>, tok: &mut usize, off: &mut usize| {
-        while *tok < tokens.len() && tokens[*tok].kind.is_trivia() {
-            let t = tokens[*tok];
-            let len = u32::from(t.len) as usize;
-            b.token(t.kind.into(), &text[*off..*off + len]);
-            *off += len;
-            *tok += 1;
-        }
-    };
-
-    for i in 0..events.len() {
-        match std::mem::replace(&mut events[i], Event::Tombstone) {
-            Event::Start { kind, forward_parent } => {
-                // Collect the chain of forward parents: outermost first.
-                parents.clear();
-                parents.push(kind);
-                let mut idx = i;
-                let mut fp = forward_parent;
-                while let Some(d) = fp {
-                    idx += d as usize;
-                    fp = match std::mem::replace(&mut events[idx], Event::Tombstone) {
-                        Event::Start { kind, forward_parent } => {
-                            parents.push(kind);
-                            forward_parent
-                        }
-                        _ => None,
-                    };
-                }
-                for kind in parents.drain(..).rev() {
-                    if depth > 0 {
-                        skip_trivia(&mut b, &mut tok, &mut off);
-                    }
-                    b.start_node(kind.into());
-                    depth += 1;
-                }
-            }
-            Event::Finish => {
-                if depth == 1 {
-                    // The root takes everything that is left.
-                    while tok < tokens.len() {
-                        emit(&mut b, &mut tok, &mut off);
-                    }
-                }
-                b.finish_node();
-                depth -= 1;
-            }
-            Event::Token => {
-                skip_trivia(&mut b, &mut tok, &mut off);
-                if tok < tokens.len() {
-                    emit(&mut b, &mut tok, &mut off);
-                }
-            }
-            Event::Tombstone => {}
-        }
-    }
-    b.finish()
 }

@@ -1,0 +1,367 @@
+//! Green tree construction, in place of rowan's `GreenNodeBuilder`.
+//!
+//! The tree is the same, and so is what gets shared: equal tokens, and
+//! equal nodes of at most three children. What differs is the lookup.
+//! rowan hashes every token's text and every small node's children through
+//! a general-purpose hash map. Here a token of up to 16 bytes (nearly all of
+//! them) is looked up by its kind, length and bytes packed into three
+//! words, and a small node by its kind and the addresses of its (already
+//! shared) children: integer keys in an open-addressing table.
+
+use std::hash::Hasher;
+
+use rowan::{GreenNode, GreenToken, NodeOrToken};
+use rustc_hash::FxHasher;
+
+use crate::lexer::Token;
+use crate::SyntaxKind;
+
+/// Nodes with at most this many children are deduplicated (as in rowan):
+/// that covers names, literals and short expressions, which repeat a lot.
+const MAX_SHARED_CHILDREN: usize = 3;
+
+/// A finished child of the node being built.
+enum Child {
+    Token(GreenToken),
+    /// `shared` says whether the node is in the node cache, which makes its
+    /// address usable as its identity.
+    Node {
+        node: GreenNode,
+        shared: bool,
+    },
+}
+
+impl Child {
+    /// The address identifying a deduplicated child.
+    fn id(&self) -> u64 {
+        match self {
+            Child::Token(t) => &**t as *const rowan::GreenTokenData as usize as u64,
+            Child::Node { node, .. } => &**node as *const rowan::GreenNodeData as usize as u64,
+        }
+    }
+
+    fn is_shared(&self) -> bool {
+        match self {
+            Child::Token(_) => true,
+            Child::Node { shared, .. } => *shared,
+        }
+    }
+
+    fn into_element(self) -> NodeOrToken<GreenNode, GreenToken> {
+        match self {
+            Child::Token(t) => NodeOrToken::Token(t),
+            Child::Node { node, .. } => NodeOrToken::Node(node),
+        }
+    }
+}
+
+/// A small node's identity: its kind, then its children's addresses (zero
+/// past the last child). Children are kept alive by the cached node, so an
+/// address cannot be reused while the key exists.
+type NodeKey = [u64; 1 + MAX_SHARED_CHILDREN];
+
+/// Open addressing with linear probing, for keys of `N` words. Keys are
+/// compared as integers: no hashing or comparing of text on the hot path.
+///
+/// The probed array holds only 4-byte indices into a dense list of
+/// entries, and is at most half full. Keeping it small matters: a table
+/// that outgrows the allocator's reuse makes every parse fault in fresh
+/// pages, which costs more than the lookups save.
+struct Table<const N: usize, T> {
+    /// Index + 1 into `entries`; 0 for a free slot. The length is a power
+    /// of two.
+    slots: Vec<u32>,
+    entries: Vec<([u64; N], T)>,
+    /// `64 - log2(slots.len())`: the index is the top bits of the hash.
+    shift: u32,
+}
+
+impl<const N: usize, T: Clone> Table<N, T> {
+    /// A table for about `n` entries without growing.
+    fn with_capacity(n: usize) -> Table<N, T> {
+        let slots = (2 * n).next_power_of_two().max(64);
+        Table { slots: vec![0; slots], entries: Vec::with_capacity(n), shift: 64 - slots.trailing_zeros() }
+    }
+
+    fn index(&self, key: &[u64; N]) -> usize {
+        // Multiplicative hashing (Knuth): the top bits of the product
+        // depend on all bits of the key words.
+        const K: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut h = 0u64;
+        for &w in key {
+            h = (h ^ w).wrapping_mul(K).rotate_left(23);
+        }
+        (h.wrapping_mul(K) >> self.shift) as usize
+    }
+
+    /// The value stored under `key`, or else the free slot where it goes.
+    #[inline]
+    fn find(&self, key: &[u64; N]) -> Result<&T, usize> {
+        let mask = self.slots.len() - 1;
+        let mut i = self.index(key);
+        loop {
+            let e = self.slots[i] as usize;
+            if e == 0 {
+                return Err(i);
+            }
+            let (k, v) = &self.entries[e - 1];
+            if k == key {
+                return Ok(v);
+            }
+            i = (i + 1) & mask;
+        }
+    }
+
+    /// Stores `value` in the free `slot` that `find` gave for `key`.
+    fn insert(&mut self, slot: usize, key: [u64; N], value: T) {
+        debug_assert_eq!(self.slots[slot], 0);
+        self.entries.push((key, value));
+        self.slots[slot] = self.entries.len() as u32;
+        if 2 * self.entries.len() > self.slots.len() {
+            self.grow();
+        }
+    }
+
+    fn grow(&mut self) {
+        self.slots = vec![0; self.slots.len() * 2];
+        self.shift -= 1;
+        let mask = self.slots.len() - 1;
+        for (n, (k, _)) in self.entries.iter().enumerate() {
+            let mut i = self.index(k);
+            while self.slots[i] != 0 {
+                i = (i + 1) & mask;
+            }
+            self.slots[i] = n as u32 + 1;
+        }
+    }
+}
+
+/// The bytes `src[at..at + n]` (`n` from 1 to 8) as a little-endian word.
+fn word(src: &[u8], at: usize, n: usize) -> u64 {
+    debug_assert!((1..=8).contains(&n));
+    match src.get(at..at + 8) {
+        // One load and a mask instead of a byte loop.
+        Some(w) => u64::from_le_bytes(w.try_into().expect("eight bytes")) & (u64::MAX >> (64 - 8 * n)),
+        None => src[at..at + n].iter().rev().fold(0, |w, &b| (w << 8) | u64::from(b)),
+    }
+}
+
+/// The builder's position, to go back to (see `TreeBuilder::restore`).
+#[derive(Clone, Copy)]
+pub(crate) struct Saved {
+    children: usize,
+    tok: usize,
+    off: usize,
+}
+
+/// Builds one green tree over a token stream: the parser adds tokens in
+/// order and closes nodes over ranges of the children added so far.
+pub(crate) struct TreeBuilder<'t> {
+    /// The whole text; tokens are ranges of it.
+    src: &'t str,
+    tokens: &'t [Token],
+    /// The next token to add, and where it starts.
+    tok: usize,
+    off: usize,
+    /// Finished children of the nodes still open, innermost last.
+    children: Vec<Child>,
+    /// Tokens of up to 16 bytes (nearly all), keyed by kind, length and
+    /// bytes packed into words.
+    short_tokens: Table<3, GreenToken>,
+    /// Longer tokens, keyed by kind and length and a hash of the text; the
+    /// text is compared too.
+    long_tokens: Table<3, GreenToken>,
+    nodes: Table<{ 1 + MAX_SHARED_CHILDREN }, GreenNode>,
+}
+
+impl<'t> TreeBuilder<'t> {
+    pub(crate) fn new(src: &'t str, tokens: &'t [Token]) -> TreeBuilder<'t> {
+        TreeBuilder {
+            src,
+            tokens,
+            tok: 0,
+            off: 0,
+            children: Vec::with_capacity(256),
+            // Sized from what models have: one distinct token per 36 to 56
+            // bytes, one distinct small node per 19 to 28.
+            short_tokens: Table::with_capacity(src.len() / 32),
+            long_tokens: Table::with_capacity(16),
+            nodes: Table::with_capacity(src.len() / 16),
+        }
+    }
+
+    /// Where the children of a node started now would begin.
+    pub(crate) fn checkpoint(&self) -> usize {
+        self.children.len()
+    }
+
+    pub(crate) fn save(&self) -> Saved {
+        Saved { children: self.children.len(), tok: self.tok, off: self.off }
+    }
+
+    /// Goes back to `saved`, which must be at or before the last checkpoint
+    /// still in use, dropping the tokens added since.
+    pub(crate) fn restore(&mut self, saved: Saved) {
+        self.children.truncate(saved.children);
+        self.tok = saved.tok;
+        self.off = saved.off;
+    }
+
+    /// Adds the trivia in front of the next token.
+    pub(crate) fn trivia(&mut self) {
+        while let Some(t) = self.tokens.get(self.tok) {
+            if !t.kind.is_trivia() {
+                break;
+            }
+            self.add(*t);
+        }
+    }
+
+    /// Adds the next non-trivia token, and the trivia in front of it.
+    pub(crate) fn token(&mut self) {
+        self.trivia();
+        if let Some(t) = self.tokens.get(self.tok) {
+            self.add(*t);
+        }
+    }
+
+    /// Adds all tokens that are left.
+    pub(crate) fn rest(&mut self) {
+        while let Some(t) = self.tokens.get(self.tok) {
+            self.add(*t);
+        }
+    }
+
+    #[inline]
+    fn add(&mut self, t: Token) {
+        let (kind, start, len) = (t.kind, self.off, u32::from(t.len) as usize);
+        self.tok += 1;
+        self.off += len;
+        let bytes = self.src.as_bytes();
+        let head = kind as u64 | (len as u64) << 16;
+        let key = match len {
+            1..=8 => [head, word(bytes, start, len), 0],
+            9..=16 => [head, word(bytes, start, 8), word(bytes, start + 8, len - 8)],
+            _ => return self.add_long(kind, start, len),
+        };
+        let token = match self.short_tokens.find(&key) {
+            Ok(token) => token.clone(),
+            Err(slot) => self.new_short(slot, key, kind, start, len),
+        };
+        self.children.push(Child::Token(token));
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn new_short(&mut self, slot: usize, key: [u64; 3], kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
+        let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
+        self.short_tokens.insert(slot, key, token.clone());
+        token
+    }
+
+    /// Comments, strings and long names: rare enough that hashing the text
+    /// is fine. Two texts with the same hash are not shared.
+    #[cold]
+    #[inline(never)]
+    fn add_long(&mut self, kind: SyntaxKind, start: usize, len: usize) {
+        let text = &self.src[start..start + len];
+        let mut h = FxHasher::default();
+        h.write(text.as_bytes());
+        let key = [kind as u64 | (len as u64) << 16, h.finish(), 0];
+        let token = match self.long_tokens.find(&key) {
+            Ok(token) if token.text() == text => token.clone(),
+            Ok(_) => GreenToken::new(kind.into(), text),
+            Err(slot) => {
+                let token = GreenToken::new(kind.into(), text);
+                self.long_tokens.insert(slot, key, token.clone());
+                token
+            }
+        };
+        self.children.push(Child::Token(token));
+    }
+
+    /// Makes the children from `first` on into one node of kind `kind`.
+    pub(crate) fn finish_node(&mut self, kind: SyntaxKind, first: usize) {
+        let children = &self.children[first..];
+        let mut key: NodeKey = [0; 1 + MAX_SHARED_CHILDREN];
+        key[0] = kind as u64;
+        let shareable = children.len() <= MAX_SHARED_CHILDREN
+            && children.iter().zip(&mut key[1..]).all(|(c, k)| {
+                *k = c.id();
+                c.is_shared()
+            });
+        let child = if shareable {
+            match self.nodes.find(&key) {
+                Ok(node) => {
+                    let node = node.clone();
+                    self.children.truncate(first);
+                    Child::Node { node, shared: true }
+                }
+                Err(slot) => {
+                    let node = self.make_node(kind, first);
+                    self.nodes.insert(slot, key, node.clone());
+                    Child::Node { node, shared: true }
+                }
+            }
+        } else {
+            Child::Node { node: self.make_node(kind, first), shared: false }
+        };
+        self.children.push(child);
+    }
+
+    fn make_node(&mut self, kind: SyntaxKind, first: usize) -> GreenNode {
+        GreenNode::new(kind.into(), self.children.drain(first..).map(Child::into_element))
+    }
+
+    /// The root. Normally the parser has closed it over everything;
+    /// after a grammar bug (a marker never completed) whatever is left
+    /// is wrapped in one more `root` node, so that no text is lost.
+    pub(crate) fn finish(mut self, root: SyntaxKind) -> GreenNode {
+        self.rest();
+        if self.children.len() != 1 || !matches!(self.children[0], Child::Node { .. }) {
+            debug_assert!(false, "unbalanced tree");
+            self.finish_node(root, 0);
+        }
+        match self.children.pop() {
+            Some(Child::Node { node, .. }) => node,
+            _ => unreachable!("a root node was just made"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{parse, FileKind};
+
+    #[test]
+    fn words_pack_every_length_and_the_end_of_the_text() {
+        let src = b"abcdefghij";
+        assert_eq!(super::word(src, 0, 1), u64::from(b'a'));
+        assert_eq!(super::word(src, 0, 8), u64::from_le_bytes(*b"abcdefgh"));
+        // Fewer than eight bytes left: the byte loop.
+        assert_eq!(super::word(src, 7, 3), u64::from_le_bytes(*b"hij\0\0\0\0\0"));
+    }
+
+    #[test]
+    fn equal_tokens_are_shared_and_different_ones_are_not() {
+        // Names that differ only after 8 or 16 bytes, long names, and one
+        // at the very end of the text.
+        let text = "const abcdefgh1, abcdefgh2, abcdefghijklmnop1, abcdefghijklmnop2 : int \
+                    const averyveryverylongname_x, averyveryverylongname_y, averyveryverylongname_x : int\n\
+                    const abcdefgh1 : int abcdefgh2";
+        let parse = parse(text, FileKind::RoboChart);
+        let root = parse.syntax_node();
+        assert_eq!(root.text().to_string(), text);
+        let idents: Vec<_> = root
+            .descendants_with_tokens()
+            .filter_map(|e| e.into_token())
+            .filter(|t| t.kind() == crate::SyntaxKind::IDENT)
+            .collect();
+        for a in &idents {
+            for b in &idents {
+                let same = std::ptr::eq(a.green(), b.green());
+                assert_eq!(same, a.text() == b.text(), "{} / {}", a.text(), b.text());
+            }
+        }
+    }
+}
