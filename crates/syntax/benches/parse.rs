@@ -5,6 +5,11 @@
 
 use robosim_syntax::{parse, FileKind};
 
+// The allocator of the `robosim` binary, so that the numbers are those
+// users get (a tree is one allocation per distinct node).
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[path = "generated.rs"]
 mod generated;
 use generated::generated_model;

@@ -4,6 +4,10 @@
 
 use robosim_syntax::{parse, FileKind};
 
+// As in the `robosim` binary and the benchmark.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[path = "../benches/generated.rs"]
 mod generated;
 
