@@ -58,6 +58,22 @@ pub struct Diagnostic {
     pub related: Vec<Related>,
 }
 
+/// Computes the rules of `file` that do not need its types, so that a second
+/// thread can run them while another resolves and types the file: the
+/// other's [`file_diagnostics`] then finds them done (or waits for them).
+pub fn prefetch_rules(db: &dyn Db, workspace: Workspace, file: File) {
+    if file.is_library(db) {
+        return;
+    }
+    // Behaviour resolution and typing come first in `file_diagnostics`;
+    // these come last, so the two threads start on different work.
+    crate::resolve::file_resolution(db, workspace, file);
+    crate::checks::file_checks(db, workspace, file);
+    crate::more_checks::more_checks(db, workspace, file);
+    crate::robosim::robosim_checks(db, workspace, file);
+    crate::cycle::cycle_checks(db, workspace, file);
+}
+
 /// Every diagnostic of `file`, sorted by position.
 #[salsa::tracked(returns(ref))]
 pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Diagnostic> {

@@ -24,7 +24,7 @@ pub mod types;
 mod walk;
 
 pub use db::{Db, RootDatabase};
-pub use diagnostics::{file_diagnostics, Diagnostic, Related, Severity};
+pub use diagnostics::{file_diagnostics, prefetch_rules, Diagnostic, Related, Severity};
 pub use robosim_syntax::{FileKind, Parse, TextRange, TextSize};
 
 /// One model file: its path (as given by the user, or a `<stdlib>/…` path

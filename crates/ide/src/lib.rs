@@ -250,6 +250,12 @@ impl Analysis {
         self.with_db(|db| file.0.is_library(db))
     }
 
+    /// Computes part of what [`Analysis::diagnostics`] needs, to be called
+    /// on another thread at the same time (on a clone of this snapshot).
+    pub fn prefetch_diagnostics(&self, file: FileId) -> Cancellable<()> {
+        self.with_db(|db| robosim_hir::prefetch_rules(db, self.workspace, file.0))
+    }
+
     /// Every diagnostic of `file`, sorted by position (none for library
     /// files).
     pub fn diagnostics(&self, file: FileId) -> Cancellable<Vec<Diagnostic>> {

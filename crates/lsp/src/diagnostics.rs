@@ -49,7 +49,7 @@ pub(crate) fn republish(shared: &Arc<Shared>, keys: Vec<String>) {
     runtime.spawn_blocking(move || {
         for key in keys {
             let Some(seq) = shared.lock().files.get(&key).map(|e| e.seq) else { continue };
-            full(&shared, &key, seq, false);
+            full(&shared, &key, seq, false, false);
         }
     });
 }
@@ -76,7 +76,7 @@ enum Outcome {
 
 fn run(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
     if let Some((key, seq)) = &primary {
-        if fast(shared, key, *seq) == Outcome::Stale || full(shared, key, *seq, true) == Outcome::Stale {
+        if fast(shared, key, *seq) == Outcome::Stale || full(shared, key, *seq, true, true) == Outcome::Stale {
             return;
         }
     }
@@ -94,7 +94,7 @@ fn run(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
                 return;
             }
         }
-        full(shared, &key, seq, false);
+        full(shared, &key, seq, false, false);
     }
 }
 
@@ -143,8 +143,10 @@ fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
 }
 
 /// Computes and publishes one file's complete diagnostics, retrying when a
-/// write that did not change this file cancelled the computation.
-fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool) -> Outcome {
+/// write that did not change this file cancelled the computation. With
+/// `parallel` (the file just edited, whose check someone waits for), a
+/// second thread computes part of the rules at the same time.
+fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) -> Outcome {
     loop {
         if shared.phase() != Phase::Running {
             return Outcome::Stale;
@@ -163,6 +165,14 @@ fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool) -> Outcome {
             };
             (st.host.analysis(), target)
         };
+        if let (true, Some(file)) = (parallel, target.file) {
+            // Its own snapshot, dropped when done or cancelled by an edit;
+            // the results land in the shared memo tables.
+            let helper = analysis.clone();
+            shared.runtime.spawn_blocking(move || {
+                let _ = helper.prefetch_diagnostics(file);
+            });
+        }
         let result = match target.file {
             Some(file) => analysis.diagnostics(file).and_then(|d| {
                 if target.verified.is_empty() {
