@@ -24,6 +24,7 @@ pub const SHARED_PROCESSES: &[&str] = &[
     "Max__",
     "Min__",
     "ClockTick",
+    "LSeq",
 ];
 
 fn def(n: &str, params: &[&str], body: Expr) -> Decl {
@@ -191,6 +192,40 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             Box::new(n("c")),
         ),
     ));
+    if ex.uses_seq {
+        d.push(Decl::Comment("The sequences over T of length at most n (bounded `Seq(T)`).".into()));
+        d.push(def(
+            "LSeq",
+            &["T", "n"],
+            Expr::If(
+                Box::new(bin(BinOp::Le, n("n"), Expr::Int(0))),
+                Box::new(Expr::Set(vec![Expr::SeqLit(vec![])])),
+                Box::new(call(
+                    "union",
+                    vec![
+                        Expr::Set(vec![Expr::SeqLit(vec![])]),
+                        Expr::SetComp(
+                            Box::new(bin(BinOp::Cat, Expr::SeqLit(vec![n("x")]), n("s"))),
+                            vec![
+                                ("x".into(), n("T")),
+                                ("s".into(), call("LSeq", vec![n("T"), bin(BinOp::Sub, n("n"), Expr::Int(1))])),
+                            ],
+                        ),
+                    ],
+                )),
+            ),
+        ));
+    }
+    if !ex.tuple_arities.is_empty() {
+        d.push(Decl::Comment("Components of tuples (values of product types).".into()));
+    }
+    for &k in &ex.tuple_arities {
+        let xs: Vec<String> = (1..=k).map(|i| format!("x{i}")).collect();
+        let pat = format!("({})", xs.join(", "));
+        for (i, x) in xs.iter().enumerate() {
+            d.push(Decl::Def(format!("Proj{k}_{}", i + 1), vec![pat.clone()], n(x)));
+        }
+    }
     OutFile {
         name: "robosim_defs.csp".into(),
         title: "Shared definitions: time, helper processes, sticky arithmetic and registers".into(),
@@ -241,6 +276,13 @@ pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
         "core_clock_type".into(),
         Expr::Range(Box::new(Expr::Int(0)), Box::new(bin(BinOp::Add, n("core_clock_max"), Expr::Int(1)))),
     ));
+    if ex.uses_seq {
+        d.push(Decl::Comment("Sequences (`Seq(T)`) have at most this many elements.".into()));
+        d.push(Decl::Def("core_seq_max".into(), vec![], Expr::Int(2)));
+    }
+    if ex.uses_string {
+        d.push(Decl::Nametype("core_string".into(), call("LSeq", vec![n("Char"), Expr::Int(2)])));
+    }
     let mut abstracts: Vec<&String> = ex.abstract_types.values().collect();
     abstracts.sort();
     if !abstracts.is_empty() {

@@ -17,13 +17,14 @@
 //! and renamed back to the machine's events (`obstacle.in`) at the end.
 
 use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
 
 use robosim_hir::defs::DefKind;
 use robosim_hir::File;
 use robosim_syntax::{ast, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
-use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, Reg, Ty};
+use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
 use crate::util::{
     self, child, children, expr_child, ident, ident_text, name_of, path_of, ref_of, stmt_child, type_child,
 };
@@ -759,6 +760,118 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let pure = c.pure && a.pure && b.pure;
                 Some(EOut { e: Expr::If(Box::new(c.e), Box::new(a.e), Box::new(b.e)), ty: a.ty, pure })
             }
+            TUPLE_EXPR => {
+                let items: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let wants: Vec<Option<Ty>> = match want {
+                    Some(Ty::Product(ts)) if ts.len() == items.len() => ts.iter().cloned().map(Some).collect(),
+                    _ => vec![None; items.len()],
+                };
+                let mut es = Vec::new();
+                let mut tys = Vec::new();
+                let mut pure = true;
+                for (x, w) in items.iter().zip(&wants) {
+                    let o = self.expr(x, cx, w.as_ref())?;
+                    pure &= o.pure;
+                    es.push(o.e);
+                    tys.push(w.clone().unwrap_or(o.ty));
+                }
+                Some(EOut { e: Expr::Tuple(es), ty: Ty::Product(tys), pure })
+            }
+            RECORD_LITERAL => {
+                let rn = ref_of(e).unwrap_or_default();
+                let Some((rf, rnode)) =
+                    util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&rn), |k| {
+                        k == DefKind::Record
+                    })
+                else {
+                    self.problem(r, format!("`{rn}` is not a record the export can resolve"));
+                    return None;
+                };
+                let rec = match self.ex.record(rf, &rnode) {
+                    Ok(x) => x,
+                    Err(m) => {
+                        self.problem(r, m);
+                        return None;
+                    }
+                };
+                let mut given: HashMap<String, SyntaxNode> = HashMap::new();
+                for fv in children(e, FIELD_VALUE) {
+                    if let (Some(f), Some(x)) = (ref_of(&fv), expr_child(&fv)) {
+                        given.insert(f, x);
+                    }
+                }
+                let mut parts = vec![name(rec.ctor.clone())];
+                let mut pure = true;
+                for (f, t) in &rec.fields {
+                    let Some(x) = given.remove(f) else {
+                        self.problem(r, format!("the record literal gives no value to the field `{f}`"));
+                        return None;
+                    };
+                    let o = self.expr(&x, cx, Some(t))?;
+                    pure &= o.pure;
+                    parts.push(o.e);
+                }
+                if let Some(f) = given.keys().next() {
+                    self.problem(r, format!("`{f}` is not a field of the record `{rn}`"));
+                    return None;
+                }
+                Some(EOut { e: dot(parts), ty: Ty::Record(rec), pure })
+            }
+            SELECT_EXPR => {
+                let inner = expr_child(e)?;
+                let f = ref_of(e).unwrap_or_default();
+                let x = self.expr(&inner, cx, None)?;
+                match &x.ty {
+                    Ty::Record(rec) => match rec.fields.iter().find(|(n, _)| *n == f) {
+                        Some((_, t)) => Some(EOut { e: call(rec.getter(&f), vec![x.e]), ty: t.clone(), pure: x.pure }),
+                        None => {
+                            self.problem(r, format!("`{f}` is not a field of the record"));
+                            None
+                        }
+                    },
+                    _ => {
+                        self.problem(r, "only fields of records can be selected here");
+                        None
+                    }
+                }
+            }
+            INDEX_EXPR => {
+                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let [inner, index] = parts.as_slice() else {
+                    self.problem(r, "only one index is supported by the export");
+                    return None;
+                };
+                let x = self.expr(inner, cx, None)?;
+                match x.ty.clone() {
+                    // Components of tuples are numbered from 1.
+                    Ty::Product(ts) => {
+                        let k = index
+                            .text()
+                            .to_string()
+                            .trim()
+                            .parse::<usize>()
+                            .ok()
+                            .filter(|k| (1..=ts.len()).contains(k));
+                        let Some(k) = k else {
+                            self.problem(
+                                index.text_range(),
+                                format!(
+                                    "a tuple of {} components is indexed by a number from 1 to {}",
+                                    ts.len(),
+                                    ts.len()
+                                ),
+                            );
+                            return None;
+                        };
+                        let c = self.ex.components(ts.len(), x.e).swap_remove(k - 1);
+                        Some(EOut { e: c, ty: ts[k - 1].clone(), pure: x.pure })
+                    }
+                    _ => {
+                        self.problem(r, "indexing is supported on tuples only by the export");
+                        None
+                    }
+                }
+            }
             k => {
                 self.problem(r, format!("this expression ({}) is not supported by the export yet", kind_words(k)));
                 None
@@ -857,14 +970,57 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             SKIP_STMT => Some(Expr::Skip),
             ASSIGN_STMT => {
-                let target = child(s, ASSIGNABLE).map(|a| path_of(&a).join("::")).unwrap_or_default();
+                let assignable = child(s, ASSIGNABLE);
+                let target = assignable.as_ref().map(|a| path_of(a).join("::")).unwrap_or_default();
                 let Some(Nm::Var(v)) = self.names.get(&target).cloned() else {
                     self.problem(r, format!("`{target}` is not a variable the export can assign"));
                     return None;
                 };
-                let ty = self.vars[v].ty.clone();
+                // `r.f.g = e`: the record fields on the way to the assigned one.
+                let mut path: Vec<(Rc<RecordTy>, String)> = Vec::new();
+                let mut ty = self.vars[v].ty.clone();
+                for a in assignable.iter().flat_map(|a| a.children()) {
+                    match a.kind() {
+                        FIELD_ACCESS => {
+                            let f = ref_of(&a).unwrap_or_default();
+                            let Ty::Record(rec) = ty.clone() else {
+                                self.problem(a.text_range(), "only fields of records can be assigned");
+                                return None;
+                            };
+                            let Some((_, t)) = rec.fields.iter().find(|(n, _)| *n == f) else {
+                                self.problem(a.text_range(), format!("`{f}` is not a field of the record"));
+                                return None;
+                            };
+                            ty = t.clone();
+                            path.push((rec, f));
+                        }
+                        INDEX_ACCESS => {
+                            self.problem(
+                                a.text_range(),
+                                "assignments to indexed elements are not supported by the export yet",
+                            );
+                            return None;
+                        }
+                        _ => {}
+                    }
+                }
                 let e = expr_child(s)?;
-                let (val, reads) = self.bexpr(&e, Some(&ty))?;
+                let (mut val, mut reads) = self.bexpr(&e, Some(&ty))?;
+                if !path.is_empty() {
+                    // r.f.g = e is r = set_f(r, set_g(get_f(r), e)).
+                    let csp = self.vars[v].csp.clone();
+                    if !reads.contains(&csp) {
+                        reads.push(csp.clone());
+                    }
+                    let mut olds = vec![name(csp)];
+                    for (rec, f) in &path[..path.len() - 1] {
+                        let prev = olds.last().cloned().expect("a value");
+                        olds.push(call(rec.getter(f), vec![prev]));
+                    }
+                    for ((rec, f), old) in path.iter().zip(olds).rev() {
+                        val = call(rec.setter(f), vec![old, val]);
+                    }
+                }
                 let set = prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(val)], Expr::Skip);
                 Some(self.with_reads(&reads, set))
             }
@@ -995,7 +1151,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let (args, reads) = match (&ty, value) {
                     (Some(t), Some(v)) => {
                         let (e, reads) = self.bexpr(&v, Some(t))?;
-                        (vec![e], reads)
+                        (self.fields_of(t, e), reads)
                     }
                     (None, None) => (Vec::new(), Vec::new()),
                     _ => {
@@ -1081,7 +1237,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let ty = self.events[i].ty.clone();
         let mut dir = if trigger.is_some() { "in" } else { "out" };
-        let mut value: Option<Expr> = None;
+        let mut value: Option<Vec<Expr>> = None;
         let mut bind: Option<usize> = None;
         let mut reads = Vec::new();
         for p in comm.children() {
@@ -1094,7 +1250,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     let e = expr_child(&p)?;
                     let (v, rd) = self.bexpr(&e, Some(&t))?;
                     reads = rd;
-                    value = Some(v);
+                    value = Some(self.fields_of(&t, v));
                     dir = if p.kind() == COMM_SYNC { "in" } else { "out" };
                 }
                 COMM_INPUT => {
@@ -1120,15 +1276,24 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let csp = self.events[i].csp.clone();
         let mut fields = vec![Field::Dot(name(dir))];
-        let bound =
-            bind.map(|v| if self.display { self.vars[v].csp.clone() } else { format!("{}__in", self.vars[v].csp) });
+        // The input fields (one per component of a product) and the value
+        // they make, stored in the variable.
+        let bound = match (bind, &ty) {
+            (Some(v), Some(t)) => {
+                let base = if self.display { self.vars[v].csp.clone() } else { format!("{}__in", self.vars[v].csp) };
+                Some(t.input_fields(&base))
+            }
+            _ => None,
+        };
         if let Some(v) = &value {
-            fields.push(Field::Dot(v.clone()));
-        } else if let Some(b) = &bound {
-            fields.push(Field::In(b.clone()));
+            fields.extend(v.iter().cloned().map(Field::Dot));
+        } else if let Some((f, _)) = &bound {
+            fields.extend(f.iter().cloned());
         }
         let store = |then: Expr| match (bind, &bound) {
-            (Some(v), Some(b)) => prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(name(b.clone()))], then),
+            (Some(v), Some((_, val))) => {
+                prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(val.clone())], then)
+            }
             _ => then,
         };
         match trigger {
@@ -1168,6 +1333,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                 };
                 Some(self.with_reads(&reads, p))
             }
+        }
+    }
+
+    /// The channel fields carrying value `v` of type `t`: its components
+    /// when `t` is a product (see [`Ty::field_sets`]).
+    fn fields_of(&mut self, t: &Ty, v: Expr) -> Vec<Expr> {
+        match t {
+            Ty::Product(ts) => self.ex.components(ts.len(), v),
+            _ => vec![v],
         }
     }
 
@@ -1513,9 +1687,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             let mut fields = vec![Field::Dot(name(ctor)), Field::In("b__".into())];
             let mut args = same.clone();
             args[pos] = name("b__");
-            if e.ty.is_some() {
-                fields.push(Field::In("x__".into()));
-                args[pos + 1] = name("x__");
+            if let Some(t) = &e.ty {
+                let (f, v) = t.input_fields("x__");
+                fields.extend(f);
+                args[pos + 1] = v;
                 pos += 1;
             }
             pos += 1;
@@ -1567,7 +1742,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         for e in &self.events {
             if e.trig {
                 let mut f = vec![name("TIDS"), name("InOut")];
-                f.extend(e.ty.iter().map(|t| t.set()));
+                f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
                 private.push(Decl::Channel(vec![format!("{}__", e.csp)], f));
                 sync.push(name(format!("{}__", e.csp)));
             }
@@ -1617,7 +1792,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         if !self.robosim {
             for e in &self.events {
                 let mut f = vec![name("InOut")];
-                f.extend(e.ty.iter().map(|t| t.set()));
+                f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
                 exports.push(Decl::Channel(vec![e.csp.clone()], f));
             }
             for o in &self.ops {
@@ -1633,7 +1808,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 .events
                 .iter()
                 .filter(|e| self.is_input(e))
-                .map(|e| (self.ex.in_reg(&e.name), e.ty.iter().map(|t| t.set()).collect()))
+                .map(|e| (self.ex.in_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()))
                 .collect();
             for (c, v) in inputs {
                 if let Err(m) = self.ex.register(true, &c, &v) {
@@ -1759,10 +1934,12 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let mut from = vec![name(format!("{}__", e.csp)), name("t__"), name("d__")];
                 let mut to = vec![name(e.csp.clone()), name("d__")];
                 let mut gens = vec![("t__".to_string(), name("TIDS")), ("d__".to_string(), name("InOut"))];
-                if let Some(t) = &e.ty {
-                    from.push(name("v__"));
-                    to.push(name("v__"));
-                    gens.push(("v__".to_string(), t.set()));
+                let sets: Vec<Expr> = e.ty.iter().flat_map(|t| t.field_sets()).collect();
+                for (k, set) in sets.iter().cloned().enumerate() {
+                    let v = if sets.len() == 1 { "v__".to_string() } else { format!("v{k}__") };
+                    from.push(name(v.clone()));
+                    to.push(name(v.clone()));
+                    gens.push((v, set));
                 }
                 comp = Expr::Rename(Box::new(comp), vec![(dot(from), dot(to))], gens);
             }
@@ -1833,7 +2010,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut out = Vec::new();
         for e in self.events.iter().filter(|e| !self.is_input(e)) {
             if e.io == Some(robosim_hir::defs::Io::Output) || e.io.is_none() {
-                out.push((self.ex.out_reg(&e.name), e.ty.iter().map(|t| t.set()).collect()));
+                out.push((self.ex.out_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()));
             }
         }
         for o in &self.ops {
@@ -1961,8 +2138,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             .filter(|e| self.is_input(e))
             .map(|e| {
                 let mut f = vec![Field::Dot(name(self.ex.in_reg(&e.name))), Field::In("b__".into())];
-                if e.ty.is_some() {
-                    f.push(Field::In("x__".into()));
+                if let Some(t) = &e.ty {
+                    f.extend(t.input_fields("x__").0);
                 }
                 prefix("registerRead", f, Expr::Skip)
             })
@@ -2041,14 +2218,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                 inputs.push(Reg {
                     ctor: self.ex.in_reg(&e.name),
                     model: e.name.clone(),
-                    values: e.ty.iter().map(|t| t.set()).collect(),
+                    values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
                 });
             }
             for e in self.events.iter().filter(|e| !self.is_input(e)) {
                 outputs.push(Reg {
                     ctor: self.ex.out_reg(&e.name),
                     model: e.name.clone(),
-                    values: e.ty.iter().map(|t| t.set()).collect(),
+                    values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
                 });
             }
             for o in &self.ops {
@@ -2060,7 +2237,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
         } else {
             for e in &self.events {
-                let values: Vec<Expr> = e.ty.iter().map(|t| t.set()).collect();
+                let values: Vec<Expr> = e.ty.iter().flat_map(|t| t.field_sets()).collect();
                 let mut fields = vec![name("InOut")];
                 fields.extend(values.iter().cloned());
                 chans.push(Chan {
