@@ -25,6 +25,11 @@ pub const SHARED_PROCESSES: &[&str] = &[
     "Min__",
     "ClockTick",
     "LSeq",
+    "Concat",
+    "Filter",
+    "Last",
+    "Front",
+    "Reverse",
 ];
 
 fn def(n: &str, params: &[&str], body: Expr) -> Decl {
@@ -216,6 +221,67 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             ),
         ));
     }
+    let s = || n("s");
+    let empty = || Expr::SeqLit(vec![]);
+    let hd = || call("head", vec![n("s")]);
+    let tl = || call("tail", vec![n("s")]);
+    let if_ = |c: Expr, a: Expr, b: Expr| Expr::If(Box::new(c), Box::new(a), Box::new(b));
+    for h in &ex.helpers {
+        let (comment, params, body): (&str, &[&str], Expr) = match *h {
+            "Concat" => (
+                "s ^ t, or s when the result would be longer than core_seq_max (sticky, as arithmetic).",
+                &["s", "t"],
+                if_(
+                    bin(
+                        BinOp::Le,
+                        bin(BinOp::Add, call("length", vec![s()]), call("length", vec![n("t")])),
+                        n("core_seq_max"),
+                    ),
+                    bin(BinOp::Cat, s(), n("t")),
+                    s(),
+                ),
+            ),
+            "Filter" => (
+                "The elements of s that are in A, in order.",
+                &["s", "A"],
+                if_(
+                    call("null", vec![s()]),
+                    empty(),
+                    if_(
+                        call("member", vec![hd(), n("A")]),
+                        bin(BinOp::Cat, Expr::SeqLit(vec![hd()]), call("Filter", vec![tl(), n("A")])),
+                        call("Filter", vec![tl(), n("A")]),
+                    ),
+                ),
+            ),
+            "Last" => (
+                "The last element of a non-empty sequence.",
+                &["s"],
+                if_(call("null", vec![tl()]), hd(), call("Last", vec![tl()])),
+            ),
+            "Front" => (
+                "A non-empty sequence without its last element.",
+                &["s"],
+                if_(
+                    call("null", vec![tl()]),
+                    empty(),
+                    bin(BinOp::Cat, Expr::SeqLit(vec![hd()]), call("Front", vec![tl()])),
+                ),
+            ),
+            "Reverse" => (
+                "The sequence backwards.",
+                &["s"],
+                if_(
+                    call("null", vec![s()]),
+                    empty(),
+                    bin(BinOp::Cat, call("Reverse", vec![tl()]), Expr::SeqLit(vec![hd()])),
+                ),
+            ),
+            _ => continue,
+        };
+        d.push(Decl::Comment(comment.into()));
+        d.push(def(h, params, body));
+    }
     if !ex.tuple_arities.is_empty() {
         d.push(Decl::Comment("Components of tuples (values of product types).".into()));
     }
@@ -277,8 +343,10 @@ pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
         Expr::Range(Box::new(Expr::Int(0)), Box::new(bin(BinOp::Add, n("core_clock_max"), Expr::Int(1)))),
     ));
     if ex.uses_seq {
-        d.push(Decl::Comment("Sequences (`Seq(T)`) have at most this many elements.".into()));
-        d.push(Decl::Def("core_seq_max".into(), vec![], Expr::Int(2)));
+        d.push(Decl::Comment(
+            "Sequences (`Seq(T)`) have at most this many elements: 2, or the longest literal of the models.".into(),
+        ));
+        d.push(Decl::Def("core_seq_max".into(), vec![], Expr::Int(ex.seq_literal_max.max(2))));
     }
     if ex.uses_string {
         d.push(Decl::Nametype("core_string".into(), call("LSeq", vec![n("Char"), Expr::Int(2)])));

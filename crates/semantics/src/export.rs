@@ -361,6 +361,12 @@ pub(crate) struct Exporter<'a> {
     pub uses_seq: bool,
     /// Whether `string` is used (`core_string`).
     pub uses_string: bool,
+    /// The longest sequence literal (widens `core_seq_max`).
+    pub seq_literal_max: i64,
+    /// Helper functions of robosim_defs.csp in use (`Concat`, `Filter`…).
+    pub helpers: BTreeSet<&'static str>,
+    /// Functions of the models: their CSPm function (`None` while made).
+    pub functions: HashMap<Key, Option<Rc<crate::machine::FunctionOut>>>,
 }
 
 impl<'a> Exporter<'a> {
@@ -385,6 +391,9 @@ impl<'a> Exporter<'a> {
             tuple_arities: BTreeSet::new(),
             uses_seq: false,
             uses_string: false,
+            seq_literal_max: 0,
+            helpers: BTreeSet::new(),
+            functions: HashMap::new(),
         }
     }
 
@@ -724,8 +733,15 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
                 ENUM_DECL => {
                     ex.enumeration(f, &item);
                 }
-                OPERATION_DEF | FUNCTION => {
-                    let what = if item.kind() == FUNCTION { "function" } else { "operation" };
+                FUNCTION => {
+                    // Unused functions without a definition are no loss:
+                    // calls of them are reported where they are.
+                    if let Err(m) = crate::machine::function(&mut ex, f, &item) {
+                        ex.emit(f, vec![Decl::Comment(m), Decl::Blank]);
+                    }
+                }
+                OPERATION_DEF => {
+                    let what = "operation";
                     ex.emit(
                         f,
                         vec![

@@ -99,6 +99,8 @@ enum Nm {
     Clock(usize),
     Event(usize),
     Op(usize),
+    /// A parameter of the function being exported: its CSPm name and type.
+    Param(String, Ty),
 }
 
 struct VarI {
@@ -576,6 +578,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                         let ty = self.vars[i].ty.clone();
                         Some(EOut { e: name(format!("{}_value", self.events[ev].csp)), ty, pure: false })
                     }
+                    Some(Nm::Param(p, ty)) => Some(EOut { e: name(p), ty, pure: true }),
                     Some(Nm::Var(i)) if cx != ECtx::Const => {
                         let v = &self.vars[i];
                         let (csp, ty) = (v.csp.clone(), v.ty.clone());
@@ -705,6 +708,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                     return None;
                 };
                 let op = ast::binary_operator(e);
+                if matches!(op, Some(IN_KW | CAT_KW | CARET)) {
+                    return self.collection_op(op, a, b, cx, want);
+                }
                 let arith = matches!(op, Some(PLUS | MINUS | STAR | SLASH | PERCENT));
                 let x = self.expr(a, cx, if arith { want } else { None })?;
                 let y = self.expr(b, cx, if arith { want } else { None })?;
@@ -760,6 +766,43 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let pure = c.pure && a.pure && b.pure;
                 Some(EOut { e: Expr::If(Box::new(c.e), Box::new(a.e), Box::new(b.e)), ty: a.ty, pure })
             }
+            SET_EXPR | SEQ_EXPR => {
+                let items: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let elem_want = match want {
+                    Some(Ty::Set(t)) | Some(Ty::Seq(t)) => Some((**t).clone()),
+                    _ => None,
+                };
+                let mut es = Vec::new();
+                let mut elem = elem_want.clone();
+                let mut pure = true;
+                for x in &items {
+                    let o = self.expr(x, cx, elem_want.as_ref())?;
+                    pure &= o.pure;
+                    es.push(o.e);
+                    elem.get_or_insert(o.ty);
+                }
+                // Unknown element type (an empty literal without context):
+                // it only matters for arithmetic and projections.
+                let elem = Box::new(elem.unwrap_or(Ty::Nat));
+                if e.kind() == SET_EXPR {
+                    Some(EOut { e: Expr::Set(es), ty: Ty::Set(elem), pure })
+                } else {
+                    self.ex.seq_literal_max = self.ex.seq_literal_max.max(es.len() as i64);
+                    Some(EOut { e: Expr::SeqLit(es), ty: Ty::Seq(elem), pure })
+                }
+            }
+            SET_RANGE_EXPR => {
+                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let [lo, hi] = parts.as_slice() else {
+                    self.problem(r, "a range needs two bounds");
+                    return None;
+                };
+                let lo = self.expr(lo, cx, None)?;
+                let hi = self.expr(hi, cx, None)?;
+                let ty = Ty::Set(Box::new(Ty::join(&lo.ty, &hi.ty)));
+                Some(EOut { e: Expr::Range(Box::new(lo.e), Box::new(hi.e)), ty, pure: lo.pure && hi.pure })
+            }
+            CALL_EXPR => self.call_expr(e, cx),
             TUPLE_EXPR => {
                 let items: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
                 let wants: Vec<Option<Ty>> = match want {
@@ -874,6 +917,143 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             k => {
                 self.problem(r, format!("this expression ({}) is not supported by the export yet", kind_words(k)));
+                None
+            }
+        }
+    }
+
+    /// `x in s`, `s ^ t`, `s cat t`.
+    fn collection_op(
+        &mut self,
+        op: Option<robosim_syntax::SyntaxKind>,
+        a: &SyntaxNode,
+        b: &SyntaxNode,
+        cx: ECtx,
+        want: Option<&Ty>,
+    ) -> Option<EOut> {
+        if op == Some(IN_KW) {
+            let y = self.expr(b, cx, None)?;
+            let elem = match &y.ty {
+                Ty::Set(t) | Ty::Seq(t) => Some((**t).clone()),
+                _ => None,
+            };
+            let x = self.expr(a, cx, elem.as_ref())?;
+            let f = if matches!(y.ty, Ty::Seq(_)) { "elem" } else { "member" };
+            return Some(EOut { e: call(f, vec![x.e, y.e]), ty: Ty::Bool, pure: x.pure && y.pure });
+        }
+        let x = self.expr(a, cx, want)?;
+        let y = self.expr(b, cx, Some(&x.ty))?;
+        Some(EOut { e: self.concat(x.e, y.e), ty: x.ty, pure: x.pure && y.pure })
+    }
+
+    /// `s ^ t`, sticky like arithmetic: when the result would be longer
+    /// than the bound of sequences, `s`.
+    fn concat(&mut self, s: Expr, t: Expr) -> Expr {
+        self.ex.uses_seq = true;
+        self.ex.helpers.insert("Concat");
+        call("Concat", vec![s, t])
+    }
+
+    /// A call of a function: a toolkit function mapped to CSPm's
+    /// built-ins, or a function of the model with an explicit definition.
+    fn call_expr(&mut self, e: &SyntaxNode, cx: ECtx) -> Option<EOut> {
+        let r = e.text_range();
+        let callee = e.children().find(|c| ast::is_expr_kind(c.kind()));
+        let args: Vec<SyntaxNode> = child(e, ARG_LIST)
+            .map(|a| a.children().filter(|x| ast::is_expr_kind(x.kind())).collect())
+            .unwrap_or_default();
+        let fname = match &callee {
+            Some(c) if c.kind() == REF_EXPR => ident_text(c),
+            _ => {
+                self.problem(r, "only calls of named functions are supported by the export");
+                return None;
+            }
+        };
+        let Some((ff, fnode)) =
+            util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&fname), |k| k == DefKind::Function)
+        else {
+            self.problem(r, format!("`{fname}` is not a function the export can resolve"));
+            return None;
+        };
+        if ff.is_library(self.ex.db) {
+            return self.toolkit(&fname, &args, cx, r);
+        }
+        let f = match crate::machine::function(self.ex, ff, &fnode) {
+            Ok(f) => f,
+            Err(m) => {
+                self.problem(r, m);
+                return None;
+            }
+        };
+        if args.len() != f.params.len() {
+            self.problem(r, format!("`{fname}` takes {} arguments", f.params.len()));
+            return None;
+        }
+        let mut es = Vec::new();
+        let mut pure = true;
+        for (a, t) in args.iter().zip(&f.params) {
+            let o = self.expr(a, cx, Some(t))?;
+            pure &= o.pure;
+            es.push(o.e);
+        }
+        Some(EOut { e: call(f.csp.clone(), es), ty: f.result.clone(), pure })
+    }
+
+    /// The toolkit functions with a CSPm counterpart.
+    fn toolkit(&mut self, f: &str, args: &[SyntaxNode], cx: ECtx, r: TextRange) -> Option<EOut> {
+        let mut outs = Vec::new();
+        for a in args {
+            outs.push(self.expr(a, cx, None)?);
+        }
+        let pure = outs.iter().all(|o| o.pure);
+        let is_seq = outs.first().is_some_and(|o| matches!(o.ty, Ty::Seq(_)));
+        let elem = outs.first().and_then(|o| match &o.ty {
+            Ty::Set(t) | Ty::Seq(t) => Some((**t).clone()),
+            _ => None,
+        });
+        let es: Vec<Expr> = outs.iter().map(|o| o.e.clone()).collect();
+        let first_ty = outs.first().map(|o| o.ty.clone());
+        let out = |e: Expr, ty: Ty| Some(EOut { e, ty, pure });
+        match (f, es.as_slice()) {
+            ("size", [s]) => out(call(if is_seq { "length" } else { "card" }, vec![s.clone()]), Ty::Nat),
+            ("union" | "inter" | "diff", [a, b]) => out(call(f, vec![a.clone(), b.clone()]), first_ty?),
+            ("notin", [x, s]) => out(Expr::Not(Box::new(call("member", vec![x.clone(), s.clone()]))), Ty::Bool),
+            ("subseteq", [a, b]) => out(call("empty", vec![call("diff", vec![a.clone(), b.clone()])]), Ty::Bool),
+            ("subset", [a, b]) => out(
+                bin(
+                    BinOp::And,
+                    call("empty", vec![call("diff", vec![a.clone(), b.clone()])]),
+                    bin(BinOp::Ne, a.clone(), b.clone()),
+                ),
+                Ty::Bool,
+            ),
+            ("head", [s]) if is_seq => out(call("head", vec![s.clone()]), elem?),
+            ("tail", [s]) if is_seq => out(call("tail", vec![s.clone()]), first_ty?),
+            ("isNonEmpty", [s]) => {
+                out(Expr::Not(Box::new(call(if is_seq { "null" } else { "empty" }, vec![s.clone()]))), Ty::Bool)
+            }
+            ("concat", [a, b]) if is_seq => {
+                let e = self.concat(a.clone(), b.clone());
+                out(e, first_ty?)
+            }
+            ("filter", [s, a]) if is_seq => {
+                self.ex.helpers.insert("Filter");
+                out(call("Filter", vec![s.clone(), a.clone()]), first_ty?)
+            }
+            ("last" | "front" | "reverse", [s]) if is_seq => {
+                let h = match f {
+                    "last" => "Last",
+                    "front" => "Front",
+                    _ => "Reverse",
+                };
+                self.ex.helpers.insert(h);
+                out(call(h, vec![s.clone()]), if f == "last" { elem? } else { first_ty? })
+            }
+            _ => {
+                self.problem(
+                    r,
+                    format!("the toolkit function `{f}` is not supported by the export yet (with these arguments)"),
+                );
                 None
             }
         }
@@ -2283,6 +2463,90 @@ impl<'e, 'a> Gen<'e, 'a> {
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, &self.node).unwrap_or(1),
         }
     }
+}
+
+/// A function of the model exported as a CSPm function.
+#[derive(Debug, Clone)]
+pub(crate) struct FunctionOut {
+    /// Its CSPm name.
+    pub csp: String,
+    /// The types of its parameters.
+    pub params: Vec<Ty>,
+    /// The type of its result.
+    pub result: Ty,
+}
+
+/// The CSPm function of the model's function at `node` in `file`, made on
+/// first use: only explicit definitions (`postcondition result == e`)
+/// are exported.
+pub(crate) fn function(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
+    let key = (file, node.text_range());
+    let fname = name_of(node);
+    match ex.functions.get(&key) {
+        Some(Some(f)) => return Ok(f.clone()),
+        Some(None) => return Err(format!("the function `{fname}` is recursive: not supported by the export yet")),
+        None => {}
+    }
+    ex.functions.insert(key, None);
+    let r = function_inner(ex, file, node);
+    match &r {
+        Ok(f) => {
+            ex.functions.insert(key, Some(f.clone()));
+        }
+        Err(_) => {
+            ex.functions.remove(&key);
+        }
+    }
+    r
+}
+
+fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
+    let fname = name_of(node);
+    let mut params = Vec::new();
+    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
+        let t = ex.ty(file, type_child(&p).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+        params.push((name_of(&p), t));
+    }
+    let result = ex.ty(file, type_child(node).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+    // The one postcondition `result == e` (or `result iff e`) defines it.
+    let defining: Vec<SyntaxNode> = children(node, POSTCONDITION)
+        .filter_map(|pc| expr_child(&pc))
+        .filter(|x| {
+            x.kind() == BIN_EXPR
+                && matches!(ast::binary_operator(x), Some(EQ2 | IFF_KW))
+                && ast::operand_exprs(x).first().is_some_and(|l| l.kind() == RESULT_EXPR)
+        })
+        .collect();
+    let [def] = defining.as_slice() else {
+        return Err(format!(
+            "the function `{fname}` has no explicit definition (`postcondition result == …`): calls of it are not exported"
+        ));
+    };
+    let body = ast::operand_exprs(def)
+        .get(1)
+        .cloned()
+        .ok_or_else(|| format!("function `{fname}`: an incomplete postcondition"))?;
+    let mut path = ex.package(file);
+    path.push(fname.clone());
+    let csp = ex.module_name(&path);
+    let mut g = Gen::new(ex, file, node, false);
+    let mut names = Vec::new();
+    for (n, t) in &params {
+        let local = g.local(n);
+        g.names.insert(n.clone(), Nm::Param(local.clone(), t.clone()));
+        names.push(local);
+    }
+    let out = g.expr(&body, ECtx::Const, Some(&result));
+    let problems = std::mem::take(&mut g.problems);
+    let Some(out) = out else {
+        let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+        return Err(format!("function `{fname}` is not exported: {why}"));
+    };
+    ex.emit(
+        file,
+        vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
+    );
+    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
 }
 
 /// The range of a statement up to its arguments or value (`$move` of
