@@ -195,7 +195,12 @@ impl Ty {
     pub(crate) fn input_fields(&self, base: &str) -> (Vec<Field>, Expr) {
         match self {
             Ty::Product(ts) => {
-                let xs: Vec<String> = (1..=ts.len()).map(|i| format!("{base}_{i}")).collect();
+                let xs: Vec<String> = (1..=ts.len())
+                    .map(|i| match base.strip_suffix("__") {
+                        Some(stem) => format!("{stem}{i}__"),
+                        None => format!("{base}_{i}"),
+                    })
+                    .collect();
                 (
                     xs.iter().map(|x| Field::In(x.clone())).collect(),
                     Expr::Tuple(xs.iter().map(|x| name(x.clone())).collect()),
