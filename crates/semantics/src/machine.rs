@@ -1658,10 +1658,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let syn = self.trans[t].syn.clone();
         self.binds.clear();
         let cond = match child(&syn, CONDITION) {
-            Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => {
-                self.problem(c.text_range(), "`condition else` is not supported by the export yet");
-                return None;
-            }
+            Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => self.else_condition(t)?,
             Some(c) => match expr_child(&c) {
                 Some(e) => self.expr(&e, ECtx::Memory, None)?.e,
                 None => Expr::Bool(true),
@@ -1684,6 +1681,36 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
         };
         Some(GateI { t, cond, binds: std::mem::take(&mut self.binds), trigger })
+    }
+
+    /// `condition else` of transition `t`: none of the guards of the other
+    /// transitions from its source holds (an unguarded one always holds).
+    fn else_condition(&mut self, t: usize) -> Option<Expr> {
+        let saved = std::mem::take(&mut self.binds);
+        let mut others = Vec::new();
+        for u in 0..self.trans.len() {
+            if u == t || self.trans[u].source != self.trans[t].source {
+                continue;
+            }
+            let syn = self.trans[u].syn.clone();
+            match child(&syn, CONDITION) {
+                Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => {}
+                Some(c) => match expr_child(&c) {
+                    Some(e) => others.push(self.expr(&e, ECtx::Memory, None)?.e),
+                    None => others.push(Expr::Bool(true)),
+                },
+                None => others.push(Expr::Bool(true)),
+            }
+        }
+        // Inputs the other guards read (`$e?x`) bind nothing here.
+        self.binds = saved;
+        if others.contains(&Expr::Bool(true)) {
+            return Some(Expr::Bool(false));
+        }
+        Some(match others.into_iter().reduce(|a, b| bin(BinOp::Or, a, b)) {
+            Some(e) => Expr::Not(Box::new(e)),
+            None => Expr::Bool(true),
+        })
     }
 
     /// The memory's alternative enabling transition `g.t` when its guard holds.
