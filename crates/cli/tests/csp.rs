@@ -1,6 +1,7 @@
 //! `robosim csp`: snapshots of the export of the paper's running example
 //! (`examples/paper`), the export of the construct fixture
-//! (`tests/data/csp/features`), the structural checker over both, and the
+//! (`tests/data/csp/features`) and of the data-type fixture
+//! (`tests/data/csp/types`), the structural checker over them, and the
 //! exit codes (0 all exported, 1 something not exported but the rest
 //! written, 2 usage or I/O problems).
 
@@ -127,6 +128,16 @@ fn features_export_and_stdout() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn data_types_export() {
+    // Products, records, sets and sequences on events and variables.
+    let dir = out_dir("types");
+    let out = run(&["-o", dir.to_str().unwrap()], &[data("csp/types")]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    compare(&dir, "types_out");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 fn export(paths: &[PathBuf], profile: Profile) -> robosim_semantics::Export {
     let mut files = Vec::new();
     for p in paths {
@@ -153,7 +164,7 @@ fn export(paths: &[PathBuf], profile: Profile) -> robosim_semantics::Export {
 #[test]
 fn exports_pass_the_structural_checker() {
     for profile in [Profile::RoboTool3, Profile::Paper2019] {
-        for p in [paper(), data("csp/features")] {
+        for p in [paper(), data("csp/features"), data("csp/types")] {
             let e = export(std::slice::from_ref(&p), profile);
             let problems = lint::check(&e.files);
             assert!(problems.is_empty(), "{} ({profile:?}): {problems:#?}", p.display());
@@ -169,11 +180,11 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr.contains("unsupported.rct:12:9: state machine unsupported::Sets is not exported: `s`: the type `Set(nat)` is not supported"),
+        stderr.contains("unsupported.rct:13:9: state machine unsupported::Funs is not exported: `f`: the type `nat -> nat` is not supported"),
         "{stderr}"
     );
     let csp = std::fs::read_to_string(dir.join("unsupported.csp")).unwrap();
-    assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Sets"), "{csp}");
+    assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
     // The machine that is supported is exported.
     assert!(csp.contains("module unsupported_Fine"), "{csp}");
     let _ = std::fs::remove_dir_all(&dir);

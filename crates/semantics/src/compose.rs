@@ -167,7 +167,7 @@ fn ends(c: &SyntaxNode) -> ((String, String), (String, String), bool) {
 }
 
 fn event_chan(csp: String, model: String, ty: Option<&Ty>, dir: Dir) -> Chan {
-    let values: Vec<Expr> = ty.iter().map(|t| t.set()).collect();
+    let values: Vec<Expr> = ty.iter().flat_map(|t| t.field_sets()).collect();
     let mut fields = vec![name("InOut")];
     fields.extend(values.iter().cloned());
     Chan { csp, model, kind: ChanKind::Event, fields, dir, values }

@@ -142,6 +142,8 @@ pub enum Expr {
     Set(Vec<Expr>),
     /// `{a..b}`.
     Range(Box<Expr>, Box<Expr>),
+    /// `{e | x <- S, y <- T}`.
+    SetComp(Box<Expr>, Vec<(String, Expr)>),
     /// `{| a, b |}`.
     Events(Vec<Expr>),
     /// `<a, b>`.
@@ -483,6 +485,7 @@ fn is_atom(e: &Expr) -> bool {
         | Expr::Call(..)
         | Expr::Set(_)
         | Expr::Range(..)
+        | Expr::SetComp(..)
         | Expr::Events(_)
         | Expr::SeqLit(_)
         | Expr::Tuple(_)
@@ -610,6 +613,17 @@ fn expr_doc(e: &Expr) -> Doc {
         }
         Expr::Set(items) => bracketed("{", items, "}"),
         Expr::Range(a, b) => cat(vec![text("{"), expr_doc(a), text(".."), expr_doc(b), text("}")]),
+        Expr::SetComp(e, gens) => {
+            let mut g = Vec::new();
+            for (i, (x, s)) in gens.iter().enumerate() {
+                if i > 0 {
+                    g.push(text(","));
+                    g.push(line());
+                }
+                g.push(cat(vec![text(format!("{x} <- ")), expr_doc(s)]));
+            }
+            group(cat(vec![text("{"), nest(1, cat(vec![expr_doc(e), text(" |"), line(), cat(g)])), text("}")]))
+        }
         Expr::Events(items) => bracketed("{| ", items, " |}"),
         Expr::SeqLit(items) => bracketed("<", items, ">"),
         Expr::Tuple(items) => bracketed("(", items, ")"),

@@ -24,6 +24,12 @@ pub const SHARED_PROCESSES: &[&str] = &[
     "Max__",
     "Min__",
     "ClockTick",
+    "LSeq",
+    "Concat",
+    "Filter",
+    "Last",
+    "Front",
+    "Reverse",
 ];
 
 fn def(n: &str, params: &[&str], body: Expr) -> Decl {
@@ -191,6 +197,101 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             Box::new(n("c")),
         ),
     ));
+    if ex.uses_seq {
+        d.push(Decl::Comment("The sequences over T of length at most n (bounded `Seq(T)`).".into()));
+        d.push(def(
+            "LSeq",
+            &["T", "n"],
+            Expr::If(
+                Box::new(bin(BinOp::Le, n("n"), Expr::Int(0))),
+                Box::new(Expr::Set(vec![Expr::SeqLit(vec![])])),
+                Box::new(call(
+                    "union",
+                    vec![
+                        Expr::Set(vec![Expr::SeqLit(vec![])]),
+                        Expr::SetComp(
+                            Box::new(bin(BinOp::Cat, Expr::SeqLit(vec![n("x")]), n("s"))),
+                            vec![
+                                ("x".into(), n("T")),
+                                ("s".into(), call("LSeq", vec![n("T"), bin(BinOp::Sub, n("n"), Expr::Int(1))])),
+                            ],
+                        ),
+                    ],
+                )),
+            ),
+        ));
+    }
+    let s = || n("s");
+    let empty = || Expr::SeqLit(vec![]);
+    let hd = || call("head", vec![n("s")]);
+    let tl = || call("tail", vec![n("s")]);
+    let if_ = |c: Expr, a: Expr, b: Expr| Expr::If(Box::new(c), Box::new(a), Box::new(b));
+    for h in &ex.helpers {
+        let (comment, params, body): (&str, &[&str], Expr) = match *h {
+            "Concat" => (
+                "s ^ t, or s when the result would be longer than core_seq_max (sticky, as arithmetic).",
+                &["s", "t"],
+                if_(
+                    bin(
+                        BinOp::Le,
+                        bin(BinOp::Add, call("length", vec![s()]), call("length", vec![n("t")])),
+                        n("core_seq_max"),
+                    ),
+                    bin(BinOp::Cat, s(), n("t")),
+                    s(),
+                ),
+            ),
+            "Filter" => (
+                "The elements of s that are in A, in order.",
+                &["s", "A"],
+                if_(
+                    call("null", vec![s()]),
+                    empty(),
+                    if_(
+                        call("member", vec![hd(), n("A")]),
+                        bin(BinOp::Cat, Expr::SeqLit(vec![hd()]), call("Filter", vec![tl(), n("A")])),
+                        call("Filter", vec![tl(), n("A")]),
+                    ),
+                ),
+            ),
+            "Last" => (
+                "The last element of a non-empty sequence.",
+                &["s"],
+                if_(call("null", vec![tl()]), hd(), call("Last", vec![tl()])),
+            ),
+            "Front" => (
+                "A non-empty sequence without its last element.",
+                &["s"],
+                if_(
+                    call("null", vec![tl()]),
+                    empty(),
+                    bin(BinOp::Cat, Expr::SeqLit(vec![hd()]), call("Front", vec![tl()])),
+                ),
+            ),
+            "Reverse" => (
+                "The sequence backwards.",
+                &["s"],
+                if_(
+                    call("null", vec![s()]),
+                    empty(),
+                    bin(BinOp::Cat, call("Reverse", vec![tl()]), Expr::SeqLit(vec![hd()])),
+                ),
+            ),
+            _ => continue,
+        };
+        d.push(Decl::Comment(comment.into()));
+        d.push(def(h, params, body));
+    }
+    if !ex.tuple_arities.is_empty() {
+        d.push(Decl::Comment("Components of tuples (values of product types).".into()));
+    }
+    for &k in &ex.tuple_arities {
+        let xs: Vec<String> = (1..=k).map(|i| format!("x{i}")).collect();
+        let pat = format!("({})", xs.join(", "));
+        for (i, x) in xs.iter().enumerate() {
+            d.push(Decl::Def(format!("Proj{k}_{}", i + 1), vec![pat.clone()], n(x)));
+        }
+    }
     OutFile {
         name: "robosim_defs.csp".into(),
         title: "Shared definitions: time, helper processes, sticky arithmetic and registers".into(),
@@ -241,6 +342,15 @@ pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
         "core_clock_type".into(),
         Expr::Range(Box::new(Expr::Int(0)), Box::new(bin(BinOp::Add, n("core_clock_max"), Expr::Int(1)))),
     ));
+    if ex.uses_seq {
+        d.push(Decl::Comment(
+            "Sequences (`Seq(T)`) have at most this many elements: 2, or the longest literal of the models.".into(),
+        ));
+        d.push(Decl::Def("core_seq_max".into(), vec![], Expr::Int(ex.seq_literal_max.max(2))));
+    }
+    if ex.uses_string {
+        d.push(Decl::Nametype("core_string".into(), call("LSeq", vec![n("Char"), Expr::Int(2)])));
+    }
     let mut abstracts: Vec<&String> = ex.abstract_types.values().collect();
     abstracts.sort();
     if !abstracts.is_empty() {

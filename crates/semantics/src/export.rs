@@ -3,7 +3,7 @@
 //! values (`instantiations.csp`) and, per assertion file, its simulations
 //! and assertions (`<file>_assertions.csp`, the file to load in FDR).
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt;
 use std::rc::Rc;
 
@@ -11,7 +11,7 @@ use robosim_hir::defs::DefKind;
 use robosim_hir::{parse, Db, File, Workspace};
 use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
 
-use crate::cspm::{call, name, Decl, Expr};
+use crate::cspm::{call, dot, name, Decl, Expr, Field};
 use crate::util::{self, ident, name_of, path_of, qualified};
 
 /// Which tock-CSP semantics to generate (semantics.md §2).
@@ -93,6 +93,12 @@ pub struct Export {
 }
 
 /// A bounded type of the semantics.
+///
+/// Values are encoded as RoboTool does in spirit: products are CSPm
+/// tuples (but events carry one channel field per component), records a
+/// datatype with one constructor `R_rec.f1.f2…`, sets CSPm sets (`Set(T)`,
+/// all subsets of a bounded type) and sequences CSPm sequences of length at
+/// most `core_seq_max` (`LSeq(T, core_seq_max)`).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Ty {
     Nat,
@@ -102,6 +108,37 @@ pub(crate) enum Ty {
     /// An enumeration (its datatype and first constructor) or an abstract
     /// primitive type (its nametype and a value of it).
     Named(String, Expr),
+    /// `A * B * …`.
+    Product(Vec<Ty>),
+    /// A record: its datatype, constructor and fields in order.
+    Record(Rc<RecordTy>),
+    /// `Set(T)`.
+    Set(Box<Ty>),
+    /// `Seq(T)`, bounded in length.
+    Seq(Box<Ty>),
+}
+
+/// The CSPm encoding of a record type.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RecordTy {
+    /// The datatype (`Types_Velocities`).
+    pub dt: String,
+    /// Its one constructor (`Types_Velocities_rec`).
+    pub ctor: String,
+    /// Field names and types, in declaration order.
+    pub fields: Vec<(String, Ty)>,
+}
+
+impl RecordTy {
+    /// The function reading field `f` (`Types_Velocities_get_linear`).
+    pub(crate) fn getter(&self, f: &str) -> String {
+        ident(&format!("{}_get_{f}", self.dt))
+    }
+
+    /// The function replacing field `f` (`Types_Velocities_set_linear`).
+    pub(crate) fn setter(&self, f: &str) -> String {
+        ident(&format!("{}_set_{f}", self.dt))
+    }
 }
 
 impl Ty {
@@ -113,6 +150,16 @@ impl Ty {
             Ty::Real => name("core_real"),
             Ty::Bool => name("Bool"),
             Ty::Named(n, _) => name(n.clone()),
+            Ty::Product(ts) => {
+                let xs: Vec<String> = (1..=ts.len()).map(|i| format!("x{i}__")).collect();
+                Expr::SetComp(
+                    Box::new(Expr::Tuple(xs.iter().map(|x| name(x.clone())).collect())),
+                    xs.iter().cloned().zip(ts.iter().map(Ty::set)).collect(),
+                )
+            }
+            Ty::Record(r) => name(r.dt.clone()),
+            Ty::Set(t) => call("Set", vec![t.set()]),
+            Ty::Seq(t) => call("LSeq", vec![t.set(), name("core_seq_max")]),
         }
     }
 
@@ -122,6 +169,44 @@ impl Ty {
             Ty::Nat | Ty::Int | Ty::Real => Expr::Int(0),
             Ty::Bool => Expr::Bool(false),
             Ty::Named(_, v) => v.clone(),
+            Ty::Product(ts) => Expr::Tuple(ts.iter().map(Ty::default_value).collect()),
+            Ty::Record(r) => {
+                let mut parts = vec![name(r.ctor.clone())];
+                parts.extend(r.fields.iter().map(|(_, t)| t.default_value()));
+                dot(parts)
+            }
+            Ty::Set(_) => Expr::Set(vec![]),
+            Ty::Seq(_) => Expr::SeqLit(vec![]),
+        }
+    }
+
+    /// The channel fields of an event (or register) carrying a value of
+    /// this type: one per component of a product, as RoboTool does, else
+    /// one.
+    pub(crate) fn field_sets(&self) -> Vec<Expr> {
+        match self {
+            Ty::Product(ts) => ts.iter().map(Ty::set).collect(),
+            t => vec![t.set()],
+        }
+    }
+
+    /// Input fields binding a value of this type on a channel (`?x` or
+    /// `?x_1?x_2`, see [`Ty::field_sets`]) and the value they make.
+    pub(crate) fn input_fields(&self, base: &str) -> (Vec<Field>, Expr) {
+        match self {
+            Ty::Product(ts) => {
+                let xs: Vec<String> = (1..=ts.len())
+                    .map(|i| match base.strip_suffix("__") {
+                        Some(stem) => format!("{stem}{i}__"),
+                        None => format!("{base}_{i}"),
+                    })
+                    .collect();
+                (
+                    xs.iter().map(|x| Field::In(x.clone())).collect(),
+                    Expr::Tuple(xs.iter().map(|x| name(x.clone())).collect()),
+                )
+            }
+            _ => (vec![Field::In(base.to_string())], name(base)),
         }
     }
 
@@ -272,6 +357,21 @@ pub(crate) struct Exporter<'a> {
     pub warnings: Vec<Warning>,
     /// User overrides of the core types from `csp` blocks.
     pub fixed_types: BTreeMap<String, (i64, i64)>,
+    /// Records: their encoding, once made (`None` while being made).
+    pub records: HashMap<Key, Option<Rc<RecordTy>>>,
+    /// Arities of the tuples whose components are projected
+    /// (`Proj2_1(t)`), defined in robosim_defs.csp.
+    pub tuple_arities: BTreeSet<usize>,
+    /// Whether a sequence type is used (`LSeq`, `core_seq_max`).
+    pub uses_seq: bool,
+    /// Whether `string` is used (`core_string`).
+    pub uses_string: bool,
+    /// The longest sequence literal (widens `core_seq_max`).
+    pub seq_literal_max: i64,
+    /// Helper functions of robosim_defs.csp in use (`Concat`, `Filter`…).
+    pub helpers: BTreeSet<&'static str>,
+    /// Functions of the models: their CSPm function (`None` while made).
+    pub functions: HashMap<Key, Option<Rc<crate::machine::FunctionOut>>>,
 }
 
 impl<'a> Exporter<'a> {
@@ -292,6 +392,13 @@ impl<'a> Exporter<'a> {
             abstract_types: HashMap::new(),
             warnings: Vec::new(),
             fixed_types: BTreeMap::new(),
+            records: HashMap::new(),
+            tuple_arities: BTreeSet::new(),
+            uses_seq: false,
+            uses_string: false,
+            seq_literal_max: 0,
+            helpers: BTreeSet::new(),
+            functions: HashMap::new(),
         }
     }
 
@@ -388,12 +495,38 @@ impl<'a> Exporter<'a> {
     /// The bounded type of a type node written in `file`.
     pub(crate) fn ty(&mut self, file: File, node: Option<&SyntaxNode>) -> Result<Ty, String> {
         let Some(node) = node else { return Err("an untyped declaration".into()) };
+        match node.kind() {
+            PAREN_TYPE => return self.ty(file, util::type_child(node).as_ref()),
+            PRODUCT_TYPE => {
+                let mut ts = Vec::new();
+                for c in node.children().filter(|c| robosim_syntax::ast::is_type_kind(c.kind())) {
+                    // `A * B * C` is one product of three, however parsed.
+                    match self.ty(file, Some(&c))? {
+                        Ty::Product(inner) if c.kind() == PRODUCT_TYPE => ts.extend(inner),
+                        t => ts.push(t),
+                    }
+                }
+                return Ok(Ty::Product(ts));
+            }
+            SET_TYPE => return Ok(Ty::Set(Box::new(self.ty(file, util::type_child(node).as_ref())?))),
+            SEQ_TYPE => {
+                self.uses_seq = true;
+                return Ok(Ty::Seq(Box::new(self.ty(file, util::type_child(node).as_ref())?)));
+            }
+            _ => {}
+        }
         let path = if node.kind() == NAMED_TYPE { path_of(node) } else { Vec::new() };
         match path.last().map(String::as_str).unwrap_or("") {
             "boolean" => return Ok(Ty::Bool),
             "nat" => return Ok(Ty::Nat),
             "int" => return Ok(Ty::Int),
             "real" => return Ok(Ty::Real),
+            "string" => {
+                // RoboTool's strings: sequences of characters (semantics.md §3).
+                self.uses_seq = true;
+                self.uses_string = true;
+                return Ok(Ty::Named("core_string".into(), Expr::SeqLit(vec![])));
+            }
             _ => {}
         }
         if !path.is_empty() {
@@ -405,6 +538,9 @@ impl<'a> Exporter<'a> {
                     None => Err(format!("the enumeration `{}` has no literals", path.join("::"))),
                 };
             }
+            if let Some((rf, rn)) = util::resolve(self.db, self.ws, file, &path, |k| k == DefKind::Record) {
+                return self.record(rf, &rn).map(Ty::Record);
+            }
             if let Some((pf, pn)) = util::resolve(self.db, self.ws, file, &path, |k| k == DefKind::PrimitiveType) {
                 if pf.is_library(self.db) {
                     return Err(format!("the type `{}` is not supported by the export yet", path.join("::")));
@@ -414,7 +550,7 @@ impl<'a> Exporter<'a> {
             }
         }
         Err(format!(
-            "the type `{}` is not supported by the export yet (booleans, numbers, enumerations and primitive types are)",
+            "the type `{}` is not supported by the export yet (booleans, numbers, enumerations, primitive types, records, products, sets and sequences are)",
             node.text().to_string().trim()
         ))
     }
@@ -449,6 +585,67 @@ impl<'a> Exporter<'a> {
         }
         self.enums.insert(key, (dt.clone(), lits.clone()));
         (dt, lits)
+    }
+
+    /// The datatype of a record declared at `node` in `file`, made on first
+    /// use: `datatype R = R_rec.T1.T2…` with a reading function
+    /// `R_get_f` and an updating function `R_set_f` per field.
+    pub(crate) fn record(&mut self, file: File, node: &SyntaxNode) -> Result<Rc<RecordTy>, String> {
+        let key = (file, node.text_range());
+        match self.records.get(&key) {
+            Some(Some(r)) => return Ok(r.clone()),
+            Some(None) => return Err(format!("the record `{}` contains itself", name_of(node))),
+            None => {}
+        }
+        self.records.insert(key, None);
+        let mut fields = Vec::new();
+        for f in util::children(node, FIELD) {
+            let n = name_of(&f);
+            match self.ty(file, util::type_child(&f).as_ref()) {
+                Ok(t) => fields.push((n, t)),
+                Err(m) => {
+                    self.records.remove(&key);
+                    return Err(format!("record `{}`, field `{n}`: {m}", name_of(node)));
+                }
+            }
+        }
+        let mut path = self.package(file);
+        path.push(name_of(node));
+        let dt = self.module_name(&path);
+        let r = Rc::new(RecordTy { ctor: ident(&format!("{dt}_rec")), dt, fields });
+        let xs: Vec<String> = (1..=r.fields.len()).map(|i| format!("x{i}__")).collect();
+        let pattern = |xs: &[String]| {
+            let mut p = vec![name(r.ctor.clone())];
+            p.extend(xs.iter().map(|x| name(x.clone())));
+            dot(p)
+        };
+        let pat = crate::cspm::print_expr(&pattern(&xs), usize::MAX);
+        let mut decls = vec![
+            Decl::Comment(format!("record {}", path.join("::"))),
+            Decl::Datatype(r.dt.clone(), vec![(r.ctor.clone(), r.fields.iter().map(|(_, t)| t.set()).collect())]),
+        ];
+        for (i, (f, _)) in r.fields.iter().enumerate() {
+            decls.push(Decl::Def(r.getter(f), vec![pat.clone()], name(xs[i].clone())));
+            let mut ys = xs.clone();
+            ys[i] = "v__".into();
+            decls.push(Decl::Def(r.setter(f), vec![pat.clone(), "v__".into()], pattern(&ys)));
+        }
+        decls.push(Decl::Blank);
+        self.emit(file, decls);
+        self.records.insert(key, Some(r.clone()));
+        Ok(r)
+    }
+
+    /// The components of a value of a product type with `n` components, as
+    /// channel fields: a tuple's items, else its projections.
+    pub(crate) fn components(&mut self, n: usize, v: Expr) -> Vec<Expr> {
+        match v {
+            Expr::Tuple(items) if items.len() == n => items,
+            v => {
+                self.tuple_arities.insert(n);
+                (1..=n).map(|i| call(format!("Proj{n}_{i}"), vec![v.clone()])).collect()
+            }
+        }
     }
 
     fn abstract_type(&mut self, file: File, node: &SyntaxNode) -> String {
@@ -541,8 +738,15 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
                 ENUM_DECL => {
                     ex.enumeration(f, &item);
                 }
-                OPERATION_DEF | FUNCTION => {
-                    let what = if item.kind() == FUNCTION { "function" } else { "operation" };
+                FUNCTION => {
+                    // Unused functions without a definition are no loss:
+                    // calls of them are reported where they are.
+                    if let Err(m) = crate::machine::function(&mut ex, f, &item) {
+                        ex.emit(f, vec![Decl::Comment(m), Decl::Blank]);
+                    }
+                }
+                OPERATION_DEF => {
+                    let what = "operation";
                     ex.emit(
                         f,
                         vec![
@@ -555,16 +759,10 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
                     );
                 }
                 RECORD_DECL => {
-                    ex.emit(
-                        f,
-                        vec![
-                            Decl::Comment(format!(
-                                "record {}: not exported (records are not supported yet)",
-                                name_of(&item)
-                            )),
-                            Decl::Blank,
-                        ],
-                    );
+                    if let Err(m) = ex.record(f, &item) {
+                        ex.warn(f, util::name_range(&item), format!("{m}; the record is not exported"));
+                        ex.emit(f, vec![Decl::Comment(format!("NOT EXPORTED: {m}")), Decl::Blank]);
+                    }
                 }
                 _ => {}
             }

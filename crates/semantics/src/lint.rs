@@ -42,6 +42,10 @@ const BUILTINS: &[&str] = &[
     "prioritise",
     "sbisim",
     "Char",
+    "Set",
+    "Seq",
+    "concat",
+    "elem",
 ];
 
 /// What a global or module-level name is.
@@ -385,7 +389,15 @@ impl Checker {
             Decl::Nametype(_, e) => self.check_expr(file, e, module, bound),
             Decl::Def(_, params, e) => {
                 let mut b = bound.to_vec();
-                b.extend(params.iter().cloned());
+                // A parameter may be a pattern (`R_rec.x1__.x2__`, `(a, b)`):
+                // each of its names is bound.
+                for p in params {
+                    b.extend(
+                        p.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '\''))
+                            .filter(|w| !w.is_empty())
+                            .map(String::from),
+                    );
+                }
                 self.check_expr(file, e, module, &b);
             }
             Decl::Module(n, private, exports) => {
@@ -541,6 +553,14 @@ impl Checker {
                     self.check_expr(file, x, module, &b);
                     self.check_expr(file, y, module, &b);
                 }
+            }
+            Expr::SetComp(e, gens) => {
+                let mut b = bound.to_vec();
+                for (x, s) in gens {
+                    self.check_expr(file, s, module, &b);
+                    b.push(x.clone());
+                }
+                self.check_expr(file, e, module, &b);
             }
             Expr::Repl(op, gens, body) => {
                 if let ReplOp::Par(a) = op {

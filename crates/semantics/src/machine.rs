@@ -17,13 +17,14 @@
 //! and renamed back to the machine's events (`obstacle.in`) at the end.
 
 use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
 
 use robosim_hir::defs::DefKind;
 use robosim_hir::File;
 use robosim_syntax::{ast, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
-use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, Reg, Ty};
+use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
 use crate::util::{
     self, child, children, expr_child, ident, ident_text, name_of, path_of, ref_of, stmt_child, type_child,
 };
@@ -98,6 +99,8 @@ enum Nm {
     Clock(usize),
     Event(usize),
     Op(usize),
+    /// A parameter of the function being exported: its CSPm name and type.
+    Param(String, Ty),
 }
 
 struct VarI {
@@ -575,6 +578,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                         let ty = self.vars[i].ty.clone();
                         Some(EOut { e: name(format!("{}_value", self.events[ev].csp)), ty, pure: false })
                     }
+                    Some(Nm::Param(p, ty)) => Some(EOut { e: name(p), ty, pure: true }),
                     Some(Nm::Var(i)) if cx != ECtx::Const => {
                         let v = &self.vars[i];
                         let (csp, ty) = (v.csp.clone(), v.ty.clone());
@@ -704,6 +708,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                     return None;
                 };
                 let op = ast::binary_operator(e);
+                if matches!(op, Some(IN_KW | CAT_KW | CARET)) {
+                    return self.collection_op(op, a, b, cx, want);
+                }
                 let arith = matches!(op, Some(PLUS | MINUS | STAR | SLASH | PERCENT));
                 let x = self.expr(a, cx, if arith { want } else { None })?;
                 let y = self.expr(b, cx, if arith { want } else { None })?;
@@ -759,8 +766,294 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let pure = c.pure && a.pure && b.pure;
                 Some(EOut { e: Expr::If(Box::new(c.e), Box::new(a.e), Box::new(b.e)), ty: a.ty, pure })
             }
+            SET_EXPR | SEQ_EXPR => {
+                let items: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let elem_want = match want {
+                    Some(Ty::Set(t)) | Some(Ty::Seq(t)) => Some((**t).clone()),
+                    _ => None,
+                };
+                let mut es = Vec::new();
+                let mut elem = elem_want.clone();
+                let mut pure = true;
+                for x in &items {
+                    let o = self.expr(x, cx, elem_want.as_ref())?;
+                    pure &= o.pure;
+                    es.push(o.e);
+                    elem.get_or_insert(o.ty);
+                }
+                // Unknown element type (an empty literal without context):
+                // it only matters for arithmetic and projections.
+                let elem = Box::new(elem.unwrap_or(Ty::Nat));
+                if e.kind() == SET_EXPR {
+                    Some(EOut { e: Expr::Set(es), ty: Ty::Set(elem), pure })
+                } else {
+                    self.ex.seq_literal_max = self.ex.seq_literal_max.max(es.len() as i64);
+                    Some(EOut { e: Expr::SeqLit(es), ty: Ty::Seq(elem), pure })
+                }
+            }
+            SET_RANGE_EXPR => {
+                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let [lo, hi] = parts.as_slice() else {
+                    self.problem(r, "a range needs two bounds");
+                    return None;
+                };
+                let lo = self.expr(lo, cx, None)?;
+                let hi = self.expr(hi, cx, None)?;
+                let ty = Ty::Set(Box::new(Ty::join(&lo.ty, &hi.ty)));
+                Some(EOut { e: Expr::Range(Box::new(lo.e), Box::new(hi.e)), ty, pure: lo.pure && hi.pure })
+            }
+            CALL_EXPR => self.call_expr(e, cx),
+            TUPLE_EXPR => {
+                let items: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let wants: Vec<Option<Ty>> = match want {
+                    Some(Ty::Product(ts)) if ts.len() == items.len() => ts.iter().cloned().map(Some).collect(),
+                    _ => vec![None; items.len()],
+                };
+                let mut es = Vec::new();
+                let mut tys = Vec::new();
+                let mut pure = true;
+                for (x, w) in items.iter().zip(&wants) {
+                    let o = self.expr(x, cx, w.as_ref())?;
+                    pure &= o.pure;
+                    es.push(o.e);
+                    tys.push(w.clone().unwrap_or(o.ty));
+                }
+                Some(EOut { e: Expr::Tuple(es), ty: Ty::Product(tys), pure })
+            }
+            RECORD_LITERAL => {
+                let rn = ref_of(e).unwrap_or_default();
+                let Some((rf, rnode)) =
+                    util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&rn), |k| {
+                        k == DefKind::Record
+                    })
+                else {
+                    self.problem(r, format!("`{rn}` is not a record the export can resolve"));
+                    return None;
+                };
+                let rec = match self.ex.record(rf, &rnode) {
+                    Ok(x) => x,
+                    Err(m) => {
+                        self.problem(r, m);
+                        return None;
+                    }
+                };
+                let mut given: HashMap<String, SyntaxNode> = HashMap::new();
+                for fv in children(e, FIELD_VALUE) {
+                    if let (Some(f), Some(x)) = (ref_of(&fv), expr_child(&fv)) {
+                        given.insert(f, x);
+                    }
+                }
+                let mut parts = vec![name(rec.ctor.clone())];
+                let mut pure = true;
+                for (f, t) in &rec.fields {
+                    let Some(x) = given.remove(f) else {
+                        self.problem(r, format!("the record literal gives no value to the field `{f}`"));
+                        return None;
+                    };
+                    let o = self.expr(&x, cx, Some(t))?;
+                    pure &= o.pure;
+                    parts.push(o.e);
+                }
+                if let Some(f) = given.keys().next() {
+                    self.problem(r, format!("`{f}` is not a field of the record `{rn}`"));
+                    return None;
+                }
+                Some(EOut { e: dot(parts), ty: Ty::Record(rec), pure })
+            }
+            SELECT_EXPR => {
+                let inner = expr_child(e)?;
+                let f = ref_of(e).unwrap_or_default();
+                let x = self.expr(&inner, cx, None)?;
+                match &x.ty {
+                    Ty::Record(rec) => match rec.fields.iter().find(|(n, _)| *n == f) {
+                        Some((_, t)) => Some(EOut { e: call(rec.getter(&f), vec![x.e]), ty: t.clone(), pure: x.pure }),
+                        None => {
+                            self.problem(r, format!("`{f}` is not a field of the record"));
+                            None
+                        }
+                    },
+                    _ => {
+                        self.problem(r, "only fields of records can be selected here");
+                        None
+                    }
+                }
+            }
+            INDEX_EXPR => {
+                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let [inner, index] = parts.as_slice() else {
+                    self.problem(r, "only one index is supported by the export");
+                    return None;
+                };
+                let x = self.expr(inner, cx, None)?;
+                match x.ty.clone() {
+                    // Components of tuples are numbered from 1.
+                    Ty::Product(ts) => {
+                        let k = index
+                            .text()
+                            .to_string()
+                            .trim()
+                            .parse::<usize>()
+                            .ok()
+                            .filter(|k| (1..=ts.len()).contains(k));
+                        let Some(k) = k else {
+                            self.problem(
+                                index.text_range(),
+                                format!(
+                                    "a tuple of {} components is indexed by a number from 1 to {}",
+                                    ts.len(),
+                                    ts.len()
+                                ),
+                            );
+                            return None;
+                        };
+                        let c = self.ex.components(ts.len(), x.e).swap_remove(k - 1);
+                        Some(EOut { e: c, ty: ts[k - 1].clone(), pure: x.pure })
+                    }
+                    _ => {
+                        self.problem(r, "indexing is supported on tuples only by the export");
+                        None
+                    }
+                }
+            }
             k => {
                 self.problem(r, format!("this expression ({}) is not supported by the export yet", kind_words(k)));
+                None
+            }
+        }
+    }
+
+    /// `x in s`, `s ^ t`, `s cat t`.
+    fn collection_op(
+        &mut self,
+        op: Option<robosim_syntax::SyntaxKind>,
+        a: &SyntaxNode,
+        b: &SyntaxNode,
+        cx: ECtx,
+        want: Option<&Ty>,
+    ) -> Option<EOut> {
+        if op == Some(IN_KW) {
+            let y = self.expr(b, cx, None)?;
+            let elem = match &y.ty {
+                Ty::Set(t) | Ty::Seq(t) => Some((**t).clone()),
+                _ => None,
+            };
+            let x = self.expr(a, cx, elem.as_ref())?;
+            let f = if matches!(y.ty, Ty::Seq(_)) { "elem" } else { "member" };
+            return Some(EOut { e: call(f, vec![x.e, y.e]), ty: Ty::Bool, pure: x.pure && y.pure });
+        }
+        let x = self.expr(a, cx, want)?;
+        let y = self.expr(b, cx, Some(&x.ty))?;
+        Some(EOut { e: self.concat(x.e, y.e), ty: x.ty, pure: x.pure && y.pure })
+    }
+
+    /// `s ^ t`, sticky like arithmetic: when the result would be longer
+    /// than the bound of sequences, `s`.
+    fn concat(&mut self, s: Expr, t: Expr) -> Expr {
+        self.ex.uses_seq = true;
+        self.ex.helpers.insert("Concat");
+        call("Concat", vec![s, t])
+    }
+
+    /// A call of a function: a toolkit function mapped to CSPm's
+    /// built-ins, or a function of the model with an explicit definition.
+    fn call_expr(&mut self, e: &SyntaxNode, cx: ECtx) -> Option<EOut> {
+        let r = e.text_range();
+        let callee = e.children().find(|c| ast::is_expr_kind(c.kind()));
+        let args: Vec<SyntaxNode> = child(e, ARG_LIST)
+            .map(|a| a.children().filter(|x| ast::is_expr_kind(x.kind())).collect())
+            .unwrap_or_default();
+        let fname = match &callee {
+            Some(c) if c.kind() == REF_EXPR => ident_text(c),
+            _ => {
+                self.problem(r, "only calls of named functions are supported by the export");
+                return None;
+            }
+        };
+        let Some((ff, fnode)) =
+            util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&fname), |k| k == DefKind::Function)
+        else {
+            self.problem(r, format!("`{fname}` is not a function the export can resolve"));
+            return None;
+        };
+        if ff.is_library(self.ex.db) {
+            return self.toolkit(&fname, &args, cx, r);
+        }
+        let f = match crate::machine::function(self.ex, ff, &fnode) {
+            Ok(f) => f,
+            Err(m) => {
+                self.problem(r, m);
+                return None;
+            }
+        };
+        if args.len() != f.params.len() {
+            self.problem(r, format!("`{fname}` takes {} arguments", f.params.len()));
+            return None;
+        }
+        let mut es = Vec::new();
+        let mut pure = true;
+        for (a, t) in args.iter().zip(&f.params) {
+            let o = self.expr(a, cx, Some(t))?;
+            pure &= o.pure;
+            es.push(o.e);
+        }
+        Some(EOut { e: call(f.csp.clone(), es), ty: f.result.clone(), pure })
+    }
+
+    /// The toolkit functions with a CSPm counterpart.
+    fn toolkit(&mut self, f: &str, args: &[SyntaxNode], cx: ECtx, r: TextRange) -> Option<EOut> {
+        let mut outs = Vec::new();
+        for a in args {
+            outs.push(self.expr(a, cx, None)?);
+        }
+        let pure = outs.iter().all(|o| o.pure);
+        let is_seq = outs.first().is_some_and(|o| matches!(o.ty, Ty::Seq(_)));
+        let elem = outs.first().and_then(|o| match &o.ty {
+            Ty::Set(t) | Ty::Seq(t) => Some((**t).clone()),
+            _ => None,
+        });
+        let es: Vec<Expr> = outs.iter().map(|o| o.e.clone()).collect();
+        let first_ty = outs.first().map(|o| o.ty.clone());
+        let out = |e: Expr, ty: Ty| Some(EOut { e, ty, pure });
+        match (f, es.as_slice()) {
+            ("size", [s]) => out(call(if is_seq { "length" } else { "card" }, vec![s.clone()]), Ty::Nat),
+            ("union" | "inter" | "diff", [a, b]) => out(call(f, vec![a.clone(), b.clone()]), first_ty?),
+            ("notin", [x, s]) => out(Expr::Not(Box::new(call("member", vec![x.clone(), s.clone()]))), Ty::Bool),
+            ("subseteq", [a, b]) => out(call("empty", vec![call("diff", vec![a.clone(), b.clone()])]), Ty::Bool),
+            ("subset", [a, b]) => out(
+                bin(
+                    BinOp::And,
+                    call("empty", vec![call("diff", vec![a.clone(), b.clone()])]),
+                    bin(BinOp::Ne, a.clone(), b.clone()),
+                ),
+                Ty::Bool,
+            ),
+            ("head", [s]) if is_seq => out(call("head", vec![s.clone()]), elem?),
+            ("tail", [s]) if is_seq => out(call("tail", vec![s.clone()]), first_ty?),
+            ("isNonEmpty", [s]) => {
+                out(Expr::Not(Box::new(call(if is_seq { "null" } else { "empty" }, vec![s.clone()]))), Ty::Bool)
+            }
+            ("concat", [a, b]) if is_seq => {
+                let e = self.concat(a.clone(), b.clone());
+                out(e, first_ty?)
+            }
+            ("filter", [s, a]) if is_seq => {
+                self.ex.helpers.insert("Filter");
+                out(call("Filter", vec![s.clone(), a.clone()]), first_ty?)
+            }
+            ("last" | "front" | "reverse", [s]) if is_seq => {
+                let h = match f {
+                    "last" => "Last",
+                    "front" => "Front",
+                    _ => "Reverse",
+                };
+                self.ex.helpers.insert(h);
+                out(call(h, vec![s.clone()]), if f == "last" { elem? } else { first_ty? })
+            }
+            _ => {
+                self.problem(
+                    r,
+                    format!("the toolkit function `{f}` is not supported by the export yet (with these arguments)"),
+                );
                 None
             }
         }
@@ -857,14 +1150,57 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             SKIP_STMT => Some(Expr::Skip),
             ASSIGN_STMT => {
-                let target = child(s, ASSIGNABLE).map(|a| path_of(&a).join("::")).unwrap_or_default();
+                let assignable = child(s, ASSIGNABLE);
+                let target = assignable.as_ref().map(|a| path_of(a).join("::")).unwrap_or_default();
                 let Some(Nm::Var(v)) = self.names.get(&target).cloned() else {
                     self.problem(r, format!("`{target}` is not a variable the export can assign"));
                     return None;
                 };
-                let ty = self.vars[v].ty.clone();
+                // `r.f.g = e`: the record fields on the way to the assigned one.
+                let mut path: Vec<(Rc<RecordTy>, String)> = Vec::new();
+                let mut ty = self.vars[v].ty.clone();
+                for a in assignable.iter().flat_map(|a| a.children()) {
+                    match a.kind() {
+                        FIELD_ACCESS => {
+                            let f = ref_of(&a).unwrap_or_default();
+                            let Ty::Record(rec) = ty.clone() else {
+                                self.problem(a.text_range(), "only fields of records can be assigned");
+                                return None;
+                            };
+                            let Some((_, t)) = rec.fields.iter().find(|(n, _)| *n == f) else {
+                                self.problem(a.text_range(), format!("`{f}` is not a field of the record"));
+                                return None;
+                            };
+                            ty = t.clone();
+                            path.push((rec, f));
+                        }
+                        INDEX_ACCESS => {
+                            self.problem(
+                                a.text_range(),
+                                "assignments to indexed elements are not supported by the export yet",
+                            );
+                            return None;
+                        }
+                        _ => {}
+                    }
+                }
                 let e = expr_child(s)?;
-                let (val, reads) = self.bexpr(&e, Some(&ty))?;
+                let (mut val, mut reads) = self.bexpr(&e, Some(&ty))?;
+                if !path.is_empty() {
+                    // r.f.g = e is r = set_f(r, set_g(get_f(r), e)).
+                    let csp = self.vars[v].csp.clone();
+                    if !reads.contains(&csp) {
+                        reads.push(csp.clone());
+                    }
+                    let mut olds = vec![name(csp)];
+                    for (rec, f) in &path[..path.len() - 1] {
+                        let prev = olds.last().cloned().expect("a value");
+                        olds.push(call(rec.getter(f), vec![prev]));
+                    }
+                    for ((rec, f), old) in path.iter().zip(olds).rev() {
+                        val = call(rec.setter(f), vec![old, val]);
+                    }
+                }
                 let set = prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(val)], Expr::Skip);
                 Some(self.with_reads(&reads, set))
             }
@@ -995,7 +1331,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let (args, reads) = match (&ty, value) {
                     (Some(t), Some(v)) => {
                         let (e, reads) = self.bexpr(&v, Some(t))?;
-                        (vec![e], reads)
+                        (self.fields_of(t, e), reads)
                     }
                     (None, None) => (Vec::new(), Vec::new()),
                     _ => {
@@ -1081,7 +1417,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let ty = self.events[i].ty.clone();
         let mut dir = if trigger.is_some() { "in" } else { "out" };
-        let mut value: Option<Expr> = None;
+        let mut value: Option<Vec<Expr>> = None;
         let mut bind: Option<usize> = None;
         let mut reads = Vec::new();
         for p in comm.children() {
@@ -1094,7 +1430,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     let e = expr_child(&p)?;
                     let (v, rd) = self.bexpr(&e, Some(&t))?;
                     reads = rd;
-                    value = Some(v);
+                    value = Some(self.fields_of(&t, v));
                     dir = if p.kind() == COMM_SYNC { "in" } else { "out" };
                 }
                 COMM_INPUT => {
@@ -1120,15 +1456,24 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let csp = self.events[i].csp.clone();
         let mut fields = vec![Field::Dot(name(dir))];
-        let bound =
-            bind.map(|v| if self.display { self.vars[v].csp.clone() } else { format!("{}__in", self.vars[v].csp) });
+        // The input fields (one per component of a product) and the value
+        // they make, stored in the variable.
+        let bound = match (bind, &ty) {
+            (Some(v), Some(t)) => {
+                let base = if self.display { self.vars[v].csp.clone() } else { format!("{}__in", self.vars[v].csp) };
+                Some(t.input_fields(&base))
+            }
+            _ => None,
+        };
         if let Some(v) = &value {
-            fields.push(Field::Dot(v.clone()));
-        } else if let Some(b) = &bound {
-            fields.push(Field::In(b.clone()));
+            fields.extend(v.iter().cloned().map(Field::Dot));
+        } else if let Some((f, _)) = &bound {
+            fields.extend(f.iter().cloned());
         }
         let store = |then: Expr| match (bind, &bound) {
-            (Some(v), Some(b)) => prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(name(b.clone()))], then),
+            (Some(v), Some((_, val))) => {
+                prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(val.clone())], then)
+            }
             _ => then,
         };
         match trigger {
@@ -1168,6 +1513,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                 };
                 Some(self.with_reads(&reads, p))
             }
+        }
+    }
+
+    /// The channel fields carrying value `v` of type `t`: its components
+    /// when `t` is a product (see [`Ty::field_sets`]).
+    fn fields_of(&mut self, t: &Ty, v: Expr) -> Vec<Expr> {
+        match t {
+            Ty::Product(ts) => self.ex.components(ts.len(), v),
+            _ => vec![v],
         }
     }
 
@@ -1304,10 +1658,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let syn = self.trans[t].syn.clone();
         self.binds.clear();
         let cond = match child(&syn, CONDITION) {
-            Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => {
-                self.problem(c.text_range(), "`condition else` is not supported by the export yet");
-                return None;
-            }
+            Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => self.else_condition(t)?,
             Some(c) => match expr_child(&c) {
                 Some(e) => self.expr(&e, ECtx::Memory, None)?.e,
                 None => Expr::Bool(true),
@@ -1330,6 +1681,36 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
         };
         Some(GateI { t, cond, binds: std::mem::take(&mut self.binds), trigger })
+    }
+
+    /// `condition else` of transition `t`: none of the guards of the other
+    /// transitions from its source holds (an unguarded one always holds).
+    fn else_condition(&mut self, t: usize) -> Option<Expr> {
+        let saved = std::mem::take(&mut self.binds);
+        let mut others = Vec::new();
+        for u in 0..self.trans.len() {
+            if u == t || self.trans[u].source != self.trans[t].source {
+                continue;
+            }
+            let syn = self.trans[u].syn.clone();
+            match child(&syn, CONDITION) {
+                Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => {}
+                Some(c) => match expr_child(&c) {
+                    Some(e) => others.push(self.expr(&e, ECtx::Memory, None)?.e),
+                    None => others.push(Expr::Bool(true)),
+                },
+                None => others.push(Expr::Bool(true)),
+            }
+        }
+        // Inputs the other guards read (`$e?x`) bind nothing here.
+        self.binds = saved;
+        if others.contains(&Expr::Bool(true)) {
+            return Some(Expr::Bool(false));
+        }
+        Some(match others.into_iter().reduce(|a, b| bin(BinOp::Or, a, b)) {
+            Some(e) => Expr::Not(Box::new(e)),
+            None => Expr::Bool(true),
+        })
     }
 
     /// The memory's alternative enabling transition `g.t` when its guard holds.
@@ -1513,9 +1894,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             let mut fields = vec![Field::Dot(name(ctor)), Field::In("b__".into())];
             let mut args = same.clone();
             args[pos] = name("b__");
-            if e.ty.is_some() {
-                fields.push(Field::In("x__".into()));
-                args[pos + 1] = name("x__");
+            if let Some(t) = &e.ty {
+                let (f, v) = t.input_fields("x__");
+                fields.extend(f);
+                args[pos + 1] = v;
                 pos += 1;
             }
             pos += 1;
@@ -1567,7 +1949,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         for e in &self.events {
             if e.trig {
                 let mut f = vec![name("TIDS"), name("InOut")];
-                f.extend(e.ty.iter().map(|t| t.set()));
+                f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
                 private.push(Decl::Channel(vec![format!("{}__", e.csp)], f));
                 sync.push(name(format!("{}__", e.csp)));
             }
@@ -1617,7 +1999,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         if !self.robosim {
             for e in &self.events {
                 let mut f = vec![name("InOut")];
-                f.extend(e.ty.iter().map(|t| t.set()));
+                f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
                 exports.push(Decl::Channel(vec![e.csp.clone()], f));
             }
             for o in &self.ops {
@@ -1633,7 +2015,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 .events
                 .iter()
                 .filter(|e| self.is_input(e))
-                .map(|e| (self.ex.in_reg(&e.name), e.ty.iter().map(|t| t.set()).collect()))
+                .map(|e| (self.ex.in_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()))
                 .collect();
             for (c, v) in inputs {
                 if let Err(m) = self.ex.register(true, &c, &v) {
@@ -1759,10 +2141,12 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let mut from = vec![name(format!("{}__", e.csp)), name("t__"), name("d__")];
                 let mut to = vec![name(e.csp.clone()), name("d__")];
                 let mut gens = vec![("t__".to_string(), name("TIDS")), ("d__".to_string(), name("InOut"))];
-                if let Some(t) = &e.ty {
-                    from.push(name("v__"));
-                    to.push(name("v__"));
-                    gens.push(("v__".to_string(), t.set()));
+                let sets: Vec<Expr> = e.ty.iter().flat_map(|t| t.field_sets()).collect();
+                for (k, set) in sets.iter().cloned().enumerate() {
+                    let v = if sets.len() == 1 { "v__".to_string() } else { format!("v{k}__") };
+                    from.push(name(v.clone()));
+                    to.push(name(v.clone()));
+                    gens.push((v, set));
                 }
                 comp = Expr::Rename(Box::new(comp), vec![(dot(from), dot(to))], gens);
             }
@@ -1833,7 +2217,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut out = Vec::new();
         for e in self.events.iter().filter(|e| !self.is_input(e)) {
             if e.io == Some(robosim_hir::defs::Io::Output) || e.io.is_none() {
-                out.push((self.ex.out_reg(&e.name), e.ty.iter().map(|t| t.set()).collect()));
+                out.push((self.ex.out_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()));
             }
         }
         for o in &self.ops {
@@ -1961,8 +2345,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             .filter(|e| self.is_input(e))
             .map(|e| {
                 let mut f = vec![Field::Dot(name(self.ex.in_reg(&e.name))), Field::In("b__".into())];
-                if e.ty.is_some() {
-                    f.push(Field::In("x__".into()));
+                if let Some(t) = &e.ty {
+                    f.extend(t.input_fields("x__").0);
                 }
                 prefix("registerRead", f, Expr::Skip)
             })
@@ -2041,14 +2425,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                 inputs.push(Reg {
                     ctor: self.ex.in_reg(&e.name),
                     model: e.name.clone(),
-                    values: e.ty.iter().map(|t| t.set()).collect(),
+                    values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
                 });
             }
             for e in self.events.iter().filter(|e| !self.is_input(e)) {
                 outputs.push(Reg {
                     ctor: self.ex.out_reg(&e.name),
                     model: e.name.clone(),
-                    values: e.ty.iter().map(|t| t.set()).collect(),
+                    values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
                 });
             }
             for o in &self.ops {
@@ -2060,7 +2444,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
         } else {
             for e in &self.events {
-                let values: Vec<Expr> = e.ty.iter().map(|t| t.set()).collect();
+                let values: Vec<Expr> = e.ty.iter().flat_map(|t| t.field_sets()).collect();
                 let mut fields = vec![name("InOut")];
                 fields.extend(values.iter().cloned());
                 chans.push(Chan {
@@ -2106,6 +2490,90 @@ impl<'e, 'a> Gen<'e, 'a> {
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, &self.node).unwrap_or(1),
         }
     }
+}
+
+/// A function of the model exported as a CSPm function.
+#[derive(Debug, Clone)]
+pub(crate) struct FunctionOut {
+    /// Its CSPm name.
+    pub csp: String,
+    /// The types of its parameters.
+    pub params: Vec<Ty>,
+    /// The type of its result.
+    pub result: Ty,
+}
+
+/// The CSPm function of the model's function at `node` in `file`, made on
+/// first use: only explicit definitions (`postcondition result == e`)
+/// are exported.
+pub(crate) fn function(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
+    let key = (file, node.text_range());
+    let fname = name_of(node);
+    match ex.functions.get(&key) {
+        Some(Some(f)) => return Ok(f.clone()),
+        Some(None) => return Err(format!("the function `{fname}` is recursive: not supported by the export yet")),
+        None => {}
+    }
+    ex.functions.insert(key, None);
+    let r = function_inner(ex, file, node);
+    match &r {
+        Ok(f) => {
+            ex.functions.insert(key, Some(f.clone()));
+        }
+        Err(_) => {
+            ex.functions.remove(&key);
+        }
+    }
+    r
+}
+
+fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
+    let fname = name_of(node);
+    let mut params = Vec::new();
+    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
+        let t = ex.ty(file, type_child(&p).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+        params.push((name_of(&p), t));
+    }
+    let result = ex.ty(file, type_child(node).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+    // The one postcondition `result == e` (or `result iff e`) defines it.
+    let defining: Vec<SyntaxNode> = children(node, POSTCONDITION)
+        .filter_map(|pc| expr_child(&pc))
+        .filter(|x| {
+            x.kind() == BIN_EXPR
+                && matches!(ast::binary_operator(x), Some(EQ2 | IFF_KW))
+                && ast::operand_exprs(x).first().is_some_and(|l| l.kind() == RESULT_EXPR)
+        })
+        .collect();
+    let [def] = defining.as_slice() else {
+        return Err(format!(
+            "the function `{fname}` has no explicit definition (`postcondition result == …`): calls of it are not exported"
+        ));
+    };
+    let body = ast::operand_exprs(def)
+        .get(1)
+        .cloned()
+        .ok_or_else(|| format!("function `{fname}`: an incomplete postcondition"))?;
+    let mut path = ex.package(file);
+    path.push(fname.clone());
+    let csp = ex.module_name(&path);
+    let mut g = Gen::new(ex, file, node, false);
+    let mut names = Vec::new();
+    for (n, t) in &params {
+        let local = g.local(n);
+        g.names.insert(n.clone(), Nm::Param(local.clone(), t.clone()));
+        names.push(local);
+    }
+    let out = g.expr(&body, ECtx::Const, Some(&result));
+    let problems = std::mem::take(&mut g.problems);
+    let Some(out) = out else {
+        let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+        return Err(format!("function `{fname}` is not exported: {why}"));
+    };
+    ex.emit(
+        file,
+        vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
+    );
+    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
 }
 
 /// The range of a statement up to its arguments or value (`$move` of

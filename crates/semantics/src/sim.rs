@@ -259,9 +259,11 @@ fn assume_inputs(
         let me = format!("A1_{}", ident(&ch.model));
         let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
         let mut ev = vec![name(csp), name("in")];
-        if !ch.values.is_empty() {
-            rf.push(Field::In("x".into()));
-            ev.push(name("x"));
+        // One name per value field (products carry one field per component).
+        for k in 0..ch.values.len() {
+            let x = if ch.values.len() == 1 { "x".to_string() } else { format!("x{k}") };
+            rf.push(Field::In(x.clone()));
+            ev.push(name(x));
         }
         let consume = ext(vec![prefix_dot(dot(ev), name(me.clone())), name(me.clone())]);
         let body = prefix(
