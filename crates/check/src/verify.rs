@@ -20,7 +20,7 @@ use crate::budget::{Budget, ProgressFn, Stats};
 use crate::design::{shared_events, DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_design, ConstValue, DomainDefaults, Unsupported};
-use crate::lts::{Label, Lts, TAU, TOCK};
+use crate::lts::{Event, Label, Lts, TAU, TOCK};
 use crate::machine::{Act, Offer};
 use crate::pack::{Packed, VectorLts};
 use crate::sched::{Constrained, Registers, State};
@@ -507,7 +507,7 @@ fn refinement(
             SemanticModelName::Traces => SemanticModel::Traces,
             SemanticModelName::Failures => SemanticModel::Failures,
             SemanticModelName::FailuresDivergences | SemanticModelName::Default => SemanticModel::FailuresDivergences,
-            SemanticModelName::TickTock => return Err("the tick-tock model is not supported yet".into()),
+            SemanticModelName::TickTock => SemanticModel::TickTock,
         };
         let consts = cx.constants()?;
         let imp_t = cx.target(&a.subject)?;
@@ -725,6 +725,11 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
     }
 }
 
+/// `{a, b}` with the events' names.
+fn event_set<L: Lts>(lts: &L, events: &[Event]) -> String {
+    format!("{{{}}}", events.iter().map(|e| lts.event_name(*e)).collect::<Vec<_>>().join(", "))
+}
+
 fn describe_cex<L: Lts, S: Lts, X>(imp: &L, spec: &S, cex: &RefinementCex<X>) -> String {
     let _ = spec;
     match cex {
@@ -732,11 +737,27 @@ fn describe_cex<L: Lts, S: Lts, X>(imp: &L, spec: &S, cex: &RefinementCex<X>) ->
             format!("the implementation can perform {} where the specification cannot", imp.event_name(event.event))
         }
         RefinementCex::Refusal { acceptances, .. } => {
-            let sets: Vec<String> = acceptances
-                .iter()
-                .map(|acc| format!("{{{}}}", acc.iter().map(|e| imp.event_name(*e)).collect::<Vec<_>>().join(", ")))
-                .collect();
+            let sets: Vec<String> = acceptances.iter().map(|acc| event_set(imp, acc)).collect();
             format!("the implementation refuses every event the specification must offer: one of {}", sets.join(" or "))
+        }
+        RefinementCex::TockRefusal { offered, acceptances, .. } => {
+            let offered: Vec<Event> = offered.iter().copied().filter(|&e| e != TOCK).collect();
+            let then = if acceptances.is_empty() {
+                "the specification cannot let time pass after the same trace".to_string()
+            } else {
+                let sets: Vec<String> = acceptances
+                    .iter()
+                    .map(|acc| event_set(imp, &acc.iter().copied().filter(|&e| e != TOCK).collect::<Vec<_>>()))
+                    .collect();
+                format!(
+                    "the specification lets time pass after the same trace only while offering {}",
+                    sets.join(" or ")
+                )
+            };
+            format!(
+                "the implementation lets time pass while offering only {} (tick-tock model); {then}",
+                event_set(imp, &offered)
+            )
         }
         RefinementCex::Divergence { .. } => "the implementation can compute forever without finishing its cycle".into(),
     }
@@ -751,6 +772,7 @@ fn refinement_counterexample<S: Lts>(
     let (kind, path) = match cex {
         RefinementCex::Trace { path, .. } => ("trace", path),
         RefinementCex::Refusal { path, .. } => ("refusal", path),
+        RefinementCex::TockRefusal { path, .. } => ("tock-refusal", path),
         RefinementCex::Divergence { path, .. } => ("divergence", path),
     };
     let steps = sim_steps(imp, design, &values_path(path, |p| imp.values(p)));
@@ -764,7 +786,9 @@ fn refinement_counterexample<S: Lts>(
 /// found breadth first within a small budget, as located steps.
 fn specification_steps(spec: &Side<'_>, design: &Design, cex: &RefinementCex<Packed>, budget: &Budget) -> Vec<Step> {
     let (path, drop_last) = match cex {
-        RefinementCex::Trace { path, .. } => (path, true),
+        // The offending step (an event, or the `tock` refused too much
+        // before) is not the specification's.
+        RefinementCex::Trace { path, .. } | RefinementCex::TockRefusal { path, .. } => (path, true),
         RefinementCex::Refusal { path, .. } | RefinementCex::Divergence { path, .. } => (path, false),
     };
     let mut trace: Vec<crate::lts::Event> = path.steps.iter().map(|(l, _)| l.event).filter(|&e| e != TAU).collect();

@@ -328,6 +328,77 @@ fn tock_and_tick_are_visible_events_for_refinement() {
     assert_eq!(check(&skip, &skip, FD), RefinementResult::Holds);
 }
 
+// ------------------------------------------------------ tick-tock model
+
+/// An internal choice made once (`Once`: 0 -τ-> 1 or 2, each offering its
+/// event and letting time pass forever) against one made again after
+/// every `tock` (`Again`: back to the choosing state after each `tock`).
+/// Their traces and stable failures are the same, so FD cannot tell them
+/// apart; tick-tock records that `Once` refused `b` before time passed
+/// and so cannot do `b` afterwards (semantics.md §7.5, simGeneric-1).
+fn once_and_again() -> (ExplicitLts, ExplicitLts) {
+    let once = lts(&[(0, "tau", 1), (0, "tau", 2), (1, "a", 3), (1, "tock", 1), (2, "b", 3), (2, "tock", 2)]);
+    let again = lts(&[(0, "tau", 1), (0, "tau", 2), (1, "a", 3), (1, "tock", 0), (2, "b", 3), (2, "tock", 0)]);
+    (once, again)
+}
+
+#[test]
+fn tick_tock_tells_apart_choices_that_fd_equates() {
+    use SemanticModel::TickTock;
+    let (once, again) = once_and_again();
+    for (spec, imp) in [(&once, &again), (&again, &once)] {
+        let (r, _) = refines(spec, imp, FD, &one_thread(), None);
+        assert_eq!(r, RefinementResult::Holds);
+    }
+    // `Again` ⊑ `Once`: every tick-tock observation of `Once` is one of `Again`.
+    let (r, _) = refines(&again, &once, TickTock, &one_thread(), None);
+    assert_eq!(r, RefinementResult::Holds);
+    // `Once` ⋢ `Again`: after choosing `a` (refusing b), time passes, and
+    // `Again` may choose `b`, refusing the `a` that `Once` must still offer.
+    let (r, _) = refines(&once, &again, TickTock, &one_thread(), None);
+    let RefinementResult::Fails(RefinementCex::Refusal { path, offered, acceptances }) = r else {
+        panic!("expected a refusal, got {r:?}")
+    };
+    assert_eq!(steps(&path), vec![(TAU, 1), (TOCK, 0), (TAU, 2)]);
+    assert_eq!(offered, vec![TOCK, B]);
+    assert_eq!(acceptances, vec![vec![TOCK, A]]);
+}
+
+#[test]
+fn tick_tock_reports_time_passing_while_refusing_too_much() {
+    use SemanticModel::TickTock;
+    // The specification may stop (0 -τ-> 2, a stable state refusing
+    // everything, time included) or offer `a` until time passes (1), and
+    // then only let time pass (4). The implementation only lets time pass:
+    // its stable failures are allowed (by the stopped state, then by 4),
+    // but no specification state lets time pass while refusing `a`.
+    let spec = lts(&[(0, "tau", 1), (0, "tau", 2), (1, "a", 3), (1, "tock", 4), (4, "tock", 4)]);
+    let imp = lts(&[(0, "tock", 0)]);
+    let (r, _) = refines(&spec, &imp, Failures, &one_thread(), None);
+    assert_eq!(r, RefinementResult::Holds);
+    let (r, _) = refines(&spec, &imp, TickTock, &one_thread(), None);
+    let RefinementResult::Fails(RefinementCex::TockRefusal { path, offered, acceptances }) = r else {
+        panic!("expected a tock refusal, got {r:?}")
+    };
+    assert_eq!(steps(&path), vec![(TOCK, 0)]);
+    assert_eq!(offered, vec![TOCK]);
+    assert_eq!(acceptances, vec![vec![TOCK, A]]);
+    // A process refines itself; a time-stop refines nothing that lets time pass.
+    for p in [&spec, &imp] {
+        assert_eq!(refines(p, p, TickTock, &one_thread(), None).0, RefinementResult::Holds);
+    }
+}
+
+#[test]
+fn tick_tock_ignores_tock_at_unstable_states() {
+    use SemanticModel::TickTock;
+    // `tock` offered beside a τ records no refusal: only the plain trace
+    // must be allowed, as in the other models.
+    let spec = lts(&[(0, "a", 1), (0, "tock", 0)]);
+    let imp = lts(&[(0, "tau", 2), (0, "tock", 0), (2, "a", 1), (2, "tock", 0)]);
+    assert_eq!(refines(&spec, &imp, TickTock, &one_thread(), None).0, RefinementResult::Holds);
+}
+
 // ------------------------------------------------ divergence, determinism
 
 #[test]
@@ -756,6 +827,7 @@ fn fd_refinement_agrees_with_the_oracle_on_random_ltss() {
                 assert!(!cycle.is_empty() && cycle.iter().all(|(l, _)| l.event == TAU));
                 Some(("divergence", path.trace()))
             }
+            RefinementResult::Fails(c @ RefinementCex::TockRefusal { .. }) => panic!("not in FD: {c:?}"),
             RefinementResult::Inconclusive(stop) => panic!("{stop}"),
         };
         assert_eq!(got, expected, "spec {spec:?}\nimpl {imp:?}");

@@ -114,3 +114,43 @@ fn refinement_between_designs() {
         "{reports:#?}"
     );
 }
+
+/// The tick-tock model (semantics.md §7.5): a choice made once and for all
+/// (`Once`) against the same choice made again whenever a time unit has
+/// passed (`Again`). FD cannot tell them apart; tick-tock sees that once
+/// `Once` has refused `b` and let time pass, it can no longer do `b`.
+#[test]
+fn tick_tock_refinement_of_designs() {
+    let rct = "interface I { event a event b }
+        stm Once { uses I initial i junction j state A { } state B { } final F
+          transition t0 { from i to j } transition ta { from j to A } transition tb { from j to B }
+          transition ea { from A to F trigger a } transition eb { from B to F trigger b } }
+        stm Again { uses I clock C initial i junction j state A { } state B { } final F
+          transition t0 { from i to j } transition ta { from j to A #C } transition tb { from j to B #C }
+          transition ra { from A to j condition since(C) >= 1 } transition rb { from B to j condition since(C) >= 1 }
+          transition ea { from A to F trigger a } transition eb { from B to F trigger b } }";
+    let asserts = "assertion FD1 : Once refines Again in the failures divergences model
+        assertion FD2 : Again refines Once in the failures divergences model
+        assertion TT1 : Once refines Again in the tick-tock model
+        assertion TT2 : Again does not refine Once in the tick-tock model
+        assertion TT3 : Once equals Once in the tick-tock model";
+    let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
+    let got: Vec<(&str, Verdict, Option<&str>)> =
+        reports.iter().map(|r| (r.name.as_str(), r.verdict, r.counterexample.as_ref().map(|c| c.kind))).collect();
+    assert_eq!(
+        got,
+        vec![
+            ("FD1", Verdict::Pass, None),
+            ("FD2", Verdict::Pass, None),
+            ("TT1", Verdict::Pass, None),
+            ("TT2", Verdict::Pass, Some("refusal")),
+            ("TT3", Verdict::Pass, None),
+        ],
+        "{reports:#?}"
+    );
+    // The witness: `Again` lets a time unit pass in A, chooses again, and
+    // in B refuses the `a` that `Once` must still offer.
+    let c = reports[3].counterexample.as_ref().expect("a witness");
+    assert_eq!(trace_text(&c.steps), "tock");
+    assert!(c.explanation[0].ends_with("one of {tock, a.in}"), "{:?}", c.explanation);
+}

@@ -22,11 +22,17 @@ fn check(sim: &str) -> (Report, Report) {
 }
 
 fn check_in(sim: &str, profile: Profile) -> (Report, Report) {
+    check_model(sim, profile, "failures divergences")
+}
+
+/// As [`check_in`], in the semantic model `model` (`failures divergences`,
+/// `tick-tock`, …).
+fn check_model(sim: &str, profile: Profile, model: &str) -> (Report, Report) {
     let package = if sim.contains("package paper_sim_alt") { "paper_sim_alt" } else { "paper_sim" };
     let rsa = format!(
         "simulation P of paper_design::CFootBot {{ cycleDef cycle == 1 }}
-         assertion R : {package}::SimCFootBot refines P in the failures divergences model {CONSTANTS}
-         assertion C : P refines {package}::SimCFootBot in the failures divergences model {CONSTANTS}"
+         assertion R : {package}::SimCFootBot refines P in the {model} model {CONSTANTS}
+         assertion C : P refines {package}::SimCFootBot in the {model} model {CONSTANTS}"
     );
     let db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(
@@ -277,4 +283,32 @@ fn counterexamples_show_the_design_side() {
     assert_eq!(call.location.as_ref().map(|l| l.file.as_str()), Some("design.rct"));
     // The simulation's steps name the extra transition.
     assert!(c.steps.iter().any(|s| s.description.as_deref().is_some_and(|d| d.contains("takes tX"))), "{:#?}", c.steps);
+}
+
+/// In the tick-tock model (finer than stable failures) the figures are
+/// sound and every mutant is caught, as in FD: each mutant's error is a
+/// wrong event or refusal within a cycle, never a divergence alone.
+#[test]
+fn tick_tock_soundness_of_figures_and_mutants() {
+    let cases = [
+        ("Fig.3", true),
+        ("Fig.9 missing entry action", false),
+        ("Fig.10 missing exec", false),
+        ("Fig.11 missing guard", false),
+        ("Fig.12 swapped guards", false),
+        ("Fig.13 extra exec self-loop", false),
+        ("Fig.14 wrong cycle allocation", false),
+    ];
+    let mut got = Vec::new();
+    for (label, _) in cases {
+        let (r, _) = check_model(&mutant(label), Profile::RoboTool3, "tick-tock");
+        let (fd, _) = check(&mutant(label));
+        got.push((label, r.verdict == Verdict::Pass, r.counterexample.as_ref().map(|c| c.kind), fd.verdict));
+    }
+    let (r, _) = check_model(&example("simulation_alt.rst"), Profile::RoboTool3, "tick-tock");
+    assert_eq!(r.verdict, Verdict::Pass, "Fig.4: {:?}", r.reason);
+    for ((label, sound, kind, fd), (_, expected)) in got.iter().zip(cases) {
+        assert_eq!(*sound, expected, "{label}: {kind:?}");
+        assert_eq!(*fd == Verdict::Pass, expected, "{label} in FD");
+    }
 }

@@ -1,5 +1,6 @@
-//! Refinement `Spec ⊑ Impl` in the traces, stable-failures and
-//! failures-divergences models (semantics.md §8.3), and determinism.
+//! Refinement `Spec ⊑ Impl` in the traces, stable-failures,
+//! failures-divergences and tick-tock models (semantics.md §8.3, §7.5),
+//! and determinism.
 //!
 //! The specification is normalised lazily, as FDR's `normal`: a node is a
 //! τ-closed set of specification states (interned by its sorted state ids),
@@ -18,7 +19,7 @@ use hashbrown::HashTable;
 use rustc_hash::FxHashMap;
 
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
-use crate::lts::{Event, Label, Lts, TAU};
+use crate::lts::{Event, Label, Lts, TAU, TOCK};
 
 use super::divergence::TauDivergence;
 use super::{explore, fx, pair_hash, pair_hash_from, trace_search, Flow, Path, Visited, NO_PARENT};
@@ -33,6 +34,13 @@ pub enum SemanticModel {
     /// Failures and divergences (`[FD=`): a divergent specification node
     /// allows anything, a divergent implementation must be allowed.
     FailuresDivergences,
+    /// Tick-tock (Baxter, Ribeiro and Cavalcanti, Acta Informatica 2022):
+    /// the stable failures, and also what is refused at each `tock`. An
+    /// implementation that lets time pass at a stable state refusing `X`
+    /// must be matched by specification states that refuse `X` and let
+    /// time pass, and only those continue: an internal choice cannot be
+    /// revised once time has passed.
+    TickTock,
 }
 
 /// The verdict of [`refines`].
@@ -68,6 +76,20 @@ pub enum RefinementCex<S> {
         /// The specification's minimal acceptances after the same trace,
         /// each sorted, in sorted order (empty in the stable-failures model
         /// when the specification has no stable state after that trace).
+        acceptances: Vec<Vec<Event>>,
+    },
+    /// Tick-tock: after `path` (ending in a stable implementation state)
+    /// the implementation lets time pass (`tock`) offering only `offered`,
+    /// and no stable state of the specification after the same trace lets
+    /// time pass refusing as much: those that can let time pass offer
+    /// `acceptances` (each sorted, tock included).
+    TockRefusal {
+        /// The implementation's path to the stable state, then its `tock`.
+        path: Path<S>,
+        /// The events the stable state offers, sorted (with `tock`).
+        offered: Vec<Event>,
+        /// What the specification's stable, time-passing states offer
+        /// after the same trace (empty if none can let time pass).
         acceptances: Vec<Vec<Event>>,
     },
     /// After `path` the implementation can diverge; `cycle` is the τ-lasso
@@ -129,6 +151,7 @@ pub fn refines<Sp: Lts, Im: Lts>(
 enum Found<S> {
     Divergence(u32),
     Refusal(u32, Vec<Event>, Vec<Vec<Event>>),
+    TockRefusal(u32, Vec<Event>, Vec<Vec<Event>>, S),
     Trace(u32, Label, S),
 }
 
@@ -140,6 +163,7 @@ fn refine_search<Sp: Lts, Im: Lts>(
 ) -> Result<Option<RefinementCex<Im::State>>, Stop> {
     let fd = model == SemanticModel::FailuresDivergences;
     let failures = model != SemanticModel::Traces;
+    let tick_tock = model == SemanticModel::TickTock;
     let mut norm = Normaliser::new(spec);
     let root = norm.root(meter)?;
     let mut visited: Visited<(u32, Im::State)> = Visited::new(pair_hash::<Im::State>);
@@ -179,6 +203,18 @@ fn refine_search<Sp: Lts, Im: Lts>(
             for ((label, t), &h) in succ.iter().zip(hashes) {
                 let next = if label.event == TAU {
                     n
+                } else if tick_tock && label.event == TOCK && !has_tau {
+                    // Time passes at a stable state, refusing everything not
+                    // `offered` (computed above): the largest refusal is the
+                    // strongest observation, as smaller ones leave more
+                    // specification states to continue from.
+                    match norm.after_tock(n, &offered, meter)? {
+                        Some(m) => m,
+                        None => {
+                            let acc = norm.tock_acceptances(n);
+                            return Ok(Flow::Break(Found::TockRefusal(i, offered.clone(), acc, t.clone())));
+                        }
+                    }
                 } else {
                     match norm.after(n, label.event, meter)? {
                         Some(m) => m,
@@ -209,6 +245,11 @@ fn refine_search<Sp: Lts, Im: Lts>(
         }
         Some(Found::Refusal(i, offered, acceptances)) => {
             Some(RefinementCex::Refusal { path: visited.path_to(i, view), offered, acceptances })
+        }
+        Some(Found::TockRefusal(i, offered, acceptances, t)) => {
+            let mut path = visited.path_to(i, view);
+            path.steps.push((Label::TOCK, t));
+            Some(RefinementCex::TockRefusal { path, offered, acceptances })
         }
         Some(Found::Divergence(i)) => {
             let path = visited.path_to(i, view);
@@ -347,6 +388,8 @@ pub(crate) struct Normaliser<'l, L: Lts> {
     acc_events: Vec<Event>,
     /// Memo of `after`: the successor node, or `NONE`.
     after: FxHashMap<(u32, Event), u32>,
+    /// Memo of `after_tock`, by node and the implementation's offer.
+    after_tock: FxHashMap<(u32, Vec<Event>), u32>,
     /// Closure marks: `mark[s] == epoch` once s is in the set being built.
     mark: Vec<u32>,
     epoch: u32,
@@ -373,6 +416,7 @@ impl<'l, L: Lts> Normaliser<'l, L> {
             acc_sets: Vec::new(),
             acc_events: Vec::new(),
             after: FxHashMap::default(),
+            after_tock: FxHashMap::default(),
             mark: Vec::new(),
             epoch: 0,
             buf: Vec::new(),
@@ -493,6 +537,55 @@ impl<'l, L: Lts> Normaliser<'l, L> {
         meter.add_extra_bytes(16)?;
         self.after.insert((n, event), result);
         Ok((result != NONE).then_some(result))
+    }
+
+    /// Whether member `s` is stable, can let time pass and offers nothing
+    /// outside `offered` (sorted): it refuses all `offered` refuses.
+    fn passes_time_within(&self, s: u32, offered: &[Event]) -> bool {
+        let t = self.trans(s);
+        t.iter().any(|&(e, _)| e == TOCK) && t.iter().all(|&(e, _)| e != TAU && offered.binary_search(&e).is_ok())
+    }
+
+    /// Tick-tock: the node after a `tock` taken at a stable state offering
+    /// `offered` (sorted, with `tock`), or `None`. Only the stable members
+    /// that refuse all the implementation refuses and can let time pass
+    /// continue. Memoised.
+    pub(crate) fn after_tock(&mut self, n: u32, offered: &[Event], meter: &mut Meter<'_>) -> Result<Option<u32>, Stop> {
+        if let Some(&m) = self.after_tock.get(&(n, offered.to_vec())) {
+            return Ok((m != NONE).then_some(m));
+        }
+        let mut seeds = std::mem::take(&mut self.seeds);
+        seeds.clear();
+        for &s in self.members(n) {
+            if self.passes_time_within(s, offered) {
+                seeds.extend(self.trans(s).iter().filter(|(e, _)| *e == TOCK).map(|&(_, t)| t));
+            }
+        }
+        self.seeds = seeds;
+        let result = if self.seeds.is_empty() { NONE } else { self.close(meter)? };
+        meter.add_extra_bytes(32 + 4 * offered.len() as u64)?;
+        self.after_tock.insert((n, offered.to_vec()), result);
+        Ok((result != NONE).then_some(result))
+    }
+
+    /// What the stable members of node `n` that can let time pass offer:
+    /// each sorted, deduplicated, in sorted order.
+    pub(crate) fn tock_acceptances(&self, n: u32) -> Vec<Vec<Event>> {
+        let mut out: Vec<Vec<Event>> = self
+            .members(n)
+            .iter()
+            .map(|&s| self.trans(s))
+            .filter(|t| t.iter().any(|&(e, _)| e == TOCK) && t.iter().all(|&(e, _)| e != TAU))
+            .map(|t| {
+                let mut v: Vec<Event> = t.iter().map(|&(e, _)| e).collect();
+                v.sort_unstable();
+                v.dedup();
+                v
+            })
+            .collect();
+        out.sort();
+        out.dedup();
+        out
     }
 
     /// The node of the τ-closure of `self.seeds`, built if new.
