@@ -202,6 +202,12 @@ pub(crate) struct Gen<'e, 'a> {
     counter: usize,
     /// Depth of the statements and expressions being translated.
     nesting: usize,
+    /// Per node: whether it is a state with an activity (see
+    /// [`Gen::activity`]), started when it is entered and stopped by every
+    /// transition that leaves it.
+    active: Vec<bool>,
+    /// The activity processes (`Activity__S`).
+    activities: Vec<String>,
 }
 
 /// Statements and expressions nested deeper are not exported (the
@@ -241,6 +247,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             display: false,
             counter: 0,
             nesting: 0,
+            active: Vec::new(),
+            activities: Vec::new(),
         }
     }
 
@@ -1553,6 +1561,19 @@ impl<'e, 'a> Gen<'e, 'a> {
     fn transition(&mut self, t: usize, leaf: Option<usize>) -> Option<Expr> {
         let syn = self.trans[t].syn.clone();
         let mut rest = Vec::new();
+        // The activities of the states it leaves stop at once, innermost
+        // first (RoboChart: the trigger interrupts the during actions).
+        let mut cur = Some(leaf.unwrap_or(self.trans[t].source));
+        while let Some(c) = cur {
+            if self.active.get(c).copied().unwrap_or(false) {
+                let sid = format!("SID_{}", self.nodes[c].tag);
+                rest.push(prefix("deactivate__", vec![Field::Dot(name(sid))], Expr::Skip));
+            }
+            if c == self.trans[t].source {
+                break;
+            }
+            cur = self.nodes[c].parent;
+        }
         // Exit actions from the leaf up to the source.
         if let Some(l) = leaf {
             let mut cur = Some(l);
@@ -1586,8 +1607,15 @@ impl<'e, 'a> Gen<'e, 'a> {
         let then = fold_seq(rest);
         let tid = self.trans[t].tid.clone();
         if let Some(d) = child(&syn, DEADLINE) {
-            self.problem(d.text_range(), "deadlines on transitions are not supported by the export yet");
-            return None;
+            // Its timer is part of the source's activity.
+            if self.nodes[self.trans[t].source].kind != NodeKind::State {
+                self.problem(
+                    d.text_range(),
+                    "deadlines on transitions from junctions are not supported by the export yet \
+                     (a junction is left at once or waits for a guard)",
+                );
+                return None;
+            }
         }
         if let Some(p) = child(&syn, PROBABILITY) {
             self.problem(p.text_range(), "probabilistic transitions have no meaning in the tock-CSP semantics");
@@ -1616,6 +1644,16 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.gates.push(g);
             }
         }
+        // States with an activity: a composite state's during action, the
+        // deadlines of the transitions from a state.
+        self.active = (0..self.nodes.len())
+            .map(|n| {
+                let node = &self.nodes[n];
+                node.kind == NodeKind::State
+                    && ((self.nodes.iter().any(|c| c.parent == Some(n)) && child(&node.syn, DURING_ACTION).is_some())
+                        || self.trans.iter().any(|t| t.source == n && child(&t.syn, DEADLINE).is_some()))
+            })
+            .collect();
         // States, junctions and finals.
         for n in 0..self.nodes.len() {
             self.node_process(n);
@@ -1772,14 +1810,13 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let Some(entry) = self.action_of(&node_syn, ENTRY_ACTION) else { return };
                 parts.extend(entry);
                 let composite = self.nodes.iter().any(|c| c.parent == Some(n));
-                if composite {
-                    if child(&node_syn, DURING_ACTION).is_some() {
-                        self.problem(
-                            util::name_range(&node_syn),
-                            "during actions of composite states are not supported by the export yet",
-                        );
+                if self.active[n] {
+                    if !self.activity(n, composite) {
                         return;
                     }
+                    parts.push(prefix("activate__", vec![Field::Dot(name(format!("SID_{tag}")))], Expr::Skip));
+                }
+                if composite {
                     let Some(init) = self.nodes.iter().position(|c| c.parent == Some(n) && c.kind == NodeKind::Initial)
                     else {
                         self.problem(util::name_range(&node_syn), "a composite state without an initial junction");
@@ -1811,6 +1848,72 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.defs.push(Decl::Def(me, vec![], ext(alts)));
             }
         }
+    }
+
+    /// `Activity__S`: what state `S` does alongside its substates and
+    /// transitions, from the end of its entry action until a transition
+    /// leaves it (`activate__.SID_S` … `deactivate__.SID_S`): the during
+    /// action of a composite state (RoboChart: it runs in parallel with the
+    /// substates and is interrupted by the exit), and one timer per
+    /// transition from `S` with a deadline `<{d}`, which refuses time after
+    /// `d` time units (the transition must be taken by then). Returns false
+    /// when something is not exported.
+    fn activity(&mut self, n: usize, composite: bool) -> bool {
+        let syn = self.nodes[n].syn.clone();
+        let tag = self.nodes[n].tag.clone();
+        let mut parts = Vec::new();
+        if self.robosim {
+            // RoboSim has no transition deadlines: only a composite's during action gets here.
+            self.problem(
+                util::name_range(&syn),
+                "during actions of composite RoboSim states are not exported: how they share the \
+                 cycle with the substates (`exec`) is not pinned down",
+            );
+            return false;
+        }
+        if composite && child(&syn, DURING_ACTION).is_some() {
+            match self.action_of(&syn, DURING_ACTION) {
+                Some(Some(d)) => parts.push(seq(vec![d, name("TStop")])),
+                Some(None) => {}
+                None => return false,
+            }
+        }
+        for t in 0..self.trans.len() {
+            if self.trans[t].source != n {
+                continue;
+            }
+            let Some(limit) = child(&self.trans[t].syn, DEADLINE).and_then(|d| expr_child(&d)) else { continue };
+            let Some((d, reads)) = self.bexpr(&limit, None) else { return false };
+            let p = self.with_reads(&reads, call("Timer__", vec![d]));
+            parts.push(p);
+            if !self.defs.iter().any(|x| matches!(x, Decl::Def(f, _, _) if f == "Timer__")) {
+                // Time passes d times, then no more.
+                let body = guard(
+                    bin(BinOp::Gt, name("d__"), Expr::Int(0)),
+                    prefix("tock", vec![], call("Timer__", vec![bin(BinOp::Sub, name("d__"), Expr::Int(1))])),
+                );
+                self.defs.push(Decl::Def("Timer__".into(), vec!["d__".into()], body));
+            }
+        }
+        let run = parts
+            .into_iter()
+            .rev()
+            .reduce(|acc, p| par(p, Expr::Set(vec![name("tock")]), acc))
+            .unwrap_or_else(|| name("TStop"));
+        let me = format!("Activity__{tag}");
+        let sid = Field::Dot(name(format!("SID_{tag}")));
+        let body = ext(vec![
+            prefix(
+                "activate__",
+                vec![sid.clone()],
+                nary(ProcOp::Interrupt, vec![run, prefix("deactivate__", vec![sid], name(me.clone()))]),
+            ),
+            prefix("tock", vec![], name(me.clone())),
+            prefix("end__", vec![], Expr::Skip),
+        ]);
+        self.defs.push(Decl::Def(me.clone(), vec![], body));
+        self.activities.push(me);
+        true
     }
 
     /// `Rest__L`: the leaf `L` offers its transitions and those of its
@@ -1992,6 +2095,15 @@ impl<'e, 'a> Gen<'e, 'a> {
             hidden.push(name("end__"));
             sync.push(name("end__"));
         }
+        if !self.activities.is_empty() {
+            private.push(Decl::Comment(
+                "Start and end of the activities of states (during actions of composite states, deadlines\n\
+                 of transitions)."
+                    .into(),
+            ));
+            private.push(Decl::Channel(vec!["activate__".into(), "deactivate__".into()], vec![name("SIDS")]));
+            hidden.extend([name("activate__"), name("deactivate__")]);
+        }
         // Exported interface.
         exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
         exports.push(Decl::Datatype("SIDS".into(), sids));
@@ -2133,7 +2245,18 @@ impl<'e, 'a> Gen<'e, 'a> {
             let comp = par(name("Behaviour__"), Expr::Events(outer_sync), inner);
             call("TimedPriority", vec![hide(comp, Expr::Events(hidden))])
         } else {
-            let beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
+            let mut beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
+            if !self.activities.is_empty() {
+                let acts = self
+                    .activities
+                    .iter()
+                    .rev()
+                    .map(|a| name(a.clone()))
+                    .reduce(|acc, a| par(a, Expr::Events(vec![name("tock"), name("end__")]), acc))
+                    .expect("an activity");
+                let with = Expr::Events(vec![name("activate__"), name("deactivate__"), name("tock"), name("end__")]);
+                beh = par(beh, with, acts);
+            }
             let comp = hide(par(beh, Expr::Events(sync), memory), Expr::Events(hidden));
             // Tagged triggers become the machine's events.
             let mut comp = comp;
