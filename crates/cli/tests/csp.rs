@@ -183,8 +183,14 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
         stderr.contains("unsupported.rct:13:9: state machine unsupported::Funs is not exported: `f`: the type `nat -> nat` is not supported"),
         "{stderr}"
     );
+    assert!(
+        stderr
+            .contains("operation unsupported::Raise is not exported: `level` is a variable of the operation's caller"),
+        "{stderr}"
+    );
     let csp = std::fs::read_to_string(dir.join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
+    assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");
     // The machine that is supported is exported.
     assert!(csp.contains("module unsupported_Fine"), "{csp}");
     let _ = std::fs::remove_dir_all(&dir);

@@ -107,6 +107,9 @@ struct VarI {
     csp: String,
     ty: Ty,
     init: Expr,
+    /// An operation's variable of its caller (required through an
+    /// interface): read and written through the caller's memory.
+    shared: bool,
 }
 
 struct ClockI {
@@ -134,6 +137,9 @@ struct EvI {
 struct OpI {
     name: String,
     params: Vec<Ty>,
+    /// Defined in the model (an `operation` with its own body): calls run
+    /// it (`CALL__op`) instead of calling the platform.
+    defined: bool,
 }
 
 struct GateI {
@@ -208,6 +214,12 @@ pub(crate) struct Gen<'e, 'a> {
     active: Vec<bool>,
     /// The activity processes (`Activity__S`).
     activities: Vec<String>,
+    /// Translating an `operation` of the model (its parameters are those
+    /// of `D__`, after `id__`).
+    is_operation: bool,
+    op_params: Vec<String>,
+    /// `CALL__op` of the operations of the model called (their names).
+    op_calls: Vec<(String, Decl)>,
 }
 
 /// Statements and expressions nested deeper are not exported (the
@@ -249,6 +261,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             nesting: 0,
             active: Vec::new(),
             activities: Vec::new(),
+            is_operation: false,
+            op_params: Vec::new(),
+            op_calls: Vec::new(),
         }
     }
 
@@ -291,6 +306,77 @@ impl<'e, 'a> Gen<'e, 'a> {
         Ok(MachineOut { elem, decls, terms: self.terms })
     }
 
+    /// Translates an operation of the model: its CSPm module and its
+    /// channels and constants.
+    fn run_operation(mut self, module: String, path: Vec<String>) -> Result<(Vec<Decl>, OperationOut), Vec<Problem>> {
+        let node = self.node.clone();
+        self.declarations(&node);
+        self.collect_nodes(&node, None);
+        self.collect_transitions();
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        if !self.nodes.iter().any(|n| n.parent.is_none() && n.kind == NodeKind::Initial) {
+            self.problem(
+                util::name_range(&node),
+                "the operation has no body (initial junction): only operations defined by a state machine are exported",
+            );
+            return Err(self.problems);
+        }
+        let decls = self.generate(&module);
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        let _ = path;
+        let mut chans = Vec::new();
+        for e in &self.events {
+            chans.push(OpChan {
+                csp: e.csp.clone(),
+                model: e.name.clone(),
+                kind: OpChanKind::Event,
+                dir: if e.received { Dir::In } else { Dir::Out },
+                ty: e.ty.clone(),
+                params: Vec::new(),
+            });
+        }
+        let names: HashMap<String, usize> = self
+            .names
+            .iter()
+            .filter_map(|(k, v)| if let Nm::Var(i) = v { Some((k.clone(), *i)) } else { None })
+            .collect();
+        let mut shared: Vec<(&String, &usize)> = names.iter().filter(|(_, i)| self.vars[**i].shared).collect();
+        shared.sort_by_key(|(_, i)| **i);
+        for (model, i) in shared {
+            chans.push(OpChan {
+                csp: self.vars[*i].csp.clone(),
+                model: model.clone(),
+                kind: OpChanKind::Var,
+                dir: Dir::Out,
+                ty: Some(self.vars[*i].ty.clone()),
+                params: Vec::new(),
+            });
+        }
+        for o in self.ops.iter().filter(|o| !o.defined) {
+            let mut kinds = vec![OpChanKind::Call];
+            if self.profile == Profile::Paper2019 {
+                kinds.push(OpChanKind::Ret);
+            }
+            for kind in kinds {
+                let suffix = if kind == OpChanKind::Call { "Call" } else { "Ret" };
+                chans.push(OpChan {
+                    csp: format!("{}{suffix}", ident(&o.name)),
+                    model: o.name.clone(),
+                    kind,
+                    dir: Dir::Out,
+                    ty: None,
+                    params: o.params.clone(),
+                });
+            }
+        }
+        let consts = self.consts.iter().cloned().zip(self.const_ty.iter().cloned()).collect();
+        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans }))
+    }
+
     // ------------------------------------------------------ declarations
 
     fn declarations(&mut self, node: &SyntaxNode) {
@@ -322,8 +408,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                 match c.kind() {
                     VARIABLE_LIST => {
                         let is_const = c.children_with_tokens().any(|t| t.kind() == CONST_KW);
+                        let shared = self.is_operation && !is_const && n != *node;
                         for v in children(&c, VARIABLE) {
-                            self.variable(f, &v, is_const, io);
+                            self.variable(f, &v, is_const, io, shared);
                         }
                     }
                     CLOCK => {
@@ -371,7 +458,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                                 }
                             }
                         }
-                        self.ops.push(OpI { name: n.clone(), params });
+                        // An operation of the model with this name and a body (RoboTool
+                        // matches a required operation and its definition by name); one
+                        // with a contract only (`terminates`) stays a call event.
+                        let defined = !self.robosim
+                            && util::resolve(self.ex.db, self.ex.ws, file, std::slice::from_ref(&n), |k| {
+                                k == DefKind::Operation
+                            })
+                            .is_some_and(|(_, d)| child(&d, INITIAL).is_some());
+                        self.ops.push(OpI { name: n.clone(), params, defined });
                         self.names.insert(n, Nm::Op(self.ops.len() - 1));
                     }
                     OPERATION_DEF | OPERATION_REF | FUNCTION => self.problem(
@@ -384,7 +479,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    fn variable(&mut self, f: File, v: &SyntaxNode, is_const: bool, io: Option<robosim_hir::defs::Io>) {
+    fn variable(&mut self, f: File, v: &SyntaxNode, is_const: bool, io: Option<robosim_hir::defs::Io>, shared: bool) {
         let n = name_of(v);
         if self.names.contains_key(&n) {
             return;
@@ -408,6 +503,9 @@ impl<'e, 'a> Gen<'e, 'a> {
         if is_const {
             let local = self.local(&n);
             let mut owner = self.ex.path_of_node(self.file, &self.node);
+            if self.is_operation {
+                owner.push(name_of(&self.node));
+            }
             let global = ident(&format!("const_{}_{}", util::qualified(&owner), n));
             let default = match &init {
                 Some(e) if f == self.file => match self.expr(e, ECtx::Const, Some(&ty)) {
@@ -440,7 +538,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 },
                 None => ty.default_value(),
             };
-            self.vars.push(VarI { csp, ty, init });
+            self.vars.push(VarI { csp, ty, init, shared });
             self.names.insert(n, Nm::Var(self.vars.len() - 1));
         }
     }
@@ -587,6 +685,13 @@ impl<'e, 'a> Gen<'e, 'a> {
                         Some(EOut { e: name(format!("{}_value", self.events[ev].csp)), ty, pure: false })
                     }
                     Some(Nm::Param(p, ty)) => Some(EOut { e: name(p), ty, pure: true }),
+                    Some(Nm::Var(i)) if cx == ECtx::Memory && self.vars[i].shared => {
+                        self.problem(
+                            r,
+                            format!("`{n}` is a variable of the operation's caller: guards cannot read it in the export yet"),
+                        );
+                        None
+                    }
                     Some(Nm::Var(i)) if cx != ECtx::Const => {
                         let v = &self.vars[i];
                         let (csp, ty) = (v.csp.clone(), v.ty.clone());
@@ -1256,6 +1361,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                     self.problem(r, format!("`{n}(…)` in a RoboSim machine must be an output: `${n}(…)`"));
                     return None;
                 }
+                if self.ops[o].defined {
+                    return self.call_operation(s, o);
+                }
                 let (args, reads) = self.arguments(s, o)?;
                 let op = &self.ops[o];
                 let mut fields = vec![name(format!("{}Call", ident(&op.name)))];
@@ -1370,6 +1478,144 @@ impl<'e, 'a> Gen<'e, 'a> {
                 None
             }
         }
+    }
+
+    /// A call of an operation defined in the model: its process
+    /// (`Op::D__(id__, args, constants)`, its events renamed to the
+    /// caller's), through `CALL__op(args)` as RoboTool names it. The
+    /// operation's events and platform calls become the caller's.
+    fn call_operation(&mut self, s: &SyntaxNode, o: usize) -> Option<Expr> {
+        let r = s.text_range();
+        let n = self.ops[o].name.clone();
+        let callee = |k| k == DefKind::Operation;
+        let (of, onode) = util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&n), callee)?;
+        let op = match operation(self.ex, of, &onode) {
+            Ok(op) => op,
+            Err(m) => {
+                self.problem(r, m);
+                return None;
+            }
+        };
+        if op.params != self.ops[o].params {
+            self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
+            return None;
+        }
+        let helper = format!("CALL__{}", ident(&n));
+        if !self.op_calls.iter().any(|(h, _)| *h == helper) {
+            let def = self.operation_helper(&op, &helper, r)?;
+            self.op_calls.push((helper.clone(), def));
+        }
+        let (args, reads) = self.arguments(s, o)?;
+        let p = if args.is_empty() { name(helper) } else { call(helper, args) };
+        let p = self.with_reads(&reads, p);
+        self.record_term(head_range(s), TermKind::Call, || p.clone());
+        Some(p)
+    }
+
+    /// `CALL__op(x…) = Op::D__(id__, x…, constants) [[ Op::e <- e, … ]]`:
+    /// the operation's constants become the caller's, its channels the
+    /// caller's channels of the same name.
+    fn operation_helper(&mut self, op: &OperationOut, helper: &str, r: TextRange) -> Option<Decl> {
+        let params: Vec<String> = (0..op.params.len()).map(|k| format!("x{k}__")).collect();
+        let mut args = vec![name("id__")];
+        args.extend(params.iter().map(|p| name(p.clone())));
+        for (c, t) in &op.consts {
+            let local = match self.consts.iter().find(|x| x.global == c.global) {
+                Some(x) => x.local.clone(),
+                None => {
+                    let local = self.local(&format!("{}_{}", c.owner.last().cloned().unwrap_or_default(), c.name));
+                    self.consts.push(ConstParam { local: local.clone(), ..c.clone() });
+                    self.const_ty.push(t.clone());
+                    local
+                }
+            };
+            args.push(name(local));
+        }
+        let mut renames = Vec::new();
+        for ch in &op.chans {
+            let mine = match ch.kind {
+                OpChanKind::Var => {
+                    let mine = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Var(i)) if Some(&self.vars[i].ty) == ch.ty.as_ref() => self.vars[i].csp.clone(),
+                        _ => {
+                            self.problem(
+                                r,
+                                format!(
+                                    "the operation uses the variable `{}`, which the caller lacks (or of another type)",
+                                    ch.model
+                                ),
+                            );
+                            return None;
+                        }
+                    };
+                    for g in ["get_", "set_"] {
+                        renames.push((name(format!("{}::{g}{}", op.module, ch.csp)), name(format!("{g}{mine}"))));
+                    }
+                    continue;
+                }
+                OpChanKind::Event => {
+                    let ty = ch.ty.clone();
+                    let i = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Event(i)) => i,
+                        None => {
+                            let csp = self.local(&ch.model);
+                            self.events.push(EvI {
+                                name: ch.model.clone(),
+                                csp,
+                                ty: ty.clone(),
+                                io: None,
+                                received: false,
+                                trig: false,
+                            });
+                            self.names.insert(ch.model.clone(), Nm::Event(self.events.len() - 1));
+                            self.events.len() - 1
+                        }
+                        Some(_) => {
+                            self.problem(r, format!("`{}` of the operation is not an event of the caller", ch.model));
+                            return None;
+                        }
+                    };
+                    if self.events[i].ty != ty {
+                        self.problem(r, format!("the event `{}` has another type in the operation", ch.model));
+                        return None;
+                    }
+                    if ch.dir == Dir::In {
+                        self.events[i].received = true;
+                    }
+                    self.events[i].csp.clone()
+                }
+                OpChanKind::Call | OpChanKind::Ret => {
+                    let i = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Op(i)) => i,
+                        None => {
+                            let params = ch.params.clone();
+                            self.ops.push(OpI { name: ch.model.clone(), params, defined: false });
+                            self.names.insert(ch.model.clone(), Nm::Op(self.ops.len() - 1));
+                            self.ops.len() - 1
+                        }
+                        Some(_) => {
+                            self.problem(
+                                r,
+                                format!("`{}` of the operation is not an operation of the caller", ch.model),
+                            );
+                            return None;
+                        }
+                    };
+                    if self.ops[i].params != ch.params || self.ops[i].defined {
+                        self.problem(r, format!("the operation `{}` has another signature in the callee", ch.model));
+                        return None;
+                    }
+                    let suffix = if ch.kind == OpChanKind::Call { "Call" } else { "Ret" };
+                    format!("{}{suffix}", ident(&ch.model))
+                }
+            };
+            renames.push((name(format!("{}::{}", op.module, ch.csp)), name(mine)));
+        }
+        let mut body = call(format!("{}::D__", op.module), args);
+        if !renames.is_empty() {
+            body = Expr::Rename(Box::new(body), renames, vec![]);
+        }
+        Some(Decl::Def(helper.to_string(), params, body))
     }
 
     /// A RoboSim output: the register write, urgent (robotool3), or its
@@ -1775,7 +2021,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     fn memory_params(&self) -> Vec<String> {
-        let mut p: Vec<String> = self.vars.iter().map(|v| v.csp.clone()).collect();
+        let mut p: Vec<String> = self.vars.iter().filter(|v| !v.shared).map(|v| v.csp.clone()).collect();
         p.extend(self.clocks.iter().map(|c| c.csp.clone()));
         for e in self.events.iter().filter(|e| self.is_input(e)) {
             p.push(e.csp.clone());
@@ -1963,7 +2209,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             a[i] = v;
             a
         };
-        for (i, v) in self.vars.iter().enumerate() {
+        for (i, v) in self.vars.iter().filter(|v| !v.shared).enumerate() {
             alts.push(prefix(
                 format!("get_{}", v.csp),
                 vec![Field::Out(name(v.csp.clone()))],
@@ -1975,7 +2221,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.memory_call(with(i, name("v__"))),
             ));
         }
-        let nv = self.vars.len();
+        let nv = self.vars.iter().filter(|v| !v.shared).count();
         let mut ticked = same.clone();
         for (k, c) in self.clocks.iter().enumerate() {
             let i = nv + k;
@@ -2060,7 +2306,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         if !self.vars.is_empty() || !self.clocks.is_empty() {
             private.push(Decl::Comment("Memory: variables and clocks.".into()));
         }
-        for v in &self.vars {
+        for v in self.vars.iter().filter(|v| !v.shared) {
             private.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
             for c in [format!("get_{}", v.csp), format!("set_{}", v.csp)] {
                 hidden.push(name(c.clone()));
@@ -2108,13 +2354,20 @@ impl<'e, 'a> Gen<'e, 'a> {
         exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
         exports.push(Decl::Datatype("SIDS".into(), sids));
         exports.push(Decl::Channel(vec!["entered__".into()], vec![name("SIDS")]));
+        let shared: Vec<&VarI> = self.vars.iter().filter(|v| v.shared).collect();
+        if !shared.is_empty() {
+            exports.push(Decl::Comment("The caller's variables, in the caller's memory.".into()));
+        }
+        for v in shared {
+            exports.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
+        }
         if !self.robosim {
             for e in &self.events {
                 let mut f = vec![name("InOut")];
                 f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
                 exports.push(Decl::Channel(vec![e.csp.clone()], f));
             }
-            for o in &self.ops {
+            for o in self.ops.iter().filter(|o| !o.defined) {
                 let f: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
                 exports.push(Decl::Channel(vec![format!("{}Call", ident(&o.name))], f));
                 if self.profile == Profile::Paper2019 {
@@ -2172,6 +2425,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             lets.push(Decl::Def("Behaviour__".into(), vec![], start.clone()));
         }
         lets.append(&mut self.defs);
+        lets.extend(std::mem::take(&mut self.op_calls).into_iter().map(|(_, d)| d));
         if self.robosim {
             // Rule 13: a finished machine keeps ending its cycles until all agree to terminate.
             lets.push(Decl::Def(
@@ -2193,6 +2447,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let init: Vec<Expr> = self
             .vars
             .iter()
+            .filter(|v| !v.shared)
             .map(|v| v.init.clone())
             .chain(self.clocks.iter().map(|_| Expr::Int(0)))
             .chain(
@@ -2215,6 +2470,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         if self.robosim {
             params.push("cycle".into());
         }
+        params.extend(self.op_params.iter().cloned());
         params.extend(self.consts.iter().map(|c| c.local.clone()));
         let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
 
@@ -2312,6 +2568,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             if self.robosim {
                 "P__: the machine with `terminate` visible (for composition); D__: its semantics;\n\
                  VS__: with `entered__` visible (reachability); O__: D__ compressed"
+            } else if self.is_operation {
+                "D__: the operation's semantics, terminating at its final state (callers rename its\n\
+                 channels to theirs); VS__: with `entered__` visible; O__: D__ compressed"
             } else {
                 "D__: the machine's semantics; VS__: with `entered__` visible (reachability);\n\
                  O__: D__ compressed"
@@ -2328,9 +2587,15 @@ impl<'e, 'a> Gen<'e, 'a> {
         doc.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
         exports.extend(doc);
         let kind = if self.robosim { "RoboSim" } else { "RoboChart" };
-        let path = self.ex.path_of_node(self.file, &self.node);
+        let mut path = self.ex.path_of_node(self.file, &self.node);
+        let what = if self.is_operation {
+            path.push(name_of(&self.node));
+            "operation"
+        } else {
+            "state machine"
+        };
         vec![
-            Decl::Comment(format!("{kind} state machine {}", path.join("::"))),
+            Decl::Comment(format!("{kind} {what} {}", path.join("::"))),
             Decl::Module(module.to_string(), private, exports),
             Decl::Blank,
         ]
@@ -2579,7 +2844,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     values,
                 });
             }
-            for o in &self.ops {
+            for o in self.ops.iter().filter(|o| !o.defined) {
                 let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
                 chans.push(Chan {
                     csp: format!("{}Call", ident(&o.name)),
@@ -2613,6 +2878,96 @@ impl<'e, 'a> Gen<'e, 'a> {
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, &self.node).unwrap_or(1),
         }
     }
+}
+
+/// An operation of the model exported as its own CSPm module.
+#[derive(Debug, Clone)]
+pub(crate) struct OperationOut {
+    /// Its module's name.
+    pub module: String,
+    /// The types of its parameters.
+    pub params: Vec<Ty>,
+    /// Its constants (parameters of its processes, after its parameters).
+    pub consts: Vec<(ConstParam, Ty)>,
+    /// Its channels: events, platform calls (and returns, paper2019).
+    pub chans: Vec<OpChan>,
+}
+
+/// What a channel of an exported operation is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum OpChanKind {
+    Event,
+    Call,
+    Ret,
+    /// `get_x` and `set_x` of a variable of the caller.
+    Var,
+}
+
+/// A channel of an exported operation.
+#[derive(Debug, Clone)]
+pub(crate) struct OpChan {
+    /// Its name in the operation's module (a variable's name for `Var`).
+    pub csp: String,
+    /// The model's event, operation or variable name.
+    pub model: String,
+    pub kind: OpChanKind,
+    /// For events: whether the operation receives it.
+    pub dir: Dir,
+    /// For events and variables: the type carried.
+    pub ty: Option<Ty>,
+    /// For calls: the parameters' types.
+    pub params: Vec<Ty>,
+}
+
+/// The CSPm module of the operation at `node` in `file` (RoboChart), made
+/// on first use; the reason when it cannot be exported.
+pub(crate) fn operation(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<OperationOut>, String> {
+    let key = (file, node.text_range());
+    let oname = name_of(node);
+    match ex.operations.get(&key) {
+        Some(Some(r)) => return r.clone(),
+        Some(None) => return Err(format!("the operation `{oname}` calls itself: not supported by the export yet")),
+        None => {}
+    }
+    ex.operations.insert(key, None);
+    let mut path = ex.path_of_node(file, node);
+    path.push(oname.clone());
+    let module = ex.module_name(&path);
+    let mut g = Gen::new(ex, file, node, false);
+    g.is_operation = true;
+    let mut params = Vec::new();
+    let mut problems = Vec::new();
+    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
+        let pn = name_of(&p);
+        match g.ex.ty(file, type_child(&p).as_ref()) {
+            Ok(t) => {
+                let local = g.local(&pn);
+                g.names.insert(pn, Nm::Param(local.clone(), t.clone()));
+                g.op_params.push(local);
+                params.push(t);
+            }
+            Err(m) => problems.push((file, p.text_range(), format!("parameter `{pn}`: {m}"))),
+        }
+    }
+    let result = if problems.is_empty() { g.run_operation(module.clone(), path.clone()) } else { Err(problems) };
+    let r = match result {
+        Ok((decls, out)) => {
+            ex.emit(file, decls);
+            Ok(Rc::new(OperationOut { module, params, ..out }))
+        }
+        Err(problems) => {
+            let mut lines = vec![format!("NOT EXPORTED: operation {}", path.join("::"))];
+            for (f, r, m) in &problems {
+                lines.push(format!("  {}: {m}", ex.loc(*f, *r)));
+                ex.warn(*f, *r, format!("operation {} is not exported: {m}", path.join("::")));
+            }
+            ex.emit(file, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
+            let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+            Err(format!("the operation `{oname}` is not exported: {why}"))
+        }
+    };
+    ex.operations.insert(key, Some(r.clone()));
+    r
 }
 
 /// A function of the model exported as a CSPm function.
