@@ -188,6 +188,15 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
             .contains("operation unsupported::Raise is not exported: `level` is a variable of the operation's caller"),
         "{stderr}"
     );
+    assert!(
+        stderr.contains("module unsupported::WithAsync is not exported: asynchronous connections between machines or controllers are not exported: the size of RoboTool's buffer"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("module unsupported::WithVars is not exported: platform variables are not exported"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.matches("warning:").count(), 4, "{stderr}");
     let csp = std::fs::read_to_string(dir.join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
     assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");

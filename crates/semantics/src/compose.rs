@@ -332,7 +332,9 @@ fn module_(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: String,
                 problems.push((
                     pf,
                     util::name_range(&pn),
-                    "platform variables are not supported by the export yet".into(),
+                    "platform variables are not exported: how the platform's updates reach the machines \
+                     that require them is not pinned down (semantics.md §4.1 only says they are visible)"
+                        .into(),
                 ));
             }
         }
@@ -423,7 +425,9 @@ fn robochart_container(
                     problems.push((
                         file,
                         c.text_range(),
-                        "asynchronous connections between machines or controllers are not supported by the export yet"
+                        "asynchronous connections between machines or controllers are not exported: the size of \
+                         RoboTool's buffer and what it does when full are not pinned down (semantics.md §11, \
+                         item 3)"
                             .into(),
                     ));
                     continue;
