@@ -267,6 +267,15 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
+    /// What is being translated, for messages.
+    fn what(&self) -> &'static str {
+        if self.is_operation {
+            "operation"
+        } else {
+            "machine"
+        }
+    }
+
     fn problem(&mut self, range: TextRange, msg: impl Into<String>) {
         self.problems.push((self.file, range, msg.into()));
     }
@@ -744,7 +753,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                     let p = path_of(e);
                     let n = p.last().cloned().unwrap_or_default();
                     let Some(s) = self.nodes.iter().position(|x| x.name == n && x.kind == NodeKind::State) else {
-                        self.problem(r, format!("`{n}` is not a state of the machine"));
+                        let what = self.what();
+                        self.problem(r, format!("`{n}` is not a state of the {what}"));
                         return None;
                     };
                     self.since_entry_clock(s)
@@ -1662,7 +1672,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         let r = comm.text_range();
         let ev = ref_of(comm).unwrap_or_default();
         let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
-            self.problem(r, format!("`{ev}` is not an event of the machine"));
+            let what = self.what();
+            self.problem(r, format!("`{ev}` is not an event of the {what} (declared or used through an interface)"));
             return None;
         };
         if self.robosim {
@@ -1956,7 +1967,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                 Some(comm) => {
                     let ev = ref_of(&comm).unwrap_or_default();
                     let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
-                        self.problem(comm.text_range(), format!("`{ev}` is not an event of the machine"));
+                        let what = self.what();
+                        self.problem(
+                            comm.text_range(),
+                            format!("`{ev}` is not an event of the {what} (declared or used through an interface)"),
+                        );
                         return None;
                     };
                     GateTrigger::Event(i)
