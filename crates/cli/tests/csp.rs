@@ -183,8 +183,23 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
         stderr.contains("unsupported.rct:13:9: state machine unsupported::Funs is not exported: `f`: the type `nat -> nat` is not supported"),
         "{stderr}"
     );
+    assert!(
+        stderr
+            .contains("operation unsupported::Raise is not exported: `level` is a variable of the operation's caller"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("module unsupported::WithAsync is not exported: asynchronous connections between machines or controllers are not exported: the size of RoboTool's buffer"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("module unsupported::WithVars is not exported: platform variables are not exported"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.matches("warning:").count(), 4, "{stderr}");
     let csp = std::fs::read_to_string(dir.join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
+    assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");
     // The machine that is supported is exported.
     assert!(csp.contains("module unsupported_Fine"), "{csp}");
     let _ = std::fs::remove_dir_all(&dir);

@@ -258,7 +258,10 @@ fn controller(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: Stri
     let events = declared_events(ex, file, node, &mut problems);
     for c in node.children() {
         if matches!(c.kind(), OPERATION_DEF | OPERATION_REF) {
-            let op = name_of(&c);
+            // The machines run the operations they can resolve by name;
+            // one they call the platform for is defined here only.
+            let op =
+                if c.kind() == OPERATION_REF { path_of(&c).last().cloned().unwrap_or_default() } else { name_of(&c) };
             let called =
                 insts.iter().any(|i| i.elem.chans.iter().any(|ch| ch.kind == ChanKind::Call && ch.model == op))
                     || insts.iter().any(|i| i.elem.outputs.iter().any(|o| o.model == op));
@@ -266,7 +269,11 @@ fn controller(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: Stri
                 problems.push((
                     file,
                     c.text_range(),
-                    format!("operation `{op}` is defined by the controller: calls of operations defined in the model are not exported yet"),
+                    format!(
+                        "operation `{op}` is provided by the controller, but the machines calling it cannot \
+                         resolve its definition by name (they run an operation only where they resolve it): \
+                         not supported by the export yet"
+                    ),
                 ));
             }
         }
@@ -325,7 +332,9 @@ fn module_(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: String,
                 problems.push((
                     pf,
                     util::name_range(&pn),
-                    "platform variables are not supported by the export yet".into(),
+                    "platform variables are not exported: how the platform's updates reach the machines \
+                     that require them is not pinned down (semantics.md §4.1 only says they are visible)"
+                        .into(),
                 ));
             }
         }
@@ -416,7 +425,9 @@ fn robochart_container(
                     problems.push((
                         file,
                         c.text_range(),
-                        "asynchronous connections between machines or controllers are not supported by the export yet"
+                        "asynchronous connections between machines or controllers are not exported: the size of \
+                         RoboTool's buffer and what it does when full are not pinned down (semantics.md §11, \
+                         item 3)"
                             .into(),
                     ));
                     continue;

@@ -372,6 +372,9 @@ pub(crate) struct Exporter<'a> {
     pub helpers: BTreeSet<&'static str>,
     /// Functions of the models: their CSPm function (`None` while made).
     pub functions: HashMap<Key, Option<Rc<crate::machine::FunctionOut>>>,
+    /// Operations of the models: their module or why not (`None` while
+    /// being made).
+    pub operations: HashMap<Key, Option<Result<Rc<crate::machine::OperationOut>, String>>>,
 }
 
 impl<'a> Exporter<'a> {
@@ -399,6 +402,7 @@ impl<'a> Exporter<'a> {
             seq_literal_max: 0,
             helpers: BTreeSet::new(),
             functions: HashMap::new(),
+            operations: HashMap::new(),
         }
     }
 
@@ -745,18 +749,10 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
                         ex.emit(f, vec![Decl::Comment(m), Decl::Blank]);
                     }
                 }
-                OPERATION_DEF => {
-                    let what = "operation";
-                    ex.emit(
-                        f,
-                        vec![
-                            Decl::Comment(format!(
-                                "{what} {}: not exported (calls of {what}s defined in the model are not supported yet)",
-                                name_of(&item)
-                            )),
-                            Decl::Blank,
-                        ],
-                    );
+                // Operations with a body (reported, with a NOT EXPORTED comment,
+                // when not exported); calls of the others are call events.
+                OPERATION_DEF if util::child(&item, INITIAL).is_some() => {
+                    let _ = crate::machine::operation(&mut ex, f, &item);
                 }
                 RECORD_DECL => {
                     if let Err(m) = ex.record(f, &item) {

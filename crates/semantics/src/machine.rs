@@ -107,6 +107,9 @@ struct VarI {
     csp: String,
     ty: Ty,
     init: Expr,
+    /// An operation's variable of its caller (required through an
+    /// interface): read and written through the caller's memory.
+    shared: bool,
 }
 
 struct ClockI {
@@ -134,6 +137,9 @@ struct EvI {
 struct OpI {
     name: String,
     params: Vec<Ty>,
+    /// Defined in the model (an `operation` with its own body): calls run
+    /// it (`CALL__op`) instead of calling the platform.
+    defined: bool,
 }
 
 struct GateI {
@@ -202,6 +208,18 @@ pub(crate) struct Gen<'e, 'a> {
     counter: usize,
     /// Depth of the statements and expressions being translated.
     nesting: usize,
+    /// Per node: whether it is a state with an activity (see
+    /// [`Gen::activity`]), started when it is entered and stopped by every
+    /// transition that leaves it.
+    active: Vec<bool>,
+    /// The activity processes (`Activity__S`).
+    activities: Vec<String>,
+    /// Translating an `operation` of the model (its parameters are those
+    /// of `D__`, after `id__`).
+    is_operation: bool,
+    op_params: Vec<String>,
+    /// `CALL__op` of the operations of the model called (their names).
+    op_calls: Vec<(String, Decl)>,
 }
 
 /// Statements and expressions nested deeper are not exported (the
@@ -241,6 +259,20 @@ impl<'e, 'a> Gen<'e, 'a> {
             display: false,
             counter: 0,
             nesting: 0,
+            active: Vec::new(),
+            activities: Vec::new(),
+            is_operation: false,
+            op_params: Vec::new(),
+            op_calls: Vec::new(),
+        }
+    }
+
+    /// What is being translated, for messages.
+    fn what(&self) -> &'static str {
+        if self.is_operation {
+            "operation"
+        } else {
+            "machine"
         }
     }
 
@@ -283,6 +315,77 @@ impl<'e, 'a> Gen<'e, 'a> {
         Ok(MachineOut { elem, decls, terms: self.terms })
     }
 
+    /// Translates an operation of the model: its CSPm module and its
+    /// channels and constants.
+    fn run_operation(mut self, module: String, path: Vec<String>) -> Result<(Vec<Decl>, OperationOut), Vec<Problem>> {
+        let node = self.node.clone();
+        self.declarations(&node);
+        self.collect_nodes(&node, None);
+        self.collect_transitions();
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        if !self.nodes.iter().any(|n| n.parent.is_none() && n.kind == NodeKind::Initial) {
+            self.problem(
+                util::name_range(&node),
+                "the operation has no body (initial junction): only operations defined by a state machine are exported",
+            );
+            return Err(self.problems);
+        }
+        let decls = self.generate(&module);
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        let _ = path;
+        let mut chans = Vec::new();
+        for e in &self.events {
+            chans.push(OpChan {
+                csp: e.csp.clone(),
+                model: e.name.clone(),
+                kind: OpChanKind::Event,
+                dir: if e.received { Dir::In } else { Dir::Out },
+                ty: e.ty.clone(),
+                params: Vec::new(),
+            });
+        }
+        let names: HashMap<String, usize> = self
+            .names
+            .iter()
+            .filter_map(|(k, v)| if let Nm::Var(i) = v { Some((k.clone(), *i)) } else { None })
+            .collect();
+        let mut shared: Vec<(&String, &usize)> = names.iter().filter(|(_, i)| self.vars[**i].shared).collect();
+        shared.sort_by_key(|(_, i)| **i);
+        for (model, i) in shared {
+            chans.push(OpChan {
+                csp: self.vars[*i].csp.clone(),
+                model: model.clone(),
+                kind: OpChanKind::Var,
+                dir: Dir::Out,
+                ty: Some(self.vars[*i].ty.clone()),
+                params: Vec::new(),
+            });
+        }
+        for o in self.ops.iter().filter(|o| !o.defined) {
+            let mut kinds = vec![OpChanKind::Call];
+            if self.profile == Profile::Paper2019 {
+                kinds.push(OpChanKind::Ret);
+            }
+            for kind in kinds {
+                let suffix = if kind == OpChanKind::Call { "Call" } else { "Ret" };
+                chans.push(OpChan {
+                    csp: format!("{}{suffix}", ident(&o.name)),
+                    model: o.name.clone(),
+                    kind,
+                    dir: Dir::Out,
+                    ty: None,
+                    params: o.params.clone(),
+                });
+            }
+        }
+        let consts = self.consts.iter().cloned().zip(self.const_ty.iter().cloned()).collect();
+        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans }))
+    }
+
     // ------------------------------------------------------ declarations
 
     fn declarations(&mut self, node: &SyntaxNode) {
@@ -314,8 +417,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                 match c.kind() {
                     VARIABLE_LIST => {
                         let is_const = c.children_with_tokens().any(|t| t.kind() == CONST_KW);
+                        let shared = self.is_operation && !is_const && n != *node;
                         for v in children(&c, VARIABLE) {
-                            self.variable(f, &v, is_const, io);
+                            self.variable(f, &v, is_const, io, shared);
                         }
                     }
                     CLOCK => {
@@ -363,7 +467,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                                 }
                             }
                         }
-                        self.ops.push(OpI { name: n.clone(), params });
+                        // An operation of the model with this name and a body (RoboTool
+                        // matches a required operation and its definition by name); one
+                        // with a contract only (`terminates`) stays a call event.
+                        let defined = !self.robosim
+                            && util::resolve(self.ex.db, self.ex.ws, file, std::slice::from_ref(&n), |k| {
+                                k == DefKind::Operation
+                            })
+                            .is_some_and(|(_, d)| child(&d, INITIAL).is_some());
+                        self.ops.push(OpI { name: n.clone(), params, defined });
                         self.names.insert(n, Nm::Op(self.ops.len() - 1));
                     }
                     OPERATION_DEF | OPERATION_REF | FUNCTION => self.problem(
@@ -376,7 +488,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    fn variable(&mut self, f: File, v: &SyntaxNode, is_const: bool, io: Option<robosim_hir::defs::Io>) {
+    fn variable(&mut self, f: File, v: &SyntaxNode, is_const: bool, io: Option<robosim_hir::defs::Io>, shared: bool) {
         let n = name_of(v);
         if self.names.contains_key(&n) {
             return;
@@ -400,6 +512,9 @@ impl<'e, 'a> Gen<'e, 'a> {
         if is_const {
             let local = self.local(&n);
             let mut owner = self.ex.path_of_node(self.file, &self.node);
+            if self.is_operation {
+                owner.push(name_of(&self.node));
+            }
             let global = ident(&format!("const_{}_{}", util::qualified(&owner), n));
             let default = match &init {
                 Some(e) if f == self.file => match self.expr(e, ECtx::Const, Some(&ty)) {
@@ -432,7 +547,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 },
                 None => ty.default_value(),
             };
-            self.vars.push(VarI { csp, ty, init });
+            self.vars.push(VarI { csp, ty, init, shared });
             self.names.insert(n, Nm::Var(self.vars.len() - 1));
         }
     }
@@ -579,6 +694,13 @@ impl<'e, 'a> Gen<'e, 'a> {
                         Some(EOut { e: name(format!("{}_value", self.events[ev].csp)), ty, pure: false })
                     }
                     Some(Nm::Param(p, ty)) => Some(EOut { e: name(p), ty, pure: true }),
+                    Some(Nm::Var(i)) if cx == ECtx::Memory && self.vars[i].shared => {
+                        self.problem(
+                            r,
+                            format!("`{n}` is a variable of the operation's caller: guards cannot read it in the export yet"),
+                        );
+                        None
+                    }
                     Some(Nm::Var(i)) if cx != ECtx::Const => {
                         let v = &self.vars[i];
                         let (csp, ty) = (v.csp.clone(), v.ty.clone());
@@ -631,7 +753,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                     let p = path_of(e);
                     let n = p.last().cloned().unwrap_or_default();
                     let Some(s) = self.nodes.iter().position(|x| x.name == n && x.kind == NodeKind::State) else {
-                        self.problem(r, format!("`{n}` is not a state of the machine"));
+                        let what = self.what();
+                        self.problem(r, format!("`{n}` is not a state of the {what}"));
                         return None;
                     };
                     self.since_entry_clock(s)
@@ -1248,6 +1371,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                     self.problem(r, format!("`{n}(…)` in a RoboSim machine must be an output: `${n}(…)`"));
                     return None;
                 }
+                if self.ops[o].defined {
+                    return self.call_operation(s, o);
+                }
                 let (args, reads) = self.arguments(s, o)?;
                 let op = &self.ops[o];
                 let mut fields = vec![name(format!("{}Call", ident(&op.name)))];
@@ -1364,6 +1490,144 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
+    /// A call of an operation defined in the model: its process
+    /// (`Op::D__(id__, args, constants)`, its events renamed to the
+    /// caller's), through `CALL__op(args)` as RoboTool names it. The
+    /// operation's events and platform calls become the caller's.
+    fn call_operation(&mut self, s: &SyntaxNode, o: usize) -> Option<Expr> {
+        let r = s.text_range();
+        let n = self.ops[o].name.clone();
+        let callee = |k| k == DefKind::Operation;
+        let (of, onode) = util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&n), callee)?;
+        let op = match operation(self.ex, of, &onode) {
+            Ok(op) => op,
+            Err(m) => {
+                self.problem(r, m);
+                return None;
+            }
+        };
+        if op.params != self.ops[o].params {
+            self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
+            return None;
+        }
+        let helper = format!("CALL__{}", ident(&n));
+        if !self.op_calls.iter().any(|(h, _)| *h == helper) {
+            let def = self.operation_helper(&op, &helper, r)?;
+            self.op_calls.push((helper.clone(), def));
+        }
+        let (args, reads) = self.arguments(s, o)?;
+        let p = if args.is_empty() { name(helper) } else { call(helper, args) };
+        let p = self.with_reads(&reads, p);
+        self.record_term(head_range(s), TermKind::Call, || p.clone());
+        Some(p)
+    }
+
+    /// `CALL__op(x…) = Op::D__(id__, x…, constants) [[ Op::e <- e, … ]]`:
+    /// the operation's constants become the caller's, its channels the
+    /// caller's channels of the same name.
+    fn operation_helper(&mut self, op: &OperationOut, helper: &str, r: TextRange) -> Option<Decl> {
+        let params: Vec<String> = (0..op.params.len()).map(|k| format!("x{k}__")).collect();
+        let mut args = vec![name("id__")];
+        args.extend(params.iter().map(|p| name(p.clone())));
+        for (c, t) in &op.consts {
+            let local = match self.consts.iter().find(|x| x.global == c.global) {
+                Some(x) => x.local.clone(),
+                None => {
+                    let local = self.local(&format!("{}_{}", c.owner.last().cloned().unwrap_or_default(), c.name));
+                    self.consts.push(ConstParam { local: local.clone(), ..c.clone() });
+                    self.const_ty.push(t.clone());
+                    local
+                }
+            };
+            args.push(name(local));
+        }
+        let mut renames = Vec::new();
+        for ch in &op.chans {
+            let mine = match ch.kind {
+                OpChanKind::Var => {
+                    let mine = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Var(i)) if Some(&self.vars[i].ty) == ch.ty.as_ref() => self.vars[i].csp.clone(),
+                        _ => {
+                            self.problem(
+                                r,
+                                format!(
+                                    "the operation uses the variable `{}`, which the caller lacks (or of another type)",
+                                    ch.model
+                                ),
+                            );
+                            return None;
+                        }
+                    };
+                    for g in ["get_", "set_"] {
+                        renames.push((name(format!("{}::{g}{}", op.module, ch.csp)), name(format!("{g}{mine}"))));
+                    }
+                    continue;
+                }
+                OpChanKind::Event => {
+                    let ty = ch.ty.clone();
+                    let i = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Event(i)) => i,
+                        None => {
+                            let csp = self.local(&ch.model);
+                            self.events.push(EvI {
+                                name: ch.model.clone(),
+                                csp,
+                                ty: ty.clone(),
+                                io: None,
+                                received: false,
+                                trig: false,
+                            });
+                            self.names.insert(ch.model.clone(), Nm::Event(self.events.len() - 1));
+                            self.events.len() - 1
+                        }
+                        Some(_) => {
+                            self.problem(r, format!("`{}` of the operation is not an event of the caller", ch.model));
+                            return None;
+                        }
+                    };
+                    if self.events[i].ty != ty {
+                        self.problem(r, format!("the event `{}` has another type in the operation", ch.model));
+                        return None;
+                    }
+                    if ch.dir == Dir::In {
+                        self.events[i].received = true;
+                    }
+                    self.events[i].csp.clone()
+                }
+                OpChanKind::Call | OpChanKind::Ret => {
+                    let i = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Op(i)) => i,
+                        None => {
+                            let params = ch.params.clone();
+                            self.ops.push(OpI { name: ch.model.clone(), params, defined: false });
+                            self.names.insert(ch.model.clone(), Nm::Op(self.ops.len() - 1));
+                            self.ops.len() - 1
+                        }
+                        Some(_) => {
+                            self.problem(
+                                r,
+                                format!("`{}` of the operation is not an operation of the caller", ch.model),
+                            );
+                            return None;
+                        }
+                    };
+                    if self.ops[i].params != ch.params || self.ops[i].defined {
+                        self.problem(r, format!("the operation `{}` has another signature in the callee", ch.model));
+                        return None;
+                    }
+                    let suffix = if ch.kind == OpChanKind::Call { "Call" } else { "Ret" };
+                    format!("{}{suffix}", ident(&ch.model))
+                }
+            };
+            renames.push((name(format!("{}::{}", op.module, ch.csp)), name(mine)));
+        }
+        let mut body = call(format!("{}::D__", op.module), args);
+        if !renames.is_empty() {
+            body = Expr::Rename(Box::new(body), renames, vec![]);
+        }
+        Some(Decl::Def(helper.to_string(), params, body))
+    }
+
     /// A RoboSim output: the register write, urgent (robotool3), or its
     /// record in the machine's buffer (paper2019, Rule 7).
     fn output(&mut self, model: &str, args: Vec<Expr>, _r: TextRange) -> Option<Expr> {
@@ -1408,7 +1672,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         let r = comm.text_range();
         let ev = ref_of(comm).unwrap_or_default();
         let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
-            self.problem(r, format!("`{ev}` is not an event of the machine"));
+            let what = self.what();
+            self.problem(r, format!("`{ev}` is not an event of the {what} (declared or used through an interface)"));
             return None;
         };
         if self.robosim {
@@ -1553,6 +1818,19 @@ impl<'e, 'a> Gen<'e, 'a> {
     fn transition(&mut self, t: usize, leaf: Option<usize>) -> Option<Expr> {
         let syn = self.trans[t].syn.clone();
         let mut rest = Vec::new();
+        // The activities of the states it leaves stop at once, innermost
+        // first (RoboChart: the trigger interrupts the during actions).
+        let mut cur = Some(leaf.unwrap_or(self.trans[t].source));
+        while let Some(c) = cur {
+            if self.active.get(c).copied().unwrap_or(false) {
+                let sid = format!("SID_{}", self.nodes[c].tag);
+                rest.push(prefix("deactivate__", vec![Field::Dot(name(sid))], Expr::Skip));
+            }
+            if c == self.trans[t].source {
+                break;
+            }
+            cur = self.nodes[c].parent;
+        }
         // Exit actions from the leaf up to the source.
         if let Some(l) = leaf {
             let mut cur = Some(l);
@@ -1586,8 +1864,15 @@ impl<'e, 'a> Gen<'e, 'a> {
         let then = fold_seq(rest);
         let tid = self.trans[t].tid.clone();
         if let Some(d) = child(&syn, DEADLINE) {
-            self.problem(d.text_range(), "deadlines on transitions are not supported by the export yet");
-            return None;
+            // Its timer is part of the source's activity.
+            if self.nodes[self.trans[t].source].kind != NodeKind::State {
+                self.problem(
+                    d.text_range(),
+                    "deadlines on transitions from junctions are not supported by the export yet \
+                     (a junction is left at once or waits for a guard)",
+                );
+                return None;
+            }
         }
         if let Some(p) = child(&syn, PROBABILITY) {
             self.problem(p.text_range(), "probabilistic transitions have no meaning in the tock-CSP semantics");
@@ -1616,6 +1901,16 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.gates.push(g);
             }
         }
+        // States with an activity: a composite state's during action, the
+        // deadlines of the transitions from a state.
+        self.active = (0..self.nodes.len())
+            .map(|n| {
+                let node = &self.nodes[n];
+                node.kind == NodeKind::State
+                    && ((self.nodes.iter().any(|c| c.parent == Some(n)) && child(&node.syn, DURING_ACTION).is_some())
+                        || self.trans.iter().any(|t| t.source == n && child(&t.syn, DEADLINE).is_some()))
+            })
+            .collect();
         // States, junctions and finals.
         for n in 0..self.nodes.len() {
             self.node_process(n);
@@ -1672,7 +1967,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                 Some(comm) => {
                     let ev = ref_of(&comm).unwrap_or_default();
                     let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
-                        self.problem(comm.text_range(), format!("`{ev}` is not an event of the machine"));
+                        let what = self.what();
+                        self.problem(
+                            comm.text_range(),
+                            format!("`{ev}` is not an event of the {what} (declared or used through an interface)"),
+                        );
                         return None;
                     };
                     GateTrigger::Event(i)
@@ -1737,7 +2036,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     fn memory_params(&self) -> Vec<String> {
-        let mut p: Vec<String> = self.vars.iter().map(|v| v.csp.clone()).collect();
+        let mut p: Vec<String> = self.vars.iter().filter(|v| !v.shared).map(|v| v.csp.clone()).collect();
         p.extend(self.clocks.iter().map(|c| c.csp.clone()));
         for e in self.events.iter().filter(|e| self.is_input(e)) {
             p.push(e.csp.clone());
@@ -1772,14 +2071,13 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let Some(entry) = self.action_of(&node_syn, ENTRY_ACTION) else { return };
                 parts.extend(entry);
                 let composite = self.nodes.iter().any(|c| c.parent == Some(n));
-                if composite {
-                    if child(&node_syn, DURING_ACTION).is_some() {
-                        self.problem(
-                            util::name_range(&node_syn),
-                            "during actions of composite states are not supported by the export yet",
-                        );
+                if self.active[n] {
+                    if !self.activity(n, composite) {
                         return;
                     }
+                    parts.push(prefix("activate__", vec![Field::Dot(name(format!("SID_{tag}")))], Expr::Skip));
+                }
+                if composite {
                     let Some(init) = self.nodes.iter().position(|c| c.parent == Some(n) && c.kind == NodeKind::Initial)
                     else {
                         self.problem(util::name_range(&node_syn), "a composite state without an initial junction");
@@ -1811,6 +2109,72 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.defs.push(Decl::Def(me, vec![], ext(alts)));
             }
         }
+    }
+
+    /// `Activity__S`: what state `S` does alongside its substates and
+    /// transitions, from the end of its entry action until a transition
+    /// leaves it (`activate__.SID_S` … `deactivate__.SID_S`): the during
+    /// action of a composite state (RoboChart: it runs in parallel with the
+    /// substates and is interrupted by the exit), and one timer per
+    /// transition from `S` with a deadline `<{d}`, which refuses time after
+    /// `d` time units (the transition must be taken by then). Returns false
+    /// when something is not exported.
+    fn activity(&mut self, n: usize, composite: bool) -> bool {
+        let syn = self.nodes[n].syn.clone();
+        let tag = self.nodes[n].tag.clone();
+        let mut parts = Vec::new();
+        if self.robosim {
+            // RoboSim has no transition deadlines: only a composite's during action gets here.
+            self.problem(
+                util::name_range(&syn),
+                "during actions of composite RoboSim states are not exported: how they share the \
+                 cycle with the substates (`exec`) is not pinned down",
+            );
+            return false;
+        }
+        if composite && child(&syn, DURING_ACTION).is_some() {
+            match self.action_of(&syn, DURING_ACTION) {
+                Some(Some(d)) => parts.push(seq(vec![d, name("TStop")])),
+                Some(None) => {}
+                None => return false,
+            }
+        }
+        for t in 0..self.trans.len() {
+            if self.trans[t].source != n {
+                continue;
+            }
+            let Some(limit) = child(&self.trans[t].syn, DEADLINE).and_then(|d| expr_child(&d)) else { continue };
+            let Some((d, reads)) = self.bexpr(&limit, None) else { return false };
+            let p = self.with_reads(&reads, call("Timer__", vec![d]));
+            parts.push(p);
+            if !self.defs.iter().any(|x| matches!(x, Decl::Def(f, _, _) if f == "Timer__")) {
+                // Time passes d times, then no more.
+                let body = guard(
+                    bin(BinOp::Gt, name("d__"), Expr::Int(0)),
+                    prefix("tock", vec![], call("Timer__", vec![bin(BinOp::Sub, name("d__"), Expr::Int(1))])),
+                );
+                self.defs.push(Decl::Def("Timer__".into(), vec!["d__".into()], body));
+            }
+        }
+        let run = parts
+            .into_iter()
+            .rev()
+            .reduce(|acc, p| par(p, Expr::Set(vec![name("tock")]), acc))
+            .unwrap_or_else(|| name("TStop"));
+        let me = format!("Activity__{tag}");
+        let sid = Field::Dot(name(format!("SID_{tag}")));
+        let body = ext(vec![
+            prefix(
+                "activate__",
+                vec![sid.clone()],
+                nary(ProcOp::Interrupt, vec![run, prefix("deactivate__", vec![sid], name(me.clone()))]),
+            ),
+            prefix("tock", vec![], name(me.clone())),
+            prefix("end__", vec![], Expr::Skip),
+        ]);
+        self.defs.push(Decl::Def(me.clone(), vec![], body));
+        self.activities.push(me);
+        true
     }
 
     /// `Rest__L`: the leaf `L` offers its transitions and those of its
@@ -1860,7 +2224,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             a[i] = v;
             a
         };
-        for (i, v) in self.vars.iter().enumerate() {
+        for (i, v) in self.vars.iter().filter(|v| !v.shared).enumerate() {
             alts.push(prefix(
                 format!("get_{}", v.csp),
                 vec![Field::Out(name(v.csp.clone()))],
@@ -1872,7 +2236,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.memory_call(with(i, name("v__"))),
             ));
         }
-        let nv = self.vars.len();
+        let nv = self.vars.iter().filter(|v| !v.shared).count();
         let mut ticked = same.clone();
         for (k, c) in self.clocks.iter().enumerate() {
             let i = nv + k;
@@ -1957,7 +2321,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         if !self.vars.is_empty() || !self.clocks.is_empty() {
             private.push(Decl::Comment("Memory: variables and clocks.".into()));
         }
-        for v in &self.vars {
+        for v in self.vars.iter().filter(|v| !v.shared) {
             private.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
             for c in [format!("get_{}", v.csp), format!("set_{}", v.csp)] {
                 hidden.push(name(c.clone()));
@@ -1992,17 +2356,33 @@ impl<'e, 'a> Gen<'e, 'a> {
             hidden.push(name("end__"));
             sync.push(name("end__"));
         }
+        if !self.activities.is_empty() {
+            private.push(Decl::Comment(
+                "Start and end of the activities of states (during actions of composite states, deadlines\n\
+                 of transitions)."
+                    .into(),
+            ));
+            private.push(Decl::Channel(vec!["activate__".into(), "deactivate__".into()], vec![name("SIDS")]));
+            hidden.extend([name("activate__"), name("deactivate__")]);
+        }
         // Exported interface.
         exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
         exports.push(Decl::Datatype("SIDS".into(), sids));
         exports.push(Decl::Channel(vec!["entered__".into()], vec![name("SIDS")]));
+        let shared: Vec<&VarI> = self.vars.iter().filter(|v| v.shared).collect();
+        if !shared.is_empty() {
+            exports.push(Decl::Comment("The caller's variables, in the caller's memory.".into()));
+        }
+        for v in shared {
+            exports.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
+        }
         if !self.robosim {
             for e in &self.events {
                 let mut f = vec![name("InOut")];
                 f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
                 exports.push(Decl::Channel(vec![e.csp.clone()], f));
             }
-            for o in &self.ops {
+            for o in self.ops.iter().filter(|o| !o.defined) {
                 let f: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
                 exports.push(Decl::Channel(vec![format!("{}Call", ident(&o.name))], f));
                 if self.profile == Profile::Paper2019 {
@@ -2060,6 +2440,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             lets.push(Decl::Def("Behaviour__".into(), vec![], start.clone()));
         }
         lets.append(&mut self.defs);
+        lets.extend(std::mem::take(&mut self.op_calls).into_iter().map(|(_, d)| d));
         if self.robosim {
             // Rule 13: a finished machine keeps ending its cycles until all agree to terminate.
             lets.push(Decl::Def(
@@ -2081,6 +2462,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let init: Vec<Expr> = self
             .vars
             .iter()
+            .filter(|v| !v.shared)
             .map(|v| v.init.clone())
             .chain(self.clocks.iter().map(|_| Expr::Int(0)))
             .chain(
@@ -2103,6 +2485,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         if self.robosim {
             params.push("cycle".into());
         }
+        params.extend(self.op_params.iter().cloned());
         params.extend(self.consts.iter().map(|c| c.local.clone()));
         let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
 
@@ -2133,7 +2516,18 @@ impl<'e, 'a> Gen<'e, 'a> {
             let comp = par(name("Behaviour__"), Expr::Events(outer_sync), inner);
             call("TimedPriority", vec![hide(comp, Expr::Events(hidden))])
         } else {
-            let beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
+            let mut beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
+            if !self.activities.is_empty() {
+                let acts = self
+                    .activities
+                    .iter()
+                    .rev()
+                    .map(|a| name(a.clone()))
+                    .reduce(|acc, a| par(a, Expr::Events(vec![name("tock"), name("end__")]), acc))
+                    .expect("an activity");
+                let with = Expr::Events(vec![name("activate__"), name("deactivate__"), name("tock"), name("end__")]);
+                beh = par(beh, with, acts);
+            }
             let comp = hide(par(beh, Expr::Events(sync), memory), Expr::Events(hidden));
             // Tagged triggers become the machine's events.
             let mut comp = comp;
@@ -2189,6 +2583,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             if self.robosim {
                 "P__: the machine with `terminate` visible (for composition); D__: its semantics;\n\
                  VS__: with `entered__` visible (reachability); O__: D__ compressed"
+            } else if self.is_operation {
+                "D__: the operation's semantics, terminating at its final state (callers rename its\n\
+                 channels to theirs); VS__: with `entered__` visible; O__: D__ compressed"
             } else {
                 "D__: the machine's semantics; VS__: with `entered__` visible (reachability);\n\
                  O__: D__ compressed"
@@ -2205,9 +2602,15 @@ impl<'e, 'a> Gen<'e, 'a> {
         doc.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
         exports.extend(doc);
         let kind = if self.robosim { "RoboSim" } else { "RoboChart" };
-        let path = self.ex.path_of_node(self.file, &self.node);
+        let mut path = self.ex.path_of_node(self.file, &self.node);
+        let what = if self.is_operation {
+            path.push(name_of(&self.node));
+            "operation"
+        } else {
+            "state machine"
+        };
         vec![
-            Decl::Comment(format!("{kind} state machine {}", path.join("::"))),
+            Decl::Comment(format!("{kind} {what} {}", path.join("::"))),
             Decl::Module(module.to_string(), private, exports),
             Decl::Blank,
         ]
@@ -2456,7 +2859,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     values,
                 });
             }
-            for o in &self.ops {
+            for o in self.ops.iter().filter(|o| !o.defined) {
                 let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
                 chans.push(Chan {
                     csp: format!("{}Call", ident(&o.name)),
@@ -2490,6 +2893,96 @@ impl<'e, 'a> Gen<'e, 'a> {
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, &self.node).unwrap_or(1),
         }
     }
+}
+
+/// An operation of the model exported as its own CSPm module.
+#[derive(Debug, Clone)]
+pub(crate) struct OperationOut {
+    /// Its module's name.
+    pub module: String,
+    /// The types of its parameters.
+    pub params: Vec<Ty>,
+    /// Its constants (parameters of its processes, after its parameters).
+    pub consts: Vec<(ConstParam, Ty)>,
+    /// Its channels: events, platform calls (and returns, paper2019).
+    pub chans: Vec<OpChan>,
+}
+
+/// What a channel of an exported operation is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum OpChanKind {
+    Event,
+    Call,
+    Ret,
+    /// `get_x` and `set_x` of a variable of the caller.
+    Var,
+}
+
+/// A channel of an exported operation.
+#[derive(Debug, Clone)]
+pub(crate) struct OpChan {
+    /// Its name in the operation's module (a variable's name for `Var`).
+    pub csp: String,
+    /// The model's event, operation or variable name.
+    pub model: String,
+    pub kind: OpChanKind,
+    /// For events: whether the operation receives it.
+    pub dir: Dir,
+    /// For events and variables: the type carried.
+    pub ty: Option<Ty>,
+    /// For calls: the parameters' types.
+    pub params: Vec<Ty>,
+}
+
+/// The CSPm module of the operation at `node` in `file` (RoboChart), made
+/// on first use; the reason when it cannot be exported.
+pub(crate) fn operation(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<OperationOut>, String> {
+    let key = (file, node.text_range());
+    let oname = name_of(node);
+    match ex.operations.get(&key) {
+        Some(Some(r)) => return r.clone(),
+        Some(None) => return Err(format!("the operation `{oname}` calls itself: not supported by the export yet")),
+        None => {}
+    }
+    ex.operations.insert(key, None);
+    let mut path = ex.path_of_node(file, node);
+    path.push(oname.clone());
+    let module = ex.module_name(&path);
+    let mut g = Gen::new(ex, file, node, false);
+    g.is_operation = true;
+    let mut params = Vec::new();
+    let mut problems = Vec::new();
+    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
+        let pn = name_of(&p);
+        match g.ex.ty(file, type_child(&p).as_ref()) {
+            Ok(t) => {
+                let local = g.local(&pn);
+                g.names.insert(pn, Nm::Param(local.clone(), t.clone()));
+                g.op_params.push(local);
+                params.push(t);
+            }
+            Err(m) => problems.push((file, p.text_range(), format!("parameter `{pn}`: {m}"))),
+        }
+    }
+    let result = if problems.is_empty() { g.run_operation(module.clone(), path.clone()) } else { Err(problems) };
+    let r = match result {
+        Ok((decls, out)) => {
+            ex.emit(file, decls);
+            Ok(Rc::new(OperationOut { module, params, ..out }))
+        }
+        Err(problems) => {
+            let mut lines = vec![format!("NOT EXPORTED: operation {}", path.join("::"))];
+            for (f, r, m) in &problems {
+                lines.push(format!("  {}: {m}", ex.loc(*f, *r)));
+                ex.warn(*f, *r, format!("operation {} is not exported: {m}", path.join("::")));
+            }
+            ex.emit(file, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
+            let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+            Err(format!("the operation `{oname}` is not exported: {why}"))
+        }
+    };
+    ex.operations.insert(key, Some(r.clone()));
+    r
 }
 
 /// A function of the model exported as a CSPm function.
