@@ -37,24 +37,24 @@ fn channel_name(c: &crate::ir::Channel) -> String {
 /// refinement between two designs): a channel's domains are the union of
 /// the designs'.
 pub fn shared_events(designs: &[&Design]) -> Result<EventTable, String> {
-    let mut channels: Vec<(String, Vec<crate::ir::Dom>)> = Vec::new();
+    let mut channels: Vec<(String, Vec<Param>)> = Vec::new();
     for d in designs {
         for c in &d.channels {
             let name = channel_name(c);
+            let disagree = || format!("the two sides disagree on the values of `{name}`");
             match channels.iter_mut().find(|(n, _)| *n == name) {
-                Some((_, params)) if params.len() == c.params.len() => {
-                    for (p, q) in params.iter_mut().zip(&c.params) {
-                        *p = crate::ir::Dom { lo: p.lo.min(q.lo), hi: p.hi.max(q.hi) };
+                Some((_, params)) if params.len() == c.shape.len() => {
+                    for (p, q) in params.iter_mut().zip(&c.shape) {
+                        *p = p.union(q).ok_or_else(disagree)?;
                     }
                 }
-                Some(_) => return Err(format!("the two sides disagree on the values of `{name}`")),
-                None => channels.push((name, c.params.clone())),
+                Some(_) => return Err(disagree()),
+                None => channels.push((name, c.shape.clone())),
             }
         }
     }
     let mut events = EventTable::default();
     for (name, params) in channels {
-        let params = params.into_iter().map(Param::Num).collect();
         events.add(name, params).map_err(|e| format!("the channel `{}` has too many values", e.0))?;
     }
     Ok(events)

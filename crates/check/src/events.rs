@@ -6,22 +6,69 @@ use crate::ir::{Dom, Val};
 use crate::lts::{Event, FIRST_VISIBLE};
 
 /// How a parameter is printed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Param {
     /// A number in a domain.
     Num(Dom),
     /// `true`/`false`.
     Bool,
+    /// A tuple encoded in one value (see [`crate::ir::Expr::Tuple`]),
+    /// printed as one field per component, as CSPm's `e.a.b`.
+    Tuple(Vec<Dom>),
 }
 
 impl Param {
     /// The values of the parameter.
-    pub fn dom(self) -> Dom {
+    pub fn dom(&self) -> Dom {
         match self {
-            Param::Num(d) => d,
+            Param::Num(d) => *d,
             Param::Bool => Dom::BOOL,
+            Param::Tuple(ds) => Dom { lo: 0, hi: tuple_size(ds).saturating_sub(1) as Val },
         }
     }
+
+    /// The parameter of two sides that must agree on it (a refinement):
+    /// numbers take both ranges; tuples must be the same.
+    pub fn union(&self, other: &Param) -> Option<Param> {
+        match (self, other) {
+            (Param::Tuple(a), Param::Tuple(b)) => (a == b).then(|| self.clone()),
+            (Param::Tuple(_), _) | (_, Param::Tuple(_)) => None,
+            _ => {
+                let (p, q) = (self.dom(), other.dom());
+                Some(Param::Num(Dom { lo: p.lo.min(q.lo), hi: p.hi.max(q.hi) }))
+            }
+        }
+    }
+
+    /// Writes value `v` as `.v` fields.
+    fn print(&self, v: Val, s: &mut String) {
+        match self {
+            Param::Bool => s.push_str(if v != 0 { ".true" } else { ".false" }),
+            Param::Num(_) => s.push_str(&format!(".{v}")),
+            Param::Tuple(ds) => {
+                for x in tuple_values(ds, v) {
+                    s.push_str(&format!(".{x}"));
+                }
+            }
+        }
+    }
+}
+
+/// The number of tuples of components `ds`.
+pub fn tuple_size(ds: &[Dom]) -> u64 {
+    ds.iter().fold(1u64, |acc, d| acc.saturating_mul(d.size().max(1)))
+}
+
+/// The components of the encoded tuple `code`.
+pub fn tuple_values(ds: &[Dom], code: Val) -> Vec<Val> {
+    let mut code = code.max(0) as u64;
+    let mut out = vec![0; ds.len()];
+    for (i, d) in ds.iter().enumerate().rev() {
+        let n = d.size().max(1);
+        out[i] = d.lo + (code % n) as Val;
+        code /= n;
+    }
+    out
 }
 
 /// A channel of the table.
@@ -96,11 +143,7 @@ impl EventTable {
         let g = &self.groups[gi];
         let mut s = g.name.clone();
         for (p, v) in g.params.iter().zip(args) {
-            s.push('.');
-            match p {
-                Param::Bool => s.push_str(if v != 0 { "true" } else { "false" }),
-                Param::Num(_) => s.push_str(&v.to_string()),
-            }
+            p.print(v, &mut s);
         }
         Some(s)
     }

@@ -88,6 +88,33 @@ pub enum Expr {
     Log(LogOp, Box<Expr>, Box<Expr>),
     /// `if c then a else b end`.
     If(Box<Expr>, Box<Expr>, Box<Expr>),
+    /// A tuple `(| a, b |)` encoded in one value: the components (each with
+    /// its domain) in mixed radix, the first the most significant, so that
+    /// the encodings count the tuples in CSPm's order of `e.a.b`.
+    Tuple(Vec<(Expr, Dom)>),
+    /// `t[i]` of an encoded tuple: `(t / stride) % size + lo`.
+    Proj(Box<Expr>, Val, Dom),
+    /// The set `{e}` of a finite set type, as a bitmask: bit `e - lo`.
+    Elem(Box<Expr>, Dom),
+    /// An operation on bitmask sets.
+    Set(SetOp, Box<Expr>, Box<Expr>),
+    /// `size(s)`: the number of elements of a bitmask set.
+    Card(Box<Expr>),
+}
+
+/// Operations on finite sets encoded as bitmasks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SetOp {
+    /// `union(a, b)`.
+    Union,
+    /// `inter(a, b)`.
+    Inter,
+    /// `diff(a, b)`.
+    Diff,
+    /// `subset(a, b)`: a boolean.
+    Subset,
+    /// `a` (a singleton, see [`Expr::Elem`]) meets `b`: `x in b`.
+    Meets,
 }
 
 /// Why an evaluation failed (reported, never a panic).
@@ -95,6 +122,9 @@ pub enum Expr {
 pub enum EvalError {
     /// Division or modulus by zero.
     DivByZero,
+    /// A tuple component or set element outside its type (it has no
+    /// encoding: the check cannot go on).
+    OutOfType,
 }
 
 impl Expr {
@@ -162,6 +192,37 @@ impl Expr {
                     b.eval(st, saturated)?
                 }
             }
+            Expr::Tuple(parts) => {
+                let mut code = 0;
+                for (e, d) in parts {
+                    let v = e.eval(st, saturated)?;
+                    if !d.contains(v) {
+                        return Err(EvalError::OutOfType);
+                    }
+                    code = code * d.size() as Val + (v - d.lo);
+                }
+                code
+            }
+            Expr::Proj(t, stride, d) => (t.eval(st, saturated)? / stride).rem_euclid(d.size().max(1) as Val) + d.lo,
+            Expr::Elem(e, d) => {
+                let v = e.eval(st, saturated)?;
+                if !d.contains(v) || v - d.lo >= 62 {
+                    return Err(EvalError::OutOfType);
+                }
+                1 << (v - d.lo)
+            }
+            Expr::Set(op, a, b) => {
+                let x = a.eval(st, saturated)?;
+                let y = b.eval(st, saturated)?;
+                match op {
+                    SetOp::Union => x | y,
+                    SetOp::Inter => x & y,
+                    SetOp::Diff => x & !y,
+                    SetOp::Subset => (x & !y == 0) as Val,
+                    SetOp::Meets => (x & y != 0) as Val,
+                }
+            }
+            Expr::Card(s) => s.eval(st, saturated)?.count_ones() as Val,
         })
     }
 
@@ -182,6 +243,9 @@ impl Expr {
             Expr::Neg(e, _) | Expr::Not(e) => e.is_static(),
             Expr::Arith(_, a, b, _) | Expr::Cmp(_, a, b) | Expr::Log(_, a, b) => a.is_static() && b.is_static(),
             Expr::If(c, a, b) => c.is_static() && a.is_static() && b.is_static(),
+            Expr::Tuple(parts) => parts.iter().all(|(e, _)| e.is_static()),
+            Expr::Proj(e, ..) | Expr::Elem(e, _) | Expr::Card(e) => e.is_static(),
+            Expr::Set(_, a, b) => a.is_static() && b.is_static(),
         }
     }
 }
@@ -197,6 +261,9 @@ pub struct Channel {
     pub is_call: bool,
     /// The domains of its arguments (one for a typed event).
     pub params: Vec<Dom>,
+    /// How each argument is named in events (a tuple's components are
+    /// fields of their own).
+    pub shape: Vec<crate::events::Param>,
     /// RoboSim inputs: the slot of the register's presence flag (its value
     /// is in the next slot).
     pub register: Option<u16>,

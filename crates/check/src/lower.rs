@@ -15,7 +15,64 @@ use robosim_hir::{parse, Db, File, Workspace};
 use robosim_syntax::ast::{self, AstNode};
 use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
+use crate::events::{tuple_size, Param};
 use crate::ir::*;
+
+/// The largest tuple type (number of tuples): its encoding must fit a slot.
+const MAX_TUPLES: u64 = 1 << 30;
+
+/// The largest element type of a set: a set is a bitmask in one slot.
+const MAX_SET_ELEMENTS: u64 = 31;
+
+/// A type as the lowering sees it. Every value is one slot: a product is
+/// its components in mixed radix (first component most significant, so
+/// that the codes count tuples in CSPm's order and one event parameter
+/// carries a tuple: the event table prints the components as fields); a
+/// finite set is a bitmask over its element type's codes.
+#[derive(Debug, Clone, PartialEq)]
+enum Ty {
+    /// Numbers, booleans, enumerations.
+    Num(Dom),
+    /// `A * B * …` of numeric components.
+    Tuple(Vec<Dom>),
+    /// `Set(T)` of a type with at most [`MAX_SET_ELEMENTS`] values.
+    Set(Box<Ty>),
+}
+
+impl Ty {
+    /// The slot's range.
+    fn dom(&self) -> Dom {
+        match self {
+            Ty::Num(d) => *d,
+            Ty::Tuple(ds) => Dom { lo: 0, hi: tuple_size(ds) as Val - 1 },
+            Ty::Set(el) => Dom { lo: 0, hi: (1 << el.dom().size()) - 1 },
+        }
+    }
+
+    /// The value of a variable declared without one: the least value of
+    /// each number (0 when in range), the empty set.
+    fn default_value(&self) -> Val {
+        let num = |d: Dom| d.lo.max(0).min(d.hi);
+        match self {
+            Ty::Num(d) => num(*d),
+            Ty::Tuple(ds) => ds.iter().fold(0, |code, d| code * d.size() as Val + (num(*d) - d.lo)),
+            Ty::Set(_) => 0,
+        }
+    }
+
+    /// How an event parameter of this type is named.
+    fn param(&self) -> Param {
+        match self {
+            Ty::Tuple(ds) => Param::Tuple(ds.clone()),
+            t => Param::Num(t.dom()),
+        }
+    }
+
+    /// Whether values of the type are plain numbers.
+    fn is_num(&self) -> bool {
+        matches!(self, Ty::Num(_))
+    }
+}
 
 /// Why a model cannot be checked natively.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -108,6 +165,7 @@ pub fn lower_design(
         shared_vars: HashMap::new(),
         platform_vars: BTreeSet::new(),
         machine_count: 0,
+        lone: false,
     };
     cx.lower(loc)
 }
@@ -127,6 +185,9 @@ struct Cx<'a> {
     platform_vars: BTreeSet<String>,
     /// How many machines the design has.
     machine_count: usize,
+    /// Whether the design is one machine on its own (every event faces the
+    /// environment).
+    lone: bool,
 }
 
 /// One machine to compile: its declaration and where it sits.
@@ -516,6 +577,7 @@ impl Cx<'_> {
             Ok(Some(Link { name, dir, internal: true }))
         };
         let lone = top_kind == STATE_MACHINE;
+        self.lone = lone;
         self.machine_count = instances.len();
         let mut slot: u16 = 0;
         for inst in &instances {
@@ -573,6 +635,8 @@ impl Cx<'_> {
             op_of_def: HashMap::new(),
             pending_ops: Vec::new(),
             cur_op: None,
+            types: HashMap::new(),
+            sends: HashMap::new(),
         };
         mc.declarations(&inst.node, &external)?;
         mc.collect_nodes(&inst.node, None)?;
@@ -628,6 +692,15 @@ fn received_events(machine: &SyntaxNode) -> Vec<String> {
             c.parent().is_some_and(|p| p.kind() == TRIGGER)
                 || c.children().any(|p| matches!(p.kind(), COMM_INPUT | COMM_SYNC))
         })
+        .filter_map(|c| c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)))
+        .collect()
+}
+
+/// The events a machine sends a value on (`e!v`).
+fn sent_events(machine: &SyntaxNode) -> Vec<String> {
+    machine
+        .descendants()
+        .filter(|n| n.kind() == COMMUNICATION && n.children().any(|p| p.kind() == COMM_OUTPUT))
         .filter_map(|c| c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)))
         .collect()
 }
@@ -691,11 +764,26 @@ struct MachineCx<'a, 'b> {
     cur_op: Option<u16>,
     /// Greatest static value each clock slot is compared with (-1: unknown).
     clock_caps: HashMap<u16, i32>,
+    /// The types of the variables, constants and events in scope whose
+    /// values are not plain numbers (tuples, sets).
+    types: HashMap<String, Ty>,
+    /// A lone machine's events that it both receives and sends: the
+    /// channel of their outputs.
+    sends: HashMap<String, u16>,
 }
 
 impl MachineCx<'_, '_> {
     fn err(&self, range: TextRange, msg: impl Into<String>) -> Unsupported {
         self.cx.unsupported(self.file, range, msg)
+    }
+
+    /// Records the type of `name`, which a declaration binds.
+    fn bind_ty(&mut self, name: &str, ty: &Ty) {
+        if ty.is_num() {
+            self.types.remove(name);
+        } else {
+            self.types.insert(name.to_string(), ty.clone());
+        }
     }
 
     fn emit(&mut self, i: Instr) {
@@ -713,18 +801,75 @@ impl MachineCx<'_, '_> {
         s
     }
 
+    /// A type whose values are plain numbers (parameters of operations).
     fn ty(&self, file: File, node: Option<&SyntaxNode>, at: TextRange) -> Result<Dom, Unsupported> {
+        match self.ty_of(file, node, at)? {
+            Ty::Num(d) => Ok(d),
+            _ => Err(self.cx.unsupported(
+                file,
+                node.map_or(at, |n| n.text_range()),
+                "product and set types are supported for variables, constants and events (not parameters) yet",
+            )),
+        }
+    }
+
+    /// A type: numbers, products of them, finite sets.
+    fn ty_of(&self, file: File, node: Option<&SyntaxNode>, at: TextRange) -> Result<Ty, Unsupported> {
         let Some(node) = node else {
             return Err(self.err(at, "an untyped declaration cannot be checked"));
         };
+        let range = node.text_range();
+        match node.kind() {
+            PRODUCT_TYPE => {
+                let mut comps = Vec::new();
+                for c in node.children().filter(|c| ast::is_type_kind(c.kind())) {
+                    match self.ty_of(file, Some(&c), at)? {
+                        Ty::Num(d) => comps.push(d),
+                        _ => {
+                            return Err(self.cx.unsupported(
+                                file,
+                                c.text_range(),
+                                "tuples whose components are tuples or sets are not supported yet",
+                            ))
+                        }
+                    }
+                }
+                let n = tuple_size(&comps);
+                if n > MAX_TUPLES {
+                    return Err(self.cx.unsupported(
+                        file,
+                        range,
+                        format!("the type `{}` has {n} values: too many to check natively", node.text()),
+                    ));
+                }
+                return Ok(Ty::Tuple(comps));
+            }
+            SET_TYPE => {
+                let inner = node.children().find(|c| ast::is_type_kind(c.kind()));
+                let el = self.ty_of(file, inner.as_ref(), range)?;
+                let n = el.dom().size();
+                if matches!(el, Ty::Set(_)) || n > MAX_SET_ELEMENTS {
+                    return Err(self.cx.unsupported(
+                        file,
+                        range,
+                        format!(
+                            "the set type `{}` is not supported: sets are checked over types with at most {MAX_SET_ELEMENTS} values, and its elements have {n}",
+                            node.text()
+                        ),
+                    ));
+                }
+                return Ok(Ty::Set(Box::new(el)));
+            }
+            _ => {}
+        }
         let path = if node.kind() == NAMED_TYPE { path_of(node) } else { Vec::new() };
         let last = path.last().map(String::as_str).unwrap_or("");
         let d = &self.cx.defaults;
         match last {
-            "boolean" => return Ok(Dom::BOOL),
-            "nat" => return Ok(d.nat),
-            "int" => return Ok(d.int),
-            "real" => return Ok(d.real),
+            "boolean" => return Ok(Ty::Num(Dom::BOOL)),
+            "nat" => return Ok(Ty::Num(d.nat)),
+            "int" => return Ok(Ty::Num(d.int)),
+            "real" => return Ok(Ty::Num(d.real)),
             _ => {}
         }
         if !path.is_empty() {
@@ -734,7 +879,7 @@ impl MachineCx<'_, '_> {
                 let name = last.to_string();
                 let core = format!("core_{name}");
                 return match d.types.iter().rev().find(|(n, _)| *n == name || *n == core) {
-                    Some((_, dom)) => Ok(*dom),
+                    Some((_, dom)) => Ok(Ty::Num(*dom)),
                     None => Err(self.cx.unsupported(
                         file,
                         node.text_range(),
@@ -744,14 +889,14 @@ impl MachineCx<'_, '_> {
             }
             if let Some((_, en)) = self.cx.resolve(file, &path, |k| k == DefKind::Enumeration) {
                 let n = en.children().filter(|c| c.kind() == ENUM_LITERAL).count() as Val;
-                return Ok(Dom { lo: 0, hi: (n - 1).max(0) });
+                return Ok(Ty::Num(Dom { lo: 0, hi: (n - 1).max(0) }));
             }
         }
         Err(self.cx.unsupported(
             file,
             node.text_range(),
             format!(
-                "the type `{}` is not supported by the native checker (booleans, numbers and enumerations are)",
+                "the type `{}` is not supported by the native checker (booleans, numbers, enumerations, their products and small finite sets are)",
                 node.text()
             ),
         ))
@@ -809,12 +954,14 @@ impl MachineCx<'_, '_> {
                         for v in c.children().filter(|v| v.kind() == VARIABLE) {
                             let name = name_of(&v);
                             let tnode = v.children().find(|t| ast::is_type_kind(t.kind()));
-                            let dom = self.ty(f, tnode.as_ref(), v.text_range())?;
+                            let ty = self.ty_of(f, tnode.as_ref(), v.text_range())?;
+                            let dom = ty.dom();
                             let init = v.children().find(|e| ast::is_expr_kind(e.kind()));
+                            self.bind_ty(&name, &ty);
                             if is_const {
                                 let value = match self.const_value(&name) {
                                     Some(v) => v,
-                                    None => match init.as_ref().map(|e| self.expr(e)).transpose()?.and_then(|e| e.constant())
+                                    None => match init.as_ref().map(|e| self.typed(e, &ty)).transpose()?.and_then(|e| e.constant())
                                     {
                                         Some(v) => v,
                                         None => {
@@ -835,15 +982,15 @@ impl MachineCx<'_, '_> {
                                 if from_interface {
                                     // A variable the machine requires: shared
                                     // by every machine of the design.
-                                    self.shared_variable(&c, &name, dom, init.as_ref())?;
+                                    self.shared_variable(&c, &name, &ty, init.as_ref())?;
                                     continue;
                                 }
                                 let slot = self.new_slot();
                                 let initv = match init.as_ref() {
-                                    Some(e) => self.expr(e)?.constant().ok_or_else(|| {
+                                    Some(e) => self.typed(e, &ty)?.constant().ok_or_else(|| {
                                         self.err(e.text_range(), "initial values must be constant expressions")
                                     })?,
-                                    None => dom.lo.max(0).min(dom.hi),
+                                    None => ty.default_value(),
                                 };
                                 let q = format!("{}::{name}", self.inst_prefix);
                                 self.design().vars.push(Var { name: q, slot, dom, init: initv });
@@ -862,13 +1009,31 @@ impl MachineCx<'_, '_> {
                     EVENT => {
                         let name = name_of(&c);
                         let tnode = c.children().find(|t| ast::is_type_kind(t.kind()));
-                        let ty = match tnode {
-                            Some(t) => Some(self.ty(f, Some(&t), c.text_range())?),
+                        let full = match tnode {
+                            Some(t) => Some(self.ty_of(f, Some(&t), c.text_range())?),
                             None => None,
                         };
+                        if let Some(Ty::Set(_)) = &full {
+                            return Err(self.err(
+                                c.text_range(),
+                                format!("events carrying sets (`{name}`) are not supported by the native checker yet"),
+                            ));
+                        }
+                        let ty = full.as_ref().map(Ty::dom);
+                        let shape: Vec<Param> = full.iter().map(Ty::param).collect();
+                        if let Some(t) = &full {
+                            self.bind_ty(&name, t);
+                        }
                         let chan = match external(&name) {
                             Ok(Some(link)) => {
-                                let chan = self.channel(&link.name, link.dir, false, ty.into_iter().collect());
+                                if self.cx.lone && link.dir == Dir::In && sent_events(node).contains(&name) {
+                                    // A machine on its own that also sends
+                                    // the event it receives: `e.out` is a
+                                    // channel of its own.
+                                    let out = self.channel(&link.name, Dir::Out, false, shape.clone());
+                                    self.sends.insert(name.clone(), out);
+                                }
+                                let chan = self.channel(&link.name, link.dir, false, shape);
                                 if link.internal {
                                     let d = self.design();
                                     d.channels[chan as usize].internal = true;
@@ -896,7 +1061,8 @@ impl MachineCx<'_, '_> {
                             self.names.insert(name, Name::Defined(k));
                             continue;
                         }
-                        let chan = self.channel(&name, Dir::Out, true, params.clone());
+                        let shape = params.iter().map(|&d| Param::Num(d)).collect();
+                        let chan = self.channel(&name, Dir::Out, true, shape);
                         self.names.insert(name, Name::Op { params, chan });
                     }
                     OPERATION_DEF | OPERATION_REF | FUNCTION => return Err(self.err(
@@ -917,9 +1083,10 @@ impl MachineCx<'_, '_> {
         &mut self,
         decl: &SyntaxNode,
         name: &str,
-        dom: Dom,
+        ty: &Ty,
         init: Option<&SyntaxNode>,
     ) -> Result<(), Unsupported> {
+        let dom = ty.dom();
         if self.cx.robosim || self.cx.platform_vars.contains(name) {
             return Err(self.err(
                 decl.text_range(),
@@ -935,10 +1102,10 @@ impl MachineCx<'_, '_> {
                 let slot = self.new_slot();
                 let value = match init {
                     Some(e) => self
-                        .expr(e)?
+                        .typed(e, ty)?
                         .constant()
                         .ok_or_else(|| self.err(e.text_range(), "initial values must be constant expressions"))?,
-                    None => dom.lo.max(0).min(dom.hi),
+                    None => ty.default_value(),
                 };
                 self.design().vars.push(Var { name: name.to_string(), slot, dom, init: value });
                 self.cx.shared_vars.insert(name.to_string(), (slot, dom));
@@ -950,10 +1117,20 @@ impl MachineCx<'_, '_> {
         Ok(())
     }
 
-    fn channel(&mut self, name: &str, dir: Dir, is_call: bool, params: Vec<Dom>) -> u16 {
-        if let Some(i) = self.design().channels.iter().position(|c| c.name == name && c.is_call == is_call) {
+    /// The channel `name` (made on first use); `shape` names its parameters.
+    fn channel(&mut self, name: &str, dir: Dir, is_call: bool, shape: Vec<Param>) -> u16 {
+        // A lone machine's `e.in` and `e.out` are two channels; otherwise
+        // the two ends of a connection between machines share one.
+        let lone = self.cx.lone;
+        if let Some(i) = self
+            .design()
+            .channels
+            .iter()
+            .position(|c| c.name == name && c.is_call == is_call && (!lone || c.dir == dir))
+        {
             return i as u16;
         }
+        let params = shape.iter().map(Param::dom).collect();
         // A RoboSim input is read into a register: presence, then value.
         let register = (self.cx.robosim && dir == Dir::In).then(|| {
             let s = self.new_slot();
@@ -961,7 +1138,7 @@ impl MachineCx<'_, '_> {
             s
         });
         let d = self.design();
-        d.channels.push(Channel { name: name.to_string(), dir, is_call, params, register, internal: false });
+        d.channels.push(Channel { name: name.to_string(), dir, is_call, params, shape, register, internal: false });
         (d.channels.len() - 1) as u16
     }
 
@@ -1215,9 +1392,10 @@ impl MachineCx<'_, '_> {
     fn trigger(&mut self, comm: &SyntaxNode) -> Result<Trigger, Unsupported> {
         let ev = comm.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)).unwrap_or_default();
         let (chan, dir, ty) = self.event(&ev, comm.text_range())?;
-        let (value, bind, out) = self.comm_parts(comm, ty)?;
+        let (value, bind, out) = self.comm_parts(comm, &ev, ty)?;
         Ok(match (dir, out.is_some()) {
             (Dir::Out, _) | (_, true) => {
+                let chan = if out.is_some() { self.sends.get(&ev).copied().unwrap_or(chan) } else { chan };
                 let args = out.or(value).into_iter().collect();
                 Trigger::Out { chan, args }
             }
@@ -1243,21 +1421,23 @@ impl MachineCx<'_, '_> {
     fn comm_parts(
         &mut self,
         comm: &SyntaxNode,
+        ev: &str,
         ty: Option<Dom>,
     ) -> Result<(Option<Expr>, Option<(u16, Dom)>, Option<Expr>), Unsupported> {
         let mut value = None;
         let mut bind = None;
         let mut out = None;
+        let want = self.types.get(ev).cloned().unwrap_or(Ty::Num(ty.unwrap_or(Dom::BOOL)));
         for p in comm.children() {
             match p.kind() {
                 COMM_SYNC => {
                     if let Some(e) = p.children().find(|e| ast::is_expr_kind(e.kind())) {
-                        value = Some(self.expr(&e)?);
+                        value = Some(self.typed(&e, &want)?);
                     }
                 }
                 COMM_OUTPUT => {
                     if let Some(e) = p.children().find(|e| ast::is_expr_kind(e.kind())) {
-                        out = Some(self.expr(&e)?);
+                        out = Some(self.typed(&e, &want)?);
                     }
                 }
                 COMM_INPUT => {
@@ -1265,6 +1445,11 @@ impl MachineCx<'_, '_> {
                         return Err(self.err(p.text_range(), "guarded inputs `e[|g|]?x` are not supported yet"));
                     }
                     let var = path_of(&p).join("::");
+                    if self.types.get(&var) != self.types.get(ev) {
+                        return Err(
+                            self.err(p.text_range(), format!("`{var}` and the values of `{ev}` have different types"))
+                        );
+                    }
                     match self.names.get(&var) {
                         Some(Name::Var { slot, dom, .. }) => bind = Some((*slot, *dom)),
                         _ => return Err(self.err(p.text_range(), format!("`{var}` is not a variable"))),
@@ -1304,7 +1489,36 @@ impl MachineCx<'_, '_> {
                     .children()
                     .find(|c| ast::is_expr_kind(c.kind()))
                     .ok_or_else(|| self.err(s.text_range(), "an assignment without a value"))?;
-                let expr = self.expr(&e)?;
+                let want = self.types.get(&target).cloned();
+                let index = s
+                    .children()
+                    .find(|c| c.kind() == ASSIGNABLE)
+                    .and_then(|a| a.children().find(|c| c.kind() == INDEX_ACCESS));
+                let expr = match (index, want) {
+                    (None, Some(t)) => self.typed(&e, &t)?,
+                    (None, None) => self.expr(&e)?,
+                    // `x[i] = v` of a tuple: the tuple with component i replaced.
+                    (Some(ix), Some(Ty::Tuple(ds))) => {
+                        let i = self.component(&ix, &ds)?;
+                        let slot = match self.names.get(&target) {
+                            Some(Name::Var { slot, .. }) => *slot,
+                            _ => return Err(self.err(s.text_range(), format!("`{target}` is not a variable"))),
+                        };
+                        let mut parts = Vec::new();
+                        for (j, d) in ds.iter().enumerate() {
+                            let part = if j == i {
+                                self.expr(&e)?
+                            } else {
+                                Expr::Proj(Box::new(Expr::Slot(slot)), stride(&ds, j), *d)
+                            };
+                            parts.push((part, *d));
+                        }
+                        Expr::Tuple(parts)
+                    }
+                    (Some(ix), _) => {
+                        return Err(self.err(ix.text_range(), "only the components of tuples can be indexed"))
+                    }
+                };
                 match self.names.get(&target) {
                     Some(Name::Var { slot, dom, shared }) => {
                         self.emit(Instr::Assign { slot: *slot, expr, dom: *dom, shared: *shared })
@@ -1348,7 +1562,12 @@ impl MachineCx<'_, '_> {
                     .ok_or_else(|| self.err(s.text_range(), "an incomplete communication"))?;
                 let ev = comm.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)).unwrap_or_default();
                 let (chan, dir, ty) = self.event(&ev, comm.text_range())?;
-                let (value, bind, out) = self.comm_parts(&comm, ty)?;
+                let (value, bind, out) = self.comm_parts(&comm, &ev, ty)?;
+                // A lone machine sends on the `e.out` of an event it also receives.
+                let (chan, dir) = match self.sends.get(&ev) {
+                    Some(&c) if out.is_some() => (c, Dir::Out),
+                    _ => (chan, dir),
+                };
                 match dir {
                     Dir::Out => {
                         if bind.is_some() {
@@ -1415,8 +1634,9 @@ impl MachineCx<'_, '_> {
                     return Err(self.err(s.text_range(), format!("`{name}` is not an output")));
                 }
                 let value = s.children().find(|e| ast::is_expr_kind(e.kind()));
+                let want = self.types.get(&name).cloned().unwrap_or(Ty::Num(ty.unwrap_or(Dom::BOOL)));
                 let args = match value {
-                    Some(v) => vec![self.expr(&v)?],
+                    Some(v) => vec![self.typed(&v, &want)?],
                     None => Vec::new(),
                 };
                 if ty.is_some() == args.is_empty() {
@@ -1541,6 +1761,7 @@ impl MachineCx<'_, '_> {
                 ));
             }
             let saved_names = std::mem::take(&mut self.names);
+            let saved_types = std::mem::take(&mut self.types);
             let saved_decl = std::mem::replace(&mut self.decl_name, name.clone());
             let saved_op = self.cur_op.replace(k);
             let plist = node.children().find(|p| p.kind() == PARAM_LIST);
@@ -1557,6 +1778,7 @@ impl MachineCx<'_, '_> {
             let start = self.region_start(&node, None)?;
             self.ops[k as usize].start_pc = start;
             self.names = saved_names;
+            self.types = saved_types;
             self.decl_name = saved_decl;
             self.cur_op = saved_op;
         }
@@ -1598,6 +1820,9 @@ impl MachineCx<'_, '_> {
             }
             REF_EXPR => {
                 let n = ident_text(e);
+                if self.types.contains_key(&n) {
+                    return Err(self.err(e.text_range(), format!("`{n}` is a tuple or a set, used here as a number")));
+                }
                 match self.names.get(&n) {
                     Some(Name::Var { slot, .. }) => Expr::Slot(*slot),
                     Some(Name::Const(v)) => Expr::Const(*v),
@@ -1691,6 +1916,9 @@ impl MachineCx<'_, '_> {
                     return Err(self.err(e.text_range(), "an incomplete expression"));
                 };
                 let op = ast::binary_operator(e);
+                if let Some(r) = self.structured_binary(e, op, a, b)? {
+                    return Ok(r);
+                }
                 let x = self.expr(a)?;
                 let y = self.expr(b)?;
                 // Clock comparisons bound the clock's range.
@@ -1736,6 +1964,40 @@ impl MachineCx<'_, '_> {
                 };
                 Expr::If(Box::new(self.expr(c)?), Box::new(self.expr(a)?), Box::new(self.expr(b)?))
             }
+            INDEX_EXPR => {
+                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let [base, _] = parts.as_slice() else {
+                    return Err(self.err(e.text_range(), "an incomplete index"));
+                };
+                let Some(Ty::Tuple(ds)) = self.infer(base) else {
+                    return Err(self.err(e.text_range(), "only the components of tuples can be indexed"));
+                };
+                let i = self.component(e, &ds)?;
+                let t = self.typed(base, &Ty::Tuple(ds.clone()))?;
+                Expr::Proj(Box::new(t), stride(&ds, i), ds[i])
+            }
+            CALL_EXPR if matches!(call_parts(e).0.as_str(), "member" | "size" | "card" | "subset") => {
+                let (f, args) = call_parts(e);
+                match (f.as_str(), args.as_slice()) {
+                    ("member", [x, set]) => self.member(e, x, set)?,
+                    ("size" | "card", [set]) => {
+                        let Some(t @ Ty::Set(_)) = self.infer(set) else {
+                            return Err(self.err(e.text_range(), format!("`{f}` of a set whose type is not known")));
+                        };
+                        Expr::Card(Box::new(self.typed(set, &t)?))
+                    }
+                    ("subset", [x, y]) => {
+                        let Some(t @ Ty::Set(_)) = self.infer(x).or_else(|| self.infer(y)) else {
+                            return Err(self.err(e.text_range(), "`subset` of sets whose type is not known"));
+                        };
+                        Expr::Set(SetOp::Subset, Box::new(self.typed(x, &t)?), Box::new(self.typed(y, &t)?))
+                    }
+                    _ => return Err(self.err(e.text_range(), format!("`{f}` with {} arguments", args.len()))),
+                }
+            }
+            TUPLE_EXPR | SET_EXPR => {
+                return Err(self.err(e.text_range(), "a tuple or set where a number is expected"));
+            }
             k => {
                 return Err(self.err(
                     e.text_range(),
@@ -1744,6 +2006,174 @@ impl MachineCx<'_, '_> {
             }
         })
     }
+}
+
+impl MachineCx<'_, '_> {
+    /// The type of `e` when it is a tuple or a set, as far as the names in
+    /// it tell (literals take the type their context wants).
+    fn infer(&self, e: &SyntaxNode) -> Option<Ty> {
+        let exprs = || e.children().filter(|c| ast::is_expr_kind(c.kind()));
+        match e.kind() {
+            PAREN_EXPR => self.infer(&exprs().next()?),
+            REF_EXPR => self.types.get(&ident_text(e)).cloned(),
+            CALL_EXPR => {
+                let (f, args) = call_parts(e);
+                matches!(f.as_str(), "union" | "inter" | "diff").then(|| args.iter().find_map(|a| self.infer(a)))?
+            }
+            IF_EXPR => exprs().skip(1).find_map(|b| self.infer(&b)),
+            _ => None,
+        }
+    }
+
+    /// Lowers `e` as a value of type `want`.
+    fn typed(&mut self, e: &SyntaxNode, want: &Ty) -> Result<Expr, Unsupported> {
+        if want.is_num() {
+            return self.expr(e);
+        }
+        let exprs: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+        let r = match (e.kind(), want) {
+            (PAREN_EXPR, _) if exprs.len() == 1 => self.typed(&exprs[0], want)?,
+            (IF_EXPR, _) if exprs.len() == 3 => Expr::If(
+                Box::new(self.expr(&exprs[0])?),
+                Box::new(self.typed(&exprs[1], want)?),
+                Box::new(self.typed(&exprs[2], want)?),
+            ),
+            (TUPLE_EXPR, Ty::Tuple(ds)) => {
+                if exprs.len() != ds.len() {
+                    return Err(self.err(e.text_range(), format!("a tuple of {} components is expected", ds.len())));
+                }
+                let mut parts = Vec::new();
+                for (x, d) in exprs.iter().zip(ds) {
+                    parts.push((self.expr(x)?, *d));
+                }
+                Expr::Tuple(parts)
+            }
+            (SET_EXPR, Ty::Set(el)) => {
+                let mut acc: Option<Expr> = None;
+                for x in &exprs {
+                    let bit = Expr::Elem(Box::new(self.typed(x, el)?), el.dom());
+                    acc = Some(match acc {
+                        None => bit,
+                        Some(a) => Expr::Set(SetOp::Union, Box::new(a), Box::new(bit)),
+                    });
+                }
+                acc.unwrap_or(Expr::Const(0))
+            }
+            (CALL_EXPR, Ty::Set(_)) if matches!(call_parts(e).0.as_str(), "union" | "inter" | "diff") => {
+                let (f, args) = call_parts(e);
+                let [a, b] = args.as_slice() else {
+                    return Err(self.err(e.text_range(), format!("`{f}` takes two sets")));
+                };
+                let op = match f.as_str() {
+                    "union" => SetOp::Union,
+                    "inter" => SetOp::Inter,
+                    _ => SetOp::Diff,
+                };
+                Expr::Set(op, Box::new(self.typed(a, want)?), Box::new(self.typed(b, want)?))
+            }
+            (REF_EXPR, _) => {
+                let n = ident_text(e);
+                if self.types.get(&n) != Some(want) {
+                    return Err(self.err(e.text_range(), format!("`{n}` does not have the type expected here")));
+                }
+                match self.names.get(&n) {
+                    Some(Name::Var { slot, .. }) => Expr::Slot(*slot),
+                    Some(Name::Const(v)) => Expr::Const(*v),
+                    _ => return Err(self.err(e.text_range(), format!("`{n}` is not a variable or constant"))),
+                }
+            }
+            _ => {
+                let what = if matches!(want, Ty::Set(_)) { "a set" } else { "a tuple" };
+                return Err(self.err(
+                    e.text_range(),
+                    format!("{what} is expected here; this expression is not supported as one by the native checker"),
+                ));
+            }
+        };
+        // Fold constant values (initial values, constants).
+        Ok(match r.constant() {
+            Some(v) if !matches!(r, Expr::Slot(_)) => Expr::Const(v),
+            _ => r,
+        })
+    }
+
+    /// `==`, `!=` of tuples and sets, and `x in s`; `None` for numbers.
+    fn structured_binary(
+        &mut self,
+        e: &SyntaxNode,
+        op: Option<SyntaxKind>,
+        a: &SyntaxNode,
+        b: &SyntaxNode,
+    ) -> Result<Option<Expr>, Unsupported> {
+        Ok(match op {
+            Some(k @ (EQ2 | NEQ)) => {
+                let Some(t) = self.infer(a).or_else(|| self.infer(b)) else { return Ok(None) };
+                let cmp = if k == EQ2 { CmpOp::Eq } else { CmpOp::Ne };
+                Some(Expr::Cmp(cmp, Box::new(self.typed(a, &t)?), Box::new(self.typed(b, &t)?)))
+            }
+            Some(IN_KW) => Some(self.member(e, a, b)?),
+            _ => None,
+        })
+    }
+
+    /// `x in set`, `member(x, set)`.
+    fn member(&mut self, e: &SyntaxNode, x: &SyntaxNode, set: &SyntaxNode) -> Result<Expr, Unsupported> {
+        if let Some(t @ Ty::Set(_)) = self.infer(set) {
+            let Ty::Set(el) = &t else { unreachable!() };
+            let bit = Expr::Elem(Box::new(self.typed(x, el)?), el.dom());
+            return Ok(Expr::Set(SetOp::Meets, Box::new(bit), Box::new(self.typed(set, &t)?)));
+        }
+        // A literal set of numbers: one of the elements.
+        let mut inner = set.clone();
+        while inner.kind() == PAREN_EXPR {
+            match inner.children().find(|c| ast::is_expr_kind(c.kind())) {
+                Some(c) => inner = c,
+                None => break,
+            }
+        }
+        if inner.kind() == SET_EXPR && self.infer(x).is_none() {
+            let v = self.expr(x)?;
+            let mut acc = Expr::Const(0);
+            for el in inner.children().filter(|c| ast::is_expr_kind(c.kind())) {
+                let eq = Expr::Cmp(CmpOp::Eq, Box::new(v.clone()), Box::new(self.expr(&el)?));
+                acc = Expr::Log(LogOp::Or, Box::new(acc), Box::new(eq));
+            }
+            return Ok(acc);
+        }
+        Err(self.err(e.text_range(), "membership in a set whose type is not known"))
+    }
+
+    /// The component (0-based) an index `[i]` selects, `i` from 1.
+    fn component(&mut self, index: &SyntaxNode, ds: &[Dom]) -> Result<usize, Unsupported> {
+        let ix = index.children().filter(|c| ast::is_expr_kind(c.kind())).last();
+        let i = match ix {
+            Some(ix) => self.expr(&ix)?.constant(),
+            None => None,
+        };
+        match i {
+            Some(i) if 1 <= i && i as usize <= ds.len() => Ok(i as usize - 1),
+            _ => Err(self.err(
+                index.text_range(),
+                format!("a tuple of {} components is indexed by a constant from 1 to {}", ds.len(), ds.len()),
+            )),
+        }
+    }
+}
+
+/// The weight of component `i` in a tuple's code.
+fn stride(ds: &[Dom], i: usize) -> Val {
+    tuple_size(&ds[i + 1..]) as Val
+}
+
+/// The function's name and arguments of a call expression.
+fn call_parts(e: &SyntaxNode) -> (String, Vec<SyntaxNode>) {
+    let f = e.children().find(|c| c.kind() == REF_EXPR).map(|c| ident_text(&c)).unwrap_or_default();
+    let args = e
+        .children()
+        .find(|c| c.kind() == ARG_LIST)
+        .map(|a| a.children().filter(|x| ast::is_expr_kind(x.kind())).collect())
+        .unwrap_or_default();
+    (f, args)
 }
 
 fn kind_words(k: SyntaxKind) -> String {

@@ -260,6 +260,9 @@ impl Machine {
     fn eval_error(&self, e: EvalError) -> StepError {
         match e {
             EvalError::DivByZero => StepError(format!("division by zero in machine `{}`", self.name)),
+            EvalError::OutOfType => {
+                StepError(format!("a tuple component or set element outside its type in machine `{}`", self.name))
+            }
         }
     }
 

@@ -72,21 +72,22 @@ impl Registers {
     pub fn new(designs: &[&Design], profile: Profile) -> Result<Registers, String> {
         let paper = profile == Profile::Paper2019;
         let too_many = |e: crate::events::TooManyEvents| format!("the channel `{}` has too many values", e.0);
-        let mut ins: Vec<(String, Vec<Dom>)> = Vec::new();
-        let mut outs: Vec<(String, Vec<Dom>)> = Vec::new();
+        let mut ins: Vec<(String, Vec<Param>)> = Vec::new();
+        let mut outs: Vec<(String, Vec<Param>)> = Vec::new();
         for d in designs {
             for c in d.channels.iter().filter(|c| !c.internal) {
                 let list = if c.dir == Dir::In { &mut ins } else { &mut outs };
+                let disagree = || format!("the two sides disagree on the arguments of `{}`", c.name);
                 match list.iter_mut().find(|(n, _)| *n == c.name) {
                     Some((_, params)) => {
-                        if params.len() != c.params.len() {
-                            return Err(format!("the two sides disagree on the arguments of `{}`", c.name));
+                        if params.len() != c.shape.len() {
+                            return Err(disagree());
                         }
-                        for (p, q) in params.iter_mut().zip(&c.params) {
-                            *p = Dom { lo: p.lo.min(q.lo), hi: p.hi.max(q.hi) };
+                        for (p, q) in params.iter_mut().zip(&c.shape) {
+                            *p = p.union(q).ok_or_else(disagree)?;
                         }
                     }
-                    None => list.push((c.name.clone(), c.params.clone())),
+                    None => list.push((c.name.clone(), c.shape.clone())),
                 }
             }
         }
@@ -94,14 +95,14 @@ impl Registers {
         let mut reads = Vec::new();
         for (name, params) in &ins {
             let mut ps = vec![Param::Bool];
-            ps.extend(params.iter().map(|&d| Param::Num(d)));
+            ps.extend(params.iter().cloned());
             let label = if paper { format!("registerRead.{name}U") } else { format!("registerRead.i_{name}") };
             reads.push((name.clone(), table.add(label, ps).map_err(too_many)?));
         }
         let first_write = table.next_event();
         let mut writes = Vec::new();
         for (name, params) in &outs {
-            let ps = params.iter().map(|&d| Param::Num(d)).collect();
+            let ps = params.clone();
             let label = if paper { format!("registerWrite.{name}U.true") } else { format!("registerWrite.o_{name}") };
             writes.push((name.clone(), table.add(label, ps).map_err(too_many)?));
         }
@@ -241,7 +242,7 @@ impl<'a> Constrained<'a> {
                 (false, Dir::In, false) => format!("{}.in", c.name),
                 (false, Dir::Out, false) => format!("{}.out", c.name),
             };
-            let params = c.params.iter().map(|&d| Param::Num(d)).collect();
+            let params = c.shape.clone();
             design_group[i] = events.add(name, params).map_err(too_many)?;
             if paper && c.is_call {
                 ret_group[i] = events.add(format!("{}Ret", c.name), Vec::new()).map_err(too_many)?;
