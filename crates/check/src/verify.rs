@@ -131,6 +131,15 @@ pub struct Report {
     pub notes: Vec<String>,
 }
 
+/// Runs every assertion of the workspace made of `files` (path, text) and
+/// the bundled library, with the paper's rule set: for tests, fuzzing and
+/// embedding, where there is no database yet.
+pub fn verify_texts(files: impl IntoIterator<Item = (String, String)>, opts: &Options) -> Vec<Report> {
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    verify_workspace(&db, ws, opts, None)
+}
+
 /// Runs every assertion of every assertion file of the workspace.
 pub fn verify_workspace(db: &dyn Db, ws: Workspace, opts: &Options, progress: Option<ProgressFn>) -> Vec<Report> {
     let mut out = Vec::new();

@@ -2,7 +2,7 @@
 //! Figure 1) and RoboSim modules — deadlock, timelock and divergence
 //! freedom, determinism, reachability of a state.
 
-use robosim_check::verify::{trace_text, verify_workspace, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
 
 fn example(name: &str) -> String {
     std::fs::read_to_string(format!("{}/../../examples/paper/{name}", env!("CARGO_MANIFEST_DIR")))
@@ -10,13 +10,7 @@ fn example(name: &str) -> String {
 }
 
 fn run(files: &[(&str, String)]) -> Vec<Report> {
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(
-        &db,
-        files.iter().map(|(p, t)| (p.to_string(), t.clone())),
-        robosim_hir::RuleSet::Paper,
-    );
-    verify_workspace(&db, ws, &Options::default(), None)
+    verify_texts(files.iter().map(|(p, t)| (p.to_string(), t.clone())), &Options::default())
 }
 
 /// examples/paper/design.assertions: the assertions RoboTool users write

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use robosim_check::verify::{verify_workspace, Options, Report, Verdict};
+use robosim_check::verify::{verify_texts, Options, Report, Verdict};
 
 const DESIGN: &str = "interface I { event i op() }
     stm M { uses I requires I const k : nat initial i0 state S { entry op(); wait(1) }
@@ -12,13 +12,7 @@ const DESIGN: &str = "interface I { event i op() }
     module Mod { robotic platform P { uses I provides I } cref c = C connection P on i to c on i }";
 
 fn run(rsa: &str, opts: &Options) -> Vec<Report> {
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(
-        &db,
-        [("m.rct".to_string(), DESIGN.to_string()), ("a.rsa".to_string(), rsa.to_string())],
-        robosim_hir::RuleSet::Paper,
-    );
-    verify_workspace(&db, ws, opts, None)
+    verify_texts([("m.rct".to_string(), DESIGN.to_string()), ("a.rsa".to_string(), rsa.to_string())], opts)
 }
 
 fn reason(r: &Report) -> &str {

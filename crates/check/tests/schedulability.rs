@@ -2,7 +2,7 @@
 //! time, and on the paper's running example against the reference oracle
 //! (`../shared/spec/semantics_oracle.py`, run with python3).
 
-use robosim_check::verify::{trace_text, verify_workspace, Options, Profile, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_texts, Options, Profile, Report, Verdict};
 
 /// Runs the assertions of `rsa` over the design `rct`.
 fn run(rct: &str, rsa: &str) -> Vec<Report> {
@@ -10,13 +10,10 @@ fn run(rct: &str, rsa: &str) -> Vec<Report> {
 }
 
 fn run_with(rct: &str, rsa: &str, profile: Profile) -> Vec<Report> {
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(
-        &db,
+    verify_texts(
         [("design.rct".to_string(), rct.to_string()), ("checks.rsa".to_string(), rsa.to_string())],
-        robosim_hir::RuleSet::Paper,
-    );
-    verify_workspace(&db, ws, &Options { profile, ..Options::default() }, None)
+        &Options { profile, ..Options::default() },
+    )
 }
 
 /// A module around one machine `M` with the platform events and operations

@@ -4,16 +4,10 @@
 
 use std::path::Path;
 
-use robosim_check::verify::{trace_text, verify_workspace, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
 
 fn run(files: &[(&str, String)]) -> Vec<Report> {
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(
-        &db,
-        files.iter().map(|(p, t)| (p.to_string(), t.clone())),
-        robosim_hir::RuleSet::Paper,
-    );
-    verify_workspace(&db, ws, &Options::default(), None)
+    verify_texts(files.iter().map(|(p, t)| (p.to_string(), t.clone())), &Options::default())
 }
 
 const MODEL: &str = r#"type ID

@@ -25,15 +25,7 @@ pub struct BodyResolution {
 /// Resolves the names used in the behaviour of `file`.
 #[salsa::tracked(returns(ref))]
 pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution {
-    let mut r = Body {
-        db,
-        ws,
-        file,
-        defs: file_defs(db, file),
-        rs: file.kind(db) == FileKind::RoboSim,
-        out: BodyResolution::default(),
-        members_cache: Default::default(),
-    };
+    let mut r = Body::new(db, ws, file);
     if file.kind(db).is_assertions() {
         return r.out;
     }
@@ -52,15 +44,7 @@ pub fn body_refs_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) ->
     if file.kind(db).is_assertions() {
         return Vec::new();
     }
-    let mut r = Body {
-        db,
-        ws,
-        file,
-        defs: file_defs(db, file),
-        rs: file.kind(db) == FileKind::RoboSim,
-        out: BodyResolution::default(),
-        members_cache: Default::default(),
-    };
+    let mut r = Body::new(db, ws, file);
     let root = parse(db, file).syntax_node();
     // Past the end (a stale position from an editor): nothing is there.
     if !root.text_range().contains_inclusive(offset) {
@@ -137,7 +121,19 @@ fn bound_names(node: &SyntaxNode) -> Vec<String> {
     out
 }
 
-impl Body<'_> {
+impl<'a> Body<'a> {
+    fn new(db: &'a dyn Db, ws: Workspace, file: File) -> Body<'a> {
+        Body {
+            db,
+            ws,
+            file,
+            defs: file_defs(db, file),
+            rs: file.kind(db) == FileKind::RoboSim,
+            out: BodyResolution::default(),
+            members_cache: Default::default(),
+        }
+    }
+
     /// Resolves the names `n` itself introduces (not those of its children).
     fn visit(&mut self, n: &SyntaxNode) {
         match n.kind() {
