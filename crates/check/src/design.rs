@@ -219,4 +219,16 @@ impl<L: Lts> Lts for Reach<'_, L> {
     fn state_bytes(&self, st: &L::State) -> usize {
         self.lts.state_bytes(st)
     }
+
+    fn state_width(&self) -> usize {
+        self.lts.state_width()
+    }
+
+    fn encode(&self, st: &L::State, row: &mut [u8]) {
+        self.lts.encode(st, row);
+    }
+
+    fn decode(&self, row: &[u8]) -> L::State {
+        self.lts.decode(row)
+    }
 }

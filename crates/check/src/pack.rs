@@ -42,6 +42,9 @@ struct Field {
 pub struct Layout {
     fields: Vec<Field>,
     words: usize,
+    /// The bytes a packed state takes as a row: the words, the last one
+    /// cut to the bytes its fields use (the rest is always zero).
+    row_width: usize,
 }
 
 impl Layout {
@@ -60,7 +63,54 @@ impl Layout {
             fields.push(Field { word, shift: used, bits, lo, hi, span });
             used += bits;
         }
-        Layout { fields, words: word + 1 }
+        let row_width = (8 * word + used.div_ceil(8) as usize).max(1);
+        Layout { fields, words: word + 1, row_width }
+    }
+
+    /// The bytes of a packed state stored as a row (see [`Packed`]'s
+    /// [`StateCodec`](crate::lts::StateCodec)).
+    pub fn row_width(&self) -> usize {
+        self.row_width
+    }
+
+    /// Packs `st` straight into `row` (zeroed, [`Layout::row_width`] bytes):
+    /// the same bytes as packing and then writing the [`Packed`]. An error
+    /// names the first slot out of its range.
+    pub fn pack_into(&self, st: &[i32], row: &mut [u8]) -> Result<(), String> {
+        let (mut word, mut acc) = (0usize, 0u64);
+        for (f, &v) in self.fields.iter().zip(st) {
+            let off = (v as i64).wrapping_sub(f.lo) as u64;
+            if off > f.span {
+                return Err(self.out_of_range(st));
+            }
+            // Fields come in word order, one word after the other.
+            if f.word != word {
+                put_word(row, word, acc);
+                (word, acc) = (f.word, 0);
+            }
+            if off != 0 {
+                acc |= off << f.shift;
+            }
+        }
+        put_word(row, word, acc);
+        Ok(())
+    }
+
+    /// The slots of the state packed as `row`, into `out` (of [`Layout::len`] slots).
+    pub fn unpack_row(&self, row: &[u8], out: &mut [i32]) {
+        let (mut word, mut bits) = (0usize, get_word(row, 0));
+        for (f, slot) in self.fields.iter().zip(out) {
+            if f.word != word {
+                (word, bits) = (f.word, get_word(row, f.word));
+            }
+            let raw = if f.bits == 0 {
+                0
+            } else {
+                let mask = if f.bits == 64 { u64::MAX } else { (1u64 << f.bits) - 1 };
+                (bits >> f.shift) & mask
+            };
+            *slot = (f.lo + raw as i64) as i32;
+        }
     }
 
     /// The number of slots.
@@ -139,6 +189,56 @@ impl Layout {
     }
 }
 
+/// Writes word `w` of a packed state into its place in `row` (the last
+/// word may be cut short: its missing bytes are zero).
+fn put_word(row: &mut [u8], w: usize, value: u64) {
+    let len = row.len();
+    let at = (8 * w).min(len);
+    let dst = &mut row[at..(at + 8).min(len)];
+    let n = dst.len();
+    dst.copy_from_slice(&value.to_le_bytes()[..n]);
+}
+
+/// Word `w` of a packed state stored in `row`.
+fn get_word(row: &[u8], w: usize) -> u64 {
+    let at = (8 * w).min(row.len());
+    let src = &row[at..(at + 8).min(row.len())];
+    let mut b = [0u8; 8];
+    b[..src.len()].copy_from_slice(src);
+    u64::from_le_bytes(b)
+}
+
+/// A packed state as a row: its words, little-endian, the last one cut to
+/// the row's width (the layout keeps the cut bytes zero).
+impl crate::lts::StateCodec for Packed {
+    fn width(&self) -> usize {
+        match self {
+            Packed::Word(_) => 8,
+            Packed::Pair(..) => 16,
+            Packed::Words(w) => 8 * w.len(),
+        }
+    }
+
+    fn write(&self, row: &mut [u8]) {
+        match self {
+            Packed::Word(a) => put_word(row, 0, *a),
+            Packed::Pair(a, b) => {
+                put_word(row, 0, *a);
+                put_word(row, 1, *b);
+            }
+            Packed::Words(w) => w.iter().enumerate().for_each(|(i, &x)| put_word(row, i, x)),
+        }
+    }
+
+    fn read(row: &[u8]) -> Packed {
+        match row.len().div_ceil(8) {
+            0 | 1 => Packed::Word(get_word(row, 0)),
+            2 => Packed::Pair(get_word(row, 0), get_word(row, 1)),
+            n => Packed::Words(Box::new((0..n).map(|i| get_word(row, i)).collect())),
+        }
+    }
+}
+
 /// What a state-vector model needs to be explored packed: the layout of
 /// its states, the cell for run-time errors, and its events' names.
 #[derive(Debug)]
@@ -199,6 +299,27 @@ impl<T: VectorLts> crate::lts::Lts for T {
     fn state_bytes(&self, st: &Packed) -> usize {
         std::mem::size_of::<Packed>() + st.heap_bytes()
     }
+
+    fn state_width(&self) -> usize {
+        self.encoding().layout.row_width()
+    }
+
+    fn successor_rows(&self, row: &[u8], out: &mut crate::lts::Rows<Packed>) {
+        let e = self.encoding();
+        let mut vals: Box<[i32]> = vec![0; e.layout.len()].into_boxed_slice();
+        e.layout.unpack_row(row, &mut vals);
+        let mut next = std::mem::take(&mut out.vectors);
+        next.clear();
+        self.successor_values(&vals, &mut next);
+        for (label, v) in next.drain(..) {
+            let k = out.len();
+            if let Err(err) = e.layout.pack_into(&v, out.push(label)) {
+                out.truncate(k);
+                e.error.set(err);
+            }
+        }
+        out.vectors = next;
+    }
 }
 
 /// The packed side of an LTS whose successor function works on unpacked
@@ -256,5 +377,38 @@ mod tests {
         assert!(matches!(p, Packed::Words(_)));
         assert_eq!(&*wide.unpack(&p), &[1, 2, 3, 4, 5]);
         assert_eq!(std::mem::size_of::<Packed>(), 24);
+    }
+
+    #[test]
+    fn rows_are_the_packed_words_cut_short() {
+        use crate::lts::StateCodec;
+        let layouts = [
+            Layout::new(&[(-1, 5), (0, 1), (0, 0), (-3, 3)]),
+            Layout::new(&[(0, i32::MAX as i64), (0, i32::MAX as i64), (0, 1000)]),
+            Layout::new(&[(i32::MIN as i64, i32::MAX as i64); 5]),
+            Layout::new(&[(0, 0)]),
+        ];
+        assert_eq!(layouts.iter().map(Layout::row_width).collect::<Vec<_>>(), [1, 10, 20, 1]);
+        for layout in &layouts {
+            for seed in 0..20i64 {
+                let st: Vec<i32> = layout
+                    .fields
+                    .iter()
+                    .map(|f| (f.lo + (seed * 7919 + f.shift as i64).rem_euclid(f.span as i64 + 1)) as i32)
+                    .collect();
+                let p = layout.pack(&st).unwrap();
+                let mut row = vec![0u8; layout.row_width()];
+                layout.pack_into(&st, &mut row).unwrap();
+                let mut written = vec![0u8; layout.row_width()];
+                p.write(&mut written);
+                assert_eq!(row, written);
+                assert_eq!(Packed::read(&row), p);
+                let mut back = vec![0; layout.len()];
+                layout.unpack_row(&row, &mut back);
+                assert_eq!(back, st);
+            }
+        }
+        let mut row = [0u8; 1];
+        assert!(layouts[0].pack_into(&[6, 0, 0, 0], &mut row).is_err());
     }
 }
