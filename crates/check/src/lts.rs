@@ -150,14 +150,27 @@ pub struct Rows<S> {
     bytes: Vec<u8>,
     /// Scratch space for successor functions that work on values.
     pub scratch: Vec<(Label, S)>,
-    /// Scratch space for successor functions that work on state vectors.
+    /// Scratch space for successor functions that work on state vectors:
+    /// the successors, the source's slots and its packed words.
     pub vectors: Vec<(Label, Box<[i32]>)>,
+    /// See [`Rows::vectors`].
+    pub source: Box<[i32]>,
+    /// See [`Rows::vectors`].
+    pub words: Vec<u64>,
 }
 
 impl<S> Rows<S> {
     /// An empty buffer of rows of `width` bytes.
     pub fn new(width: usize) -> Rows<S> {
-        Rows { width, labels: Vec::new(), bytes: Vec::new(), scratch: Vec::new(), vectors: Vec::new() }
+        Rows {
+            width,
+            labels: Vec::new(),
+            bytes: Vec::new(),
+            scratch: Vec::new(),
+            vectors: Vec::new(),
+            source: Box::new([]),
+            words: Vec::new(),
+        }
     }
 
     /// The bytes of a row.

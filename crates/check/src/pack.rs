@@ -28,14 +28,21 @@ impl Packed {
 /// One slot's place: word, shift, width and offset (the least value).
 #[derive(Debug, Clone, Copy)]
 struct Field {
-    word: usize,
+    word: u32,
+    /// Where the field starts in its word (0 for a field of no bits).
     shift: u32,
     bits: u32,
+    /// The field's bits, unshifted.
+    mask: u64,
     lo: i64,
     hi: i64,
     /// `hi - lo`: a value fits when its offset from `lo` is at most this.
     span: u64,
 }
+
+/// Packed states of up to this many words are packed and unpacked without
+/// an allocation.
+const SMALL_WORDS: usize = 4;
 
 /// How the slots of a state vector are packed.
 #[derive(Debug, Clone)]
@@ -60,7 +67,9 @@ impl Layout {
                 word += 1;
                 used = 0;
             }
-            fields.push(Field { word, shift: used, bits, lo, hi, span });
+            let mask = if bits == 64 { u64::MAX } else { (1u64 << bits) - 1 };
+            let shift = if bits == 0 { 0 } else { used };
+            fields.push(Field { word: word as u32, shift, bits, mask, lo, hi, span });
             used += bits;
         }
         let row_width = (8 * word + used.div_ceil(8) as usize).max(1);
@@ -77,39 +86,101 @@ impl Layout {
     /// the same bytes as packing and then writing the [`Packed`]. An error
     /// names the first slot out of its range.
     pub fn pack_into(&self, st: &[i32], row: &mut [u8]) -> Result<(), String> {
-        let (mut word, mut acc) = (0usize, 0u64);
+        let mut small = [0u64; SMALL_WORDS];
+        let mut big = Vec::new();
+        let words: &mut [u64] = if self.words <= SMALL_WORDS {
+            &mut small[..self.words]
+        } else {
+            big.resize(self.words, 0);
+            &mut big
+        };
+        // No early exit: the loop stays branch-free; a bad value only
+        // spoils words that are thrown away.
+        let mut bad = false;
         for (f, &v) in self.fields.iter().zip(st) {
             let off = (v as i64).wrapping_sub(f.lo) as u64;
-            if off > f.span {
-                return Err(self.out_of_range(st));
-            }
-            // Fields come in word order, one word after the other.
-            if f.word != word {
-                put_word(row, word, acc);
-                (word, acc) = (f.word, 0);
-            }
-            if off != 0 {
-                acc |= off << f.shift;
-            }
+            bad |= off > f.span;
+            words[f.word as usize] |= off << f.shift;
         }
-        put_word(row, word, acc);
+        if bad {
+            return Err(self.out_of_range(st));
+        }
+        write_words(words, row);
         Ok(())
+    }
+
+    /// Packs `st` into `row` ([`Layout::row_width`] bytes) knowing that
+    /// `base`, whose packed words are `base_words`, is in range: only the
+    /// slots where `st` differs from `base` are repacked (a successor
+    /// differs from its source in a few slots). The same bytes, and the
+    /// same errors, as [`Layout::pack_into`].
+    pub fn pack_from(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
+        let mut small = [0u64; SMALL_WORDS];
+        let mut big = Vec::new();
+        let words: &mut [u64] = if self.words <= SMALL_WORDS {
+            &mut small[..self.words]
+        } else {
+            big.resize(self.words, 0);
+            &mut big
+        };
+        words.copy_from_slice(base_words);
+        // Whole blocks of slots compare at once (fixed-size arrays compare
+        // without a call); most are unchanged.
+        const BLOCK: usize = 8;
+        let n = self.fields.len().min(st.len()).min(base.len());
+        let (mut a, mut b) = (st[..n].chunks_exact(BLOCK), base[..n].chunks_exact(BLOCK));
+        let mut at = 0;
+        for (x, y) in (&mut a).zip(&mut b) {
+            let (x, y): (&[i32; BLOCK], &[i32; BLOCK]) =
+                (x.try_into().expect("a block"), y.try_into().expect("a block"));
+            if x != y {
+                self.repack(at, x, y, words).map_err(|()| self.out_of_range(st))?;
+            }
+            at += BLOCK;
+        }
+        self.repack(at, a.remainder(), b.remainder(), words).map_err(|()| self.out_of_range(st))?;
+        write_words(words, row);
+        Ok(())
+    }
+
+    /// Repacks into `words` the slots from `at` on where `st` differs from `base`.
+    fn repack(&self, at: usize, st: &[i32], base: &[i32], words: &mut [u64]) -> Result<(), ()> {
+        for (i, (&v, &old)) in st.iter().zip(base).enumerate() {
+            if v == old {
+                continue;
+            }
+            let f = &self.fields[at + i];
+            let off = (v as i64).wrapping_sub(f.lo) as u64;
+            if off > f.span {
+                return Err(());
+            }
+            let w = &mut words[f.word as usize];
+            *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
+        }
+        Ok(())
+    }
+
+    /// The words of the state packed as `row`, into `words` (as many as
+    /// the layout has).
+    pub fn row_words(&self, row: &[u8], words: &mut Vec<u64>) {
+        words.clear();
+        words.resize(self.words, 0);
+        read_words(row, words);
     }
 
     /// The slots of the state packed as `row`, into `out` (of [`Layout::len`] slots).
     pub fn unpack_row(&self, row: &[u8], out: &mut [i32]) {
-        let (mut word, mut bits) = (0usize, get_word(row, 0));
+        let mut small = [0u64; SMALL_WORDS];
+        let mut big = Vec::new();
+        let words: &mut [u64] = if self.words <= SMALL_WORDS {
+            &mut small[..self.words]
+        } else {
+            big.resize(self.words, 0);
+            &mut big
+        };
+        read_words(row, words);
         for (f, slot) in self.fields.iter().zip(out) {
-            if f.word != word {
-                (word, bits) = (f.word, get_word(row, f.word));
-            }
-            let raw = if f.bits == 0 {
-                0
-            } else {
-                let mask = if f.bits == 64 { u64::MAX } else { (1u64 << f.bits) - 1 };
-                (bits >> f.shift) & mask
-            };
-            *slot = (f.lo + raw as i64) as i32;
+            *slot = (f.lo + ((words[f.word as usize] >> f.shift) & f.mask) as i64) as i32;
         }
     }
 
@@ -134,9 +205,7 @@ impl Layout {
                 if off > f.span {
                     return Err(self.out_of_range(st));
                 }
-                if off != 0 {
-                    small[f.word & 1] |= off << f.shift;
-                }
+                small[f.word as usize & 1] |= off << f.shift;
             }
             return Ok(if self.words == 1 { Packed::Word(small[0]) } else { Packed::Pair(small[0], small[1]) });
         }
@@ -146,9 +215,7 @@ impl Layout {
             if off > f.span {
                 return Err(self.out_of_range(st));
             }
-            if off != 0 {
-                words[f.word] |= off << f.shift;
-            }
+            words[f.word as usize] |= off << f.shift;
         }
         Ok(Packed::Words(Box::new(words.into_boxed_slice())))
     }
@@ -181,11 +248,42 @@ impl Layout {
                     0
                 } else {
                     let mask = if f.bits == 64 { u64::MAX } else { (1u64 << f.bits) - 1 };
-                    (words.get(f.word).copied().unwrap_or(0) >> f.shift) & mask
+                    (words.get(f.word as usize).copied().unwrap_or(0) >> f.shift) & mask
                 };
                 (f.lo + raw as i64) as i32
             })
             .collect()
+    }
+}
+
+/// Writes the words of a packed state into `row`, little-endian, the last
+/// one cut to the row's end.
+fn write_words(words: &[u64], row: &mut [u8]) {
+    let mut chunks = row.chunks_exact_mut(8);
+    let mut it = words.iter();
+    for (c, w) in (&mut chunks).zip(&mut it) {
+        c.copy_from_slice(&w.to_le_bytes());
+    }
+    let rest = chunks.into_remainder();
+    if let Some(w) = it.next() {
+        for (k, b) in rest.iter_mut().enumerate() {
+            *b = (w >> (8 * k)) as u8;
+        }
+    }
+}
+
+/// Reads the words of a packed state from `row` (see [`write_words`]).
+fn read_words(row: &[u8], words: &mut [u64]) {
+    let mut chunks = row.chunks_exact(8);
+    let mut it = words.iter_mut();
+    for (c, w) in (&mut chunks).zip(&mut it) {
+        let mut b = [0u8; 8];
+        b.copy_from_slice(c);
+        *w = u64::from_le_bytes(b);
+    }
+    let rest = chunks.remainder();
+    if let Some(w) = it.next() {
+        *w = rest.iter().enumerate().fold(0, |acc, (k, &b)| acc | u64::from(b) << (8 * k));
     }
 }
 
@@ -306,19 +404,24 @@ impl<T: VectorLts> crate::lts::Lts for T {
 
     fn successor_rows(&self, row: &[u8], out: &mut crate::lts::Rows<Packed>) {
         let e = self.encoding();
-        let mut vals: Box<[i32]> = vec![0; e.layout.len()].into_boxed_slice();
+        let mut vals = std::mem::take(&mut out.source);
+        if vals.len() != e.layout.len() {
+            vals = vec![0; e.layout.len()].into_boxed_slice();
+        }
         e.layout.unpack_row(row, &mut vals);
+        let mut words = std::mem::take(&mut out.words);
+        e.layout.row_words(row, &mut words);
         let mut next = std::mem::take(&mut out.vectors);
         next.clear();
         self.successor_values(&vals, &mut next);
         for (label, v) in next.drain(..) {
             let k = out.len();
-            if let Err(err) = e.layout.pack_into(&v, out.push(label)) {
+            if let Err(err) = e.layout.pack_from(&vals, &words, &v, out.push(label)) {
                 out.truncate(k);
                 e.error.set(err);
             }
         }
-        out.vectors = next;
+        (out.vectors, out.source, out.words) = (next, vals, words);
     }
 }
 
@@ -406,6 +509,33 @@ mod tests {
                 let mut back = vec![0; layout.len()];
                 layout.unpack_row(&row, &mut back);
                 assert_eq!(back, st);
+                // Repacking from another state gives the same bytes.
+                let base: Vec<i32> = layout.fields.iter().map(|f| f.lo as i32).collect();
+                let mut base_words = Vec::new();
+                let mut base_row = vec![0u8; layout.row_width()];
+                layout.pack_into(&base, &mut base_row).unwrap();
+                layout.row_words(&base_row, &mut base_words);
+                let mut again = vec![0u8; layout.row_width()];
+                layout.pack_from(&base, &base_words, &st, &mut again).unwrap();
+                assert_eq!(again, row);
+                layout
+                    .pack_from(
+                        &st,
+                        &{
+                            let mut w = Vec::new();
+                            layout.row_words(&row, &mut w);
+                            w
+                        },
+                        &base,
+                        &mut again,
+                    )
+                    .unwrap();
+                assert_eq!(again, base_row);
+                let mut wrong = st.clone();
+                wrong[0] = (layout.fields[0].hi + 1) as i32;
+                if layout.fields[0].hi < i32::MAX as i64 {
+                    assert!(layout.pack_from(&st, &base_words, &wrong, &mut again).is_err());
+                }
             }
         }
         let mut row = [0u8; 1];
