@@ -567,6 +567,18 @@ impl Design {
         Ok(n)
     }
 
+    /// Machine `m` performs `act` on `st` in place (`value`: the value an
+    /// input received).
+    pub fn apply(
+        &self,
+        m: &Machine,
+        st: &mut [i32],
+        act: crate::machine::Act,
+        value: Option<Val>,
+    ) -> Result<(), String> {
+        m.apply(st, &self.clocks, act, value).map_err(|e| e.0)
+    }
+
     /// One time unit passes: clocks advance (saturating), waits count down.
     pub fn advance_time(&self, st: &mut [i32]) -> Result<(), String> {
         for c in &self.clocks {

@@ -152,7 +152,7 @@ pub struct Rows<S> {
     pub scratch: Vec<(Label, S)>,
     /// Scratch space for successor functions that work on state vectors:
     /// the successors, the source's slots and its packed words.
-    pub vectors: Vec<(Label, Box<[i32]>)>,
+    pub vectors: crate::pack::Vectors,
     /// See [`Rows::vectors`].
     pub source: Box<[i32]>,
     /// See [`Rows::vectors`].
@@ -167,7 +167,7 @@ impl<S> Rows<S> {
             labels: Vec::new(),
             bytes: Vec::new(),
             scratch: Vec::new(),
-            vectors: Vec::new(),
+            vectors: crate::pack::Vectors::default(),
             source: Box::new([]),
             words: Vec::new(),
         }

@@ -4,6 +4,8 @@
 //! of its slot's range is an error (the check becomes inconclusive), never
 //! a silently wrong state.
 
+use crate::lts::Label;
+
 /// A packed state.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Packed {
@@ -337,6 +339,101 @@ impl crate::lts::StateCodec for Packed {
     }
 }
 
+/// Successor state vectors with their labels, back to back in one buffer:
+/// a successor function appends a copy of its source and changes it in
+/// place, without an allocation per successor.
+#[derive(Debug, Default)]
+pub struct Vectors {
+    width: usize,
+    labels: Vec<Label>,
+    slots: Vec<i32>,
+}
+
+impl Vectors {
+    /// An empty buffer of vectors of `width` slots.
+    pub fn new(width: usize) -> Vectors {
+        Vectors { width, labels: Vec::new(), slots: Vec::new() }
+    }
+
+    /// Empties the buffer, for vectors of `width` slots.
+    pub fn reset(&mut self, width: usize) {
+        self.width = width;
+        self.labels.clear();
+        self.slots.clear();
+    }
+
+    /// The number of vectors.
+    pub fn len(&self) -> usize {
+        self.labels.len()
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.labels.is_empty()
+    }
+
+    /// Appends a copy of `st` (labelled τ until [`Vectors::set_label`]) and
+    /// returns it, to be changed in place.
+    pub fn push_copy(&mut self, st: &[i32]) -> &mut [i32] {
+        debug_assert_eq!(st.len(), self.width);
+        self.labels.push(Label::TAU);
+        let at = self.slots.len();
+        self.slots.extend_from_slice(st);
+        &mut self.slots[at..]
+    }
+
+    /// Appends `st` with `label`.
+    pub fn push(&mut self, label: Label, st: &[i32]) {
+        self.push_copy(st);
+        self.set_label(label);
+    }
+
+    /// Sets the label of the last vector.
+    pub fn set_label(&mut self, label: Label) {
+        if let Some(l) = self.labels.last_mut() {
+            *l = label;
+        }
+    }
+
+    /// The labels, in order.
+    pub fn labels(&self) -> &[Label] {
+        &self.labels
+    }
+
+    /// The labels, to be changed.
+    pub fn labels_mut(&mut self) -> &mut [Label] {
+        &mut self.labels
+    }
+
+    /// Vector `k`.
+    pub fn get(&self, k: usize) -> &[i32] {
+        &self.slots[k * self.width..(k + 1) * self.width]
+    }
+
+    /// Keeps the first `len` vectors.
+    pub fn truncate(&mut self, len: usize) {
+        self.labels.truncate(len);
+        self.slots.truncate(len * self.width);
+    }
+
+    /// Keeps, among the vectors from `start` on, those whose label `keep`
+    /// holds of, in order.
+    pub fn retain_from(&mut self, start: usize, keep: impl Fn(Label) -> bool) {
+        let w = self.width;
+        let mut to = start;
+        for k in start..self.labels.len() {
+            if keep(self.labels[k]) {
+                if to != k {
+                    self.labels[to] = self.labels[k];
+                    self.slots.copy_within(k * w..(k + 1) * w, to * w);
+                }
+                to += 1;
+            }
+        }
+        self.truncate(to);
+    }
+}
+
 /// What a state-vector model needs to be explored packed: the layout of
 /// its states, the cell for run-time errors, and its events' names.
 #[derive(Debug)]
@@ -366,10 +463,8 @@ pub trait VectorLts: Sync {
     fn encoding(&self) -> &Encoding;
     /// The initial state vector.
     fn initial_values(&self) -> Box<[i32]>;
-    /// The transitions of a state vector.
-    // The state is taken as its box: successors are clones of it.
-    #[allow(clippy::borrowed_box)]
-    fn successor_values(&self, st: &Box<[i32]>, out: &mut Vec<(crate::lts::Label, Box<[i32]>)>);
+    /// Appends the transitions of a state vector to `out`.
+    fn successor_values(&self, st: &[i32], out: &mut Vectors);
 
     /// The state vector of a packed state.
     fn values(&self, st: &Packed) -> Box<[i32]> {
@@ -412,12 +507,12 @@ impl<T: VectorLts> crate::lts::Lts for T {
         let mut words = std::mem::take(&mut out.words);
         e.layout.row_words(row, &mut words);
         let mut next = std::mem::take(&mut out.vectors);
-        next.clear();
+        next.reset(vals.len());
         self.successor_values(&vals, &mut next);
-        for (label, v) in next.drain(..) {
-            let k = out.len();
-            if let Err(err) = e.layout.pack_from(&vals, &words, &v, out.push(label)) {
-                out.truncate(k);
+        for (k, &label) in next.labels().iter().enumerate() {
+            let at = out.len();
+            if let Err(err) = e.layout.pack_from(&vals, &words, next.get(k), out.push(label)) {
+                out.truncate(at);
                 e.error.set(err);
             }
         }
@@ -434,13 +529,13 @@ pub fn successors_packed(
     error: &crate::lts::FirstError,
     st: &Packed,
     out: &mut Vec<(crate::lts::Label, Packed)>,
-    succ: impl FnOnce(&Box<[i32]>, &mut Vec<(crate::lts::Label, Box<[i32]>)>),
+    succ: impl FnOnce(&[i32], &mut Vectors),
 ) {
     let vals = layout.unpack(st);
-    let mut next = Vec::new();
+    let mut next = Vectors::new(vals.len());
     succ(&vals, &mut next);
-    for (label, v) in next {
-        match layout.pack(&v) {
+    for (k, &label) in next.labels().iter().enumerate() {
+        match layout.pack(next.get(k)) {
             Ok(p) => out.push((label, p)),
             Err(e) => error.set(e),
         }
