@@ -105,7 +105,9 @@ impl<'a> DesignLts<'a> {
     fn successors_inner(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
         let start = out.len();
         let mut can_tock = true;
-        let mut moves = Vec::new();
+        // A buffer reused from state to state.
+        let mut moves = std::mem::take(&mut out.moves);
+        moves.clear();
         let mut internal = Vec::new();
         for (mi, m) in self.design.machines.iter().enumerate() {
             moves.clear();
@@ -146,6 +148,7 @@ impl<'a> DesignLts<'a> {
             }
         }
         // Communications between machines are hidden.
+        out.moves = moves;
         for (chan, args, n) in self.design.internal_steps(st, &internal)? {
             out.push(Label { event: TAU, note: self.enc.events.event(self.group[chan as usize], &args) }, &n);
         }

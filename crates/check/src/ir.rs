@@ -638,15 +638,14 @@ impl Channel {
     /// The values a register read of this input may carry, as
     /// (present, value): every value when present; when absent one
     /// representative, `absent` (the value is never observed).
-    pub fn read_values(&self, absent: Option<Val>) -> Vec<(Val, Option<Val>)> {
-        let mut out = Vec::new();
-        match self.params.first() {
-            Some(d) => {
-                out.extend((d.lo..=d.hi).map(|v| (1, Some(v))));
-                out.push((0, Some(absent.unwrap_or(d.lo))));
-            }
-            None => out.extend([(1, None), (0, None)]),
-        }
-        out
+    pub fn read_values(&self, absent: Option<Val>) -> impl Iterator<Item = (Val, Option<Val>)> {
+        // Present with each value, then absent (no allocation: this runs
+        // for every state that reads registers).
+        let (values, last) = match self.params.first() {
+            Some(d) => (Some(d.lo..=d.hi), (0, Some(absent.unwrap_or(d.lo)))),
+            None => (None, (0, None)),
+        };
+        let unit = self.params.is_empty().then_some((1, None));
+        values.into_iter().flatten().map(|v| (1, Some(v))).chain(unit).chain(std::iter::once(last))
     }
 }

@@ -50,6 +50,8 @@ const SMALL_WORDS: usize = 4;
 #[derive(Debug, Clone)]
 pub struct Layout {
     fields: Vec<Field>,
+    /// Per word, the end of its run of fields (fields come in word order).
+    word_ends: Vec<usize>,
     words: usize,
     /// The bytes a packed state takes as a row: the words, the last one
     /// cut to the bytes its fields use (the rest is always zero).
@@ -75,7 +77,8 @@ impl Layout {
             used += bits;
         }
         let row_width = (8 * word + used.div_ceil(8) as usize).max(1);
-        Layout { fields, words: word + 1, row_width }
+        let word_ends = (0..=word).map(|w| fields.partition_point(|f| f.word as usize <= w)).collect();
+        Layout { fields, word_ends, words: word + 1, row_width }
     }
 
     /// The bytes of a packed state stored as a row (see [`Packed`]'s
@@ -181,8 +184,13 @@ impl Layout {
             &mut big
         };
         read_words(row, words);
-        for (f, slot) in self.fields.iter().zip(out) {
-            *slot = (f.lo + ((words[f.word as usize] >> f.shift) & f.mask) as i64) as i32;
+        // Word by word, so that the word stays in a register.
+        let mut at = 0;
+        for (&bits, &end) in words.iter().zip(&self.word_ends) {
+            for (f, slot) in self.fields[at..end].iter().zip(&mut out[at..end]) {
+                *slot = (f.lo + ((bits >> f.shift) & f.mask) as i64) as i32;
+            }
+            at = end;
         }
     }
 
@@ -347,12 +355,14 @@ pub struct Vectors {
     width: usize,
     labels: Vec<Label>,
     slots: Vec<i32>,
+    /// Scratch space for the models' machine moves, kept between calls.
+    pub(crate) moves: Vec<crate::machine::Move>,
 }
 
 impl Vectors {
     /// An empty buffer of vectors of `width` slots.
     pub fn new(width: usize) -> Vectors {
-        Vectors { width, labels: Vec::new(), slots: Vec::new() }
+        Vectors { width, ..Vectors::default() }
     }
 
     /// Empties the buffer, for vectors of `width` slots.

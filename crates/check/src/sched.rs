@@ -427,9 +427,8 @@ impl<'a> Constrained<'a> {
             // The register's domain (shared with the other side of a check).
             let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
             for (present, v) in c.read_values(reg_lo) {
-                let mut args = vec![present];
-                args.extend(v);
-                let ev = self.enc.events.event(self.read_group[i], &args);
+                let args = [present, v.unwrap_or(0)];
+                let ev = self.enc.events.event(self.read_group[i], &args[..1 + usize::from(v.is_some())]);
                 let n = out.push_copy(st);
                 n[self.a1 + 2 * i] = present as i32;
                 n[self.a1 + 2 * i + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
@@ -519,7 +518,9 @@ impl<'a> Constrained<'a> {
         let phase = st[self.phase];
         let mut design_tock = true;
         if st[self.mode] == RUNNING {
-            let mut moves = Vec::new();
+            // A buffer reused from state to state.
+            let mut moves = std::mem::take(&mut out.moves);
+            moves.clear();
             let mut internal = Vec::new();
             let mut returning = false;
             for (mi, m) in self.design.machines.iter().enumerate() {
@@ -577,6 +578,7 @@ impl<'a> Constrained<'a> {
                     }
                 }
             }
+            out.moves = moves;
             for (_, _, n) in self.design.internal_steps(st, &internal)? {
                 out.push(Label::TAU, &n);
             }
@@ -645,7 +647,9 @@ impl<'a> Constrained<'a> {
         let mut design_tock = true;
         if mode == RUNNING {
             let terminated = self.design.machines.iter().all(|m| m.terminated(st));
-            let mut moves = Vec::new();
+            // A buffer reused from state to state.
+            let mut moves = std::mem::take(&mut out.moves);
+            moves.clear();
             let mut internal = Vec::new();
             for (mi, m) in self.design.machines.iter().enumerate() {
                 moves.clear();
@@ -690,6 +694,7 @@ impl<'a> Constrained<'a> {
                     }
                 }
             }
+            out.moves = moves;
             for (chan, args, n) in self.design.internal_steps(st, &internal)? {
                 design_tau = true;
                 out.push(Label { event: TAU, note: self.design_event(chan, &args) }, &n);

@@ -165,9 +165,8 @@ impl<'a> SimModule<'a> {
                     let reg = c.register.unwrap_or_default() as usize;
                     let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
                     for (present, v) in c.read_values(reg_lo) {
-                        let mut args = vec![present];
-                        args.extend(v);
-                        let ev = self.enc.events.event(self.read_group[i], &args);
+                        let args = [present, v.unwrap_or(0)];
+                        let ev = self.enc.events.event(self.read_group[i], &args[..1 + usize::from(v.is_some())]);
                         let n = out.push_copy(st);
                         n[reg] = present as i32;
                         n[reg + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
@@ -180,7 +179,9 @@ impl<'a> SimModule<'a> {
                 }
             }
             RUN => {
-                let mut moves = Vec::new();
+                // A buffer reused from state to state.
+                let mut moves = std::mem::take(&mut out.moves);
+                moves.clear();
                 let mut internal = Vec::new();
                 for (mi, m) in self.design.machines.iter().enumerate() {
                     moves.clear();
@@ -230,6 +231,7 @@ impl<'a> SimModule<'a> {
                         }
                     }
                 }
+                out.moves = moves;
                 for (_, _, n) in self.design.internal_steps(st, &internal)? {
                     out.push(Label::TAU, &n);
                 }
