@@ -175,14 +175,15 @@ impl Layout {
 
     /// The slots of the state packed as `row`, into `out` (of [`Layout::len`] slots).
     pub fn unpack_row(&self, row: &[u8], out: &mut [i32]) {
-        let mut small = [0u64; SMALL_WORDS];
-        let mut big = Vec::new();
-        let words: &mut [u64] = if self.words <= SMALL_WORDS {
-            &mut small[..self.words]
-        } else {
-            big.resize(self.words, 0);
-            &mut big
-        };
+        let mut words = Vec::new();
+        self.unpack_row_words(row, out, &mut words);
+    }
+
+    /// [`Layout::unpack_row`], also leaving the state's packed words in
+    /// `words` (as many as the layout has).
+    pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>) {
+        words.clear();
+        words.resize(self.words, 0);
         read_words(row, words);
         // Word by word, so that the word stays in a register.
         let mut at = 0;
@@ -513,9 +514,8 @@ impl<T: VectorLts> crate::lts::Lts for T {
         if vals.len() != e.layout.len() {
             vals = vec![0; e.layout.len()].into_boxed_slice();
         }
-        e.layout.unpack_row(row, &mut vals);
         let mut words = std::mem::take(&mut out.words);
-        e.layout.row_words(row, &mut words);
+        e.layout.unpack_row_words(row, &mut vals, &mut words);
         let mut next = std::mem::take(&mut out.vectors);
         next.reset(vals.len());
         self.successor_values(&vals, &mut next);
