@@ -129,12 +129,21 @@ macro_rules! int_codec {
                 std::mem::size_of::<$t>()
             }
             fn write(&self, row: &mut [u8]) {
-                row.copy_from_slice(&self.to_le_bytes()[..row.len()]);
+                // The full width (the usual case) is a plain store.
+                match <&mut [u8; std::mem::size_of::<$t>()]>::try_from(&mut *row) {
+                    Ok(full) => *full = self.to_le_bytes(),
+                    Err(_) => row.copy_from_slice(&self.to_le_bytes()[..row.len()]),
+                }
             }
             fn read(row: &[u8]) -> Self {
-                let mut b = [0u8; std::mem::size_of::<$t>()];
-                b[..row.len()].copy_from_slice(row);
-                <$t>::from_le_bytes(b)
+                match <[u8; std::mem::size_of::<$t>()]>::try_from(row) {
+                    Ok(full) => <$t>::from_le_bytes(full),
+                    Err(_) => {
+                        let mut b = [0u8; std::mem::size_of::<$t>()];
+                        b[..row.len()].copy_from_slice(row);
+                        <$t>::from_le_bytes(b)
+                    }
+                }
             }
         }
     )*};
@@ -205,7 +214,13 @@ impl<S> Rows<S> {
     pub fn push(&mut self, label: Label) -> &mut [u8] {
         self.labels.push(label);
         let at = self.bytes.len();
-        self.bytes.resize(at + self.width, 0);
+        if self.width <= 16 {
+            // A fixed-size append is a store, not a call to `memset`.
+            self.bytes.extend_from_slice(&[0u8; 16]);
+            self.bytes.truncate(at + self.width);
+        } else {
+            self.bytes.resize(at + self.width, 0);
+        }
         &mut self.bytes[at..]
     }
 

@@ -95,18 +95,30 @@ pub(crate) fn fx<T: Hash + ?Sized>(t: &T) -> u64 {
 #[inline]
 pub(crate) fn hash_row(row: &[u8]) -> u64 {
     const K: u64 = 0xf135_7aea_2e62_a9c5;
-    let mut h = row.len() as u64;
-    let mut chunks = row.chunks_exact(8);
-    for c in &mut chunks {
+    let word = |at: usize| {
         let mut w = [0u8; 8];
-        w.copy_from_slice(c);
-        h = (h.rotate_left(26) ^ u64::from_le_bytes(w)).wrapping_mul(K);
-    }
-    let rest = chunks.remainder();
-    if !rest.is_empty() {
-        let mut w = [0u8; 8];
-        w[..rest.len()].copy_from_slice(rest);
-        h = (h.rotate_left(26) ^ u64::from_le_bytes(w)).wrapping_mul(K);
+        w.copy_from_slice(&row[at..at + 8]);
+        u64::from_le_bytes(w)
+    };
+    let n = row.len();
+    let mut h = n as u64;
+    if (8..=16).contains(&n) {
+        // The common widths: two (possibly overlapping) words, no loop.
+        h = (h.rotate_left(26) ^ word(0)).wrapping_mul(K);
+        h = (h.rotate_left(26) ^ word(n - 8)).wrapping_mul(K);
+    } else {
+        let mut chunks = row.chunks_exact(8);
+        for c in &mut chunks {
+            let mut w = [0u8; 8];
+            w.copy_from_slice(c);
+            h = (h.rotate_left(26) ^ u64::from_le_bytes(w)).wrapping_mul(K);
+        }
+        let rest = chunks.remainder();
+        if !rest.is_empty() {
+            let mut w = [0u8; 8];
+            w[..rest.len()].copy_from_slice(rest);
+            h = (h.rotate_left(26) ^ u64::from_le_bytes(w)).wrapping_mul(K);
+        }
     }
     h ^= h >> 32;
     h = h.wrapping_mul(K);
@@ -329,24 +341,28 @@ impl Visited {
         if len as u64 >= limit {
             return Err(Stop::States);
         }
-        self.reserve_one(meter)?;
+        let grew = self.reserve_one(meter)?;
         self.rows.push(row);
         self.parents.push(&[parent]);
         let (rows, h) = (&self.rows, self.hash);
         self.table.insert_unique(hash, len as u32, |&i| h(rows.get(i as usize)));
         meter.stats.states = self.rows.len as u64;
-        meter.set_table_bytes(self.bytes())?;
+        // The memory only changes when something grew.
+        if grew {
+            meter.set_table_bytes(self.bytes())?;
+        }
         Ok((len as u32, true))
     }
 
     /// Makes room for one more node, refusing growth past the memory budget
     /// (checked before allocating, so a table doubling never overshoots it)
-    /// and turning allocation failure into [`Stop::Memory`].
-    fn reserve_one(&mut self, meter: &mut Meter<'_>) -> Result<(), Stop> {
+    /// and turning allocation failure into [`Stop::Memory`]. Returns
+    /// whether anything grew.
+    fn reserve_one(&mut self, meter: &mut Meter<'_>) -> Result<bool, Stop> {
         let grow_nodes = self.rows.next_growth();
         let grow_table = self.table.len() == self.table.capacity();
         if grow_nodes == 0 && !grow_table {
-            return Ok(());
+            return Ok(false);
         }
         let node_slots = self.rows.capacity() + grow_nodes;
         let table_slots = if grow_table { (self.table.capacity() * 2).max(4) } else { self.table.capacity() };
@@ -358,7 +374,7 @@ impl Visited {
             let (rows, h) = (&self.rows, self.hash);
             self.table.try_reserve(1, |&i| h(rows.get(i as usize))).map_err(|_| Stop::Memory)?;
         }
-        Ok(())
+        Ok(true)
     }
 
     /// The rows of nodes `lo..hi`, back to back; the range must not cross
