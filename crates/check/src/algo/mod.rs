@@ -186,13 +186,18 @@ struct Segments<T> {
     segs: Vec<Vec<T>>,
     stride: usize,
     len: usize,
+    /// Entries in the last segment and the entries it has room for (kept,
+    /// not divided out of the items, on the hot path).
+    last_len: usize,
+    last_cap: usize,
 }
 
 impl<T: Copy> Segments<T> {
     fn new(stride: usize) -> Self {
-        Segments { segs: Vec::new(), stride, len: 0 }
+        Segments { segs: Vec::new(), stride, len: 0, last_len: 0, last_cap: 0 }
     }
 
+    #[inline]
     fn get(&self, i: usize) -> &[T] {
         let at = (i & (SEG - 1)) * self.stride;
         &self.segs[i >> SEG_SHIFT][at..at + self.stride]
@@ -206,26 +211,20 @@ impl<T: Copy> Segments<T> {
 
     /// Allocated entries.
     fn capacity(&self) -> usize {
-        match self.segs.last() {
-            None => 0,
-            Some(last) => (self.segs.len() - 1) * SEG + last.capacity() / self.stride,
-        }
-    }
-
-    /// Entries in the last segment, and the entries it has room for.
-    fn last_fill(&self) -> Option<(usize, usize)> {
-        let last = self.segs.last()?;
-        let stride = self.stride;
-        Some((last.len() / stride, last.capacity() / stride))
+        self.segs.len().saturating_sub(1) * SEG + self.last_cap
     }
 
     /// The entries the next push allocates room for (0 if there is room).
+    #[inline]
     fn next_growth(&self) -> usize {
-        match self.last_fill() {
-            None => 4,
-            Some((len, cap)) if len < cap => 0,
-            Some((len, _)) if len == SEG => SEG,
-            Some((_, cap)) => (cap * 2).min(SEG) - cap,
+        if self.segs.is_empty() {
+            4
+        } else if self.last_len < self.last_cap {
+            0
+        } else if self.last_len == SEG {
+            SEG
+        } else {
+            (self.last_cap * 2).min(SEG) - self.last_cap
         }
     }
 
@@ -235,31 +234,32 @@ impl<T: Copy> Segments<T> {
         if grow == 0 {
             return Ok(());
         }
-        let stride = self.stride;
-        match self.last_fill() {
-            Some((len, _)) if len < SEG => {
-                let last = self.segs.last_mut().expect("a last segment");
-                let want = (last.capacity() / stride + grow) * stride;
-                last.try_reserve_exact(want - last.len())
-            }
-            _ => {
-                let mut seg = Vec::new();
-                seg.try_reserve_exact(if self.segs.is_empty() { 4 } else { SEG } * stride)?;
-                self.segs.try_reserve(1)?;
-                self.segs.push(seg);
-                Ok(())
-            }
+        if !self.segs.is_empty() && self.last_len < SEG {
+            let last = self.segs.last_mut().expect("a last segment");
+            last.try_reserve_exact((self.last_cap + grow - self.last_len) * self.stride)?;
+            self.last_cap += grow;
+        } else {
+            let first = self.segs.is_empty();
+            let mut seg = Vec::new();
+            seg.try_reserve_exact(grow * self.stride)?;
+            self.segs.try_reserve(1)?;
+            self.segs.push(seg);
+            (self.last_len, self.last_cap) = (0, if first { 4 } else { SEG });
         }
+        Ok(())
     }
 
     /// Appends an entry (`stride` items), after [`Segments::reserve_one`].
+    #[inline]
     fn push(&mut self, value: &[T]) {
-        if self.last_fill().is_none_or(|(len, _)| len == SEG) {
+        if self.segs.is_empty() || self.last_len == SEG {
             self.segs.push(Vec::with_capacity(SEG * self.stride));
+            (self.last_len, self.last_cap) = (0, SEG);
         }
         if let Some(last) = self.segs.last_mut() {
             last.extend_from_slice(value);
         }
+        self.last_len += 1;
         self.len += 1;
     }
 }
