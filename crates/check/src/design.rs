@@ -8,7 +8,7 @@ use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Val};
 use crate::lts::{Event, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
-use crate::pack::{Encoding, VectorLts};
+use crate::pack::{Encoding, VectorLts, Vectors};
 use crate::sched::State;
 
 /// The design as an LTS.
@@ -102,10 +102,12 @@ impl<'a> DesignLts<'a> {
         })
     }
 
-    fn successors_inner(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+    fn successors_inner(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
         let start = out.len();
         let mut can_tock = true;
-        let mut moves = Vec::new();
+        // A buffer reused from state to state.
+        let mut moves = std::mem::take(&mut out.moves);
+        moves.clear();
         let mut internal = Vec::new();
         for (mi, m) in self.design.machines.iter().enumerate() {
             moves.clear();
@@ -118,8 +120,9 @@ impl<'a> DesignLts<'a> {
                 }
                 match &mv.offer {
                     Offer::Tau => {
-                        let n = self.design.after(m, st, mv.act, None)?;
-                        out.push((Label::TAU, n));
+                        let n = out.push_copy(st);
+                        self.design.apply(m, n, mv.act, None)?;
+                        out.set_label(Label::TAU);
                     }
                     Offer::In { chan, value } => {
                         let c = &self.design.channels[*chan as usize];
@@ -129,34 +132,37 @@ impl<'a> DesignLts<'a> {
                             (None, None) => vec![None],
                         };
                         for v in values {
-                            let n = self.design.after(m, st, mv.act, v)?;
+                            let n = out.push_copy(st);
+                            self.design.apply(m, n, mv.act, v)?;
                             let ev =
                                 self.enc.events.event(self.group[*chan as usize], &v.into_iter().collect::<Vec<_>>());
-                            out.push((Label::plain(ev), n));
+                            out.set_label(Label::plain(ev));
                         }
                     }
                     Offer::Out { chan, args } => {
-                        let n = self.design.after(m, st, mv.act, None)?;
-                        out.push((Label::plain(self.enc.events.event(self.group[*chan as usize], args)), n));
+                        let n = out.push_copy(st);
+                        self.design.apply(m, n, mv.act, None)?;
+                        out.set_label(Label::plain(self.enc.events.event(self.group[*chan as usize], args)));
                     }
                 }
             }
         }
         // Communications between machines are hidden.
+        out.moves = moves;
         for (chan, args, n) in self.design.internal_steps(st, &internal)? {
-            out.push((Label { event: TAU, note: self.enc.events.event(self.group[chan as usize], &args) }, n));
+            out.push(Label { event: TAU, note: self.enc.events.event(self.group[chan as usize], &args) }, &n);
         }
         if self.design.machines.iter().all(|m| m.terminated(st)) {
-            let mut n = st.clone();
+            let n = out.push_copy(st);
             n[self.ended] = 1;
-            out.push((Label::plain(TICK), n));
+            out.set_label(Label::plain(TICK));
         }
         // Maximal progress: time passes only when nothing internal can happen.
-        let tau = out[start..].iter().any(|(l, _)| l.event == TAU);
+        let tau = out.labels()[start..].iter().any(|l| l.event == TAU);
         if can_tock && !tau {
-            let mut n = st.clone();
-            self.design.advance_time(&mut n)?;
-            out.push((Label::TOCK, n));
+            let n = out.push_copy(st);
+            self.design.advance_time(n)?;
+            out.set_label(Label::TOCK);
         }
         Ok(())
     }
@@ -171,7 +177,7 @@ impl VectorLts for DesignLts<'_> {
         self.design.initial_state(self.len, true, &self.enc.error).into_boxed_slice()
     }
 
-    fn successor_values(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn successor_values(&self, st: &[i32], out: &mut Vectors) {
         if st[self.ended] != 0 {
             return;
         }
@@ -218,5 +224,17 @@ impl<L: Lts> Lts for Reach<'_, L> {
 
     fn state_bytes(&self, st: &L::State) -> usize {
         self.lts.state_bytes(st)
+    }
+
+    fn state_width(&self) -> usize {
+        self.lts.state_width()
+    }
+
+    fn encode(&self, st: &L::State, row: &mut [u8]) {
+        self.lts.encode(st, row);
+    }
+
+    fn decode(&self, row: &[u8]) -> L::State {
+        self.lts.decode(row)
     }
 }

@@ -634,6 +634,18 @@ impl Design {
         Ok(n)
     }
 
+    /// Machine `m` performs `act` on `st` in place (`value`: the value an
+    /// input received).
+    pub fn apply(
+        &self,
+        m: &Machine,
+        st: &mut [i32],
+        act: crate::machine::Act,
+        value: Option<Val>,
+    ) -> Result<(), String> {
+        m.apply(st, &self.clocks, act, value).map_err(|e| e.0)
+    }
+
     /// One time unit passes: clocks advance (saturating), waits count down.
     pub fn advance_time(&self, st: &mut [i32]) -> Result<(), String> {
         for c in &self.clocks {
@@ -693,15 +705,14 @@ impl Channel {
     /// The values a register read of this input may carry, as
     /// (present, value): every value when present; when absent one
     /// representative, `absent` (the value is never observed).
-    pub fn read_values(&self, absent: Option<Val>) -> Vec<(Val, Option<Val>)> {
-        let mut out = Vec::new();
-        match self.params.first() {
-            Some(d) => {
-                out.extend((d.lo..=d.hi).map(|v| (1, Some(v))));
-                out.push((0, Some(absent.unwrap_or(d.lo))));
-            }
-            None => out.extend([(1, None), (0, None)]),
-        }
-        out
+    pub fn read_values(&self, absent: Option<Val>) -> impl Iterator<Item = (Val, Option<Val>)> {
+        // Present with each value, then absent (no allocation: this runs
+        // for every state that reads registers).
+        let (values, last) = match self.params.first() {
+            Some(d) => (Some(d.lo..=d.hi), (0, Some(absent.unwrap_or(d.lo)))),
+            None => (None, (0, None)),
+        };
+        let unit = self.params.is_empty().then_some((1, None));
+        values.into_iter().flatten().map(|v| (1, Some(v))).chain(unit).chain(std::iter::once(last))
     }
 }

@@ -48,7 +48,7 @@ impl Label {
 /// scheduling.
 pub trait Lts: Sync {
     /// A state; small and cheap to hash.
-    type State: Clone + Eq + Hash + Send + Sync;
+    type State: Clone + Eq + Hash + Send + Sync + StateCodec;
 
     /// The initial state.
     fn initial(&self) -> Self::State;
@@ -73,6 +73,175 @@ pub trait Lts: Sync {
     fn state_bytes(&self, state: &Self::State) -> usize {
         let _ = state;
         std::mem::size_of::<Self::State>()
+    }
+
+    /// The bytes a state takes in the algorithms' visited tables: the same
+    /// for every state of the LTS. The default is the initial state's
+    /// [`StateCodec::width`]; models that know a tighter width override it
+    /// (with [`encode`](Lts::encode) and [`decode`](Lts::decode)).
+    fn state_width(&self) -> usize {
+        self.initial().width()
+    }
+
+    /// Writes `state` into `row`, which is [`state_width`](Lts::state_width)
+    /// bytes long. Two states are equal iff their rows are.
+    fn encode(&self, state: &Self::State, row: &mut [u8]) {
+        state.write(row);
+    }
+
+    /// The state stored as `row`.
+    fn decode(&self, row: &[u8]) -> Self::State {
+        Self::State::read(row)
+    }
+
+    /// Appends the transitions of the state stored as `row` to `out`, their
+    /// targets as rows, in the order of [`successors`](Lts::successors).
+    /// The default decodes, calls `successors` and encodes; models override
+    /// it to skip the values in between.
+    fn successor_rows(&self, row: &[u8], out: &mut Rows<Self::State>) {
+        let state = self.decode(row);
+        let mut scratch = std::mem::take(&mut out.scratch);
+        scratch.clear();
+        self.successors(&state, &mut scratch);
+        for (label, t) in scratch.drain(..) {
+            self.encode(&t, out.push(label));
+        }
+        out.scratch = scratch;
+    }
+}
+
+/// A state's stored form: a fixed number of bytes (the same for all the
+/// states of one LTS), compared and hashed as bytes.
+pub trait StateCodec: Sized {
+    /// The bytes this state's form takes.
+    fn width(&self) -> usize;
+    /// Writes the state into `row` (`width()` bytes, or fewer when the
+    /// bytes left out are zero for every state of the LTS).
+    fn write(&self, row: &mut [u8]);
+    /// The state written as `row`.
+    fn read(row: &[u8]) -> Self;
+}
+
+macro_rules! int_codec {
+    ($($t:ty),*) => {$(
+        impl StateCodec for $t {
+            fn width(&self) -> usize {
+                std::mem::size_of::<$t>()
+            }
+            fn write(&self, row: &mut [u8]) {
+                // The full width (the usual case) is a plain store.
+                match <&mut [u8; std::mem::size_of::<$t>()]>::try_from(&mut *row) {
+                    Ok(full) => *full = self.to_le_bytes(),
+                    Err(_) => row.copy_from_slice(&self.to_le_bytes()[..row.len()]),
+                }
+            }
+            fn read(row: &[u8]) -> Self {
+                match <[u8; std::mem::size_of::<$t>()]>::try_from(row) {
+                    Ok(full) => <$t>::from_le_bytes(full),
+                    Err(_) => {
+                        let mut b = [0u8; std::mem::size_of::<$t>()];
+                        b[..row.len()].copy_from_slice(row);
+                        <$t>::from_le_bytes(b)
+                    }
+                }
+            }
+        }
+    )*};
+}
+int_codec!(u32, u64, usize);
+
+/// Transitions whose targets are rows ([`Lts::successor_rows`]): labels,
+/// and the rows back to back in one buffer (no allocation per transition).
+#[derive(Debug)]
+pub struct Rows<S> {
+    width: usize,
+    labels: Vec<Label>,
+    bytes: Vec<u8>,
+    /// Scratch space for successor functions that work on values.
+    pub scratch: Vec<(Label, S)>,
+    /// Scratch space for successor functions that work on state vectors:
+    /// the successors, the source's slots and its packed words.
+    pub vectors: crate::pack::Vectors,
+    /// See [`Rows::vectors`].
+    pub source: Box<[i32]>,
+    /// See [`Rows::vectors`].
+    pub words: Vec<u64>,
+}
+
+impl<S> Rows<S> {
+    /// An empty buffer of rows of `width` bytes.
+    pub fn new(width: usize) -> Rows<S> {
+        Rows {
+            width,
+            labels: Vec::new(),
+            bytes: Vec::new(),
+            scratch: Vec::new(),
+            vectors: crate::pack::Vectors::default(),
+            source: Box::new([]),
+            words: Vec::new(),
+        }
+    }
+
+    /// The bytes of a row.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// The number of transitions.
+    pub fn len(&self) -> usize {
+        self.labels.len()
+    }
+
+    /// Whether there is no transition.
+    pub fn is_empty(&self) -> bool {
+        self.labels.is_empty()
+    }
+
+    /// Removes every transition (keeping the memory).
+    pub fn clear(&mut self) {
+        self.labels.clear();
+        self.bytes.clear();
+    }
+
+    /// Keeps the first `len` transitions.
+    pub fn truncate(&mut self, len: usize) {
+        self.labels.truncate(len);
+        self.bytes.truncate(len * self.width);
+    }
+
+    /// Appends a transition labelled `label`; its target is the returned
+    /// row (zeroed), to be filled in.
+    pub fn push(&mut self, label: Label) -> &mut [u8] {
+        self.labels.push(label);
+        let at = self.bytes.len();
+        if self.width <= 16 {
+            // A fixed-size append is a store, not a call to `memset`.
+            self.bytes.extend_from_slice(&[0u8; 16]);
+            self.bytes.truncate(at + self.width);
+        } else {
+            self.bytes.resize(at + self.width, 0);
+        }
+        &mut self.bytes[at..]
+    }
+
+    /// The label of transition `k`.
+    pub fn label(&self, k: usize) -> Label {
+        self.labels[k]
+    }
+
+    /// The target row of transition `k`.
+    pub fn row(&self, k: usize) -> &[u8] {
+        &self.bytes[k * self.width..(k + 1) * self.width]
+    }
+
+    /// The labels of transitions `lo..hi`.
+    pub fn labels(&self, lo: usize, hi: usize) -> &[Label] {
+        &self.labels[lo..hi]
+    }
+
+    /// The target rows of transitions `lo..hi`, back to back.
+    pub fn rows(&self, lo: usize, hi: usize) -> &[u8] {
+        &self.bytes[lo * self.width..hi * self.width]
     }
 }
 

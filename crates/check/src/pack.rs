@@ -4,6 +4,8 @@
 //! of its slot's range is an error (the check becomes inconclusive), never
 //! a silently wrong state.
 
+use crate::lts::Label;
+
 /// A packed state.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Packed {
@@ -28,20 +30,32 @@ impl Packed {
 /// One slot's place: word, shift, width and offset (the least value).
 #[derive(Debug, Clone, Copy)]
 struct Field {
-    word: usize,
+    word: u32,
+    /// Where the field starts in its word (0 for a field of no bits).
     shift: u32,
     bits: u32,
+    /// The field's bits, unshifted.
+    mask: u64,
     lo: i64,
     hi: i64,
     /// `hi - lo`: a value fits when its offset from `lo` is at most this.
     span: u64,
 }
 
+/// Packed states of up to this many words are packed and unpacked without
+/// an allocation.
+const SMALL_WORDS: usize = 4;
+
 /// How the slots of a state vector are packed.
 #[derive(Debug, Clone)]
 pub struct Layout {
     fields: Vec<Field>,
+    /// Per word, the end of its run of fields (fields come in word order).
+    word_ends: Vec<usize>,
     words: usize,
+    /// The bytes a packed state takes as a row: the words, the last one
+    /// cut to the bytes its fields use (the rest is always zero).
+    row_width: usize,
 }
 
 impl Layout {
@@ -57,10 +71,128 @@ impl Layout {
                 word += 1;
                 used = 0;
             }
-            fields.push(Field { word, shift: used, bits, lo, hi, span });
+            let mask = if bits == 64 { u64::MAX } else { (1u64 << bits) - 1 };
+            let shift = if bits == 0 { 0 } else { used };
+            fields.push(Field { word: word as u32, shift, bits, mask, lo, hi, span });
             used += bits;
         }
-        Layout { fields, words: word + 1 }
+        let row_width = (8 * word + used.div_ceil(8) as usize).max(1);
+        let word_ends = (0..=word).map(|w| fields.partition_point(|f| f.word as usize <= w)).collect();
+        Layout { fields, word_ends, words: word + 1, row_width }
+    }
+
+    /// The bytes of a packed state stored as a row (see [`Packed`]'s
+    /// [`StateCodec`](crate::lts::StateCodec)).
+    pub fn row_width(&self) -> usize {
+        self.row_width
+    }
+
+    /// Packs `st` straight into `row` (zeroed, [`Layout::row_width`] bytes):
+    /// the same bytes as packing and then writing the [`Packed`]. An error
+    /// names the first slot out of its range.
+    pub fn pack_into(&self, st: &[i32], row: &mut [u8]) -> Result<(), String> {
+        let mut small = [0u64; SMALL_WORDS];
+        let mut big = Vec::new();
+        let words: &mut [u64] = if self.words <= SMALL_WORDS {
+            &mut small[..self.words]
+        } else {
+            big.resize(self.words, 0);
+            &mut big
+        };
+        // No early exit: the loop stays branch-free; a bad value only
+        // spoils words that are thrown away.
+        let mut bad = false;
+        for (f, &v) in self.fields.iter().zip(st) {
+            let off = (v as i64).wrapping_sub(f.lo) as u64;
+            bad |= off > f.span;
+            words[f.word as usize] |= off << f.shift;
+        }
+        if bad {
+            return Err(self.out_of_range(st));
+        }
+        write_words(words, row);
+        Ok(())
+    }
+
+    /// Packs `st` into `row` ([`Layout::row_width`] bytes) knowing that
+    /// `base`, whose packed words are `base_words`, is in range: only the
+    /// slots where `st` differs from `base` are repacked (a successor
+    /// differs from its source in a few slots). The same bytes, and the
+    /// same errors, as [`Layout::pack_into`].
+    pub fn pack_from(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
+        let mut small = [0u64; SMALL_WORDS];
+        let mut big = Vec::new();
+        let words: &mut [u64] = if self.words <= SMALL_WORDS {
+            &mut small[..self.words]
+        } else {
+            big.resize(self.words, 0);
+            &mut big
+        };
+        words.copy_from_slice(base_words);
+        // Whole blocks of slots compare at once (fixed-size arrays compare
+        // without a call); most are unchanged.
+        const BLOCK: usize = 8;
+        let n = self.fields.len().min(st.len()).min(base.len());
+        let (mut a, mut b) = (st[..n].chunks_exact(BLOCK), base[..n].chunks_exact(BLOCK));
+        let mut at = 0;
+        for (x, y) in (&mut a).zip(&mut b) {
+            let (x, y): (&[i32; BLOCK], &[i32; BLOCK]) =
+                (x.try_into().expect("a block"), y.try_into().expect("a block"));
+            if x != y {
+                self.repack(at, x, y, words).map_err(|()| self.out_of_range(st))?;
+            }
+            at += BLOCK;
+        }
+        self.repack(at, a.remainder(), b.remainder(), words).map_err(|()| self.out_of_range(st))?;
+        write_words(words, row);
+        Ok(())
+    }
+
+    /// Repacks into `words` the slots from `at` on where `st` differs from `base`.
+    fn repack(&self, at: usize, st: &[i32], base: &[i32], words: &mut [u64]) -> Result<(), ()> {
+        for (i, (&v, &old)) in st.iter().zip(base).enumerate() {
+            if v == old {
+                continue;
+            }
+            let f = &self.fields[at + i];
+            let off = (v as i64).wrapping_sub(f.lo) as u64;
+            if off > f.span {
+                return Err(());
+            }
+            let w = &mut words[f.word as usize];
+            *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
+        }
+        Ok(())
+    }
+
+    /// The words of the state packed as `row`, into `words` (as many as
+    /// the layout has).
+    pub fn row_words(&self, row: &[u8], words: &mut Vec<u64>) {
+        words.clear();
+        words.resize(self.words, 0);
+        read_words(row, words);
+    }
+
+    /// The slots of the state packed as `row`, into `out` (of [`Layout::len`] slots).
+    pub fn unpack_row(&self, row: &[u8], out: &mut [i32]) {
+        let mut words = Vec::new();
+        self.unpack_row_words(row, out, &mut words);
+    }
+
+    /// [`Layout::unpack_row`], also leaving the state's packed words in
+    /// `words` (as many as the layout has).
+    pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>) {
+        words.clear();
+        words.resize(self.words, 0);
+        read_words(row, words);
+        // Word by word, so that the word stays in a register.
+        let mut at = 0;
+        for (&bits, &end) in words.iter().zip(&self.word_ends) {
+            for (f, slot) in self.fields[at..end].iter().zip(&mut out[at..end]) {
+                *slot = (f.lo + ((bits >> f.shift) & f.mask) as i64) as i32;
+            }
+            at = end;
+        }
     }
 
     /// The number of slots.
@@ -84,9 +216,7 @@ impl Layout {
                 if off > f.span {
                     return Err(self.out_of_range(st));
                 }
-                if off != 0 {
-                    small[f.word & 1] |= off << f.shift;
-                }
+                small[f.word as usize & 1] |= off << f.shift;
             }
             return Ok(if self.words == 1 { Packed::Word(small[0]) } else { Packed::Pair(small[0], small[1]) });
         }
@@ -96,9 +226,7 @@ impl Layout {
             if off > f.span {
                 return Err(self.out_of_range(st));
             }
-            if off != 0 {
-                words[f.word] |= off << f.shift;
-            }
+            words[f.word as usize] |= off << f.shift;
         }
         Ok(Packed::Words(Box::new(words.into_boxed_slice())))
     }
@@ -131,11 +259,189 @@ impl Layout {
                     0
                 } else {
                     let mask = if f.bits == 64 { u64::MAX } else { (1u64 << f.bits) - 1 };
-                    (words.get(f.word).copied().unwrap_or(0) >> f.shift) & mask
+                    (words.get(f.word as usize).copied().unwrap_or(0) >> f.shift) & mask
                 };
                 (f.lo + raw as i64) as i32
             })
             .collect()
+    }
+}
+
+/// Writes the words of a packed state into `row`, little-endian, the last
+/// one cut to the row's end.
+fn write_words(words: &[u64], row: &mut [u8]) {
+    let mut chunks = row.chunks_exact_mut(8);
+    let mut it = words.iter();
+    for (c, w) in (&mut chunks).zip(&mut it) {
+        c.copy_from_slice(&w.to_le_bytes());
+    }
+    let rest = chunks.into_remainder();
+    if let Some(w) = it.next() {
+        for (k, b) in rest.iter_mut().enumerate() {
+            *b = (w >> (8 * k)) as u8;
+        }
+    }
+}
+
+/// Reads the words of a packed state from `row` (see [`write_words`]).
+fn read_words(row: &[u8], words: &mut [u64]) {
+    let mut chunks = row.chunks_exact(8);
+    let mut it = words.iter_mut();
+    for (c, w) in (&mut chunks).zip(&mut it) {
+        let mut b = [0u8; 8];
+        b.copy_from_slice(c);
+        *w = u64::from_le_bytes(b);
+    }
+    let rest = chunks.remainder();
+    if let Some(w) = it.next() {
+        *w = rest.iter().enumerate().fold(0, |acc, (k, &b)| acc | u64::from(b) << (8 * k));
+    }
+}
+
+/// Writes word `w` of a packed state into its place in `row` (the last
+/// word may be cut short: its missing bytes are zero).
+fn put_word(row: &mut [u8], w: usize, value: u64) {
+    let len = row.len();
+    let at = (8 * w).min(len);
+    let dst = &mut row[at..(at + 8).min(len)];
+    let n = dst.len();
+    dst.copy_from_slice(&value.to_le_bytes()[..n]);
+}
+
+/// Word `w` of a packed state stored in `row`.
+fn get_word(row: &[u8], w: usize) -> u64 {
+    let at = (8 * w).min(row.len());
+    let src = &row[at..(at + 8).min(row.len())];
+    let mut b = [0u8; 8];
+    b[..src.len()].copy_from_slice(src);
+    u64::from_le_bytes(b)
+}
+
+/// A packed state as a row: its words, little-endian, the last one cut to
+/// the row's width (the layout keeps the cut bytes zero).
+impl crate::lts::StateCodec for Packed {
+    fn width(&self) -> usize {
+        match self {
+            Packed::Word(_) => 8,
+            Packed::Pair(..) => 16,
+            Packed::Words(w) => 8 * w.len(),
+        }
+    }
+
+    fn write(&self, row: &mut [u8]) {
+        match self {
+            Packed::Word(a) => put_word(row, 0, *a),
+            Packed::Pair(a, b) => {
+                put_word(row, 0, *a);
+                put_word(row, 1, *b);
+            }
+            Packed::Words(w) => w.iter().enumerate().for_each(|(i, &x)| put_word(row, i, x)),
+        }
+    }
+
+    fn read(row: &[u8]) -> Packed {
+        match row.len().div_ceil(8) {
+            0 | 1 => Packed::Word(get_word(row, 0)),
+            2 => Packed::Pair(get_word(row, 0), get_word(row, 1)),
+            n => Packed::Words(Box::new((0..n).map(|i| get_word(row, i)).collect())),
+        }
+    }
+}
+
+/// Successor state vectors with their labels, back to back in one buffer:
+/// a successor function appends a copy of its source and changes it in
+/// place, without an allocation per successor.
+#[derive(Debug, Default)]
+pub struct Vectors {
+    width: usize,
+    labels: Vec<Label>,
+    slots: Vec<i32>,
+    /// Scratch space for the models' machine moves, kept between calls.
+    pub(crate) moves: Vec<crate::machine::Move>,
+}
+
+impl Vectors {
+    /// An empty buffer of vectors of `width` slots.
+    pub fn new(width: usize) -> Vectors {
+        Vectors { width, ..Vectors::default() }
+    }
+
+    /// Empties the buffer, for vectors of `width` slots.
+    pub fn reset(&mut self, width: usize) {
+        self.width = width;
+        self.labels.clear();
+        self.slots.clear();
+    }
+
+    /// The number of vectors.
+    pub fn len(&self) -> usize {
+        self.labels.len()
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.labels.is_empty()
+    }
+
+    /// Appends a copy of `st` (labelled τ until [`Vectors::set_label`]) and
+    /// returns it, to be changed in place.
+    pub fn push_copy(&mut self, st: &[i32]) -> &mut [i32] {
+        debug_assert_eq!(st.len(), self.width);
+        self.labels.push(Label::TAU);
+        let at = self.slots.len();
+        self.slots.extend_from_slice(st);
+        &mut self.slots[at..]
+    }
+
+    /// Appends `st` with `label`.
+    pub fn push(&mut self, label: Label, st: &[i32]) {
+        self.push_copy(st);
+        self.set_label(label);
+    }
+
+    /// Sets the label of the last vector.
+    pub fn set_label(&mut self, label: Label) {
+        if let Some(l) = self.labels.last_mut() {
+            *l = label;
+        }
+    }
+
+    /// The labels, in order.
+    pub fn labels(&self) -> &[Label] {
+        &self.labels
+    }
+
+    /// The labels, to be changed.
+    pub fn labels_mut(&mut self) -> &mut [Label] {
+        &mut self.labels
+    }
+
+    /// Vector `k`.
+    pub fn get(&self, k: usize) -> &[i32] {
+        &self.slots[k * self.width..(k + 1) * self.width]
+    }
+
+    /// Keeps the first `len` vectors.
+    pub fn truncate(&mut self, len: usize) {
+        self.labels.truncate(len);
+        self.slots.truncate(len * self.width);
+    }
+
+    /// Keeps, among the vectors from `start` on, those whose label `keep`
+    /// holds of, in order.
+    pub fn retain_from(&mut self, start: usize, keep: impl Fn(Label) -> bool) {
+        let w = self.width;
+        let mut to = start;
+        for k in start..self.labels.len() {
+            if keep(self.labels[k]) {
+                if to != k {
+                    self.labels[to] = self.labels[k];
+                    self.slots.copy_within(k * w..(k + 1) * w, to * w);
+                }
+                to += 1;
+            }
+        }
+        self.truncate(to);
     }
 }
 
@@ -168,10 +474,8 @@ pub trait VectorLts: Sync {
     fn encoding(&self) -> &Encoding;
     /// The initial state vector.
     fn initial_values(&self) -> Box<[i32]>;
-    /// The transitions of a state vector.
-    // The state is taken as its box: successors are clones of it.
-    #[allow(clippy::borrowed_box)]
-    fn successor_values(&self, st: &Box<[i32]>, out: &mut Vec<(crate::lts::Label, Box<[i32]>)>);
+    /// Appends the transitions of a state vector to `out`.
+    fn successor_values(&self, st: &[i32], out: &mut Vectors);
 
     /// The state vector of a packed state.
     fn values(&self, st: &Packed) -> Box<[i32]> {
@@ -199,6 +503,31 @@ impl<T: VectorLts> crate::lts::Lts for T {
     fn state_bytes(&self, st: &Packed) -> usize {
         std::mem::size_of::<Packed>() + st.heap_bytes()
     }
+
+    fn state_width(&self) -> usize {
+        self.encoding().layout.row_width()
+    }
+
+    fn successor_rows(&self, row: &[u8], out: &mut crate::lts::Rows<Packed>) {
+        let e = self.encoding();
+        let mut vals = std::mem::take(&mut out.source);
+        if vals.len() != e.layout.len() {
+            vals = vec![0; e.layout.len()].into_boxed_slice();
+        }
+        let mut words = std::mem::take(&mut out.words);
+        e.layout.unpack_row_words(row, &mut vals, &mut words);
+        let mut next = std::mem::take(&mut out.vectors);
+        next.reset(vals.len());
+        self.successor_values(&vals, &mut next);
+        for (k, &label) in next.labels().iter().enumerate() {
+            let at = out.len();
+            if let Err(err) = e.layout.pack_from(&vals, &words, next.get(k), out.push(label)) {
+                out.truncate(at);
+                e.error.set(err);
+            }
+        }
+        (out.vectors, out.source, out.words) = (next, vals, words);
+    }
 }
 
 /// The packed side of an LTS whose successor function works on unpacked
@@ -210,13 +539,13 @@ pub fn successors_packed(
     error: &crate::lts::FirstError,
     st: &Packed,
     out: &mut Vec<(crate::lts::Label, Packed)>,
-    succ: impl FnOnce(&Box<[i32]>, &mut Vec<(crate::lts::Label, Box<[i32]>)>),
+    succ: impl FnOnce(&[i32], &mut Vectors),
 ) {
     let vals = layout.unpack(st);
-    let mut next = Vec::new();
+    let mut next = Vectors::new(vals.len());
     succ(&vals, &mut next);
-    for (label, v) in next {
-        match layout.pack(&v) {
+    for (k, &label) in next.labels().iter().enumerate() {
+        match layout.pack(next.get(k)) {
             Ok(p) => out.push((label, p)),
             Err(e) => error.set(e),
         }
@@ -256,5 +585,65 @@ mod tests {
         assert!(matches!(p, Packed::Words(_)));
         assert_eq!(&*wide.unpack(&p), &[1, 2, 3, 4, 5]);
         assert_eq!(std::mem::size_of::<Packed>(), 24);
+    }
+
+    #[test]
+    fn rows_are_the_packed_words_cut_short() {
+        use crate::lts::StateCodec;
+        let layouts = [
+            Layout::new(&[(-1, 5), (0, 1), (0, 0), (-3, 3)]),
+            Layout::new(&[(0, i32::MAX as i64), (0, i32::MAX as i64), (0, 1000)]),
+            Layout::new(&[(i32::MIN as i64, i32::MAX as i64); 5]),
+            Layout::new(&[(0, 0)]),
+        ];
+        assert_eq!(layouts.iter().map(Layout::row_width).collect::<Vec<_>>(), [1, 10, 20, 1]);
+        for layout in &layouts {
+            for seed in 0..20i64 {
+                let st: Vec<i32> = layout
+                    .fields
+                    .iter()
+                    .map(|f| (f.lo + (seed * 7919 + f.shift as i64).rem_euclid(f.span as i64 + 1)) as i32)
+                    .collect();
+                let p = layout.pack(&st).unwrap();
+                let mut row = vec![0u8; layout.row_width()];
+                layout.pack_into(&st, &mut row).unwrap();
+                let mut written = vec![0u8; layout.row_width()];
+                p.write(&mut written);
+                assert_eq!(row, written);
+                assert_eq!(Packed::read(&row), p);
+                let mut back = vec![0; layout.len()];
+                layout.unpack_row(&row, &mut back);
+                assert_eq!(back, st);
+                // Repacking from another state gives the same bytes.
+                let base: Vec<i32> = layout.fields.iter().map(|f| f.lo as i32).collect();
+                let mut base_words = Vec::new();
+                let mut base_row = vec![0u8; layout.row_width()];
+                layout.pack_into(&base, &mut base_row).unwrap();
+                layout.row_words(&base_row, &mut base_words);
+                let mut again = vec![0u8; layout.row_width()];
+                layout.pack_from(&base, &base_words, &st, &mut again).unwrap();
+                assert_eq!(again, row);
+                layout
+                    .pack_from(
+                        &st,
+                        &{
+                            let mut w = Vec::new();
+                            layout.row_words(&row, &mut w);
+                            w
+                        },
+                        &base,
+                        &mut again,
+                    )
+                    .unwrap();
+                assert_eq!(again, base_row);
+                let mut wrong = st.clone();
+                wrong[0] = (layout.fields[0].hi + 1) as i32;
+                if layout.fields[0].hi < i32::MAX as i64 {
+                    assert!(layout.pack_from(&st, &base_words, &wrong, &mut again).is_err());
+                }
+            }
+        }
+        let mut row = [0u8; 1];
+        assert!(layouts[0].pack_into(&[6, 0, 0, 0], &mut row).is_err());
     }
 }

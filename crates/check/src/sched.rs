@@ -21,7 +21,7 @@ use crate::events::{EventTable, Param};
 use crate::ir::{Design, Dir, Dom, Val};
 use crate::lts::{Event, Label, TAU, TICK, TOCK};
 use crate::machine::{Act, Move, Offer};
-use crate::pack::{Encoding, VectorLts};
+use crate::pack::{Encoding, VectorLts, Vectors};
 
 /// The state: the design's slots, then the assumptions'.
 pub type State = Box<[i32]>;
@@ -416,7 +416,7 @@ impl<'a> Constrained<'a> {
     }
 
     /// A3 reads the input registers, in any order (A1 keeps what was read).
-    fn reads(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn reads(&self, st: &[i32], out: &mut Vectors) {
         if st[self.phase] != READ {
             return;
         }
@@ -428,17 +428,16 @@ impl<'a> Constrained<'a> {
             // The register's domain (shared with the other side of a check).
             let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
             for (present, v) in c.read_values(reg_lo) {
-                let mut args = vec![present];
-                args.extend(v);
-                let ev = self.enc.events.event(self.read_group[i], &args);
-                let mut n = st.clone();
+                let args = [present, v.unwrap_or(0)];
+                let ev = self.enc.events.event(self.read_group[i], &args[..1 + usize::from(v.is_some())]);
+                let n = out.push_copy(st);
                 n[self.a1 + 2 * i] = present as i32;
                 n[self.a1 + 2 * i + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
                 n[self.arg] &= !(1 << i);
                 if n[self.arg] == 0 {
                     n[self.phase] = RUN;
                 }
-                out.push((Label::plain(ev), n));
+                out.set_label(Label::plain(ev));
             }
         }
     }
@@ -464,14 +463,14 @@ impl<'a> Constrained<'a> {
     }
 
     /// `paper2019` TA2: writes of absences for the outputs in `pool`.
-    fn false_writes(&self, st: &State, pool: i32, out: &mut Vec<(Label, State)>) {
+    fn false_writes(&self, st: &[i32], pool: i32, out: &mut Vectors) {
         for o in 0..self.outputs.len() {
             if pool & (1 << o) == 0 {
                 continue;
             }
             let Some((ph, arg)) = self.ta3_write(st, o) else { continue };
             let rem = pool & !(1 << o);
-            let mut n = st.clone();
+            let n = out.push_copy(st);
             if rem == 0 {
                 n[self.avail] = self.all_outputs();
                 n[self.pend] = -1;
@@ -480,11 +479,11 @@ impl<'a> Constrained<'a> {
             }
             n[self.phase] = ph;
             n[self.arg] = arg;
-            out.push((Label::plain(self.enc.events.event(self.false_group[o], &[])), n));
+            out.set_label(Label::plain(self.enc.events.event(self.false_group[o], &[])));
         }
     }
 
-    fn successors_paper(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+    fn successors_paper(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
         let start = out.len();
         let nout = self.outputs.len();
         self.reads(st, out);
@@ -499,28 +498,30 @@ impl<'a> Constrained<'a> {
                 head >= grp.base && ((head - grp.base) as u64) < grp.size
             }) {
                 if let Some((ph, arg)) = self.ta3_write(st, o) {
-                    let mut n = st.clone();
+                    let n = out.push_copy(st);
                     for j in 0..nout.saturating_sub(1) {
                         n[self.occ + j] = n[self.occ + j + 1];
                     }
                     n[self.occ + nout - 1] = 0;
                     n[self.phase] = ph;
                     n[self.arg] = arg;
-                    out.push((Label::plain(head), n));
+                    out.set_label(Label::plain(head));
                 }
             }
         } else if st[self.avail] == 0 {
             // Every output was produced and written: TA2 starts over.
-            let mut n = st.clone();
+            let n = out.push_copy(st);
             n[self.avail] = self.all_outputs();
-            out.push((Label::TAU, n));
+            out.set_label(Label::TAU);
         } else {
             self.false_writes(st, st[self.avail], out);
         }
         let phase = st[self.phase];
         let mut design_tock = true;
         if st[self.mode] == RUNNING {
-            let mut moves = Vec::new();
+            // A buffer reused from state to state.
+            let mut moves = std::mem::take(&mut out.moves);
+            moves.clear();
             let mut internal = Vec::new();
             let mut returning = false;
             for (mi, m) in self.design.machines.iter().enumerate() {
@@ -530,9 +531,9 @@ impl<'a> Constrained<'a> {
                     returning = true;
                     design_tock = false;
                     if phase == RUN {
-                        let mut n = st.clone();
+                        let n = out.push_copy(st);
                         n[self.ret + mi] = 0;
-                        out.push((Label::plain(self.enc.events.event(self.ret_group[(ret - 1) as usize], &[])), n));
+                        out.set_label(Label::plain(self.enc.events.event(self.ret_group[(ret - 1) as usize], &[])));
                     }
                     continue;
                 }
@@ -546,16 +547,18 @@ impl<'a> Constrained<'a> {
                     }
                     match &mv.offer {
                         Offer::Tau => {
-                            let n = self.design.after(m, st, mv.act, None)?;
-                            out.push((Label::TAU, n));
+                            let n = out.push_copy(st);
+                            self.design.apply(m, n, mv.act, None)?;
+                            out.set_label(Label::TAU);
                         }
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
                             let has_value = !self.design.channels[*chan as usize].params.is_empty();
                             let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
-                            let mut n = self.design.after(m, st, mv.act, has_value.then_some(v))?;
+                            let n = out.push_copy(st);
+                            self.design.apply(m, n, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
-                            out.push((Label::plain(self.design_event(*chan, &args)), n));
+                            out.set_label(Label::plain(self.design_event(*chan, &args)));
                         }
                         Offer::Out { chan, args } => {
                             let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
@@ -564,61 +567,55 @@ impl<'a> Constrained<'a> {
                             if phase != RUN || fm >= 0 || len >= nout {
                                 continue;
                             }
-                            let mut n = self.design.after(m, st, mv.act, None)?;
+                            let n = out.push_copy(st);
+                            self.design.apply(m, n, mv.act, None)?;
                             n[self.occ + len] = self.enc.events.event(self.write_group[o], args) as i32;
                             n[self.avail] &= !(1 << o);
                             if self.design.channels[*chan as usize].is_call {
                                 n[self.ret + mi] = i32::from(*chan) + 1;
                             }
-                            out.push((Label::plain(self.design_event(*chan, args)), n));
+                            out.set_label(Label::plain(self.design_event(*chan, args)));
                         }
                     }
                 }
             }
+            out.moves = moves;
             for (_, _, n) in self.design.internal_steps(st, &internal)? {
-                out.push((Label::TAU, n));
+                out.push(Label::TAU, &n);
             }
             // Termination (`end`) only at a cycle's end, before time passes.
             let terminated = !returning && self.design.machines.iter().all(|m| m.terminated(st));
             if terminated && phase == WAIT && st[self.arg] == self.period {
-                let mut n = st.clone();
+                let n = out.push_copy(st);
                 n[self.mode] = DONE;
-                out.push((Label { event: TAU, note: self.terminate }, n));
+                out.set_label(Label { event: TAU, note: self.terminate });
             }
         }
         // TA3: exactly `p` tocks after the writes.
         if design_tock && phase == WAIT {
-            let mut n = st.clone();
+            let n = out.push_copy(st);
             if n[self.mode] == RUNNING {
-                self.design.advance_time(&mut n)?;
+                self.design.advance_time(n)?;
             }
             if n[self.arg] <= 1 {
-                self.start_cycle(&mut n);
+                self.start_cycle(n);
             } else {
                 n[self.arg] -= 1;
             }
-            out.push((Label::TOCK, n));
+            out.set_label(Label::TOCK);
         }
         // Priority ⟨External, {registerWrite, tock}⟩: while τ or an external
         // event is possible, no write and no tock (register reads are unranked).
         let (lo, hi) = self.writes;
-        let external = out[start..].iter().any(|(l, _)| {
-            l.event == TAU || (l.event != TOCK && !(lo..hi).contains(&l.event) && !self.is_read(l.event))
-        });
+        let external = out.labels()[start..]
+            .iter()
+            .any(|l| l.event == TAU || (l.event != TOCK && !(lo..hi).contains(&l.event) && !self.is_read(l.event)));
         if external {
-            let mut keep = start;
-            for j in start..out.len() {
-                let e = out[j].0.event;
-                if e != TOCK && !(lo..hi).contains(&e) {
-                    out.swap(keep, j);
-                    keep += 1;
-                }
-            }
-            out.truncate(keep);
+            out.retain_from(start, |l| l.event != TOCK && !(lo..hi).contains(&l.event));
         }
         if !self.tlfree {
             // As the specification of a refinement: external events hidden.
-            for (label, _) in &mut out[start..] {
+            for label in &mut out.labels_mut()[start..] {
                 let e = label.event;
                 if e != TAU && e != TOCK && !(lo..hi).contains(&e) && !self.is_read(e) {
                     *label = Label { event: TAU, note: e };
@@ -635,23 +632,25 @@ impl<'a> Constrained<'a> {
         })
     }
 
-    fn successors_rt3(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+    fn successors_rt3(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
         let start = out.len();
         let mode = st[self.mode];
         let phase = st[self.phase];
         self.reads(st, out);
         // A2 writes the register of the output just produced.
         if st[self.pend] != 0 {
-            let mut n = st.clone();
+            let n = out.push_copy(st);
             n[self.pend] = 0;
-            out.push((Label::plain(st[self.pend] as Event), n));
+            out.set_label(Label::plain(st[self.pend] as Event));
         }
         let mut design_tau = false;
         let mut design_out = false;
         let mut design_tock = true;
         if mode == RUNNING {
             let terminated = self.design.machines.iter().all(|m| m.terminated(st));
-            let mut moves = Vec::new();
+            // A buffer reused from state to state.
+            let mut moves = std::mem::take(&mut out.moves);
+            moves.clear();
             let mut internal = Vec::new();
             for (mi, m) in self.design.machines.iter().enumerate() {
                 moves.clear();
@@ -665,17 +664,19 @@ impl<'a> Constrained<'a> {
                     match &mv.offer {
                         Offer::Tau => {
                             design_tau = true;
-                            let n = self.design.after(m, st, mv.act, None)?;
-                            out.push((Label::TAU, n));
+                            let n = out.push_copy(st);
+                            self.design.apply(m, n, mv.act, None)?;
+                            out.set_label(Label::TAU);
                         }
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
                             let has_value = !self.design.channels[*chan as usize].params.is_empty();
                             let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
                             let note = self.design_event(*chan, &args);
-                            let mut n = self.design.after(m, st, mv.act, has_value.then_some(v))?;
+                            let n = out.push_copy(st);
+                            self.design.apply(m, n, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
-                            out.push((Label { event: TAU, note }, n));
+                            out.set_label(Label { event: TAU, note });
                         }
                         Offer::Out { chan, args } => {
                             design_out = true;
@@ -685,24 +686,26 @@ impl<'a> Constrained<'a> {
                                 continue;
                             }
                             let note = self.design_event(*chan, args);
-                            let mut n = self.design.after(m, st, mv.act, None)?;
+                            let n = out.push_copy(st);
+                            self.design.apply(m, n, mv.act, None)?;
                             n[self.pend] = self.enc.events.event(self.write_group[o], args) as i32;
                             n[self.avail] &= !(1 << o);
-                            out.push((Label { event: TAU, note }, n));
+                            out.set_label(Label { event: TAU, note });
                         }
                     }
                 }
             }
+            out.moves = moves;
             for (chan, args, n) in self.design.internal_steps(st, &internal)? {
                 design_tau = true;
-                out.push((Label { event: TAU, note: self.design_event(chan, &args) }, n));
+                out.push(Label { event: TAU, note: self.design_event(chan, &args) }, &n);
             }
             if terminated {
                 design_tau = true;
                 if st[self.pend] == 0 && st[self.k] < 0 && phase == RUN {
-                    let mut n = st.clone();
+                    let n = out.push_copy(st);
                     n[self.mode] = DONE;
-                    out.push((Label { event: TAU, note: self.terminate }, n));
+                    out.set_label(Label { event: TAU, note: self.terminate });
                 }
             }
             // TLFree: a design that can do nothing at all — no internal step,
@@ -710,22 +713,22 @@ impl<'a> Constrained<'a> {
             // then only let time pass, so that input deadlines the
             // environment must meet are not blamed on scheduling.
             if self.tlfree && !design_tau && !design_out && !design_tock {
-                let mut n = st.clone();
+                let n = out.push_copy(st);
                 n[self.mode] = SINK;
-                out.push((Label::plain(self.timelock), n));
+                out.set_label(Label::plain(self.timelock));
             }
         }
         // Time passes when the design, A2 (no pending write) and A3 (not
         // reading) allow it, and nothing internal is possible.
-        let tau_here = out[start..].iter().any(|(l, _)| l.event == TAU);
+        let tau_here = out.labels()[start..].iter().any(|l| l.event == TAU);
         let design_allows = match mode {
             RUNNING => design_tock,
             _ => true,
         };
         if !tau_here && design_allows && st[self.pend] == 0 && phase != READ {
-            let mut n = st.clone();
-            self.tock(&mut n)?;
-            out.push((Label::TOCK, n));
+            let n = out.push_copy(st);
+            self.tock(n)?;
+            out.set_label(Label::TOCK);
         }
         Ok(())
     }
@@ -746,16 +749,16 @@ impl VectorLts for Constrained<'_> {
         st.into_boxed_slice()
     }
 
-    fn successor_values(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn successor_values(&self, st: &[i32], out: &mut Vectors) {
         if st[self.mode] == DONE {
             // Termination is success: in a schedulability check time passes
             // forever (`; RUN({tock})`); otherwise the process ends (✓).
             if self.tlfree {
-                out.push((Label::TOCK, st.clone()));
+                out.push(Label::TOCK, st);
             } else {
-                let mut n = st.clone();
+                let n = out.push_copy(st);
                 n[self.mode] = ENDED;
-                out.push((Label::plain(TICK), n));
+                out.set_label(Label::plain(TICK));
             }
             return;
         }
@@ -771,7 +774,7 @@ impl VectorLts for Constrained<'_> {
             self.enc.error.set(e);
             // Keep the search going elsewhere; the verdict becomes inconclusive.
             out.truncate(start);
-            out.push((Label::TOCK, st.clone()));
+            out.push(Label::TOCK, st);
         }
     }
 }

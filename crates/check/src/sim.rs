@@ -9,7 +9,7 @@
 use crate::ir::{Design, Dir};
 use crate::lts::{Event, Label, TAU, TICK};
 use crate::machine::Offer;
-use crate::pack::{Encoding, VectorLts};
+use crate::pack::{Encoding, VectorLts, Vectors};
 use crate::sched::{Profile, Registers, State, DONE, ENDED, READ, RUN, RUNNING, WAIT};
 
 /// `paper2019`: writing the cycle's buffered outputs (`arg`: the outputs
@@ -154,7 +154,7 @@ impl<'a> SimModule<'a> {
         }
     }
 
-    fn successors_inner(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
+    fn successors_inner(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
         match st[self.phase] {
             READ => {
                 for (i, &chan) in self.inputs.iter().enumerate() {
@@ -165,22 +165,23 @@ impl<'a> SimModule<'a> {
                     let reg = c.register.unwrap_or_default() as usize;
                     let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
                     for (present, v) in c.read_values(reg_lo) {
-                        let mut args = vec![present];
-                        args.extend(v);
-                        let ev = self.enc.events.event(self.read_group[i], &args);
-                        let mut n = st.clone();
+                        let args = [present, v.unwrap_or(0)];
+                        let ev = self.enc.events.event(self.read_group[i], &args[..1 + usize::from(v.is_some())]);
+                        let n = out.push_copy(st);
                         n[reg] = present as i32;
                         n[reg + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
                         n[self.arg] &= !(1 << i);
                         if n[self.arg] == 0 {
-                            self.begin_run(&mut n)?;
+                            self.begin_run(n)?;
                         }
-                        out.push((Label::plain(ev), n));
+                        out.set_label(Label::plain(ev));
                     }
                 }
             }
             RUN => {
-                let mut moves = Vec::new();
+                // A buffer reused from state to state.
+                let mut moves = std::mem::take(&mut out.moves);
+                moves.clear();
                 let mut internal = Vec::new();
                 for (mi, m) in self.design.machines.iter().enumerate() {
                     moves.clear();
@@ -192,8 +193,9 @@ impl<'a> SimModule<'a> {
                         }
                         match &mv.offer {
                             Offer::Tau => {
-                                let n = self.design.after(m, st, mv.act, None)?;
-                                out.push((Label::TAU, n));
+                                let n = out.push_copy(st);
+                                self.design.apply(m, n, mv.act, None)?;
+                                out.set_label(Label::TAU);
                             }
                             Offer::Out { chan, args } => {
                                 let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
@@ -206,10 +208,11 @@ impl<'a> SimModule<'a> {
                                     if len >= nout {
                                         continue;
                                     }
-                                    let mut n = self.design.after(m, st, mv.act, None)?;
+                                    let n = out.push_copy(st);
+                                    self.design.apply(m, n, mv.act, None)?;
                                     n[self.occ + len] = write as i32;
                                     n[self.written] |= 1 << o;
-                                    out.push((Label::TAU, n));
+                                    out.set_label(Label::TAU);
                                     continue;
                                 }
                                 // One write per register per cycle: a second one
@@ -217,9 +220,10 @@ impl<'a> SimModule<'a> {
                                 if st[self.written] & (1 << o) != 0 {
                                     continue;
                                 }
-                                let mut n = self.design.after(m, st, mv.act, None)?;
+                                let n = out.push_copy(st);
+                                self.design.apply(m, n, mv.act, None)?;
                                 n[self.written] |= 1 << o;
-                                out.push((Label::plain(write), n));
+                                out.set_label(Label::plain(write));
                             }
                             Offer::In { .. } => {
                                 return Err(format!("machine `{}` waits for an input event", m.name));
@@ -227,17 +231,18 @@ impl<'a> SimModule<'a> {
                         }
                     }
                 }
+                out.moves = moves;
                 for (_, _, n) in self.design.internal_steps(st, &internal)? {
-                    out.push((Label::TAU, n));
+                    out.push(Label::TAU, &n);
                 }
                 // The cycle ends when every machine has ended its own.
                 if self.design.machines.iter().all(|m| m.cycle_ended(st)) {
                     if self.profile == Profile::Paper2019 {
                         // Rule 4: then the buffered outputs are written.
-                        let mut n = st.clone();
+                        let n = out.push_copy(st);
                         n[self.phase] = WRITES;
                         n[self.arg] = ((1i64 << self.outputs.len()) - 1) as i32 & !st[self.written];
-                        out.push((Label::TAU, n));
+                        out.set_label(Label::TAU);
                     } else {
                         self.end_cycle(st, out)?;
                     }
@@ -246,26 +251,26 @@ impl<'a> SimModule<'a> {
             WRITES => {
                 let nout = self.outputs.len();
                 if nout > 0 && st[self.occ] != 0 {
-                    let mut n = st.clone();
+                    let n = out.push_copy(st);
                     for j in 0..nout - 1 {
                         n[self.occ + j] = n[self.occ + j + 1];
                     }
                     n[self.occ + nout - 1] = 0;
-                    out.push((Label::plain(st[self.occ] as Event), n));
+                    out.set_label(Label::plain(st[self.occ] as Event));
                 } else if st[self.arg] != 0 {
                     for o in (0..nout).filter(|o| st[self.arg] & (1 << o) != 0) {
-                        let mut n = st.clone();
+                        let n = out.push_copy(st);
                         n[self.arg] &= !(1 << o);
-                        out.push((Label::plain(self.enc.events.event(self.false_group[o], &[])), n));
+                        out.set_label(Label::plain(self.enc.events.event(self.false_group[o], &[])));
                     }
                 } else {
                     self.end_cycle(st, out)?;
                 }
             }
             _ => {
-                let mut n = st.clone();
-                self.tock(&mut n)?;
-                out.push((Label::TOCK, n));
+                let n = out.push_copy(st);
+                self.tock(n)?;
+                out.set_label(Label::TOCK);
             }
         }
         Ok(())
@@ -273,14 +278,14 @@ impl<'a> SimModule<'a> {
 
     /// The end of a cycle: termination when every machine has terminated,
     /// else time passes until the next.
-    fn end_cycle(&self, st: &State, out: &mut Vec<(Label, State)>) -> Result<(), String> {
-        let mut n = st.clone();
+    fn end_cycle(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
+        let n = out.push_copy(st);
         if self.design.machines.iter().all(|m| m.terminated(st)) {
             n[self.mode] = DONE;
-            out.push((Label { event: TAU, note: self.terminate }, n));
+            out.set_label(Label { event: TAU, note: self.terminate });
         } else {
-            self.tock(&mut n)?;
-            out.push((Label::TOCK, n));
+            self.tock(n)?;
+            out.set_label(Label::TOCK);
         }
         Ok(())
     }
@@ -305,12 +310,12 @@ impl VectorLts for SimModule<'_> {
         st.into_boxed_slice()
     }
 
-    fn successor_values(&self, st: &State, out: &mut Vec<(Label, State)>) {
+    fn successor_values(&self, st: &[i32], out: &mut Vectors) {
         match st[self.mode] {
             DONE => {
-                let mut n = st.clone();
+                let n = out.push_copy(st);
                 n[self.mode] = ENDED;
-                out.push((Label::plain(TICK), n));
+                out.set_label(Label::plain(TICK));
                 return;
             }
             ENDED => return,

@@ -423,6 +423,38 @@ impl Lts for Side<'_> {
             Side::Plain(l) => l.state_bytes(st),
         }
     }
+
+    fn state_width(&self) -> usize {
+        match self {
+            Side::Design(l) => l.state_width(),
+            Side::Sim(l) => l.state_width(),
+            Side::Plain(l) => l.state_width(),
+        }
+    }
+
+    fn encode(&self, st: &Packed, row: &mut [u8]) {
+        match self {
+            Side::Design(l) => l.encode(st, row),
+            Side::Sim(l) => l.encode(st, row),
+            Side::Plain(l) => l.encode(st, row),
+        }
+    }
+
+    fn decode(&self, row: &[u8]) -> Packed {
+        match self {
+            Side::Design(l) => l.decode(row),
+            Side::Sim(l) => l.decode(row),
+            Side::Plain(l) => l.decode(row),
+        }
+    }
+
+    fn successor_rows(&self, row: &[u8], out: &mut crate::lts::Rows<Packed>) {
+        match self {
+            Side::Design(l) => l.successor_rows(row, out),
+            Side::Sim(l) => l.successor_rows(row, out),
+            Side::Plain(l) => l.successor_rows(row, out),
+        }
+    }
 }
 
 fn side<'a>(

@@ -11,9 +11,9 @@
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
-use crate::lts::{Label, Lts, TICK};
+use crate::lts::{Label, Lts, Rows, TICK};
 
-use super::{explore, fx, heap_bytes, visited_from_initial, Flow, Path, NO_PARENT};
+use super::{explore, state_path, visited_from_initial, Flow, Path};
 
 /// The verdict of [`find_deadlock`].
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -51,7 +51,6 @@ enum Found {
 
 fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Path<L::State>>, Stop> {
     let mut visited = visited_from_initial(lts, meter)?;
-    let heap = |s: &L::State| heap_bytes(lts, s);
 
     // ✓ bookkeeping, only ever non-empty for models that terminate:
     // states first reached by ✓; those of them found to have no
@@ -64,12 +63,12 @@ fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Path<L::State
     let found = explore(
         &mut visited,
         meter,
-        |s: &L::State, out: &mut Vec<(Label, L::State)>| lts.successors(s, out),
-        |s: &L::State| fx(s),
-        |visited, meter, i, succ, hashes| {
+        lts.state_width(),
+        |s: &[u8], out: &mut Rows<L::State>| lts.successor_rows(s, out),
+        |visited, meter, i, succ| {
             if succ.is_empty() {
-                let by_tick = visited.parent(i) != NO_PARENT && visited.label(i).event == TICK;
-                if !by_tick {
+                // Reached first by ✓ (the root is not).
+                if !tick_reached.contains(&i) {
                     return Ok(Flow::Break(Found::State(i)));
                 }
                 if let Some(&(src, label)) = other_entry.get(&i) {
@@ -78,27 +77,27 @@ fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Path<L::State
                 terminated.insert(i);
                 return Ok(Flow::Continue);
             }
-            for ((label, t), &h) in succ.iter().zip(hashes) {
-                let (j, new) = visited.insert(meter, h, |s| s == t, || t.clone(), heap, i, *label)?;
+            for (label, t, h) in succ.iter() {
+                let (j, new) = visited.insert(meter, h, t, i)?;
                 if new {
                     if label.event == TICK {
                         tick_reached.insert(j);
                     }
                 } else if label.event != TICK && tick_reached.contains(&j) {
                     if terminated.contains(&j) {
-                        return Ok(Flow::Break(Found::Via(i, *label, j)));
+                        return Ok(Flow::Break(Found::Via(i, label, j)));
                     }
-                    other_entry.entry(j).or_insert((i, *label));
+                    other_entry.entry(j).or_insert((i, label));
                 }
             }
             Ok(Flow::Continue)
         },
     )?;
     Ok(found.map(|f| match f {
-        Found::State(i) => visited.path_to(i, Clone::clone),
+        Found::State(i) => state_path(lts, &visited, i),
         Found::Via(src, label, target) => {
-            let mut path = visited.path_to(src, Clone::clone);
-            path.steps.push((label, visited.node(target).clone()));
+            let mut path = state_path(lts, &visited, src);
+            path.steps.push((label, lts.decode(visited.row(target))));
             path
         }
     }))

@@ -10,11 +10,9 @@
 use rustc_hash::FxHashMap;
 
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
-use crate::lts::{Label, Lts, TAU};
+use crate::lts::{Label, Lts, Rows, TAU};
 
-use super::{
-    cyclic_components, explore, fx, heap_bytes, shortest_cycle, tarjan, visited_from_initial, Flow, Lasso, Path,
-};
+use super::{cyclic_components, explore, shortest_cycle, state_path, tarjan, visited_from_initial, Flow, Lasso, Path};
 
 /// The verdict of [`find_divergence`].
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -53,27 +51,26 @@ pub fn find_divergence<L: Lts>(
 
 fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Lasso<L::State>>, Stop> {
     let mut visited = visited_from_initial(lts, meter)?;
-    let heap = |s: &L::State| heap_bytes(lts, s);
     let mut div = TauDivergence::new();
     let found = explore(
         &mut visited,
         meter,
-        |s: &L::State, out: &mut Vec<(Label, L::State)>| lts.successors(s, out),
-        |s: &L::State| fx(s),
-        |visited, meter, i, succ, hashes| {
+        lts.state_width(),
+        |s: &[u8], out: &mut Rows<L::State>| lts.successor_rows(s, out),
+        |visited, meter, i, succ| {
             // A state without τ cannot start a τ-cycle: skip the test.
-            if succ.iter().any(|(l, _)| l.event == TAU) && div.diverges(lts, visited.node(i), meter)? {
+            if succ.labels().iter().any(|l| l.event == TAU) && div.diverges(lts, &lts.decode(visited.row(i)), meter)? {
                 return Ok(Flow::Break(i));
             }
-            for ((label, t), &h) in succ.iter().zip(hashes) {
-                visited.insert(meter, h, |s| s == t, || t.clone(), heap, i, *label)?;
+            for (_, t, h) in succ.iter() {
+                visited.insert(meter, h, t, i)?;
             }
             Ok(Flow::Continue)
         },
     )?;
     match found {
         Some(i) => {
-            let path = visited.path_to(i, Clone::clone);
+            let path = state_path(lts, &visited, i);
             let cycle = div.lasso(lts, path.last(), meter)?;
             Ok(Some((path, cycle)))
         }

@@ -19,7 +19,7 @@ use hashbrown::HashTable;
 use rustc_hash::FxBuildHasher;
 
 use crate::budget::{Budget, Meter, Stop};
-use crate::lts::{Event, Label, Lts, TAU};
+use crate::lts::{Event, Label, Lts, Rows, TAU};
 
 pub mod deadlock;
 pub mod divergence;
@@ -74,17 +74,12 @@ pub(crate) const NO_PARENT: u32 = u32::MAX;
 /// A path to a state and a cycle back to it (a lasso).
 pub(crate) type Lasso<S> = (Path<S>, Vec<(Label, S)>);
 
-/// The heap bytes of a state of `lts` beyond its inline size.
-pub(crate) fn heap_bytes<L: Lts>(lts: &L, s: &L::State) -> usize {
-    lts.state_bytes(s).saturating_sub(std::mem::size_of::<L::State>())
-}
-
 /// A visited table holding the initial state of `lts` (index 0).
-pub(crate) fn visited_from_initial<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Visited<L::State>, Stop> {
-    let mut visited: Visited<L::State> = Visited::new(fx::<L::State>);
-    let init = lts.initial();
-    let h = fx(&init);
-    visited.insert(meter, h, |_| false, || init, |s| heap_bytes(lts, s), NO_PARENT, Label::TAU)?;
+pub(crate) fn visited_from_initial<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Visited, Stop> {
+    let mut visited = Visited::new(lts.state_width(), hash_row);
+    let mut row = vec![0u8; lts.state_width()];
+    lts.encode(&lts.initial(), &mut row);
+    visited.insert(meter, hash_row(&row), &row, NO_PARENT)?;
     Ok(visited)
 }
 
@@ -94,6 +89,61 @@ pub(crate) fn fx<T: Hash + ?Sized>(t: &T) -> u64 {
     FxBuildHasher.hash_one(t)
 }
 
+/// The hash of a stored state's row: FxHash over its 8-byte words, then a
+/// finaliser so that the low bits (the table's bucket) and the top bits
+/// (its tag) both depend on every byte.
+#[inline]
+pub(crate) fn hash_row(row: &[u8]) -> u64 {
+    const K: u64 = 0xf135_7aea_2e62_a9c5;
+    let word = |at: usize| {
+        let mut w = [0u8; 8];
+        w.copy_from_slice(&row[at..at + 8]);
+        u64::from_le_bytes(w)
+    };
+    let n = row.len();
+    let mut h = n as u64;
+    if (8..=16).contains(&n) {
+        // The common widths: two (possibly overlapping) words, no loop.
+        h = (h.rotate_left(26) ^ word(0)).wrapping_mul(K);
+        h = (h.rotate_left(26) ^ word(n - 8)).wrapping_mul(K);
+    } else {
+        let mut chunks = row.chunks_exact(8);
+        for c in &mut chunks {
+            let mut w = [0u8; 8];
+            w.copy_from_slice(c);
+            h = (h.rotate_left(26) ^ u64::from_le_bytes(w)).wrapping_mul(K);
+        }
+        let rest = chunks.remainder();
+        if !rest.is_empty() {
+            let mut w = [0u8; 8];
+            w[..rest.len()].copy_from_slice(rest);
+            h = (h.rotate_left(26) ^ u64::from_le_bytes(w)).wrapping_mul(K);
+        }
+    }
+    h ^= h >> 32;
+    h = h.wrapping_mul(K);
+    h ^ (h >> 29)
+}
+
+/// Whether two rows are equal: rows of 8 to 16 bytes (the common case)
+/// compare as two overlapping words, without a call to `memcmp`.
+#[inline]
+fn same_row(a: &[u8], b: &[u8]) -> bool {
+    let n = a.len();
+    if n != b.len() {
+        return false;
+    }
+    if !(8..=16).contains(&n) {
+        return a == b;
+    }
+    let word = |r: &[u8], at: usize| {
+        let mut w = [0u8; 8];
+        w.copy_from_slice(&r[at..at + 8]);
+        u64::from_le_bytes(w)
+    };
+    word(a, 0) == word(b, 0) && word(a, n - 8) == word(b, n - 8)
+}
+
 /// The hash of a (normal-form node, state) pair from the state's hash, so
 /// that the state part can be hashed by the worker threads.
 #[inline]
@@ -101,54 +151,80 @@ pub(crate) fn pair_hash_from(node: u32, state_hash: u64) -> u64 {
     state_hash ^ (u64::from(node) + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)
 }
 
-/// [`pair_hash_from`] of a stored pair.
-pub(crate) fn pair_hash<S: Hash>(pair: &(u32, S)) -> u64 {
-    pair_hash_from(pair.0, fx(&pair.1))
+/// The row of a (normal-form node, state) pair: the node's 4 bytes, then
+/// the state's row.
+pub(crate) fn pair_row(node: u32, state: &[u8], out: &mut Vec<u8>) {
+    out.clear();
+    out.extend_from_slice(&node.to_le_bytes());
+    out.extend_from_slice(state);
 }
 
-/// log2 of the entries per segment of [`Segments`].
-const SEG_SHIFT: u32 = 16;
+/// The node and state row of a pair's row (see [`pair_row`]).
+pub(crate) fn split_pair(row: &[u8]) -> (u32, &[u8]) {
+    let (node, state) = row.split_at(4);
+    (u32::from_le_bytes([node[0], node[1], node[2], node[3]]), state)
+}
+
+/// [`pair_hash_from`] of a stored pair's row.
+pub(crate) fn pair_row_hash(row: &[u8]) -> u64 {
+    let (node, state) = split_pair(row);
+    pair_hash_from(node, hash_row(state))
+}
+
+/// log2 of the entries per segment of [`Segments`]: small enough that the
+/// last segment's unused reserve is a few percent of a large table.
+const SEG_SHIFT: u32 = 14;
 /// Entries per segment of [`Segments`].
 const SEG: usize = 1 << SEG_SHIFT;
 
-/// A growable array stored in segments of [`SEG`] entries: growing never
-/// moves or copies what is stored, and the unused reserve is at most one
-/// segment (a `Vec` doubling wastes up to half its memory). The first
-/// segment grows by doubling, so tiny searches stay tiny.
+/// A growable array of entries of `stride` items each, stored in segments
+/// of [`SEG`] entries: growing never moves or copies what is stored, and
+/// the unused reserve is at most one segment (a `Vec` doubling wastes up
+/// to half its memory). The first segment grows by doubling, so tiny
+/// searches stay tiny.
 struct Segments<T> {
     segs: Vec<Vec<T>>,
+    stride: usize,
     len: usize,
+    /// Entries in the last segment and the entries it has room for (kept,
+    /// not divided out of the items, on the hot path).
+    last_len: usize,
+    last_cap: usize,
 }
 
-impl<T> Segments<T> {
-    fn new() -> Self {
-        Segments { segs: Vec::new(), len: 0 }
+impl<T: Copy> Segments<T> {
+    fn new(stride: usize) -> Self {
+        Segments { segs: Vec::new(), stride, len: 0, last_len: 0, last_cap: 0 }
     }
 
-    fn get(&self, i: usize) -> &T {
-        &self.segs[i >> SEG_SHIFT][i & (SEG - 1)]
+    #[inline]
+    fn get(&self, i: usize) -> &[T] {
+        let at = (i & (SEG - 1)) * self.stride;
+        &self.segs[i >> SEG_SHIFT][at..at + self.stride]
     }
 
-    /// Entries `lo..hi`, which must lie in one segment.
+    /// Entries `lo..hi`, which must lie in one segment, back to back.
     fn slice(&self, lo: usize, hi: usize) -> &[T] {
-        &self.segs[lo >> SEG_SHIFT][lo & (SEG - 1)..hi - (lo & !(SEG - 1))]
+        let at = (lo & (SEG - 1)) * self.stride;
+        &self.segs[lo >> SEG_SHIFT][at..at + (hi - lo) * self.stride]
     }
 
     /// Allocated entries.
     fn capacity(&self) -> usize {
-        match self.segs.last() {
-            None => 0,
-            Some(last) => (self.segs.len() - 1) * SEG + last.capacity(),
-        }
+        self.segs.len().saturating_sub(1) * SEG + self.last_cap
     }
 
     /// The entries the next push allocates room for (0 if there is room).
+    #[inline]
     fn next_growth(&self) -> usize {
-        match self.segs.last() {
-            None => 4,
-            Some(last) if last.len() < last.capacity() => 0,
-            Some(last) if last.len() == SEG => SEG,
-            Some(last) => (last.capacity() * 2).min(SEG) - last.capacity(),
+        if self.segs.is_empty() {
+            4
+        } else if self.last_len < self.last_cap {
+            0
+        } else if self.last_len == SEG {
+            SEG
+        } else {
+            (self.last_cap * 2).min(SEG) - self.last_cap
         }
     }
 
@@ -158,154 +234,153 @@ impl<T> Segments<T> {
         if grow == 0 {
             return Ok(());
         }
-        match self.segs.last_mut() {
-            Some(last) if last.len() < SEG => last.try_reserve_exact(grow),
-            _ => {
-                let mut seg = Vec::new();
-                seg.try_reserve_exact(if self.segs.is_empty() { 4 } else { SEG })?;
-                self.segs.try_reserve(1)?;
-                self.segs.push(seg);
-                Ok(())
-            }
+        if !self.segs.is_empty() && self.last_len < SEG {
+            let last = self.segs.last_mut().expect("a last segment");
+            last.try_reserve_exact((self.last_cap + grow - self.last_len) * self.stride)?;
+            self.last_cap += grow;
+        } else {
+            let first = self.segs.is_empty();
+            let mut seg = Vec::new();
+            seg.try_reserve_exact(grow * self.stride)?;
+            self.segs.try_reserve(1)?;
+            self.segs.push(seg);
+            (self.last_len, self.last_cap) = (0, if first { 4 } else { SEG });
         }
+        Ok(())
     }
 
-    /// Appends an entry, after [`Segments::reserve_one`].
-    fn push(&mut self, value: T) {
-        if self.segs.last().is_none_or(|last| last.len() == SEG) {
-            self.segs.push(Vec::with_capacity(SEG));
+    /// Appends an entry (`stride` items), after [`Segments::reserve_one`].
+    #[inline]
+    fn push(&mut self, value: &[T]) {
+        if self.segs.is_empty() || self.last_len == SEG {
+            self.segs.push(Vec::with_capacity(SEG * self.stride));
+            (self.last_len, self.last_cap) = (0, SEG);
         }
         if let Some(last) = self.segs.last_mut() {
-            last.push(value);
+            last.extend_from_slice(value);
         }
+        self.last_len += 1;
         self.len += 1;
     }
 }
 
-/// How a node was discovered: the node it came from and the step's label.
-#[derive(Clone, Copy)]
-struct Origin {
-    parent: u32,
-    label: Label,
-}
-
-/// The visited table of a BFS: nodes in discovery order (so a ply is a
-/// contiguous index range), each with the index of the node it was
-/// discovered from and the label of that step.
-pub(crate) struct Visited<N> {
-    nodes: Segments<N>,
-    origins: Segments<Origin>,
-    /// Indices into `nodes`, hashed by node (the nodes are stored once).
+/// The visited table of a BFS: states as rows of a fixed width (see
+/// [`Lts::state_width`]), in discovery order (so a ply is a contiguous
+/// index range), each with the index of the node it was discovered from.
+/// The label of that step is not stored: [`Visited::path_to`] recomputes
+/// it from the parent.
+pub(crate) struct Visited {
+    rows: Segments<u8>,
+    parents: Segments<u32>,
+    /// Indices into `rows`, hashed by row (the rows are stored once).
     table: HashTable<u32>,
-    hash: fn(&N) -> u64,
-    /// Heap bytes owned by the nodes (beyond their inline size).
-    heap: u64,
+    hash: fn(&[u8]) -> u64,
 }
 
 /// Bytes per table slot: the `u32` index and hashbrown's control byte.
 const TABLE_SLOT_BYTES: u64 = 5;
 
-impl<N: Eq> Visited<N> {
-    /// An empty table hashing nodes with `hash` (which must agree with the
-    /// hashes passed to [`Visited::insert`]).
-    pub(crate) fn new(hash: fn(&N) -> u64) -> Visited<N> {
-        Visited { nodes: Segments::new(), origins: Segments::new(), table: HashTable::new(), hash, heap: 0 }
+impl Visited {
+    /// An empty table of rows of `width` bytes, hashed with `hash` (which
+    /// must agree with the hashes passed to [`Visited::insert`]).
+    pub(crate) fn new(width: usize, hash: fn(&[u8]) -> u64) -> Visited {
+        assert!(width > 0, "states are stored in at least one byte");
+        Visited { rows: Segments::new(width), parents: Segments::new(1), table: HashTable::new(), hash }
     }
 
     /// The number of nodes.
     pub(crate) fn len(&self) -> usize {
-        self.nodes.len
+        self.rows.len
     }
 
-    /// The node with index `i`.
-    pub(crate) fn node(&self, i: u32) -> &N {
-        self.nodes.get(i as usize)
+    /// The bytes of a row.
+    pub(crate) fn width(&self) -> usize {
+        self.rows.stride
     }
 
-    /// The label of the step that discovered node `i` (meaningless for the root).
-    pub(crate) fn label(&self, i: u32) -> Label {
-        self.origins.get(i as usize).label
+    /// The row of node `i`.
+    pub(crate) fn row(&self, i: u32) -> &[u8] {
+        self.rows.get(i as usize)
     }
 
     /// The node `i` was discovered from, or [`NO_PARENT`] for the root.
     pub(crate) fn parent(&self, i: u32) -> u32 {
-        self.origins.get(i as usize).parent
+        self.parents.get(i as usize)[0]
     }
 
     fn bytes_for(&self, node_slots: usize, table_slots: usize) -> u64 {
-        let per_node = (std::mem::size_of::<N>() + std::mem::size_of::<Origin>()) as u64;
+        let per_node = (self.rows.stride + std::mem::size_of::<u32>()) as u64;
         // hashbrown keeps 1/8 of its buckets free.
         let buckets = table_slots as u64 * 8 / 7;
-        node_slots as u64 * per_node + buckets * TABLE_SLOT_BYTES + self.heap
+        node_slots as u64 * per_node + buckets * TABLE_SLOT_BYTES
     }
 
-    /// The estimated memory of the table.
+    /// The memory of the table.
     pub(crate) fn bytes(&self) -> u64 {
-        self.bytes_for(self.nodes.capacity(), self.table.capacity())
+        self.bytes_for(self.rows.capacity(), self.table.capacity())
     }
 
-    /// Finds the node `eq` recognises (hashed `hash`), or inserts `make()`,
-    /// discovered from `parent` by `label`, whose heap bytes are `heap`.
-    /// Returns its index and whether it is new. Fails, without inserting,
-    /// when the state or memory budget would be exceeded.
-    #[allow(clippy::too_many_arguments)]
+    /// Finds the node stored as `row` (hashed `hash`), or inserts it,
+    /// discovered from `parent`. Returns its index and whether it is new.
+    /// Fails, without inserting, when the state or memory budget would be
+    /// exceeded.
     pub(crate) fn insert(
         &mut self,
         meter: &mut Meter<'_>,
         hash: u64,
-        eq: impl Fn(&N) -> bool,
-        make: impl FnOnce() -> N,
-        heap: impl FnOnce(&N) -> usize,
+        row: &[u8],
         parent: u32,
-        label: Label,
     ) -> Result<(u32, bool), Stop> {
-        let nodes = &self.nodes;
-        if let Some(&i) = self.table.find(hash, |&i| eq(nodes.get(i as usize))) {
+        let rows = &self.rows;
+        if let Some(&i) = self.table.find(hash, |&i| same_row(rows.get(i as usize), row)) {
             return Ok((i, false));
         }
-        let len = self.nodes.len;
+        let len = self.rows.len;
         // Indices are u32 with one value reserved for NO_PARENT.
         let limit = meter.budget.max_states.min(u64::from(u32::MAX - 1));
         if len as u64 >= limit {
             return Err(Stop::States);
         }
-        self.reserve_one(meter)?;
-        let node = make();
-        self.heap += heap(&node) as u64;
-        self.nodes.push(node);
-        self.origins.push(Origin { parent, label });
-        let (nodes, h) = (&self.nodes, self.hash);
-        self.table.insert_unique(hash, len as u32, |&i| h(nodes.get(i as usize)));
-        meter.stats.states = self.nodes.len as u64;
-        meter.set_table_bytes(self.bytes())?;
+        let grew = self.reserve_one(meter)?;
+        self.rows.push(row);
+        self.parents.push(&[parent]);
+        let (rows, h) = (&self.rows, self.hash);
+        self.table.insert_unique(hash, len as u32, |&i| h(rows.get(i as usize)));
+        meter.stats.states = self.rows.len as u64;
+        // The memory only changes when something grew.
+        if grew {
+            meter.set_table_bytes(self.bytes())?;
+        }
         Ok((len as u32, true))
     }
 
     /// Makes room for one more node, refusing growth past the memory budget
     /// (checked before allocating, so a table doubling never overshoots it)
-    /// and turning allocation failure into [`Stop::Memory`].
-    fn reserve_one(&mut self, meter: &mut Meter<'_>) -> Result<(), Stop> {
-        let grow_nodes = self.nodes.next_growth();
+    /// and turning allocation failure into [`Stop::Memory`]. Returns
+    /// whether anything grew.
+    fn reserve_one(&mut self, meter: &mut Meter<'_>) -> Result<bool, Stop> {
+        let grow_nodes = self.rows.next_growth();
         let grow_table = self.table.len() == self.table.capacity();
         if grow_nodes == 0 && !grow_table {
-            return Ok(());
+            return Ok(false);
         }
-        let node_slots = self.nodes.capacity() + grow_nodes;
+        let node_slots = self.rows.capacity() + grow_nodes;
         let table_slots = if grow_table { (self.table.capacity() * 2).max(4) } else { self.table.capacity() };
         let projected = self.bytes_for(node_slots, table_slots);
         meter.check_bytes(projected.saturating_sub(self.bytes()))?;
-        self.nodes.reserve_one().map_err(|_| Stop::Memory)?;
-        self.origins.reserve_one().map_err(|_| Stop::Memory)?;
+        self.rows.reserve_one().map_err(|_| Stop::Memory)?;
+        self.parents.reserve_one().map_err(|_| Stop::Memory)?;
         if grow_table {
-            let (nodes, h) = (&self.nodes, self.hash);
-            self.table.try_reserve(1, |&i| h(nodes.get(i as usize))).map_err(|_| Stop::Memory)?;
+            let (rows, h) = (&self.rows, self.hash);
+            self.table.try_reserve(1, |&i| h(rows.get(i as usize))).map_err(|_| Stop::Memory)?;
         }
-        Ok(())
+        Ok(true)
     }
 
-    /// Nodes `lo..hi`, which must not cross a multiple of [`SEG`].
-    fn slice(&self, lo: usize, hi: usize) -> &[N] {
-        self.nodes.slice(lo, hi)
+    /// The rows of nodes `lo..hi`, back to back; the range must not cross
+    /// a multiple of [`SEG`].
+    fn slice(&self, lo: usize, hi: usize) -> &[u8] {
+        self.rows.slice(lo, hi)
     }
 
     /// The indices from the root to `i`, both included.
@@ -320,14 +395,35 @@ impl<N: Eq> Visited<N> {
         chain
     }
 
-    /// The path from the root to node `i`, each node seen through `view`.
-    pub(crate) fn path_to<S>(&self, i: u32, view: impl Fn(&N) -> S) -> Path<S> {
+    /// The path from the root to node `i`, each node's row seen through
+    /// `view`; `label(parent, child)` gives the label of the step that
+    /// discovered `child` from `parent`.
+    pub(crate) fn path_to<S>(
+        &self,
+        i: u32,
+        view: impl Fn(&[u8]) -> S,
+        mut label: impl FnMut(u32, u32) -> Label,
+    ) -> Path<S> {
         let chain = self.ancestry(i);
         Path {
-            initial: view(self.node(chain[0])),
-            steps: chain[1..].iter().map(|&k| (self.label(k), view(self.node(k)))).collect(),
+            initial: view(self.row(chain[0])),
+            steps: chain.windows(2).map(|w| (label(w[0], w[1]), view(self.row(w[1])))).collect(),
         }
     }
+}
+
+/// The label of the step of `lts` that discovered the state stored as
+/// `child` from the one stored as `parent`: the first transition of the
+/// parent into the child, as the search inserted them in order.
+pub(crate) fn step_label<L: Lts>(lts: &L, parent: &[u8], child: &[u8]) -> Label {
+    let mut rows = Rows::new(child.len());
+    lts.successor_rows(parent, &mut rows);
+    (0..rows.len()).find(|&k| rows.row(k) == child).map_or(Label::TAU, |k| rows.label(k))
+}
+
+/// The path of `lts` to node `i` of `visited`.
+pub(crate) fn state_path<L: Lts>(lts: &L, visited: &Visited, i: u32) -> Path<L::State> {
+    visited.path_to(i, |r| lts.decode(r), |p, c| step_label(lts, visited.row(p), visited.row(c)))
 }
 
 /// What a visitor tells the BFS after handling a node.
@@ -338,17 +434,44 @@ pub(crate) enum Flow<R> {
     Break(R),
 }
 
+/// The transitions of one expanded node, as the visitor sees them: labels,
+/// target rows and their hashes.
+pub(crate) struct Succ<'a> {
+    labels: &'a [Label],
+    rows: &'a [u8],
+    width: usize,
+    hashes: &'a [u64],
+}
+
+impl<'a> Succ<'a> {
+    /// Whether there is no transition.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.labels.is_empty()
+    }
+
+    /// The labels.
+    pub(crate) fn labels(&self) -> &'a [Label] {
+        self.labels
+    }
+
+    /// The transitions: label, target row, the row's hash.
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (Label, &'a [u8], u64)> + '_ {
+        let w = self.width;
+        self.labels.iter().enumerate().map(move |(k, &l)| (l, &self.rows[k * w..(k + 1) * w], self.hashes[k]))
+    }
+}
+
 /// The successors of one batch of the frontier, computed by the workers:
 /// chunk by chunk, for each source the end of its run in `succ`.
-struct ChunkBuf<X> {
+struct ChunkBuf<S> {
     ends: Vec<usize>,
-    succ: Vec<(Label, X)>,
+    succ: Rows<S>,
     hashes: Vec<u64>,
 }
 
-impl<X> ChunkBuf<X> {
-    fn new() -> Self {
-        ChunkBuf { ends: Vec::new(), succ: Vec::new(), hashes: Vec::new() }
+impl<S> ChunkBuf<S> {
+    fn new(width: usize) -> Self {
+        ChunkBuf { ends: Vec::new(), succ: Rows::new(width), hashes: Vec::new() }
     }
 
     fn clear(&mut self) {
@@ -369,29 +492,28 @@ const SEQ_BATCH: usize = 64;
 
 /// Breadth-first exploration from the nodes already in `visited` (the root).
 ///
-/// `expand` computes a node's successors (on worker threads), `succ_hash`
-/// hashes each successor (also on the workers, to take work off the
-/// sequential merge). `visit` is then called on the calling thread for each
-/// expanded node, in discovery order, with its index, successors and their
-/// hashes; it inserts what it wants into `visited` and may stop the search.
-/// Returns the visitor's answer, or `None` when the whole space was explored.
-pub(crate) fn explore<N, X, R, E, H, V>(
-    visited: &mut Visited<N>,
+/// `expand` computes the successors of a node's row as rows of
+/// `succ_width` bytes (on worker threads), which are hashed with
+/// [`hash_row`] there too, to take work off the sequential merge. `visit`
+/// is then called on the calling thread for each expanded node, in
+/// discovery order, with its index and successors; it inserts what it
+/// wants into `visited` and may stop the search. Returns the visitor's
+/// answer, or `None` when the whole space was explored.
+pub(crate) fn explore<S, R, E, V>(
+    visited: &mut Visited,
     meter: &mut Meter<'_>,
+    succ_width: usize,
     expand: E,
-    succ_hash: H,
     mut visit: V,
 ) -> Result<Option<R>, Stop>
 where
-    N: Eq + Sync,
-    X: Send,
-    E: Fn(&N, &mut Vec<(Label, X)>) + Sync,
-    H: Fn(&X) -> u64 + Sync,
-    V: FnMut(&mut Visited<N>, &mut Meter<'_>, u32, &[(Label, X)], &[u64]) -> Result<Flow<R>, Stop>,
+    S: Send,
+    E: Fn(&[u8], &mut Rows<S>) + Sync,
+    V: FnMut(&mut Visited, &mut Meter<'_>, u32, Succ<'_>) -> Result<Flow<R>, Stop>,
 {
     let threads = meter.budget.threads.max(1);
     let batch_size = if threads > 1 { PAR_BATCH } else { SEQ_BATCH };
-    let mut bufs: Vec<ChunkBuf<X>> = Vec::new();
+    let mut bufs: Vec<ChunkBuf<S>> = Vec::new();
     let mut head = 0usize;
     let mut ply_end = 0usize;
     loop {
@@ -404,14 +526,20 @@ where
         }
         // A batch stays within one storage segment, to be one slice.
         let end = ply_end.min(head + batch_size).min((head / SEG + 1) * SEG);
-        let chunks = expand_batch(visited.slice(head, end), threads, &mut bufs, meter, &expand, &succ_hash)?;
+        let width = visited.width();
+        let chunks = expand_batch(visited.slice(head, end), width, succ_width, threads, &mut bufs, meter, &expand)?;
         let mut source = head as u32;
         for buf in &bufs[..chunks] {
             let mut start = 0;
             for &stop in &buf.ends {
-                let succ = &buf.succ[start..stop];
-                meter.stats.transitions += succ.len() as u64;
-                if let Flow::Break(r) = visit(visited, meter, source, succ, &buf.hashes[start..stop])? {
+                meter.stats.transitions += (stop - start) as u64;
+                let succ = Succ {
+                    labels: buf.succ.labels(start, stop),
+                    rows: buf.succ.rows(start, stop),
+                    width: succ_width,
+                    hashes: &buf.hashes[start..stop],
+                };
+                if let Flow::Break(r) = visit(visited, meter, source, succ)? {
                     return Ok(Some(r));
                 }
                 meter.poll()?;
@@ -423,37 +551,43 @@ where
     }
 }
 
-/// Expands `sources` into `bufs` (one buffer per chunk of [`CHUNK`]
-/// sources), on `threads` threads when there is more than one chunk.
-/// Returns the number of chunks.
-fn expand_batch<N, X, E, H>(
-    sources: &[N],
+/// Expands the rows `sources` (of `width` bytes) into `bufs` (one buffer
+/// per chunk of [`CHUNK`] sources), on `threads` threads when there is
+/// more than one chunk. Returns the number of chunks.
+#[allow(clippy::too_many_arguments)]
+fn expand_batch<S, E>(
+    sources: &[u8],
+    width: usize,
+    succ_width: usize,
     threads: usize,
-    bufs: &mut Vec<ChunkBuf<X>>,
+    bufs: &mut Vec<ChunkBuf<S>>,
     meter: &mut Meter<'_>,
     expand: &E,
-    succ_hash: &H,
 ) -> Result<usize, Stop>
 where
-    N: Sync,
-    X: Send,
-    E: Fn(&N, &mut Vec<(Label, X)>) + Sync,
-    H: Fn(&X) -> u64 + Sync,
+    S: Send,
+    E: Fn(&[u8], &mut Rows<S>) + Sync,
 {
-    let chunks = sources.len().div_ceil(CHUNK);
+    let count = sources.len() / width;
+    let chunks = count.div_ceil(CHUNK);
     while bufs.len() < chunks {
-        bufs.push(ChunkBuf::new());
+        bufs.push(ChunkBuf::new(succ_width));
     }
-    let fill = |buf: &mut ChunkBuf<X>, source: &N| {
+    let fill = |buf: &mut ChunkBuf<S>, source: &[u8]| {
         let before = buf.succ.len();
         expand(source, &mut buf.succ);
-        buf.hashes.extend(buf.succ[before..].iter().map(|(_, x)| succ_hash(x)));
-        buf.ends.push(buf.succ.len());
+        let after = buf.succ.len();
+        buf.hashes.extend((before..after).map(|k| hash_row(buf.succ.row(k))));
+        buf.ends.push(after);
+    };
+    let chunk_sources = |c: usize| {
+        let (lo, hi) = (c * CHUNK, count.min((c + 1) * CHUNK));
+        sources[lo * width..hi * width].chunks_exact(width)
     };
     if threads == 1 || chunks == 1 {
         for (c, buf) in bufs[..chunks].iter_mut().enumerate() {
             buf.clear();
-            for source in &sources[c * CHUNK..sources.len().min((c + 1) * CHUNK)] {
+            for source in chunk_sources(c) {
                 fill(buf, source);
                 meter.poll()?;
             }
@@ -463,7 +597,7 @@ where
 
     // Chunks are handed out through a counter; each chunk's buffer sits
     // behind its own (uncontended) lock so any thread can fill it.
-    let cells: Vec<Mutex<&mut ChunkBuf<X>>> = bufs[..chunks].iter_mut().map(Mutex::new).collect();
+    let cells: Vec<Mutex<&mut ChunkBuf<S>>> = bufs[..chunks].iter_mut().map(Mutex::new).collect();
     let next = AtomicUsize::new(0);
     let halt = meter.halt();
     let work = |on_source: &mut dyn FnMut() -> bool| loop {
@@ -472,9 +606,9 @@ where
             return;
         }
         let mut guard = cells[c].lock().unwrap_or_else(|e| e.into_inner());
-        let buf: &mut ChunkBuf<X> = &mut guard;
+        let buf: &mut ChunkBuf<S> = &mut guard;
         buf.clear();
-        for source in &sources[c * CHUNK..sources.len().min((c + 1) * CHUNK)] {
+        for source in chunk_sources(c) {
             fill(buf, source);
             if !on_source() {
                 return;
@@ -649,34 +783,53 @@ pub(crate) fn trace_search<L: Lts>(
     mut accept: impl FnMut(&L::State) -> bool,
     meter: &mut Meter<'_>,
 ) -> Result<Option<Path<L::State>>, Stop> {
-    let mut seen: Visited<(u32, L::State)> = Visited::new(pair_hash::<L::State>);
+    let width = lts.state_width();
+    // Rows are (position in the trace, state) pairs.
+    let mut seen = Visited::new(4 + width, pair_row_hash);
     // A private meter: the search is small and must not disturb the
     // check's statistics, but it obeys the same budget.
     let budget: &Budget = meter.budget;
     let mut local = Meter::new(budget, None);
-    let root = (0u32, lts.initial());
-    let h = pair_hash(&root);
-    seen.insert(&mut local, h, |_| false, || root, |_| 0, NO_PARENT, Label::TAU)?;
-    let mut buf = Vec::new();
+    let mut init = vec![0u8; width];
+    lts.encode(&lts.initial(), &mut init);
+    let mut row = Vec::new();
+    pair_row(0, &init, &mut row);
+    seen.insert(&mut local, pair_row_hash(&row), &row, NO_PARENT)?;
+    // The position reached by a step with `label` from position `pos`.
+    let next_pos = |pos: u32, label: Label| {
+        if label.event == TAU {
+            Some(pos)
+        } else if trace.get(pos as usize) == Some(&label.event) {
+            Some(pos + 1)
+        } else {
+            None
+        }
+    };
+    let mut buf: Rows<L::State> = Rows::new(width);
     let mut k = 0u32;
     while (k as usize) < seen.len() {
         meter.poll()?;
-        let (pos, state) = seen.node(k).clone();
-        if pos as usize == trace.len() && accept(&state) {
-            return Ok(Some(seen.path_to(k, |(_, s)| s.clone())));
+        let (pos, state) = split_pair(seen.row(k));
+        let state = state.to_vec();
+        if pos as usize == trace.len() && accept(&lts.decode(&state)) {
+            let label = |p: u32, c: u32| {
+                let (pos, parent) = split_pair(seen.row(p));
+                let (cpos, child) = split_pair(seen.row(c));
+                let mut rows = Rows::new(width);
+                lts.successor_rows(parent, &mut rows);
+                (0..rows.len())
+                    .find(|&j| rows.row(j) == child && next_pos(pos, rows.label(j)) == Some(cpos))
+                    .map_or(Label::TAU, |j| rows.label(j))
+            };
+            return Ok(Some(seen.path_to(k, |r| lts.decode(split_pair(r).1), label)));
         }
         buf.clear();
-        lts.successors(&state, &mut buf);
-        for (label, t) in buf.drain(..) {
-            let next = if label.event == TAU {
-                pos
-            } else if trace.get(pos as usize) == Some(&label.event) {
-                pos + 1
-            } else {
-                continue;
-            };
-            let h = pair_hash_from(next, fx(&t));
-            seen.insert(&mut local, h, |(p, s)| *p == next && *s == t, || (next, t.clone()), |_| 0, k, label)?;
+        lts.successor_rows(&state, &mut buf);
+        for j in 0..buf.len() {
+            let Some(next) = next_pos(pos, buf.label(j)) else { continue };
+            let t = buf.row(j);
+            pair_row(next, t, &mut row);
+            seen.insert(&mut local, pair_hash_from(next, hash_row(t)), &row, k)?;
         }
         k += 1;
     }
@@ -702,17 +855,19 @@ mod tests {
 
     #[test]
     fn segments_grow_without_moving_and_slice_within_a_segment() {
-        let mut seg: Segments<u32> = Segments::new();
+        let mut seg: Segments<u32> = Segments::new(2);
         assert_eq!((seg.capacity(), seg.next_growth()), (0, 4));
         for i in 0..(2 * SEG + 10) as u32 {
             seg.reserve_one().expect("memory");
-            seg.push(i);
+            seg.push(&[i, !i]);
+            assert!(seg.capacity() >= seg.len);
         }
         assert_eq!(seg.len, 2 * SEG + 10);
         assert_eq!(seg.capacity(), 3 * SEG);
-        assert_eq!(*seg.get(SEG + 5), SEG as u32 + 5);
-        assert_eq!(seg.slice(SEG - 2, SEG), &[SEG as u32 - 2, SEG as u32 - 1]);
-        assert_eq!(seg.slice(2 * SEG, 2 * SEG + 3), &[2 * SEG as u32, 2 * SEG as u32 + 1, 2 * SEG as u32 + 2]);
+        let s = SEG as u32;
+        assert_eq!(seg.get(SEG + 5), &[s + 5, !(s + 5)]);
+        assert_eq!(seg.slice(SEG - 2, SEG), &[s - 2, !(s - 2), s - 1, !(s - 1)]);
+        assert_eq!(seg.slice(2 * SEG, 2 * SEG + 2), &[2 * s, !(2 * s), 2 * s + 1, !(2 * s + 1)]);
     }
 
     #[test]

@@ -19,10 +19,12 @@ use hashbrown::HashTable;
 use rustc_hash::FxHashMap;
 
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
-use crate::lts::{Event, Label, Lts, TAU, TOCK};
+use crate::lts::{Event, Label, Lts, Rows, TAU, TOCK};
 
 use super::divergence::TauDivergence;
-use super::{explore, fx, pair_hash, pair_hash_from, trace_search, Flow, Path, Visited, NO_PARENT};
+use super::{
+    explore, fx, pair_hash_from, pair_row, pair_row_hash, split_pair, trace_search, Flow, Path, Visited, NO_PARENT,
+};
 
 /// The semantic model a refinement is checked in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -166,41 +168,44 @@ fn refine_search<Sp: Lts, Im: Lts>(
     let tick_tock = model == SemanticModel::TickTock;
     let mut norm = Normaliser::new(spec);
     let root = norm.root(meter)?;
-    let mut visited: Visited<(u32, Im::State)> = Visited::new(pair_hash::<Im::State>);
-    let heap = |p: &(u32, Im::State)| imp.state_bytes(&p.1).saturating_sub(std::mem::size_of::<Im::State>());
-    let start = (root, imp.initial());
-    let h = pair_hash(&start);
-    visited.insert(meter, h, |_| false, || start, heap, NO_PARENT, Label::TAU)?;
+    // Rows are (normal-form node, implementation state) pairs.
+    let width = imp.state_width();
+    let mut visited = Visited::new(4 + width, pair_row_hash);
+    let mut init = vec![0u8; width];
+    imp.encode(&imp.initial(), &mut init);
+    let mut row = Vec::new();
+    pair_row(root, &init, &mut row);
+    visited.insert(meter, pair_row_hash(&row), &row, NO_PARENT)?;
     let mut div = TauDivergence::new();
     let mut offered: Vec<Event> = Vec::new();
 
     let found = explore(
         &mut visited,
         meter,
-        |p: &(u32, Im::State), out: &mut Vec<(Label, Im::State)>| imp.successors(&p.1, out),
-        |s: &Im::State| fx(s),
-        |visited, meter, i, succ, hashes| {
-            let n = visited.node(i).0;
-            let has_tau = succ.iter().any(|(l, _)| l.event == TAU);
+        width,
+        |p: &[u8], out: &mut Rows<Im::State>| imp.successor_rows(split_pair(p).1, out),
+        |visited, meter, i, succ| {
+            let n = split_pair(visited.row(i)).0;
+            let has_tau = succ.labels().iter().any(|l| l.event == TAU);
             if fd {
                 if norm.divergent(n) {
                     // The specification may do anything from here.
                     return Ok(Flow::Continue);
                 }
-                if has_tau && div.diverges(imp, &visited.node(i).1, meter)? {
+                if has_tau && div.diverges(imp, &imp.decode(split_pair(visited.row(i)).1), meter)? {
                     return Ok(Flow::Break(Found::Divergence(i)));
                 }
             }
             if failures && !has_tau {
                 offered.clear();
-                offered.extend(succ.iter().map(|(l, _)| l.event));
+                offered.extend(succ.labels().iter().map(|l| l.event));
                 offered.sort_unstable();
                 offered.dedup();
                 if !norm.accepts(n, &offered) {
                     return Ok(Flow::Break(Found::Refusal(i, offered.clone(), norm.acceptances(n))));
                 }
             }
-            for ((label, t), &h) in succ.iter().zip(hashes) {
+            for (label, t, h) in succ.iter() {
                 let next = if label.event == TAU {
                     n
                 } else if tick_tock && label.event == TOCK && !has_tau {
@@ -212,47 +217,71 @@ fn refine_search<Sp: Lts, Im: Lts>(
                         Some(m) => m,
                         None => {
                             let acc = norm.tock_acceptances(n);
-                            return Ok(Flow::Break(Found::TockRefusal(i, offered.clone(), acc, t.clone())));
+                            return Ok(Flow::Break(Found::TockRefusal(i, offered.clone(), acc, imp.decode(t))));
                         }
                     }
                 } else {
                     match norm.after(n, label.event, meter)? {
                         Some(m) => m,
-                        None => return Ok(Flow::Break(Found::Trace(i, *label, t.clone()))),
+                        None => return Ok(Flow::Break(Found::Trace(i, label, imp.decode(t)))),
                     }
                 };
-                visited.insert(
-                    meter,
-                    pair_hash_from(next, h),
-                    |(m, s)| *m == next && s == t,
-                    || (next, t.clone()),
-                    heap,
-                    i,
-                    *label,
-                )?;
+                pair_row(next, t, &mut row);
+                visited.insert(meter, pair_hash_from(next, h), &row, i)?;
             }
             Ok(Flow::Continue)
         },
     )?;
 
-    let view = |p: &(u32, Im::State)| p.1.clone();
+    // The label of the step that discovered pair `c` from pair `p`: the
+    // first transition of p's state into c's state that leads the
+    // specification to c's node (every node it needs is memoised), found
+    // as the search found it (a tick-tock `tock` by what p's state offers).
+    let mut label = |p: u32, c: u32| -> Label {
+        let (n, parent) = split_pair(visited.row(p));
+        let (m, child) = split_pair(visited.row(c));
+        let mut rows: Rows<Im::State> = Rows::new(width);
+        imp.successor_rows(parent, &mut rows);
+        let stable = !rows.labels(0, rows.len()).iter().any(|l| l.event == TAU);
+        let mut offered: Vec<Event> = rows.labels(0, rows.len()).iter().map(|l| l.event).collect();
+        offered.sort_unstable();
+        offered.dedup();
+        for k in 0..rows.len() {
+            let l = rows.label(k);
+            if rows.row(k) != child {
+                continue;
+            }
+            let next = if l.event == TAU {
+                Some(n)
+            } else if tick_tock && l.event == TOCK && stable {
+                norm.after_tock(n, &offered, meter).ok().flatten()
+            } else {
+                norm.after(n, l.event, meter).ok().flatten()
+            };
+            if next == Some(m) {
+                return l;
+            }
+        }
+        Label::TAU
+    };
+    let view = |r: &[u8]| imp.decode(split_pair(r).1);
     Ok(match found {
         None => None,
         Some(Found::Trace(i, event, t)) => {
-            let mut path = visited.path_to(i, view);
+            let mut path = visited.path_to(i, view, &mut label);
             path.steps.push((event, t));
             Some(RefinementCex::Trace { path, event })
         }
         Some(Found::Refusal(i, offered, acceptances)) => {
-            Some(RefinementCex::Refusal { path: visited.path_to(i, view), offered, acceptances })
+            Some(RefinementCex::Refusal { path: visited.path_to(i, view, &mut label), offered, acceptances })
         }
         Some(Found::TockRefusal(i, offered, acceptances, t)) => {
-            let mut path = visited.path_to(i, view);
+            let mut path = visited.path_to(i, view, &mut label);
             path.steps.push((Label::TOCK, t));
             Some(RefinementCex::TockRefusal { path, offered, acceptances })
         }
         Some(Found::Divergence(i)) => {
-            let path = visited.path_to(i, view);
+            let path = visited.path_to(i, view, &mut label);
             let cycle = div.lasso(imp, path.last(), meter)?;
             Some(RefinementCex::Divergence { path, cycle })
         }

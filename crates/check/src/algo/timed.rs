@@ -13,11 +13,9 @@
 //! reports those.
 
 use crate::budget::{Budget, Meter, ProgressFn, Stats, Stop};
-use crate::lts::{Label, Lts, TAU, TOCK};
+use crate::lts::{Label, Lts, Rows, TAU, TOCK};
 
-use super::{
-    cyclic_components, explore, fx, heap_bytes, shortest_cycle, tarjan, visited_from_initial, Flow, Lasso, Path,
-};
+use super::{cyclic_components, explore, shortest_cycle, state_path, tarjan, visited_from_initial, Flow, Lasso, Path};
 
 /// The verdict of [`find_timed_deadlock`].
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -55,24 +53,23 @@ pub fn find_timed_deadlock<L: Lts>(
 
 fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Lasso<L::State>>, Stop> {
     let mut visited = visited_from_initial(lts, meter)?;
-    let heap = |s: &L::State| heap_bytes(lts, s);
     // Forced-tock edges (source, target, label), in source order because
     // sources are visited in index order.
     let mut forced: Vec<(u32, u32, Label)> = Vec::new();
     explore(
         &mut visited,
         meter,
-        |s: &L::State, out: &mut Vec<(Label, L::State)>| lts.successors(s, out),
-        |s: &L::State| fx(s),
-        |visited, meter, i, succ, hashes| {
-            let only_tock = !succ.is_empty() && succ.iter().all(|(l, _)| l.event == TOCK);
-            for ((label, t), &h) in succ.iter().zip(hashes) {
-                let (j, _) = visited.insert(meter, h, |s| s == t, || t.clone(), heap, i, *label)?;
+        lts.state_width(),
+        |s: &[u8], out: &mut Rows<L::State>| lts.successor_rows(s, out),
+        |visited, meter, i, succ| {
+            let only_tock = !succ.is_empty() && succ.labels().iter().all(|l| l.event == TOCK);
+            for (label, t, h) in succ.iter() {
+                let (j, _) = visited.insert(meter, h, t, i)?;
                 if only_tock || label.event == TAU {
                     if forced.len() == forced.capacity() {
                         meter.add_extra_bytes((forced.capacity().max(4) * 12) as u64)?;
                     }
-                    forced.push((i, j, *label));
+                    forced.push((i, j, label));
                 }
             }
             Ok(Flow::<()>::Continue)
@@ -96,11 +93,11 @@ fn search<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Option<Lasso<L::Stat
     let Some(entry) = (0..n).find(|&v| cyclic[comp[v] as usize]) else {
         return Ok(None);
     };
-    let path = visited.path_to(entry as u32, Clone::clone);
+    let path = state_path(lts, &visited, entry as u32);
     let cycle = shortest_cycle(&start, &targets, &comp, entry as u32)
         .unwrap_or_default()
         .into_iter()
-        .map(|e| (forced[e].2, visited.node(forced[e].1).clone()))
+        .map(|e| (forced[e].2, lts.decode(visited.row(forced[e].1))))
         .collect();
     Ok(Some((path, cycle)))
 }
