@@ -62,10 +62,15 @@ pub enum Symbol {
 /// The reference or declaration name covering `offset`.
 pub fn symbol_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Option<Symbol> {
     let hit = |r: TextRange| r.contains_inclusive(offset);
-    // Behaviour is resolved around `offset` only (see `body_refs_at`).
-    let refs = file_resolution(db, ws, file).refs.iter().cloned().chain(body_refs_at(db, ws, file, offset));
-    // Ties go to the first in source order, as in `references_in`.
-    if let Some(r) = refs.filter(|r| hit(r.range)).min_by_key(|r| (r.range.len(), r.range.start())) {
+    // Behaviour is resolved around `offset` only (see `body_refs_at`), and
+    // first: names in behaviour and declaration-level references never
+    // cover the same offset (a test checks it on every example and corpus
+    // file), so a name in an action needs no resolution of the rest.
+    let innermost = |refs: &[ResolvedRef]| refs.iter().filter(|r| hit(r.range)).min_by_key(|r| r.range.len()).cloned();
+    if let Some(r) = innermost(&body_refs_at(db, ws, file, offset)) {
+        return Some(Symbol::Reference(r));
+    }
+    if let Some(r) = innermost(&file_resolution(db, ws, file).refs) {
         return Some(Symbol::Reference(r));
     }
     let defs = file_defs(db, file);
