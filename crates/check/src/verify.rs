@@ -281,6 +281,11 @@ impl Cx<'_> {
                 .any(|r| path.last().is_some_and(|n| r.csp_block(n).is_some()));
             if csp {
                 format!("`{name}` is defined in a `csp` block: raw CSPm is not verifiable natively (check it with FDR)")
+            } else if self.inline_machine(path) {
+                format!(
+                    "`{name}` is a state machine declared inside its controller: the native checker takes \
+                     top-level machines, controllers and modules only so far (check the controller)"
+                )
             } else {
                 format!("`{name}` is not a simulation, module, controller or machine")
             }
@@ -290,6 +295,19 @@ impl Cx<'_> {
         }
         let period = overridden.unwrap_or_else(|| element_cycle(self.db, loc));
         Ok(Target::Simulation { name, loc, period })
+    }
+
+    /// Whether `path` is `C::M` for a controller `C` that declares the
+    /// machine `M` in its own body.
+    fn inline_machine(&self, path: &[String]) -> bool {
+        let Some((last, prefix)) = path.split_last() else { return false };
+        let controller = resolve_item(self.db, self.ws, self.file, prefix, |k| k == DefKind::Controller);
+        controller.into_iter().any(|loc| {
+            let Some(id) = loc.def(self.db) else { return false };
+            robosim_hir::defs::file_defs(self.db, loc.file)
+                .children(Some(id))
+                .any(|(_, d)| d.kind == DefKind::StateMachine && d.name == *last)
+        })
     }
 
     /// The constant values the assertion gives.

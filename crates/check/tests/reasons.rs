@@ -62,3 +62,20 @@ fn spent_budgets_are_inconclusive() {
     let r = run(rsa, &opts).remove(0);
     assert!(matches!(r.verdict, Verdict::Inconclusive | Verdict::Pass), "{:?}", r.verdict);
 }
+
+/// A machine declared inside its controller is named `C::M`: the reason
+/// says what it is and what to check instead.
+#[test]
+fn machines_inside_controllers_are_named_as_such() {
+    let rct = "interface I { event e }
+        controller C { uses I stm M { uses I initial i state S { } transition t { from i to S } } }";
+    let reports = verify_texts(
+        [
+            ("m.rct".to_string(), rct.to_string()),
+            ("a.assertions".to_string(), "assertion A : C::M is deadlock-free".into()),
+        ],
+        &Options::default(),
+    );
+    assert_eq!(reports[0].verdict, Verdict::Unsupported);
+    assert!(reason(&reports[0]).contains("declared inside its controller"), "{}", reason(&reports[0]));
+}
