@@ -87,18 +87,22 @@ impl Layout {
         self.row_width
     }
 
+    /// Zeroed words for one packed state: on the stack when they fit.
+    fn scratch_words<'w>(&self, small: &'w mut [u64; SMALL_WORDS], big: &'w mut Vec<u64>) -> &'w mut [u64] {
+        if self.words <= SMALL_WORDS {
+            &mut small[..self.words]
+        } else {
+            big.resize(self.words, 0);
+            big
+        }
+    }
+
     /// Packs `st` straight into `row` (zeroed, [`Layout::row_width`] bytes):
     /// the same bytes as packing and then writing the [`Packed`]. An error
     /// names the first slot out of its range.
     pub fn pack_into(&self, st: &[i32], row: &mut [u8]) -> Result<(), String> {
-        let mut small = [0u64; SMALL_WORDS];
-        let mut big = Vec::new();
-        let words: &mut [u64] = if self.words <= SMALL_WORDS {
-            &mut small[..self.words]
-        } else {
-            big.resize(self.words, 0);
-            &mut big
-        };
+        let (mut small, mut big) = ([0u64; SMALL_WORDS], Vec::new());
+        let words = self.scratch_words(&mut small, &mut big);
         // No early exit: the loop stays branch-free; a bad value only
         // spoils words that are thrown away.
         let mut bad = false;
@@ -120,14 +124,8 @@ impl Layout {
     /// differs from its source in a few slots). The same bytes, and the
     /// same errors, as [`Layout::pack_into`].
     pub fn pack_from(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
-        let mut small = [0u64; SMALL_WORDS];
-        let mut big = Vec::new();
-        let words: &mut [u64] = if self.words <= SMALL_WORDS {
-            &mut small[..self.words]
-        } else {
-            big.resize(self.words, 0);
-            &mut big
-        };
+        let (mut small, mut big) = ([0u64; SMALL_WORDS], Vec::new());
+        let words = self.scratch_words(&mut small, &mut big);
         words.copy_from_slice(base_words);
         // Whole blocks of slots compare at once (fixed-size arrays compare
         // without a call); most are unchanged.

@@ -13,6 +13,11 @@ fn run(files: &[(&str, String)]) -> Vec<Report> {
     verify_texts(files.iter().map(|(p, t)| (p.to_string(), t.clone())), &Options::default())
 }
 
+/// Each report's name, verdict and counterexample kind.
+fn verdicts(reports: &[Report]) -> Vec<(&str, Verdict, Option<&str>)> {
+    reports.iter().map(|r| (r.name.as_str(), r.verdict, r.counterexample.as_ref().map(|c| c.kind))).collect()
+}
+
 /// examples/paper/design.assertions: the assertions RoboTool users write
 /// about Figure 1 (clock initialisation is not checked natively yet).
 #[test]
@@ -60,8 +65,7 @@ fn failing_properties() {
         assertion E : Call is timelock-free
         assertion F : Late is timelock-free";
     let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
-    let got: Vec<(&str, Verdict, Option<&str>)> =
-        reports.iter().map(|r| (r.name.as_str(), r.verdict, r.counterexample.as_ref().map(|c| c.kind))).collect();
+    let got = verdicts(&reports);
     assert_eq!(
         got,
         vec![
@@ -93,8 +97,7 @@ fn refinement_between_designs() {
         assertion C : Lazy refines Spec in the traces model
         assertion D : Lazy refines Spec";
     let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
-    let got: Vec<(&str, Verdict, Option<&str>)> =
-        reports.iter().map(|r| (r.name.as_str(), r.verdict, r.counterexample.as_ref().map(|c| c.kind))).collect();
+    let got = verdicts(&reports);
     assert_eq!(
         got,
         vec![
@@ -129,8 +132,7 @@ fn tick_tock_refinement_of_designs() {
         assertion TT2 : Again does not refine Once in the tick-tock model
         assertion TT3 : Once equals Once in the tick-tock model";
     let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
-    let got: Vec<(&str, Verdict, Option<&str>)> =
-        reports.iter().map(|r| (r.name.as_str(), r.verdict, r.counterexample.as_ref().map(|c| c.kind))).collect();
+    let got = verdicts(&reports);
     assert_eq!(
         got,
         vec![
