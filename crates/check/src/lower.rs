@@ -12,7 +12,7 @@ use std::collections::{BTreeSet, HashMap};
 use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::index::{resolve_item, ItemLoc};
 use robosim_hir::{parse, Db, File, Workspace};
-use robosim_syntax::ast::{self, AstNode};
+use robosim_syntax::ast::{self, name_text as ident_text, qualified_path as path_of};
 use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::events::{tuple_size, Param};
@@ -226,27 +226,11 @@ fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<(File, SyntaxNode)> {
     node.ancestors().find(|n| n.kind() == def.syntax && n.text_range() == def.range).map(|n| (loc.file, n))
 }
 
-fn path_of(n: &SyntaxNode) -> Vec<String> {
-    match n.kind() {
-        QUALIFIED_NAME => ast::QualifiedName::cast(n.clone()).map(|q| q.segments()).unwrap_or_default(),
-        _ => n
-            .children()
-            .find(|c| c.kind() == QUALIFIED_NAME)
-            .and_then(ast::QualifiedName::cast)
-            .map(|q| q.segments())
-            .unwrap_or_default(),
-    }
-}
-
 fn name_of(n: &SyntaxNode) -> String {
     n.children()
         .find(|c| c.kind() == NAME)
         .map(|c| c.text().to_string().trim_start_matches('^').to_string())
         .unwrap_or_default()
-}
-
-fn ident_text(n: &SyntaxNode) -> String {
-    n.text().to_string().trim().trim_start_matches('^').to_string()
 }
 
 impl Cx<'_> {

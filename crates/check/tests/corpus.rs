@@ -7,18 +7,9 @@ use std::time::Duration;
 
 use robosim_check::verify::{verify_workspace, Options, Verdict};
 
-fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let mut entries: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            model_files(&p, out);
-        } else if robosim_syntax::FileKind::from_path(&p).is_some() {
-            out.push(p);
-        }
-    }
-}
+#[path = "../../syntax/tests/support/inputs.rs"]
+mod inputs;
+use inputs::model_files;
 
 #[test]
 fn corpus_assertions_are_answered() {

@@ -6,6 +6,7 @@
 //! required and provided interfaces. A name that exists with the other
 //! `$` discipline gets RS:SM6 instead of a plain "cannot resolve".
 
+use robosim_syntax::ast::name_text as text_of;
 use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 
 use crate::defs::{file_defs, DefKind, FileDefs, Io, UseKind};
@@ -76,10 +77,6 @@ struct Body<'a> {
     /// Members per context, shared: a body asks for the same few contexts
     /// once per name, and cloning the lists dominated resolution.
     members_cache: std::collections::HashMap<crate::defs::DefId, std::rc::Rc<[Member]>>,
-}
-
-fn text_of(n: &SyntaxNode) -> String {
-    crate::defs::name_text(n)
 }
 
 fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {

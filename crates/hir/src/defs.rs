@@ -422,16 +422,7 @@ struct Lower {
     out: FileDefs,
 }
 
-/// The text of a name or name reference node, without surrounding space or
-/// the `^` that escapes keywords. Names are almost always one token, whose
-/// text is read directly: formatting a node's text is far slower.
-pub(crate) fn name_text(n: &SyntaxNode) -> String {
-    let mut parts = n.children_with_tokens();
-    if let (Some(rowan::NodeOrToken::Token(t)), None) = (parts.next(), parts.next()) {
-        return t.text().trim().trim_start_matches('^').to_string();
-    }
-    n.text().to_string().trim().trim_start_matches('^').to_string()
-}
+pub(crate) use robosim_syntax::ast::name_text;
 
 /// The text of the first `NAME` child (without `^`) and its range.
 fn name_of(node: &SyntaxNode) -> Option<(String, TextRange)> {

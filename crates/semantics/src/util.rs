@@ -3,7 +3,7 @@
 use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::index::{resolve_item, ItemLoc};
 use robosim_hir::{parse, Db, File, Workspace};
-use robosim_syntax::ast::{self, AstNode};
+use robosim_syntax::ast;
 use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 /// The text of the first `NAME` child, without `^`.
@@ -16,23 +16,9 @@ pub(crate) fn name_range(n: &SyntaxNode) -> TextRange {
     n.children().find(|c| c.kind() == NAME).map(|c| c.text_range()).unwrap_or_else(|| n.text_range())
 }
 
-/// An identifier's text without `^` and whitespace.
-pub(crate) fn ident_text(n: &SyntaxNode) -> String {
-    n.text().to_string().trim().trim_start_matches('^').to_string()
-}
-
-/// The segments of the node's qualified name (itself or its first child).
-pub(crate) fn path_of(n: &SyntaxNode) -> Vec<String> {
-    match n.kind() {
-        QUALIFIED_NAME => ast::QualifiedName::cast(n.clone()).map(|q| q.segments()).unwrap_or_default(),
-        _ => n
-            .children()
-            .find(|c| c.kind() == QUALIFIED_NAME)
-            .and_then(ast::QualifiedName::cast)
-            .map(|q| q.segments())
-            .unwrap_or_default(),
-    }
-}
+/// An identifier's text without `^` and whitespace; the segments of the
+/// node's qualified name (itself or its first child).
+pub(crate) use robosim_syntax::ast::{name_text as ident_text, qualified_path as path_of};
 
 /// The first `NAME_REF` child's text.
 pub(crate) fn ref_of(n: &SyntaxNode) -> Option<String> {

@@ -639,6 +639,25 @@ pub fn binary_operator(node: &SyntaxNode) -> Option<SyntaxKind> {
     })
 }
 
+/// The text of a name or name-reference node, without surrounding space or
+/// the `^` that escapes keywords. Names are almost always one token, read
+/// directly: formatting a node's text is far slower.
+pub fn name_text(n: &SyntaxNode) -> String {
+    let mut parts = n.children_with_tokens();
+    if let (Some(rowan::NodeOrToken::Token(t)), None) = (parts.next(), parts.next()) {
+        return t.text().trim().trim_start_matches('^').to_string();
+    }
+    n.text().to_string().trim().trim_start_matches('^').to_string()
+}
+
+/// The segments of the qualified name `n` is, or of its first
+/// `QUALIFIED_NAME` child; empty when there is none.
+pub fn qualified_path(n: &SyntaxNode) -> Vec<String> {
+    let q =
+        if n.kind() == QUALIFIED_NAME { Some(n.clone()) } else { n.children().find(|c| c.kind() == QUALIFIED_NAME) };
+    q.and_then(QualifiedName::cast).map(|q| q.segments()).unwrap_or_default()
+}
+
 /// The expression children of `node`, in order (the operands of an operator).
 pub fn operand_exprs(node: &SyntaxNode) -> Vec<SyntaxNode> {
     node.children().filter(|c| is_expr_kind(c.kind())).collect()

@@ -1,5 +1,6 @@
-//! Inputs shared by the tests of the parser and of the formatter (the
-//! formatter's tests include this file by path): the model files under a
+//! Inputs shared by the tests of the parser and of other crates (the
+//! formatter's, the checker's and the exporter's tests include this file by
+//! path): the model files under a
 //! folder, a soup of tokens and keywords of all four languages, and a small
 //! model that uses most constructs.
 
@@ -11,9 +12,10 @@ use std::path::{Path, PathBuf};
 use robosim_syntax::FileKind;
 
 /// Appends the model files under `dir` (recursively, sorted, skipping `.git`)
-/// to `out`.
+/// to `out`; nothing for a folder that cannot be read.
 pub fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().map(|e| e.path()).collect();
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let mut entries: Vec<_> = entries.flatten().map(|e| e.path()).collect();
     entries.sort();
     for p in entries {
         if p.is_dir() {
