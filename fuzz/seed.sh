@@ -27,3 +27,14 @@ find ../examples ../../shared/corpus -type f \( -name '*.rct' -o -name '*.rst' \
   { printf "$sel"; cat "$f"; } > "$out/$(echo "$f" | md5sum | cut -c1-16)"
 done
 echo "$(ls "$out" | wc -l) seeds in fuzz/$out"
+
+# fuzz/corpus/reparse: each model with a four-byte edit header (position,
+# deleted length, inserted length; see fuzz_targets/reparse.rs) that puts
+# the edit about a third of the way in, inserting nothing.
+out=corpus/reparse
+mkdir -p "$out"
+find ../examples ../../shared/corpus -type f \( -name '*.rct' -o -name '*.rst' \) | while read -r f; do
+  pos=$(( $(wc -c < "$f") / 3 % 65536 ))
+  { printf "\\x$(printf %02x $((pos % 256)))\\x$(printf %02x $((pos / 256)))\\x01\\x00"; cat "$f"; } > "$out/$(echo "$f" | md5sum | cut -c1-16)"
+done
+echo "$(ls "$out" | wc -l) seeds in fuzz/$out"

@@ -43,6 +43,22 @@ pub struct File {
     /// Whether this is a bundled library file (never reported on).
     #[returns(copy)]
     pub is_library: bool,
+    /// An earlier text of the file and its parse, set by editors along with
+    /// a new text so that [`parse`] reparses only what the edit touched.
+    #[default]
+    #[returns(ref)]
+    pub prior: Option<Prior>,
+}
+
+/// An earlier text of a file and its syntax tree, from which the tree of
+/// the current text is derived incrementally (the result is the same as
+/// parsing the current text from scratch; only the cost differs).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Prior {
+    /// The earlier text.
+    pub text: std::sync::Arc<str>,
+    /// Its parse.
+    pub parse: Parse,
 }
 
 /// The set of files checked together, and the rule set in force.
@@ -67,10 +83,15 @@ pub enum RuleSet {
     RoboTool,
 }
 
-/// The syntax tree of a file (re-parsed only when its text changes).
+/// The syntax tree of a file (re-parsed only when its text changes; from
+/// its [`Prior`] when it has one, which reparses only the edited member).
 #[salsa::tracked(returns(ref))]
 pub fn parse(db: &dyn Db, file: File) -> Parse {
-    robosim_syntax::parse(file.text(db), file.kind(db))
+    let (text, kind) = (file.text(db), file.kind(db));
+    match file.prior(db) {
+        Some(prior) if prior.parse.file_kind() == kind => robosim_syntax::reparse(&prior.parse, &prior.text, text),
+        _ => robosim_syntax::parse(text, kind),
+    }
 }
 
 /// Creates the workspace inputs for `files` (path, text) plus the bundled

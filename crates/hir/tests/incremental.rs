@@ -73,3 +73,33 @@ fn editing_a_machine_body_reuses_other_files() {
     let after = executions(&log);
     assert_eq!(count(&after, "workspace_index"), 1, "{after:?}");
 }
+
+#[test]
+fn a_file_with_a_prior_parse_reparses_only_the_edited_member() {
+    use robosim_hir::{parse, Prior};
+    let text = format!("{MACHINE}stm Other {{ initial j }}\n");
+    let db = &mut RootDatabase::default();
+    let ws = load_workspace(db, [("machine.rct".to_string(), text.clone())], RuleSet::Paper);
+    let file = *ws.files(db).iter().find(|f| !f.is_library(db)).unwrap();
+    let old = parse(db, file).clone();
+    let edited = text.replace("speed + 1", "speed + 2");
+    file.set_prior(db).to(Some(Prior { text: text.as_str().into(), parse: old.clone() }));
+    file.set_text(db).to(edited.clone());
+    let new = parse(db, file).clone();
+    assert_eq!(new, robosim_syntax::parse(&edited, robosim_syntax::FileKind::RoboChart));
+    // The machine after the edited one is the very same green node: only
+    // `M` was parsed again.
+    let last = |p: &robosim_syntax::Parse| {
+        let node = p.syntax_node().last_child().unwrap();
+        let green = node.green();
+        green as *const _ as usize
+    };
+    assert_eq!(last(&old), last(&new), "`Other` was parsed again");
+    // A prior that does not match the text is still only a hint.
+    file.set_prior(db).to(Some(Prior {
+        text: "stm Z {}".into(),
+        parse: robosim_syntax::parse("stm Z {}", robosim_syntax::FileKind::RoboChart),
+    }));
+    file.set_text(db).to(text.clone());
+    assert_eq!(*parse(db, file), robosim_syntax::parse(&text, robosim_syntax::FileKind::RoboChart));
+}

@@ -33,7 +33,7 @@ use std::collections::HashMap;
 use std::panic::AssertUnwindSafe;
 use std::sync::Arc;
 
-use robosim_hir::{Db, File, RootDatabase, Workspace};
+use robosim_hir::{parse, Db, File, Prior, RootDatabase, Workspace};
 use salsa::Setter;
 
 pub use completion::{CompletionItem, CompletionKind};
@@ -132,6 +132,12 @@ impl AnalysisHost {
             }
             if file.kind(&self.db) != kind {
                 file.set_kind(&mut self.db).with_durability(durability).to(kind);
+            } else if durability == Durability::LOW {
+                // A buffer being edited: its last parse (normally computed
+                // for the previous version already) lets the next parse
+                // redo only the member the edit is in.
+                let prior = Prior { text: file.text(&self.db).as_str().into(), parse: parse(&self.db, file).clone() };
+                file.set_prior(&mut self.db).with_durability(durability).to(Some(prior));
             }
             file.set_text(&mut self.db).with_durability(durability).to(text);
             return FileId(file);

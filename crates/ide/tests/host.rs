@@ -234,3 +234,33 @@ fn features_survive_deep_nesting_and_garbage() {
 fn on_stack(size: usize, f: impl FnOnce() + Send + 'static) {
     std::thread::Builder::new().stack_size(size).spawn(f).unwrap().join().unwrap();
 }
+
+#[test]
+fn edits_to_a_buffer_give_what_a_fresh_parse_gives() {
+    // Buffers (LOW durability) are reparsed from their previous tree; the
+    // diagnostics must be those of a host that never saw the old text.
+    let base =
+        "stm A {\n  initial i\n  state S { entry x = 1 }\n  transition t { from i to S }\n}\nstm B { initial j }\n";
+    let edits = [
+        base.replace("x = 1", "x = 1 +"),
+        base.replace("x = 1", "x = 1 + 2"),
+        base.replace("from i to S", "from i to"),
+        base.replace("from i to S", "from i to S trigger"),
+        base.to_string(),
+        base.replace("stm B { initial j }", "stm B { initial j state }"),
+    ];
+    let mut host = AnalysisHost::default();
+    let a = host.set_file("/w/a.rct", base.into(), None, Durability::LOW);
+    for text in edits {
+        // As the server does: the previous version was checked first.
+        let _ = host.analysis().syntax_diagnostics(a).unwrap();
+        host.set_file("/w/a.rct", text.clone(), None, Durability::LOW);
+        let mut fresh = AnalysisHost::default();
+        let f = fresh.set_file("/w/a.rct", text.clone(), None, Durability::LOW);
+        let render = |h: &AnalysisHost, id| {
+            let a = h.analysis();
+            (format!("{:?}", a.diagnostics(id).unwrap()), format!("{:?}", a.document_symbols(id).unwrap()))
+        };
+        assert_eq!(render(&host, a), render(&fresh, f), "after the edit to {text:?}");
+    }
+}

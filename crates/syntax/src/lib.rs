@@ -11,12 +11,14 @@ mod kinds;
 pub mod lexer;
 pub mod line_index;
 mod parser;
+mod reparse;
 mod tree_builder;
 
 use std::path::Path;
 use std::sync::Arc;
 
 pub use kinds::{RoboLang, SyntaxKind};
+pub use reparse::{reparse, try_reparse};
 pub use rowan::{GreenNode, TextRange, TextSize};
 
 /// A node of the syntax tree (cheap to clone; owns its root).

@@ -312,6 +312,43 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
     m.complete(p, SOURCE_FILE);
 }
 
+/// Entry point for incremental reparsing: one top-level member of a model
+/// file that ends with its body's `}` (an interface, platform, type,
+/// controller, machine, operation, function or module), parsed exactly as
+/// the top-level loop of [`source_file`] parses it. Returns false when the
+/// tokens are not exactly one such member, so that the caller parses the
+/// whole file instead.
+pub(crate) fn top_level_member(p: &mut Parser<'_>) -> bool {
+    let m = p.start();
+    let ok = match member_at(p) {
+        Some(
+            found @ (Member::Interface
+            | Member::Platform
+            | Member::TypeDecl
+            | Member::Controller
+            | Member::StateMachine
+            | Member::OperationDef
+            | Member::Function
+            | Member::Module),
+        ) if !p.file.is_assertions() => {
+            p.blocks.push(Block { kind: BlockKind::File, what: Named { desc: "file", name: None } });
+            member(p, found);
+            p.blocks.pop();
+            p.at_eof()
+        }
+        _ => false,
+    };
+    if !ok {
+        // Whatever is left goes into the root so that the builder stays
+        // balanced; the caller throws this tree away.
+        while !p.at_eof() {
+            p.bump_any();
+        }
+    }
+    m.complete(p, SOURCE_FILE);
+    ok
+}
+
 fn package_decl(p: &mut Parser<'_>) {
     let m = p.start();
     p.bump(PACKAGE_KW);
