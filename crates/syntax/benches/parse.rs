@@ -65,3 +65,17 @@ fn corpus_bench(b: divan::Bencher, only: Option<FileKind>) {
     };
     b.counter(divan::counter::BytesCount::of_str(&text)).bench(|| parse(divan::black_box(&text), kind));
 }
+
+/// A keystroke in the middle of the generated model, as the editor sees
+/// it: the new text is reparsed from the previous parse (only the edited
+/// machine is parsed again; `robosim_syntax::reparse`).
+#[divan::bench]
+fn generated_10k_lines_keystroke_reparse(b: divan::Bencher) {
+    let text = generated_model(10_000);
+    let at = text[text.len() / 2..].find("exit stop()").unwrap() + text.len() / 2;
+    let mut typed = text.clone();
+    typed.insert(at, 'x');
+    let old = parse(&text, FileKind::RoboChart);
+    assert!(robosim_syntax::try_reparse(&old, &text, &typed).is_some(), "not incremental");
+    b.bench(|| robosim_syntax::reparse(divan::black_box(&old), &text, divan::black_box(&typed)));
+}
