@@ -1,6 +1,7 @@
 //! Computing and publishing diagnostics.
 //!
-//! Every change starts a job on a blocking thread. The job takes a
+//! Every change starts a job on a background thread (`background.rs`: a
+//! lower priority than the threads answering requests). The job takes a
 //! snapshot, computes, drops the snapshot, then publishes, in that order,
 //! so no snapshot is ever held while waiting for a lock or for the client:
 //! a write to the database (which waits for all snapshots) can always
@@ -33,20 +34,18 @@ use crate::state::{Phase, Shared};
 /// Starts diagnostics for `primary` (the file just changed), then, when
 /// `others`, for every other file whose diagnostics may depend on it.
 pub(crate) fn schedule(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
-    let shared_for_lenses = shared.clone();
-    let shared = shared.clone();
-    let runtime = shared.runtime.clone();
-    runtime.spawn_blocking(move || run(&shared, primary, others));
+    let job = shared.clone();
+    crate::background::spawn(shared, "robosim-check", move || run(&job, primary, others));
     // Results of verification dropped by the change: titles to update.
-    crate::verify::refresh_lenses(&shared_for_lenses);
+    crate::verify::refresh_lenses(shared);
 }
 
 /// Publishes the diagnostics of `keys` again (their verification results
 /// changed).
 pub(crate) fn republish(shared: &Arc<Shared>, keys: Vec<String>) {
-    let shared = shared.clone();
-    let runtime = shared.runtime.clone();
-    runtime.spawn_blocking(move || {
+    let job = shared.clone();
+    crate::background::spawn(shared, "robosim-republish", move || {
+        let shared = job;
         for key in keys {
             let Some(seq) = shared.lock().files.get(&key).map(|e| e.seq) else { continue };
             full(&shared, &key, seq, false, false);
@@ -169,7 +168,7 @@ fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) 
             // Its own snapshot, dropped when done or cancelled by an edit;
             // the results land in the shared memo tables.
             let helper = analysis.clone();
-            shared.runtime.spawn_blocking(move || {
+            crate::background::spawn(shared, "robosim-check-rules", move || {
                 let _ = helper.prefetch_diagnostics(file);
             });
         }

@@ -16,6 +16,7 @@
 //! `LspService`, because the crate's own transport stops reading after the
 //! first malformed message.
 
+mod background;
 mod convert;
 mod diagnostics;
 mod diagram;

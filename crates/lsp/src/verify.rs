@@ -346,7 +346,12 @@ fn start(shared: &Arc<Shared>, target: VerifyTarget, client_token: Option<Number
         .name("robosim-verify".into())
         // As the runtime's threads: analyses recurse over syntax trees.
         .stack_size(16 << 20)
-        .spawn(move || run_job(&worker, analysis, target, job, opts, tx));
+        .spawn(move || {
+            // Background work, as checks are; the search's own threads
+            // inherit the priority.
+            crate::background::lower_priority();
+            run_job(&worker, analysis, target, job, opts, tx)
+        });
     if let Err(e) = spawned {
         shared.log(MessageType::ERROR, format!("cannot start a verification thread: {e}"));
     }
