@@ -5,49 +5,55 @@
 //! resets) scan the green tree instead, which allocates nothing, and build
 //! cursors only along the paths to what they found.
 
-use robosim_syntax::{RoboLang, SyntaxKind, SyntaxNode};
+use robosim_syntax::{RoboLang, SyntaxKind, SyntaxNode, TextRange, TextSize};
 use rowan::{Language, NodeOrToken};
 
 /// The descendants of `root` (itself included) whose kind satisfies
 /// `wanted`, in preorder: the same nodes as
 /// `root.descendants().filter(|n| wanted(n.kind()))`.
 pub(crate) fn find_nodes(root: &SyntaxNode, wanted: impl Fn(SyntaxKind) -> bool) -> Vec<SyntaxNode> {
-    let mut paths = Vec::new();
-    let mut path = Vec::new();
-    collect(root.green(), &wanted, &mut path, &mut paths);
-    let mut out = Vec::with_capacity(paths.len() + 1);
+    find_nodes_pruned(root, wanted, |_| true)
+}
+
+/// Like [`find_nodes`], but does not look inside the nodes whose kind fails
+/// `descend` (they are still returned when wanted): the same nodes as a
+/// preorder walk that skips those subtrees.
+pub(crate) fn find_nodes_pruned(
+    root: &SyntaxNode,
+    wanted: impl Fn(SyntaxKind) -> bool,
+    descend: impl Fn(SyntaxKind) -> bool,
+) -> Vec<SyntaxNode> {
+    let mut out = Vec::new();
     if wanted(root.kind()) {
         out.push(root.clone());
     }
-    // Paths come in preorder, so each one shares a prefix with the last and
-    // then moves right: keep the cursors of the last path and step from
-    // them, visiting each child of an ancestor at most once overall.
-    // `stack[d]` is the child index and node at depth `d + 1`.
-    let mut stack: Vec<(usize, SyntaxNode)> = Vec::new();
-    let mut prev: &[usize] = &[];
-    for p in &paths {
-        let common = p.iter().zip(prev).take_while(|(a, b)| a == b).count();
-        // Reuse the node at depth `common` as the starting sibling.
-        stack.truncate(common + 1);
-        for level in common..p.len() {
-            let start = if stack.len() > level {
-                stack.pop().map(|(i, n)| (i, rowan::NodeOrToken::Node(n)))
-            } else {
-                let parent = if level == 0 { root } else { &stack[level - 1].1 };
-                parent.first_child_or_token().map(|e| (0, e))
-            };
-            let Some((mut idx, mut elem)) = start else { break };
-            while idx < p[level] {
-                let Some(next) = elem.next_sibling_or_token() else { break };
-                elem = next;
-                idx += 1;
-            }
-            // The path was read off this very tree, so this is its node.
-            let Some(node) = elem.into_node() else { break };
-            stack.push((idx, node));
+    if !descend(root.kind()) {
+        return out;
+    }
+    // The paths of all hits, one after the other in `steps`; `ends[i]` is
+    // where the `i`-th ends. One flat buffer: no allocation per hit.
+    let mut scan = Scan { wanted, descend, path: Vec::new(), steps: Vec::new(), ends: Vec::new() };
+    scan.collect(root.green(), root.text_range().start());
+    out.reserve(scan.ends.len());
+    // Paths come in preorder, so each one shares a prefix with the last:
+    // keep the cursors of the last path and build only the rest.
+    // `stack[d]` is the node at depth `d + 1` of the last path.
+    let mut stack: Vec<SyntaxNode> = Vec::new();
+    let mut start = 0;
+    let mut prev: &[Step] = &[];
+    for &end in &scan.ends {
+        let p = &scan.steps[start..end];
+        start = end;
+        let common = p.iter().zip(prev).take_while(|(a, b)| a.index == b.index).count();
+        stack.truncate(common);
+        for step in &p[stack.len()..] {
+            let parent = stack.last().unwrap_or(root);
+            // The path was read off this very tree, so the child is there.
+            let Some(node) = child_at(parent, step) else { break };
+            stack.push(node);
         }
         if stack.len() == p.len() {
-            if let Some((_, n)) = stack.last() {
+            if let Some(n) = stack.last() {
                 out.push(n.clone());
             }
         }
@@ -56,23 +62,54 @@ pub(crate) fn find_nodes(root: &SyntaxNode, wanted: impl Fn(SyntaxKind) -> bool)
     out
 }
 
-/// Pushes the child-index path of every wanted node below `green`.
-fn collect(
-    green: &rowan::GreenNodeData,
-    wanted: &impl Fn(SyntaxKind) -> bool,
-    path: &mut Vec<usize>,
-    paths: &mut Vec<Vec<usize>>,
-) {
-    for (i, child) in green.children().enumerate() {
-        if let NodeOrToken::Node(node) = child {
-            path.push(i);
-            if wanted(RoboLang::kind_from_raw(node.kind())) {
-                paths.push(path.clone());
+/// One step of a path: a child's index among all children (tokens
+/// included) and its range.
+#[derive(Clone, Copy)]
+struct Step {
+    index: u32,
+    range: TextRange,
+}
+
+struct Scan<W, D> {
+    wanted: W,
+    descend: D,
+    path: Vec<Step>,
+    steps: Vec<Step>,
+    ends: Vec<usize>,
+}
+
+impl<W: Fn(SyntaxKind) -> bool, D: Fn(SyntaxKind) -> bool> Scan<W, D> {
+    /// Records the path of every wanted node below `green` (at `offset`).
+    fn collect(&mut self, green: &rowan::GreenNodeData, mut offset: TextSize) {
+        for (i, child) in green.children().enumerate() {
+            let len = child.text_len();
+            if let NodeOrToken::Node(node) = child {
+                let kind = RoboLang::kind_from_raw(node.kind());
+                self.path.push(Step { index: i as u32, range: TextRange::at(offset, len) });
+                if (self.wanted)(kind) {
+                    self.steps.extend_from_slice(&self.path);
+                    self.ends.push(self.steps.len());
+                }
+                if (self.descend)(kind) {
+                    self.collect(node, offset);
+                }
+                self.path.pop();
             }
-            collect(node, wanted, path, paths);
-            path.pop();
+            offset += len;
         }
     }
+}
+
+/// The child node of `parent` at `step`: found by its range with a binary
+/// search (one cursor), or by counting when empty nodes make the range
+/// ambiguous.
+fn child_at(parent: &SyntaxNode, step: &Step) -> Option<SyntaxNode> {
+    if let Some(NodeOrToken::Node(n)) = parent.child_or_token_at_range(step.range) {
+        if n.index() == step.index as usize {
+            return Some(n);
+        }
+    }
+    parent.children_with_tokens().nth(step.index as usize)?.into_node()
 }
 
 #[cfg(test)]
@@ -91,5 +128,27 @@ mod tests {
             assert!(!slow.is_empty(), "{kinds:?}");
             assert_eq!(fast, slow, "{kinds:?}");
         }
+    }
+
+    #[test]
+    fn pruned_finds_the_same_nodes_as_a_skipping_preorder() {
+        let text = "stm M { var x : nat = 1 + 2 state S { entry x = (x + 1) * 2; e?x } transition t { from S to S condition x > 1 /\\ x < 2 } }\n\
+                    stm N { state ( }";
+        let root = robosim_syntax::parse(text, FileKind::RoboChart).syntax_node();
+        let descend = |k: SyntaxKind| k != BIN_EXPR;
+        let wanted = |k: SyntaxKind| matches!(k, BIN_EXPR | REF_EXPR | ASSIGN_STMT | STATE | ERROR);
+        let mut slow = Vec::new();
+        let mut events = root.preorder();
+        while let Some(event) = events.next() {
+            let rowan::WalkEvent::Enter(n) = event else { continue };
+            if wanted(n.kind()) {
+                slow.push(n.clone());
+            }
+            if !descend(n.kind()) {
+                events.skip_subtree();
+            }
+        }
+        assert!(!slow.is_empty());
+        assert_eq!(find_nodes_pruned(&root, wanted, descend), slow);
     }
 }
