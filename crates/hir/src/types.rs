@@ -161,34 +161,42 @@ fn join(a: &Ty, b: &Ty) -> Ty {
 
 /// Lowers a syntactic type in the scope of `file`.
 pub fn lower(db: &dyn Db, ws: Workspace, file: File, t: &TypeRef) -> Ty {
+    lower_by(t, &|path| named_type(db, ws, file, path))
+}
+
+/// Lowers `t`, asking `named` for the type a name denotes.
+fn lower_by(t: &TypeRef, named: &impl Fn(&[String]) -> Ty) -> Ty {
     match t {
-        TypeRef::Named(path, _) => {
-            let Some(loc) = resolve_item(db, ws, file, path, DefKind::is_type).first().copied() else {
-                return Ty::Error;
-            };
-            let s = loc.summary(db);
-            if file_summary(db, loc.file).package == ["core"] && s.kind == DefKind::PrimitiveType {
-                return match s.name.as_str() {
-                    "nat" => Ty::Nat,
-                    "int" => Ty::Int,
-                    "real" => Ty::Real,
-                    "boolean" => Ty::Bool,
-                    "string" => Ty::Str,
-                    _ => Ty::Named(loc, s.name.clone(), s.kind),
-                };
-            }
-            Ty::Named(loc, s.name.clone(), s.kind)
-        }
-        TypeRef::Set(a) => Ty::Set(Box::new(lower(db, ws, file, a))),
-        TypeRef::Seq(a) => Ty::Seq(Box::new(lower(db, ws, file, a))),
+        TypeRef::Named(path, _) => named(path),
+        TypeRef::Set(a) => Ty::Set(Box::new(lower_by(a, named))),
+        TypeRef::Seq(a) => Ty::Seq(Box::new(lower_by(a, named))),
         TypeRef::Var(n) => Ty::Var(n.clone()),
-        TypeRef::Product(v) => Ty::Product(v.iter().map(|t| lower(db, ws, file, t)).collect()),
-        TypeRef::Function(a, b) => Ty::Function(Box::new(lower(db, ws, file, a)), Box::new(lower(db, ws, file, b))),
-        TypeRef::Relation(a, b) => Ty::Relation(Box::new(lower(db, ws, file, a)), Box::new(lower(db, ws, file, b))),
-        TypeRef::Vector(a, _) => Ty::Vector(Box::new(lower(db, ws, file, a)), None),
-        TypeRef::Matrix(a, _, _) => Ty::Matrix(Box::new(lower(db, ws, file, a)), None, None),
+        TypeRef::Product(v) => Ty::Product(v.iter().map(|t| lower_by(t, named)).collect()),
+        TypeRef::Function(a, b) => Ty::Function(Box::new(lower_by(a, named)), Box::new(lower_by(b, named))),
+        TypeRef::Relation(a, b) => Ty::Relation(Box::new(lower_by(a, named)), Box::new(lower_by(b, named))),
+        TypeRef::Vector(a, _) => Ty::Vector(Box::new(lower_by(a, named)), None),
+        TypeRef::Matrix(a, _, _) => Ty::Matrix(Box::new(lower_by(a, named)), None, None),
         TypeRef::Missing => Ty::Error,
     }
+}
+
+/// The type a (qualified) type name written in `file` denotes.
+fn named_type(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Ty {
+    let Some(loc) = resolve_item(db, ws, file, path, DefKind::is_type).first().copied() else {
+        return Ty::Error;
+    };
+    let s = loc.summary(db);
+    if file_summary(db, loc.file).package == ["core"] && s.kind == DefKind::PrimitiveType {
+        return match s.name.as_str() {
+            "nat" => Ty::Nat,
+            "int" => Ty::Int,
+            "real" => Ty::Real,
+            "boolean" => Ty::Bool,
+            "string" => Ty::Str,
+            _ => Ty::Named(loc, s.name.clone(), s.kind),
+        };
+    }
+    Ty::Named(loc, s.name.clone(), s.kind)
 }
 
 /// Instantiates generic parameters by matching a parameter type against an
@@ -249,8 +257,10 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
     if file.kind(db).is_assertions() {
         return Vec::new();
     }
-    let mut targets: FxHashMap<TextRange, Target> = FxHashMap::default();
-    for r in file_resolution(db, ws, file).refs.iter().chain(&body_resolution(db, ws, file).refs) {
+    let (decl, body) = (&file_resolution(db, ws, file).refs, &body_resolution(db, ws, file).refs);
+    let mut targets: FxHashMap<TextRange, Target> =
+        FxHashMap::with_capacity_and_hasher(decl.len() + body.len(), Default::default());
+    for r in decl.iter().chain(body) {
         if let Some(t) = r.target {
             targets.insert(r.range, t);
         }
@@ -263,6 +273,7 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
         rs: file.kind(db) == FileKind::RoboSim,
         targets,
         type_cache: Default::default(),
+        named_cache: Default::default(),
         env: Vec::new(),
         out: Vec::new(),
         result: None,
@@ -282,6 +293,10 @@ struct Typer<'a> {
     /// large file: a fast hash matters).
     targets: FxHashMap<TextRange, Target>,
     type_cache: std::cell::RefCell<FxHashMap<Target, Ty>>,
+    /// Type names lowered so far, per file they are written in: the same
+    /// few names (`nat`, `real`) are written on every declaration, and
+    /// resolving one goes through the workspace's scopes.
+    named_cache: std::cell::RefCell<FxHashMap<File, FxHashMap<Vec<String>, Ty>>>,
     env: Vec<(String, Ty)>,
     out: Vec<ResolveProblem>,
     /// The result type inside a function's postcondition.
@@ -292,10 +307,21 @@ fn op_text(k: SyntaxKind) -> &'static str {
     k.text().unwrap_or("?")
 }
 
+/// The first operand of `n`: `operand_exprs(n).first()` without
+/// collecting the others (typing asks for operands of every expression).
+fn first_operand(n: &SyntaxNode) -> Option<SyntaxNode> {
+    n.children().find(|c| ast::is_expr_kind(c.kind()))
+}
+
+/// The operands of `n`, as `operand_exprs` lists them, without a vector.
+fn operands(n: &SyntaxNode) -> impl Iterator<Item = SyntaxNode> {
+    n.children().filter(|c| ast::is_expr_kind(c.kind()))
+}
+
 fn unparen(n: &SyntaxNode) -> SyntaxNode {
     let mut n = n.clone();
     while n.kind() == PAREN_EXPR {
-        match operand_exprs(&n).into_iter().next() {
+        match first_operand(&n) {
             Some(inner) => n = inner,
             None => break,
         }
@@ -308,25 +334,58 @@ fn is_timed(n: &SyntaxNode) -> bool {
 }
 
 impl Typer<'_> {
+    /// [`lower`], with the type names memoised.
+    fn lower(&self, file: File, t: &TypeRef) -> Ty {
+        lower_by(t, &|path| {
+            if let Some(ty) = self.named_cache.borrow().get(&file).and_then(|m| m.get(path)) {
+                return ty.clone();
+            }
+            let ty = named_type(self.db, self.ws, file, path);
+            self.named_cache.borrow_mut().entry(file).or_default().insert(path.to_vec(), ty.clone());
+            ty
+        })
+    }
+
     fn problem(&mut self, code: &'static str, range: TextRange, message: String) {
         self.out.push(ResolveProblem { code, range, message });
     }
 
     /// Walks the tree; typed positions are checked where they occur.
     fn walk(&mut self, node: &SyntaxNode) {
-        let mut events = node.preorder();
-        while let Some(event) = events.next() {
-            let rowan::WalkEvent::Enter(n) = event else { continue };
-            // No typed position lies inside an expression or a type, and
-            // `expr` walks the expressions it types itself: skipping them
-            // halves the nodes visited.
-            if ast::is_expr_kind(n.kind()) || ast::is_type_kind(n.kind()) {
-                events.skip_subtree();
-                continue;
-            }
+        // No typed position lies inside an expression or a type, and `expr`
+        // walks the expressions it types itself: the scan skips them, and
+        // reads the green tree, building cursors only for the positions.
+        let outside = |k: SyntaxKind| !ast::is_expr_kind(k) && !ast::is_type_kind(k);
+        let positions = crate::walk::find_nodes_pruned(
+            node,
+            |k| {
+                outside(k)
+                    && matches!(
+                        k,
+                        CONDITION
+                            | PRECONDITION
+                            | POSTCONDITION
+                            | VARIABLE
+                            | ASSIGN_STMT
+                            | IF_STMT
+                            | WAIT_STMT
+                            | CALL_STMT
+                            | SIM_CALL_STMT
+                            | COMMUNICATION
+                            | OUTPUT_COMM_STMT
+                            | PROBABILITY
+                            | ENTRY_ACTION
+                            | DURING_ACTION
+                            | EXIT_ACTION
+                            | TRANSITION_ACTION
+                    )
+            },
+            outside,
+        );
+        for n in positions {
             match n.kind() {
                 CONDITION => {
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         self.expect_bool(
                             &t,
@@ -338,7 +397,7 @@ impl Typer<'_> {
                 }
                 PRECONDITION | POSTCONDITION => {
                     self.result = self.function_result(&n);
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         self.expect_bool(&t, e, "RC-EXP-13", "a pre- or postcondition");
                     }
@@ -347,13 +406,13 @@ impl Typer<'_> {
                 VARIABLE => self.initialiser(&n),
                 ASSIGN_STMT => self.assignment(&n),
                 IF_STMT => {
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         self.expect_bool(&t, e, "RC-STMT-03", "the condition of `if`");
                     }
                 }
                 WAIT_STMT => {
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         let ok = compatible(&t, &Ty::Int) || compatible(&t, &Ty::Set(Box::new(Ty::Int)));
                         if !ok {
@@ -370,7 +429,7 @@ impl Typer<'_> {
                 OUTPUT_COMM_STMT => self.output_comm(&n),
                 PROBABILITY => self.probability(&n),
                 ENTRY_ACTION | DURING_ACTION | EXIT_ACTION | TRANSITION_ACTION => {
-                    for t in n.descendants().filter(is_timed) {
+                    for t in crate::walk::find_nodes(&n, |k| matches!(k, SINCE_EXPR | SINCE_ENTRY_EXPR)) {
                         self.problem(
                             "RC:TE1",
                             t.text_range(),
@@ -378,9 +437,6 @@ impl Typer<'_> {
                                 .into(),
                         );
                     }
-                }
-                CYCLE_DEF => {
-                    // Typed by the cycle rules; walk for timed expressions only.
                 }
                 _ => {}
             }
@@ -391,9 +447,7 @@ impl Typer<'_> {
         let inner = self.defs.innermost(n.text_range())?;
         let d = self.defs.def(inner);
         match (&d.kind, &d.data) {
-            (DefKind::Function, DefData::Signature { result: Some(r), .. }) => {
-                Some(lower(self.db, self.ws, self.file, r))
-            }
+            (DefKind::Function, DefData::Signature { result: Some(r), .. }) => Some(self.lower(self.file, r)),
             _ => None,
         }
     }
@@ -425,7 +479,7 @@ impl Typer<'_> {
                     (
                         DefKind::Variable | DefKind::Constant | DefKind::Parameter | DefKind::Field | DefKind::Event,
                         DefData::Typed { ty, .. },
-                    ) => ty.as_ref().map(|t| lower(self.db, self.ws, f, t)).unwrap_or(Ty::Error),
+                    ) => ty.as_ref().map(|t| self.lower(f, t)).unwrap_or(Ty::Error),
                     _ => Ty::Error,
                 }
             }
@@ -434,7 +488,7 @@ impl Typer<'_> {
                 let m = &s.members[i as usize];
                 match m.kind {
                     DefKind::EnumLiteral => Ty::Named(loc, s.name.clone(), DefKind::Enumeration),
-                    _ => m.ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error),
+                    _ => m.ty.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error),
                 }
             }
             Target::Item(loc) => {
@@ -443,7 +497,7 @@ impl Typer<'_> {
                     let params: Vec<Ty> = s
                         .params
                         .iter()
-                        .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                        .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
                         .collect();
                     let result = self.function_result_of(loc);
                     if params.is_empty() {
@@ -459,16 +513,19 @@ impl Typer<'_> {
     fn function_result_of(&self, loc: ItemLoc) -> Ty {
         let Some(def) = loc.def(self.db) else { return Ty::Error };
         match &file_defs(self.db, loc.file).def(def).data {
-            DefData::Signature { result: Some(r), .. } => lower(self.db, self.ws, loc.file, r),
+            DefData::Signature { result: Some(r), .. } => self.lower(loc.file, r),
             _ => Ty::Error,
         }
     }
 
     fn name_type(&self, n: &SyntaxNode) -> Ty {
         let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return Ty::Error };
-        let name = crate::defs::name_text(&r);
-        if let Some((_, t)) = self.env.iter().rev().find(|(x, _)| *x == name) {
-            return t.clone();
+        // Bound names are rare: read the name only when some are in scope.
+        if !self.env.is_empty() {
+            let name = crate::defs::name_text(&r);
+            if let Some((_, t)) = self.env.iter().rev().find(|(x, _)| *x == name) {
+                return t.clone();
+            }
         }
         match self.targets.get(&r.text_range()) {
             Some(t) => self.target_type(*t),
@@ -484,7 +541,7 @@ impl Typer<'_> {
                 let ty = b
                     .children()
                     .find(|c| ast::is_type_kind(c.kind()))
-                    .map(|t| lower(self.db, self.ws, self.file, &lower_type(&t)))
+                    .map(|t| self.lower(self.file, &lower_type(&t)))
                     .unwrap_or(Ty::Error);
                 if let Some(name) = name {
                     self.env.push((name, ty));
@@ -527,7 +584,7 @@ impl Typer<'_> {
                 self.bare_literal(n);
                 self.name_type(n)
             }
-            PAREN_EXPR => operand_exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error),
+            PAREN_EXPR => first_operand(n).map(|e| self.expr(&e)).unwrap_or(Ty::Error),
             ENUM_LITERAL_EXPR => {
                 self.bare_literal(n);
                 let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
@@ -550,7 +607,7 @@ impl Typer<'_> {
                     let s = loc.summary(self.db);
                     match s.members.iter().find(|m| m.kind == DefKind::Field && m.name == fname).cloned() {
                         Some(m) => {
-                            let ft = m.ty.as_ref().map(|ty| lower(self.db, self.ws, loc.file, ty)).unwrap_or(Ty::Error);
+                            let ft = m.ty.as_ref().map(|ty| self.lower(loc.file, ty)).unwrap_or(Ty::Error);
                             if !compatible(&t, &ft) {
                                 self.problem(
                                     "RC-EXP-12",
@@ -572,10 +629,10 @@ impl Typer<'_> {
                 }
             }
             PREFIX_EXPR => {
-                let e = operand_exprs(n);
-                let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
+                let e = first_operand(n);
+                let t = e.as_ref().map(|x| self.expr(x)).unwrap_or(Ty::Error);
                 if n.children_with_tokens().any(|t| t.kind() == NOT_KW) {
-                    if let Some(x) = e.first() {
+                    if let Some(x) = &e {
                         self.expect_bool(&t, x, "RC-EXP-14", "the operand of `not`");
                     }
                     Ty::Bool
@@ -586,7 +643,7 @@ impl Typer<'_> {
                         Ty::Vector(..) | Ty::Matrix(..) => t,
                         t if t.is_unknown() => Ty::Error,
                         t => {
-                            if let Some(x) = e.first() {
+                            if let Some(x) = &e {
                                 self.problem(
                                     "RC-EXP-14",
                                     x.text_range(),
@@ -624,7 +681,7 @@ impl Typer<'_> {
                 let target = n
                     .children()
                     .find(|c| ast::is_type_kind(c.kind()))
-                    .map(|t| lower(self.db, self.ws, self.file, &lower_type(&t)))
+                    .map(|t| self.lower(self.file, &lower_type(&t)))
                     .unwrap_or(Ty::Error);
                 if n.children_with_tokens().any(|t| t.kind() == IS_KW) {
                     Ty::Bool
@@ -783,9 +840,7 @@ impl Typer<'_> {
                     Ty::Named(loc, rname, DefKind::Record) => {
                         let s = loc.summary(self.db);
                         match s.members.iter().find(|m| m.kind == DefKind::Field && m.name == field) {
-                            Some(m) => {
-                                m.ty.as_ref().map(|ty| lower(self.db, self.ws, loc.file, ty)).unwrap_or(Ty::Error)
-                            }
+                            Some(m) => m.ty.as_ref().map(|ty| self.lower(loc.file, ty)).unwrap_or(Ty::Error),
                             None => {
                                 self.problem("LNK-01", frange, format!("record `{rname}` has no field `{field}`"));
                                 Ty::Error
@@ -902,8 +957,9 @@ impl Typer<'_> {
     }
 
     fn binary(&mut self, n: &SyntaxNode) -> Ty {
-        let e = operand_exprs(n);
-        let (Some(a), Some(b)) = (e.first(), e.get(1)) else { return Ty::Error };
+        let mut e = operands(n);
+        let (Some(a), Some(b)) = (e.next(), e.next()) else { return Ty::Error };
+        let (a, b) = (&a, &b);
         let Some(op) = binary_operator(n) else { return Ty::Error };
         let (x, y) = (self.expr(a), self.expr(b));
         let bad = |t: &Ty| !t.is_unknown();
@@ -1014,8 +1070,7 @@ impl Typer<'_> {
     /// argument list).
     fn typed_args(&mut self, n: &SyntaxNode) -> Vec<(SyntaxNode, Ty)> {
         let Some(al) = n.children().find(|c| c.kind() == ARG_LIST) else { return Vec::new() };
-        operand_exprs(&al)
-            .into_iter()
+        operands(&al)
             .map(|x| {
                 let t = self.expr(&x);
                 (x, t)
@@ -1024,8 +1079,7 @@ impl Typer<'_> {
     }
 
     fn call_expr(&mut self, n: &SyntaxNode) -> Ty {
-        let e = operand_exprs(n);
-        let Some(callee) = e.first() else { return Ty::Error };
+        let Some(callee) = &first_operand(n) else { return Ty::Error };
         let args = self.typed_args(n);
         // A function: check arity and argument types with generics.
         if callee.kind() == REF_EXPR {
@@ -1037,7 +1091,7 @@ impl Typer<'_> {
                         let params: Vec<Ty> = s
                             .params
                             .iter()
-                            .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                            .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
                             .collect();
                         let result = self.function_result_of(loc);
                         if params.len() != args.len() {
@@ -1074,7 +1128,7 @@ impl Typer<'_> {
             let params: Vec<Ty> = lit
                 .params
                 .iter()
-                .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
                 .collect();
             let name = lit.name.clone();
             if params.is_empty() {
@@ -1136,7 +1190,7 @@ impl Typer<'_> {
     /// RC-EXP-05: a literal that takes arguments is not used bare.
     fn bare_literal(&mut self, e: &SyntaxNode) {
         let Some((loc, i)) = self.literal_of(e) else { return };
-        let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && operand_exprs(&p).first() == Some(e));
+        let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && first_operand(&p).as_ref() == Some(e));
         let lit = &loc.summary(self.db).members[i as usize];
         if !is_callee && !lit.params.is_empty() {
             let msg = format!("`{}` expects {}", lit.name, arguments(lit.params.len()));
@@ -1145,9 +1199,9 @@ impl Typer<'_> {
     }
 
     fn initialiser(&mut self, n: &SyntaxNode) {
-        let Some(init) = operand_exprs(n).into_iter().next() else { return };
+        let Some(init) = first_operand(n) else { return };
         let Some(ty) = n.children().find(|c| ast::is_type_kind(c.kind())) else { return };
-        let declared = lower(self.db, self.ws, self.file, &lower_type(&ty));
+        let declared = self.lower(self.file, &lower_type(&ty));
         let t = self.expr(&init);
         if !compatible(&t, &declared) {
             let name = n.children().find(|c| c.kind() == NAME).map(|x| x.text().to_string()).unwrap_or_default();
@@ -1161,7 +1215,7 @@ impl Typer<'_> {
 
     fn assignment(&mut self, n: &SyntaxNode) {
         let Some(target) = n.children().find(|c| c.kind() == ASSIGNABLE) else { return };
-        let Some(value) = operand_exprs(n).into_iter().next() else { return };
+        let Some(value) = first_operand(n) else { return };
         let Some(q) = target.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
         let mut ty = match self.targets.get(&q.text_range()) {
             Some(t) => self.target_type(*t),
@@ -1179,7 +1233,7 @@ impl Typer<'_> {
                     let field =
                         loc.summary(self.db).members.iter().find(|m| m.kind == DefKind::Field && m.name == f).cloned();
                     match field {
-                        Some(m) => m.ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error),
+                        Some(m) => m.ty.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error),
                         None => {
                             if let Some(r) = fref {
                                 self.problem("LNK-01", r.text_range(), format!("record `{rname}` has no field `{f}`"));
@@ -1195,7 +1249,7 @@ impl Typer<'_> {
                 (FIELD_ACCESS | INDEX_ACCESS, _) => Ty::Error,
                 _ => ty,
             };
-            for e in operand_exprs(&s) {
+            for e in operands(&s) {
                 self.expr(&e);
             }
         }
@@ -1214,18 +1268,14 @@ impl Typer<'_> {
         let args = self.typed_args(n);
         let params: Vec<Ty> = match self.targets.get(&q.text_range()) {
             Some(Target::Def(f, id)) => match &file_defs(self.db, *f).def(*id).data {
-                DefData::Signature { params, .. } => params
-                    .iter()
-                    .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, *f, t)).unwrap_or(Ty::Error))
-                    .collect(),
+                DefData::Signature { params, .. } => {
+                    params.iter().map(|(_, t)| t.as_ref().map(|t| self.lower(*f, t)).unwrap_or(Ty::Error)).collect()
+                }
                 _ => return,
             },
             Some(Target::Member(loc, i)) => {
                 let m = &loc.summary(self.db).members[*i as usize];
-                m.params
-                    .iter()
-                    .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
-                    .collect()
+                m.params.iter().map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error)).collect()
             }
             _ => return,
         };
@@ -1253,11 +1303,11 @@ impl Typer<'_> {
         let t = self.targets.get(&r.text_range())?;
         Some(match t {
             Target::Def(f, id) => match &file_defs(self.db, *f).def(*id).data {
-                DefData::Typed { ty, .. } => ty.as_ref().map(|t| lower(self.db, self.ws, *f, t)),
+                DefData::Typed { ty, .. } => ty.as_ref().map(|t| self.lower(*f, t)),
                 _ => None,
             },
             Target::Member(loc, i) => {
-                loc.summary(self.db).members[*i as usize].ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t))
+                loc.summary(self.db).members[*i as usize].ty.as_ref().map(|t| self.lower(loc.file, t))
             }
             Target::Item(_) => None,
         })
@@ -1296,7 +1346,7 @@ impl Typer<'_> {
                     }
                 }
                 _ => {
-                    if let Some(v) = operand_exprs(&p).first() {
+                    if let Some(v) = &first_operand(&p) {
                         let vt = self.expr(v);
                         if !compatible(&vt, &et) {
                             let code = if p.kind() == COMM_OUTPUT { "RC-COMM-02" } else { "RC-COMM-03" };
@@ -1317,7 +1367,7 @@ impl Typer<'_> {
         let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
         let Some(ety) = self.event_type(&q) else { return };
         let name = q.text().to_string().trim().to_string();
-        match (operand_exprs(n).first(), ety) {
+        match (first_operand(n).as_ref(), ety) {
             (None, Some(t)) => self.problem(
                 "RS-IO-06",
                 q.text_range(),
@@ -1341,7 +1391,7 @@ impl Typer<'_> {
     }
 
     fn probability(&mut self, n: &SyntaxNode) {
-        let Some(e) = operand_exprs(n).into_iter().next() else { return };
+        let Some(e) = first_operand(n) else { return };
         let t = self.expr(&e);
         if !compatible(&t, &Ty::Real) {
             self.problem("RC:PT2", e.text_range(), format!("a probability is a number in [0, 1]; this has type {t}"));
