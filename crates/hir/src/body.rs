@@ -31,10 +31,29 @@ pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution
         return r.out;
     }
     let root = parse(db, file).syntax_node();
-    for n in root.descendants() {
+    // Only the nodes `visit` resolves, found in the green tree: a cursor
+    // for every node of a large file cost more than resolving the names.
+    for n in crate::walk::find_nodes(&root, visited) {
         r.visit(&n);
     }
     r.out
+}
+
+/// The kinds of node [`Body::visit`] resolves names of.
+fn visited(k: robosim_syntax::SyntaxKind) -> bool {
+    matches!(
+        k,
+        REF_EXPR
+            | SIM_REF_EXPR
+            | ENUM_LITERAL_EXPR
+            | ASSIGN_STMT
+            | CALL_STMT
+            | SIM_CALL_STMT
+            | OUTPUT_COMM_STMT
+            | COMM_STMT
+            | SINCE_ENTRY_EXPR
+            | COMM_INPUT
+    )
 }
 
 /// The references in behaviour whose node covers `offset`: those of
@@ -76,7 +95,7 @@ struct Body<'a> {
     out: BodyResolution,
     /// Members per context, shared: a body asks for the same few contexts
     /// once per name, and cloning the lists dominated resolution.
-    members_cache: std::collections::HashMap<crate::defs::DefId, std::rc::Rc<[Member]>>,
+    members_cache: rustc_hash::FxHashMap<crate::defs::DefId, std::rc::Rc<[Member]>>,
 }
 
 fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
@@ -131,7 +150,8 @@ impl<'a> Body<'a> {
         }
     }
 
-    /// Resolves the names `n` itself introduces (not those of its children).
+    /// Resolves the names `n` itself introduces (not those of its children);
+    /// [`visited`] lists the kinds it handles.
     fn visit(&mut self, n: &SyntaxNode) {
         match n.kind() {
             REF_EXPR => self.name_expr(n),

@@ -30,34 +30,34 @@ pub(crate) fn find_nodes_pruned(
     if !descend(root.kind()) {
         return out;
     }
-    // The paths of all hits, one after the other in `steps`; `ends[i]` is
-    // where the `i`-th ends. One flat buffer: no allocation per hit.
-    let mut scan = Scan { wanted, descend, path: Vec::new(), steps: Vec::new(), ends: Vec::new() };
+    let mut scan =
+        Scan { wanted, descend, path: Vec::new(), emitted: 0, steps: Vec::new(), hits: Vec::new() };
     scan.collect(root.green(), root.text_range().start());
-    out.reserve(scan.ends.len());
+    out.reserve(scan.hits.len());
     // Paths come in preorder, so each one shares a prefix with the last:
     // keep the cursors of the last path and build only the rest.
     // `stack[d]` is the node at depth `d + 1` of the last path.
     let mut stack: Vec<SyntaxNode> = Vec::new();
     let mut start = 0;
-    let mut prev: &[Step] = &[];
-    for &end in &scan.ends {
-        let p = &scan.steps[start..end];
-        start = end;
-        let common = p.iter().zip(prev).take_while(|(a, b)| a.index == b.index).count();
-        stack.truncate(common);
-        for step in &p[stack.len()..] {
+    for hit in &scan.hits {
+        stack.truncate(hit.keep as usize);
+        let steps = &scan.steps[start..hit.end];
+        start = hit.end;
+        if stack.len() < hit.keep as usize {
+            // An earlier step failed (it cannot: the paths were read off
+            // this very tree); the deeper paths are lost with it.
+            continue;
+        }
+        for step in steps {
             let parent = stack.last().unwrap_or(root);
-            // The path was read off this very tree, so the child is there.
             let Some(node) = child_at(parent, step) else { break };
             stack.push(node);
         }
-        if stack.len() == p.len() {
+        if stack.len() == hit.keep as usize + steps.len() {
             if let Some(n) = stack.last() {
                 out.push(n.clone());
             }
         }
-        prev = p;
     }
     out
 }
@@ -70,12 +70,24 @@ struct Step {
     range: TextRange,
 }
 
+/// A wanted node: its path is the first `keep` steps of the previous hit's
+/// path, then the steps recorded up to `end`.
+struct Hit {
+    keep: u32,
+    end: usize,
+}
+
 struct Scan<W, D> {
     wanted: W,
     descend: D,
+    /// The path to the node being scanned.
     path: Vec<Step>,
+    /// How much of `path` the last hit's path shares.
+    emitted: usize,
+    /// The new steps of every hit, one after the other: one buffer, and
+    /// only what differs from the previous hit's path.
     steps: Vec<Step>,
-    ends: Vec<usize>,
+    hits: Vec<Hit>,
 }
 
 impl<W: Fn(SyntaxKind) -> bool, D: Fn(SyntaxKind) -> bool> Scan<W, D> {
@@ -87,13 +99,15 @@ impl<W: Fn(SyntaxKind) -> bool, D: Fn(SyntaxKind) -> bool> Scan<W, D> {
                 let kind = RoboLang::kind_from_raw(node.kind());
                 self.path.push(Step { index: i as u32, range: TextRange::at(offset, len) });
                 if (self.wanted)(kind) {
-                    self.steps.extend_from_slice(&self.path);
-                    self.ends.push(self.steps.len());
+                    self.steps.extend_from_slice(&self.path[self.emitted..]);
+                    self.hits.push(Hit { keep: self.emitted as u32, end: self.steps.len() });
+                    self.emitted = self.path.len();
                 }
                 if (self.descend)(kind) {
                     self.collect(node, offset);
                 }
                 self.path.pop();
+                self.emitted = self.emitted.min(self.path.len());
             }
             offset += len;
         }
