@@ -6,8 +6,9 @@
 //! required and provided interfaces. A name that exists with the other
 //! `$` discipline gets RS:SM6 instead of a plain "cannot resolve".
 
-use robosim_syntax::ast::name_text as text_of;
+use crate::defs::name_text as text_of;
 use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
+use rowan::Language as _;
 
 use crate::defs::{file_defs, DefKind, FileDefs, Io, UseKind};
 use crate::index::resolve_item;
@@ -31,30 +32,28 @@ pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution
         return r.out;
     }
     let root = parse(db, file).syntax_node();
-    // Only the nodes `visit` resolves, found in the green tree: a cursor
-    // for every node of a large file cost more than resolving the names.
-    for n in crate::walk::find_nodes(&root, visited) {
+    // Only the nodes `visit` resolves, from the file's node table: a
+    // cursor for every node of a large file cost more than resolving the
+    // names.
+    for n in crate::walk::file_nodes(db, file).nodes(&root, VISITED, false) {
         r.visit(&n);
     }
     r.out
 }
 
 /// The kinds of node [`Body::visit`] resolves names of.
-fn visited(k: robosim_syntax::SyntaxKind) -> bool {
-    matches!(
-        k,
-        REF_EXPR
-            | SIM_REF_EXPR
-            | ENUM_LITERAL_EXPR
-            | ASSIGN_STMT
-            | CALL_STMT
-            | SIM_CALL_STMT
-            | OUTPUT_COMM_STMT
-            | COMM_STMT
-            | SINCE_ENTRY_EXPR
-            | COMM_INPUT
-    )
-}
+const VISITED: &[robosim_syntax::SyntaxKind] = &[
+    REF_EXPR,
+    SIM_REF_EXPR,
+    ENUM_LITERAL_EXPR,
+    ASSIGN_STMT,
+    CALL_STMT,
+    SIM_CALL_STMT,
+    OUTPUT_COMM_STMT,
+    COMM_STMT,
+    SINCE_ENTRY_EXPR,
+    COMM_INPUT,
+];
 
 /// The references in behaviour whose node covers `offset`: those of
 /// [`body_resolution`] there, without resolving the rest of the file. A
@@ -100,10 +99,12 @@ struct Body<'a> {
 
 fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
     let q = n.children().find(|c| c.kind() == QUALIFIED_NAME)?;
+    // The tokens from the green tree: no cursor per token.
     let segs = q
-        .children_with_tokens()
+        .green()
+        .children()
         .filter_map(|e| e.into_token())
-        .filter(|t| t.kind() == IDENT)
+        .filter(|t| robosim_syntax::RoboLang::kind_from_raw(t.kind()) == IDENT)
         .map(|t| t.text().trim_start_matches('^').to_string())
         .collect();
     Some((segs, q.text_range()))
@@ -151,7 +152,7 @@ impl<'a> Body<'a> {
     }
 
     /// Resolves the names `n` itself introduces (not those of its children);
-    /// [`visited`] lists the kinds it handles.
+    /// [`VISITED`] lists the kinds it handles.
     fn visit(&mut self, n: &SyntaxNode) {
         match n.kind() {
             REF_EXPR => self.name_expr(n),

@@ -422,7 +422,17 @@ struct Lower {
     out: FileDefs,
 }
 
-pub(crate) use robosim_syntax::ast::name_text;
+/// The text of a name or name-reference node, as
+/// [`robosim_syntax::ast::name_text`] gives it: read from the green tree
+/// when the name is one token, without a cursor per token (names are read
+/// for every declaration and reference of the file).
+pub(crate) fn name_text(n: &SyntaxNode) -> String {
+    let mut parts = n.green().children();
+    if let (Some(rowan::NodeOrToken::Token(t)), None) = (parts.next(), parts.next()) {
+        return t.text().trim().trim_start_matches('^').to_string();
+    }
+    robosim_syntax::ast::name_text(n)
+}
 
 /// The text of the first `NAME` child (without `^`) and its range.
 fn name_of(node: &SyntaxNode) -> Option<(String, TextRange)> {

@@ -301,10 +301,10 @@ pub fn enclosing(defs: &FileDefs, mut id: DefId, kinds: &[DefKind]) -> Option<De
 pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution {
     // One walk finds the nodes both `types` and `clocks` need.
     let root = parse(db, file).syntax_node();
-    let (named_types, clocks) =
-        crate::walk::find_nodes(&root, |k| matches!(k, NAMED_TYPE | CLOCK_RESET | CLOCK_RESET_STMT | SINCE_EXPR))
-            .into_iter()
-            .partition(|n| n.kind() == NAMED_TYPE);
+    let (named_types, clocks) = crate::walk::file_nodes(db, file)
+        .nodes(&root, &[NAMED_TYPE, CLOCK_RESET, CLOCK_RESET_STMT, SINCE_EXPR], false)
+        .into_iter()
+        .partition(|n| n.kind() == NAMED_TYPE);
     let mut r =
         Resolver { db, ws, file, defs: file_defs(db, file), named_types, clocks, out: FileResolution::default() };
     r.imports();

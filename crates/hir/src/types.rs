@@ -307,6 +307,26 @@ fn op_text(k: SyntaxKind) -> &'static str {
     k.text().unwrap_or("?")
 }
 
+/// The kinds of node [`Typer::walk`] checks.
+const TYPED_POSITIONS: &[SyntaxKind] = &[
+    CONDITION,
+    PRECONDITION,
+    POSTCONDITION,
+    VARIABLE,
+    ASSIGN_STMT,
+    IF_STMT,
+    WAIT_STMT,
+    CALL_STMT,
+    SIM_CALL_STMT,
+    COMMUNICATION,
+    OUTPUT_COMM_STMT,
+    PROBABILITY,
+    ENTRY_ACTION,
+    DURING_ACTION,
+    EXIT_ACTION,
+    TRANSITION_ACTION,
+];
+
 /// The first operand of `n`: `operand_exprs(n).first()` without
 /// collecting the others (typing asks for operands of every expression).
 fn first_operand(n: &SyntaxNode) -> Option<SyntaxNode> {
@@ -351,37 +371,13 @@ impl Typer<'_> {
     }
 
     /// Walks the tree; typed positions are checked where they occur.
-    fn walk(&mut self, node: &SyntaxNode) {
+    fn walk(&mut self, root: &SyntaxNode) {
+        let table = crate::walk::file_nodes(self.db, self.file);
         // No typed position lies inside an expression or a type, and `expr`
-        // walks the expressions it types itself: the scan skips them, and
-        // reads the green tree, building cursors only for the positions.
-        let outside = |k: SyntaxKind| !ast::is_expr_kind(k) && !ast::is_type_kind(k);
-        let positions = crate::walk::find_nodes_pruned(
-            node,
-            |k| {
-                outside(k)
-                    && matches!(
-                        k,
-                        CONDITION
-                            | PRECONDITION
-                            | POSTCONDITION
-                            | VARIABLE
-                            | ASSIGN_STMT
-                            | IF_STMT
-                            | WAIT_STMT
-                            | CALL_STMT
-                            | SIM_CALL_STMT
-                            | COMMUNICATION
-                            | OUTPUT_COMM_STMT
-                            | PROBABILITY
-                            | ENTRY_ACTION
-                            | DURING_ACTION
-                            | EXIT_ACTION
-                            | TRANSITION_ACTION
-                    )
-            },
-            outside,
-        );
+        // walks the expressions it types itself.
+        let positions = table.nodes(root, TYPED_POSITIONS, true);
+        // Timed expressions, in order, for the actions that contain them.
+        let timed = table.nodes(root, &[SINCE_EXPR, SINCE_ENTRY_EXPR], false);
         for n in positions {
             match n.kind() {
                 CONDITION => {
@@ -429,7 +425,14 @@ impl Typer<'_> {
                 OUTPUT_COMM_STMT => self.output_comm(&n),
                 PROBABILITY => self.probability(&n),
                 ENTRY_ACTION | DURING_ACTION | EXIT_ACTION | TRANSITION_ACTION => {
-                    for t in crate::walk::find_nodes(&n, |k| matches!(k, SINCE_EXPR | SINCE_ENTRY_EXPR)) {
+                    // The timed descendants of the action, in preorder.
+                    let range = n.text_range();
+                    let first = timed.partition_point(|t| t.text_range().start() < range.start());
+                    let inside = timed[first..]
+                        .iter()
+                        .take_while(|t| t.text_range().start() <= range.end())
+                        .filter(|t| t.ancestors().any(|a| a == n));
+                    for t in inside {
                         self.problem(
                             "RC:TE1",
                             t.text_range(),
@@ -518,11 +521,11 @@ impl Typer<'_> {
         }
     }
 
-    fn name_type(&self, n: &SyntaxNode) -> Ty {
-        let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return Ty::Error };
+    /// The type of the name reference `r`.
+    fn name_type(&self, r: &SyntaxNode) -> Ty {
         // Bound names are rare: read the name only when some are in scope.
         if !self.env.is_empty() {
-            let name = crate::defs::name_text(&r);
+            let name = crate::defs::name_text(r);
             if let Some((_, t)) = self.env.iter().rev().find(|(x, _)| *x == name) {
                 return t.clone();
             }
@@ -581,8 +584,10 @@ impl Typer<'_> {
             RESULT_EXPR => self.result.clone().unwrap_or(Ty::Error),
             FROM_EXPR | TO_EXPR => Ty::Error,
             REF_EXPR => {
-                self.bare_literal(n);
-                self.name_type(n)
+                // One lookup of the name serves both.
+                let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return Ty::Error };
+                self.bare_literal_named(n, &r);
+                self.name_type(&r)
             }
             PAREN_EXPR => first_operand(n).map(|e| self.expr(&e)).unwrap_or(Ty::Error),
             ENUM_LITERAL_EXPR => {
@@ -1179,6 +1184,11 @@ impl Typer<'_> {
             REF_EXPR => e.children().find(|c| c.kind() == NAME_REF)?,
             _ => return None,
         };
+        self.literal_named(&r)
+    }
+
+    /// The enumeration literal the name reference `r` denotes.
+    fn literal_named(&self, r: &SyntaxNode) -> Option<(ItemLoc, u32)> {
         match self.targets.get(&r.text_range())? {
             Target::Member(loc, i) if loc.summary(self.db).members[*i as usize].kind == DefKind::EnumLiteral => {
                 Some((*loc, *i))
@@ -1190,6 +1200,16 @@ impl Typer<'_> {
     /// RC-EXP-05: a literal that takes arguments is not used bare.
     fn bare_literal(&mut self, e: &SyntaxNode) {
         let Some((loc, i)) = self.literal_of(e) else { return };
+        self.bare_literal_at(e, loc, i);
+    }
+
+    /// [`Typer::bare_literal`] for a `REF_EXPR` `e` whose name is `r`.
+    fn bare_literal_named(&mut self, e: &SyntaxNode, r: &SyntaxNode) {
+        let Some((loc, i)) = self.literal_named(r) else { return };
+        self.bare_literal_at(e, loc, i);
+    }
+
+    fn bare_literal_at(&mut self, e: &SyntaxNode, loc: ItemLoc, i: u32) {
         let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && first_operand(&p).as_ref() == Some(e));
         let lit = &loc.summary(self.db).members[i as usize];
         if !is_callee && !lit.params.is_empty() {
@@ -1279,12 +1299,13 @@ impl Typer<'_> {
             }
             _ => return,
         };
-        let name = q.text().to_string().trim().to_string();
+        // Only messages need the name: read it then.
+        let name = || q.text().to_string().trim().to_string();
         if params.len() != args.len() {
             self.problem(
                 "RC-STMT-05",
                 n.text_range(),
-                format!("operation `{name}` takes {}, not {}", arguments(params.len()), args.len()),
+                format!("operation `{}` takes {}, not {}", name(), arguments(params.len()), args.len()),
             );
             return;
         }
@@ -1293,7 +1314,7 @@ impl Typer<'_> {
                 self.problem(
                     "RC-STMT-05",
                     x.text_range(),
-                    format!("argument {} of `{name}` has type {a}, expected {p}", i + 1),
+                    format!("argument {} of `{}` has type {a}, expected {p}", i + 1, name()),
                 );
             }
         }

@@ -5,113 +5,17 @@
 //! resets) scan the green tree instead, which allocates nothing, and build
 //! cursors only along the paths to what they found.
 
-use robosim_syntax::{RoboLang, SyntaxKind, SyntaxNode, TextRange, TextSize};
+use robosim_syntax::{ast, RoboLang, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 use rowan::{Language, NodeOrToken};
 
-/// The descendants of `root` (itself included) whose kind satisfies
-/// `wanted`, in preorder: the same nodes as
-/// `root.descendants().filter(|n| wanted(n.kind()))`.
-pub(crate) fn find_nodes(root: &SyntaxNode, wanted: impl Fn(SyntaxKind) -> bool) -> Vec<SyntaxNode> {
-    find_nodes_pruned(root, wanted, |_| true)
-}
-
-/// Like [`find_nodes`], but does not look inside the nodes whose kind fails
-/// `descend` (they are still returned when wanted): the same nodes as a
-/// preorder walk that skips those subtrees.
-pub(crate) fn find_nodes_pruned(
-    root: &SyntaxNode,
-    wanted: impl Fn(SyntaxKind) -> bool,
-    descend: impl Fn(SyntaxKind) -> bool,
-) -> Vec<SyntaxNode> {
-    let mut out = Vec::new();
-    if wanted(root.kind()) {
-        out.push(root.clone());
-    }
-    if !descend(root.kind()) {
-        return out;
-    }
-    let mut scan =
-        Scan { wanted, descend, path: Vec::new(), emitted: 0, steps: Vec::new(), hits: Vec::new() };
-    scan.collect(root.green(), root.text_range().start());
-    out.reserve(scan.hits.len());
-    // Paths come in preorder, so each one shares a prefix with the last:
-    // keep the cursors of the last path and build only the rest.
-    // `stack[d]` is the node at depth `d + 1` of the last path.
-    let mut stack: Vec<SyntaxNode> = Vec::new();
-    let mut start = 0;
-    for hit in &scan.hits {
-        stack.truncate(hit.keep as usize);
-        let steps = &scan.steps[start..hit.end];
-        start = hit.end;
-        if stack.len() < hit.keep as usize {
-            // An earlier step failed (it cannot: the paths were read off
-            // this very tree); the deeper paths are lost with it.
-            continue;
-        }
-        for step in steps {
-            let parent = stack.last().unwrap_or(root);
-            let Some(node) = child_at(parent, step) else { break };
-            stack.push(node);
-        }
-        if stack.len() == hit.keep as usize + steps.len() {
-            if let Some(n) = stack.last() {
-                out.push(n.clone());
-            }
-        }
-    }
-    out
-}
+use crate::{parse, Db, File};
 
 /// One step of a path: a child's index among all children (tokens
 /// included) and its range.
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Step {
     index: u32,
     range: TextRange,
-}
-
-/// A wanted node: its path is the first `keep` steps of the previous hit's
-/// path, then the steps recorded up to `end`.
-struct Hit {
-    keep: u32,
-    end: usize,
-}
-
-struct Scan<W, D> {
-    wanted: W,
-    descend: D,
-    /// The path to the node being scanned.
-    path: Vec<Step>,
-    /// How much of `path` the last hit's path shares.
-    emitted: usize,
-    /// The new steps of every hit, one after the other: one buffer, and
-    /// only what differs from the previous hit's path.
-    steps: Vec<Step>,
-    hits: Vec<Hit>,
-}
-
-impl<W: Fn(SyntaxKind) -> bool, D: Fn(SyntaxKind) -> bool> Scan<W, D> {
-    /// Records the path of every wanted node below `green` (at `offset`).
-    fn collect(&mut self, green: &rowan::GreenNodeData, mut offset: TextSize) {
-        for (i, child) in green.children().enumerate() {
-            let len = child.text_len();
-            if let NodeOrToken::Node(node) = child {
-                let kind = RoboLang::kind_from_raw(node.kind());
-                self.path.push(Step { index: i as u32, range: TextRange::at(offset, len) });
-                if (self.wanted)(kind) {
-                    self.steps.extend_from_slice(&self.path[self.emitted..]);
-                    self.hits.push(Hit { keep: self.emitted as u32, end: self.steps.len() });
-                    self.emitted = self.path.len();
-                }
-                if (self.descend)(kind) {
-                    self.collect(node, offset);
-                }
-                self.path.pop();
-                self.emitted = self.emitted.min(self.path.len());
-            }
-            offset += len;
-        }
-    }
 }
 
 /// The child node of `parent` at `step`: found by its range with a binary
@@ -126,43 +30,174 @@ fn child_at(parent: &SyntaxNode, step: &Step) -> Option<SyntaxNode> {
     parent.children_with_tokens().nth(step.index as usize)?.into_node()
 }
 
+/// The kinds [`file_nodes`] records: those the per-keystroke queries look
+/// for (typed positions, names in behaviour, type names, clocks, sizes).
+pub(crate) fn recorded(k: SyntaxKind) -> bool {
+    matches!(
+        k,
+        // Typed positions.
+        CONDITION
+            | PRECONDITION
+            | POSTCONDITION
+            | VARIABLE
+            | ASSIGN_STMT
+            | IF_STMT
+            | WAIT_STMT
+            | CALL_STMT
+            | SIM_CALL_STMT
+            | COMMUNICATION
+            | OUTPUT_COMM_STMT
+            | PROBABILITY
+            | ENTRY_ACTION
+            | DURING_ACTION
+            | EXIT_ACTION
+            | TRANSITION_ACTION
+            // Names in behaviour.
+            | REF_EXPR
+            | SIM_REF_EXPR
+            | ENUM_LITERAL_EXPR
+            | COMM_STMT
+            | SINCE_ENTRY_EXPR
+            | COMM_INPUT
+            // Declaration-level names and clocks.
+            | NAMED_TYPE
+            | CLOCK_RESET
+            | CLOCK_RESET_STMT
+            | SINCE_EXPR
+            // Sizes and deadlines.
+            | VECTOR_TYPE
+            | MATRIX_TYPE
+            | TIMED_STMT
+    )
+}
+
+/// Where the nodes of the [`recorded`] kinds are in a file's tree: several
+/// queries look for them after every keystroke, and one scan of the tree
+/// serves them all.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub(crate) struct NodeTable {
+    /// The new steps of every hit's path, one after the other.
+    steps: Vec<Step>,
+    hits: Vec<TableHit>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct TableHit {
+    kind: SyntaxKind,
+    /// Whether an expression or a type encloses the node.
+    nested: bool,
+    /// The path is the first `keep` steps of the previous hit's path, then
+    /// the steps recorded up to `end`.
+    keep: u32,
+    end: u32,
+}
+
+/// The [`NodeTable`] of `file`.
+#[salsa::tracked(returns(ref), no_eq)]
+pub(crate) fn file_nodes(db: &dyn Db, file: File) -> NodeTable {
+    node_table(&parse(db, file).syntax_node())
+}
+
+/// Scans the tree below `root` for the [`recorded`] kinds.
+fn node_table(root: &SyntaxNode) -> NodeTable {
+    let mut scan = TableScan { path: Vec::new(), emitted: 0, nested: 0, out: NodeTable::default() };
+    scan.collect(root.green(), root.text_range().start());
+    scan.out
+}
+
+struct TableScan {
+    path: Vec<Step>,
+    emitted: usize,
+    /// How many expressions and types enclose the node being scanned.
+    nested: u32,
+    out: NodeTable,
+}
+
+impl TableScan {
+    fn collect(&mut self, green: &rowan::GreenNodeData, mut offset: TextSize) {
+        for (i, child) in green.children().enumerate() {
+            let len = child.text_len();
+            if let NodeOrToken::Node(node) = child {
+                let kind = RoboLang::kind_from_raw(node.kind());
+                self.path.push(Step { index: i as u32, range: TextRange::at(offset, len) });
+                if recorded(kind) {
+                    self.out.steps.extend_from_slice(&self.path[self.emitted..]);
+                    let end = self.out.steps.len() as u32;
+                    self.out.hits.push(TableHit { kind, nested: self.nested > 0, keep: self.emitted as u32, end });
+                    self.emitted = self.path.len();
+                }
+                let wraps = ast::is_expr_kind(kind) || ast::is_type_kind(kind);
+                self.nested += wraps as u32;
+                self.collect(node, offset);
+                self.nested -= wraps as u32;
+                self.path.pop();
+                self.emitted = self.emitted.min(self.path.len());
+            }
+            offset += len;
+        }
+    }
+}
+
+impl NodeTable {
+    /// The nodes below `root` (the root of the tree the table was made
+    /// from) whose kind is one of `kinds`, each of them [`recorded`], in
+    /// preorder; with `outside_exprs`, only those no expression or type
+    /// encloses.
+    pub(crate) fn nodes(&self, root: &SyntaxNode, kinds: &[SyntaxKind], outside_exprs: bool) -> Vec<SyntaxNode> {
+        debug_assert!(kinds.iter().all(|k| recorded(*k)), "{kinds:?}");
+        let mut out = Vec::new();
+        // The whole path of the current hit, and cursors for a prefix of it.
+        let mut path: Vec<Step> = Vec::new();
+        let mut stack: Vec<SyntaxNode> = Vec::new();
+        let mut start = 0;
+        for hit in &self.hits {
+            let keep = hit.keep as usize;
+            path.truncate(keep);
+            path.extend_from_slice(&self.steps[start..hit.end as usize]);
+            start = hit.end as usize;
+            stack.truncate(keep);
+            if !kinds.contains(&hit.kind) || (outside_exprs && hit.nested) {
+                continue;
+            }
+            while stack.len() < path.len() {
+                let parent = stack.last().unwrap_or(root);
+                // The path was read off this very tree, so the child is there.
+                let Some(node) = child_at(parent, &path[stack.len()]) else { break };
+                stack.push(node);
+            }
+            if stack.len() == path.len() {
+                if let Some(n) = stack.last() {
+                    out.push(n.clone());
+                }
+            }
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use robosim_syntax::{FileKind, SyntaxKind::*};
 
     #[test]
-    fn finds_the_same_nodes_as_descendants() {
-        let text = "stm M { var x : vector(real, 2) clock C initial i state S { entry #C; x = x }\n\
-                    transition t { from i to S trigger e #C condition since(C) > 1 } }";
-        let root = robosim_syntax::parse(text, FileKind::RoboChart).syntax_node();
-        for kinds in [&[VECTOR_TYPE][..], &[CLOCK_RESET, CLOCK_RESET_STMT, SINCE_EXPR], &[SOURCE_FILE], &[REF_EXPR]] {
-            let fast = find_nodes(&root, |k| kinds.contains(&k));
-            let slow: Vec<SyntaxNode> = root.descendants().filter(|n| kinds.contains(&n.kind())).collect();
-            assert!(!slow.is_empty(), "{kinds:?}");
-            assert_eq!(fast, slow, "{kinds:?}");
-        }
-    }
-
-    #[test]
-    fn pruned_finds_the_same_nodes_as_a_skipping_preorder() {
-        let text = "stm M { var x : nat = 1 + 2 state S { entry x = (x + 1) * 2; e?x } transition t { from S to S condition x > 1 /\\ x < 2 } }\n\
+    fn the_table_finds_the_same_nodes_as_a_walk() {
+        let text = "stm M { var x : vector(real, 2) = 1 + 2 clock C initial i state S { entry x = (x + 1) * 2; e?x; #C }\n\
+                    transition t { from i to S trigger e #C condition since(C) > 1 /\\ x < (x as nat) action wait(1) } }\n\
+                    function f(a : Set(nat)) : boolean { precondition forall y : nat | y in a @ y > 0 }\n\
                     stm N { state ( }";
-        let root = robosim_syntax::parse(text, FileKind::RoboChart).syntax_node();
-        let descend = |k: SyntaxKind| k != BIN_EXPR;
-        let wanted = |k: SyntaxKind| matches!(k, BIN_EXPR | REF_EXPR | ASSIGN_STMT | STATE | ERROR);
-        let mut slow = Vec::new();
-        let mut events = root.preorder();
-        while let Some(event) = events.next() {
-            let rowan::WalkEvent::Enter(n) = event else { continue };
-            if wanted(n.kind()) {
-                slow.push(n.clone());
-            }
-            if !descend(n.kind()) {
-                events.skip_subtree();
-            }
+        let root = robosim_syntax::parse(text, robosim_syntax::FileKind::RoboChart).syntax_node();
+        let table = node_table(&root);
+        let all: Vec<SyntaxKind> = (0..=u16::MAX).map_while(SyntaxKind::from_raw).filter(|k| recorded(*k)).collect();
+        let sets = [&all[..], &[REF_EXPR], &[NAMED_TYPE, CLOCK_RESET, SINCE_EXPR], &[VARIABLE, ASSIGN_STMT, CONDITION]];
+        let outside = |n: &SyntaxNode| {
+            n.ancestors().skip(1).all(|a| !ast::is_expr_kind(a.kind()) && !ast::is_type_kind(a.kind()))
+        };
+        for set in sets {
+            let slow: Vec<SyntaxNode> = root.descendants().filter(|n| set.contains(&n.kind())).collect();
+            assert!(!slow.is_empty(), "{set:?}");
+            assert_eq!(table.nodes(&root, set, false), slow, "{set:?}");
+            let slow: Vec<SyntaxNode> = slow.into_iter().filter(outside).collect();
+            assert_eq!(table.nodes(&root, set, true), slow, "{set:?}");
         }
-        assert!(!slow.is_empty());
-        assert_eq!(find_nodes_pruned(&root, wanted, descend), slow);
     }
 }
