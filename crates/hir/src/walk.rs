@@ -76,20 +76,31 @@ pub(crate) fn recorded(k: SyntaxKind) -> bool {
 /// serves them all.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub(crate) struct NodeTable {
-    /// The new steps of every hit's path, one after the other.
-    steps: Vec<Step>,
+    /// The recorded nodes and their ancestors, each once, parents first.
+    places: Vec<Place>,
+    /// The recorded nodes, in preorder.
     hits: Vec<TableHit>,
 }
+
+/// A node on the path to a recorded one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Place {
+    /// Index in `places` of the parent (`NONE` for a child of the root).
+    parent: u32,
+    /// Depth below the root (its children: 1).
+    depth: u32,
+    step: Step,
+}
+
+const NONE: u32 = u32::MAX;
 
 #[derive(Debug, Clone, PartialEq, Eq)]
 struct TableHit {
     kind: SyntaxKind,
     /// Whether an expression or a type encloses the node.
     nested: bool,
-    /// The path is the first `keep` steps of the previous hit's path, then
-    /// the steps recorded up to `end`.
-    keep: u32,
-    end: u32,
+    /// Index in `places`.
+    place: u32,
 }
 
 /// The [`NodeTable`] of `file`.
@@ -100,14 +111,16 @@ pub(crate) fn file_nodes(db: &dyn Db, file: File) -> NodeTable {
 
 /// Scans the tree below `root` for the [`recorded`] kinds.
 fn node_table(root: &SyntaxNode) -> NodeTable {
-    let mut scan = TableScan { path: Vec::new(), emitted: 0, nested: 0, out: NodeTable::default() };
+    let mut scan = TableScan { path: Vec::new(), placed: Vec::new(), nested: 0, out: NodeTable::default() };
     scan.collect(root.green(), root.text_range().start());
     scan.out
 }
 
 struct TableScan {
+    /// The path to the node being scanned.
     path: Vec<Step>,
-    emitted: usize,
+    /// The places of the first entries of `path` that have one.
+    placed: Vec<u32>,
     /// How many expressions and types enclose the node being scanned.
     nested: u32,
     out: NodeTable,
@@ -121,17 +134,21 @@ impl TableScan {
                 let kind = RoboLang::kind_from_raw(node.kind());
                 self.path.push(Step { index: i as u32, range: TextRange::at(offset, len) });
                 if recorded(kind) {
-                    self.out.steps.extend_from_slice(&self.path[self.emitted..]);
-                    let end = self.out.steps.len() as u32;
-                    self.out.hits.push(TableHit { kind, nested: self.nested > 0, keep: self.emitted as u32, end });
-                    self.emitted = self.path.len();
+                    // Give this node and its ancestors places, once.
+                    for d in self.placed.len()..self.path.len() {
+                        let parent = d.checked_sub(1).map_or(NONE, |p| self.placed[p]);
+                        self.placed.push(self.out.places.len() as u32);
+                        self.out.places.push(Place { parent, depth: d as u32 + 1, step: self.path[d] });
+                    }
+                    let place = self.placed[self.path.len() - 1];
+                    self.out.hits.push(TableHit { kind, nested: self.nested > 0, place });
                 }
                 let wraps = ast::is_expr_kind(kind) || ast::is_type_kind(kind);
                 self.nested += wraps as u32;
                 self.collect(node, offset);
                 self.nested -= wraps as u32;
                 self.path.pop();
-                self.emitted = self.emitted.min(self.path.len());
+                self.placed.truncate(self.path.len());
             }
             offset += len;
         }
@@ -146,29 +163,37 @@ impl NodeTable {
     pub(crate) fn nodes(&self, root: &SyntaxNode, kinds: &[SyntaxKind], outside_exprs: bool) -> Vec<SyntaxNode> {
         debug_assert!(kinds.iter().all(|k| recorded(*k)), "{kinds:?}");
         let mut out = Vec::new();
-        // The whole path of the current hit, and cursors for a prefix of it.
-        let mut path: Vec<Step> = Vec::new();
-        let mut stack: Vec<SyntaxNode> = Vec::new();
-        let mut start = 0;
+        // Cursors for the path to the last node built: `stack[d]` is at
+        // depth `d + 1`, with its place. Each node shares a prefix of it.
+        let mut stack: Vec<(u32, SyntaxNode)> = Vec::new();
+        let mut chain: Vec<u32> = Vec::new();
         for hit in &self.hits {
-            let keep = hit.keep as usize;
-            path.truncate(keep);
-            path.extend_from_slice(&self.steps[start..hit.end as usize]);
-            start = hit.end as usize;
-            stack.truncate(keep);
             if !kinds.contains(&hit.kind) || (outside_exprs && hit.nested) {
                 continue;
             }
-            while stack.len() < path.len() {
-                let parent = stack.last().unwrap_or(root);
-                // The path was read off this very tree, so the child is there.
-                let Some(node) = child_at(parent, &path[stack.len()]) else { break };
-                stack.push(node);
-            }
-            if stack.len() == path.len() {
-                if let Some(n) = stack.last() {
-                    out.push(n.clone());
+            // Up from the node to the deepest place the stack has.
+            chain.clear();
+            let mut id = hit.place;
+            let mut common = 0;
+            while id != NONE {
+                let place = &self.places[id as usize];
+                let d = place.depth as usize;
+                if stack.get(d - 1).is_some_and(|(p, _)| *p == id) {
+                    common = d;
+                    break;
                 }
+                chain.push(id);
+                id = place.parent;
+            }
+            stack.truncate(common);
+            for &id in chain.iter().rev() {
+                let parent = stack.last().map_or(root, |(_, n)| n);
+                // The path was read off this very tree, so the child is there.
+                let Some(node) = child_at(parent, &self.places[id as usize].step) else { break };
+                stack.push((id, node));
+            }
+            if stack.last().is_some_and(|(p, _)| *p == hit.place) {
+                out.push(stack[stack.len() - 1].1.clone());
             }
         }
         out
