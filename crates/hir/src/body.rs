@@ -35,8 +35,14 @@ pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution
     // Only the nodes `visit` resolves, from the file's node table: a
     // cursor for every node of a large file cost more than resolving the
     // names.
-    for n in crate::walk::file_nodes(db, file).nodes(&root, VISITED, false) {
-        r.visit(&n);
+    // Names outside binding expressions (nearly all) need no cursor: their
+    // green node says everything `name_expr` reads.
+    let green_ok = |k, bound: bool| k == REF_EXPR && !bound;
+    for found in crate::walk::file_nodes(db, file).found(&root, VISITED, false, green_ok) {
+        match found {
+            crate::walk::Found::Node(n) => r.visit(&n),
+            crate::walk::Found::Green(g, range) => r.name_expr_green(&g, range.start()),
+        }
     }
     r.out
 }
@@ -110,11 +116,21 @@ fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
     Some((segs, q.text_range()))
 }
 
+/// [`crate::defs::name_text`] of a green name node.
+fn green_name_text(n: &rowan::GreenNodeData) -> String {
+    let mut parts = n.children();
+    if let (Some(rowan::NodeOrToken::Token(t)), None) = (parts.next(), parts.next()) {
+        return t.text().trim().trim_start_matches('^').to_string();
+    }
+    n.to_string().trim().trim_start_matches('^').to_string()
+}
+
 /// Names bound by an enclosing expression (quantifiers, lambda, set
 /// comprehension, `the`, `let`) of `node`.
 fn bound_names(node: &SyntaxNode) -> Vec<String> {
     let mut out = Vec::new();
     for a in node.ancestors().skip(1) {
+        // The kinds `walk::binds` lists.
         match a.kind() {
             FORALL_EXPR | EXISTS_EXPR | LAMBDA_EXPR | THE_EXPR | SET_COMP_EXPR => {
                 for b in a.children().filter(|c| c.kind() == BINDERS).flat_map(|bs| bs.children()) {
@@ -240,8 +256,29 @@ impl<'a> Body<'a> {
     fn name_expr(&mut self, n: &SyntaxNode) {
         let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return };
         let name = text_of(&r);
-        let range = r.text_range();
-        if bound_names(n).contains(&name) {
+        let bound = bound_names(n).contains(&name);
+        self.name(name, r.text_range(), bound);
+    }
+
+    /// [`Body::name_expr`] for a `REF_EXPR` at `offset` that no binding
+    /// expression encloses, from its green node.
+    fn name_expr_green(&mut self, n: &rowan::GreenNodeData, mut offset: TextSize) {
+        for child in n.children() {
+            let len = child.text_len();
+            if let rowan::NodeOrToken::Node(c) = child {
+                if robosim_syntax::RoboLang::kind_from_raw(c.kind()) == NAME_REF {
+                    self.name(green_name_text(c), TextRange::at(offset, len), false);
+                    return;
+                }
+            }
+            offset += len;
+        }
+    }
+
+    /// Resolves the name `name` at `range` of a `REF_EXPR`, `bound` by an
+    /// enclosing expression or not.
+    fn name(&mut self, name: String, range: TextRange, bound: bool) {
+        if bound {
             self.push(range, name, RefKind::Type, None);
             return;
         }

@@ -99,6 +99,8 @@ struct TableHit {
     kind: SyntaxKind,
     /// Whether an expression or a type encloses the node.
     nested: bool,
+    /// Whether an expression that [`binds`] names encloses the node.
+    bound: bool,
     /// Index in `places`.
     place: u32,
 }
@@ -111,7 +113,7 @@ pub(crate) fn file_nodes(db: &dyn Db, file: File) -> NodeTable {
 
 /// Scans the tree below `root` for the [`recorded`] kinds.
 fn node_table(root: &SyntaxNode) -> NodeTable {
-    let mut scan = TableScan { path: Vec::new(), placed: Vec::new(), nested: 0, out: NodeTable::default() };
+    let mut scan = TableScan { path: Vec::new(), placed: Vec::new(), nested: 0, bound: 0, out: NodeTable::default() };
     scan.collect(root.green(), root.text_range().start());
     scan.out
 }
@@ -123,7 +125,24 @@ struct TableScan {
     placed: Vec<u32>,
     /// How many expressions and types enclose the node being scanned.
     nested: u32,
+    /// How many of those bind names.
+    bound: u32,
     out: NodeTable,
+}
+
+/// Whether expressions of kind `k` bind names for their operands
+/// (quantifiers, `lambda`, set comprehensions, `the`, `let`).
+pub(crate) fn binds(k: SyntaxKind) -> bool {
+    matches!(k, FORALL_EXPR | EXISTS_EXPR | LAMBDA_EXPR | THE_EXPR | SET_COMP_EXPR | LET_EXPR)
+}
+
+/// A node [`NodeTable::found`] gives: a cursor, or only its green node
+/// and range when the caller can do without a cursor.
+pub(crate) enum Found {
+    /// The node.
+    Node(SyntaxNode),
+    /// The node's green tree and range.
+    Green(rowan::GreenNode, TextRange),
 }
 
 impl TableScan {
@@ -141,12 +160,15 @@ impl TableScan {
                         self.out.places.push(Place { parent, depth: d as u32 + 1, step: self.path[d] });
                     }
                     let place = self.placed[self.path.len() - 1];
-                    self.out.hits.push(TableHit { kind, nested: self.nested > 0, place });
+                    self.out.hits.push(TableHit { kind, nested: self.nested > 0, bound: self.bound > 0, place });
                 }
                 let wraps = ast::is_expr_kind(kind) || ast::is_type_kind(kind);
+                let binding = binds(kind);
                 self.nested += wraps as u32;
+                self.bound += binding as u32;
                 self.collect(node, offset);
                 self.nested -= wraps as u32;
+                self.bound -= binding as u32;
                 self.path.pop();
                 self.placed.truncate(self.path.len());
             }
@@ -161,6 +183,20 @@ impl NodeTable {
     /// preorder; with `outside_exprs`, only those no expression or type
     /// encloses.
     pub(crate) fn nodes(&self, root: &SyntaxNode, kinds: &[SyntaxKind], outside_exprs: bool) -> Vec<SyntaxNode> {
+        let found = self.found(root, kinds, outside_exprs, |_, _| false);
+        found.into_iter().filter_map(|f| if let Found::Node(n) = f { Some(n) } else { None }).collect()
+    }
+
+    /// Like [`NodeTable::nodes`], but gives the green node (no cursor) of
+    /// the nodes for which `green_ok(kind, bound)` holds, `bound` saying
+    /// whether an expression that [`binds`] names encloses the node.
+    pub(crate) fn found(
+        &self,
+        root: &SyntaxNode,
+        kinds: &[SyntaxKind],
+        outside_exprs: bool,
+        green_ok: impl Fn(SyntaxKind, bool) -> bool,
+    ) -> Vec<Found> {
         debug_assert!(kinds.iter().all(|k| recorded(*k)), "{kinds:?}");
         let mut out = Vec::new();
         // Cursors for the path to the last node built: `stack[d]` is at
@@ -170,6 +206,12 @@ impl NodeTable {
         for hit in &self.hits {
             if !kinds.contains(&hit.kind) || (outside_exprs && hit.nested) {
                 continue;
+            }
+            if green_ok(hit.kind, hit.bound) {
+                if let Some(found) = self.green_at(root, hit.place, &mut chain) {
+                    out.push(found);
+                    continue;
+                }
             }
             // Up from the node to the deepest place the stack has.
             chain.clear();
@@ -193,10 +235,26 @@ impl NodeTable {
                 stack.push((id, node));
             }
             if stack.last().is_some_and(|(p, _)| *p == hit.place) {
-                out.push(stack[stack.len() - 1].1.clone());
+                out.push(Found::Node(stack[stack.len() - 1].1.clone()));
             }
         }
         out
+    }
+
+    /// The green node at `place`, read down from the root (no cursor).
+    fn green_at(&self, root: &SyntaxNode, place: u32, chain: &mut Vec<u32>) -> Option<Found> {
+        chain.clear();
+        let mut id = place;
+        while id != NONE {
+            chain.push(id);
+            id = self.places[id as usize].parent;
+        }
+        let mut green = root.green();
+        for &id in chain.iter().rev() {
+            let step = &self.places[id as usize].step;
+            green = green.children().nth(step.index as usize)?.into_node()?;
+        }
+        Some(Found::Green(green.to_owned(), self.places[place as usize].step.range))
     }
 }
 
@@ -224,5 +282,23 @@ mod tests {
             let slow: Vec<SyntaxNode> = slow.into_iter().filter(outside).collect();
             assert_eq!(table.nodes(&root, set, true), slow, "{set:?}");
         }
+        // Green nodes stand for the same nodes, and `bound` says whether a
+        // binding expression encloses them.
+        let slow: Vec<SyntaxNode> = root.descendants().filter(|n| n.kind() == REF_EXPR).collect();
+        let found = table.found(&root, &[REF_EXPR], false, |_, bound| !bound);
+        assert_eq!(found.len(), slow.len());
+        let mut greens = 0;
+        for (f, n) in found.iter().zip(&slow) {
+            let bound = n.ancestors().skip(1).any(|a| binds(a.kind()));
+            match f {
+                Found::Green(g, range) => {
+                    assert!(!bound);
+                    assert_eq!((&**g, *range), (n.green(), n.text_range()));
+                    greens += 1;
+                }
+                Found::Node(m) => assert!(bound && m == n),
+            }
+        }
+        assert!(greens > 0 && greens < slow.len());
     }
 }
