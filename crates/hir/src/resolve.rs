@@ -148,9 +148,10 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::borrow::Cow<'_,
 }
 
 /// The members of every context definition of a file, computed once per
-/// revision (checks ask for the same contexts many times).
+/// revision (checks ask for the same contexts many times, hence the fast
+/// hash).
 #[salsa::tracked(returns(ref))]
-pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> std::collections::HashMap<DefId, Vec<Member>> {
+pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> rustc_hash::FxHashMap<DefId, Vec<Member>> {
     file_defs(db, file)
         .iter()
         .filter(|(_, d)| {
