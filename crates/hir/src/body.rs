@@ -70,6 +70,8 @@ pub fn body_refs_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) ->
         return Vec::new();
     }
     let mut r = Body::new(db, ws, file);
+    // One name needs the members of one context, not those of the file.
+    r.one_context = true;
     let root = parse(db, file).syntax_node();
     // Past the end (a stale position from an editor): nothing is there.
     if !root.text_range().contains_inclusive(offset) {
@@ -101,6 +103,9 @@ struct Body<'a> {
     /// Members per context, shared: a body asks for the same few contexts
     /// once per name, and cloning the lists dominated resolution.
     members_cache: rustc_hash::FxHashMap<crate::defs::DefId, std::rc::Rc<[Member]>>,
+    /// Whether to compute members for the contexts asked for only, rather
+    /// than read them from the whole file's (memoised) members.
+    one_context: bool,
 }
 
 fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
@@ -114,15 +119,6 @@ fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
         .map(|t| t.text().trim_start_matches('^').to_string())
         .collect();
     Some((segs, q.text_range()))
-}
-
-/// [`crate::defs::name_text`] of a green name node.
-fn green_name_text(n: &rowan::GreenNodeData) -> String {
-    let mut parts = n.children();
-    if let (Some(rowan::NodeOrToken::Token(t)), None) = (parts.next(), parts.next()) {
-        return t.text().trim().trim_start_matches('^').to_string();
-    }
-    n.to_string().trim().trim_start_matches('^').to_string()
 }
 
 /// Names bound by an enclosing expression (quantifiers, lambda, set
@@ -164,6 +160,7 @@ impl<'a> Body<'a> {
             rs: file.kind(db) == FileKind::RoboSim,
             out: BodyResolution::default(),
             members_cache: Default::default(),
+            one_context: false,
         }
     }
 
@@ -203,7 +200,12 @@ impl<'a> Body<'a> {
         if let Some(m) = self.members_cache.get(&ctx) {
             return m.clone();
         }
-        let mut m = ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)).into_owned();
+        let ctx_def = Ctx::Local(self.file, ctx);
+        let mut m = if self.one_context {
+            crate::resolve::compute_members(self.db, self.ws, ctx_def)
+        } else {
+            ctx_members(self.db, self.ws, ctx_def).into_owned()
+        };
         // Parameters of operations and functions.
         for (pid, p) in self.defs.children(Some(ctx)) {
             if p.kind == DefKind::Parameter {
@@ -267,7 +269,7 @@ impl<'a> Body<'a> {
             let len = child.text_len();
             if let rowan::NodeOrToken::Node(c) = child {
                 if robosim_syntax::RoboLang::kind_from_raw(c.kind()) == NAME_REF {
-                    self.name(green_name_text(c), TextRange::at(offset, len), false);
+                    self.name(crate::defs::green_name_text(c), TextRange::at(offset, len), false);
                     return;
                 }
             }

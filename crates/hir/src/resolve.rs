@@ -170,7 +170,9 @@ pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> rustc_hash::FxHas
         .collect()
 }
 
-fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
+/// The members of `ctx`, computed afresh ([`ctx_members`] reads them from
+/// the file's memoised members when it can).
+pub(crate) fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
     let mut out = Vec::new();
     let (file, uses): (File, Vec<UseSummary>) = match ctx {
         Ctx::Local(file, id) => {
