@@ -198,13 +198,20 @@ impl NodeTable {
         green_ok: impl Fn(SyntaxKind, bool) -> bool,
     ) -> Vec<Found> {
         debug_assert!(kinds.iter().all(|k| recorded(*k)), "{kinds:?}");
+        // Every hit of the file is tested: a table by kind rather than a
+        // search of `kinds`.
+        let mut wanted = vec![false; kinds.iter().map(|k| *k as usize + 1).max().unwrap_or(0)];
+        for &k in kinds {
+            wanted[k as usize] = true;
+        }
+        let is_wanted = |k: SyntaxKind| wanted.get(k as usize).copied().unwrap_or(false);
         let mut out = Vec::new();
         // Cursors for the path to the last node built: `stack[d]` is at
         // depth `d + 1`, with its place. Each node shares a prefix of it.
         let mut stack: Vec<(u32, SyntaxNode)> = Vec::new();
         let mut chain: Vec<u32> = Vec::new();
         for hit in &self.hits {
-            if !kinds.contains(&hit.kind) || (outside_exprs && hit.nested) {
+            if !is_wanted(hit.kind) || (outside_exprs && hit.nested) {
                 continue;
             }
             if green_ok(hit.kind, hit.bound) {
