@@ -1,9 +1,11 @@
-//! Finding the few nodes of some kinds in a large tree.
+//! Finding the nodes of some kinds in a large tree.
 //!
 //! `SyntaxNode::descendants` allocates a cursor for every node it visits.
-//! Rules that look for rare kinds (vector types, statement deadlines, clock
-//! resets) scan the green tree instead, which allocates nothing, and build
-//! cursors only along the paths to what they found.
+//! Instead, one scan of the green tree per parse, which allocates nothing,
+//! records where the nodes that resolution, typing and the rules look for
+//! are ([`file_nodes`]); each query then builds cursors only along the
+//! paths to the nodes it asks for, or none at all for nodes it can read
+//! from their green tree.
 
 use robosim_syntax::{ast, RoboLang, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 use rowan::{Language, NodeOrToken};
