@@ -6,8 +6,9 @@
 //! required and provided interfaces. A name that exists with the other
 //! `$` discipline gets RS:SM6 instead of a plain "cannot resolve".
 
-use robosim_syntax::ast::name_text as text_of;
+use crate::defs::name_text as text_of;
 use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
+use rowan::Language as _;
 
 use crate::defs::{file_defs, DefKind, FileDefs, Io, UseKind};
 use crate::index::resolve_item;
@@ -31,11 +32,34 @@ pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution
         return r.out;
     }
     let root = parse(db, file).syntax_node();
-    for n in root.descendants() {
-        r.visit(&n);
+    // Only the nodes `visit` resolves, from the file's node table: a
+    // cursor for every node of a large file cost more than resolving the
+    // names.
+    // Names outside binding expressions (nearly all) need no cursor: their
+    // green node says everything `name_expr` reads.
+    let green_ok = |k, bound: bool| k == REF_EXPR && !bound;
+    for found in crate::walk::file_nodes(db, file).found(&root, VISITED, false, green_ok) {
+        match found {
+            crate::walk::Found::Node(n) => r.visit(&n),
+            crate::walk::Found::Green(g, range) => r.name_expr_green(&g, range.start()),
+        }
     }
     r.out
 }
+
+/// The kinds of node [`Body::visit`] resolves names of.
+const VISITED: &[robosim_syntax::SyntaxKind] = &[
+    REF_EXPR,
+    SIM_REF_EXPR,
+    ENUM_LITERAL_EXPR,
+    ASSIGN_STMT,
+    CALL_STMT,
+    SIM_CALL_STMT,
+    OUTPUT_COMM_STMT,
+    COMM_STMT,
+    SINCE_ENTRY_EXPR,
+    COMM_INPUT,
+];
 
 /// The references in behaviour whose node covers `offset`: those of
 /// [`body_resolution`] there, without resolving the rest of the file. A
@@ -46,6 +70,8 @@ pub fn body_refs_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) ->
         return Vec::new();
     }
     let mut r = Body::new(db, ws, file);
+    // One name needs the members of one context, not those of the file.
+    r.one_context = true;
     let root = parse(db, file).syntax_node();
     // Past the end (a stale position from an editor): nothing is there.
     if !root.text_range().contains_inclusive(offset) {
@@ -76,15 +102,20 @@ struct Body<'a> {
     out: BodyResolution,
     /// Members per context, shared: a body asks for the same few contexts
     /// once per name, and cloning the lists dominated resolution.
-    members_cache: std::collections::HashMap<crate::defs::DefId, std::rc::Rc<[Member]>>,
+    members_cache: rustc_hash::FxHashMap<crate::defs::DefId, std::rc::Rc<[Member]>>,
+    /// Whether to compute members for the contexts asked for only, rather
+    /// than read them from the whole file's (memoised) members.
+    one_context: bool,
 }
 
 fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
     let q = n.children().find(|c| c.kind() == QUALIFIED_NAME)?;
+    // The tokens from the green tree: no cursor per token.
     let segs = q
-        .children_with_tokens()
+        .green()
+        .children()
         .filter_map(|e| e.into_token())
-        .filter(|t| t.kind() == IDENT)
+        .filter(|t| robosim_syntax::RoboLang::kind_from_raw(t.kind()) == IDENT)
         .map(|t| t.text().trim_start_matches('^').to_string())
         .collect();
     Some((segs, q.text_range()))
@@ -95,6 +126,7 @@ fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
 fn bound_names(node: &SyntaxNode) -> Vec<String> {
     let mut out = Vec::new();
     for a in node.ancestors().skip(1) {
+        // The kinds `walk::binds` lists.
         match a.kind() {
             FORALL_EXPR | EXISTS_EXPR | LAMBDA_EXPR | THE_EXPR | SET_COMP_EXPR => {
                 for b in a.children().filter(|c| c.kind() == BINDERS).flat_map(|bs| bs.children()) {
@@ -128,10 +160,12 @@ impl<'a> Body<'a> {
             rs: file.kind(db) == FileKind::RoboSim,
             out: BodyResolution::default(),
             members_cache: Default::default(),
+            one_context: false,
         }
     }
 
-    /// Resolves the names `n` itself introduces (not those of its children).
+    /// Resolves the names `n` itself introduces (not those of its children);
+    /// [`VISITED`] lists the kinds it handles.
     fn visit(&mut self, n: &SyntaxNode) {
         match n.kind() {
             REF_EXPR => self.name_expr(n),
@@ -166,7 +200,12 @@ impl<'a> Body<'a> {
         if let Some(m) = self.members_cache.get(&ctx) {
             return m.clone();
         }
-        let mut m = ctx_members(self.db, self.ws, Ctx::Local(self.file, ctx)).into_owned();
+        let ctx_def = Ctx::Local(self.file, ctx);
+        let mut m = if self.one_context {
+            crate::resolve::compute_members(self.db, self.ws, ctx_def)
+        } else {
+            ctx_members(self.db, self.ws, ctx_def).into_owned()
+        };
         // Parameters of operations and functions.
         for (pid, p) in self.defs.children(Some(ctx)) {
             if p.kind == DefKind::Parameter {
@@ -219,8 +258,29 @@ impl<'a> Body<'a> {
     fn name_expr(&mut self, n: &SyntaxNode) {
         let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return };
         let name = text_of(&r);
-        let range = r.text_range();
-        if bound_names(n).contains(&name) {
+        let bound = bound_names(n).contains(&name);
+        self.name(name, r.text_range(), bound);
+    }
+
+    /// [`Body::name_expr`] for a `REF_EXPR` at `offset` that no binding
+    /// expression encloses, from its green node.
+    fn name_expr_green(&mut self, n: &rowan::GreenNodeData, mut offset: TextSize) {
+        for child in n.children() {
+            let len = child.text_len();
+            if let rowan::NodeOrToken::Node(c) = child {
+                if robosim_syntax::RoboLang::kind_from_raw(c.kind()) == NAME_REF {
+                    self.name(crate::defs::green_name_text(c), TextRange::at(offset, len), false);
+                    return;
+                }
+            }
+            offset += len;
+        }
+    }
+
+    /// Resolves the name `name` at `range` of a `REF_EXPR`, `bound` by an
+    /// enclosing expression or not.
+    fn name(&mut self, name: String, range: TextRange, bound: bool) {
+        if bound {
             self.push(range, name, RefKind::Type, None);
             return;
         }

@@ -4,6 +4,8 @@
 
 use std::collections::HashMap;
 
+use rustc_hash::FxHashMap;
+
 use robosim_syntax::{FileKind, SyntaxKind, TextRange};
 
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
@@ -106,8 +108,9 @@ fn dup_group(k: DefKind) -> u8 {
 
 impl<'a> Checker<'a> {
     fn duplicates(&mut self) {
-        let mut seen: HashMap<(Option<DefId>, u8, &str), DefId> = HashMap::new();
-        let mut reported = std::collections::HashSet::new();
+        // Every definition of the file goes through these: FxHash.
+        let mut seen: FxHashMap<(Option<DefId>, u8, &str), DefId> = FxHashMap::default();
+        let mut reported = rustc_hash::FxHashSet::default();
         for (id, d) in self.defs.iter() {
             if d.name.is_empty() || d.kind == DefKind::Connection {
                 continue;
@@ -273,7 +276,7 @@ impl<'a> Checker<'a> {
 
     /// RC:S2: at most one entry, during and exit action.
     fn state_actions(&mut self, id: DefId, d: &Def) {
-        let mut seen: HashMap<SyntaxKind, TextRange> = HashMap::new();
+        let mut seen: FxHashMap<SyntaxKind, TextRange> = FxHashMap::default();
         for (kind, range) in &self.defs.facts(id).actions {
             if let Some(first) = seen.get(kind) {
                 let word = match kind {

@@ -422,17 +422,47 @@ struct Lower {
     out: FileDefs,
 }
 
-pub(crate) use robosim_syntax::ast::name_text;
+/// The text of a name or name-reference node, as
+/// [`robosim_syntax::ast::name_text`] gives it, read from the green tree
+/// without a cursor per token (names are read for every declaration and
+/// reference of the file).
+pub(crate) fn name_text(n: &SyntaxNode) -> String {
+    green_name_text(n.green())
+}
 
 /// The text of the first `NAME` child (without `^`) and its range.
 fn name_of(node: &SyntaxNode) -> Option<(String, TextRange)> {
-    let n = node.children().find(|c| c.kind() == NAME)?;
-    Some((name_text(&n), n.text_range()))
+    child_name(node, NAME)
 }
 
 fn ref_of(node: &SyntaxNode) -> Option<(String, TextRange)> {
-    let n = node.children().find(|c| c.kind() == NAME_REF)?;
-    Some((crate::defs::name_text(&n), n.text_range()))
+    child_name(node, NAME_REF)
+}
+
+/// The text and range of the first child of `node` of kind `kind` (a name
+/// or name reference), read from the green tree: every declaration has
+/// a name, and a cursor per child cost more than the rest of lowering.
+fn child_name(node: &SyntaxNode, kind: SyntaxKind) -> Option<(String, TextRange)> {
+    let mut offset = node.text_range().start();
+    for child in node.green().children() {
+        let len = child.text_len();
+        if let rowan::NodeOrToken::Node(c) = child {
+            if <robosim_syntax::RoboLang as rowan::Language>::kind_from_raw(c.kind()) == kind {
+                return Some((green_name_text(c), TextRange::at(offset, len)));
+            }
+        }
+        offset += len;
+    }
+    None
+}
+
+/// [`name_text`] of a green name node.
+pub(crate) fn green_name_text(n: &rowan::GreenNodeData) -> String {
+    let mut parts = n.children();
+    if let (Some(rowan::NodeOrToken::Token(t)), None) = (parts.next(), parts.next()) {
+        return t.text().trim().trim_start_matches('^').to_string();
+    }
+    n.to_string().trim().trim_start_matches('^').to_string()
 }
 
 fn path_of(node: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {

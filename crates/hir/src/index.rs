@@ -8,6 +8,8 @@
 
 use std::collections::HashMap;
 
+use rustc_hash::FxHashMap;
+
 use crate::defs::{file_defs, DefData, DefId, DefKind, Io, TypeRef, UseKind};
 use crate::{Db, File, Workspace};
 
@@ -233,9 +235,10 @@ pub fn resolve_item(db: &dyn Db, ws: Workspace, from: File, path: &[String], acc
 }
 
 /// The simple names visible in a file, each with its candidate items in
-/// priority order (one inner list per lookup level of [`resolve_item`]).
+/// priority order (one inner list per lookup level of [`resolve_item`]);
+/// every simple name of the file is looked up here, hence the fast hash.
 #[salsa::tracked(returns(ref))]
-pub fn file_scope(db: &dyn Db, ws: Workspace, file: File) -> HashMap<String, Vec<Vec<ItemLoc>>> {
+pub fn file_scope(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<String, Vec<Vec<ItemLoc>>> {
     /// Where a level finds a simple name.
     enum Level<'a> {
         /// Items of this package.
@@ -256,7 +259,7 @@ pub fn file_scope(db: &dyn Db, ws: Workspace, file: File) -> HashMap<String, Vec
     let robosim_core = ["robosim__core".to_string()];
     levels.push(Level::Package(&core));
     levels.push(Level::Package(&robosim_core));
-    let mut out: HashMap<String, Vec<Vec<ItemLoc>>> = HashMap::new();
+    let mut out: FxHashMap<String, Vec<Vec<ItemLoc>>> = FxHashMap::default();
     for (full, locs) in &index.items {
         let Some((name, pkg)) = full.split_last() else { continue };
         for (i, level) in levels.iter().enumerate() {

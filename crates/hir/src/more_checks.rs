@@ -51,7 +51,7 @@ pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
     recursion(db, ws, file, &mut out);
     if rs {
         let root = parse(db, file).syntax_node();
-        for n in crate::walk::find_nodes(&root, |k| k == TIMED_STMT) {
+        for n in crate::walk::file_nodes(db, file).nodes(&root, &[TIMED_STMT], false) {
             if let Some(d) = n.children().find(|c| c.kind() == DEADLINE) {
                 out.push(Problem::new(
                     "RS-STMT-02",
@@ -101,7 +101,7 @@ fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) 
 fn sizes(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
     let refs = &crate::body::body_resolution(db, ws, file).refs;
     let root = parse(db, file).syntax_node();
-    for t in crate::walk::find_nodes(&root, |k| matches!(k, VECTOR_TYPE | MATRIX_TYPE)) {
+    for t in crate::walk::file_nodes(db, file).nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false) {
         let code = if t.kind() == VECTOR_TYPE { "RC-TYPE-02" } else { "RC-TYPE-03" };
         for size in t.children().filter(|c| robosim_syntax::ast::is_expr_kind(c.kind())) {
             let inner = match size.kind() {

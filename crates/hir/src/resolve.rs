@@ -148,9 +148,10 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::borrow::Cow<'_,
 }
 
 /// The members of every context definition of a file, computed once per
-/// revision (checks ask for the same contexts many times).
+/// revision (checks ask for the same contexts many times, hence the fast
+/// hash).
 #[salsa::tracked(returns(ref))]
-pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> std::collections::HashMap<DefId, Vec<Member>> {
+pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> rustc_hash::FxHashMap<DefId, Vec<Member>> {
     file_defs(db, file)
         .iter()
         .filter(|(_, d)| {
@@ -169,7 +170,9 @@ pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> std::collections:
         .collect()
 }
 
-fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
+/// The members of `ctx`, computed afresh ([`ctx_members`] reads them from
+/// the file's memoised members when it can).
+pub(crate) fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
     let mut out = Vec::new();
     let (file, uses): (File, Vec<UseSummary>) = match ctx {
         Ctx::Local(file, id) => {
@@ -301,10 +304,10 @@ pub fn enclosing(defs: &FileDefs, mut id: DefId, kinds: &[DefKind]) -> Option<De
 pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution {
     // One walk finds the nodes both `types` and `clocks` need.
     let root = parse(db, file).syntax_node();
-    let (named_types, clocks) =
-        crate::walk::find_nodes(&root, |k| matches!(k, NAMED_TYPE | CLOCK_RESET | CLOCK_RESET_STMT | SINCE_EXPR))
-            .into_iter()
-            .partition(|n| n.kind() == NAMED_TYPE);
+    let (named_types, clocks) = crate::walk::file_nodes(db, file)
+        .nodes(&root, &[NAMED_TYPE, CLOCK_RESET, CLOCK_RESET_STMT, SINCE_EXPR], false)
+        .into_iter()
+        .partition(|n| n.kind() == NAMED_TYPE);
     let mut r =
         Resolver { db, ws, file, defs: file_defs(db, file), named_types, clocks, out: FileResolution::default() };
     r.imports();

@@ -10,7 +10,8 @@ use rustc_hash::FxHashMap;
 use std::fmt;
 
 use robosim_syntax::ast::{binary_operator, operand_exprs};
-use robosim_syntax::{ast, FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
+use robosim_syntax::{ast, FileKind, RoboLang, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
+use rowan::Language as _;
 
 use crate::body::body_resolution;
 use crate::defs::{file_defs, lower_type, DefData, DefKind, FileDefs, TypeRef};
@@ -161,34 +162,42 @@ fn join(a: &Ty, b: &Ty) -> Ty {
 
 /// Lowers a syntactic type in the scope of `file`.
 pub fn lower(db: &dyn Db, ws: Workspace, file: File, t: &TypeRef) -> Ty {
+    lower_by(t, &|path| named_type(db, ws, file, path))
+}
+
+/// Lowers `t`, asking `named` for the type a name denotes.
+fn lower_by(t: &TypeRef, named: &impl Fn(&[String]) -> Ty) -> Ty {
     match t {
-        TypeRef::Named(path, _) => {
-            let Some(loc) = resolve_item(db, ws, file, path, DefKind::is_type).first().copied() else {
-                return Ty::Error;
-            };
-            let s = loc.summary(db);
-            if file_summary(db, loc.file).package == ["core"] && s.kind == DefKind::PrimitiveType {
-                return match s.name.as_str() {
-                    "nat" => Ty::Nat,
-                    "int" => Ty::Int,
-                    "real" => Ty::Real,
-                    "boolean" => Ty::Bool,
-                    "string" => Ty::Str,
-                    _ => Ty::Named(loc, s.name.clone(), s.kind),
-                };
-            }
-            Ty::Named(loc, s.name.clone(), s.kind)
-        }
-        TypeRef::Set(a) => Ty::Set(Box::new(lower(db, ws, file, a))),
-        TypeRef::Seq(a) => Ty::Seq(Box::new(lower(db, ws, file, a))),
+        TypeRef::Named(path, _) => named(path),
+        TypeRef::Set(a) => Ty::Set(Box::new(lower_by(a, named))),
+        TypeRef::Seq(a) => Ty::Seq(Box::new(lower_by(a, named))),
         TypeRef::Var(n) => Ty::Var(n.clone()),
-        TypeRef::Product(v) => Ty::Product(v.iter().map(|t| lower(db, ws, file, t)).collect()),
-        TypeRef::Function(a, b) => Ty::Function(Box::new(lower(db, ws, file, a)), Box::new(lower(db, ws, file, b))),
-        TypeRef::Relation(a, b) => Ty::Relation(Box::new(lower(db, ws, file, a)), Box::new(lower(db, ws, file, b))),
-        TypeRef::Vector(a, _) => Ty::Vector(Box::new(lower(db, ws, file, a)), None),
-        TypeRef::Matrix(a, _, _) => Ty::Matrix(Box::new(lower(db, ws, file, a)), None, None),
+        TypeRef::Product(v) => Ty::Product(v.iter().map(|t| lower_by(t, named)).collect()),
+        TypeRef::Function(a, b) => Ty::Function(Box::new(lower_by(a, named)), Box::new(lower_by(b, named))),
+        TypeRef::Relation(a, b) => Ty::Relation(Box::new(lower_by(a, named)), Box::new(lower_by(b, named))),
+        TypeRef::Vector(a, _) => Ty::Vector(Box::new(lower_by(a, named)), None),
+        TypeRef::Matrix(a, _, _) => Ty::Matrix(Box::new(lower_by(a, named)), None, None),
         TypeRef::Missing => Ty::Error,
     }
+}
+
+/// The type a (qualified) type name written in `file` denotes.
+fn named_type(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Ty {
+    let Some(loc) = resolve_item(db, ws, file, path, DefKind::is_type).first().copied() else {
+        return Ty::Error;
+    };
+    let s = loc.summary(db);
+    if file_summary(db, loc.file).package == ["core"] && s.kind == DefKind::PrimitiveType {
+        return match s.name.as_str() {
+            "nat" => Ty::Nat,
+            "int" => Ty::Int,
+            "real" => Ty::Real,
+            "boolean" => Ty::Bool,
+            "string" => Ty::Str,
+            _ => Ty::Named(loc, s.name.clone(), s.kind),
+        };
+    }
+    Ty::Named(loc, s.name.clone(), s.kind)
 }
 
 /// Instantiates generic parameters by matching a parameter type against an
@@ -249,8 +258,10 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
     if file.kind(db).is_assertions() {
         return Vec::new();
     }
-    let mut targets: FxHashMap<TextRange, Target> = FxHashMap::default();
-    for r in file_resolution(db, ws, file).refs.iter().chain(&body_resolution(db, ws, file).refs) {
+    let (decl, body) = (&file_resolution(db, ws, file).refs, &body_resolution(db, ws, file).refs);
+    let mut targets: FxHashMap<TextRange, Target> =
+        FxHashMap::with_capacity_and_hasher(decl.len() + body.len(), Default::default());
+    for r in decl.iter().chain(body) {
         if let Some(t) = r.target {
             targets.insert(r.range, t);
         }
@@ -263,6 +274,7 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
         rs: file.kind(db) == FileKind::RoboSim,
         targets,
         type_cache: Default::default(),
+        named_cache: Default::default(),
         env: Vec::new(),
         out: Vec::new(),
         result: None,
@@ -282,6 +294,10 @@ struct Typer<'a> {
     /// large file: a fast hash matters).
     targets: FxHashMap<TextRange, Target>,
     type_cache: std::cell::RefCell<FxHashMap<Target, Ty>>,
+    /// Type names lowered so far, per file they are written in: the same
+    /// few names (`nat`, `real`) are written on every declaration, and
+    /// resolving one goes through the workspace's scopes.
+    named_cache: std::cell::RefCell<FxHashMap<File, FxHashMap<Vec<String>, Ty>>>,
     env: Vec<(String, Ty)>,
     out: Vec<ResolveProblem>,
     /// The result type inside a function's postcondition.
@@ -292,10 +308,72 @@ fn op_text(k: SyntaxKind) -> &'static str {
     k.text().unwrap_or("?")
 }
 
+/// The operator of the binary expression `n`, as [`binary_operator`] finds
+/// it, read from the green tree: no cursor per token (typing asks for the
+/// operator of every binary expression). The list is `binary_operator`'s;
+/// an operator missing from it falls back to that function.
+fn operator(n: &SyntaxNode) -> Option<SyntaxKind> {
+    let found =
+        n.green().children().filter_map(|c| c.into_token()).map(|t| RoboLang::kind_from_raw(t.kind())).find(|k| {
+            matches!(
+                k,
+                EQ2 | NEQ
+                    | LT
+                    | LTEQ
+                    | GT
+                    | GTEQ
+                    | IN_KW
+                    | AND
+                    | OR
+                    | IMPLIES
+                    | IFF_KW
+                    | PLUS
+                    | MINUS
+                    | STAR
+                    | SLASH
+                    | PERCENT
+                    | CAT_KW
+                    | CARET
+            )
+        });
+    found.or_else(|| binary_operator(n))
+}
+
+/// The kinds of node [`Typer::walk`] checks.
+const TYPED_POSITIONS: &[SyntaxKind] = &[
+    CONDITION,
+    PRECONDITION,
+    POSTCONDITION,
+    VARIABLE,
+    ASSIGN_STMT,
+    IF_STMT,
+    WAIT_STMT,
+    CALL_STMT,
+    SIM_CALL_STMT,
+    COMMUNICATION,
+    OUTPUT_COMM_STMT,
+    PROBABILITY,
+    ENTRY_ACTION,
+    DURING_ACTION,
+    EXIT_ACTION,
+    TRANSITION_ACTION,
+];
+
+/// The first operand of `n`: `operand_exprs(n).first()` without
+/// collecting the others (typing asks for operands of every expression).
+fn first_operand(n: &SyntaxNode) -> Option<SyntaxNode> {
+    n.children().find(|c| ast::is_expr_kind(c.kind()))
+}
+
+/// The operands of `n`, as `operand_exprs` lists them, without a vector.
+fn operands(n: &SyntaxNode) -> impl Iterator<Item = SyntaxNode> {
+    n.children().filter(|c| ast::is_expr_kind(c.kind()))
+}
+
 fn unparen(n: &SyntaxNode) -> SyntaxNode {
     let mut n = n.clone();
     while n.kind() == PAREN_EXPR {
-        match operand_exprs(&n).into_iter().next() {
+        match first_operand(&n) {
             Some(inner) => n = inner,
             None => break,
         }
@@ -308,25 +386,34 @@ fn is_timed(n: &SyntaxNode) -> bool {
 }
 
 impl Typer<'_> {
+    /// [`lower`], with the type names memoised.
+    fn lower(&self, file: File, t: &TypeRef) -> Ty {
+        lower_by(t, &|path| {
+            if let Some(ty) = self.named_cache.borrow().get(&file).and_then(|m| m.get(path)) {
+                return ty.clone();
+            }
+            let ty = named_type(self.db, self.ws, file, path);
+            self.named_cache.borrow_mut().entry(file).or_default().insert(path.to_vec(), ty.clone());
+            ty
+        })
+    }
+
     fn problem(&mut self, code: &'static str, range: TextRange, message: String) {
         self.out.push(ResolveProblem { code, range, message });
     }
 
     /// Walks the tree; typed positions are checked where they occur.
-    fn walk(&mut self, node: &SyntaxNode) {
-        let mut events = node.preorder();
-        while let Some(event) = events.next() {
-            let rowan::WalkEvent::Enter(n) = event else { continue };
-            // No typed position lies inside an expression or a type, and
-            // `expr` walks the expressions it types itself: skipping them
-            // halves the nodes visited.
-            if ast::is_expr_kind(n.kind()) || ast::is_type_kind(n.kind()) {
-                events.skip_subtree();
-                continue;
-            }
+    fn walk(&mut self, root: &SyntaxNode) {
+        let table = crate::walk::file_nodes(self.db, self.file);
+        // No typed position lies inside an expression or a type, and `expr`
+        // walks the expressions it types itself.
+        let positions = table.nodes(root, TYPED_POSITIONS, true);
+        // Timed expressions, in order, for the actions that contain them.
+        let timed = table.nodes(root, &[SINCE_EXPR, SINCE_ENTRY_EXPR], false);
+        for n in positions {
             match n.kind() {
                 CONDITION => {
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         self.expect_bool(
                             &t,
@@ -338,7 +425,7 @@ impl Typer<'_> {
                 }
                 PRECONDITION | POSTCONDITION => {
                     self.result = self.function_result(&n);
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         self.expect_bool(&t, e, "RC-EXP-13", "a pre- or postcondition");
                     }
@@ -347,13 +434,13 @@ impl Typer<'_> {
                 VARIABLE => self.initialiser(&n),
                 ASSIGN_STMT => self.assignment(&n),
                 IF_STMT => {
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         self.expect_bool(&t, e, "RC-STMT-03", "the condition of `if`");
                     }
                 }
                 WAIT_STMT => {
-                    if let Some(e) = operand_exprs(&n).first() {
+                    if let Some(e) = &first_operand(&n) {
                         let t = self.expr(e);
                         let ok = compatible(&t, &Ty::Int) || compatible(&t, &Ty::Set(Box::new(Ty::Int)));
                         if !ok {
@@ -370,7 +457,14 @@ impl Typer<'_> {
                 OUTPUT_COMM_STMT => self.output_comm(&n),
                 PROBABILITY => self.probability(&n),
                 ENTRY_ACTION | DURING_ACTION | EXIT_ACTION | TRANSITION_ACTION => {
-                    for t in n.descendants().filter(is_timed) {
+                    // The timed descendants of the action, in preorder.
+                    let range = n.text_range();
+                    let first = timed.partition_point(|t| t.text_range().start() < range.start());
+                    let inside = timed[first..]
+                        .iter()
+                        .take_while(|t| t.text_range().start() <= range.end())
+                        .filter(|t| t.ancestors().any(|a| a == n));
+                    for t in inside {
                         self.problem(
                             "RC:TE1",
                             t.text_range(),
@@ -378,9 +472,6 @@ impl Typer<'_> {
                                 .into(),
                         );
                     }
-                }
-                CYCLE_DEF => {
-                    // Typed by the cycle rules; walk for timed expressions only.
                 }
                 _ => {}
             }
@@ -391,9 +482,7 @@ impl Typer<'_> {
         let inner = self.defs.innermost(n.text_range())?;
         let d = self.defs.def(inner);
         match (&d.kind, &d.data) {
-            (DefKind::Function, DefData::Signature { result: Some(r), .. }) => {
-                Some(lower(self.db, self.ws, self.file, r))
-            }
+            (DefKind::Function, DefData::Signature { result: Some(r), .. }) => Some(self.lower(self.file, r)),
             _ => None,
         }
     }
@@ -425,7 +514,7 @@ impl Typer<'_> {
                     (
                         DefKind::Variable | DefKind::Constant | DefKind::Parameter | DefKind::Field | DefKind::Event,
                         DefData::Typed { ty, .. },
-                    ) => ty.as_ref().map(|t| lower(self.db, self.ws, f, t)).unwrap_or(Ty::Error),
+                    ) => ty.as_ref().map(|t| self.lower(f, t)).unwrap_or(Ty::Error),
                     _ => Ty::Error,
                 }
             }
@@ -434,7 +523,7 @@ impl Typer<'_> {
                 let m = &s.members[i as usize];
                 match m.kind {
                     DefKind::EnumLiteral => Ty::Named(loc, s.name.clone(), DefKind::Enumeration),
-                    _ => m.ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error),
+                    _ => m.ty.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error),
                 }
             }
             Target::Item(loc) => {
@@ -443,7 +532,7 @@ impl Typer<'_> {
                     let params: Vec<Ty> = s
                         .params
                         .iter()
-                        .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                        .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
                         .collect();
                     let result = self.function_result_of(loc);
                     if params.is_empty() {
@@ -459,16 +548,19 @@ impl Typer<'_> {
     fn function_result_of(&self, loc: ItemLoc) -> Ty {
         let Some(def) = loc.def(self.db) else { return Ty::Error };
         match &file_defs(self.db, loc.file).def(def).data {
-            DefData::Signature { result: Some(r), .. } => lower(self.db, self.ws, loc.file, r),
+            DefData::Signature { result: Some(r), .. } => self.lower(loc.file, r),
             _ => Ty::Error,
         }
     }
 
-    fn name_type(&self, n: &SyntaxNode) -> Ty {
-        let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return Ty::Error };
-        let name = crate::defs::name_text(&r);
-        if let Some((_, t)) = self.env.iter().rev().find(|(x, _)| *x == name) {
-            return t.clone();
+    /// The type of the name reference `r`.
+    fn name_type(&self, r: &SyntaxNode) -> Ty {
+        // Bound names are rare: read the name only when some are in scope.
+        if !self.env.is_empty() {
+            let name = crate::defs::name_text(r);
+            if let Some((_, t)) = self.env.iter().rev().find(|(x, _)| *x == name) {
+                return t.clone();
+            }
         }
         match self.targets.get(&r.text_range()) {
             Some(t) => self.target_type(*t),
@@ -484,7 +576,7 @@ impl Typer<'_> {
                 let ty = b
                     .children()
                     .find(|c| ast::is_type_kind(c.kind()))
-                    .map(|t| lower(self.db, self.ws, self.file, &lower_type(&t)))
+                    .map(|t| self.lower(self.file, &lower_type(&t)))
                     .unwrap_or(Ty::Error);
                 if let Some(name) = name {
                     self.env.push((name, ty));
@@ -524,10 +616,12 @@ impl Typer<'_> {
             RESULT_EXPR => self.result.clone().unwrap_or(Ty::Error),
             FROM_EXPR | TO_EXPR => Ty::Error,
             REF_EXPR => {
-                self.bare_literal(n);
-                self.name_type(n)
+                // One lookup of the name serves both.
+                let Some(r) = n.children().find(|c| c.kind() == NAME_REF) else { return Ty::Error };
+                self.bare_literal_named(n, &r);
+                self.name_type(&r)
             }
-            PAREN_EXPR => operand_exprs(n).first().map(|e| self.expr(e)).unwrap_or(Ty::Error),
+            PAREN_EXPR => first_operand(n).map(|e| self.expr(&e)).unwrap_or(Ty::Error),
             ENUM_LITERAL_EXPR => {
                 self.bare_literal(n);
                 let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
@@ -550,7 +644,7 @@ impl Typer<'_> {
                     let s = loc.summary(self.db);
                     match s.members.iter().find(|m| m.kind == DefKind::Field && m.name == fname).cloned() {
                         Some(m) => {
-                            let ft = m.ty.as_ref().map(|ty| lower(self.db, self.ws, loc.file, ty)).unwrap_or(Ty::Error);
+                            let ft = m.ty.as_ref().map(|ty| self.lower(loc.file, ty)).unwrap_or(Ty::Error);
                             if !compatible(&t, &ft) {
                                 self.problem(
                                     "RC-EXP-12",
@@ -572,10 +666,10 @@ impl Typer<'_> {
                 }
             }
             PREFIX_EXPR => {
-                let e = operand_exprs(n);
-                let t = e.first().map(|x| self.expr(x)).unwrap_or(Ty::Error);
+                let e = first_operand(n);
+                let t = e.as_ref().map(|x| self.expr(x)).unwrap_or(Ty::Error);
                 if n.children_with_tokens().any(|t| t.kind() == NOT_KW) {
-                    if let Some(x) = e.first() {
+                    if let Some(x) = &e {
                         self.expect_bool(&t, x, "RC-EXP-14", "the operand of `not`");
                     }
                     Ty::Bool
@@ -586,7 +680,7 @@ impl Typer<'_> {
                         Ty::Vector(..) | Ty::Matrix(..) => t,
                         t if t.is_unknown() => Ty::Error,
                         t => {
-                            if let Some(x) = e.first() {
+                            if let Some(x) = &e {
                                 self.problem(
                                     "RC-EXP-14",
                                     x.text_range(),
@@ -624,7 +718,7 @@ impl Typer<'_> {
                 let target = n
                     .children()
                     .find(|c| ast::is_type_kind(c.kind()))
-                    .map(|t| lower(self.db, self.ws, self.file, &lower_type(&t)))
+                    .map(|t| self.lower(self.file, &lower_type(&t)))
                     .unwrap_or(Ty::Error);
                 if n.children_with_tokens().any(|t| t.kind() == IS_KW) {
                     Ty::Bool
@@ -783,9 +877,7 @@ impl Typer<'_> {
                     Ty::Named(loc, rname, DefKind::Record) => {
                         let s = loc.summary(self.db);
                         match s.members.iter().find(|m| m.kind == DefKind::Field && m.name == field) {
-                            Some(m) => {
-                                m.ty.as_ref().map(|ty| lower(self.db, self.ws, loc.file, ty)).unwrap_or(Ty::Error)
-                            }
+                            Some(m) => m.ty.as_ref().map(|ty| self.lower(loc.file, ty)).unwrap_or(Ty::Error),
                             None => {
                                 self.problem("LNK-01", frange, format!("record `{rname}` has no field `{field}`"));
                                 Ty::Error
@@ -902,9 +994,10 @@ impl Typer<'_> {
     }
 
     fn binary(&mut self, n: &SyntaxNode) -> Ty {
-        let e = operand_exprs(n);
-        let (Some(a), Some(b)) = (e.first(), e.get(1)) else { return Ty::Error };
-        let Some(op) = binary_operator(n) else { return Ty::Error };
+        let mut e = operands(n);
+        let (Some(a), Some(b)) = (e.next(), e.next()) else { return Ty::Error };
+        let (a, b) = (&a, &b);
+        let Some(op) = operator(n) else { return Ty::Error };
         let (x, y) = (self.expr(a), self.expr(b));
         let bad = |t: &Ty| !t.is_unknown();
         match op {
@@ -1014,8 +1107,7 @@ impl Typer<'_> {
     /// argument list).
     fn typed_args(&mut self, n: &SyntaxNode) -> Vec<(SyntaxNode, Ty)> {
         let Some(al) = n.children().find(|c| c.kind() == ARG_LIST) else { return Vec::new() };
-        operand_exprs(&al)
-            .into_iter()
+        operands(&al)
             .map(|x| {
                 let t = self.expr(&x);
                 (x, t)
@@ -1024,8 +1116,7 @@ impl Typer<'_> {
     }
 
     fn call_expr(&mut self, n: &SyntaxNode) -> Ty {
-        let e = operand_exprs(n);
-        let Some(callee) = e.first() else { return Ty::Error };
+        let Some(callee) = &first_operand(n) else { return Ty::Error };
         let args = self.typed_args(n);
         // A function: check arity and argument types with generics.
         if callee.kind() == REF_EXPR {
@@ -1037,7 +1128,7 @@ impl Typer<'_> {
                         let params: Vec<Ty> = s
                             .params
                             .iter()
-                            .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                            .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
                             .collect();
                         let result = self.function_result_of(loc);
                         if params.len() != args.len() {
@@ -1074,7 +1165,7 @@ impl Typer<'_> {
             let params: Vec<Ty> = lit
                 .params
                 .iter()
-                .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
+                .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
                 .collect();
             let name = lit.name.clone();
             if params.is_empty() {
@@ -1125,6 +1216,11 @@ impl Typer<'_> {
             REF_EXPR => e.children().find(|c| c.kind() == NAME_REF)?,
             _ => return None,
         };
+        self.literal_named(&r)
+    }
+
+    /// The enumeration literal the name reference `r` denotes.
+    fn literal_named(&self, r: &SyntaxNode) -> Option<(ItemLoc, u32)> {
         match self.targets.get(&r.text_range())? {
             Target::Member(loc, i) if loc.summary(self.db).members[*i as usize].kind == DefKind::EnumLiteral => {
                 Some((*loc, *i))
@@ -1136,7 +1232,17 @@ impl Typer<'_> {
     /// RC-EXP-05: a literal that takes arguments is not used bare.
     fn bare_literal(&mut self, e: &SyntaxNode) {
         let Some((loc, i)) = self.literal_of(e) else { return };
-        let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && operand_exprs(&p).first() == Some(e));
+        self.bare_literal_at(e, loc, i);
+    }
+
+    /// [`Typer::bare_literal`] for a `REF_EXPR` `e` whose name is `r`.
+    fn bare_literal_named(&mut self, e: &SyntaxNode, r: &SyntaxNode) {
+        let Some((loc, i)) = self.literal_named(r) else { return };
+        self.bare_literal_at(e, loc, i);
+    }
+
+    fn bare_literal_at(&mut self, e: &SyntaxNode, loc: ItemLoc, i: u32) {
+        let is_callee = e.parent().is_some_and(|p| p.kind() == CALL_EXPR && first_operand(&p).as_ref() == Some(e));
         let lit = &loc.summary(self.db).members[i as usize];
         if !is_callee && !lit.params.is_empty() {
             let msg = format!("`{}` expects {}", lit.name, arguments(lit.params.len()));
@@ -1145,9 +1251,9 @@ impl Typer<'_> {
     }
 
     fn initialiser(&mut self, n: &SyntaxNode) {
-        let Some(init) = operand_exprs(n).into_iter().next() else { return };
+        let Some(init) = first_operand(n) else { return };
         let Some(ty) = n.children().find(|c| ast::is_type_kind(c.kind())) else { return };
-        let declared = lower(self.db, self.ws, self.file, &lower_type(&ty));
+        let declared = self.lower(self.file, &lower_type(&ty));
         let t = self.expr(&init);
         if !compatible(&t, &declared) {
             let name = n.children().find(|c| c.kind() == NAME).map(|x| x.text().to_string()).unwrap_or_default();
@@ -1161,7 +1267,7 @@ impl Typer<'_> {
 
     fn assignment(&mut self, n: &SyntaxNode) {
         let Some(target) = n.children().find(|c| c.kind() == ASSIGNABLE) else { return };
-        let Some(value) = operand_exprs(n).into_iter().next() else { return };
+        let Some(value) = first_operand(n) else { return };
         let Some(q) = target.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
         let mut ty = match self.targets.get(&q.text_range()) {
             Some(t) => self.target_type(*t),
@@ -1179,7 +1285,7 @@ impl Typer<'_> {
                     let field =
                         loc.summary(self.db).members.iter().find(|m| m.kind == DefKind::Field && m.name == f).cloned();
                     match field {
-                        Some(m) => m.ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error),
+                        Some(m) => m.ty.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error),
                         None => {
                             if let Some(r) = fref {
                                 self.problem("LNK-01", r.text_range(), format!("record `{rname}` has no field `{f}`"));
@@ -1195,7 +1301,7 @@ impl Typer<'_> {
                 (FIELD_ACCESS | INDEX_ACCESS, _) => Ty::Error,
                 _ => ty,
             };
-            for e in operand_exprs(&s) {
+            for e in operands(&s) {
                 self.expr(&e);
             }
         }
@@ -1214,27 +1320,24 @@ impl Typer<'_> {
         let args = self.typed_args(n);
         let params: Vec<Ty> = match self.targets.get(&q.text_range()) {
             Some(Target::Def(f, id)) => match &file_defs(self.db, *f).def(*id).data {
-                DefData::Signature { params, .. } => params
-                    .iter()
-                    .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, *f, t)).unwrap_or(Ty::Error))
-                    .collect(),
+                DefData::Signature { params, .. } => {
+                    params.iter().map(|(_, t)| t.as_ref().map(|t| self.lower(*f, t)).unwrap_or(Ty::Error)).collect()
+                }
                 _ => return,
             },
             Some(Target::Member(loc, i)) => {
                 let m = &loc.summary(self.db).members[*i as usize];
-                m.params
-                    .iter()
-                    .map(|(_, t)| t.as_ref().map(|t| lower(self.db, self.ws, loc.file, t)).unwrap_or(Ty::Error))
-                    .collect()
+                m.params.iter().map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error)).collect()
             }
             _ => return,
         };
-        let name = q.text().to_string().trim().to_string();
+        // Only messages need the name: read it then.
+        let name = || q.text().to_string().trim().to_string();
         if params.len() != args.len() {
             self.problem(
                 "RC-STMT-05",
                 n.text_range(),
-                format!("operation `{name}` takes {}, not {}", arguments(params.len()), args.len()),
+                format!("operation `{}` takes {}, not {}", name(), arguments(params.len()), args.len()),
             );
             return;
         }
@@ -1243,7 +1346,7 @@ impl Typer<'_> {
                 self.problem(
                     "RC-STMT-05",
                     x.text_range(),
-                    format!("argument {} of `{name}` has type {a}, expected {p}", i + 1),
+                    format!("argument {} of `{}` has type {a}, expected {p}", i + 1, name()),
                 );
             }
         }
@@ -1253,11 +1356,11 @@ impl Typer<'_> {
         let t = self.targets.get(&r.text_range())?;
         Some(match t {
             Target::Def(f, id) => match &file_defs(self.db, *f).def(*id).data {
-                DefData::Typed { ty, .. } => ty.as_ref().map(|t| lower(self.db, self.ws, *f, t)),
+                DefData::Typed { ty, .. } => ty.as_ref().map(|t| self.lower(*f, t)),
                 _ => None,
             },
             Target::Member(loc, i) => {
-                loc.summary(self.db).members[*i as usize].ty.as_ref().map(|t| lower(self.db, self.ws, loc.file, t))
+                loc.summary(self.db).members[*i as usize].ty.as_ref().map(|t| self.lower(loc.file, t))
             }
             Target::Item(_) => None,
         })
@@ -1296,7 +1399,7 @@ impl Typer<'_> {
                     }
                 }
                 _ => {
-                    if let Some(v) = operand_exprs(&p).first() {
+                    if let Some(v) = &first_operand(&p) {
                         let vt = self.expr(v);
                         if !compatible(&vt, &et) {
                             let code = if p.kind() == COMM_OUTPUT { "RC-COMM-02" } else { "RC-COMM-03" };
@@ -1317,7 +1420,7 @@ impl Typer<'_> {
         let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
         let Some(ety) = self.event_type(&q) else { return };
         let name = q.text().to_string().trim().to_string();
-        match (operand_exprs(n).first(), ety) {
+        match (first_operand(n).as_ref(), ety) {
             (None, Some(t)) => self.problem(
                 "RS-IO-06",
                 q.text_range(),
@@ -1341,7 +1444,7 @@ impl Typer<'_> {
     }
 
     fn probability(&mut self, n: &SyntaxNode) {
-        let Some(e) = operand_exprs(n).into_iter().next() else { return };
+        let Some(e) = first_operand(n) else { return };
         let t = self.expr(&e);
         if !compatible(&t, &Ty::Real) {
             self.problem("RC:PT2", e.text_range(), format!("a probability is a number in [0, 1]; this has type {t}"));
@@ -1374,4 +1477,23 @@ impl Typer<'_> {
 /// `1 argument`, `2 arguments`, … for arity messages.
 fn arguments(n: usize) -> String {
     format!("{n} argument{}", if n == 1 { "" } else { "s" })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn operator_agrees_with_binary_operator() {
+        let ops =
+            ["==", "!=", "<", "<=", ">", ">=", "in", "/\\", "\\/", "=>", "iff", "+", "-", "*", "/", "%", "cat", "^"];
+        let text: String = ops.iter().map(|op| format!("stm M{} {{ var x : nat = a {op} b }}\n", op.len())).collect();
+        let root = robosim_syntax::parse(&text, FileKind::RoboChart).syntax_node();
+        let bins: Vec<SyntaxNode> = root.descendants().filter(|n| n.kind() == BIN_EXPR).collect();
+        assert_eq!(bins.len(), ops.len());
+        for n in bins {
+            assert!(binary_operator(&n).is_some(), "{n}");
+            assert_eq!(operator(&n), binary_operator(&n), "{n}");
+        }
+    }
 }
