@@ -30,6 +30,10 @@ fn edit_round(db: &mut RootDatabase, ws: Workspace, file: File, text: &str, pos:
     {
         let mut t2 = text.to_string();
         t2.insert_str(pos, &" ".repeat(round + 1));
+        // As the editor's host does: the previous text and its parse go
+        // along, so that only the edited machine is parsed again.
+        let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
+        file.set_prior(db).to(Some(prior));
         file.set_text(db).to(t2);
         let mut last = Instant::now();
         let mut lap = |name: &str| {
