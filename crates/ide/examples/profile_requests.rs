@@ -1,6 +1,6 @@
 //! Times the queries an edit triggers on the generated 10,000-line model,
 //! one by one, to see where the language server's time goes:
-//! `cargo run --release -p robosim-ide --example profile_edit` (also under
+//! `cargo run --release -p robosim-ide --example profile_requests` (also under
 //! `perf record`).
 
 #[path = "../../syntax/benches/generated.rs"]
