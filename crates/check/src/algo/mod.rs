@@ -103,9 +103,11 @@ pub(crate) fn hash_row(row: &[u8]) -> u64 {
     let n = row.len();
     let mut h = n as u64;
     if (8..=16).contains(&n) {
-        // The common widths: two (possibly overlapping) words, no loop.
+        // The common widths: one word, or two (possibly overlapping), no loop.
         h = (h.rotate_left(26) ^ word(0)).wrapping_mul(K);
-        h = (h.rotate_left(26) ^ word(n - 8)).wrapping_mul(K);
+        if n > 8 {
+            h = (h.rotate_left(26) ^ word(n - 8)).wrapping_mul(K);
+        }
     } else {
         let mut chunks = row.chunks_exact(8);
         for c in &mut chunks {
