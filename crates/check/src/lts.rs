@@ -240,6 +240,30 @@ impl<S> Rows<S> {
         }
     }
 
+    /// Appends the successors held in [`Rows::vectors`], in order, each
+    /// packed into a zeroed row by `pack(source, words, successor, row)`
+    /// (with [`Rows::source`] and [`Rows::words`]), which returns whether
+    /// to keep it. One append for all of them rather than a
+    /// [`push`](Rows::push) per row.
+    pub fn pack_vectors(&mut self, mut pack: impl FnMut(&[i32], &[u64], &[i32], &mut [u8]) -> bool) {
+        let Rows { width, labels, bytes, vectors, source, words, .. } = self;
+        let (w, n, at) = (*width, vectors.len(), bytes.len());
+        bytes.resize(at + n * w, 0);
+        let mut kept = 0;
+        for (k, &label) in vectors.labels().iter().enumerate() {
+            let row = &mut bytes[at + kept * w..at + (kept + 1) * w];
+            if kept != k {
+                // The slot of a dropped successor, reused.
+                row.fill(0);
+            }
+            if pack(source, words, vectors.get(k), row) {
+                labels.push(label);
+                kept += 1;
+            }
+        }
+        bytes.truncate(at + kept * w);
+    }
+
     /// The label of transition `k`.
     pub fn label(&self, k: usize) -> Label {
         self.labels[k]
