@@ -224,9 +224,19 @@ impl Layout {
         read_words(row, &mut words[..self.words]);
         // Word by word, so that the word stays in a register.
         let mut at = 0;
+        let read = |bits: u64, s: &Slot| s.lo.wrapping_add(((bits >> s.shift) & s.mask) as i32);
         for (&bits, &end) in words.iter().zip(&self.word_ends) {
-            for (s, slot) in self.slots[at..end].iter().zip(&mut out[at..end]) {
-                *slot = s.lo.wrapping_add(((bits >> s.shift) & s.mask) as i32);
+            // Four slots at a time: the loop's own instructions are a third
+            // of the work otherwise.
+            let (slots, out) = (&self.slots[at..end], &mut out[at..end]);
+            let (mut s4, mut o4) = (slots.chunks_exact(4), out.chunks_exact_mut(4));
+            for (s, o) in (&mut s4).zip(&mut o4) {
+                for k in 0..4 {
+                    o[k] = read(bits, &s[k]);
+                }
+            }
+            for (s, o) in s4.remainder().iter().zip(o4.into_remainder()) {
+                *o = read(bits, s);
             }
             at = end;
         }
@@ -306,6 +316,7 @@ impl Layout {
 
 /// Writes the words of a packed state into `row`, little-endian, the last
 /// one cut to the row's end.
+#[inline]
 fn write_words(words: &[u64], row: &mut [u8]) {
     let (n, full) = (row.len(), row.len() / 8);
     if let (9..=16, [first, second, ..]) = (n, words) {
