@@ -216,13 +216,7 @@ impl<S> Rows<S> {
     pub fn push(&mut self, label: Label) -> &mut [u8] {
         self.labels.push(label);
         let at = self.bytes.len();
-        if self.width <= 16 {
-            // A fixed-size append is a store, not a call to `memset`.
-            self.bytes.extend_from_slice(&[0u8; 16]);
-            self.bytes.truncate(at + self.width);
-        } else {
-            self.bytes.resize(at + self.width, 0);
-        }
+        Self::append_zeroed(&mut self.bytes, self.width);
         &mut self.bytes[at..]
     }
 
@@ -243,25 +237,36 @@ impl<S> Rows<S> {
     /// Appends the successors held in [`Rows::vectors`], in order, each
     /// packed into a zeroed row by `pack(source, words, successor, row)`
     /// (with [`Rows::source`] and [`Rows::words`]), which returns whether
-    /// to keep it. One append for all of them rather than a
-    /// [`push`](Rows::push) per row.
+    /// to keep it. The buffers are borrowed in place, not moved out of
+    /// `self` and back for each state.
     pub fn pack_vectors(&mut self, mut pack: impl FnMut(&[i32], &[u64], &[i32], &mut [u8]) -> bool) {
         let Rows { width, labels, bytes, vectors, source, words, .. } = self;
-        let (w, n, at) = (*width, vectors.len(), bytes.len());
-        bytes.resize(at + n * w, 0);
-        let mut kept = 0;
-        for (k, &label) in vectors.labels().iter().enumerate() {
-            let row = &mut bytes[at + kept * w..at + (kept + 1) * w];
-            if kept != k {
-                // The slot of a dropped successor, reused.
-                row.fill(0);
-            }
-            if pack(source, words, vectors.get(k), row) {
+        let w = *width;
+        // Room for all, plus the 16 bytes a short row is appended as.
+        bytes.reserve(vectors.len() * w + 16);
+        labels.reserve(vectors.len());
+        for (label, next) in vectors.iter() {
+            let at = bytes.len();
+            Self::append_zeroed(bytes, w);
+            if pack(source, words, next, &mut bytes[at..]) {
                 labels.push(label);
-                kept += 1;
+            } else {
+                bytes.truncate(at);
             }
         }
-        bytes.truncate(at + kept * w);
+    }
+
+    /// Appends `width` zero bytes to `bytes`.
+    #[inline]
+    fn append_zeroed(bytes: &mut Vec<u8>, width: usize) {
+        let at = bytes.len();
+        if width <= 16 {
+            // A fixed-size append is a store, not a call to `memset`.
+            bytes.extend_from_slice(&[0u8; 16]);
+            bytes.truncate(at + width);
+        } else {
+            bytes.resize(at + width, 0);
+        }
     }
 
     /// The label of transition `k`.

@@ -158,11 +158,9 @@ impl Layout {
         // without a call); most are unchanged.
         const BLOCK: usize = 8;
         let n = self.fields.len().min(st.len()).min(base.len());
-        let (mut a, mut b) = (st[..n].chunks_exact(BLOCK), base[..n].chunks_exact(BLOCK));
+        let ((a, a_rest), (b, b_rest)) = (st[..n].as_chunks::<BLOCK>(), base[..n].as_chunks::<BLOCK>());
         let mut at = 0;
-        for (x, y) in (&mut a).zip(&mut b) {
-            let (x, y): (&[i32; BLOCK], &[i32; BLOCK]) =
-                (x.try_into().expect("a block"), y.try_into().expect("a block"));
+        for (x, y) in a.iter().zip(b) {
             if x != y {
                 for k in 0..BLOCK {
                     if x[k] != y[k] {
@@ -172,7 +170,7 @@ impl Layout {
             }
             at += BLOCK;
         }
-        for (k, (&v, &old)) in a.remainder().iter().zip(b.remainder()).enumerate() {
+        for (k, (&v, &old)) in a_rest.iter().zip(b_rest).enumerate() {
             if v != old {
                 self.repack_slot(at + k, v, words).map_err(|()| self.out_of_range(st))?;
             }
@@ -228,14 +226,14 @@ impl Layout {
         for (&bits, &end) in words.iter().zip(&self.word_ends) {
             // Four slots at a time: the loop's own instructions are a third
             // of the work otherwise.
-            let (slots, out) = (&self.slots[at..end], &mut out[at..end]);
-            let (mut s4, mut o4) = (slots.chunks_exact(4), out.chunks_exact_mut(4));
-            for (s, o) in (&mut s4).zip(&mut o4) {
+            let ((s4, s_rest), (o4, o_rest)) =
+                (self.slots[at..end].as_chunks::<4>(), out[at..end].as_chunks_mut::<4>());
+            for (s, o) in s4.iter().zip(o4) {
                 for k in 0..4 {
                     o[k] = read(bits, &s[k]);
                 }
             }
-            for (s, o) in s4.remainder().iter().zip(o4.into_remainder()) {
+            for (s, o) in s_rest.iter().zip(o_rest) {
                 *o = read(bits, s);
             }
             at = end;
@@ -487,6 +485,19 @@ impl Vectors {
         &mut self.labels
     }
 
+    /// The vectors with their labels, in order.
+    pub fn iter(&self) -> impl Iterator<Item = (Label, &[i32])> {
+        // Split off the front one at a time (vectors of no slots are
+        // empty slices, which `chunks_exact` cannot give).
+        let (mut rest, w) = (&self.slots[..], self.width);
+        let vectors = std::iter::from_fn(move || {
+            let (v, tail) = rest.split_at_checked(w)?;
+            rest = tail;
+            Some(v)
+        });
+        self.labels.iter().copied().zip(vectors)
+    }
+
     /// Vector `k`.
     pub fn get(&self, k: usize) -> &[i32] {
         &self.slots[k * self.width..(k + 1) * self.width]
@@ -649,6 +660,20 @@ mod tests {
                 out.set_label(Label::plain(crate::lts::FIRST_VISIBLE + i as u32));
             }
             out.push(Label::TAU, st);
+        }
+    }
+
+    #[test]
+    fn vectors_iterate_in_order_even_without_slots() {
+        for width in [0, 1, 3] {
+            let mut v = Vectors::new(width);
+            for k in 0..4 {
+                let st: Vec<i32> = (0..width as i32).map(|i| 10 * k + i).collect();
+                v.push(Label::plain(k as u32), &st);
+            }
+            let all: Vec<(Label, Vec<i32>)> = v.iter().map(|(l, s)| (l, s.to_vec())).collect();
+            let by_index: Vec<(Label, Vec<i32>)> = (0..v.len()).map(|k| (v.labels()[k], v.get(k).to_vec())).collect();
+            assert_eq!((all.len(), &all), (4, &by_index));
         }
     }
 

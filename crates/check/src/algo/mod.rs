@@ -587,15 +587,18 @@ where
         let chunks = expand_batch(visited.slice(head, end), width, succ_width, threads, &mut bufs, meter, &expand)?;
         let mut source = head as u32;
         for buf in &bufs[..chunks] {
+            // Each source's transitions are split off the front of what is
+            // left of the chunk's: one bounds check each, no index sums.
+            let (mut labels, mut rows, mut hashes) =
+                (buf.succ.labels(0, buf.succ.len()), buf.succ.rows(0, buf.succ.len()), &buf.hashes[..]);
             let mut start = 0;
             for &stop in &buf.ends {
-                meter.stats.transitions += (stop - start) as u64;
-                let succ = Succ {
-                    labels: buf.succ.labels(start, stop),
-                    rows: buf.succ.rows(start, stop),
-                    width: succ_width,
-                    hashes: &buf.hashes[start..stop],
-                };
+                let n = stop - start;
+                meter.stats.transitions += n as u64;
+                let (l, r, h);
+                ((l, labels), (r, rows), (h, hashes)) =
+                    (labels.split_at(n), rows.split_at(n * succ_width), hashes.split_at(n));
+                let succ = Succ { labels: l, rows: r, width: succ_width, hashes: h };
                 if let Flow::Break(r) = visit(visited, meter, source, succ)? {
                     return Ok(Some(r));
                 }
