@@ -229,7 +229,8 @@ impl<S> Rows<S> {
         let at = self.bytes.len();
         self.bytes.resize(at + items.len() * self.width, 0);
         self.labels.extend(items.iter().map(|&(label, _)| label));
-        for ((_, t), row) in items.iter().zip(self.bytes[at..].chunks_exact_mut(self.width)) {
+        // (Rows of no bytes need no encoding; `chunks_exact_mut` needs a width.)
+        for ((_, t), row) in items.iter().zip(self.bytes[at..].chunks_exact_mut(self.width.max(1))) {
             encode(t, row);
         }
     }
