@@ -82,6 +82,9 @@ pub struct Group {
     pub base: Event,
     /// Number of events.
     pub size: u64,
+    /// The parameters' domains ([`Param::dom`]), kept for [`EventTable::event`],
+    /// which runs for nearly every transition.
+    doms: Vec<Dom>,
 }
 
 /// A table of channels.
@@ -101,7 +104,8 @@ impl EventTable {
         let size = params.iter().try_fold(1u64, |acc, p| acc.checked_mul(p.dom().size().max(1)));
         let base = self.groups.last().map_or(FIRST_VISIBLE as u64, |g| g.base as u64 + g.size);
         let size = size.filter(|s| base + s < u32::MAX as u64).ok_or_else(|| TooManyEvents(name.clone()))?;
-        self.groups.push(Group { name, params, base: base as Event, size });
+        let doms = params.iter().map(Param::dom).collect();
+        self.groups.push(Group { name, params, base: base as Event, size, doms });
         Ok(self.groups.len() - 1)
     }
 
@@ -110,8 +114,7 @@ impl EventTable {
     pub fn event(&self, group: usize, args: &[Val]) -> Event {
         let g = &self.groups[group];
         let mut ix: u64 = 0;
-        for (p, &v) in g.params.iter().zip(args) {
-            let d = p.dom();
+        for (d, &v) in g.doms.iter().zip(args) {
             ix = ix * d.size().max(1) + (v.clamp(d.lo, d.hi) - d.lo) as u64;
         }
         g.base + ix as Event

@@ -665,7 +665,22 @@ impl Design {
     /// accepts the value, performed together. Each is (channel, arguments,
     /// the state after both steps).
     #[allow(clippy::type_complexity)]
+    #[inline]
     pub fn internal_steps(
+        &self,
+        st: &[i32],
+        moves: &[(usize, crate::machine::Move)],
+    ) -> Result<Vec<(u16, Vec<Val>, Box<[i32]>)>, String> {
+        // Most states offer no internal communication: then no call.
+        if moves.is_empty() {
+            return Ok(Vec::new());
+        }
+        self.pair_internal(st, moves)
+    }
+
+    /// [`Design::internal_steps`] of a non-empty `moves`.
+    #[allow(clippy::type_complexity)]
+    fn pair_internal(
         &self,
         st: &[i32],
         moves: &[(usize, crate::machine::Move)],

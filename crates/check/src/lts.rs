@@ -103,9 +103,7 @@ pub trait Lts: Sync {
         let mut scratch = std::mem::take(&mut out.scratch);
         scratch.clear();
         self.successors(&state, &mut scratch);
-        for (label, t) in scratch.drain(..) {
-            self.encode(&t, out.push(label));
-        }
+        out.extend_encoded(&scratch, |t, row| self.encode(t, row));
         out.scratch = scratch;
     }
 }
@@ -125,9 +123,11 @@ pub trait StateCodec: Sized {
 macro_rules! int_codec {
     ($($t:ty),*) => {$(
         impl StateCodec for $t {
+            #[inline]
             fn width(&self) -> usize {
                 std::mem::size_of::<$t>()
             }
+            #[inline]
             fn write(&self, row: &mut [u8]) {
                 // The full width (the usual case) is a plain store.
                 match <&mut [u8; std::mem::size_of::<$t>()]>::try_from(&mut *row) {
@@ -135,6 +135,7 @@ macro_rules! int_codec {
                     Err(_) => row.copy_from_slice(&self.to_le_bytes()[..row.len()]),
                 }
             }
+            #[inline]
             fn read(row: &[u8]) -> Self {
                 match <[u8; std::mem::size_of::<$t>()]>::try_from(row) {
                     Ok(full) => <$t>::from_le_bytes(full),
@@ -211,17 +212,62 @@ impl<S> Rows<S> {
 
     /// Appends a transition labelled `label`; its target is the returned
     /// row (zeroed), to be filled in.
+    #[inline]
     pub fn push(&mut self, label: Label) -> &mut [u8] {
         self.labels.push(label);
         let at = self.bytes.len();
-        if self.width <= 16 {
-            // A fixed-size append is a store, not a call to `memset`.
-            self.bytes.extend_from_slice(&[0u8; 16]);
-            self.bytes.truncate(at + self.width);
-        } else {
-            self.bytes.resize(at + self.width, 0);
-        }
+        Self::append_zeroed(&mut self.bytes, self.width);
         &mut self.bytes[at..]
+    }
+
+    /// Appends the transitions `items`, their targets written by `encode`
+    /// into zeroed rows. One append for all of them: for states that are
+    /// plain integers, a [`push`](Rows::push) per row would cost more than
+    /// the encoding.
+    #[inline]
+    pub fn extend_encoded<T>(&mut self, items: &[(Label, T)], mut encode: impl FnMut(&T, &mut [u8])) {
+        let at = self.bytes.len();
+        self.bytes.resize(at + items.len() * self.width, 0);
+        self.labels.extend(items.iter().map(|&(label, _)| label));
+        // (Rows of no bytes need no encoding; `chunks_exact_mut` needs a width.)
+        for ((_, t), row) in items.iter().zip(self.bytes[at..].chunks_exact_mut(self.width.max(1))) {
+            encode(t, row);
+        }
+    }
+
+    /// Appends the successors held in [`Rows::vectors`], in order, each
+    /// packed into a zeroed row by `pack(source, words, successor, row)`
+    /// (with [`Rows::source`] and [`Rows::words`]), which returns whether
+    /// to keep it. The buffers are borrowed in place, not moved out of
+    /// `self` and back for each state.
+    pub fn pack_vectors(&mut self, mut pack: impl FnMut(&[i32], &[u64], &[i32], &mut [u8]) -> bool) {
+        let Rows { width, labels, bytes, vectors, source, words, .. } = self;
+        let w = *width;
+        // Room for all, plus the 16 bytes a short row is appended as.
+        bytes.reserve(vectors.len() * w + 16);
+        labels.reserve(vectors.len());
+        for (label, next) in vectors.iter() {
+            let at = bytes.len();
+            Self::append_zeroed(bytes, w);
+            if pack(source, words, next, &mut bytes[at..]) {
+                labels.push(label);
+            } else {
+                bytes.truncate(at);
+            }
+        }
+    }
+
+    /// Appends `width` zero bytes to `bytes`.
+    #[inline]
+    fn append_zeroed(bytes: &mut Vec<u8>, width: usize) {
+        let at = bytes.len();
+        if width <= 16 {
+            // A fixed-size append is a store, not a call to `memset`.
+            bytes.extend_from_slice(&[0u8; 16]);
+            bytes.truncate(at + width);
+        } else {
+            bytes.resize(at + width, 0);
+        }
     }
 
     /// The label of transition `k`.
@@ -272,5 +318,83 @@ impl FirstError {
     /// The recorded error.
     pub fn get(&self) -> Option<String> {
         self.0.lock().ok().and_then(|e| e.clone())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// States `0..n` on a ring, stepping by 1 and by 7, with 4-byte rows
+    /// (a tighter width than `u64`'s own) when `narrow`.
+    struct Ring {
+        n: u64,
+        narrow: bool,
+    }
+
+    impl Lts for Ring {
+        type State = u64;
+
+        fn initial(&self) -> u64 {
+            0
+        }
+
+        fn successors(&self, s: &u64, out: &mut Vec<(Label, u64)>) {
+            out.push((Label::plain(FIRST_VISIBLE), (s + 1) % self.n));
+            if !s.is_multiple_of(3) {
+                out.push((Label { event: FIRST_VISIBLE + 1, note: *s as u32 }, (s + 7) % self.n));
+            }
+        }
+
+        fn state_width(&self) -> usize {
+            if self.narrow {
+                4
+            } else {
+                8
+            }
+        }
+
+        fn encode(&self, s: &u64, row: &mut [u8]) {
+            if self.narrow {
+                row.copy_from_slice(&(*s as u32 ^ 0xdead_beef).to_le_bytes());
+            } else {
+                s.write(row);
+            }
+        }
+
+        fn decode(&self, row: &[u8]) -> u64 {
+            if self.narrow {
+                u64::from(u32::read(row) ^ 0xdead_beef)
+            } else {
+                u64::read(row)
+            }
+        }
+    }
+
+    #[test]
+    fn default_successor_rows_match_successors_encoded_one_by_one() {
+        for narrow in [false, true] {
+            let lts = Ring { n: 1000, narrow };
+            let w = lts.state_width();
+            let mut fast: Rows<u64> = Rows::new(w);
+            let mut slow: Rows<u64> = Rows::new(w);
+            let mut row = vec![0u8; w];
+            for s in 0..lts.n {
+                // Rows accumulate across sources, as in the engine's buffers.
+                lts.encode(&s, &mut row);
+                lts.successor_rows(&row, &mut fast);
+                let mut succ = Vec::new();
+                lts.successors(&lts.decode(&row), &mut succ);
+                for (label, t) in succ {
+                    lts.encode(&t, slow.push(label));
+                }
+            }
+            assert_eq!(fast.len(), slow.len());
+            assert_eq!(fast.labels(0, fast.len()), slow.labels(0, slow.len()));
+            assert_eq!(fast.rows(0, fast.len()), slow.rows(0, slow.len()));
+            for k in 0..fast.len() {
+                assert_eq!(lts.decode(fast.row(k)), lts.decode(slow.row(k)));
+            }
+        }
     }
 }

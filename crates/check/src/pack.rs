@@ -42,6 +42,18 @@ struct Field {
     span: u64,
 }
 
+/// How to read one slot from its packed word: the part of its [`Field`]
+/// that unpacking needs, in 16 bytes rather than 48, so that a state's
+/// slots are read from a few cache lines.
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    mask: u64,
+    /// The field's least value, wrapped to 32 bits (a slot's value is its
+    /// offset plus this, modulo 2^32, as for [`Field::lo`]).
+    lo: i32,
+    shift: u32,
+}
+
 /// Packed states of up to this many words are packed and unpacked without
 /// an allocation.
 const SMALL_WORDS: usize = 4;
@@ -50,6 +62,8 @@ const SMALL_WORDS: usize = 4;
 #[derive(Debug, Clone)]
 pub struct Layout {
     fields: Vec<Field>,
+    /// [`Layout::fields`] for unpacking.
+    slots: Vec<Slot>,
     /// Per word, the end of its run of fields (fields come in word order).
     word_ends: Vec<usize>,
     words: usize,
@@ -78,7 +92,8 @@ impl Layout {
         }
         let row_width = (8 * word + used.div_ceil(8) as usize).max(1);
         let word_ends = (0..=word).map(|w| fields.partition_point(|f| f.word as usize <= w)).collect();
-        Layout { fields, word_ends, words: word + 1, row_width }
+        let slots = fields.iter().map(|f| Slot { mask: f.mask, lo: f.lo as i32, shift: f.shift }).collect();
+        Layout { fields, slots, word_ends, words: word + 1, row_width }
     }
 
     /// The bytes of a packed state stored as a row (see [`Packed`]'s
@@ -125,41 +140,56 @@ impl Layout {
     /// same errors, as [`Layout::pack_into`].
     pub fn pack_from(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
         let (mut small, mut big) = ([0u64; SMALL_WORDS], Vec::new());
-        let words = self.scratch_words(&mut small, &mut big);
-        words.copy_from_slice(base_words);
+        let padded = base_words.get(..SMALL_WORDS).and_then(|w| <&[u64; SMALL_WORDS]>::try_from(w).ok());
+        let words: &mut [u64] = match padded {
+            // A fixed-size copy rather than a call to `memcpy`, when the
+            // words come padded (as `unpack_row_words` leaves them).
+            Some(p) if self.words <= SMALL_WORDS => {
+                small = *p;
+                &mut small[..self.words]
+            }
+            _ => {
+                let words = self.scratch_words(&mut small, &mut big);
+                words.copy_from_slice(&base_words[..self.words]);
+                words
+            }
+        };
         // Whole blocks of slots compare at once (fixed-size arrays compare
         // without a call); most are unchanged.
         const BLOCK: usize = 8;
         let n = self.fields.len().min(st.len()).min(base.len());
-        let (mut a, mut b) = (st[..n].chunks_exact(BLOCK), base[..n].chunks_exact(BLOCK));
+        let ((a, a_rest), (b, b_rest)) = (st[..n].as_chunks::<BLOCK>(), base[..n].as_chunks::<BLOCK>());
         let mut at = 0;
-        for (x, y) in (&mut a).zip(&mut b) {
-            let (x, y): (&[i32; BLOCK], &[i32; BLOCK]) =
-                (x.try_into().expect("a block"), y.try_into().expect("a block"));
+        for (x, y) in a.iter().zip(b) {
             if x != y {
-                self.repack(at, x, y, words).map_err(|()| self.out_of_range(st))?;
+                for k in 0..BLOCK {
+                    if x[k] != y[k] {
+                        self.repack_slot(at + k, x[k], words).map_err(|()| self.out_of_range(st))?;
+                    }
+                }
             }
             at += BLOCK;
         }
-        self.repack(at, a.remainder(), b.remainder(), words).map_err(|()| self.out_of_range(st))?;
+        for (k, (&v, &old)) in a_rest.iter().zip(b_rest).enumerate() {
+            if v != old {
+                self.repack_slot(at + k, v, words).map_err(|()| self.out_of_range(st))?;
+            }
+        }
         write_words(words, row);
         Ok(())
     }
 
-    /// Repacks into `words` the slots from `at` on where `st` differs from `base`.
-    fn repack(&self, at: usize, st: &[i32], base: &[i32], words: &mut [u64]) -> Result<(), ()> {
-        for (i, (&v, &old)) in st.iter().zip(base).enumerate() {
-            if v == old {
-                continue;
-            }
-            let f = &self.fields[at + i];
-            let off = (v as i64).wrapping_sub(f.lo) as u64;
-            if off > f.span {
-                return Err(());
-            }
-            let w = &mut words[f.word as usize];
-            *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
+    /// Repacks slot `i` with value `v` into `words`; fails if `v` is out of
+    /// the slot's range.
+    #[inline]
+    fn repack_slot(&self, i: usize, v: i32, words: &mut [u64]) -> Result<(), ()> {
+        let f = &self.fields[i];
+        let off = (v as i64).wrapping_sub(f.lo) as u64;
+        if off > f.span {
+            return Err(());
         }
+        let w = &mut words[f.word as usize];
+        *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
         Ok(())
     }
 
@@ -178,16 +208,33 @@ impl Layout {
     }
 
     /// [`Layout::unpack_row`], also leaving the state's packed words in
-    /// `words` (as many as the layout has).
+    /// `words`: as many as the layout has, then zeros up to
+    /// `SMALL_WORDS` (4) if there are fewer, which lets
+    /// [`Layout::pack_from`] copy them as a block.
     pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>) {
-        words.clear();
-        words.resize(self.words, 0);
-        read_words(row, words);
+        // `read_words` writes every word of the layout: the padding only
+        // needs zeroing when the buffer is (re)sized.
+        let len = self.words.max(SMALL_WORDS);
+        if words.len() != len {
+            words.clear();
+            words.resize(len, 0);
+        }
+        read_words(row, &mut words[..self.words]);
         // Word by word, so that the word stays in a register.
         let mut at = 0;
+        let read = |bits: u64, s: &Slot| s.lo.wrapping_add(((bits >> s.shift) & s.mask) as i32);
         for (&bits, &end) in words.iter().zip(&self.word_ends) {
-            for (f, slot) in self.fields[at..end].iter().zip(&mut out[at..end]) {
-                *slot = (f.lo + ((bits >> f.shift) & f.mask) as i64) as i32;
+            // Four slots at a time: the loop's own instructions are a third
+            // of the work otherwise.
+            let ((s4, s_rest), (o4, o_rest)) =
+                (self.slots[at..end].as_chunks::<4>(), out[at..end].as_chunks_mut::<4>());
+            for (s, o) in s4.iter().zip(o4) {
+                for k in 0..4 {
+                    o[k] = read(bits, &s[k]);
+                }
+            }
+            for (s, o) in s_rest.iter().zip(o_rest) {
+                *o = read(bits, s);
             }
             at = end;
         }
@@ -267,33 +314,57 @@ impl Layout {
 
 /// Writes the words of a packed state into `row`, little-endian, the last
 /// one cut to the row's end.
+#[inline]
 fn write_words(words: &[u64], row: &mut [u8]) {
-    let mut chunks = row.chunks_exact_mut(8);
-    let mut it = words.iter();
-    for (c, w) in (&mut chunks).zip(&mut it) {
+    let (n, full) = (row.len(), row.len() / 8);
+    if let (9..=16, [first, second, ..]) = (n, words) {
+        // The common widths: two (overlapping) 8-byte stores; the loop
+        // below would be a call to `memcpy`.
+        let rest = n - 8;
+        let tail = if rest == 8 { *second } else { (first >> (8 * rest)) | (second << (64 - 8 * rest)) };
+        row[..8].copy_from_slice(&first.to_le_bytes());
+        row[n - 8..].copy_from_slice(&tail.to_le_bytes());
+        return;
+    }
+    for (c, w) in row.chunks_exact_mut(8).zip(words) {
         c.copy_from_slice(&w.to_le_bytes());
     }
-    let rest = chunks.into_remainder();
-    if let Some(w) = it.next() {
-        for (k, b) in rest.iter_mut().enumerate() {
-            *b = (w >> (8 * k)) as u8;
+    let rest = n % 8;
+    let Some(&last) = words.get(full).filter(|_| rest > 0) else { return };
+    if full > 0 {
+        // The row's last 8 bytes in one store: the top bytes of the word
+        // before, then the low `rest` bytes of the last word.
+        let tail = (words[full - 1] >> (8 * rest)) | (last << (64 - 8 * rest));
+        row[n - 8..].copy_from_slice(&tail.to_le_bytes());
+    } else {
+        for (k, b) in row.iter_mut().enumerate() {
+            *b = (last >> (8 * k)) as u8;
         }
     }
 }
 
 /// Reads the words of a packed state from `row` (see [`write_words`]).
 fn read_words(row: &[u8], words: &mut [u64]) {
-    let mut chunks = row.chunks_exact(8);
-    let mut it = words.iter_mut();
-    for (c, w) in (&mut chunks).zip(&mut it) {
+    let word = |c: &[u8]| {
         let mut b = [0u8; 8];
         b.copy_from_slice(c);
-        *w = u64::from_le_bytes(b);
+        u64::from_le_bytes(b)
+    };
+    let (n, full) = (row.len(), row.len() / 8);
+    for (c, w) in row.chunks_exact(8).zip(words.iter_mut()) {
+        *w = word(c);
     }
-    let rest = chunks.remainder();
-    if let Some(w) = it.next() {
-        *w = rest.iter().enumerate().fold(0, |acc, (k, &b)| acc | u64::from(b) << (8 * k));
-    }
+    let Some(last) = words.get_mut(full) else { return };
+    let rest = n % 8;
+    *last = if rest == 0 {
+        0
+    } else if full > 0 {
+        // The row's last 8 bytes in one load; the last word is their top
+        // `rest` bytes.
+        word(&row[n - 8..]) >> (64 - 8 * rest)
+    } else {
+        row.iter().enumerate().fold(0, |acc, (k, &b)| acc | u64::from(b) << (8 * k))
+    };
 }
 
 /// Writes word `w` of a packed state into its place in `row` (the last
@@ -414,6 +485,19 @@ impl Vectors {
         &mut self.labels
     }
 
+    /// The vectors with their labels, in order.
+    pub fn iter(&self) -> impl Iterator<Item = (Label, &[i32])> {
+        // Split off the front one at a time (vectors of no slots are
+        // empty slices, which `chunks_exact` cannot give).
+        let (mut rest, w) = (&self.slots[..], self.width);
+        let vectors = std::iter::from_fn(move || {
+            let (v, tail) = rest.split_at_checked(w)?;
+            rest = tail;
+            Some(v)
+        });
+        self.labels.iter().copied().zip(vectors)
+    }
+
     /// Vector `k`.
     pub fn get(&self, k: usize) -> &[i32] {
         &self.slots[k * self.width..(k + 1) * self.width]
@@ -508,23 +592,15 @@ impl<T: VectorLts> crate::lts::Lts for T {
 
     fn successor_rows(&self, row: &[u8], out: &mut crate::lts::Rows<Packed>) {
         let e = self.encoding();
-        let mut vals = std::mem::take(&mut out.source);
-        if vals.len() != e.layout.len() {
-            vals = vec![0; e.layout.len()].into_boxed_slice();
+        if out.source.len() != e.layout.len() {
+            out.source = vec![0; e.layout.len()].into_boxed_slice();
         }
-        let mut words = std::mem::take(&mut out.words);
-        e.layout.unpack_row_words(row, &mut vals, &mut words);
-        let mut next = std::mem::take(&mut out.vectors);
-        next.reset(vals.len());
-        self.successor_values(&vals, &mut next);
-        for (k, &label) in next.labels().iter().enumerate() {
-            let at = out.len();
-            if let Err(err) = e.layout.pack_from(&vals, &words, next.get(k), out.push(label)) {
-                out.truncate(at);
-                e.error.set(err);
-            }
-        }
-        (out.vectors, out.source, out.words) = (next, vals, words);
+        e.layout.unpack_row_words(row, &mut out.source, &mut out.words);
+        out.vectors.reset(e.layout.len());
+        self.successor_values(&out.source, &mut out.vectors);
+        out.pack_vectors(|source, words, next, row| {
+            e.layout.pack_from(source, words, next, row).map_err(|err| e.error.set(err)).is_ok()
+        });
     }
 }
 
@@ -562,6 +638,82 @@ pub fn initial_packed(layout: &Layout, error: &crate::lts::FirstError, st: &[i32
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lts::{Lts, Rows, StateCodec};
+
+    /// A counter machine over slots of assorted widths: each step bumps
+    /// one slot, some past its range (those successors are dropped).
+    struct Counters(Encoding);
+
+    impl VectorLts for Counters {
+        fn encoding(&self) -> &Encoding {
+            &self.0
+        }
+
+        fn initial_values(&self) -> Box<[i32]> {
+            self.0.layout.fields.iter().map(|f| f.lo as i32).collect()
+        }
+
+        fn successor_values(&self, st: &[i32], out: &mut Vectors) {
+            for i in 0..st.len() {
+                let n = out.push_copy(st);
+                n[i] = n[i].wrapping_add(1 + (i as i32 % 3));
+                out.set_label(Label::plain(crate::lts::FIRST_VISIBLE + i as u32));
+            }
+            out.push(Label::TAU, st);
+        }
+    }
+
+    #[test]
+    fn vectors_iterate_in_order_even_without_slots() {
+        for width in [0, 1, 3] {
+            let mut v = Vectors::new(width);
+            for k in 0..4 {
+                let st: Vec<i32> = (0..width as i32).map(|i| 10 * k + i).collect();
+                v.push(Label::plain(k as u32), &st);
+            }
+            let all: Vec<(Label, Vec<i32>)> = v.iter().map(|(l, s)| (l, s.to_vec())).collect();
+            let by_index: Vec<(Label, Vec<i32>)> = (0..v.len()).map(|k| (v.labels()[k], v.get(k).to_vec())).collect();
+            assert_eq!((all.len(), &all), (4, &by_index));
+        }
+    }
+
+    #[test]
+    fn successor_rows_match_successors_packed_one_by_one() {
+        let bounds: Vec<Vec<(i64, i64)>> = vec![
+            vec![(0, 3), (-2, 5), (0, 1), (0, 40)],
+            (0..42).map(|i| (-(i % 3), 2 + i % 5)).collect(),
+            vec![(0, i32::MAX as i64), (0, 1000), (0, 9), (-1, 1), (0, i32::MAX as i64)],
+            // More words than are packed on the stack.
+            [(i32::MIN as i64, i32::MAX as i64); 10].into_iter().chain([(0, 0)]).collect(),
+        ];
+        for b in bounds {
+            let lts = Counters(Encoding::new(&b, crate::events::EventTable::default()));
+            let w = lts.state_width();
+            let mut fast: Rows<Packed> = Rows::new(w);
+            let mut slow = Vec::new();
+            // A breadth-first walk over the first states, with the rows
+            // of every source appended to the same buffer.
+            let mut queue = vec![lts.initial()];
+            let mut k = 0;
+            while k < queue.len() && k < 200 {
+                let mut row = vec![0u8; w];
+                lts.encode(&queue[k], &mut row);
+                lts.successor_rows(&row, &mut fast);
+                let before = slow.len();
+                lts.successors(&queue[k], &mut slow);
+                queue.extend(slow[before..].iter().map(|(_, p)| p.clone()));
+                k += 1;
+            }
+            assert_eq!(fast.len(), slow.len());
+            for (j, (label, p)) in slow.iter().enumerate() {
+                let mut row = vec![0u8; w];
+                p.write(&mut row);
+                assert_eq!((fast.label(j), fast.row(j)), (*label, &row[..]), "transition {j}");
+            }
+            // Some successors were out of range and dropped, in both.
+            assert!(lts.0.error.get().is_some());
+        }
+    }
 
     #[test]
     fn round_trip_and_bounds() {
@@ -593,8 +745,12 @@ mod tests {
             Layout::new(&[(0, i32::MAX as i64), (0, i32::MAX as i64), (0, 1000)]),
             Layout::new(&[(i32::MIN as i64, i32::MAX as i64); 5]),
             Layout::new(&[(0, 0)]),
+            // Rows of one word, of two full words, and of a word and a part.
+            Layout::new(&[(0, i32::MAX as i64); 2]),
+            Layout::new(&[(0, i32::MAX as i64); 4]),
+            Layout::new(&[(0, i32::MAX as i64), (0, i32::MAX as i64), (-7, i32::MAX as i64), (0, 255)]),
         ];
-        assert_eq!(layouts.iter().map(Layout::row_width).collect::<Vec<_>>(), [1, 10, 20, 1]);
+        assert_eq!(layouts.iter().map(Layout::row_width).collect::<Vec<_>>(), [1, 10, 20, 1, 8, 16, 13]);
         for layout in &layouts {
             for seed in 0..20i64 {
                 let st: Vec<i32> = layout
@@ -621,6 +777,13 @@ mod tests {
                 let mut again = vec![0u8; layout.row_width()];
                 layout.pack_from(&base, &base_words, &st, &mut again).unwrap();
                 assert_eq!(again, row);
+                // The same from the words unpacking leaves (padded).
+                let (mut padded, mut vals) = (Vec::new(), vec![0; layout.len()]);
+                layout.unpack_row_words(&base_row, &mut vals, &mut padded);
+                assert_eq!((&vals, &padded[..base_words.len()]), (&base, &base_words[..]));
+                let mut from_padded = vec![0u8; layout.row_width()];
+                layout.pack_from(&base, &padded, &st, &mut from_padded).unwrap();
+                assert_eq!(from_padded, row);
                 layout
                     .pack_from(
                         &st,

@@ -76,7 +76,7 @@ pub(crate) type Lasso<S> = (Path<S>, Vec<(Label, S)>);
 
 /// A visited table holding the initial state of `lts` (index 0).
 pub(crate) fn visited_from_initial<L: Lts>(lts: &L, meter: &mut Meter<'_>) -> Result<Visited, Stop> {
-    let mut visited = Visited::new(lts.state_width(), hash_row);
+    let mut visited = Visited::new(lts.state_width(), RowHash::State);
     let mut row = vec![0u8; lts.state_width()];
     lts.encode(&lts.initial(), &mut row);
     visited.insert(meter, hash_row(&row), &row, NO_PARENT)?;
@@ -103,9 +103,11 @@ pub(crate) fn hash_row(row: &[u8]) -> u64 {
     let n = row.len();
     let mut h = n as u64;
     if (8..=16).contains(&n) {
-        // The common widths: two (possibly overlapping) words, no loop.
+        // The common widths: one word, or two (possibly overlapping), no loop.
         h = (h.rotate_left(26) ^ word(0)).wrapping_mul(K);
-        h = (h.rotate_left(26) ^ word(n - 8)).wrapping_mul(K);
+        if n > 8 {
+            h = (h.rotate_left(26) ^ word(n - 8)).wrapping_mul(K);
+        }
     } else {
         let mut chunks = row.chunks_exact(8);
         for c in &mut chunks {
@@ -160,12 +162,14 @@ pub(crate) fn pair_row(node: u32, state: &[u8], out: &mut Vec<u8>) {
 }
 
 /// The node and state row of a pair's row (see [`pair_row`]).
+#[inline]
 pub(crate) fn split_pair(row: &[u8]) -> (u32, &[u8]) {
     let (node, state) = row.split_at(4);
     (u32::from_le_bytes([node[0], node[1], node[2], node[3]]), state)
 }
 
 /// [`pair_hash_from`] of a stored pair's row.
+#[inline]
 pub(crate) fn pair_row_hash(row: &[u8]) -> u64 {
     let (node, state) = split_pair(row);
     pair_hash_from(node, hash_row(state))
@@ -274,7 +278,28 @@ pub(crate) struct Visited {
     parents: Segments<u32>,
     /// Indices into `rows`, hashed by row (the rows are stored once).
     table: HashTable<u32>,
-    hash: fn(&[u8]) -> u64,
+    hash: RowHash,
+}
+
+/// How a [`Visited`] table's rows are hashed: named rather than passed as a
+/// function pointer, so that rehashing on growth inlines the hash.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum RowHash {
+    /// States' rows: [`hash_row`].
+    State,
+    /// (node, state) pairs' rows: [`pair_row_hash`].
+    Pair,
+}
+
+impl RowHash {
+    /// The hash of `row`.
+    #[inline]
+    pub(crate) fn of(self, row: &[u8]) -> u64 {
+        match self {
+            RowHash::State => hash_row(row),
+            RowHash::Pair => pair_row_hash(row),
+        }
+    }
 }
 
 /// Bytes per table slot: the `u32` index and hashbrown's control byte.
@@ -283,7 +308,7 @@ const TABLE_SLOT_BYTES: u64 = 5;
 impl Visited {
     /// An empty table of rows of `width` bytes, hashed with `hash` (which
     /// must agree with the hashes passed to [`Visited::insert`]).
-    pub(crate) fn new(width: usize, hash: fn(&[u8]) -> u64) -> Visited {
+    pub(crate) fn new(width: usize, hash: RowHash) -> Visited {
         assert!(width > 0, "states are stored in at least one byte");
         Visited { rows: Segments::new(width), parents: Segments::new(1), table: HashTable::new(), hash }
     }
@@ -324,6 +349,7 @@ impl Visited {
     /// discovered from `parent`. Returns its index and whether it is new.
     /// Fails, without inserting, when the state or memory budget would be
     /// exceeded.
+    #[inline]
     pub(crate) fn insert(
         &mut self,
         meter: &mut Meter<'_>,
@@ -331,10 +357,18 @@ impl Visited {
         row: &[u8],
         parent: u32,
     ) -> Result<(u32, bool), Stop> {
+        // Inlined: most calls find the row (every state is reached several
+        // times) and take only this lookup.
         let rows = &self.rows;
         if let Some(&i) = self.table.find(hash, |&i| same_row(rows.get(i as usize), row)) {
             return Ok((i, false));
         }
+        self.insert_new(meter, hash, row, parent).map(|i| (i, true))
+    }
+
+    /// [`Visited::insert`] of a row known not to be in the table.
+    #[inline(never)]
+    fn insert_new(&mut self, meter: &mut Meter<'_>, hash: u64, row: &[u8], parent: u32) -> Result<u32, Stop> {
         let len = self.rows.len;
         // Indices are u32 with one value reserved for NO_PARENT.
         let limit = meter.budget.max_states.min(u64::from(u32::MAX - 1));
@@ -345,13 +379,13 @@ impl Visited {
         self.rows.push(row);
         self.parents.push(&[parent]);
         let (rows, h) = (&self.rows, self.hash);
-        self.table.insert_unique(hash, len as u32, |&i| h(rows.get(i as usize)));
+        self.table.insert_unique(hash, len as u32, |&i| h.of(rows.get(i as usize)));
         meter.stats.states = self.rows.len as u64;
         // The memory only changes when something grew.
         if grew {
             meter.set_table_bytes(self.bytes())?;
         }
-        Ok((len as u32, true))
+        Ok(len as u32)
     }
 
     /// Makes room for one more node, refusing growth past the memory budget
@@ -371,10 +405,30 @@ impl Visited {
         self.rows.reserve_one().map_err(|_| Stop::Memory)?;
         self.parents.reserve_one().map_err(|_| Stop::Memory)?;
         if grow_table {
-            let (rows, h) = (&self.rows, self.hash);
-            self.table.try_reserve(1, |&i| h(rows.get(i as usize))).map_err(|_| Stop::Memory)?;
+            self.table = self.grown_table()?;
         }
         Ok(true)
+    }
+
+    /// A table with the buckets the full table would grow to, holding the
+    /// same indices: built from the rows segment by segment, which costs
+    /// about half of letting the table rehash its entries one at a time
+    /// (each a lookup of its row through the segments).
+    #[cold]
+    fn grown_table(&self) -> Result<HashTable<u32>, Stop> {
+        let (rows, h) = (&self.rows, self.hash);
+        let rehash = |&i: &u32| h.of(rows.get(i as usize));
+        let mut table = HashTable::new();
+        // hashbrown grows a full table to room for one more than it holds.
+        table.try_reserve(self.table.capacity() + 1, rehash).map_err(|_| Stop::Memory)?;
+        let mut i = 0u32;
+        for seg in &rows.segs {
+            for row in seg.chunks_exact(rows.stride) {
+                table.insert_unique(h.of(row), i, rehash);
+                i += 1;
+            }
+        }
+        Ok(table)
     }
 
     /// The rows of nodes `lo..hi`, back to back; the range must not cross
@@ -445,19 +499,22 @@ pub(crate) struct Succ<'a> {
 
 impl<'a> Succ<'a> {
     /// Whether there is no transition.
+    #[inline]
     pub(crate) fn is_empty(&self) -> bool {
         self.labels.is_empty()
     }
 
     /// The labels.
+    #[inline]
     pub(crate) fn labels(&self) -> &'a [Label] {
         self.labels
     }
 
     /// The transitions: label, target row, the row's hash.
-    pub(crate) fn iter(&self) -> impl Iterator<Item = (Label, &'a [u8], u64)> + '_ {
-        let w = self.width;
-        self.labels.iter().enumerate().map(move |(k, &l)| (l, &self.rows[k * w..(k + 1) * w], self.hashes[k]))
+    #[inline]
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (Label, &'a [u8], u64)> + 'a {
+        let rows = self.rows.chunks_exact(self.width);
+        self.labels.iter().zip(rows).zip(self.hashes).map(|((&l, r), &h)| (l, r, h))
     }
 }
 
@@ -530,15 +587,18 @@ where
         let chunks = expand_batch(visited.slice(head, end), width, succ_width, threads, &mut bufs, meter, &expand)?;
         let mut source = head as u32;
         for buf in &bufs[..chunks] {
+            // Each source's transitions are split off the front of what is
+            // left of the chunk's: one bounds check each, no index sums.
+            let (mut labels, mut rows, mut hashes) =
+                (buf.succ.labels(0, buf.succ.len()), buf.succ.rows(0, buf.succ.len()), &buf.hashes[..]);
             let mut start = 0;
             for &stop in &buf.ends {
-                meter.stats.transitions += (stop - start) as u64;
-                let succ = Succ {
-                    labels: buf.succ.labels(start, stop),
-                    rows: buf.succ.rows(start, stop),
-                    width: succ_width,
-                    hashes: &buf.hashes[start..stop],
-                };
+                let n = stop - start;
+                meter.stats.transitions += n as u64;
+                let (l, r, h);
+                ((l, labels), (r, rows), (h, hashes)) =
+                    (labels.split_at(n), rows.split_at(n * succ_width), hashes.split_at(n));
+                let succ = Succ { labels: l, rows: r, width: succ_width, hashes: h };
                 if let Flow::Break(r) = visit(visited, meter, source, succ)? {
                     return Ok(Some(r));
                 }
@@ -574,11 +634,12 @@ where
         bufs.push(ChunkBuf::new(succ_width));
     }
     let fill = |buf: &mut ChunkBuf<S>, source: &[u8]| {
-        let before = buf.succ.len();
         expand(source, &mut buf.succ);
-        let after = buf.succ.len();
-        buf.hashes.extend((before..after).map(|k| hash_row(buf.succ.row(k))));
-        buf.ends.push(after);
+        buf.ends.push(buf.succ.len());
+    };
+    // Once per chunk rather than per source: one pass over all its rows.
+    let hash = |buf: &mut ChunkBuf<S>| {
+        buf.hashes.extend(buf.succ.rows(0, buf.succ.len()).chunks_exact(succ_width).map(hash_row));
     };
     let chunk_sources = |c: usize| {
         let (lo, hi) = (c * CHUNK, count.min((c + 1) * CHUNK));
@@ -591,6 +652,7 @@ where
                 fill(buf, source);
                 meter.poll()?;
             }
+            hash(buf);
         }
         return Ok(chunks);
     }
@@ -614,6 +676,7 @@ where
                 return;
             }
         }
+        hash(buf);
     };
     let mut main_stop = None;
     std::thread::scope(|scope| {
@@ -785,7 +848,7 @@ pub(crate) fn trace_search<L: Lts>(
 ) -> Result<Option<Path<L::State>>, Stop> {
     let width = lts.state_width();
     // Rows are (position in the trace, state) pairs.
-    let mut seen = Visited::new(4 + width, pair_row_hash);
+    let mut seen = Visited::new(4 + width, RowHash::Pair);
     // A private meter: the search is small and must not disturb the
     // check's statistics, but it obeys the same budget.
     let budget: &Budget = meter.budget;
@@ -868,6 +931,35 @@ mod tests {
         assert_eq!(seg.get(SEG + 5), &[s + 5, !(s + 5)]);
         assert_eq!(seg.slice(SEG - 2, SEG), &[s - 2, !(s - 2), s - 1, !(s - 1)]);
         assert_eq!(seg.slice(2 * SEG, 2 * SEG + 2), &[2 * s, !(2 * s), 2 * s + 1, !(2 * s + 1)]);
+    }
+
+    #[test]
+    fn visited_table_grows_like_hashbrown_and_finds_every_row() {
+        let budget = Budget::default();
+        let mut meter = Meter::new(&budget, None);
+        for (width, hash) in [(8, RowHash::State), (10, RowHash::State), (12, RowHash::Pair), (3, RowHash::State)] {
+            let mut visited = Visited::new(width, hash);
+            // The same number of items inserted into a table left to grow itself.
+            let mut plain: HashTable<u32> = HashTable::new();
+            let row = |k: u32| -> Vec<u8> {
+                (0..width).map(|b| (k.wrapping_mul(2654435761) >> (b % 4 * 8)) as u8 ^ b as u8).collect()
+            };
+            let n = (2 * SEG + 100) as u32;
+            for k in 0..n {
+                let r = row(k);
+                assert_eq!(visited.insert(&mut meter, hash.of(&r), &r, k / 2).expect("budget"), (k, true));
+                plain.insert_unique(u64::from(k), k, |&i| u64::from(i));
+                assert_eq!(visited.table.capacity(), plain.capacity(), "{k}");
+                // Every row inserted so far is still found, at its index.
+                if k.is_power_of_two() || k == n - 1 {
+                    for j in (0..=k).step_by(97) {
+                        let r = row(j);
+                        assert_eq!(visited.insert(&mut meter, hash.of(&r), &r, 0).expect("budget"), (j, false));
+                        assert_eq!((visited.row(j), visited.parent(j)), (&r[..], j / 2));
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -23,7 +23,8 @@ use crate::lts::{Event, Label, Lts, Rows, TAU, TOCK};
 
 use super::divergence::TauDivergence;
 use super::{
-    explore, fx, pair_hash_from, pair_row, pair_row_hash, split_pair, trace_search, Flow, Path, Visited, NO_PARENT,
+    explore, fx, pair_hash_from, pair_row, pair_row_hash, split_pair, trace_search, Flow, Path, RowHash, Visited,
+    NO_PARENT,
 };
 
 /// The semantic model a refinement is checked in.
@@ -170,7 +171,7 @@ fn refine_search<Sp: Lts, Im: Lts>(
     let root = norm.root(meter)?;
     // Rows are (normal-form node, implementation state) pairs.
     let width = imp.state_width();
-    let mut visited = Visited::new(4 + width, pair_row_hash);
+    let mut visited = Visited::new(4 + width, RowHash::Pair);
     let mut init = vec![0u8; width];
     imp.encode(&imp.initial(), &mut init);
     let mut row = Vec::new();

@@ -1,0 +1,68 @@
+//! Runs one search several times in one process, to count its instructions
+//! under callgrind (the difference between 1 and 3 repetitions is the cost
+//! of two searches, without the set-up):
+//!
+//! `cargo run --release -p robosim-check --example profile_search -- torus W REPS`
+//! (the engine bench's torus, `W × W` states) or
+//! `... -- design N K REPS` (the generated `N × K` design's schedulability).
+
+use robosim_check::algo::{find_deadlock, DeadlockResult};
+use robosim_check::budget::Budget;
+use robosim_check::generate;
+use robosim_check::lower::{lower_design, DomainDefaults};
+use robosim_check::lts::{Event, Label, Lts, FIRST_VISIBLE};
+use robosim_check::sched::{Constrained, Profile};
+
+/// The engine bench's torus (`benches/engine.rs`), without extra work.
+struct Torus(u64);
+
+impl Lts for Torus {
+    type State = u64;
+
+    fn initial(&self) -> u64 {
+        0
+    }
+
+    fn successors(&self, s: &u64, out: &mut Vec<(Label, u64)>) {
+        const A: Event = FIRST_VISIBLE;
+        let w = self.0;
+        let (x, y) = (s / w, s % w);
+        out.push((Label::plain(A), ((x + 1) % w) * w + y));
+        out.push((Label::plain(A + 1), x * w + (y + 1) % w));
+        out.push((Label::plain(A + 2), ((x * 7 + 3) % w) * w + (y * 5 + 1) % w));
+        out.push((Label::TAU, y * w + x));
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let num = |i: usize| -> usize {
+        args.get(i).and_then(|a| a.parse().ok()).expect("usage: torus W REPS | design N K REPS")
+    };
+    let budget = Budget::default().with_threads(1);
+    match args.first().map(String::as_str) {
+        Some("torus") => {
+            let l = Torus(num(1) as u64);
+            for _ in 0..num(2) {
+                let (r, s) = find_deadlock(&l, &budget, None);
+                assert_eq!(r, DeadlockResult::Free);
+                println!("{} states, {} transitions, {} bytes", s.states, s.transitions, s.bytes);
+            }
+        }
+        Some("design") => {
+            let text = generate::design(num(1), num(2));
+            let db = robosim_hir::RootDatabase::default();
+            let ws = robosim_hir::load_workspace(&db, [("m.rct".to_string(), text)], robosim_hir::RuleSet::Paper);
+            let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
+            let loc = robosim_hir::index::resolve_item(&db, ws, file, &["Mod".to_string()], |_| true)[0];
+            let d = lower_design(&db, ws, loc, &[], &DomainDefaults::default()).expect("supported");
+            let lts = Constrained::new(&d, 1, Profile::RoboTool3).expect("encodable");
+            for _ in 0..num(3) {
+                let (r, s) = find_deadlock(&lts, &budget, None);
+                let verdict = if matches!(r, DeadlockResult::Free) { "free" } else { "deadlock" };
+                println!("{verdict}: {} states, {} transitions, {} bytes", s.states, s.transitions, s.bytes);
+            }
+        }
+        _ => panic!("usage: torus W REPS | design N K REPS"),
+    }
+}
