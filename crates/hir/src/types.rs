@@ -10,8 +10,7 @@ use rustc_hash::FxHashMap;
 use std::fmt;
 
 use robosim_syntax::ast::{binary_operator, operand_exprs};
-use robosim_syntax::{ast, FileKind, RoboLang, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
-use rowan::Language as _;
+use robosim_syntax::{ast, FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::body::body_resolution;
 use crate::defs::{file_defs, lower_type, DefData, DefKind, FileDefs, TypeRef};
@@ -306,37 +305,6 @@ struct Typer<'a> {
 
 fn op_text(k: SyntaxKind) -> &'static str {
     k.text().unwrap_or("?")
-}
-
-/// The operator of the binary expression `n`, as [`binary_operator`] finds
-/// it, read from the green tree: no cursor per token (typing asks for the
-/// operator of every binary expression). The list is `binary_operator`'s;
-/// an operator missing from it falls back to that function.
-fn operator(n: &SyntaxNode) -> Option<SyntaxKind> {
-    let found =
-        n.green().children().filter_map(|c| c.into_token()).map(|t| RoboLang::kind_from_raw(t.kind())).find(|k| {
-            matches!(
-                k,
-                EQ2 | NEQ
-                    | LT
-                    | LTEQ
-                    | GT
-                    | GTEQ
-                    | IN_KW
-                    | AND
-                    | OR
-                    | IMPLIES
-                    | IFF_KW
-                    | PLUS
-                    | MINUS
-                    | STAR
-                    | SLASH
-                    | PERCENT
-                    | CAT_KW
-                    | CARET
-            )
-        });
-    found.or_else(|| binary_operator(n))
 }
 
 /// The kinds of node [`Typer::walk`] checks.
@@ -997,7 +965,7 @@ impl Typer<'_> {
         let mut e = operands(n);
         let (Some(a), Some(b)) = (e.next(), e.next()) else { return Ty::Error };
         let (a, b) = (&a, &b);
-        let Some(op) = operator(n) else { return Ty::Error };
+        let Some(op) = binary_operator(n) else { return Ty::Error };
         let (x, y) = (self.expr(a), self.expr(b));
         let bad = |t: &Ty| !t.is_unknown();
         match op {
@@ -1477,23 +1445,4 @@ impl Typer<'_> {
 /// `1 argument`, `2 arguments`, … for arity messages.
 fn arguments(n: usize) -> String {
     format!("{n} argument{}", if n == 1 { "" } else { "s" })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn operator_agrees_with_binary_operator() {
-        let ops =
-            ["==", "!=", "<", "<=", ">", ">=", "in", "/\\", "\\/", "=>", "iff", "+", "-", "*", "/", "%", "cat", "^"];
-        let text: String = ops.iter().map(|op| format!("stm M{} {{ var x : nat = a {op} b }}\n", op.len())).collect();
-        let root = robosim_syntax::parse(&text, FileKind::RoboChart).syntax_node();
-        let bins: Vec<SyntaxNode> = root.descendants().filter(|n| n.kind() == BIN_EXPR).collect();
-        assert_eq!(bins.len(), ops.len());
-        for n in bins {
-            assert!(binary_operator(&n).is_some(), "{n}");
-            assert_eq!(operator(&n), binary_operator(&n), "{n}");
-        }
-    }
 }

@@ -2,7 +2,8 @@
 //! kind; accessors return `None` when the (possibly broken) source lacks
 //! the part.
 
-use crate::{SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken};
+use crate::{RoboLang, SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken};
+use rowan::Language;
 
 /// A typed view of a node of one kind.
 pub trait AstNode: Sized {
@@ -613,9 +614,11 @@ pub fn is_type_kind(kind: SyntaxKind) -> bool {
 }
 
 /// The operator token of a `BIN_EXPR` (`==`, `<`, `/\\`, `+`, `cat`, `^`, …),
-/// or `None` when recovery left it out.
+/// or `None` when recovery left it out. Read from the green tree: typing
+/// asks for the operator of every binary expression, and a cursor per token
+/// would cost more than the rest.
 pub fn binary_operator(node: &SyntaxNode) -> Option<SyntaxKind> {
-    node.children_with_tokens().filter_map(|e| e.into_token()).map(|t| t.kind()).find(|k| {
+    node.green().children().filter_map(|c| c.into_token()).map(|t| RoboLang::kind_from_raw(t.kind())).find(|k| {
         matches!(
             k,
             EQ2 | NEQ
@@ -721,4 +724,23 @@ pub fn is_stmt_kind(kind: SyntaxKind) -> bool {
             | OUTPUT_COMM_STMT
             | SIM_CALL_STMT
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{parse, FileKind, SyntaxKind::BIN_EXPR};
+
+    #[test]
+    fn binary_operator_finds_every_operator() {
+        let ops =
+            ["==", "!=", "<", "<=", ">", ">=", "in", "/\\", "\\/", "=>", "iff", "+", "-", "*", "/", "%", "cat", "^"];
+        let text: String = ops.iter().map(|op| format!("stm M{} {{ var x : nat = a {op} b }}\n", op.len())).collect();
+        let root = parse(&text, FileKind::RoboChart).syntax_node();
+        let found: Vec<_> = root
+            .descendants()
+            .filter(|n| n.kind() == BIN_EXPR)
+            .map(|n| super::binary_operator(&n).and_then(|k| k.text()))
+            .collect();
+        assert_eq!(found, ops.iter().map(|op| Some(*op)).collect::<Vec<_>>());
+    }
 }
