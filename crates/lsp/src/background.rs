@@ -23,12 +23,13 @@ pub(crate) fn spawn(shared: &Arc<Shared>, name: &str, f: impl FnOnce() + Send + 
     // an Option the failure path can take back.
     let slot = Arc::new(std::sync::Mutex::new(Some(f)));
     let for_thread = slot.clone();
+    let nice = shared.background_nice;
     let spawned = std::thread::Builder::new()
         .name(name.to_string())
         // As the runtime's threads: analyses recurse over syntax trees.
         .stack_size(16 << 20)
         .spawn(move || {
-            lower_priority();
+            lower_priority(nice);
             let f = for_thread.lock().unwrap_or_else(|e| e.into_inner()).take();
             if let Some(f) = f {
                 f();
@@ -41,38 +42,69 @@ pub(crate) fn spawn(shared: &Arc<Shared>, name: &str, f: impl FnOnce() + Send + 
     }
 }
 
-/// Lowers the calling thread's priority (Linux keeps a nice value per
-/// thread, and threads it starts inherit it); best effort, and nothing
-/// elsewhere.
-pub(crate) fn lower_priority() {
+/// The nice value one step below the calling thread's (`None` where
+/// priorities are not handled).
+pub(crate) fn level_below_caller() -> Option<i32> {
     #[cfg(target_os = "linux")]
+    {
+        current_nice().map(|n| (n + NICE_INCREMENT).min(19))
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        None
+    }
+}
+
+#[cfg(target_os = "linux")]
+fn current_nice() -> Option<i32> {
     // SAFETY: plain system calls on the calling thread (`who` 0); errno is
     // thread-local and reset first, as getpriority's -1 can be a real value.
     unsafe {
         *libc::__errno_location() = 0;
-        let current = libc::getpriority(libc::PRIO_PROCESS, 0);
-        if *libc::__errno_location() == 0 {
-            libc::setpriority(libc::PRIO_PROCESS, 0, (current + NICE_INCREMENT).min(19));
+        let n = libc::getpriority(libc::PRIO_PROCESS, 0);
+        (*libc::__errno_location() == 0).then_some(n)
+    }
+}
+
+/// Moves the calling thread down to `nice` (Linux keeps a nice value per
+/// thread, and threads it starts inherit it), never up; best effort.
+pub(crate) fn lower_priority(nice: Option<i32>) {
+    #[cfg(target_os = "linux")]
+    if let (Some(target), Some(current)) = (nice, current_nice()) {
+        if target > current {
+            // SAFETY: a plain system call on the calling thread.
+            unsafe {
+                libc::setpriority(libc::PRIO_PROCESS, 0, target);
+            }
         }
     }
+    #[cfg(not(target_os = "linux"))]
+    let _ = nice;
 }
 
 #[cfg(all(test, target_os = "linux"))]
 mod tests {
-    fn nice() -> i32 {
-        // SAFETY: as in `lower_priority`.
-        unsafe { libc::getpriority(libc::PRIO_PROCESS, 0) }
-    }
+    use std::sync::mpsc::channel;
+
+    use super::current_nice;
 
     #[test]
-    fn background_threads_run_at_a_lower_priority_and_leave_the_caller_alone() {
-        let before = nice();
+    fn background_threads_run_one_level_lower_however_deep() {
+        let before = current_nice().unwrap();
         let runtime = tokio::runtime::Runtime::new().unwrap();
         let shared = crate::state::Shared::new(runtime.handle().clone());
-        let (tx, rx) = std::sync::mpsc::channel();
-        super::spawn(&shared, "test-background", move || tx.send(nice()).unwrap());
-        let theirs = rx.recv().unwrap();
-        assert_eq!(theirs, (before + super::NICE_INCREMENT).min(19));
-        assert_eq!(nice(), before, "the calling thread kept its priority");
+        let (tx, rx) = channel();
+        let inner = shared.clone();
+        // A background thread that starts another, as a check starts its
+        // helper: both at the same level.
+        super::spawn(&shared, "test-background", move || {
+            tx.send(current_nice()).unwrap();
+            let tx2 = tx.clone();
+            super::spawn(&inner, "test-nested", move || tx2.send(current_nice()).unwrap());
+        });
+        let expected = Some((before + super::NICE_INCREMENT).min(19));
+        assert_eq!(rx.recv().unwrap(), expected);
+        assert_eq!(rx.recv().unwrap(), expected, "a nested background thread sank further");
+        assert_eq!(current_nice(), Some(before), "the calling thread kept its priority");
     }
 }

@@ -26,6 +26,10 @@ pub(crate) struct Shared {
     pub(crate) shutdown_requested: AtomicBool,
     /// The runtime, for work started from blocking threads.
     pub(crate) runtime: tokio::runtime::Handle,
+    /// The priority (nice value) of background threads: one level below
+    /// the server's, fixed at start so that background threads started by
+    /// background threads do not sink further.
+    pub(crate) background_nice: Option<i32>,
 }
 
 /// Where the server is in the protocol's life cycle.
@@ -49,6 +53,7 @@ impl Shared {
             phase: AtomicU8::new(Phase::Uninitialized as u8),
             shutdown_requested: AtomicBool::new(false),
             runtime,
+            background_nice: crate::background::level_below_caller(),
         })
     }
 

@@ -349,7 +349,7 @@ fn start(shared: &Arc<Shared>, target: VerifyTarget, client_token: Option<Number
         .spawn(move || {
             // Background work, as checks are; the search's own threads
             // inherit the priority.
-            crate::background::lower_priority();
+            crate::background::lower_priority(worker.background_nice);
             run_job(&worker, analysis, target, job, opts, tx)
         });
     if let Err(e) = spawned {
