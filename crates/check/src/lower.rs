@@ -1584,7 +1584,7 @@ impl MachineCx<'_, '_> {
                     .find(|c| ast::is_expr_kind(c.kind()))
                     .ok_or_else(|| self.err(s.text_range(), "`wait` without a duration"))?;
                 if e.kind() == INTERVAL_EXPR {
-                    let bounds: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                    let bounds = ast::operand_exprs(&e);
                     let [lo, hi] = bounds.as_slice() else {
                         return Err(self.err(e.text_range(), "an interval needs two bounds"));
                     };
@@ -1942,14 +1942,14 @@ impl MachineCx<'_, '_> {
                 }
             }
             IF_EXPR => {
-                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let parts = ast::operand_exprs(e);
                 let [c, a, b] = parts.as_slice() else {
                     return Err(self.err(e.text_range(), "an incomplete conditional"));
                 };
                 Expr::If(Box::new(self.expr(c)?), Box::new(self.expr(a)?), Box::new(self.expr(b)?))
             }
             INDEX_EXPR => {
-                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let parts = ast::operand_exprs(e);
                 let [base, _] = parts.as_slice() else {
                     return Err(self.err(e.text_range(), "an incomplete index"));
                 };
@@ -2014,7 +2014,7 @@ impl MachineCx<'_, '_> {
         if want.is_num() {
             return self.expr(e);
         }
-        let exprs: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+        let exprs = ast::operand_exprs(e);
         let r = match (e.kind(), want) {
             (PAREN_EXPR, _) if exprs.len() == 1 => self.typed(&exprs[0], want)?,
             (IF_EXPR, _) if exprs.len() == 3 => Expr::If(

@@ -878,7 +878,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             }
             IF_EXPR => {
-                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let parts = ast::operand_exprs(e);
                 let [c, a, b] = parts.as_slice() else {
                     self.problem(r, "an incomplete conditional");
                     return None;
@@ -890,7 +890,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 Some(EOut { e: Expr::If(Box::new(c.e), Box::new(a.e), Box::new(b.e)), ty: a.ty, pure })
             }
             SET_EXPR | SEQ_EXPR => {
-                let items: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let items = ast::operand_exprs(e);
                 let elem_want = match want {
                     Some(Ty::Set(t)) | Some(Ty::Seq(t)) => Some((**t).clone()),
                     _ => None,
@@ -915,7 +915,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             }
             SET_RANGE_EXPR => {
-                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let parts = ast::operand_exprs(e);
                 let [lo, hi] = parts.as_slice() else {
                     self.problem(r, "a range needs two bounds");
                     return None;
@@ -927,7 +927,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             CALL_EXPR => self.call_expr(e, cx),
             TUPLE_EXPR => {
-                let items: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let items = ast::operand_exprs(e);
                 let wants: Vec<Option<Ty>> = match want {
                     Some(Ty::Product(ts)) if ts.len() == items.len() => ts.iter().cloned().map(Some).collect(),
                     _ => vec![None; items.len()],
@@ -1002,7 +1002,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             }
             INDEX_EXPR => {
-                let parts: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                let parts = ast::operand_exprs(e);
                 let [inner, index] = parts.as_slice() else {
                     self.problem(r, "only one index is supported by the export");
                     return None;
@@ -1389,7 +1389,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             WAIT_STMT => {
                 let e = expr_child(s)?;
                 if e.kind() == INTERVAL_EXPR {
-                    let bounds: Vec<SyntaxNode> = e.children().filter(|c| ast::is_expr_kind(c.kind())).collect();
+                    let bounds = ast::operand_exprs(&e);
                     let [lo, hi] = bounds.as_slice() else {
                         self.problem(e.text_range(), "an interval needs two bounds");
                         return None;
