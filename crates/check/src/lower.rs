@@ -757,6 +757,15 @@ struct MachineCx<'a, 'b> {
 }
 
 impl MachineCx<'_, '_> {
+    /// The variable or constant named `n` (at `e`) as an expression.
+    fn value_of(&self, e: &SyntaxNode, n: &str) -> Result<Expr, Unsupported> {
+        match self.names.get(n) {
+            Some(Name::Var { slot, .. }) => Ok(Expr::Slot(*slot)),
+            Some(Name::Const(v)) => Ok(Expr::Const(*v)),
+            _ => Err(self.err(e.text_range(), format!("`{n}` is not a variable or constant"))),
+        }
+    }
+
     fn err(&self, range: TextRange, msg: impl Into<String>) -> Unsupported {
         self.cx.unsupported(self.file, range, msg)
     }
@@ -1807,11 +1816,7 @@ impl MachineCx<'_, '_> {
                 if self.types.contains_key(&n) {
                     return Err(self.err(e.text_range(), format!("`{n}` is a tuple or a set, used here as a number")));
                 }
-                match self.names.get(&n) {
-                    Some(Name::Var { slot, .. }) => Expr::Slot(*slot),
-                    Some(Name::Const(v)) => Expr::Const(*v),
-                    _ => return Err(self.err(e.text_range(), format!("`{n}` is not a variable or constant"))),
-                }
+                self.value_of(e, &n)?
             }
             ENUM_LITERAL_EXPR => {
                 let parts: Vec<String> =
@@ -2060,11 +2065,7 @@ impl MachineCx<'_, '_> {
                 if self.types.get(&n) != Some(want) {
                     return Err(self.err(e.text_range(), format!("`{n}` does not have the type expected here")));
                 }
-                match self.names.get(&n) {
-                    Some(Name::Var { slot, .. }) => Expr::Slot(*slot),
-                    Some(Name::Const(v)) => Expr::Const(*v),
-                    _ => return Err(self.err(e.text_range(), format!("`{n}` is not a variable or constant"))),
-                }
+                self.value_of(e, &n)?
             }
             _ => {
                 let what = if matches!(want, Ty::Set(_)) { "a set" } else { "a tuple" };
