@@ -54,21 +54,16 @@ pub fn try_reparse(old: &Parse, old_text: &str, new_text: &str) -> Option<Parse>
     }
     let (green, member_errors) = parse_member(member_text, kind)?;
 
-    let shift = |r: TextRange, by: TextSize, forward: bool| {
-        if forward {
-            TextRange::new(r.start() + by, r.end() + by)
-        } else {
-            TextRange::new(r.start() - by, r.end() - by)
-        }
-    };
+    // Inside the member, ranges were relative to its start; after it, they
+    // move with its end.
+    let new_member_end = TextSize::from(new_end as u32);
     let mut errors = before;
     errors.extend(member_errors.into_iter().map(|mut e| {
-        e.range = shift(e.range, old_range.start(), true);
+        e.range += old_range.start();
         e
     }));
-    let (by, forward) = (TextSize::from(delta.unsigned_abs() as u32), delta >= 0);
     errors.extend(after.into_iter().map(|mut e| {
-        e.range = shift(e.range, by, forward);
+        e.range = e.range - old_range.end() + new_member_end;
         e
     }));
     Some(Parse { green: member.replace_with(green), errors: errors.into(), file: kind })
