@@ -358,6 +358,20 @@ pub enum Instr {
     Deadline(Expr),
     /// The end of a statement with a deadline.
     EndDeadline,
+    /// The end of a state's entry work: its deadline timer starts, at the
+    /// least of the deadlines `<{d}` of its transitions.
+    StartTimer {
+        /// The timer's slot.
+        slot: u16,
+        /// The deadlines of the state's transitions.
+        limits: Vec<Expr>,
+    },
+    /// The end of a composite state's entry action: its during action
+    /// starts as an activity running alongside the substates.
+    StartActivity(u16),
+    /// The end of an activity's code: it lets time pass until its state
+    /// is left (`TStop`).
+    ActivityEnd,
 }
 
 /// What a node is.
@@ -406,10 +420,33 @@ pub struct Node {
     /// The code of its during action (`start..end`): transitions may
     /// interrupt it.
     pub during: Option<(u32, u32)>,
+    /// The slot of its deadline timer, when transitions from it have
+    /// deadlines `<{d}`: the time left to take one (-1: not active).
+    pub timer: Option<u16>,
+    /// The activity running a composite state's during action (index
+    /// into [`Machine::activities`]).
+    pub activity: Option<u16>,
     /// Outgoing transitions.
     pub out: Vec<u16>,
     /// The declaration's name range.
     pub range: TextRange,
+}
+
+/// A composite state's during action, which runs alongside its substates
+/// from the end of its entry action until a transition leaves the state:
+/// a thread of the machine with its own control slots.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Activity {
+    /// The state.
+    pub state: u16,
+    /// The start of its code (ending in [`Instr::ActivityEnd`]).
+    pub start_pc: u32,
+    /// Where the activity is (-1: not running).
+    pub pc_slot: u16,
+    /// Its wait counter.
+    pub wait_slot: u16,
+    /// Its statement deadline budget (-1: none).
+    pub deadline_slot: u16,
 }
 
 /// A transition's trigger.
@@ -479,6 +516,10 @@ pub struct Machine {
     pub exec_transition_pc: u32,
     /// Operations defined in the model that the machine calls.
     pub ops: Vec<Operation>,
+    /// The during actions of composite states.
+    pub activities: Vec<Activity>,
+    /// The slots of the states' deadline timers.
+    pub timers: Vec<u16>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,
@@ -558,13 +599,15 @@ impl Design {
         };
         for m in &self.machines {
             // The largest static wait and deadline, or unbounded.
-            let (mut wait, mut deadline) = (0i64, 0i64);
+            let (mut wait, mut deadline, mut timer) = (0i64, 0i64, 0i64);
             for i in &m.code {
                 let bound = |e: &Expr| e.constant().map_or(i32::MAX as i64, |v| v.clamp(0, i32::MAX as i64));
                 match i {
                     Instr::SetWait(e) => wait = wait.max(bound(e)),
                     Instr::ChooseWait(_, hi) => wait = wait.max(bound(hi)),
                     Instr::Deadline(e) => deadline = deadline.max(bound(e)),
+                    // The timer starts at the least of its deadlines.
+                    Instr::StartTimer { limits, .. } => timer = timer.max(limits.iter().map(bound).min().unwrap_or(0)),
                     _ => {}
                 }
             }
@@ -580,6 +623,14 @@ impl Design {
                 }
                 set(op.ret_slot, -1, code);
                 set(op.leaf_slot, -1, nodes);
+            }
+            for a in &m.activities {
+                set(a.pc_slot, -1, code);
+                set(a.wait_slot, 0, wait);
+                set(a.deadline_slot, -1, deadline);
+            }
+            for &t in &m.timers {
+                set(t, -1, timer);
             }
         }
         for v in &self.vars {

@@ -621,6 +621,9 @@ impl Cx<'_> {
             cur_op: None,
             types: HashMap::new(),
             sends: HashMap::new(),
+            activities: Vec::new(),
+            timers: Vec::new(),
+            deadlines: Vec::new(),
         };
         mc.declarations(&inst.node, &external)?;
         mc.collect_nodes(&inst.node, None)?;
@@ -632,6 +635,17 @@ impl Cx<'_> {
         let exec_transition_pc = mc.code.len() as u32;
         mc.emit(Instr::ExecTransition);
         let caps = std::mem::take(&mut mc.clock_caps);
+        if !mc.activities.is_empty() {
+            // An activity runs alongside the rest of the machine: every
+            // variable write is a step of its own, so that each thread can
+            // observe the other's writes in any order (as for variables
+            // shared between machines).
+            for i in &mut mc.code {
+                if let Instr::Assign { shared, .. } = i {
+                    *shared = true;
+                }
+            }
+        }
         let m = Machine {
             name: mc.inst_prefix.clone(),
             nodes: mc.nodes,
@@ -642,6 +656,8 @@ impl Cx<'_> {
             first_cycle_pc,
             exec_transition_pc,
             ops: std::mem::take(&mut mc.ops),
+            activities: std::mem::take(&mut mc.activities),
+            timers: std::mem::take(&mut mc.timers),
             base,
             file: file_ix,
         };
@@ -754,6 +770,12 @@ struct MachineCx<'a, 'b> {
     /// A lone machine's events that it both receives and sends: the
     /// channel of their outputs.
     sends: HashMap<String, u16>,
+    /// The during actions of composite states, and the deadline timers of
+    /// states, so far.
+    activities: Vec<Activity>,
+    timers: Vec<u16>,
+    /// The deadlines `<{d}` of the transitions compiled so far, by source.
+    deadlines: Vec<(u16, Expr)>,
 }
 
 impl MachineCx<'_, '_> {
@@ -1162,6 +1184,8 @@ impl MachineCx<'_, '_> {
                 exit_pc: 0,
                 since_entry: None,
                 during: None,
+                timer: None,
+                activity: None,
                 out: Vec::new(),
                 range,
             });
@@ -1224,15 +1248,26 @@ impl MachineCx<'_, '_> {
                     }
                     self.at = self.nodes[id].range;
                     let has_children = self.nodes.iter().any(|n| n.parent == Some(node_id));
-                    // The during action runs after the entry action; any
-                    // transition of the state may interrupt it.
-                    if let Some(a) = syn.children().find(|a| a.kind() == DURING_ACTION) {
-                        if has_children {
-                            return Err(self.err(
-                                a.text_range(),
-                                "during actions of composite states are not supported by the native checker yet",
-                            ));
-                        }
+                    // The state's activity starts when its entry action ends
+                    // (the exporter's `activate__`): the deadline timer of
+                    // its transitions, and a composite state's during action.
+                    let limits: Vec<Expr> =
+                        self.deadlines.iter().filter(|(s, _)| *s == node_id).map(|(_, e)| e.clone()).collect();
+                    if !limits.is_empty() {
+                        let slot = *self.slot;
+                        *self.slot += 1;
+                        self.nodes[id].timer = Some(slot);
+                        self.timers.push(slot);
+                        self.emit(Instr::StartTimer { slot, limits });
+                    }
+                    let during = syn.children().find(|a| a.kind() == DURING_ACTION);
+                    if let (Some(a), true) = (&during, has_children) {
+                        self.activity(node_id, a)?;
+                        self.at = self.nodes[id].range;
+                    }
+                    // A simple state's during action runs after the entry
+                    // action; any transition of the state may interrupt it.
+                    if let (Some(a), false) = (during, has_children) {
                         let start = self.code.len() as u32;
                         self.action_stmt(&a)?;
                         self.nodes[id].during = Some((start, self.code.len() as u32));
@@ -1279,6 +1314,46 @@ impl MachineCx<'_, '_> {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// A composite state's during action: an activity of the machine,
+    /// started by the state's entry code, its code out of line.
+    fn activity(&mut self, state: u16, during: &SyntaxNode) -> Result<(), Unsupported> {
+        if self.cx.robosim {
+            return Err(self.err(
+                during.text_range(),
+                "during actions of composite RoboSim states are not supported: how they share the cycle \
+                 with the substates (`exec`) is not pinned down",
+            ));
+        }
+        let k = self.activities.len() as u16;
+        let slots = *self.slot;
+        *self.slot += 3;
+        self.emit(Instr::StartActivity(k));
+        let jump = self.code.len();
+        self.emit(Instr::Jump(u32::MAX));
+        let start_pc = self.code.len() as u32;
+        self.action_stmt(during)?;
+        self.at = during.text_range();
+        self.emit(Instr::ActivityEnd);
+        let end = self.code.len();
+        self.code[jump] = Instr::Jump(end as u32);
+        if let Some(i) = (start_pc as usize..end).find(|&i| matches!(self.code[i], Instr::CallOp { .. })) {
+            return Err(self.err(
+                self.code_ranges[i],
+                "calls of operations defined in the model from the during action of a composite state \
+                 are not supported by the native checker yet",
+            ));
+        }
+        self.activities.push(Activity {
+            state,
+            start_pc,
+            pc_slot: slots,
+            wait_slot: slots + 1,
+            deadline_slot: slots + 2,
+        });
+        self.nodes[state as usize].activity = Some(k);
         Ok(())
     }
 
@@ -1346,7 +1421,20 @@ impl MachineCx<'_, '_> {
                     }
                 }
                 DEADLINE => {
-                    return Err(self.err(c.text_range(), "deadlines on transitions are not supported yet"));
+                    // The state's timer starts when its entry action ends.
+                    if self.nodes[source as usize].kind != NodeKind::State {
+                        return Err(self.err(
+                            c.text_range(),
+                            "deadlines on transitions from junctions are not supported \
+                             (a junction is left at once or waits for a guard)",
+                        ));
+                    }
+                    let limit = c
+                        .children()
+                        .find(|e| ast::is_expr_kind(e.kind()))
+                        .ok_or_else(|| self.err(c.text_range(), "an incomplete deadline"))?;
+                    let limit = self.expr(&limit)?;
+                    self.deadlines.push((source, limit));
                 }
                 EXEC_TRIGGER => exec = true,
                 PROBABILITY => {

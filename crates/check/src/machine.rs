@@ -54,6 +54,13 @@ pub enum Act {
     Choose(Val),
     /// Run the pending shared-variable write.
     Exec,
+    /// Complete the communication an activity (a composite state's
+    /// during action, by index) is at.
+    ActivityComm(u16),
+    /// Resolve an activity's `wait([a,b])` to this many time units.
+    ActivityChoose(u16, Val),
+    /// Run an activity's pending variable write.
+    ActivityExec(u16),
 }
 
 /// A step a machine can take.
@@ -69,9 +76,38 @@ pub struct Move {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct StepError(pub String);
 
+/// The control slots of one thread of a machine: its main thread, or an
+/// activity (a composite state's during action running alongside).
+#[derive(Debug, Clone, Copy)]
+struct Thread {
+    pc: usize,
+    wait: usize,
+    deadline: usize,
+}
+
 impl Machine {
     fn slot(&self, off: usize) -> usize {
         self.base as usize + off
+    }
+
+    fn main_thread(&self) -> Thread {
+        Thread { pc: self.slot(PC), wait: self.slot(WAIT), deadline: self.slot(DEADLINE) }
+    }
+
+    fn activity_thread(&self, k: u16) -> Thread {
+        let a = &self.activities[k as usize];
+        Thread { pc: a.pc_slot as usize, wait: a.wait_slot as usize, deadline: a.deadline_slot as usize }
+    }
+
+    /// The values of the machine's control slots (its own, its activities'
+    /// and its timers'): what changes when the machine moves.
+    pub fn control(&self, st: &[i32]) -> Vec<i32> {
+        let mut v = st[self.base as usize..(self.base + Machine::SLOTS) as usize].to_vec();
+        for a in &self.activities {
+            v.extend([st[a.pc_slot as usize], st[a.wait_slot as usize], st[a.deadline_slot as usize]]);
+        }
+        v.extend(self.timers.iter().map(|&t| st[t as usize]));
+        v
     }
 
     /// The active leaf state, if any.
@@ -96,6 +132,43 @@ impl Machine {
         st[self.slot(WAIT)] = 0;
         st[self.slot(TRANS)] = -1;
         st[self.slot(DEADLINE)] = -1;
+        for k in 0..self.activities.len() {
+            self.stop_activity(st, k as u16);
+        }
+        for &t in &self.timers {
+            st[t as usize] = -1;
+        }
+    }
+
+    /// An activity stops (its state is left), back to its canonical values.
+    fn stop_activity(&self, st: &mut [i32], k: u16) {
+        let a = &self.activities[k as usize];
+        st[a.pc_slot as usize] = -1;
+        st[a.wait_slot as usize] = 0;
+        st[a.deadline_slot as usize] = -1;
+    }
+
+    /// The activities and timers of the states a transition from `source`
+    /// leaves stop at once, innermost first (the trigger interrupts them),
+    /// before any exit action runs.
+    fn deactivate(&self, st: &mut [i32], source: u16) {
+        if self.activities.is_empty() && self.timers.is_empty() {
+            return;
+        }
+        let mut node = self.leaf(st);
+        while let Some(n) = node {
+            let nd = &self.nodes[n as usize];
+            if let Some(t) = nd.timer {
+                st[t as usize] = -1;
+            }
+            if let Some(k) = nd.activity {
+                self.stop_activity(st, k);
+            }
+            if n == source {
+                break;
+            }
+            node = nd.parent;
+        }
     }
 
     /// Runs internal instructions from the current pc until the machine
@@ -106,15 +179,22 @@ impl Machine {
 
     /// [`Machine::settle`], setting `sat` when sticky arithmetic kept an
     /// operand because the result fell outside its type.
-    fn settle_noting(
+    fn settle_noting(&self, st: &mut [i32], clocks: &[Clock], first: bool, sat: &mut bool) -> Result<(), StepError> {
+        self.run(self.main_thread(), st, clocks, first, sat)
+    }
+
+    /// Runs thread `th`'s internal instructions until it offers something
+    /// (see [`Machine::settle`]).
+    fn run(
         &self,
+        th: Thread,
         st: &mut [i32],
         clocks: &[Clock],
         mut first: bool,
         sat: &mut bool,
     ) -> Result<(), StepError> {
         for _ in 0..MAX_INTERNAL {
-            let pc = st[self.slot(PC)] as usize;
+            let pc = st[th.pc] as usize;
             let Some(instr) = self.code.get(pc) else {
                 return Err(StepError(format!("machine `{}` ran off its code", self.name)));
             };
@@ -127,16 +207,16 @@ impl Machine {
                     if dom.contains(v) {
                         st[*slot as usize] = v as i32;
                     }
-                    st[self.slot(PC)] += 1;
+                    st[th.pc] += 1;
                 }
                 Instr::ResetClock(c) => {
                     st[*c as usize] = 0;
-                    st[self.slot(PC)] += 1;
+                    st[th.pc] += 1;
                 }
                 Instr::SetWait(e) => {
                     let v = e.eval(st, sat).map_err(|e| self.eval_error(e))?;
-                    st[self.slot(WAIT)] = v.clamp(0, i32::MAX as Val) as i32;
-                    st[self.slot(PC)] += 1;
+                    st[th.wait] = v.clamp(0, i32::MAX as Val) as i32;
+                    st[th.pc] += 1;
                 }
                 Instr::ChooseWait(lo, hi) => {
                     let a = lo.eval(st, sat).map_err(|e| self.eval_error(e))?;
@@ -145,20 +225,20 @@ impl Machine {
                         return Ok(());
                     }
                     // A single value (or an empty interval: no wait) is no choice.
-                    st[self.slot(WAIT)] = if a == b { a.max(0) as i32 } else { 0 };
-                    st[self.slot(PC)] += 1;
+                    st[th.wait] = if a == b { a.max(0) as i32 } else { 0 };
+                    st[th.pc] += 1;
                 }
                 Instr::Wait => {
-                    if st[self.slot(WAIT)] > 0 {
+                    if st[th.wait] > 0 {
                         return Ok(());
                     }
-                    st[self.slot(PC)] += 1;
+                    st[th.pc] += 1;
                 }
                 Instr::JumpIfNot(c, target) => {
                     let v = c.eval(st, sat).map_err(|e| self.eval_error(e))?;
-                    st[self.slot(PC)] = if v == 0 { *target as i32 } else { pc as i32 + 1 };
+                    st[th.pc] = if v == 0 { *target as i32 } else { pc as i32 + 1 };
                 }
-                Instr::Jump(target) => st[self.slot(PC)] = *target as i32,
+                Instr::Jump(target) => st[th.pc] = *target as i32,
                 Instr::CallOp { op, args } => {
                     let body = &self.ops[*op as usize];
                     if st[body.ret_slot as usize] >= 0 {
@@ -178,27 +258,46 @@ impl Machine {
                     }
                     st[body.ret_slot as usize] = pc as i32 + 1;
                     st[body.leaf_slot as usize] = st[self.slot(LEAF)];
-                    st[self.slot(PC)] = body.start_pc as i32;
+                    st[th.pc] = body.start_pc as i32;
                 }
                 Instr::Deadline(e) => {
-                    if st[self.slot(DEADLINE)] >= 0 {
+                    if st[th.deadline] >= 0 {
                         return Err(StepError(format!(
                             "machine `{}`: nested statement deadlines are not supported",
                             self.name
                         )));
                     }
                     let v = e.eval(st, sat).map_err(|e| self.eval_error(e))?;
-                    st[self.slot(DEADLINE)] = v.clamp(0, i32::MAX as Val) as i32;
-                    st[self.slot(PC)] += 1;
+                    st[th.deadline] = v.clamp(0, i32::MAX as Val) as i32;
+                    st[th.pc] += 1;
                 }
                 Instr::EndDeadline => {
-                    st[self.slot(DEADLINE)] = -1;
-                    st[self.slot(PC)] += 1;
+                    st[th.deadline] = -1;
+                    st[th.pc] += 1;
+                }
+                Instr::StartTimer { slot, limits } => {
+                    let mut least = i32::MAX as Val;
+                    for e in limits {
+                        least = least.min(e.eval(st, sat).map_err(|e| self.eval_error(e))?);
+                    }
+                    st[*slot as usize] = least.clamp(0, i32::MAX as Val) as i32;
+                    st[th.pc] += 1;
+                }
+                Instr::StartActivity(k) => {
+                    let start = self.activities[*k as usize].start_pc;
+                    let act = self.activity_thread(*k);
+                    st[act.pc] = start as i32;
+                    st[act.wait] = 0;
+                    st[act.deadline] = -1;
+                    // Its first internal work runs now; its variable writes
+                    // are steps of their own.
+                    self.run(act, st, clocks, false, sat)?;
+                    st[th.pc] += 1;
                 }
                 Instr::Return(op) => {
                     let body = &self.ops[*op as usize];
                     st[self.slot(LEAF)] = st[body.leaf_slot as usize];
-                    st[self.slot(PC)] = st[body.ret_slot as usize];
+                    st[th.pc] = st[body.ret_slot as usize];
                     st[body.ret_slot as usize] = -1;
                     st[body.leaf_slot as usize] = 0;
                 }
@@ -215,13 +314,13 @@ impl Machine {
                             st[self.slot(LEAF)] = node.parent.map_or(-1, i32::from);
                         }
                     }
-                    st[self.slot(PC)] = node.entry_pc as i32;
+                    st[th.pc] = node.entry_pc as i32;
                 }
                 Instr::BeginExits => {
                     let Some(leaf) = self.leaf(st) else {
                         return Err(StepError(format!("machine `{}` exits with no active state", self.name)));
                     };
-                    st[self.slot(PC)] = self.nodes[leaf as usize].exit_pc as i32;
+                    st[th.pc] = self.nodes[leaf as usize].exit_pc as i32;
                 }
                 Instr::ExitDone(m) => {
                     let t = st[self.slot(TRANS)];
@@ -229,7 +328,7 @@ impl Machine {
                         return Err(StepError(format!("machine `{}` exits outside a transition", self.name)));
                     };
                     if tr.source == *m {
-                        st[self.slot(PC)] = tr.body_pc as i32;
+                        st[th.pc] = tr.body_pc as i32;
                     } else {
                         let Some(p) = self.nodes[*m as usize].parent else {
                             return Err(StepError(format!(
@@ -238,7 +337,7 @@ impl Machine {
                             )));
                         };
                         st[self.slot(LEAF)] = i32::from(p);
-                        st[self.slot(PC)] = self.nodes[p as usize].exit_pc as i32;
+                        st[th.pc] = self.nodes[p as usize].exit_pc as i32;
                     }
                 }
                 Instr::Out { .. }
@@ -247,7 +346,8 @@ impl Machine {
                 | Instr::Junction(_)
                 | Instr::Terminate
                 | Instr::Exec(_)
-                | Instr::ExecTransition => {
+                | Instr::ExecTransition
+                | Instr::ActivityEnd => {
                     return Ok(());
                 }
             }
@@ -312,6 +412,47 @@ impl Machine {
             Instr::Wait | Instr::Terminate | Instr::Exec(_) | Instr::ExecTransition => {}
             _ => return Err(StepError(format!("machine `{}` stopped at an internal instruction", self.name))),
         }
+        if !self.activities.is_empty() {
+            self.activity_moves(st, out)?;
+        }
+        Ok(())
+    }
+
+    /// The steps of the running activities.
+    fn activity_moves(&self, st: &[i32], out: &mut Vec<Move>) -> Result<(), StepError> {
+        let mut sat = false;
+        let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
+        for (k, a) in self.activities.iter().enumerate() {
+            let k = k as u16;
+            let pc = st[a.pc_slot as usize];
+            if pc < 0 {
+                continue;
+            }
+            match self.code.get(pc as usize) {
+                Some(Instr::Out { chan, args, .. }) => {
+                    let args = args.iter().map(&mut eval).collect::<Result<_, _>>()?;
+                    out.push(Move { offer: Offer::Out { chan: *chan, args }, act: Act::ActivityComm(k) });
+                }
+                Some(Instr::In { chan, value, .. }) => {
+                    let value = value.as_ref().map(&mut eval).transpose()?;
+                    out.push(Move { offer: Offer::In { chan: *chan, value }, act: Act::ActivityComm(k) });
+                }
+                Some(Instr::ChooseWait(lo, hi)) => {
+                    let (lo, hi) = (eval(lo)?, eval(hi)?);
+                    for n in lo..=hi {
+                        out.push(Move { offer: Offer::Tau, act: Act::ActivityChoose(k, n) });
+                    }
+                }
+                Some(Instr::Assign { .. }) => out.push(Move { offer: Offer::Tau, act: Act::ActivityExec(k) }),
+                Some(Instr::Wait | Instr::ActivityEnd) => {}
+                _ => {
+                    return Err(StepError(format!(
+                        "machine `{}`: the during action of `{}` stopped at an internal instruction",
+                        self.name, self.nodes[a.state as usize].name
+                    )))
+                }
+            }
+        }
         Ok(())
     }
 
@@ -353,20 +494,44 @@ impl Machine {
     /// Whether time may pass: everywhere except before an urgent call and
     /// when a deadline has run out.
     pub fn can_tock(&self, st: &[i32]) -> bool {
-        !matches!(self.code.get(self.pc(st) as usize), Some(Instr::Out { urgent: true, .. }))
+        let urgent = |pc: i32| matches!(self.code.get(pc as usize), Some(Instr::Out { urgent: true, .. }));
+        !urgent(st[self.slot(PC)])
             && st[self.slot(DEADLINE)] != 0
+            && self.timers.iter().all(|&t| st[t as usize] != 0)
+            && self.activities.iter().all(|a| {
+                let pc = st[a.pc_slot as usize];
+                pc < 0 || (!urgent(pc) && st[a.deadline_slot as usize] != 0)
+            })
     }
 
     /// One time unit passes for the machine (clocks are advanced by the caller).
     pub fn tock(&self, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
-        if st[self.slot(DEADLINE)] > 0 {
-            st[self.slot(DEADLINE)] -= 1;
+        for &t in &self.timers {
+            if st[t as usize] > 0 {
+                st[t as usize] -= 1;
+            }
         }
-        if matches!(self.code.get(self.pc(st) as usize), Some(Instr::Wait)) && st[self.slot(WAIT)] > 0 {
-            st[self.slot(WAIT)] -= 1;
-            if st[self.slot(WAIT)] == 0 {
-                st[self.slot(PC)] += 1;
-                self.settle(st, clocks, true)?;
+        // Activities first: the main thread's settling may stop or start them.
+        for k in 0..self.activities.len() {
+            let th = self.activity_thread(k as u16);
+            if st[th.pc] >= 0 {
+                self.tock_thread(th, st, clocks)?;
+            }
+        }
+        self.tock_thread(self.main_thread(), st, clocks)
+    }
+
+    /// One time unit passes for one thread: its deadline budget and wait
+    /// counter count down; a wait that ends lets the thread go on.
+    fn tock_thread(&self, th: Thread, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
+        if st[th.deadline] > 0 {
+            st[th.deadline] -= 1;
+        }
+        if matches!(self.code.get(st[th.pc] as usize), Some(Instr::Wait)) && st[th.wait] > 0 {
+            st[th.wait] -= 1;
+            if st[th.wait] == 0 {
+                st[th.pc] += 1;
+                self.run(th, st, clocks, true, &mut false)?;
             }
         }
         Ok(())
@@ -435,6 +600,7 @@ impl Machine {
                     }
                 }
                 st[self.slot(TRANS)] = i32::from(t);
+                self.deactivate(st, tr.source);
                 if tr.exec {
                     // The cycle ends; the rest of the transition runs in the next.
                     st[self.slot(PC)] = self.exec_transition_pc as i32;
@@ -464,6 +630,25 @@ impl Machine {
                 st[self.slot(PC)] += 1;
             }
             Act::Exec => {}
+            Act::ActivityComm(k) => {
+                let th = self.activity_thread(k);
+                if let (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) =
+                    (self.code.get(st[th.pc] as usize), value)
+                {
+                    if dom.contains(v) {
+                        st[*slot as usize] = v as i32;
+                    }
+                }
+                st[th.pc] += 1;
+                return self.run(th, st, clocks, true, sat);
+            }
+            Act::ActivityChoose(k, n) => {
+                let th = self.activity_thread(k);
+                st[th.wait] = n.max(0) as i32;
+                st[th.pc] += 1;
+                return self.run(th, st, clocks, true, sat);
+            }
+            Act::ActivityExec(k) => return self.run(self.activity_thread(k), st, clocks, true, sat),
         }
         self.settle_noting(st, clocks, true, sat)
     }

@@ -967,9 +967,10 @@ fn path_steps(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Vec
 /// Which machine moved between `prev` and `next`, and what it did.
 fn describe_move(design: &Design, prev: &[i32], next: &[i32], _label: &Label) -> (Option<String>, Option<Location>) {
     for m in &design.machines {
-        // The machine's control slots (leaf, pc, wait, transition, deadline):
-        // two transitions can lead to the same leaf and pc (exec ones do).
-        let ctl = |st: &[i32]| st[m.base as usize..(m.base + crate::ir::Machine::SLOTS) as usize].to_vec();
+        // The machine's control slots (leaf, pc, wait, transition, deadline,
+        // and its activities' and timers'): two transitions can lead to the
+        // same leaf and pc (exec ones do).
+        let ctl = |st: &[i32]| m.control(st);
         if ctl(prev) == ctl(next) {
             continue;
         }
@@ -1040,6 +1041,19 @@ fn describe_act(
         }
         Act::Choose(n) => (Some(format!("{}: the wait interval resolves to {n}", m.name)), here),
         Act::Exec => (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here),
+        Act::ActivityComm(k) | Act::ActivityChoose(k, _) | Act::ActivityExec(k) => {
+            let a = &m.activities[k as usize];
+            let pc = prev[a.pc_slot as usize] as usize;
+            let what = match (act, m.code.get(pc)) {
+                (Act::ActivityChoose(_, n), _) => format!("the wait interval resolves to {n}"),
+                (_, Some(Instr::Out { urgent: true, .. })) => "calls the platform operation".into(),
+                (_, Some(Instr::Out { .. })) => "outputs".into(),
+                (_, Some(Instr::In { .. })) => "receives".into(),
+                _ => "writes a variable".into(),
+            };
+            let here = m.code_ranges.get(pc).copied().map(|range| Location { file: file.clone(), range });
+            (Some(format!("{}: {what} in the during action of {}", m.name, at(Some(a.state)))), here)
+        }
     }
 }
 

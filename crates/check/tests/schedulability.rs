@@ -153,10 +153,34 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         1, Verdict::Pass, 115, "",
     ),
     (
-        "during actions of composite states are refused",
-        "stm M { requires I initial i0 state S { during op() initial j state T { } transition a { from j to T } }
-         transition t { from i0 to S } }",
-        1, Verdict::Unsupported, 0, "during actions of composite states are not supported",
+        // The during action and the substate's entry call in different cycles.
+        "during action of a composite state alongside its substate",
+        "stm M { requires I initial i0 state S { during op() initial j state T { entry wait(1); op2(1) }
+         transition a { from j to T } } transition t { from i0 to S } }",
+        1, Verdict::Pass, 111, "",
+    ),
+    (
+        // Both call op in the first cycle: the during action runs in
+        // parallel with the substates, not before them.
+        "during action of a composite state calling in the substate's cycle",
+        "stm M { requires I initial i0 state S { during op() initial j state T { entry op() }
+         transition a { from j to T } } transition t { from i0 to S } }",
+        1, Verdict::Fail, 47, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op",
+    ),
+    (
+        // The environment must offer i within a time unit of entering S:
+        // its timelock, not a scheduling failure (TLFree).
+        "transition deadline on an input",
+        "stm M { uses I requires I initial i0 state S { entry op() } state T { } transition t { from i0 to S }
+         transition u { from S to T trigger i <{1} } }",
+        1, Verdict::Pass, 127, "",
+    ),
+    (
+        // Taken at once, the self-loop calls op again in the same cycle.
+        "transition deadline on an input, re-entering its source",
+        "stm M { uses I requires I initial i0 state S { entry op() } transition t { from i0 to S }
+         transition u { from S to S trigger i <{1} } }",
+        1, Verdict::Fail, 43, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op (i.in)",
     ),
     (
         "probabilistic junctions are refused",
