@@ -153,6 +153,20 @@ pub fn lower_design(
     consts: &[ConstValue],
     defaults: &DomainDefaults,
 ) -> Result<Design, Unsupported> {
+    lower_element(db, ws, loc, None, consts, defaults)
+}
+
+/// Compiles the RoboChart module, controller or machine `loc`, or with
+/// `inner`, the machine of that name declared inside the controller `loc`
+/// (on its own, with the controller's operations).
+pub fn lower_element(
+    db: &dyn Db,
+    ws: Workspace,
+    loc: ItemLoc,
+    inner: Option<&str>,
+    consts: &[ConstValue],
+    defaults: &DomainDefaults,
+) -> Result<Design, Unsupported> {
     let robosim = loc.file.kind(db) == robosim_hir::FileKind::RoboSim;
     let mut cx = Cx {
         db,
@@ -167,7 +181,7 @@ pub fn lower_design(
         machine_count: 0,
         lone: false,
     };
-    cx.lower(loc)
+    cx.lower(loc, inner)
 }
 
 struct Cx<'a> {
@@ -268,11 +282,14 @@ impl Cx<'_> {
         }
     }
 
-    fn lower(&mut self, loc: ItemLoc) -> Result<Design, Unsupported> {
+    fn lower(&mut self, loc: ItemLoc, inner: Option<&str>) -> Result<Design, Unsupported> {
         let (file, node) = node_of(self.db, loc).ok_or_else(|| Unsupported {
             message: "the element to verify could not be found".into(),
             location: None,
         })?;
+        if let Some(m) = inner {
+            return self.inner_machine(file, &node, m);
+        }
         let top_name = name_of(&node);
         let mut instances = Vec::new();
         // Links between connection ends, and which ends belong to the platform
@@ -369,6 +386,21 @@ impl Cx<'_> {
             ));
         }
         self.build(&top_name, node.kind(), instances, &links, &platform)
+    }
+
+    /// The machine `name` declared inside the controller `ctrl`, on its own
+    /// (every event faces the environment), with the controller's operations.
+    fn inner_machine(&mut self, file: File, ctrl: &SyntaxNode, name: &str) -> Result<Design, Unsupported> {
+        let (mut instances, mut links, mut async_links) = (Vec::new(), Vec::new(), Vec::new());
+        self.controller(&name_of(ctrl), file, ctrl, &mut instances, &mut links, &mut async_links)?;
+        let mut inst = instances
+            .into_iter()
+            .find(|i| i.node.parent().as_ref() == Some(ctrl) && i.node.kind() == STATE_MACHINE && i.name == name)
+            .ok_or_else(|| {
+                self.unsupported(file, ctrl.text_range(), format!("the controller declares no state machine `{name}`"))
+            })?;
+        inst.ctrl = String::new();
+        self.build(name, STATE_MACHINE, vec![inst], &[], &HashMap::new())
     }
 
     /// Collects the machines of a controller (referenced or inline) and its

@@ -19,7 +19,7 @@ use crate::assertions::{
 use crate::budget::{Budget, ProgressFn, Stats};
 use crate::design::{shared_events, DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
-use crate::lower::{lower_design, ConstValue, DomainDefaults, Unsupported};
+use crate::lower::{lower_element, ConstValue, DomainDefaults, Unsupported};
 use crate::lts::{Event, Label, Lts, TAU, TOCK};
 use crate::machine::{Act, Offer};
 use crate::pack::{Packed, VectorLts};
@@ -232,8 +232,9 @@ enum Target {
     Constrained { name: String, loc: ItemLoc, period: Option<i64> },
     /// A RoboSim module, controller or machine, with its period.
     Simulation { name: String, loc: ItemLoc, period: Option<i64> },
-    /// A RoboChart module, controller or machine on its own.
-    Design { name: String, loc: ItemLoc },
+    /// A RoboChart module, controller or machine on its own; with `inner`,
+    /// the machine of that name declared inside the controller `loc`.
+    Design { name: String, loc: ItemLoc, inner: Option<String> },
 }
 
 /// Everything an assertion's check needs from the workspace.
@@ -270,6 +271,11 @@ impl Cx<'_> {
             let period = overridden.unwrap_or_else(|| sim.cycle.as_ref().and_then(Value::as_int));
             return Ok(Target::Constrained { name: sim.name.clone(), loc, period });
         }
+        if let Some(ctrl) = self.inline_machine(path) {
+            if ctrl.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
+                return Ok(Target::Design { name, loc: ctrl, inner: path.last().cloned() });
+            }
+        }
         let loc = resolve_item(self.db, self.ws, self.file, path, |k| {
             matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine)
         })
@@ -281,28 +287,28 @@ impl Cx<'_> {
                 .any(|r| path.last().is_some_and(|n| r.csp_block(n).is_some()));
             if csp {
                 format!("`{name}` is defined in a `csp` block: raw CSPm is not verifiable natively (check it with FDR)")
-            } else if self.inline_machine(path) {
+            } else if self.inline_machine(path).is_some() {
                 format!(
-                    "`{name}` is a state machine declared inside its controller: the native checker takes \
-                     top-level machines, controllers and modules only so far (check the controller)"
+                    "`{name}` is a RoboSim state machine declared inside its controller: the native checker \
+                     takes top-level RoboSim machines, controllers and modules only so far (check the controller)"
                 )
             } else {
                 format!("`{name}` is not a simulation, module, controller or machine")
             }
         })?;
         if loc.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
-            return Ok(Target::Design { name, loc });
+            return Ok(Target::Design { name, loc, inner: None });
         }
         let period = overridden.unwrap_or_else(|| element_cycle(self.db, loc));
         Ok(Target::Simulation { name, loc, period })
     }
 
-    /// Whether `path` is `C::M` for a controller `C` that declares the
+    /// The controller `C` when `path` is `C::M` and `C` declares the
     /// machine `M` in its own body.
-    fn inline_machine(&self, path: &[String]) -> bool {
-        let Some((last, prefix)) = path.split_last() else { return false };
+    fn inline_machine(&self, path: &[String]) -> Option<ItemLoc> {
+        let (last, prefix) = path.split_last()?;
         let controller = resolve_item(self.db, self.ws, self.file, prefix, |k| k == DefKind::Controller);
-        controller.into_iter().any(|loc| {
+        controller.into_iter().find(|loc| {
             let Some(id) = loc.def(self.db) else { return false };
             robosim_hir::defs::file_defs(self.db, loc.file)
                 .children(Some(id))
@@ -354,12 +360,16 @@ impl Cx<'_> {
                 (name, *loc, *period)
             }
             // A design on its own has no period.
-            Target::Design { name, loc } => (name, *loc, Some(1)),
+            Target::Design { name, loc, .. } => (name, *loc, Some(1)),
+        };
+        let inner = match target {
+            Target::Design { inner, .. } => inner.as_deref(),
+            _ => None,
         };
         let Some(period) = period.filter(|p| (1..=1_000).contains(p)) else {
             return Err(format!("`{name}` has no cycle period from 1 to 1000: give one with `cycleDef cycle == N`"));
         };
-        let design = lower_design(self.db, self.ws, loc, consts, &self.defaults())
+        let design = lower_element(self.db, self.ws, loc, inner, consts, &self.defaults())
             .map_err(|u| unsupported_reason(self.db, self.ws, &u))?;
         Ok((design, period as u32))
     }

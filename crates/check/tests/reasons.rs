@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use robosim_check::verify::{verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
 
 const DESIGN: &str = "interface I { event i op() }
     stm M { uses I requires I const k : nat initial i0 state S { entry op(); wait(1) }
@@ -63,19 +63,47 @@ fn spent_budgets_are_inconclusive() {
     assert!(matches!(r.verdict, Verdict::Inconclusive | Verdict::Pass), "{:?}", r.verdict);
 }
 
-/// A machine declared inside its controller is named `C::M`: the reason
-/// says what it is and what to check instead.
+/// A machine declared inside its controller is named `C::M`: it is checked
+/// on its own, calling the controller's operations.
 #[test]
-fn machines_inside_controllers_are_named_as_such() {
-    let rct = "interface I { event e }
-        controller C { uses I stm M { uses I initial i state S { } transition t { from i to S } } }";
+fn machines_inside_controllers_are_checked_on_their_own() {
+    let rct = "interface I { event e op() } interface Ops { turn() }
+        controller C { uses I requires I
+          operation turn() { requires I initial i final f transition t { from i to f action op(); (wait(1) <{0}) } }
+          stm M { uses I requires Ops initial i state S { } transition t { from i to S }
+            transition u { from S to S trigger e action turn() } }
+          stm Idle { uses I initial i state S { } transition t { from i to S } } }";
     let reports = verify_texts(
         [
             ("m.rct".to_string(), rct.to_string()),
-            ("a.assertions".to_string(), "assertion A : C::M is deadlock-free".into()),
+            (
+                "a.assertions".to_string(),
+                "assertion A : C::M is timelock-free\nassertion B : C::Idle is deadlock-free\n\
+                 assertion D : C::Nothing is deadlock-free"
+                    .into(),
+            ),
         ],
         &Options::default(),
     );
-    assert_eq!(reports[0].verdict, Verdict::Unsupported);
-    assert!(reason(&reports[0]).contains("declared inside its controller"), "{}", reason(&reports[0]));
+    let got: Vec<(Verdict, String)> = reports
+        .iter()
+        .map(|r| {
+            (
+                r.verdict,
+                r.counterexample.as_ref().map(|c| trace_text(&c.steps)).unwrap_or_else(|| reason(r).to_string()),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            // e, then the controller's operation calls the platform and
+            // cannot wait.
+            (Verdict::Fail, "e.in opCall".to_string()),
+            // Only time passes in S.
+            (Verdict::Fail, String::new()),
+            (Verdict::Unsupported, "`C::Nothing` is not a simulation, module, controller or machine".to_string()),
+        ],
+        "{reports:#?}"
+    );
 }
