@@ -17,6 +17,7 @@ use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::events::{tuple_size, Param};
 use crate::ir::*;
+use robosim_hir::csp_fn::{CspBinOp, CspExpr, CspFunction};
 
 /// The largest tuple type (number of tuples): its encoding must fit a slot.
 const MAX_TUPLES: u64 = 1 << 30;
@@ -114,6 +115,9 @@ pub struct DomainDefaults {
     /// Constant values of the instantiations (`pkg_Machine_k = v`,
     /// `Machine_k = v`), used for constants given no other value.
     pub constants: Vec<(String, Val)>,
+    /// Functions defined in CSPm by the instantiations, for the model's
+    /// functions declared without a body.
+    pub functions: Vec<CspFunction>,
 }
 
 impl Default for DomainDefaults {
@@ -126,6 +130,7 @@ impl Default for DomainDefaults {
             fixed: [false; 3],
             types: Vec::new(),
             constants: Vec::new(),
+            functions: Vec::new(),
         }
     }
 }
@@ -2107,12 +2112,183 @@ impl MachineCx<'_, '_> {
             TUPLE_EXPR | SET_EXPR => {
                 return Err(self.err(e.text_range(), "a tuple or set where a number is expected"));
             }
+            CALL_EXPR => {
+                let (f, args) = call_parts(e);
+                if !self.cx.defaults.functions.iter().any(|c| c.name == f) {
+                    return Err(self.err(
+                        e.text_range(),
+                        format!(
+                            "`{f}` has no definition the native checker can read: define it in a `csp` block \
+                             of an assertion file, as for FDR (`{f}(x) = …`)"
+                        ),
+                    ));
+                }
+                let mut values = Vec::new();
+                for a in &args {
+                    values.push(self.expr(a)?);
+                }
+                self.csp_call(e.text_range(), &f, values, 0)?
+            }
             k => {
                 return Err(self.err(
                     e.text_range(),
                     format!("this expression ({}) is not supported by the native checker yet", kind_words(k)),
                 ))
             }
+        })
+    }
+
+    /// A call of `name`, defined in CSPm by an instantiation block, on
+    /// argument values: its clauses tried in order, inlined.
+    fn csp_call(&mut self, at: TextRange, name: &str, args: Vec<Expr>, depth: usize) -> Result<Expr, Unsupported> {
+        if depth > 16 {
+            return Err(self.err(at, format!("the CSPm definition of `{name}` calls itself too deeply to inline")));
+        }
+        let clauses: Vec<CspFunction> = self
+            .cx
+            .defaults
+            .functions
+            .iter()
+            .filter(|c| c.name == name && c.params.len() == args.len())
+            .cloned()
+            .collect();
+        if clauses.is_empty() {
+            return Err(self.err(at, format!("no CSPm definition of `{name}` takes {} arguments", args.len())));
+        }
+        // From the last clause back: `if pattern then body else (the rest)`.
+        let mut rest: Option<Expr> = None;
+        for clause in clauses.iter().rev() {
+            let mut env = HashMap::new();
+            let mut conds = Vec::new();
+            for (p, a) in clause.params.iter().zip(&args) {
+                let v = match p {
+                    CspExpr::Int(v) => Some(*v),
+                    CspExpr::Bool(b) => Some(*b as Val),
+                    CspExpr::Neg(x) if matches!(**x, CspExpr::Int(_)) => match **x {
+                        CspExpr::Int(v) => Some(-v),
+                        _ => None,
+                    },
+                    CspExpr::Name(n) => match self.csp_constructor(n) {
+                        Some((v, _)) => Some(v),
+                        None => {
+                            env.insert(n.clone(), a.clone());
+                            None
+                        }
+                    },
+                    _ => return Err(self.err(at, format!("a pattern of `{name}` the native checker cannot match"))),
+                };
+                if let Some(v) = v {
+                    conds.push(Expr::Cmp(CmpOp::Eq, Box::new(a.clone()), Box::new(Expr::Const(v))));
+                }
+            }
+            let body = self.csp_expr(at, &clause.body, &env, depth)?;
+            let cond = conds.into_iter().reduce(|a, b| Expr::Log(LogOp::And, Box::new(a), Box::new(b)));
+            rest = Some(match (cond, rest) {
+                (None, _) => body,
+                (Some(c), Some(r)) => Expr::If(Box::new(c), Box::new(body), Box::new(r)),
+                (Some(_), None) => {
+                    // The last clause matches on a value: the clauses must
+                    // cover every value (FDR stops with an error otherwise).
+                    if !self.csp_exhaustive(&clauses) {
+                        return Err(self.err(
+                            at,
+                            format!(
+                                "the CSPm clauses of `{name}` do not cover every value of its arguments \
+                                 (add a clause with a variable pattern)"
+                            ),
+                        ));
+                    }
+                    body
+                }
+            });
+        }
+        Ok(rest.expect("at least one clause"))
+    }
+
+    /// Whether the clauses of a one-argument function match every
+    /// constructor of the enumeration their patterns name.
+    fn csp_exhaustive(&self, clauses: &[CspFunction]) -> bool {
+        let mut covered = Vec::new();
+        let mut size = None;
+        for c in clauses {
+            let [CspExpr::Name(n)] = c.params.as_slice() else { return false };
+            let Some((v, n)) = self.csp_constructor(n) else { return false };
+            covered.push(v);
+            size = Some(n);
+        }
+        size.is_some_and(|n| (0..n).all(|v| covered.contains(&v)))
+    }
+
+    /// A CSPm constructor `Type_Literal` of an enumeration in scope: its
+    /// value and the enumeration's size.
+    fn csp_constructor(&self, name: &str) -> Option<(Val, Val)> {
+        name.match_indices('_').find_map(|(i, _)| {
+            let (ty, lit) = (&name[..i], &name[i + 1..]);
+            let (_, en) = self.cx.resolve(self.file, &[ty.to_string()], |k| k == DefKind::Enumeration)?;
+            let lits: Vec<String> = en.children().filter(|c| c.kind() == ENUM_LITERAL).map(|c| name_of(&c)).collect();
+            let v = lits.iter().position(|l| l == lit)?;
+            Some((v as Val, lits.len() as Val))
+        })
+    }
+
+    /// A CSPm body with its parameters bound to `env`. CSPm arithmetic is
+    /// not saturating: it is evaluated in a wide domain.
+    fn csp_expr(
+        &mut self,
+        at: TextRange,
+        e: &CspExpr,
+        env: &HashMap<String, Expr>,
+        depth: usize,
+    ) -> Result<Expr, Unsupported> {
+        let wide = Dom { lo: Val::MIN / 4, hi: Val::MAX / 4 };
+        Ok(match e {
+            CspExpr::Int(v) => Expr::Const(*v),
+            CspExpr::Bool(b) => Expr::Const(*b as Val),
+            CspExpr::Name(n) => {
+                if let Some(x) = env.get(n) {
+                    x.clone()
+                } else if let Some((v, _)) = self.csp_constructor(n) {
+                    Expr::Const(v)
+                } else if let Some((_, v)) = self.cx.defaults.constants.iter().find(|(c, _)| c == n) {
+                    Expr::Const(*v)
+                } else if self.cx.defaults.functions.iter().any(|c| c.name == *n && c.params.is_empty()) {
+                    self.csp_call(at, n, Vec::new(), depth + 1)?
+                } else {
+                    return Err(self.err(at, format!("`{n}` in a CSPm definition is not known to the native checker")));
+                }
+            }
+            CspExpr::Call(f, args) => {
+                let mut values = Vec::new();
+                for a in args {
+                    values.push(self.csp_expr(at, a, env, depth)?);
+                }
+                self.csp_call(at, f, values, depth + 1)?
+            }
+            CspExpr::Neg(x) => Expr::Neg(Box::new(self.csp_expr(at, x, env, depth)?), wide),
+            CspExpr::Not(x) => Expr::Not(Box::new(self.csp_expr(at, x, env, depth)?)),
+            CspExpr::Bin(op, a, b) => {
+                let (a, b) = (Box::new(self.csp_expr(at, a, env, depth)?), Box::new(self.csp_expr(at, b, env, depth)?));
+                match op {
+                    CspBinOp::Add => Expr::Arith(ArOp::Add, a, b, wide),
+                    CspBinOp::Sub => Expr::Arith(ArOp::Sub, a, b, wide),
+                    CspBinOp::Mul => Expr::Arith(ArOp::Mul, a, b, wide),
+                    CspBinOp::Div => Expr::Arith(ArOp::Div, a, b, wide),
+                    CspBinOp::Mod => Expr::Arith(ArOp::Mod, a, b, wide),
+                    CspBinOp::Eq => Expr::Cmp(CmpOp::Eq, a, b),
+                    CspBinOp::Ne => Expr::Cmp(CmpOp::Ne, a, b),
+                    CspBinOp::Lt => Expr::Cmp(CmpOp::Lt, a, b),
+                    CspBinOp::Le => Expr::Cmp(CmpOp::Le, a, b),
+                    CspBinOp::Gt => Expr::Cmp(CmpOp::Gt, a, b),
+                    CspBinOp::Ge => Expr::Cmp(CmpOp::Ge, a, b),
+                    CspBinOp::And => Expr::Log(LogOp::And, a, b),
+                    CspBinOp::Or => Expr::Log(LogOp::Or, a, b),
+                }
+            }
+            CspExpr::If(c, a, b) => Expr::If(
+                Box::new(self.csp_expr(at, c, env, depth)?),
+                Box::new(self.csp_expr(at, a, env, depth)?),
+                Box::new(self.csp_expr(at, b, env, depth)?),
+            ),
         })
     }
 }

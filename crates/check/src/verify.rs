@@ -349,6 +349,10 @@ impl Cx<'_> {
                 };
                 defaults.constants.push((name.clone(), v));
             }
+            // A function's clauses come from one file: this assertion's
+            // first, then the others'.
+            let known: Vec<String> = defaults.functions.iter().map(|f| f.name.clone()).collect();
+            defaults.functions.extend(r.instantiations.functions.iter().filter(|f| !known.contains(&f.name)).cloned());
         }
         defaults
     }

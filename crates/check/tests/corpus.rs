@@ -50,3 +50,36 @@ fn corpus_assertions_are_answered() {
     }
     assert!(total > 40, "the corpus has dozens of assertions, found {total}");
 }
+
+/// The Alpha Algorithm's RoboChart assertions, whose machines call
+/// `random()` and `floor(x)`, defined in CSPm in its instantiations: the
+/// verdicts FDR recorded for them (semantics.md §9.4, GT-28).
+#[test]
+fn alpha_algorithm_assertions_match_fdr() {
+    let project =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/robo-star__robochart-alpha-algorithm");
+    let mut paths = Vec::new();
+    model_files(&project, &mut paths);
+    let files: Vec<(String, String)> =
+        paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).unwrap())).collect();
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let got: Vec<(String, Verdict)> = verify_workspace(&db, ws, &Options::default(), None)
+        .into_iter()
+        .filter(|r| {
+            r.file.ends_with("model.assertions") && ["a1", "a2", "a3", "a4", "a5", "a6"].contains(&r.name.as_str())
+        })
+        .map(|r| (r.name, r.verdict))
+        .collect();
+    let expected = [
+        // `Communication is deterministic`: FDR says false.
+        ("a1", Verdict::Fail),
+        ("a2", Verdict::Pass),
+        ("a3", Verdict::Pass),
+        // `Movement is not deterministic`: FDR says it is not.
+        ("a4", Verdict::Pass),
+        ("a5", Verdict::Pass),
+        ("a6", Verdict::Pass),
+    ];
+    assert_eq!(got, expected.map(|(n, v)| (n.to_string(), v)).to_vec());
+}

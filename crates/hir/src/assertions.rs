@@ -289,6 +289,9 @@ pub struct Instantiations {
     /// (e.g. `const_UAV_poll`, `aggregation_Movement_lv`), but any
     /// identifier is read.
     pub constants: Vec<(String, Value, TextRange)>,
+    /// Function definitions `f(p1, …) = e` of `csp` blocks, one clause per
+    /// line, in the subset [`crate::csp_fn`] reads.
+    pub functions: Vec<crate::csp_fn::CspFunction>,
     /// `instantiate P as T` items (`.assertions`).
     pub type_instantiations: Vec<TypeInstantiation>,
 }
@@ -363,6 +366,8 @@ pub enum CspLineKind {
     Type,
     /// `NAME = literal`, in [`Instantiations::constants`].
     Constant,
+    /// `f(p1, …) = e`, in [`Instantiations::functions`].
+    Function,
     /// A definition RoboTool generates that restates what the native
     /// semantics does anyway: the saturating arithmetic `Plus`, `Minus`,
     /// `Mult`, `Div`, `Modulus`, `Neg` (semantics §3), `nametype
@@ -1114,6 +1119,10 @@ mod csp {
                 }
                 None => CspLineKind::Other,
             };
+        }
+        if let Some((name, params, body)) = crate::csp_fn::parse_definition(text) {
+            inst.functions.push(crate::csp_fn::CspFunction { name, params, body, range });
+            return CspLineKind::Function;
         }
         if let Some((name, rhs)) = text.split_once('=') {
             let name = name.trim();

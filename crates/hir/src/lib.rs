@@ -11,6 +11,7 @@ pub mod assertions;
 pub mod body;
 mod checks;
 pub mod codes;
+pub mod csp_fn;
 pub mod cycle;
 mod db;
 pub mod defs;

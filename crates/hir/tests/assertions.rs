@@ -160,6 +160,7 @@ fn render(text: &str, file: &AssertionFile) -> String {
             let kind = match l.kind {
                 CspLineKind::Type => "type",
                 CspLineKind::Constant => "constant",
+                CspLineKind::Function => "function",
                 CspLineKind::Standard => "standard",
                 CspLineKind::Other => "other",
             };
@@ -173,6 +174,9 @@ fn render(text: &str, file: &AssertionFile) -> String {
     }
     for (name, v, r) in &inst.constants {
         let _ = writeln!(out, "constant {name} = {} {}", value(v), at(text, *r));
+    }
+    for f in &inst.functions {
+        let _ = writeln!(out, "function {}{:?} = {:?} {}", f.name, f.params, f.body, at(text, f.range));
     }
     for t in &inst.type_instantiations {
         let _ = writeln!(out, "instantiate {} as {:?} {}", path(&t.primitive), t.ty, at(text, t.range));
