@@ -2282,6 +2282,7 @@ impl MachineCx<'_, '_> {
                     CspBinOp::Ge => Expr::Cmp(CmpOp::Ge, a, b),
                     CspBinOp::And => Expr::Log(LogOp::And, a, b),
                     CspBinOp::Or => Expr::Log(LogOp::Or, a, b),
+                    CspBinOp::Cat => return Err(self.err(at, "sequences in CSPm definitions are not supported")),
                 }
             }
             CspExpr::If(c, a, b) => Expr::If(

@@ -28,7 +28,7 @@ pub enum CspExpr {
     If(Box<CspExpr>, Box<CspExpr>, Box<CspExpr>),
 }
 
-/// A binary operator of the subset.
+/// A binary operator on CSPm values (also the CSPm export's).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[allow(missing_docs)]
 pub enum CspBinOp {
@@ -45,6 +45,59 @@ pub enum CspBinOp {
     Ge,
     And,
     Or,
+    /// `^`: sequence concatenation (written by the export, not read).
+    Cat,
+}
+
+impl CspBinOp {
+    /// The operators [`parse_definition`] reads.
+    const READ: [CspBinOp; 13] = [
+        CspBinOp::Or,
+        CspBinOp::And,
+        CspBinOp::Eq,
+        CspBinOp::Ne,
+        CspBinOp::Le,
+        CspBinOp::Ge,
+        CspBinOp::Lt,
+        CspBinOp::Gt,
+        CspBinOp::Add,
+        CspBinOp::Sub,
+        CspBinOp::Mul,
+        CspBinOp::Div,
+        CspBinOp::Mod,
+    ];
+
+    /// How it is written.
+    pub fn text(self) -> &'static str {
+        match self {
+            CspBinOp::Add => "+",
+            CspBinOp::Sub => "-",
+            CspBinOp::Mul => "*",
+            CspBinOp::Div => "/",
+            CspBinOp::Mod => "%",
+            CspBinOp::Eq => "==",
+            CspBinOp::Ne => "!=",
+            CspBinOp::Lt => "<",
+            CspBinOp::Le => "<=",
+            CspBinOp::Gt => ">",
+            CspBinOp::Ge => ">=",
+            CspBinOp::And => "and",
+            CspBinOp::Or => "or",
+            CspBinOp::Cat => "^",
+        }
+    }
+
+    /// Binding strength in CSPm (higher binds tighter; `not` is 3).
+    pub fn prec(self) -> u8 {
+        match self {
+            CspBinOp::Or => 1,
+            CspBinOp::And => 2,
+            CspBinOp::Eq | CspBinOp::Ne | CspBinOp::Lt | CspBinOp::Le | CspBinOp::Gt | CspBinOp::Ge => 4,
+            CspBinOp::Add | CspBinOp::Sub => 5,
+            CspBinOp::Mul | CspBinOp::Div | CspBinOp::Mod => 6,
+            CspBinOp::Cat => 7,
+        }
+    }
 }
 
 /// One clause `name(p1, …, pn) = body`; the parameters are patterns: a
@@ -133,22 +186,6 @@ struct Parser {
     at: usize,
 }
 
-/// Binary operators by precedence level, loosest first.
-const LEVELS: &[&[(&str, CspBinOp)]] = &[
-    &[("or", CspBinOp::Or)],
-    &[("and", CspBinOp::And)],
-    &[
-        ("==", CspBinOp::Eq),
-        ("!=", CspBinOp::Ne),
-        ("<=", CspBinOp::Le),
-        (">=", CspBinOp::Ge),
-        ("<", CspBinOp::Lt),
-        (">", CspBinOp::Gt),
-    ],
-    &[("+", CspBinOp::Add), ("-", CspBinOp::Sub)],
-    &[("*", CspBinOp::Mul), ("/", CspBinOp::Div), ("%", CspBinOp::Mod)],
-];
-
 impl Parser {
     fn next(&mut self) -> Option<Tok> {
         let t = self.toks.get(self.at).cloned();
@@ -176,8 +213,10 @@ impl Parser {
         self.eat(s).then_some(())
     }
 
-    fn expr(&mut self, level: usize) -> Option<CspExpr> {
-        if level == 0 && self.eat("if") {
+    /// An expression whose binary operators bind at least as tightly as
+    /// `min` (0: any, and `if`).
+    fn expr(&mut self, min: u8) -> Option<CspExpr> {
+        if min == 0 && self.eat("if") {
             let c = self.expr(0)?;
             self.expect("then")?;
             let a = self.expr(0)?;
@@ -185,26 +224,23 @@ impl Parser {
             let b = self.expr(0)?;
             return Some(CspExpr::If(Box::new(c), Box::new(a), Box::new(b)));
         }
-        let Some(ops) = LEVELS.get(level) else { return self.unary() };
-        if level == 2 && self.eat("not") {
-            return Some(CspExpr::Not(Box::new(self.expr(2)?)));
-        }
-        let mut lhs = self.expr(level + 1)?;
-        'more: loop {
-            for (s, op) in *ops {
-                if self.eat(s) {
-                    let rhs = self.expr(level + 1)?;
-                    lhs = CspExpr::Bin(*op, Box::new(lhs), Box::new(rhs));
-                    // Comparisons do not chain.
-                    if level == 2 {
-                        break 'more;
-                    }
-                    continue 'more;
-                }
+        let mut lhs = if min <= 3 && self.eat("not") { CspExpr::Not(Box::new(self.expr(3)?)) } else { self.unary()? };
+        // Precedence climbing; operators of one level associate to the
+        // left, and comparisons do not chain.
+        while let Some(op) = self.operator().filter(|op| op.prec() >= min.max(1)) {
+            self.at += 1;
+            let rhs = self.expr(op.prec() + 1)?;
+            lhs = CspExpr::Bin(op, Box::new(lhs), Box::new(rhs));
+            if op.prec() == 4 && self.operator().is_some_and(|next| next.prec() == 4) {
+                return None;
             }
-            break;
         }
         Some(lhs)
+    }
+
+    /// The binary operator at the cursor.
+    fn operator(&self) -> Option<CspBinOp> {
+        CspBinOp::READ.into_iter().find(|op| self.is(op.text()))
     }
 
     fn unary(&mut self) -> Option<CspExpr> {
@@ -302,6 +338,7 @@ mod tests {
             "f(x = 1",
             "f(x) = ",
             "f(x) = 1 2",
+            "f(x) = x < 1 < 2",
         ] {
             assert_eq!(parse_definition(text), None, "{text}");
         }

@@ -12,59 +12,9 @@ use crate::doc::{cat, group, nest, render, text, Doc};
 /// Width of the printed files.
 pub const WIDTH: usize = 100;
 
-/// Binary operators on values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[allow(missing_docs)]
-pub enum BinOp {
-    Add,
-    Sub,
-    Mul,
-    Div,
-    Mod,
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
-    And,
-    Or,
-    /// `^`: sequence concatenation.
-    Cat,
-}
-
-impl BinOp {
-    fn text(self) -> &'static str {
-        match self {
-            BinOp::Add => "+",
-            BinOp::Sub => "-",
-            BinOp::Mul => "*",
-            BinOp::Div => "/",
-            BinOp::Mod => "%",
-            BinOp::Eq => "==",
-            BinOp::Ne => "!=",
-            BinOp::Lt => "<",
-            BinOp::Le => "<=",
-            BinOp::Gt => ">",
-            BinOp::Ge => ">=",
-            BinOp::And => "and",
-            BinOp::Or => "or",
-            BinOp::Cat => "^",
-        }
-    }
-
-    /// Binding strength (higher binds tighter).
-    fn prec(self) -> u8 {
-        match self {
-            BinOp::Or => 1,
-            BinOp::And => 2,
-            BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => 4,
-            BinOp::Add | BinOp::Sub => 5,
-            BinOp::Mul | BinOp::Div | BinOp::Mod => 6,
-            BinOp::Cat => 7,
-        }
-    }
-}
+/// Binary operators on values: the same as those of the CSPm definitions
+/// the semantic model reads from instantiation blocks.
+pub use robosim_hir::csp_fn::CspBinOp as BinOp;
 
 /// N-ary process operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
