@@ -12,6 +12,9 @@ pub enum Param {
     Num(Dom),
     /// `true`/`false`.
     Bool,
+    /// A value with a name: an enumeration's literal (`Level_Mid`, the
+    /// CSPm constructor RoboTool writes), by position.
+    Named(Vec<String>),
     /// A tuple encoded in one value (see [`crate::ir::Expr::Tuple`]),
     /// printed as one field per component, as CSPm's `e.a.b`.
     Tuple(Vec<Dom>),
@@ -23,6 +26,7 @@ impl Param {
         match self {
             Param::Num(d) => *d,
             Param::Bool => Dom::BOOL,
+            Param::Named(names) => Dom { lo: 0, hi: names.len().saturating_sub(1) as Val },
             Param::Tuple(ds) => Dom { lo: 0, hi: tuple_size(ds).saturating_sub(1) as Val },
         }
     }
@@ -33,6 +37,8 @@ impl Param {
         match (self, other) {
             (Param::Tuple(a), Param::Tuple(b)) => (a == b).then(|| self.clone()),
             (Param::Tuple(_), _) | (_, Param::Tuple(_)) => None,
+            (Param::Named(a), Param::Named(b)) if a == b => Some(self.clone()),
+            (Param::Bool, Param::Bool) => Some(Param::Bool),
             _ => {
                 let (p, q) = (self.dom(), other.dom());
                 Some(Param::Num(Dom { lo: p.lo.min(q.lo), hi: p.hi.max(q.hi) }))
@@ -44,6 +50,13 @@ impl Param {
     fn print(&self, v: Val, s: &mut String) {
         match self {
             Param::Bool => s.push_str(if v != 0 { ".true" } else { ".false" }),
+            Param::Named(names) => match usize::try_from(v).ok().and_then(|i| names.get(i)) {
+                Some(n) => {
+                    s.push('.');
+                    s.push_str(n);
+                }
+                None => s.push_str(&format!(".{v}")),
+            },
             Param::Num(_) => s.push_str(&format!(".{v}")),
             Param::Tuple(ds) => {
                 for x in tuple_values(ds, v) {

@@ -954,6 +954,22 @@ impl MachineCx<'_, '_> {
         ))
     }
 
+    /// How event values of the type `node` are named when they are not
+    /// numbers: booleans, and enumerations (RoboTool's CSPm constructors
+    /// `Enum_Literal`).
+    fn param_of(&self, file: File, node: Option<&SyntaxNode>) -> Option<Param> {
+        let node = node.filter(|n| n.kind() == NAMED_TYPE)?;
+        let path = path_of(node);
+        if path.last().is_some_and(|l| l == "boolean") {
+            return Some(Param::Bool);
+        }
+        let (_, en) = self.cx.resolve(file, &path, |k| k == DefKind::Enumeration)?;
+        let ty = name_of(&en);
+        Some(Param::Named(
+            en.children().filter(|c| c.kind() == ENUM_LITERAL).map(|l| format!("{ty}_{}", name_of(&l))).collect(),
+        ))
+    }
+
     /// The value an assertion gives the constant `name`, else the one an
     /// instantiation block gives it (RoboTool's `pkg_Machine_name` or
     /// `Machine_name`).
@@ -1061,8 +1077,8 @@ impl MachineCx<'_, '_> {
                     EVENT => {
                         let name = name_of(&c);
                         let tnode = c.children().find(|t| ast::is_type_kind(t.kind()));
-                        let full = match tnode {
-                            Some(t) => Some(self.ty_of(f, Some(&t), c.text_range())?),
+                        let full = match &tnode {
+                            Some(t) => Some(self.ty_of(f, Some(t), c.text_range())?),
                             None => None,
                         };
                         if let Some(Ty::Set(_)) = &full {
@@ -1072,7 +1088,10 @@ impl MachineCx<'_, '_> {
                             ));
                         }
                         let ty = full.as_ref().map(Ty::dom);
-                        let shape: Vec<Param> = full.iter().map(Ty::param).collect();
+                        let shape: Vec<Param> = full
+                            .iter()
+                            .map(|t| self.param_of(f, tnode.as_ref()).unwrap_or_else(|| t.param()))
+                            .collect();
                         if let Some(t) = &full {
                             self.bind_ty(&name, t);
                         }
@@ -1100,11 +1119,13 @@ impl MachineCx<'_, '_> {
                     }
                     OPERATION_SIG => {
                         let name = name_of(&c);
-                        let mut params = Vec::new();
+                        let (mut params, mut shape) = (Vec::new(), Vec::new());
                         if let Some(pl) = c.children().find(|p| p.kind() == PARAM_LIST) {
                             for p in pl.children().filter(|p| p.kind() == PARAM) {
                                 let tnode = p.children().find(|t| ast::is_type_kind(t.kind()));
-                                params.push(self.ty(f, tnode.as_ref(), p.text_range())?);
+                                let d = self.ty(f, tnode.as_ref(), p.text_range())?;
+                                params.push(d);
+                                shape.push(self.param_of(f, tnode.as_ref()).unwrap_or(Param::Num(d)));
                             }
                         }
                         // The controller may define it: then it is no platform call.
@@ -1113,7 +1134,6 @@ impl MachineCx<'_, '_> {
                             self.names.insert(name, Name::Defined(k));
                             continue;
                         }
-                        let shape = params.iter().map(|&d| Param::Num(d)).collect();
                         let chan = self.channel(&name, Dir::Out, true, shape);
                         self.names.insert(name, Name::Op { params, chan });
                     }

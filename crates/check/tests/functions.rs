@@ -33,8 +33,8 @@ scale(x) = if x > 1 then x + 1 else 0";
 
 /// The definitions decide which levels raise the alarm and what `n`
 /// becomes: `alarm` follows `Mid` and `High` only (the shortest way to `B`
-/// is `Mid`, printed as its position 1), and the machine comes back to `S`
-/// (n = scale(2) = 3).
+/// is `Mid`, printed as RoboTool's CSPm constructor), and the machine
+/// comes back to `S` (n = scale(2) = 3).
 #[test]
 fn definitions_are_inlined_at_each_call() {
     let reports = run(
@@ -50,7 +50,7 @@ fn definitions_are_inlined_at_each_call() {
     assert_eq!(
         got,
         vec![
-            (Verdict::Pass, "level.in.1 alarm.out".to_string()),
+            (Verdict::Pass, "level.in.Level_Mid alarm.out".to_string()),
             (Verdict::Pass, String::new()),
             (Verdict::Pass, String::new()),
         ],
@@ -61,11 +61,11 @@ fn definitions_are_inlined_at_each_call() {
         DEFINITIONS.replace("lvl(Level_Low) = 1", "lvl(Level_Low) = 2").as_str(),
         "assertion A : M::B is reachable in M",
     );
-    assert_eq!(trace_text(&low[0].counterexample.as_ref().unwrap().steps), "level.in.0 alarm.out");
+    assert_eq!(trace_text(&low[0].counterexample.as_ref().unwrap().steps), "level.in.Level_Low alarm.out");
     // With scale(2) = 0 the machine stays in A: a timed deadlock.
     let stuck = run(&DEFINITIONS.replace("x + 1", "0"), "assertion B : M is deadlock-free");
     assert_eq!(stuck[0].verdict, Verdict::Fail);
-    assert_eq!(trace_text(&stuck[0].counterexample.as_ref().unwrap().steps), "level.in.1 alarm.out");
+    assert_eq!(trace_text(&stuck[0].counterexample.as_ref().unwrap().steps), "level.in.Level_Mid alarm.out");
 }
 
 /// What cannot be inlined says why.

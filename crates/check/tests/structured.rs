@@ -164,3 +164,19 @@ fn alpha_algorithm_communication() {
     ];
     assert_eq!(got, expected.map(|(n, v, s)| (n.to_string(), v, s)).to_vec());
 }
+
+/// Booleans and enumeration literals in events and platform calls are
+/// printed by name (enumerations as RoboTool's CSPm constructors), not by
+/// their codes.
+#[test]
+fn booleans_and_enumerations_are_printed_by_name() {
+    let rct = "enumeration Mode { Idle Busy }
+        interface I { event flag : boolean event mode : Mode set(m : Mode, b : boolean) }
+        stm M { uses I requires I var b : boolean var m : Mode initial i state S { } state T { }
+          transition t { from i to S }
+          transition u { from S to T trigger mode?m action flag!true; set(Mode::Idle, false) } }";
+    let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", "assertion A : M::T is reachable in M".into())]);
+    assert_eq!(reports[0].verdict, Verdict::Pass, "{reports:#?}");
+    let steps = &reports[0].counterexample.as_ref().expect("a witness").steps;
+    assert_eq!(trace_text(steps), "mode.in.Mode_Idle flag.out.true setCall.Mode_Idle.false");
+}
