@@ -504,6 +504,41 @@ impl Machine {
             })
     }
 
+    /// Why the machine cannot let time pass in `st`, one sentence per
+    /// reason (empty when it can): for explanations of timelocks.
+    pub fn tock_blockers(&self, st: &[i32]) -> Vec<String> {
+        let mut why = Vec::new();
+        let urgent = |pc: i32| matches!(self.code.get(pc as usize), Some(Instr::Out { urgent: true, .. }));
+        if urgent(st[self.slot(PC)]) {
+            why.push(format!("{}: a platform operation call or register write cannot wait", self.name));
+        }
+        if st[self.slot(DEADLINE)] == 0 {
+            why.push(format!("{}: the deadline of a statement `<{{…}}` has run out", self.name));
+        }
+        for (n, node) in self.nodes.iter().enumerate() {
+            if node.timer.is_some_and(|t| st[t as usize] == 0) {
+                let names: Vec<String> =
+                    node.out.iter().map(|&t| &self.transitions[t as usize].name).map(|t| format!("`{t}`")).collect();
+                why.push(format!(
+                    "{}: the deadline of {} from {} has run out",
+                    self.name,
+                    names.join(", "),
+                    self.nodes[n].name
+                ));
+            }
+        }
+        for a in &self.activities {
+            let pc = st[a.pc_slot as usize];
+            if pc >= 0 && (urgent(pc) || st[a.deadline_slot as usize] == 0) {
+                why.push(format!(
+                    "{}: the during action of {} cannot wait (an urgent call or a deadline that has run out)",
+                    self.name, self.nodes[a.state as usize].name
+                ));
+            }
+        }
+        why
+    }
+
     /// One time unit passes for the machine (clocks are advanced by the caller).
     pub fn tock(&self, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
         for &t in &self.timers {

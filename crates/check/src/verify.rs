@@ -771,8 +771,13 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
         match outcome {
             Ok((holds, witness, reason)) => {
                 if let Some((kind, path, why)) = witness {
-                    let steps = sim_steps(&lts, &design, &values_path(&path, |p| lts.values(p)));
+                    let values = values_path(&path, |p| lts.values(p));
+                    let steps = sim_steps(&lts, &design, &values);
                     let mut explanation = vec![why];
+                    if kind == "timelock" {
+                        let last = values.steps.last().map_or(&values.initial, |(_, s)| s);
+                        explanation.extend(design.machines.iter().flat_map(|m| m.tock_blockers(last)));
+                    }
                     explanation.extend(saturation_note(&steps));
                     report.counterexample = Some(Counterexample {
                         kind,

@@ -124,6 +124,14 @@ fn a_deadline_on_a_disabled_transition_is_a_timelock() {
     let reports = run(machines, "assertion A : G is timelock-free\nassertion B : J is timelock-free");
     let got = outcomes(&reports);
     assert_eq!(got[0], ("A".into(), Verdict::Fail, "timelock: tock tock tock".into()), "{reports:#?}");
+    // The explanation names the transition whose deadline ran out.
+    assert_eq!(
+        reports[0].counterexample.as_ref().unwrap().explanation,
+        vec![
+            "nothing can happen here, not even time passing".to_string(),
+            "G: the deadline of `a` from S has run out".to_string()
+        ]
+    );
     assert_eq!(got[1].1, Verdict::Unsupported);
     assert!(got[1].2.starts_with("deadlines on transitions from junctions are not supported"), "{got:?}");
 }

@@ -78,6 +78,11 @@ fn failing_properties() {
         ],
         "{reports:#?}"
     );
+    // Why time cannot pass at the timelock.
+    assert_eq!(
+        reports[5].counterexample.as_ref().unwrap().explanation[1..],
+        ["Late: the deadline of a statement `<{…}` has run out".to_string()]
+    );
 }
 
 /// Refinement between two RoboChart machines, their events matched by
