@@ -36,6 +36,9 @@ enum Ty {
     Num(Dom),
     /// `A * B * …` of numeric components.
     Tuple(Vec<Dom>),
+    /// A record of numeric fields (names, domains): encoded as the tuple
+    /// of its fields in declaration order.
+    Record(Vec<String>, Vec<Dom>),
     /// `Set(T)` of a type with at most [`MAX_SET_ELEMENTS`] values.
     Set(Box<Ty>),
 }
@@ -45,7 +48,7 @@ impl Ty {
     fn dom(&self) -> Dom {
         match self {
             Ty::Num(d) => *d,
-            Ty::Tuple(ds) => Dom { lo: 0, hi: tuple_size(ds) as Val - 1 },
+            Ty::Tuple(ds) | Ty::Record(_, ds) => Dom { lo: 0, hi: tuple_size(ds) as Val - 1 },
             Ty::Set(el) => Dom { lo: 0, hi: (1 << el.dom().size()) - 1 },
         }
     }
@@ -56,7 +59,7 @@ impl Ty {
         let num = |d: Dom| d.lo.max(0).min(d.hi);
         match self {
             Ty::Num(d) => num(*d),
-            Ty::Tuple(ds) => ds.iter().fold(0, |code, d| code * d.size() as Val + (num(*d) - d.lo)),
+            Ty::Tuple(ds) | Ty::Record(_, ds) => ds.iter().fold(0, |code, d| code * d.size() as Val + (num(*d) - d.lo)),
             Ty::Set(_) => 0,
         }
     }
@@ -64,7 +67,7 @@ impl Ty {
     /// How an event parameter of this type is named.
     fn param(&self) -> Param {
         match self {
-            Ty::Tuple(ds) => Param::Tuple(ds.clone()),
+            Ty::Tuple(ds) | Ty::Record(_, ds) => Param::Tuple(ds.clone()),
             t => Param::Num(t.dom()),
         }
     }
@@ -942,6 +945,32 @@ impl MachineCx<'_, '_> {
             if let Some((_, en)) = self.cx.resolve(file, &path, |k| k == DefKind::Enumeration) {
                 let n = en.children().filter(|c| c.kind() == ENUM_LITERAL).count() as Val;
                 return Ok(Ty::Num(Dom { lo: 0, hi: (n - 1).max(0) }));
+            }
+            if let Some((rf, rec)) = self.cx.resolve(file, &path, |k| k == DefKind::Record) {
+                let (mut names, mut doms) = (Vec::new(), Vec::new());
+                for f in rec.children().filter(|c| c.kind() == FIELD) {
+                    let t = f.children().find(|t| ast::is_type_kind(t.kind()));
+                    match self.ty_of(rf, t.as_ref(), f.text_range())? {
+                        Ty::Num(d) => doms.push(d),
+                        _ => {
+                            return Err(self.cx.unsupported(
+                                rf,
+                                f.text_range(),
+                                "records whose fields are records, tuples or sets are not supported yet",
+                            ))
+                        }
+                    }
+                    names.push(name_of(&f));
+                }
+                let n = tuple_size(&doms);
+                if n > MAX_TUPLES {
+                    return Err(self.cx.unsupported(
+                        file,
+                        range,
+                        format!("the record `{}` has {n} values: too many to check natively", node.text()),
+                    ));
+                }
+                return Ok(Ty::Record(names, doms));
             }
         }
         Err(self.cx.unsupported(
@@ -2061,6 +2090,23 @@ impl MachineCx<'_, '_> {
                     for (c, other) in [(&x, &y), (&y, &x)] {
                         if let Expr::Clock(s) = c {
                             let v = other.constant().map(|v| v.clamp(0, i32::MAX as Val) as i32).unwrap_or(-1);
+                            // RoboTool's generator refuses this too: the clock
+                            // would stop below the value and the guard would
+                            // never change.
+                            let max = self.cx.defaults.clock_max;
+                            if v > max {
+                                let clock =
+                                    self.cx.design.as_ref().and_then(|d| d.clocks.iter().find(|k| k.slot == *s));
+                                let name = clock.map_or("a clock".to_string(), |k| format!("`{}`", k.name));
+                                return Err(self.err(
+                                    e.text_range(),
+                                    format!(
+                                        "{name} is compared with {v}, above the greatest clock value {max} \
+                                         (`core_clock_type = {{0..{max}}}`): widen it with \
+                                         `nametype core_clock_type = {{0..{v}}}` in a `csp` block of an assertion file"
+                                    ),
+                                ));
+                            }
                             let cap = self.clock_caps.entry(*s).or_insert(0);
                             *cap = if v < 0 || *cap < 0 { -1 } else { (*cap).max(v) };
                         }
@@ -2097,6 +2143,26 @@ impl MachineCx<'_, '_> {
                     return Err(self.err(e.text_range(), "an incomplete conditional"));
                 };
                 Expr::If(Box::new(self.expr(c)?), Box::new(self.expr(a)?), Box::new(self.expr(b)?))
+            }
+            SELECT_EXPR => {
+                // `r.f` of a record: its field's component.
+                let base = ast::operand_exprs(e).into_iter().next();
+                let field = e.children().filter(|c| c.kind() == NAME_REF).last().map(|n| ident_text(&n));
+                let (Some(base), Some(field)) = (base, field) else {
+                    return Err(self.err(e.text_range(), "an incomplete field access"));
+                };
+                let t = self.infer(&base);
+                let Some(Ty::Record(names, ds)) = &t else {
+                    return Err(self.err(e.text_range(), "only the fields of records can be selected"));
+                };
+                let (names, ds) = (names.clone(), ds.clone());
+                let t = t.expect("a record");
+                let i = names
+                    .iter()
+                    .position(|n| *n == field)
+                    .ok_or_else(|| self.err(e.text_range(), format!("the record has no field `{field}`")))?;
+                let r = self.typed(&base, &t)?;
+                Expr::Proj(Box::new(r), stride(&ds, i), ds[i])
             }
             INDEX_EXPR => {
                 let parts = ast::operand_exprs(e);
@@ -2351,6 +2417,21 @@ impl MachineCx<'_, '_> {
                 let mut parts = Vec::new();
                 for (x, d) in exprs.iter().zip(ds) {
                     parts.push((self.expr(x)?, *d));
+                }
+                Expr::Tuple(parts)
+            }
+            (RECORD_LITERAL, Ty::Record(names, ds)) => {
+                let mut parts = Vec::new();
+                for (n, d) in names.iter().zip(ds) {
+                    let value = e
+                        .children()
+                        .filter(|f| f.kind() == FIELD_VALUE)
+                        .find(|f| f.children().find(|c| c.kind() == NAME_REF).is_some_and(|c| ident_text(&c) == *n))
+                        .and_then(|f| f.children().find(|c| ast::is_expr_kind(c.kind())))
+                        .ok_or_else(|| {
+                            self.err(e.text_range(), format!("the record literal gives no value to `{n}`"))
+                        })?;
+                    parts.push((self.expr(&value)?, *d));
                 }
                 Expr::Tuple(parts)
             }

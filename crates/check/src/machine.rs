@@ -647,8 +647,16 @@ impl Machine {
                 st[self.slot(PC)] = self.nodes[leaf as usize].exit_pc as i32;
             }
             Act::Junction(t) => {
+                let tr = &self.transitions[t as usize];
+                // RoboSim `$e?x` in the guard binds when the transition is taken.
+                for &(var, dom, from) in &tr.binds {
+                    let v = st[from as usize] as Val;
+                    if dom.contains(v) {
+                        st[var as usize] = v as i32;
+                    }
+                }
                 st[self.slot(TRANS)] = i32::from(t);
-                st[self.slot(PC)] = self.transitions[t as usize].body_pc as i32;
+                st[self.slot(PC)] = tr.body_pc as i32;
             }
             Act::Comm => {
                 if let (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) =

@@ -107,3 +107,33 @@ fn machines_inside_controllers_are_checked_on_their_own() {
         "{reports:#?}"
     );
 }
+
+/// A clock compared with a value above the greatest clock value would stop
+/// below it and the guard would never hold: refused, as RoboTool's
+/// generator does, with the instantiation that widens the clocks.
+#[test]
+fn clocks_compared_above_their_range_are_refused() {
+    let rct = "interface I { op() }
+        stm M { requires I clock C initial i state S { } state T { entry op() }
+          transition t { from i to S action #C } transition u { from S to T condition since(C) >= 12 } }";
+    let check = |csp: &str| {
+        let asserts = format!("{csp}\nassertion A : M is deadlock-free");
+        verify_texts(
+            [("m.rct".to_string(), rct.to_string()), ("a.assertions".to_string(), asserts)],
+            &Options::default(),
+        )
+        .remove(0)
+    };
+    let r = check("");
+    assert_eq!(r.verdict, Verdict::Unsupported);
+    assert_eq!(
+        reason(&r),
+        "`M::C` is compared with 12, above the greatest clock value 10 (`core_clock_type = {0..10}`): widen it \
+         with `nametype core_clock_type = {0..12}` in a `csp` block of an assertion file (m.rct:3:87)"
+    );
+    // Widened, T is reached after 12 time units and only time passes there.
+    let r = check("csp Clocks csp-begin\nnametype core_clock_type = {0..12}\ncsp-end");
+    assert_eq!(r.verdict, Verdict::Fail, "{r:#?}");
+    let trace = trace_text(&r.counterexample.as_ref().unwrap().steps);
+    assert!(trace.starts_with(&format!("{}opCall", "tock ".repeat(12))), "{trace}");
+}

@@ -72,6 +72,16 @@ const CASES: &[(&str, &str, Expected)] = &[
         [(Pass, 255), (Pass, 255), (Pass, 255)],
     ),
     (
+        // `$v?x` binds on a transition out of a junction too: x leaves 2,
+        // and the loop without exec (a divergence) becomes reachable.
+        "an input read with its value from a junction",
+        "var x : nat = 2 initial i0 junction J state S { } state T { } transition t { from i0 to S }
+         transition u { from S to J exec } transition a { from J to T condition $v?x }
+         transition b { from J to S condition else } transition c { from T to T condition x != 2 }
+         transition d { from T to S exec condition x == 2 }",
+        [(Fail, 89), (Pass, 89), (Fail, 55)],
+    ),
+    (
         "a junction with no enabled way out is stuck",
         "initial i0 junction J state S { } transition t { from i0 to J } transition a { from J to S condition $i }
          transition u { from S to S exec }",
