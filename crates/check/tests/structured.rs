@@ -180,3 +180,25 @@ fn booleans_and_enumerations_are_printed_by_name() {
     let steps = &reports[0].counterexample.as_ref().expect("a witness").steps;
     assert_eq!(trace_text(steps), "mode.in.Mode_Idle flag.out.true setCall.Mode_Idle.false");
 }
+
+/// Records of numeric fields are tuples of their fields: literals, field
+/// access in guards and actions, and events carrying them.
+#[test]
+fn records() {
+    let rct = "datatype R { a : nat b : boolean }
+        interface I { event e : R event o : nat }
+        stm M { uses I var r : R var q : R initial i junction J state S { } state T { }
+          transition t { from i to S action q = R(| b = true, a = 2 |) }
+          transition u { from S to J trigger e?r }
+          transition v { from J to T condition r.b /\\ r.a < q.a action o!(r.a + 1) }
+          transition w { from J to S condition else } }";
+    let asserts = "assertion A : M::T is reachable in M\nassertion B : M is deadlock-free";
+    let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
+    let traces: Vec<(Verdict, String)> = reports
+        .iter()
+        .map(|r| (r.verdict, r.counterexample.as_ref().map(|c| trace_text(&c.steps)).unwrap_or_default()))
+        .collect();
+    // The first record received with b true and a below 2: (0, true).
+    assert_eq!(traces[0], (Verdict::Pass, "e.in.0.1 o.out.1".to_string()), "{reports:#?}");
+    assert_eq!(traces[1], (Verdict::Fail, "e.in.0.1 o.out.1".to_string()));
+}
