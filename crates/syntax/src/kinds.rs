@@ -55,7 +55,7 @@ macro_rules! syntax_kinds {
             $($node,)*
         }
 
-        const ALL_KINDS: &[SyntaxKind] = &[
+        pub(crate) const ALL_KINDS: &[SyntaxKind] = &[
             $(SyntaxKind::$tok,)* $(SyntaxKind::$p,)* $(SyntaxKind::$kw,)* $(SyntaxKind::$node,)*
         ];
 
@@ -70,12 +70,12 @@ macro_rules! syntax_kinds {
             }
 
             /// Whether this kind is a reserved word (in some language).
-            pub fn is_keyword(self) -> bool {
+            pub const fn is_keyword(self) -> bool {
                 matches!(self, $(SyntaxKind::$kw)|*)
             }
 
             /// Whether this kind is a punctuation or operator token.
-            pub fn is_punct(self) -> bool {
+            pub const fn is_punct(self) -> bool {
                 matches!(self, $(SyntaxKind::$p)|*)
             }
 

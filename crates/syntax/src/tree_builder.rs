@@ -20,6 +20,27 @@ use crate::SyntaxKind;
 /// that covers names, literals and short expressions, which repeat a lot.
 const MAX_SHARED_CHILDREN: usize = 3;
 
+/// Whether every token of a kind has the same text: punctuation and
+/// keywords, except the multi-word keywords, whose spacing varies. Such
+/// tokens are shared through a slot per kind, without a table lookup.
+const FIXED_TEXT: [bool; 256] = {
+    let mut t = [false; 256];
+    let mut i = 0;
+    while i < 256 && i < crate::kinds::ALL_KINDS.len() {
+        let k = crate::kinds::ALL_KINDS[i];
+        t[i] = (k.is_punct() || k.is_keyword())
+            && !matches!(
+                k,
+                SyntaxKind::FAILURES_DIVERGENCES_MODEL_KW
+                    | SyntaxKind::FAILURES_MODEL_KW
+                    | SyntaxKind::TRACES_MODEL_KW
+                    | SyntaxKind::TICK_TOCK_MODEL_KW
+            );
+        i += 1;
+    }
+    t
+};
+
 /// A finished child of the node being built.
 enum Child {
     Token(GreenToken),
@@ -172,6 +193,8 @@ pub(crate) struct TreeBuilder<'t> {
     /// text is compared too.
     long_tokens: Table<3, GreenToken>,
     nodes: Table<{ 1 + MAX_SHARED_CHILDREN }, GreenNode>,
+    /// The token of each fixed-text kind (see `FIXED_TEXT`), once seen.
+    fixed: [Option<GreenToken>; 256],
 }
 
 impl<'t> TreeBuilder<'t> {
@@ -187,6 +210,7 @@ impl<'t> TreeBuilder<'t> {
             short_tokens: Table::with_capacity(src.len() / 32),
             long_tokens: Table::with_capacity(16),
             nodes: Table::with_capacity(src.len() / 16),
+            fixed: [const { None }; 256],
         }
     }
 
@@ -237,6 +261,15 @@ impl<'t> TreeBuilder<'t> {
         let (kind, start, len) = (t.kind, self.off, u32::from(t.len) as usize);
         self.tok += 1;
         self.off += len;
+        if FIXED_TEXT[kind as usize & 255] {
+            let token = match &self.fixed[kind as usize & 255] {
+                Some(token) => token.clone(),
+                None => self.new_fixed(kind, start, len),
+            };
+            debug_assert_eq!(Some(token.text()), kind.text());
+            self.children.push(Child::Token(token));
+            return;
+        }
         let bytes = self.src.as_bytes();
         let head = kind as u64 | (len as u64) << 16;
         let key = match len {
@@ -256,6 +289,14 @@ impl<'t> TreeBuilder<'t> {
     fn new_short(&mut self, slot: usize, key: [u64; 3], kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
         let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
         self.short_tokens.insert(slot, key, token.clone());
+        token
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn new_fixed(&mut self, kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
+        let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
+        self.fixed[kind as usize & 255] = Some(token.clone());
         token
     }
 
