@@ -2,6 +2,7 @@
 //! characters become `ERROR_TOKEN`s and problems are reported as errors next
 //! to the token stream.
 
+use crate::parser::Input;
 use crate::{FileKind, SyntaxError, SyntaxKind, TextRange, TextSize};
 use SyntaxKind::*;
 
@@ -17,21 +18,31 @@ pub struct Token {
 /// Splits `text` into tokens for a file of kind `file`. The lengths add up to
 /// `text.len()`.
 pub fn lex(text: &str, file: FileKind) -> (Vec<Token>, Vec<SyntaxError>) {
-    // Real models average about four bytes per token (whitespace included);
-    // sizing once avoids regrowing a large vector.
-    let tokens = Vec::with_capacity(text.len() / 4 + 16);
-    let mut lx = Lexer { src: text.as_bytes(), text, pos: 0, file, tokens, errors: Vec::new() };
+    let mut lx = Lexer::<false>::new(text, file);
     lx.run();
     (lx.tokens, lx.errors)
 }
 
-struct Lexer<'a> {
+/// The tokens and errors, plus the parser's view of the non-trivia tokens,
+/// collected in the same pass (a second pass over the tokens costs more).
+pub(crate) fn lex_for_parser(text: &str, file: FileKind) -> (Vec<Token>, Vec<SyntaxError>, Input) {
+    let mut lx = Lexer::<true>::new(text, file);
+    lx.run();
+    let input = Input::from_parts(lx.kinds, lx.ranges, TextSize::of(text));
+    (lx.tokens, lx.errors, input)
+}
+
+/// `INPUT`: whether to also collect the kinds and ranges of non-trivia
+/// tokens for the parser.
+struct Lexer<'a, const INPUT: bool> {
     src: &'a [u8],
     text: &'a str,
     pos: usize,
     file: FileKind,
     tokens: Vec<Token>,
     errors: Vec<SyntaxError>,
+    kinds: Vec<SyntaxKind>,
+    ranges: Vec<TextRange>,
 }
 
 fn is_ident_start(b: u8) -> bool {
@@ -57,7 +68,25 @@ fn is_whitespace(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | b'\n')
 }
 
-impl Lexer<'_> {
+impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
+    fn new(text: &'a str, file: FileKind) -> Self {
+        // Real models average about four bytes per token (whitespace
+        // included), and a bit more than half of the tokens are not
+        // trivia; sizing once avoids regrowing large vectors.
+        let n = text.len() / 4 + 16;
+        let m = if INPUT { n / 2 + n / 8 } else { 0 };
+        Lexer {
+            src: text.as_bytes(),
+            text,
+            pos: 0,
+            file,
+            tokens: Vec::with_capacity(n),
+            errors: Vec::new(),
+            kinds: Vec::with_capacity(m),
+            ranges: Vec::with_capacity(m),
+        }
+    }
+
     fn at(&self, off: usize) -> u8 {
         self.src.get(self.pos + off).copied().unwrap_or(0)
     }
@@ -75,9 +104,15 @@ impl Lexer<'_> {
         i - from
     }
 
+    // Called for every token: not inlining it costs more than the copies.
+    #[inline(always)]
     fn push(&mut self, kind: SyntaxKind, len: usize) {
         debug_assert!(len > 0);
         self.tokens.push(Token { kind, len: TextSize::from(len as u32) });
+        if INPUT && !kind.is_trivia() {
+            self.kinds.push(kind);
+            self.ranges.push(self.range(self.pos, len));
+        }
         self.pos += len;
     }
 

@@ -30,18 +30,11 @@ pub(crate) struct Input {
 }
 
 impl Input {
-    pub(crate) fn new(tokens: &[Token], text: &str) -> Input {
-        let mut kinds = Vec::with_capacity(tokens.len());
-        let mut ranges = Vec::with_capacity(tokens.len());
-        let mut off = TextSize::from(0);
-        for t in tokens {
-            if !t.kind.is_trivia() {
-                kinds.push(t.kind);
-                ranges.push(TextRange::at(off, t.len));
-            }
-            off += t.len;
-        }
-        Input { kinds, ranges, text_len: TextSize::of(text) }
+    /// The kinds and ranges of the non-trivia tokens (see
+    /// `lexer::lex_for_parser`).
+    pub(crate) fn from_parts(kinds: Vec<SyntaxKind>, ranges: Vec<TextRange>, text_len: TextSize) -> Input {
+        debug_assert_eq!(kinds.len(), ranges.len());
+        Input { kinds, ranges, text_len }
     }
 }
 
