@@ -3,6 +3,7 @@
 //! to the token stream.
 
 use crate::parser::Input;
+use crate::tree_builder::word as word_at;
 use crate::{FileKind, SyntaxError, SyntaxKind, TextRange, TextSize};
 use SyntaxKind::*;
 
@@ -276,7 +277,14 @@ impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
         if self.is_assertion_file() && self.assertion_word(word, n) {
             return;
         }
-        let kind = SyntaxKind::keyword(word, self.file).unwrap_or(IDENT);
+        let kind = match n {
+            1..=8 => SyntaxKind::keyword_packed(word_at(self.src, start, n), 0, self.file),
+            9..=16 => {
+                SyntaxKind::keyword_packed(word_at(self.src, start, 8), word_at(self.src, start + 8, n - 8), self.file)
+            }
+            _ => None,
+        };
+        let kind = kind.unwrap_or(IDENT);
         self.push(kind, n);
     }
 

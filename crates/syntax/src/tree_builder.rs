@@ -158,7 +158,8 @@ impl<const N: usize, T: Clone> Table<N, T> {
 }
 
 /// The bytes `src[at..at + n]` (`n` from 1 to 8) as a little-endian word.
-fn word(src: &[u8], at: usize, n: usize) -> u64 {
+#[inline]
+pub(crate) fn word(src: &[u8], at: usize, n: usize) -> u64 {
     debug_assert!((1..=8).contains(&n));
     match src.get(at..at + 8) {
         // One load and a mask instead of a byte loop.
