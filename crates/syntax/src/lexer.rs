@@ -71,11 +71,11 @@ fn is_whitespace(b: u8) -> bool {
 
 impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
     fn new(text: &'a str, file: FileKind) -> Self {
-        // Real models average about four bytes per token (whitespace
-        // included), and a bit more than half of the tokens are not
-        // trivia; sizing once avoids regrowing large vectors.
-        let n = text.len() / 4 + 16;
-        let m = if INPUT { n / 2 + n / 8 } else { 0 };
+        // Real models have two and a half to four bytes per token
+        // (whitespace included), and four or more per non-trivia token;
+        // sizing once avoids regrowing (copying) large vectors.
+        let n = text.len() / 2 + 16;
+        let m = if INPUT { text.len() / 3 + 16 } else { 0 };
         Lexer {
             src: text.as_bytes(),
             text,
