@@ -196,7 +196,12 @@ pub(crate) struct TreeBuilder<'t> {
     nodes: Table<{ 1 + MAX_SHARED_CHILDREN }, GreenNode>,
     /// The token of each fixed-text kind (see `FIXED_TEXT`), once seen.
     fixed: [Option<GreenToken>; 256],
+    /// Recent whitespace tokens of up to 8 bytes, by their bytes packed into
+    /// a word.
+    ws_cache: [(u64, Option<GreenToken>); 1 << WS_CACHE_BITS],
 }
+
+const WS_CACHE_BITS: u32 = 4;
 
 impl<'t> TreeBuilder<'t> {
     pub(crate) fn new(src: &'t str, tokens: &'t [Token]) -> TreeBuilder<'t> {
@@ -212,6 +217,7 @@ impl<'t> TreeBuilder<'t> {
             long_tokens: Table::with_capacity(16),
             nodes: Table::with_capacity(src.len() / 16),
             fixed: [const { None }; 256],
+            ws_cache: [const { (0, None) }; 1 << WS_CACHE_BITS],
         }
     }
 
@@ -271,6 +277,27 @@ impl<'t> TreeBuilder<'t> {
             self.children.push(Child::Token(token));
             return;
         }
+        if kind == SyntaxKind::WHITESPACE && len <= 8 {
+            // A third of all tokens, of only a few distinct texts: a small
+            // direct-mapped cache in front of the table. Whitespace bytes
+            // are never zero, so the packed word alone tells the text.
+            let w = word(self.src.as_bytes(), start, len);
+            let slot = (w.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - WS_CACHE_BITS)) as usize;
+            if let (key, Some(token)) = &self.ws_cache[slot] {
+                if *key == w {
+                    let token = token.clone();
+                    self.children.push(Child::Token(token));
+                    return;
+                }
+            }
+        }
+        self.add_hashed(kind, start, len);
+    }
+
+    /// `add` through the token tables. Kept out of `add` so that its fast
+    /// paths need no registers saved.
+    #[inline(never)]
+    fn add_hashed(&mut self, kind: SyntaxKind, start: usize, len: usize) {
         let bytes = self.src.as_bytes();
         let head = kind as u64 | (len as u64) << 16;
         let key = match len {
@@ -278,11 +305,20 @@ impl<'t> TreeBuilder<'t> {
             9..=16 => [head, word(bytes, start, 8), word(bytes, start + 8, len - 8)],
             _ => return self.add_long(kind, start, len),
         };
-        let token = match self.short_tokens.find(&key) {
+        let token = self.short_token(key, kind, start, len);
+        if kind == SyntaxKind::WHITESPACE && len <= 8 {
+            let slot = (key[1].wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - WS_CACHE_BITS)) as usize;
+            self.ws_cache[slot] = (key[1], Some(token.clone()));
+        }
+        self.children.push(Child::Token(token));
+    }
+
+    #[inline(always)]
+    fn short_token(&mut self, key: [u64; 3], kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
+        match self.short_tokens.find(&key) {
             Ok(token) => token.clone(),
             Err(slot) => self.new_short(slot, key, kind, start, len),
-        };
-        self.children.push(Child::Token(token));
+        }
     }
 
     #[cold]
