@@ -65,9 +65,39 @@ const IDENT_CONTINUE: [bool; 256] = {
     t
 };
 
-fn is_whitespace(b: u8) -> bool {
+const fn is_whitespace(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | b'\n')
 }
+
+/// What a token's first byte says about it, for the lexer's dispatch.
+#[derive(Clone, Copy)]
+enum First {
+    Space,
+    /// A word (`is_ident_start`).
+    Letter,
+    /// An operator that cannot start a comment (all but `/` and `^`).
+    Punct,
+    Other,
+}
+
+const FIRST_BYTE: [First; 256] = {
+    let mut t = [First::Other; 256];
+    let mut b = 0;
+    while b < 256 {
+        let c = b as u8;
+        t[b] = if is_whitespace(c) {
+            First::Space
+        } else if c.is_ascii_alphabetic() || c == b'_' {
+            First::Letter
+        } else if c.is_ascii_punctuation() && !matches!(c, b'/' | b'^' | b'"' | b'\'' | b'_') {
+            First::Punct
+        } else {
+            First::Other
+        };
+        b += 1;
+    }
+    t
+};
 
 impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
     fn new(text: &'a str, file: FileKind) -> Self {
@@ -136,9 +166,19 @@ impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
     }
 
     fn run(&mut self) {
-        while self.pos < self.src.len() {
+        while let Some(&b) = self.src.get(self.pos) {
             let start = self.pos;
-            self.token();
+            // The common tokens by a table of the first byte; `token`
+            // handles everything.
+            match FIRST_BYTE[usize::from(b)] {
+                First::Space => {
+                    let n = self.run_len(start, is_whitespace);
+                    self.push(WHITESPACE, n);
+                }
+                First::Letter => self.word(),
+                First::Punct => self.punct(start),
+                First::Other => self.token(),
+            }
             debug_assert!(self.pos > start, "lexer made no progress");
         }
     }
@@ -269,23 +309,26 @@ impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
     fn word(&mut self) {
         let start = self.pos;
         let n = self.run_len(start, is_ident_continue);
-        let word = &self.text[start..start + n];
-        if (word == "Set" || word == "Seq") && self.at(n) == b'(' {
-            self.push(if word == "Set" { SET_OPEN } else { SEQ_OPEN }, n + 1);
+        let (w0, w1) = match n {
+            1..=8 => (word_at(self.src, start, n), 0),
+            9..=16 => (word_at(self.src, start, 8), word_at(self.src, start + 8, n - 8)),
+            _ => (0, 0),
+        };
+        // `Set(` and `Seq(`, compared as packed words.
+        const SET: u64 = u64::from_le_bytes(*b"Set\0\0\0\0\0");
+        const SEQ: u64 = u64::from_le_bytes(*b"Seq\0\0\0\0\0");
+        if (w0 == SET || w0 == SEQ) && self.at(n) == b'(' {
+            self.push(if w0 == SET { SET_OPEN } else { SEQ_OPEN }, n + 1);
             return;
         }
-        if self.is_assertion_file() && self.assertion_word(word, n) {
+        if self.is_assertion_file() && self.assertion_word(&self.text[start..start + n], n) {
             return;
         }
         let kind = match n {
-            1..=8 => SyntaxKind::keyword_packed(word_at(self.src, start, n), 0, self.file),
-            9..=16 => {
-                SyntaxKind::keyword_packed(word_at(self.src, start, 8), word_at(self.src, start + 8, n - 8), self.file)
-            }
+            1..=16 => SyntaxKind::keyword_packed(w0, w1, self.file),
             _ => None,
         };
-        let kind = kind.unwrap_or(IDENT);
-        self.push(kind, n);
+        self.push(kind.unwrap_or(IDENT), n);
     }
 
     /// Hyphenated words, multi-word model tokens and CSP blocks of the
