@@ -16,10 +16,6 @@ use rustc_hash::FxHasher;
 use crate::lexer::Token;
 use crate::SyntaxKind;
 
-/// Nodes with at most this many children are deduplicated (as in rowan):
-/// that covers names, literals and short expressions, which repeat a lot.
-const MAX_SHARED_CHILDREN: usize = 3;
-
 /// Whether every token of a kind has the same text: punctuation and
 /// keywords, except the multi-word keywords, whose spacing varies. Such
 /// tokens are shared through a slot per kind, without a table lookup.
@@ -75,11 +71,6 @@ impl Child {
         }
     }
 }
-
-/// A small node's identity: its kind, then its children's addresses (zero
-/// past the last child). Children are kept alive by the cached node, so an
-/// address cannot be reused while the key exists.
-type NodeKey = [u64; 1 + MAX_SHARED_CHILDREN];
 
 /// Open addressing with linear probing, for keys of `N` words. Keys are
 /// compared as integers: no hashing or comparing of text on the hot path.
@@ -157,6 +148,36 @@ impl<const N: usize, T: Clone> Table<N, T> {
     }
 }
 
+/// The shared node of kind `kind` over the children from `first` on, whose
+/// key is `key`: the one in `table`, or else a new one, added to it. Nodes
+/// with at most three children are deduplicated (as in rowan): that covers
+/// names, literals and short expressions, which repeat a lot.
+#[inline(always)]
+fn share<const N: usize>(
+    table: &mut Table<N, GreenNode>,
+    key: [u64; N],
+    children: &mut Vec<Child>,
+    kind: SyntaxKind,
+    first: usize,
+) -> GreenNode {
+    match table.find(&key) {
+        Ok(node) => {
+            let node = node.clone();
+            children.truncate(first);
+            node
+        }
+        Err(slot) => {
+            let node = make_node(children, kind, first);
+            table.insert(slot, key, node.clone());
+            node
+        }
+    }
+}
+
+fn make_node(children: &mut Vec<Child>, kind: SyntaxKind, first: usize) -> GreenNode {
+    GreenNode::new(kind.into(), children.drain(first..).map(Child::into_element))
+}
+
 /// The bytes `src[at..at + n]` (`n` from 1 to 8) as a little-endian word.
 #[inline]
 pub(crate) fn word(src: &[u8], at: usize, n: usize) -> u64 {
@@ -193,7 +214,12 @@ pub(crate) struct TreeBuilder<'t> {
     /// Longer tokens, keyed by kind and length and a hash of the text; the
     /// text is compared too.
     long_tokens: Table<3, GreenToken>,
-    nodes: Table<{ 1 + MAX_SHARED_CHILDREN }, GreenNode>,
+    /// Nodes of one, two and three shared children, keyed by their kind
+    /// and the children's addresses. Children are kept alive by the cached
+    /// node, so an address cannot be reused while its key exists.
+    nodes1: Table<2, GreenNode>,
+    nodes2: Table<3, GreenNode>,
+    nodes3: Table<4, GreenNode>,
     /// The token of each fixed-text kind (see `FIXED_TEXT`), once seen.
     fixed: [Option<GreenToken>; 256],
     /// Recent whitespace tokens of up to 8 bytes, by their bytes packed into
@@ -215,7 +241,9 @@ impl<'t> TreeBuilder<'t> {
             // bytes, one distinct small node per 19 to 28.
             short_tokens: Table::with_capacity(src.len() / 32),
             long_tokens: Table::with_capacity(16),
-            nodes: Table::with_capacity(src.len() / 16),
+            nodes1: Table::with_capacity(src.len() / 32),
+            nodes2: Table::with_capacity(src.len() / 64),
+            nodes3: Table::with_capacity(src.len() / 64),
             fixed: [const { None }; 256],
             ws_cache: [const { (0, None) }; 1 << WS_CACHE_BITS],
         }
@@ -360,35 +388,25 @@ impl<'t> TreeBuilder<'t> {
 
     /// Makes the children from `first` on into one node of kind `kind`.
     pub(crate) fn finish_node(&mut self, kind: SyntaxKind, first: usize) {
-        let children = &self.children[first..];
-        let mut key: NodeKey = [0; 1 + MAX_SHARED_CHILDREN];
-        key[0] = kind as u64;
-        let shareable = children.len() <= MAX_SHARED_CHILDREN
-            && children.iter().zip(&mut key[1..]).all(|(c, k)| {
-                *k = c.id();
-                c.is_shared()
-            });
-        let child = if shareable {
-            match self.nodes.find(&key) {
-                Ok(node) => {
-                    let node = node.clone();
-                    self.children.truncate(first);
-                    Child::Node { node, shared: true }
-                }
-                Err(slot) => {
-                    let node = self.make_node(kind, first);
-                    self.nodes.insert(slot, key, node.clone());
-                    Child::Node { node, shared: true }
-                }
+        let k = kind as u64;
+        let children = &mut self.children;
+        // Each number of children has its own table, so that the keys of
+        // the most common nodes, those of one child, are only two words.
+        let shared = match &children[first..] {
+            [a] if a.is_shared() => Some(share(&mut self.nodes1, [k, a.id()], children, kind, first)),
+            [a, b] if a.is_shared() && b.is_shared() => {
+                Some(share(&mut self.nodes2, [k, a.id(), b.id()], children, kind, first))
             }
-        } else {
-            Child::Node { node: self.make_node(kind, first), shared: false }
+            [a, b, c] if a.is_shared() && b.is_shared() && c.is_shared() => {
+                Some(share(&mut self.nodes3, [k, a.id(), b.id(), c.id()], children, kind, first))
+            }
+            _ => None,
         };
-        self.children.push(child);
-    }
-
-    fn make_node(&mut self, kind: SyntaxKind, first: usize) -> GreenNode {
-        GreenNode::new(kind.into(), self.children.drain(first..).map(Child::into_element))
+        let child = match shared {
+            Some(node) => Child::Node { node, shared: true },
+            None => Child::Node { node: make_node(children, kind, first), shared: false },
+        };
+        children.push(child);
     }
 
     /// The root. Normally the parser has closed it over everything;
