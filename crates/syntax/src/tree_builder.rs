@@ -37,15 +37,16 @@ const FIXED_TEXT: [bool; 256] = {
     t
 };
 
-/// A finished child of the node being built.
+/// A finished child of the node being built. (In the order of
+/// `NodeOrToken`'s variants, so that `into_element` keeps the tag.)
 enum Child {
-    Token(GreenToken),
     /// `shared` says whether the node is in the node cache, which makes its
     /// address usable as its identity.
     Node {
         node: GreenNode,
         shared: bool,
     },
+    Token(GreenToken),
 }
 
 impl Child {
