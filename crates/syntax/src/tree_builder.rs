@@ -164,7 +164,12 @@ fn share<const N: usize>(
     match table.find(&key) {
         Ok(node) => {
             let node = node.clone();
-            children.truncate(first);
+            // `N - 1` children: popping them one by one inlines their drop,
+            // which `truncate` does not.
+            for _ in 1..N {
+                children.pop();
+            }
+            debug_assert_eq!(children.len(), first);
             node
         }
         Err(slot) => {
