@@ -97,12 +97,12 @@ impl<const N: usize, T: Clone> Table<N, T> {
     }
 
     fn index(&self, key: &[u64; N]) -> usize {
-        // Multiplicative hashing (Knuth): the top bits of the product
-        // depend on all bits of the key words.
+        // The words folded together, then multiplicative hashing (Knuth):
+        // the top bits of the product depend on all bits of the fold.
         const K: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut h = 0u64;
-        for &w in key {
-            h = (h ^ w).wrapping_mul(K).rotate_left(23);
+        let mut h = key[0];
+        for &w in &key[1..] {
+            h = h.rotate_left(26) ^ w;
         }
         (h.wrapping_mul(K) >> self.shift) as usize
     }
