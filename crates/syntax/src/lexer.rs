@@ -172,7 +172,8 @@ impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
             // handles everything.
             match FIRST_BYTE[usize::from(b)] {
                 First::Space => {
-                    let n = self.run_len(start, is_whitespace);
+                    // The first byte is known: scanning starts after it.
+                    let n = 1 + self.run_len(start + 1, is_whitespace);
                     self.push(WHITESPACE, n);
                 }
                 First::Letter => self.word(),
@@ -308,7 +309,8 @@ impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
 
     fn word(&mut self) {
         let start = self.pos;
-        let n = self.run_len(start, is_ident_continue);
+        // Called at a letter: scanning starts after it.
+        let n = 1 + self.run_len(start + 1, is_ident_continue);
         let (w0, w1) = match n {
             1..=8 => (word_at(self.src, start, n), 0),
             9..=16 => (word_at(self.src, start, 8), word_at(self.src, start + 8, n - 8)),
