@@ -29,11 +29,11 @@ pub fn lex(text: &str, file: FileKind) -> (Vec<Token>, Vec<SyntaxError>) {
 pub(crate) fn lex_for_parser(text: &str, file: FileKind) -> (Vec<Token>, Vec<SyntaxError>, Input) {
     let mut lx = Lexer::<true>::new(text, file);
     lx.run();
-    let input = Input::from_parts(lx.kinds, lx.ranges, TextSize::of(text));
+    let input = Input::from_parts(lx.kinds, TextSize::of(text));
     (lx.tokens, lx.errors, input)
 }
 
-/// `INPUT`: whether to also collect the kinds and ranges of non-trivia
+/// `INPUT`: whether to also collect the kinds of non-trivia
 /// tokens for the parser.
 struct Lexer<'a, const INPUT: bool> {
     src: &'a [u8],
@@ -43,7 +43,6 @@ struct Lexer<'a, const INPUT: bool> {
     tokens: Vec<Token>,
     errors: Vec<SyntaxError>,
     kinds: Vec<SyntaxKind>,
-    ranges: Vec<TextRange>,
 }
 
 fn is_ident_start(b: u8) -> bool {
@@ -114,7 +113,6 @@ impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
             tokens: Vec::with_capacity(n),
             errors: Vec::new(),
             kinds: Vec::with_capacity(m),
-            ranges: Vec::with_capacity(m),
         }
     }
 
@@ -142,7 +140,6 @@ impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
         self.tokens.push(Token { kind, len: TextSize::from(len as u32) });
         if INPUT && !kind.is_trivia() {
             self.kinds.push(kind);
-            self.ranges.push(self.range(self.pos, len));
         }
         self.pos += len;
     }

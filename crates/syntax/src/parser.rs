@@ -22,19 +22,18 @@ pub(crate) const MAX_DEPTH: u32 = 384;
 /// many look-aheads without consuming a token the parser sees end of file.
 const FUEL: u32 = 1_000_000;
 
-/// The non-trivia tokens the grammar works on.
+/// The kinds of the non-trivia tokens the grammar works on. Their ranges,
+/// rarely needed, come from the builder, which is at or before the current
+/// token (see `TreeBuilder::range_ahead`).
 pub(crate) struct Input {
     kinds: Vec<SyntaxKind>,
-    ranges: Vec<TextRange>,
     text_len: TextSize,
 }
 
 impl Input {
-    /// The kinds and ranges of the non-trivia tokens (see
-    /// `lexer::lex_for_parser`).
-    pub(crate) fn from_parts(kinds: Vec<SyntaxKind>, ranges: Vec<TextRange>, text_len: TextSize) -> Input {
-        debug_assert_eq!(kinds.len(), ranges.len());
-        Input { kinds, ranges, text_len }
+    /// The kinds of the non-trivia tokens (see `lexer::lex_for_parser`).
+    pub(crate) fn from_parts(kinds: Vec<SyntaxKind>, text_len: TextSize) -> Input {
+        Input { kinds, text_len }
     }
 }
 
@@ -65,6 +64,9 @@ pub(crate) struct Parser<'a> {
     input: &'a Input,
     text: &'a str,
     pos: usize,
+    /// Where the token before `pos` ends (see `TreeBuilder::end`); 0 at
+    /// the start (no token ends there).
+    prev_end: usize,
     fuel: Cell<u32>,
     builder: TreeBuilder<'a>,
     /// Markers started and not yet completed or abandoned.
@@ -83,6 +85,7 @@ impl<'a> Parser<'a> {
             input,
             text,
             pos: 0,
+            prev_end: 0,
             fuel: Cell::new(FUEL),
             builder: TreeBuilder::new(text, tokens),
             open: 0,
@@ -134,8 +137,8 @@ impl<'a> Parser<'a> {
 
     /// Text of the `n`-th token ahead ("" past the end).
     pub(crate) fn nth_text(&self, n: usize) -> &'a str {
-        match self.input.ranges.get(self.pos + n) {
-            Some(r) => &self.text[*r],
+        match self.builder.range_ahead(n) {
+            Some(r) => &self.text[r],
             None => "",
         }
     }
@@ -143,22 +146,19 @@ impl<'a> Parser<'a> {
     /// The range of the current token, or an empty range at the end of the
     /// text.
     pub(crate) fn current_range(&self) -> TextRange {
-        match self.input.ranges.get(self.pos) {
-            Some(r) if self.fuel.get() > 0 => *r,
+        match self.builder.range_ahead(0) {
+            Some(r) if self.fuel.get() > 0 => r,
             _ => TextRange::empty(self.input.text_len),
         }
     }
 
     /// The range just after the previous token (for "missing X" errors).
     pub(crate) fn prev_end(&self) -> TextRange {
-        match self.pos.checked_sub(1).and_then(|i| self.input.ranges.get(i)) {
-            Some(r) => TextRange::empty(r.end()),
-            None => TextRange::empty(0.into()),
-        }
+        TextRange::empty(TextSize::from(self.prev_end as u32))
     }
 
     pub(crate) fn prev_range(&self) -> Option<TextRange> {
-        self.pos.checked_sub(1).and_then(|i| self.input.ranges.get(i)).copied()
+        (self.prev_end > 0).then(|| self.builder.range_before(self.prev_end))
     }
 
     pub(crate) fn bump_any(&mut self) {
@@ -168,6 +168,7 @@ impl<'a> Parser<'a> {
         self.fuel.set(FUEL);
         self.pos += 1;
         self.builder.token();
+        self.prev_end = self.builder.end();
     }
 
     pub(crate) fn bump(&mut self, kind: SyntaxKind) {

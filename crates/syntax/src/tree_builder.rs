@@ -14,7 +14,7 @@ use rowan::{GreenNode, GreenToken, NodeOrToken};
 use rustc_hash::FxHasher;
 
 use crate::lexer::Token;
-use crate::SyntaxKind;
+use crate::{SyntaxKind, TextRange, TextSize};
 
 /// Whether every token of a kind has the same text: punctuation and
 /// keywords, except the multi-word keywords, whose spacing varies. Such
@@ -288,6 +288,41 @@ impl<'t> TreeBuilder<'t> {
         if let Some(t) = self.tokens.get(self.tok) {
             self.add(*t);
         }
+    }
+
+    /// Where the last token added ends (an offset), for `range_before`.
+    pub(crate) fn end(&self) -> usize {
+        self.off
+    }
+
+    /// The range of the token that ended at `end` (see `end`).
+    pub(crate) fn range_before(&self, end: usize) -> TextRange {
+        // Tokens are never added twice, so a token that ended at `end`
+        // is the one before the first token after it.
+        let mut off = self.off;
+        let mut i = self.tok;
+        while off > end {
+            i -= 1;
+            off -= u32::from(self.tokens[i].len) as usize;
+        }
+        let len = self.tokens[i - 1].len;
+        TextRange::at(TextSize::from(end as u32) - len, len)
+    }
+
+    /// The range of the `n`-th non-trivia token from the next one to add
+    /// (`None` past the end).
+    pub(crate) fn range_ahead(&self, mut n: usize) -> Option<TextRange> {
+        let mut off = TextSize::from(self.off as u32);
+        for t in &self.tokens[self.tok..] {
+            if !t.kind.is_trivia() {
+                if n == 0 {
+                    return Some(TextRange::at(off, t.len));
+                }
+                n -= 1;
+            }
+            off += t.len;
+        }
+        None
     }
 
     /// Adds all tokens that are left.
