@@ -188,10 +188,11 @@ fn make_node(children: &mut Vec<Child>, kind: SyntaxKind, first: usize) -> Green
 #[inline]
 pub(crate) fn word(src: &[u8], at: usize, n: usize) -> u64 {
     debug_assert!((1..=8).contains(&n));
-    match src.get(at..at + 8) {
+    let rest = &src[at..];
+    match rest.first_chunk::<8>() {
         // One load and a mask instead of a byte loop.
-        Some(w) => u64::from_le_bytes(w.try_into().expect("eight bytes")) & (u64::MAX >> (64 - 8 * n)),
-        None => src[at..at + n].iter().rev().fold(0, |w, &b| (w << 8) | u64::from(b)),
+        Some(w) => u64::from_le_bytes(*w) & (u64::MAX >> (64 - 8 * n)),
+        None => rest[..n].iter().rev().fold(0, |w, &b| (w << 8) | u64::from(b)),
     }
 }
 
