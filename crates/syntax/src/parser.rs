@@ -71,8 +71,6 @@ pub(crate) struct Parser<'a> {
     prev_end: usize,
     fuel: Cell<u32>,
     builder: TreeBuilder<'a>,
-    /// Markers started and not yet completed or abandoned.
-    open: u32,
     errors: Vec<SyntaxError>,
     pub(crate) file: FileKind,
     depth: u32,
@@ -91,7 +89,6 @@ impl<'a> Parser<'a> {
             prev_end: 0,
             fuel: Cell::new(FUEL),
             builder: TreeBuilder::new(text, tokens),
-            open: 0,
             errors: Vec::new(),
             file,
             depth: 0,
@@ -279,14 +276,18 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// Starts the root, which takes leading trivia and, when completed,
+    /// everything that is left.
+    pub(crate) fn start_root(&mut self) -> RootMarker {
+        debug_assert_eq!(self.builder.checkpoint(), 0);
+        RootMarker(())
+    }
+
+    /// Starts a node inside the root.
     pub(crate) fn start(&mut self) -> Marker {
         let before = self.builder.save();
-        // Trivia in front of a node belongs to its parent (the root, which
-        // has none, takes leading trivia).
-        if self.open > 0 {
-            self.builder.trivia();
-        }
-        self.open += 1;
+        // Trivia in front of a node belongs to its parent.
+        self.builder.trivia();
         Marker { first_child: self.builder.checkpoint(), before, done: false }
     }
 
@@ -341,18 +342,12 @@ pub(crate) struct Marker {
 impl Marker {
     pub(crate) fn complete(mut self, p: &mut Parser<'_>, kind: SyntaxKind) -> CompletedMarker {
         self.done = true;
-        p.open -= 1;
-        if p.open == 0 {
-            // The root takes everything that is left.
-            p.builder.rest();
-        }
         p.builder.finish_node(kind, self.first_child);
         CompletedMarker { first_child: self.first_child }
     }
 
     pub(crate) fn abandon(mut self, p: &mut Parser<'_>) {
         self.done = true;
-        p.open -= 1;
         // Nothing was added since `start`: undo its moving trivia into the
         // parent, so that the trivia goes wherever the next token or node
         // puts it, as if the marker had never been started.
@@ -371,6 +366,17 @@ impl Drop for Marker {
     }
 }
 
+/// The open root (see `Parser::start_root`).
+pub(crate) struct RootMarker(());
+
+impl RootMarker {
+    pub(crate) fn complete(self, p: &mut Parser<'_>, kind: SyntaxKind) {
+        // The root takes everything that is left.
+        p.builder.rest();
+        p.builder.finish_node(kind, 0);
+    }
+}
+
 /// A finished node, which can still be wrapped by a new parent.
 #[derive(Clone, Copy)]
 pub(crate) struct CompletedMarker {
@@ -381,7 +387,6 @@ impl CompletedMarker {
     /// Starts a new node that will contain this one (for postfix and infix
     /// forms).
     pub(crate) fn precede(self, p: &mut Parser<'_>) -> Marker {
-        p.open += 1;
         Marker { first_child: self.first_child, before: p.builder.save(), done: false }
     }
 }
