@@ -66,9 +66,6 @@ pub(crate) struct Parser<'a> {
     input: &'a Input,
     text: &'a str,
     pos: usize,
-    /// Where the token before `pos` ends (see `TreeBuilder::end`); 0 at
-    /// the start (no token ends there).
-    prev_end: usize,
     fuel: Cell<u32>,
     builder: TreeBuilder<'a>,
     errors: Vec<SyntaxError>,
@@ -86,7 +83,6 @@ impl<'a> Parser<'a> {
             input,
             text,
             pos: 0,
-            prev_end: 0,
             fuel: Cell::new(FUEL),
             builder: TreeBuilder::new(text, tokens),
             errors: Vec::new(),
@@ -154,11 +150,16 @@ impl<'a> Parser<'a> {
 
     /// The range just after the previous token (for "missing X" errors).
     pub(crate) fn prev_end(&self) -> TextRange {
-        TextRange::empty(TextSize::from(self.prev_end as u32))
+        match self.prev_range() {
+            Some(r) => TextRange::empty(r.end()),
+            None => TextRange::empty(0.into()),
+        }
     }
 
     pub(crate) fn prev_range(&self) -> Option<TextRange> {
-        (self.prev_end > 0).then(|| self.builder.range_before(self.prev_end))
+        // The builder has added the tokens up to `pos` and at most the
+        // trivia after them.
+        self.builder.range_behind()
     }
 
     pub(crate) fn bump_any(&mut self) {
@@ -168,7 +169,6 @@ impl<'a> Parser<'a> {
         self.fuel.set(FUEL);
         self.pos += 1;
         self.builder.token();
-        self.prev_end = self.builder.end();
     }
 
     pub(crate) fn bump(&mut self, kind: SyntaxKind) {

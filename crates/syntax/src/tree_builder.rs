@@ -291,23 +291,17 @@ impl<'t> TreeBuilder<'t> {
         }
     }
 
-    /// Where the last token added ends (an offset), for `range_before`.
-    pub(crate) fn end(&self) -> usize {
-        self.off
-    }
-
-    /// The range of the token that ended at `end` (see `end`).
-    pub(crate) fn range_before(&self, end: usize) -> TextRange {
-        // Tokens are never added twice, so a token that ended at `end`
-        // is the one before the first token after it.
-        let mut off = self.off;
-        let mut i = self.tok;
-        while off > end {
-            i -= 1;
-            off -= u32::from(self.tokens[i].len) as usize;
+    /// The range of the last non-trivia token added (`None` before the
+    /// first): only trivia can follow it.
+    pub(crate) fn range_behind(&self) -> Option<TextRange> {
+        let mut end = TextSize::from(self.off as u32);
+        for t in self.tokens[..self.tok].iter().rev() {
+            if !t.kind.is_trivia() {
+                return Some(TextRange::new(end - t.len, end));
+            }
+            end -= t.len;
         }
-        let len = self.tokens[i - 1].len;
-        TextRange::at(TextSize::from(end as u32) - len, len)
+        None
     }
 
     /// The range of the `n`-th non-trivia token from the next one to add
