@@ -229,12 +229,37 @@ pub(crate) struct TreeBuilder<'t> {
     nodes3: Table<4, GreenNode>,
     /// The token of each fixed-text kind (see `FIXED_TEXT`), once seen.
     fixed: [Option<GreenToken>; 256],
-    /// Recent whitespace tokens of up to 8 bytes, by their bytes packed into
-    /// a word.
-    ws_cache: [(u64, Option<GreenToken>); 1 << WS_CACHE_BITS],
+    /// Recent tokens of the kinds in `is_cached`, by `cache_key`: a power
+    /// of two of them, from 16 to 256 by the length of the text (setting
+    /// up and dropping a large cache costs more than it saves on a small
+    /// file).
+    recent: Vec<(u64, Option<GreenToken>)>,
+    /// `64 - log2(recent.len())`.
+    recent_shift: u32,
 }
 
-const WS_CACHE_BITS: u32 = 4;
+/// Whether a token goes through the cache of recent tokens: whitespace,
+/// names and numbers (two thirds of all tokens) of up to 7 bytes (nearly
+/// all).
+fn is_cached(kind: SyntaxKind, len: usize) -> bool {
+    matches!(kind, SyntaxKind::WHITESPACE | SyntaxKind::IDENT | SyntaxKind::INT_NUMBER | SyntaxKind::FLOAT_NUMBER)
+        && len <= 7
+}
+
+/// The size of the cache of recent tokens for a text of `len` bytes.
+fn recent_len(len: usize) -> usize {
+    (len / 512).next_power_of_two().clamp(16, 256)
+}
+
+/// The bytes packed into a word (`w`, never zero for these kinds), with the
+/// kind in the top byte, which the packing leaves free.
+fn cache_key(kind: SyntaxKind, w: u64) -> u64 {
+    w | (kind as u64) << 56
+}
+
+fn recent_slot(key: u64, shift: u32) -> usize {
+    (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> shift) as usize
+}
 
 impl<'t> TreeBuilder<'t> {
     pub(crate) fn new(src: &'t str, tokens: &'t [Token]) -> TreeBuilder<'t> {
@@ -252,7 +277,8 @@ impl<'t> TreeBuilder<'t> {
             nodes2: Table::with_capacity(src.len() / 64),
             nodes3: Table::with_capacity(src.len() / 64),
             fixed: [const { None }; 256],
-            ws_cache: [const { (0, None) }; 1 << WS_CACHE_BITS],
+            recent: vec![(0, None); recent_len(src.len())],
+            recent_shift: 64 - recent_len(src.len()).trailing_zeros(),
         }
     }
 
@@ -341,14 +367,13 @@ impl<'t> TreeBuilder<'t> {
             self.children.push(Child::Token(token));
             return;
         }
-        if kind == SyntaxKind::WHITESPACE && len <= 8 {
-            // A third of all tokens, of only a few distinct texts: a small
-            // direct-mapped cache in front of the table. Whitespace bytes
-            // are never zero, so the packed word alone tells the text.
-            let w = word(self.src.as_bytes(), start, len);
-            let slot = (w.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - WS_CACHE_BITS)) as usize;
-            if let (key, Some(token)) = &self.ws_cache[slot] {
-                if *key == w {
+        if is_cached(kind, len) {
+            // Whitespace has only a few distinct texts, and names and
+            // numbers repeat close to each other: a direct-mapped cache in
+            // front of the table saves most lookups.
+            let k = cache_key(kind, word(self.src.as_bytes(), start, len));
+            if let (key, Some(token)) = &self.recent[recent_slot(k, self.recent_shift)] {
+                if *key == k {
                     let token = token.clone();
                     self.children.push(Child::Token(token));
                     return;
@@ -370,9 +395,9 @@ impl<'t> TreeBuilder<'t> {
             _ => return self.add_long(kind, start, len),
         };
         let token = self.short_token(key, kind, start, len);
-        if kind == SyntaxKind::WHITESPACE && len <= 8 {
-            let slot = (key[1].wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - WS_CACHE_BITS)) as usize;
-            self.ws_cache[slot] = (key[1], Some(token.clone()));
+        if is_cached(kind, len) {
+            let k = cache_key(kind, key[1]);
+            self.recent[recent_slot(k, self.recent_shift)] = (k, Some(token.clone()));
         }
         self.children.push(Child::Token(token));
     }
