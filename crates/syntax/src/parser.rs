@@ -66,6 +66,8 @@ pub(crate) struct Parser<'a> {
     input: &'a Input,
     text: &'a str,
     pos: usize,
+    /// The kind at `pos` (`EOF` past the end).
+    cur: SyntaxKind,
     fuel: Cell<u32>,
     builder: TreeBuilder<'a>,
     errors: Vec<SyntaxError>,
@@ -83,6 +85,7 @@ impl<'a> Parser<'a> {
             input,
             text,
             pos: 0,
+            cur: input.kinds.first().copied().unwrap_or(EOF),
             fuel: Cell::new(FUEL),
             builder: TreeBuilder::new(text, tokens),
             errors: Vec::new(),
@@ -111,8 +114,14 @@ impl<'a> Parser<'a> {
         self.kinds.get(self.pos + n).copied().unwrap_or(EOF)
     }
 
+    /// `nth(0)`, the most common look-ahead, from `cur`.
     pub(crate) fn current(&self) -> SyntaxKind {
-        self.nth(0)
+        let fuel = self.fuel.get();
+        if fuel == 0 {
+            return EOF;
+        }
+        self.fuel.set(fuel - 1);
+        self.cur
     }
 
     pub(crate) fn at(&self, kind: SyntaxKind) -> bool {
@@ -168,6 +177,7 @@ impl<'a> Parser<'a> {
         }
         self.fuel.set(FUEL);
         self.pos += 1;
+        self.cur = self.kinds.get(self.pos).copied().unwrap_or(EOF);
         self.builder.token();
     }
 
