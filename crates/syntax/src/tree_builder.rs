@@ -230,7 +230,7 @@ pub(crate) struct TreeBuilder<'t> {
     /// The token of each fixed-text kind (see `FIXED_TEXT`), once seen.
     fixed: [Option<GreenToken>; 256],
     /// Recent tokens of the kinds in `is_cached`, by `cache_key`: a power
-    /// of two of them, from 16 to 256 by the length of the text (setting
+    /// of two of them, from 16 to 512 by the length of the text (setting
     /// up and dropping a large cache costs more than it saves on a small
     /// file).
     recent: Vec<(u64, Option<GreenToken>)>,
@@ -248,7 +248,7 @@ fn is_cached(kind: SyntaxKind, len: usize) -> bool {
 
 /// The size of the cache of recent tokens for a text of `len` bytes.
 fn recent_len(len: usize) -> usize {
-    (len / 512).next_power_of_two().clamp(16, 256)
+    (len / 256).next_power_of_two().clamp(16, 512)
 }
 
 /// The bytes packed into a word (`w`, never zero for these kinds), with the
