@@ -19,6 +19,8 @@ use crate::{SyntaxKind, TextRange, TextSize};
 /// Whether every token of a kind has the same text: punctuation and
 /// keywords, except the multi-word keywords, whose spacing varies. Such
 /// tokens are shared through a slot per kind, without a table lookup.
+/// Token kinds are below 256 (see `TokenSet`): `kind as usize & 255`
+/// indexes these tables without a bounds check.
 const FIXED_TEXT: [bool; 256] = {
     let mut t = [false; 256];
     let mut i = 0;
