@@ -55,9 +55,12 @@ macro_rules! syntax_kinds {
             $($node,)*
         }
 
-        const ALL_KINDS: &[SyntaxKind] = &[
+        pub(crate) const ALL_KINDS: &[SyntaxKind] = &[
             $(SyntaxKind::$tok,)* $(SyntaxKind::$p,)* $(SyntaxKind::$kw,)* $(SyntaxKind::$node,)*
         ];
+
+        /// Every keyword with its spelling and languages.
+        const KEYWORDS: &[(SyntaxKind, &str, Langs)] = &[$((SyntaxKind::$kw, $kwtext, Langs::$langs),)*];
 
         impl SyntaxKind {
             /// The fixed spelling of a punctuation or keyword token.
@@ -70,12 +73,12 @@ macro_rules! syntax_kinds {
             }
 
             /// Whether this kind is a reserved word (in some language).
-            pub fn is_keyword(self) -> bool {
+            pub const fn is_keyword(self) -> bool {
                 matches!(self, $(SyntaxKind::$kw)|*)
             }
 
             /// Whether this kind is a punctuation or operator token.
-            pub fn is_punct(self) -> bool {
+            pub const fn is_punct(self) -> bool {
                 matches!(self, $(SyntaxKind::$p)|*)
             }
 
@@ -444,7 +447,71 @@ syntax_kinds! {
     }
 }
 
+/// The keywords spelled with identifier characters only (the others are
+/// never a word of the lexer), by a hash of their bytes packed into two
+/// words (see `pack`). The lexer looks up every word: hashing two words
+/// and comparing two more is cheaper than a `match` on the text.
+const KEYWORD_SLOTS: usize = 512;
+static KEYWORD_TABLE: [(u64, u64, SyntaxKind, Langs); KEYWORD_SLOTS] = {
+    let mut t = [(0u64, 0u64, SyntaxKind::EOF, Langs(0)); KEYWORD_SLOTS];
+    let mut i = 0;
+    while i < KEYWORDS.len() {
+        let (kind, text, langs) = KEYWORDS[i];
+        let b = text.as_bytes();
+        let mut ident = true;
+        let mut j = 0;
+        while j < b.len() {
+            ident &= b[j].is_ascii_alphanumeric() || b[j] == b'_';
+            j += 1;
+        }
+        // The lexer only looks up words of up to 16 bytes.
+        assert!(!ident || b.len() <= 16, "a keyword longer than 16 bytes");
+        if ident {
+            let (w0, w1) = pack_const(b);
+            let mut slot = keyword_slot(w0, w1);
+            while t[slot].0 != 0 {
+                slot = (slot + 1) % KEYWORD_SLOTS;
+            }
+            t[slot] = (w0, w1, kind, langs);
+        }
+        i += 1;
+    }
+    t
+};
+
+/// `b` (at most 16 bytes) as two little-endian words, zero-padded.
+const fn pack_const(b: &[u8]) -> (u64, u64) {
+    let mut w = [0u64; 2];
+    let mut j = 0;
+    while j < b.len() {
+        w[j / 8] |= (b[j] as u64) << (8 * (j % 8));
+        j += 1;
+    }
+    (w[0], w[1])
+}
+
+const fn keyword_slot(w0: u64, w1: u64) -> usize {
+    ((w0 ^ w1.rotate_left(29)).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - KEYWORD_SLOTS.trailing_zeros())) as usize
+}
+
 impl SyntaxKind {
+    /// `keyword` for a word of identifier characters, given as its bytes
+    /// packed into two words (zero-padded; only words of up to 16 bytes).
+    #[inline]
+    pub(crate) fn keyword_packed(w0: u64, w1: u64, file: FileKind) -> Option<SyntaxKind> {
+        let mut slot = keyword_slot(w0, w1);
+        loop {
+            let (k0, k1, kind, langs) = KEYWORD_TABLE[slot];
+            if k0 == w0 && k1 == w1 {
+                return langs.contains(file).then_some(kind);
+            }
+            if k0 == 0 {
+                return None;
+            }
+            slot = (slot + 1) % KEYWORD_SLOTS;
+        }
+    }
+
     /// Whitespace and comments: kept in the tree, skipped by the parser.
     pub fn is_trivia(self) -> bool {
         matches!(self, SyntaxKind::WHITESPACE | SyntaxKind::LINE_COMMENT | SyntaxKind::BLOCK_COMMENT)
@@ -499,6 +566,18 @@ mod tests {
         for (i, k) in ALL_KINDS.iter().enumerate() {
             assert_eq!(*k as usize, i);
             assert_eq!(SyntaxKind::from_raw(i as u16), Some(*k));
+        }
+    }
+
+    #[test]
+    fn packed_keyword_lookup_agrees_with_the_match() {
+        let mut words: Vec<&str> = KEYWORDS.iter().map(|k| k.1).filter(|t| !t.contains([' ', '-'])).collect();
+        words.extend(["x", "stat", "states", "transitions", "a_very_long_name", "operation1", "Set", "abcdefgh"]);
+        for w in words {
+            let (w0, w1) = pack_const(w.as_bytes());
+            for file in FileKind::ALL {
+                assert_eq!(SyntaxKind::keyword_packed(w0, w1, file), SyntaxKind::keyword(w, file), "{w}");
+            }
         }
     }
 

@@ -2,6 +2,8 @@
 //! characters become `ERROR_TOKEN`s and problems are reported as errors next
 //! to the token stream.
 
+use crate::parser::Input;
+use crate::tree_builder::word as word_at;
 use crate::{FileKind, SyntaxError, SyntaxKind, TextRange, TextSize};
 use SyntaxKind::*;
 
@@ -17,21 +19,30 @@ pub struct Token {
 /// Splits `text` into tokens for a file of kind `file`. The lengths add up to
 /// `text.len()`.
 pub fn lex(text: &str, file: FileKind) -> (Vec<Token>, Vec<SyntaxError>) {
-    // Real models average about four bytes per token (whitespace included);
-    // sizing once avoids regrowing a large vector.
-    let tokens = Vec::with_capacity(text.len() / 4 + 16);
-    let mut lx = Lexer { src: text.as_bytes(), text, pos: 0, file, tokens, errors: Vec::new() };
+    let mut lx = Lexer::<false>::new(text, file);
     lx.run();
     (lx.tokens, lx.errors)
 }
 
-struct Lexer<'a> {
+/// The tokens and errors, plus the parser's view of the non-trivia tokens,
+/// collected in the same pass (a second pass over the tokens costs more).
+pub(crate) fn lex_for_parser(text: &str, file: FileKind) -> (Vec<Token>, Vec<SyntaxError>, Input) {
+    let mut lx = Lexer::<true>::new(text, file);
+    lx.run();
+    let input = Input::from_parts(lx.kinds, TextSize::of(text));
+    (lx.tokens, lx.errors, input)
+}
+
+/// `INPUT`: whether to also collect the kinds of non-trivia
+/// tokens for the parser.
+struct Lexer<'a, const INPUT: bool> {
     src: &'a [u8],
     text: &'a str,
     pos: usize,
     file: FileKind,
     tokens: Vec<Token>,
     errors: Vec<SyntaxError>,
+    kinds: Vec<SyntaxKind>,
 }
 
 fn is_ident_start(b: u8) -> bool {
@@ -53,11 +64,58 @@ const IDENT_CONTINUE: [bool; 256] = {
     t
 };
 
-fn is_whitespace(b: u8) -> bool {
+const fn is_whitespace(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | b'\n')
 }
 
-impl Lexer<'_> {
+/// What a token's first byte says about it, for the lexer's dispatch.
+#[derive(Clone, Copy)]
+enum First {
+    Space,
+    /// A word (`is_ident_start`).
+    Letter,
+    /// An operator that cannot start a comment (all but `/` and `^`).
+    Punct,
+    Other,
+}
+
+const FIRST_BYTE: [First; 256] = {
+    let mut t = [First::Other; 256];
+    let mut b = 0;
+    while b < 256 {
+        let c = b as u8;
+        t[b] = if is_whitespace(c) {
+            First::Space
+        } else if c.is_ascii_alphabetic() || c == b'_' {
+            First::Letter
+        } else if c.is_ascii_punctuation() && !matches!(c, b'/' | b'^' | b'"' | b'\'' | b'_') {
+            First::Punct
+        } else {
+            First::Other
+        };
+        b += 1;
+    }
+    t
+};
+
+impl<'a, const INPUT: bool> Lexer<'a, INPUT> {
+    fn new(text: &'a str, file: FileKind) -> Self {
+        // Real models have two and a half to four bytes per token
+        // (whitespace included), and four or more per non-trivia token;
+        // sizing once avoids regrowing (copying) large vectors.
+        let n = text.len() / 2 + 16;
+        let m = if INPUT { text.len() / 3 + 16 } else { 0 };
+        Lexer {
+            src: text.as_bytes(),
+            text,
+            pos: 0,
+            file,
+            tokens: Vec::with_capacity(n),
+            errors: Vec::new(),
+            kinds: Vec::with_capacity(m),
+        }
+    }
+
     fn at(&self, off: usize) -> u8 {
         self.src.get(self.pos + off).copied().unwrap_or(0)
     }
@@ -75,9 +133,14 @@ impl Lexer<'_> {
         i - from
     }
 
+    // Called for every token: not inlining it costs more than the copies.
+    #[inline(always)]
     fn push(&mut self, kind: SyntaxKind, len: usize) {
         debug_assert!(len > 0);
         self.tokens.push(Token { kind, len: TextSize::from(len as u32) });
+        if INPUT && !kind.is_trivia() {
+            self.kinds.push(kind);
+        }
         self.pos += len;
     }
 
@@ -100,9 +163,20 @@ impl Lexer<'_> {
     }
 
     fn run(&mut self) {
-        while self.pos < self.src.len() {
+        while let Some(&b) = self.src.get(self.pos) {
             let start = self.pos;
-            self.token();
+            // The common tokens by a table of the first byte; `token`
+            // handles everything.
+            match FIRST_BYTE[usize::from(b)] {
+                First::Space => {
+                    // The first byte is known: scanning starts after it.
+                    let n = 1 + self.run_len(start + 1, is_whitespace);
+                    self.push(WHITESPACE, n);
+                }
+                First::Letter => self.word(),
+                First::Punct => self.punct(start),
+                First::Other => self.token(),
+            }
             debug_assert!(self.pos > start, "lexer made no progress");
         }
     }
@@ -232,17 +306,28 @@ impl Lexer<'_> {
 
     fn word(&mut self) {
         let start = self.pos;
-        let n = self.run_len(start, is_ident_continue);
-        let word = &self.text[start..start + n];
-        if (word == "Set" || word == "Seq") && self.at(n) == b'(' {
-            self.push(if word == "Set" { SET_OPEN } else { SEQ_OPEN }, n + 1);
+        // Called at a letter: scanning starts after it.
+        let n = 1 + self.run_len(start + 1, is_ident_continue);
+        let (w0, w1) = match n {
+            1..=8 => (word_at(self.src, start, n), 0),
+            9..=16 => (word_at(self.src, start, 8), word_at(self.src, start + 8, n - 8)),
+            _ => (0, 0),
+        };
+        // `Set(` and `Seq(`, compared as packed words.
+        const SET: u64 = u64::from_le_bytes(*b"Set\0\0\0\0\0");
+        const SEQ: u64 = u64::from_le_bytes(*b"Seq\0\0\0\0\0");
+        if (w0 == SET || w0 == SEQ) && self.at(n) == b'(' {
+            self.push(if w0 == SET { SET_OPEN } else { SEQ_OPEN }, n + 1);
             return;
         }
-        if self.is_assertion_file() && self.assertion_word(word, n) {
+        if self.is_assertion_file() && self.assertion_word(&self.text[start..start + n], n) {
             return;
         }
-        let kind = SyntaxKind::keyword(word, self.file).unwrap_or(IDENT);
-        self.push(kind, n);
+        let kind = match n {
+            1..=16 => SyntaxKind::keyword_packed(w0, w1, self.file),
+            _ => None,
+        };
+        self.push(kind.unwrap_or(IDENT), n);
     }
 
     /// Hyphenated words, multi-word model tokens and CSP blocks of the

@@ -174,8 +174,7 @@ impl Parse {
 
 /// Parses `text` as a file of kind `file`. Never fails and never panics.
 pub fn parse(text: &str, file: FileKind) -> Parse {
-    let (tokens, mut errors) = lexer::lex(text, file);
-    let input = parser::Input::new(&tokens, text);
+    let (tokens, mut errors, input) = lexer::lex_for_parser(text, file);
     let mut p = parser::Parser::new(&input, &tokens, text, file);
     grammar::source_file(&mut p);
     let (green, parse_errors) = p.finish();

@@ -22,26 +22,18 @@ pub(crate) const MAX_DEPTH: u32 = 384;
 /// many look-aheads without consuming a token the parser sees end of file.
 const FUEL: u32 = 1_000_000;
 
-/// The non-trivia tokens the grammar works on.
+/// The kinds of the non-trivia tokens the grammar works on. Their ranges,
+/// rarely needed, come from the builder, which is at or before the current
+/// token (see `TreeBuilder::range_ahead`).
 pub(crate) struct Input {
     kinds: Vec<SyntaxKind>,
-    ranges: Vec<TextRange>,
     text_len: TextSize,
 }
 
 impl Input {
-    pub(crate) fn new(tokens: &[Token], text: &str) -> Input {
-        let mut kinds = Vec::with_capacity(tokens.len());
-        let mut ranges = Vec::with_capacity(tokens.len());
-        let mut off = TextSize::from(0);
-        for t in tokens {
-            if !t.kind.is_trivia() {
-                kinds.push(t.kind);
-                ranges.push(TextRange::at(off, t.len));
-            }
-            off += t.len;
-        }
-        Input { kinds, ranges, text_len: TextSize::of(text) }
+    /// The kinds of the non-trivia tokens (see `lexer::lex_for_parser`).
+    pub(crate) fn from_parts(kinds: Vec<SyntaxKind>, text_len: TextSize) -> Input {
+        Input { kinds, text_len }
     }
 }
 
@@ -69,13 +61,15 @@ impl TokenSet {
 
 /// The parser state handed to every grammar function.
 pub(crate) struct Parser<'a> {
+    /// `input.kinds`, held directly: one load less per look-ahead.
+    kinds: &'a [SyntaxKind],
     input: &'a Input,
     text: &'a str,
     pos: usize,
+    /// The kind at `pos` (`EOF` past the end).
+    cur: SyntaxKind,
     fuel: Cell<u32>,
     builder: TreeBuilder<'a>,
-    /// Markers started and not yet completed or abandoned.
-    open: u32,
     errors: Vec<SyntaxError>,
     pub(crate) file: FileKind,
     depth: u32,
@@ -87,12 +81,13 @@ pub(crate) struct Parser<'a> {
 impl<'a> Parser<'a> {
     pub(crate) fn new(input: &'a Input, tokens: &'a [Token], text: &'a str, file: FileKind) -> Parser<'a> {
         Parser {
+            kinds: &input.kinds,
             input,
             text,
             pos: 0,
+            cur: input.kinds.first().copied().unwrap_or(EOF),
             fuel: Cell::new(FUEL),
             builder: TreeBuilder::new(text, tokens),
-            open: 0,
             errors: Vec::new(),
             file,
             depth: 0,
@@ -116,11 +111,17 @@ impl<'a> Parser<'a> {
             return EOF;
         }
         self.fuel.set(fuel - 1);
-        self.input.kinds.get(self.pos + n).copied().unwrap_or(EOF)
+        self.kinds.get(self.pos + n).copied().unwrap_or(EOF)
     }
 
+    /// `nth(0)`, the most common look-ahead, from `cur`.
     pub(crate) fn current(&self) -> SyntaxKind {
-        self.nth(0)
+        let fuel = self.fuel.get();
+        if fuel == 0 {
+            return EOF;
+        }
+        self.fuel.set(fuel - 1);
+        self.cur
     }
 
     pub(crate) fn at(&self, kind: SyntaxKind) -> bool {
@@ -141,8 +142,8 @@ impl<'a> Parser<'a> {
 
     /// Text of the `n`-th token ahead ("" past the end).
     pub(crate) fn nth_text(&self, n: usize) -> &'a str {
-        match self.input.ranges.get(self.pos + n) {
-            Some(r) => &self.text[*r],
+        match self.builder.range_ahead(n) {
+            Some(r) => &self.text[r],
             None => "",
         }
     }
@@ -150,22 +151,24 @@ impl<'a> Parser<'a> {
     /// The range of the current token, or an empty range at the end of the
     /// text.
     pub(crate) fn current_range(&self) -> TextRange {
-        match self.input.ranges.get(self.pos) {
-            Some(r) if self.fuel.get() > 0 => *r,
+        match self.builder.range_ahead(0) {
+            Some(r) if self.fuel.get() > 0 => r,
             _ => TextRange::empty(self.input.text_len),
         }
     }
 
     /// The range just after the previous token (for "missing X" errors).
     pub(crate) fn prev_end(&self) -> TextRange {
-        match self.pos.checked_sub(1).and_then(|i| self.input.ranges.get(i)) {
+        match self.prev_range() {
             Some(r) => TextRange::empty(r.end()),
             None => TextRange::empty(0.into()),
         }
     }
 
     pub(crate) fn prev_range(&self) -> Option<TextRange> {
-        self.pos.checked_sub(1).and_then(|i| self.input.ranges.get(i)).copied()
+        // The builder has added the tokens up to `pos` and at most the
+        // trivia after them.
+        self.builder.range_behind()
     }
 
     pub(crate) fn bump_any(&mut self) {
@@ -174,6 +177,7 @@ impl<'a> Parser<'a> {
         }
         self.fuel.set(FUEL);
         self.pos += 1;
+        self.cur = self.kinds.get(self.pos).copied().unwrap_or(EOF);
         self.builder.token();
     }
 
@@ -282,14 +286,18 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// Starts the root, which takes leading trivia and, when completed,
+    /// everything that is left.
+    pub(crate) fn start_root(&mut self) -> RootMarker {
+        debug_assert_eq!(self.builder.checkpoint(), 0);
+        RootMarker(())
+    }
+
+    /// Starts a node inside the root.
     pub(crate) fn start(&mut self) -> Marker {
         let before = self.builder.save();
-        // Trivia in front of a node belongs to its parent (the root, which
-        // has none, takes leading trivia).
-        if self.open > 0 {
-            self.builder.trivia();
-        }
-        self.open += 1;
+        // Trivia in front of a node belongs to its parent.
+        self.builder.trivia();
         Marker { first_child: self.builder.checkpoint(), before, done: false }
     }
 
@@ -344,18 +352,12 @@ pub(crate) struct Marker {
 impl Marker {
     pub(crate) fn complete(mut self, p: &mut Parser<'_>, kind: SyntaxKind) -> CompletedMarker {
         self.done = true;
-        p.open -= 1;
-        if p.open == 0 {
-            // The root takes everything that is left.
-            p.builder.rest();
-        }
         p.builder.finish_node(kind, self.first_child);
         CompletedMarker { first_child: self.first_child }
     }
 
     pub(crate) fn abandon(mut self, p: &mut Parser<'_>) {
         self.done = true;
-        p.open -= 1;
         // Nothing was added since `start`: undo its moving trivia into the
         // parent, so that the trivia goes wherever the next token or node
         // puts it, as if the marker had never been started.
@@ -374,6 +376,17 @@ impl Drop for Marker {
     }
 }
 
+/// The open root (see `Parser::start_root`).
+pub(crate) struct RootMarker(());
+
+impl RootMarker {
+    pub(crate) fn complete(self, p: &mut Parser<'_>, kind: SyntaxKind) {
+        // The root takes everything that is left.
+        p.builder.rest();
+        p.builder.finish_node(kind, 0);
+    }
+}
+
 /// A finished node, which can still be wrapped by a new parent.
 #[derive(Clone, Copy)]
 pub(crate) struct CompletedMarker {
@@ -384,7 +397,6 @@ impl CompletedMarker {
     /// Starts a new node that will contain this one (for postfix and infix
     /// forms).
     pub(crate) fn precede(self, p: &mut Parser<'_>) -> Marker {
-        p.open += 1;
         Marker { first_child: self.first_child, before: p.builder.save(), done: false }
     }
 }

@@ -135,12 +135,11 @@ fn split_errors(errors: &[SyntaxError], member: TextRange) -> Option<(Vec<Syntax
 /// its start), when `text` lexes cleanly and parses as exactly one member
 /// ending at its last `}`.
 fn parse_member(text: &str, kind: crate::FileKind) -> Option<(rowan::GreenNode, Vec<SyntaxError>)> {
-    let (tokens, lex_errors) = lexer::lex(text, kind);
+    let (tokens, lex_errors, input) = lexer::lex_for_parser(text, kind);
     let (first, last) = (tokens.first()?, tokens.last()?);
     if !lex_errors.is_empty() || first.kind.is_trivia() || last.kind != R_CURLY {
         return None;
     }
-    let input = parser::Input::new(&tokens, text);
     let mut p = parser::Parser::new(&input, &tokens, text, kind);
     if !grammar::top_level_member(&mut p) {
         return None;

@@ -14,21 +14,41 @@ use rowan::{GreenNode, GreenToken, NodeOrToken};
 use rustc_hash::FxHasher;
 
 use crate::lexer::Token;
-use crate::SyntaxKind;
+use crate::{SyntaxKind, TextRange, TextSize};
 
-/// Nodes with at most this many children are deduplicated (as in rowan):
-/// that covers names, literals and short expressions, which repeat a lot.
-const MAX_SHARED_CHILDREN: usize = 3;
+/// Whether every token of a kind has the same text: punctuation and
+/// keywords, except the multi-word keywords, whose spacing varies. Such
+/// tokens are shared through a slot per kind, without a table lookup.
+/// Token kinds are below 256 (see `TokenSet`): `kind as usize & 255`
+/// indexes these tables without a bounds check.
+const FIXED_TEXT: [bool; 256] = {
+    let mut t = [false; 256];
+    let mut i = 0;
+    while i < 256 && i < crate::kinds::ALL_KINDS.len() {
+        let k = crate::kinds::ALL_KINDS[i];
+        t[i] = (k.is_punct() || k.is_keyword())
+            && !matches!(
+                k,
+                SyntaxKind::FAILURES_DIVERGENCES_MODEL_KW
+                    | SyntaxKind::FAILURES_MODEL_KW
+                    | SyntaxKind::TRACES_MODEL_KW
+                    | SyntaxKind::TICK_TOCK_MODEL_KW
+            );
+        i += 1;
+    }
+    t
+};
 
-/// A finished child of the node being built.
+/// A finished child of the node being built. (In the order of
+/// `NodeOrToken`'s variants, so that `into_element` keeps the tag.)
 enum Child {
-    Token(GreenToken),
     /// `shared` says whether the node is in the node cache, which makes its
     /// address usable as its identity.
     Node {
         node: GreenNode,
         shared: bool,
     },
+    Token(GreenToken),
 }
 
 impl Child {
@@ -55,11 +75,6 @@ impl Child {
     }
 }
 
-/// A small node's identity: its kind, then its children's addresses (zero
-/// past the last child). Children are kept alive by the cached node, so an
-/// address cannot be reused while the key exists.
-type NodeKey = [u64; 1 + MAX_SHARED_CHILDREN];
-
 /// Open addressing with linear probing, for keys of `N` words. Keys are
 /// compared as integers: no hashing or comparing of text on the hot path.
 ///
@@ -84,12 +99,12 @@ impl<const N: usize, T: Clone> Table<N, T> {
     }
 
     fn index(&self, key: &[u64; N]) -> usize {
-        // Multiplicative hashing (Knuth): the top bits of the product
-        // depend on all bits of the key words.
+        // The words folded together, then multiplicative hashing (Knuth):
+        // the top bits of the product depend on all bits of the fold.
         const K: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut h = 0u64;
-        for &w in key {
-            h = (h ^ w).wrapping_mul(K).rotate_left(23);
+        let mut h = key[0];
+        for &w in &key[1..] {
+            h = h.rotate_left(26) ^ w;
         }
         (h.wrapping_mul(K) >> self.shift) as usize
     }
@@ -136,13 +151,50 @@ impl<const N: usize, T: Clone> Table<N, T> {
     }
 }
 
+/// The shared node of kind `kind` over the children from `first` on, whose
+/// key is `key`: the one in `table`, or else a new one, added to it. Nodes
+/// with at most three children are deduplicated (as in rowan): that covers
+/// names, literals and short expressions, which repeat a lot.
+#[inline(always)]
+fn share<const N: usize>(
+    table: &mut Table<N, GreenNode>,
+    key: [u64; N],
+    children: &mut Vec<Child>,
+    kind: SyntaxKind,
+    first: usize,
+) -> GreenNode {
+    match table.find(&key) {
+        Ok(node) => {
+            let node = node.clone();
+            // `N - 1` children: popping them one by one inlines their drop,
+            // which `truncate` does not.
+            for _ in 1..N {
+                children.pop();
+            }
+            debug_assert_eq!(children.len(), first);
+            node
+        }
+        Err(slot) => {
+            let node = make_node(children, kind, first);
+            table.insert(slot, key, node.clone());
+            node
+        }
+    }
+}
+
+fn make_node(children: &mut Vec<Child>, kind: SyntaxKind, first: usize) -> GreenNode {
+    GreenNode::new(kind.into(), children.drain(first..).map(Child::into_element))
+}
+
 /// The bytes `src[at..at + n]` (`n` from 1 to 8) as a little-endian word.
-fn word(src: &[u8], at: usize, n: usize) -> u64 {
+#[inline]
+pub(crate) fn word(src: &[u8], at: usize, n: usize) -> u64 {
     debug_assert!((1..=8).contains(&n));
-    match src.get(at..at + 8) {
+    let rest = &src[at..];
+    match rest.first_chunk::<8>() {
         // One load and a mask instead of a byte loop.
-        Some(w) => u64::from_le_bytes(w.try_into().expect("eight bytes")) & (u64::MAX >> (64 - 8 * n)),
-        None => src[at..at + n].iter().rev().fold(0, |w, &b| (w << 8) | u64::from(b)),
+        Some(w) => u64::from_le_bytes(*w) & (u64::MAX >> (64 - 8 * n)),
+        None => rest[..n].iter().rev().fold(0, |w, &b| (w << 8) | u64::from(b)),
     }
 }
 
@@ -171,7 +223,44 @@ pub(crate) struct TreeBuilder<'t> {
     /// Longer tokens, keyed by kind and length and a hash of the text; the
     /// text is compared too.
     long_tokens: Table<3, GreenToken>,
-    nodes: Table<{ 1 + MAX_SHARED_CHILDREN }, GreenNode>,
+    /// Nodes of one, two and three shared children, keyed by their kind
+    /// and the children's addresses. Children are kept alive by the cached
+    /// node, so an address cannot be reused while its key exists.
+    nodes1: Table<2, GreenNode>,
+    nodes2: Table<3, GreenNode>,
+    nodes3: Table<4, GreenNode>,
+    /// The token of each fixed-text kind (see `FIXED_TEXT`), once seen.
+    fixed: [Option<GreenToken>; 256],
+    /// Recent tokens of the kinds in `is_cached`, by `cache_key`: a power
+    /// of two of them, from 16 to 512 by the length of the text (setting
+    /// up and dropping a large cache costs more than it saves on a small
+    /// file).
+    recent: Vec<(u64, Option<GreenToken>)>,
+    /// `64 - log2(recent.len())`.
+    recent_shift: u32,
+}
+
+/// Whether a token goes through the cache of recent tokens: whitespace,
+/// names and numbers (two thirds of all tokens) of up to 7 bytes (nearly
+/// all).
+fn is_cached(kind: SyntaxKind, len: usize) -> bool {
+    matches!(kind, SyntaxKind::WHITESPACE | SyntaxKind::IDENT | SyntaxKind::INT_NUMBER | SyntaxKind::FLOAT_NUMBER)
+        && len <= 7
+}
+
+/// The size of the cache of recent tokens for a text of `len` bytes.
+fn recent_len(len: usize) -> usize {
+    (len / 256).next_power_of_two().clamp(16, 512)
+}
+
+/// The bytes packed into a word (`w`, never zero for these kinds), with the
+/// kind in the top byte, which the packing leaves free.
+fn cache_key(kind: SyntaxKind, w: u64) -> u64 {
+    w | (kind as u64) << 56
+}
+
+fn recent_slot(key: u64, shift: u32) -> usize {
+    (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> shift) as usize
 }
 
 impl<'t> TreeBuilder<'t> {
@@ -186,7 +275,12 @@ impl<'t> TreeBuilder<'t> {
             // bytes, one distinct small node per 19 to 28.
             short_tokens: Table::with_capacity(src.len() / 32),
             long_tokens: Table::with_capacity(16),
-            nodes: Table::with_capacity(src.len() / 16),
+            nodes1: Table::with_capacity(src.len() / 32),
+            nodes2: Table::with_capacity(src.len() / 64),
+            nodes3: Table::with_capacity(src.len() / 64),
+            fixed: [const { None }; 256],
+            recent: vec![(0, None); recent_len(src.len())],
+            recent_shift: 64 - recent_len(src.len()).trailing_zeros(),
         }
     }
 
@@ -225,6 +319,35 @@ impl<'t> TreeBuilder<'t> {
         }
     }
 
+    /// The range of the last non-trivia token added (`None` before the
+    /// first): only trivia can follow it.
+    pub(crate) fn range_behind(&self) -> Option<TextRange> {
+        let mut end = TextSize::from(self.off as u32);
+        for t in self.tokens[..self.tok].iter().rev() {
+            if !t.kind.is_trivia() {
+                return Some(TextRange::new(end - t.len, end));
+            }
+            end -= t.len;
+        }
+        None
+    }
+
+    /// The range of the `n`-th non-trivia token from the next one to add
+    /// (`None` past the end).
+    pub(crate) fn range_ahead(&self, mut n: usize) -> Option<TextRange> {
+        let mut off = TextSize::from(self.off as u32);
+        for t in &self.tokens[self.tok..] {
+            if !t.kind.is_trivia() {
+                if n == 0 {
+                    return Some(TextRange::at(off, t.len));
+                }
+                n -= 1;
+            }
+            off += t.len;
+        }
+        None
+    }
+
     /// Adds all tokens that are left.
     pub(crate) fn rest(&mut self) {
         while let Some(t) = self.tokens.get(self.tok) {
@@ -237,6 +360,35 @@ impl<'t> TreeBuilder<'t> {
         let (kind, start, len) = (t.kind, self.off, u32::from(t.len) as usize);
         self.tok += 1;
         self.off += len;
+        if FIXED_TEXT[kind as usize & 255] {
+            let token = match &self.fixed[kind as usize & 255] {
+                Some(token) => token.clone(),
+                None => self.new_fixed(kind, start, len),
+            };
+            debug_assert_eq!(Some(token.text()), kind.text());
+            self.children.push(Child::Token(token));
+            return;
+        }
+        if is_cached(kind, len) {
+            // Whitespace has only a few distinct texts, and names and
+            // numbers repeat close to each other: a direct-mapped cache in
+            // front of the table saves most lookups.
+            let k = cache_key(kind, word(self.src.as_bytes(), start, len));
+            if let (key, Some(token)) = &self.recent[recent_slot(k, self.recent_shift)] {
+                if *key == k {
+                    let token = token.clone();
+                    self.children.push(Child::Token(token));
+                    return;
+                }
+            }
+        }
+        self.add_hashed(kind, start, len);
+    }
+
+    /// `add` through the token tables. Kept out of `add` so that its fast
+    /// paths need no registers saved.
+    #[inline(never)]
+    fn add_hashed(&mut self, kind: SyntaxKind, start: usize, len: usize) {
         let bytes = self.src.as_bytes();
         let head = kind as u64 | (len as u64) << 16;
         let key = match len {
@@ -244,11 +396,20 @@ impl<'t> TreeBuilder<'t> {
             9..=16 => [head, word(bytes, start, 8), word(bytes, start + 8, len - 8)],
             _ => return self.add_long(kind, start, len),
         };
-        let token = match self.short_tokens.find(&key) {
+        let token = self.short_token(key, kind, start, len);
+        if is_cached(kind, len) {
+            let k = cache_key(kind, key[1]);
+            self.recent[recent_slot(k, self.recent_shift)] = (k, Some(token.clone()));
+        }
+        self.children.push(Child::Token(token));
+    }
+
+    #[inline(always)]
+    fn short_token(&mut self, key: [u64; 3], kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
+        match self.short_tokens.find(&key) {
             Ok(token) => token.clone(),
             Err(slot) => self.new_short(slot, key, kind, start, len),
-        };
-        self.children.push(Child::Token(token));
+        }
     }
 
     #[cold]
@@ -256,6 +417,14 @@ impl<'t> TreeBuilder<'t> {
     fn new_short(&mut self, slot: usize, key: [u64; 3], kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
         let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
         self.short_tokens.insert(slot, key, token.clone());
+        token
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn new_fixed(&mut self, kind: SyntaxKind, start: usize, len: usize) -> GreenToken {
+        let token = GreenToken::new(kind.into(), &self.src[start..start + len]);
+        self.fixed[kind as usize & 255] = Some(token.clone());
         token
     }
 
@@ -282,35 +451,25 @@ impl<'t> TreeBuilder<'t> {
 
     /// Makes the children from `first` on into one node of kind `kind`.
     pub(crate) fn finish_node(&mut self, kind: SyntaxKind, first: usize) {
-        let children = &self.children[first..];
-        let mut key: NodeKey = [0; 1 + MAX_SHARED_CHILDREN];
-        key[0] = kind as u64;
-        let shareable = children.len() <= MAX_SHARED_CHILDREN
-            && children.iter().zip(&mut key[1..]).all(|(c, k)| {
-                *k = c.id();
-                c.is_shared()
-            });
-        let child = if shareable {
-            match self.nodes.find(&key) {
-                Ok(node) => {
-                    let node = node.clone();
-                    self.children.truncate(first);
-                    Child::Node { node, shared: true }
-                }
-                Err(slot) => {
-                    let node = self.make_node(kind, first);
-                    self.nodes.insert(slot, key, node.clone());
-                    Child::Node { node, shared: true }
-                }
+        let k = kind as u64;
+        let children = &mut self.children;
+        // Each number of children has its own table, so that the keys of
+        // the most common nodes, those of one child, are only two words.
+        let shared = match &children[first..] {
+            [a] if a.is_shared() => Some(share(&mut self.nodes1, [k, a.id()], children, kind, first)),
+            [a, b] if a.is_shared() && b.is_shared() => {
+                Some(share(&mut self.nodes2, [k, a.id(), b.id()], children, kind, first))
             }
-        } else {
-            Child::Node { node: self.make_node(kind, first), shared: false }
+            [a, b, c] if a.is_shared() && b.is_shared() && c.is_shared() => {
+                Some(share(&mut self.nodes3, [k, a.id(), b.id(), c.id()], children, kind, first))
+            }
+            _ => None,
         };
-        self.children.push(child);
-    }
-
-    fn make_node(&mut self, kind: SyntaxKind, first: usize) -> GreenNode {
-        GreenNode::new(kind.into(), self.children.drain(first..).map(Child::into_element))
+        let child = match shared {
+            Some(node) => Child::Node { node, shared: true },
+            None => Child::Node { node: make_node(children, kind, first), shared: false },
+        };
+        children.push(child);
     }
 
     /// The root. Normally the parser has closed it over everything;

@@ -289,7 +289,7 @@ const STOP: TokenSet = TokenSet::new(&[
 
 /// The entry point: a whole file of any kind.
 pub(crate) fn source_file(p: &mut Parser<'_>) {
-    let m = p.start();
+    let m = p.start_root();
     if p.file.is_assertions() {
         assertions::assertion_file(p);
     } else {
@@ -319,7 +319,7 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
 /// tokens are not exactly one such member, so that the caller parses the
 /// whole file instead.
 pub(crate) fn top_level_member(p: &mut Parser<'_>) -> bool {
-    let m = p.start();
+    let m = p.start_root();
     let ok = match member_at(p) {
         Some(
             found @ (Member::Interface
