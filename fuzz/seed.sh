@@ -26,6 +26,22 @@ find ../examples ../../shared/corpus -type f \( -name '*.rct' -o -name '*.rst' \
   case "$f" in *.rct) sel='\x00' ;; *) sel='\x01' ;; esac
   { printf "$sel"; cat "$f"; } > "$out/$(echo "$f" | md5sum | cut -c1-16)"
 done
+# A design with what the engine runs alongside a state's substates: a
+# composite state's during action and deadlines on transitions.
+{ printf '\x00'; cat <<'RCT'
+interface I { event e event v : nat op() op2(x : nat) }
+stm M { uses I requires I var n : nat clock C
+  initial i
+  state S { during op(); wait(1); n = n + 1 initial j state A { entry op2(n) } state B { }
+    transition x { from j to A } transition y { from A to B trigger v?n <{2} } }
+  state T { entry wait([1, 2]) }
+  transition t { from i to S action #C } transition u { from S to T trigger e <{3} condition since(C) < 3 }
+  transition w { from T to S action #C } }
+controller C { uses I requires I sref m = M connection C on e to m on e connection C on v to m on v }
+module Mod { robotic platform P { uses I provides I } cref c = C
+  connection P on e to c on e ( _async ) connection P on v to c on v ( _async ) }
+RCT
+} > "$out/activities"
 echo "$(ls "$out" | wc -l) seeds in fuzz/$out"
 
 # fuzz/corpus/reparse: each model with a four-byte edit header (position,
