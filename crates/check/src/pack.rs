@@ -54,6 +54,14 @@ struct Slot {
     shift: u32,
 }
 
+impl Slot {
+    /// The slot's value in its packed word `bits`.
+    #[inline]
+    fn read(&self, bits: u64) -> i32 {
+        self.lo.wrapping_add(((bits >> self.shift) & self.mask) as i32)
+    }
+}
+
 /// Packed states of up to this many words are packed and unpacked without
 /// an allocation.
 const SMALL_WORDS: usize = 4;
@@ -70,7 +78,16 @@ pub struct Layout {
     /// The bytes a packed state takes as a row: the words, the last one
     /// cut to the bytes its fields use (the rest is always zero).
     row_width: usize,
+    /// Per word, per bit, the slot whose field holds that bit (bits of no
+    /// field are always zero): which slots a changed bit belongs to.
+    bit_slots: Vec<u32>,
+    /// Tells this layout's unpacked states from another's (see
+    /// [`Layout::unpack_row_words`]); clones share it (they are equal).
+    id: u64,
 }
+
+/// The source of [`Layout::id`]s (0 is no layout's).
+static NEXT_LAYOUT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 impl Layout {
     /// The layout for slots with these inclusive ranges.
@@ -93,7 +110,14 @@ impl Layout {
         let row_width = (8 * word + used.div_ceil(8) as usize).max(1);
         let word_ends = (0..=word).map(|w| fields.partition_point(|f| f.word as usize <= w)).collect();
         let slots = fields.iter().map(|f| Slot { mask: f.mask, lo: f.lo as i32, shift: f.shift }).collect();
-        Layout { fields, slots, word_ends, words: word + 1, row_width }
+        let mut bit_slots = vec![0u32; 64 * (word + 1)];
+        for (i, f) in fields.iter().enumerate() {
+            for b in f.shift..f.shift + f.bits {
+                bit_slots[64 * f.word as usize + b as usize] = i as u32;
+            }
+        }
+        let id = NEXT_LAYOUT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Layout { fields, slots, word_ends, words: word + 1, row_width, bit_slots, id }
     }
 
     /// The bytes of a packed state stored as a row (see [`Packed`]'s
@@ -204,17 +228,28 @@ impl Layout {
     /// The slots of the state packed as `row`, into `out` (of [`Layout::len`] slots).
     pub fn unpack_row(&self, row: &[u8], out: &mut [i32]) {
         let mut words = Vec::new();
-        self.unpack_row_words(row, out, &mut words);
+        self.unpack_row_words(row, out, &mut words, &mut 0);
     }
 
     /// [`Layout::unpack_row`], also leaving the state's packed words in
     /// `words`: as many as the layout has, then zeros up to
     /// `SMALL_WORDS` (4) if there are fewer, which lets
     /// [`Layout::pack_from`] copy them as a block.
-    pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>) {
+    ///
+    /// `*unpacked` names the layout whose state `out` and `words` hold
+    /// (0: none) and is set to this one's. When it is this one already,
+    /// only the slots whose bits differ from that state's are read: the
+    /// sources of a search come in breadth-first order, and consecutive
+    /// ones differ in a few slots.
+    pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>, unpacked: &mut u64) {
+        let len = self.words.max(SMALL_WORDS);
+        if *unpacked == self.id && words.len() == len && out.len() == self.len() && self.words <= SMALL_WORDS {
+            self.unpack_changed(row, out, words);
+            return;
+        }
+        *unpacked = self.id;
         // `read_words` writes every word of the layout: the padding only
         // needs zeroing when the buffer is (re)sized.
-        let len = self.words.max(SMALL_WORDS);
         if words.len() != len {
             words.clear();
             words.resize(len, 0);
@@ -222,7 +257,6 @@ impl Layout {
         read_words(row, &mut words[..self.words]);
         // Word by word, so that the word stays in a register.
         let mut at = 0;
-        let read = |bits: u64, s: &Slot| s.lo.wrapping_add(((bits >> s.shift) & s.mask) as i32);
         for (&bits, &end) in words.iter().zip(&self.word_ends) {
             // Four slots at a time: the loop's own instructions are a third
             // of the work otherwise.
@@ -230,13 +264,32 @@ impl Layout {
                 (self.slots[at..end].as_chunks::<4>(), out[at..end].as_chunks_mut::<4>());
             for (s, o) in s4.iter().zip(o4) {
                 for k in 0..4 {
-                    o[k] = read(bits, &s[k]);
+                    o[k] = s[k].read(bits);
                 }
             }
             for (s, o) in s_rest.iter().zip(o_rest) {
-                *o = read(bits, s);
+                *o = s.read(bits);
             }
             at = end;
+        }
+    }
+
+    /// Unpacks `row` over `out` and `words`, which hold another state of
+    /// this layout (of at most `SMALL_WORDS` words), reading only the
+    /// slots of the bits that differ.
+    fn unpack_changed(&self, row: &[u8], out: &mut [i32], words: &mut [u64]) {
+        let mut new = [0u64; SMALL_WORDS];
+        read_words(row, &mut new[..self.words]);
+        for (w, (old, &bits)) in words.iter_mut().zip(&new[..self.words]).enumerate() {
+            let mut changed = *old ^ bits;
+            *old = bits;
+            let slot_of = &self.bit_slots[64 * w..64 * w + 64];
+            while changed != 0 {
+                let i = slot_of[changed.trailing_zeros() as usize] as usize;
+                let s = &self.slots[i];
+                out[i] = s.read(bits);
+                changed &= !(s.mask << s.shift);
+            }
         }
     }
 
@@ -351,6 +404,13 @@ fn read_words(row: &[u8], words: &mut [u64]) {
         u64::from_le_bytes(b)
     };
     let (n, full) = (row.len(), row.len() / 8);
+    if let (9..=16, [first, second]) = (n, &mut *words) {
+        // The common widths: two (overlapping) 8-byte loads, as in
+        // `write_words`; the loop below would be a call to `memcpy`.
+        *first = word(&row[..8]);
+        *second = word(&row[n - 8..]) >> (64 - 8 * (n - 8));
+        return;
+    }
     for (c, w) in row.chunks_exact(8).zip(words.iter_mut()) {
         *w = word(c);
     }
@@ -595,7 +655,7 @@ impl<T: VectorLts> crate::lts::Lts for T {
         if out.source.len() != e.layout.len() {
             out.source = vec![0; e.layout.len()].into_boxed_slice();
         }
-        e.layout.unpack_row_words(row, &mut out.source, &mut out.words);
+        e.layout.unpack_row_words(row, &mut out.source, &mut out.words, &mut out.unpacked);
         out.vectors.reset(e.layout.len());
         self.successor_values(&out.source, &mut out.vectors);
         out.pack_vectors(|source, words, next, row| {
@@ -716,6 +776,28 @@ mod tests {
     }
 
     #[test]
+    fn rows_shared_by_two_layouts_unpack_each_source_in_full() {
+        // Same number of slots, different packing: a source unpacked by one
+        // layout is no base for the other's changed slots.
+        let a = Counters(Encoding::new(&[(0, 3), (-2, 5), (0, 1), (0, 40)], crate::events::EventTable::default()));
+        let b = Counters(Encoding::new(&[(0, 40), (0, 1), (-2, 5), (0, 3)], crate::events::EventTable::default()));
+        let w = a.state_width().max(b.state_width());
+        let mut shared: Rows<Packed> = Rows::new(w);
+        for (k, lts) in [&a, &b, &b, &a, &a, &b].into_iter().enumerate() {
+            let st: Vec<i32> =
+                lts.0.layout.fields.iter().map(|f| (f.lo + k as i64 % (f.span as i64 + 1)) as i32).collect();
+            let mut row = vec![0u8; lts.state_width()];
+            lts.0.layout.pack_into(&st, &mut row).unwrap();
+            shared.clear();
+            lts.successor_rows(&row, &mut shared);
+            let mut slow = Vec::new();
+            lts.successors(&lts.0.layout.pack(&st).unwrap(), &mut slow);
+            assert_eq!(shared.len(), slow.len());
+            assert_eq!(&*shared.source, &st[..], "source {k}");
+        }
+    }
+
+    #[test]
     fn round_trip_and_bounds() {
         let layout = Layout::new(&[(-1, 5), (0, 1), (0, 0), (-3, 3), (i32::MIN as i64, i32::MAX as i64)]);
         for st in [[-1, 0, 0, -3, i32::MIN], [5, 1, 0, 3, i32::MAX], [2, 1, 0, 0, -7]] {
@@ -779,7 +861,7 @@ mod tests {
                 assert_eq!(again, row);
                 // The same from the words unpacking leaves (padded).
                 let (mut padded, mut vals) = (Vec::new(), vec![0; layout.len()]);
-                layout.unpack_row_words(&base_row, &mut vals, &mut padded);
+                layout.unpack_row_words(&base_row, &mut vals, &mut padded, &mut 0);
                 assert_eq!((&vals, &padded[..base_words.len()]), (&base, &base_words[..]));
                 let mut from_padded = vec![0u8; layout.row_width()];
                 layout.pack_from(&base, &padded, &st, &mut from_padded).unwrap();
