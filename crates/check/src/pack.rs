@@ -162,59 +162,63 @@ impl Layout {
     /// slots where `st` differs from `base` are repacked (a successor
     /// differs from its source in a few slots). The same bytes, and the
     /// same errors, as [`Layout::pack_into`].
+    #[inline]
     pub fn pack_from(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
-        let (mut small, mut big) = ([0u64; SMALL_WORDS], Vec::new());
         let padded = base_words.get(..SMALL_WORDS).and_then(|w| <&[u64; SMALL_WORDS]>::try_from(w).ok());
-        let words: &mut [u64] = match padded {
-            // A fixed-size copy rather than a call to `memcpy`, when the
-            // words come padded (as `unpack_row_words` leaves them).
-            Some(p) if self.words <= SMALL_WORDS => {
-                small = *p;
-                &mut small[..self.words]
+        match padded {
+            // The hot path: a fixed-size copy of the words (padded, as
+            // `unpack_row_words` leaves them), indexed without bounds checks.
+            Some(&p) if self.words <= SMALL_WORDS => {
+                let mut words = p;
+                if !self.repack_changed(base, st, &mut words) {
+                    return Err(self.out_of_range(st));
+                }
+                write_words(&words[..self.words], row);
+                Ok(())
             }
-            _ => {
-                let words = self.scratch_words(&mut small, &mut big);
-                words.copy_from_slice(&base_words[..self.words]);
-                words
-            }
-        };
+            _ => self.pack_from_any(base, base_words, st, row),
+        }
+    }
+
+    /// [`Layout::pack_from`] for words that do not fit `SMALL_WORDS` or
+    /// come unpadded.
+    #[inline(never)]
+    fn pack_from_any(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
+        let mut words = base_words[..self.words].to_vec();
+        if !self.repack_changed(base, st, &mut words[..]) {
+            return Err(self.out_of_range(st));
+        }
+        write_words(&words, row);
+        Ok(())
+    }
+
+    /// Repacks into `words` (of at least the layout's words) the slots
+    /// where `st` differs from `base`; false if one is out of its range.
+    #[inline]
+    fn repack_changed<W: AsMut<[u64]> + ?Sized>(&self, base: &[i32], st: &[i32], words: &mut W) -> bool {
+        let words = words.as_mut();
         // Whole blocks of slots compare at once (fixed-size arrays compare
         // without a call); most are unchanged.
         const BLOCK: usize = 8;
         let n = self.fields.len().min(st.len()).min(base.len());
         let ((a, a_rest), (b, b_rest)) = (st[..n].as_chunks::<BLOCK>(), base[..n].as_chunks::<BLOCK>());
-        let mut at = 0;
-        for (x, y) in a.iter().zip(b) {
+        let (f8, f_rest) = self.fields[..n].as_chunks::<BLOCK>();
+        let mut ok = true;
+        for ((x, y), f) in a.iter().zip(b).zip(f8) {
             if x != y {
                 for k in 0..BLOCK {
                     if x[k] != y[k] {
-                        self.repack_slot(at + k, x[k], words).map_err(|()| self.out_of_range(st))?;
+                        ok &= repack(&f[k], x[k], words);
                     }
                 }
             }
-            at += BLOCK;
         }
-        for (k, (&v, &old)) in a_rest.iter().zip(b_rest).enumerate() {
+        for ((&v, &old), f) in a_rest.iter().zip(b_rest).zip(f_rest) {
             if v != old {
-                self.repack_slot(at + k, v, words).map_err(|()| self.out_of_range(st))?;
+                ok &= repack(f, v, words);
             }
         }
-        write_words(words, row);
-        Ok(())
-    }
-
-    /// Repacks slot `i` with value `v` into `words`; fails if `v` is out of
-    /// the slot's range.
-    #[inline]
-    fn repack_slot(&self, i: usize, v: i32, words: &mut [u64]) -> Result<(), ()> {
-        let f = &self.fields[i];
-        let off = (v as i64).wrapping_sub(f.lo) as u64;
-        if off > f.span {
-            return Err(());
-        }
-        let w = &mut words[f.word as usize];
-        *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
-        Ok(())
+        ok
     }
 
     /// The words of the state packed as `row`, into `words` (as many as
@@ -363,6 +367,20 @@ impl Layout {
             })
             .collect()
     }
+}
+
+/// Repacks the slot of field `f` with value `v` into `words`; false if `v`
+/// is out of the field's range (then `words` are spoilt).
+#[inline]
+fn repack(f: &Field, v: i32, words: &mut [u64]) -> bool {
+    let off = (v as i64).wrapping_sub(f.lo) as u64;
+    // `words` has at least the layout's words (a power of two when it is
+    // the padded array): the mask keeps the index in bounds without a check.
+    let at = f.word as usize & (words.len().next_power_of_two() - 1);
+    if let Some(w) = words.get_mut(at) {
+        *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
+    }
+    off <= f.span
 }
 
 /// Writes the words of a packed state into `row`, little-endian, the last
