@@ -147,6 +147,8 @@ pub struct Constrained<'a> {
     /// Channel indices of the inputs and outputs, in order.
     inputs: Vec<u16>,
     outputs: Vec<u16>,
+    /// Per design channel, what its offers need (looked up for every move).
+    chans: Vec<Chan>,
     /// Event groups: register reads per input, register writes per output,
     /// the design's own (hidden) events per channel, `timelock`, `terminate`.
     read_group: Vec<usize>,
@@ -177,6 +179,17 @@ pub struct Constrained<'a> {
     len: usize,
     /// Packing, run-time errors, event names.
     enc: Encoding,
+}
+
+/// What the assumptions need to know of a design channel, per channel.
+#[derive(Debug, Clone, Copy)]
+struct Chan {
+    /// Its index among the platform inputs (A1's registers), if it is one.
+    input: Option<usize>,
+    /// Its index among the platform outputs (A2's registers), if it is one.
+    output: Option<usize>,
+    /// Whether it carries a value (an input's value is the register's).
+    has_value: bool,
 }
 
 /// The design has more outputs than the engine tracks (A2's set of outputs
@@ -278,7 +291,15 @@ impl<'a> Constrained<'a> {
         ]);
         bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
         bounds.extend(std::iter::repeat_n((0, design.channels.len() as i64 + 1), design.machines.len()));
+        let chans = (0..design.channels.len())
+            .map(|c| Chan {
+                input: inputs.iter().position(|&i| usize::from(i) == c),
+                output: outputs.iter().position(|&o| usize::from(o) == c),
+                has_value: !design.channels[c].params.is_empty(),
+            })
+            .collect();
         Ok(Constrained {
+            chans,
             design,
             profile,
             tlfree,
@@ -444,7 +465,7 @@ impl<'a> Constrained<'a> {
 
     /// An input the design may take now (A1): the input's index and value.
     fn input_allowed(&self, st: &[i32], chan: u16, value: Option<Val>) -> Option<(usize, Val)> {
-        let i = self.inputs.iter().position(|&c| c == chan)?;
+        let i = self.chans[chan as usize].input?;
         if st[self.phase] != RUN || st[self.a1 + 2 * i] == 0 {
             return None;
         }
@@ -537,10 +558,10 @@ impl<'a> Constrained<'a> {
                     }
                     continue;
                 }
-                moves.clear();
+                let from = moves.len();
                 m.moves(st, &mut moves).map_err(|e| e.0)?;
                 design_tock &= m.can_tock(st);
-                for mv in &moves {
+                for mv in &moves[from..] {
                     if self.design.is_internal(&mv.offer) {
                         internal.push((mi, mv.clone()));
                         continue;
@@ -553,15 +574,15 @@ impl<'a> Constrained<'a> {
                         }
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
-                            let has_value = !self.design.channels[*chan as usize].params.is_empty();
-                            let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
+                            let has_value = self.chans[*chan as usize].has_value;
+                            let args: &[Val] = if has_value { &[v] } else { &[] };
                             let n = out.push_copy(st);
                             self.design.apply(m, n, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
-                            out.set_label(Label::plain(self.design_event(*chan, &args)));
+                            out.set_label(Label::plain(self.design_event(*chan, args)));
                         }
                         Offer::Out { chan, args } => {
-                            let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
+                            let Some(o) = self.chans[*chan as usize].output else { continue };
                             let len = (0..nout).take_while(|&j| st[self.occ + j] != 0).count();
                             // Order: at most one output per register per cycle is buffered.
                             if phase != RUN || fm >= 0 || len >= nout {
@@ -636,7 +657,9 @@ impl<'a> Constrained<'a> {
         let start = out.len();
         let mode = st[self.mode];
         let phase = st[self.phase];
-        self.reads(st, out);
+        if phase == READ {
+            self.reads(st, out);
+        }
         // A2 writes the register of the output just produced.
         if st[self.pend] != 0 {
             let n = out.push_copy(st);
@@ -653,10 +676,11 @@ impl<'a> Constrained<'a> {
             moves.clear();
             let mut internal = Vec::new();
             for (mi, m) in self.design.machines.iter().enumerate() {
-                moves.clear();
+                // Each machine's moves after the others' (one clear per state).
+                let from = moves.len();
                 m.moves(st, &mut moves).map_err(|e| e.0)?;
                 design_tock &= m.can_tock(st);
-                for mv in &moves {
+                for mv in &moves[from..] {
                     if self.design.is_internal(&mv.offer) {
                         internal.push((mi, mv.clone()));
                         continue;
@@ -670,9 +694,9 @@ impl<'a> Constrained<'a> {
                         }
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
-                            let has_value = !self.design.channels[*chan as usize].params.is_empty();
-                            let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
-                            let note = self.design_event(*chan, &args);
+                            let has_value = self.chans[*chan as usize].has_value;
+                            let args: &[Val] = if has_value { &[v] } else { &[] };
+                            let note = self.design_event(*chan, args);
                             let n = out.push_copy(st);
                             self.design.apply(m, n, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
@@ -680,7 +704,7 @@ impl<'a> Constrained<'a> {
                         }
                         Offer::Out { chan, args } => {
                             design_out = true;
-                            let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
+                            let Some(o) = self.chans[*chan as usize].output else { continue };
                             // A2: once per period, each output immediately written.
                             if phase != RUN || st[self.pend] != 0 || st[self.k] >= 0 || st[self.avail] & (1 << o) == 0 {
                                 continue;
