@@ -180,6 +180,49 @@ impl Layout {
         }
     }
 
+    /// Packs each vector of `next` as [`Layout::pack_from`] does, into
+    /// consecutive rows of `rows` ([`Layout::row_width`] bytes each, one
+    /// per vector). Fails with the indices of the vectors out of range
+    /// (their rows are left unspecified).
+    pub fn pack_all(
+        &self,
+        base: &[i32],
+        base_words: &[u64],
+        next: &Vectors,
+        rows: &mut [u8],
+    ) -> Result<(), Vec<usize>> {
+        let mut failed = Vec::new();
+        let rows = rows.chunks_exact_mut(self.row_width);
+        let padded = base_words.get(..SMALL_WORDS).and_then(|w| <&[u64; SMALL_WORDS]>::try_from(w).ok());
+        match padded {
+            // The hot path: the source's words copied as a fixed-size
+            // array (padded, as `unpack_row_words` leaves them) and indexed
+            // without bounds checks.
+            Some(&p) if self.words <= SMALL_WORDS => {
+                for (k, ((_, st), row)) in next.iter().zip(rows).enumerate() {
+                    let mut words = p;
+                    if self.repack_changed(base, st, &mut words) {
+                        write_words(&words[..self.words], row);
+                    } else {
+                        failed.push(k);
+                    }
+                }
+            }
+            _ => {
+                for (k, ((_, st), row)) in next.iter().zip(rows).enumerate() {
+                    if self.pack_from_any(base, base_words, st, row).is_err() {
+                        failed.push(k);
+                    }
+                }
+            }
+        }
+        if failed.is_empty() {
+            Ok(())
+        } else {
+            Err(failed)
+        }
+    }
+
     /// [`Layout::pack_from`] for words that do not fit `SMALL_WORDS` or
     /// come unpadded.
     #[inline(never)]
@@ -676,8 +719,12 @@ impl<T: VectorLts> crate::lts::Lts for T {
         e.layout.unpack_row_words(row, &mut out.source, &mut out.words, &mut out.unpacked);
         out.vectors.reset(e.layout.len());
         self.successor_values(&out.source, &mut out.vectors);
-        out.pack_vectors(|source, words, next, row| {
-            e.layout.pack_from(source, words, next, row).map_err(|err| e.error.set(err)).is_ok()
+        out.pack_vectors(|source, words, next, rows| {
+            let packed = e.layout.pack_all(source, words, next, rows);
+            if let Err(failed) = &packed {
+                e.error.set(e.layout.out_of_range(next.get(failed[0])));
+            }
+            packed
         });
     }
 }
