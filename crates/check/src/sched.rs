@@ -149,6 +149,9 @@ pub struct Constrained<'a> {
     outputs: Vec<u16>,
     /// Per design channel, what its offers need (looked up for every move).
     chans: Vec<Chan>,
+    /// Per input, A3's reads of its register: the event, then the values
+    /// of A1's presence flag and value slots (computed once, not per state).
+    read_steps: Vec<Vec<(Event, i32, i32)>>,
     /// Event groups: register reads per input, register writes per output,
     /// the design's own (hidden) events per channel, `timelock`, `terminate`.
     read_group: Vec<usize>,
@@ -291,6 +294,20 @@ impl<'a> Constrained<'a> {
         ]);
         bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
         bounds.extend(std::iter::repeat_n((0, design.channels.len() as i64 + 1), design.machines.len()));
+        let read_steps = inputs
+            .iter()
+            .zip(&read_group)
+            .map(|(&chan, &g)| {
+                // The register's domain (shared with the other side of a check).
+                let reg_lo = events.group(g).params.get(1).map(|p| p.dom().lo);
+                let steps = design.channels[chan as usize].read_values(reg_lo).map(|(present, v)| {
+                    let args = [present, v.unwrap_or(0)];
+                    let ev = events.event(g, &args[..1 + usize::from(v.is_some())]);
+                    (ev, present as i32, v.filter(|_| present == 1).unwrap_or(0) as i32)
+                });
+                steps.collect()
+            })
+            .collect();
         let chans = (0..design.channels.len())
             .map(|c| Chan {
                 input: inputs.iter().position(|&i| usize::from(i) == c),
@@ -300,6 +317,7 @@ impl<'a> Constrained<'a> {
             .collect();
         Ok(Constrained {
             chans,
+            read_steps,
             design,
             profile,
             tlfree,
@@ -441,21 +459,17 @@ impl<'a> Constrained<'a> {
         if st[self.phase] != READ {
             return;
         }
-        for (i, &chan) in self.inputs.iter().enumerate() {
+        for (i, steps) in self.read_steps.iter().enumerate() {
             if st[self.arg] & (1 << i) == 0 {
                 continue;
             }
-            let c = &self.design.channels[chan as usize];
-            // The register's domain (shared with the other side of a check).
-            let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
-            for (present, v) in c.read_values(reg_lo) {
-                let args = [present, v.unwrap_or(0)];
-                let ev = self.enc.events.event(self.read_group[i], &args[..1 + usize::from(v.is_some())]);
+            let arg = st[self.arg] & !(1 << i);
+            for &(ev, present, v) in steps {
                 let n = out.push_copy(st);
-                n[self.a1 + 2 * i] = present as i32;
-                n[self.a1 + 2 * i + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
-                n[self.arg] &= !(1 << i);
-                if n[self.arg] == 0 {
+                n[self.a1 + 2 * i] = present;
+                n[self.a1 + 2 * i + 1] = v;
+                n[self.arg] = arg;
+                if arg == 0 {
                     n[self.phase] = RUN;
                 }
                 out.set_label(Label::plain(ev));
