@@ -193,6 +193,10 @@ struct Chan {
     output: Option<usize>,
     /// Whether it carries a value (an input's value is the register's).
     has_value: bool,
+    /// Its design event without arguments (most channels have none).
+    event: Event,
+    /// Its output's register write without arguments, if it is an output.
+    write_event: Option<Event>,
 }
 
 /// The design has more outputs than the engine tracks (A2's set of outputs
@@ -313,6 +317,11 @@ impl<'a> Constrained<'a> {
                 input: inputs.iter().position(|&i| usize::from(i) == c),
                 output: outputs.iter().position(|&o| usize::from(o) == c),
                 has_value: !design.channels[c].params.is_empty(),
+                event: events.event(design_group[c], &[]),
+                write_event: outputs
+                    .iter()
+                    .position(|&o| usize::from(o) == c)
+                    .map(|o| events.event(write_group[o], &[])),
             })
             .collect();
         Ok(Constrained {
@@ -377,7 +386,11 @@ impl<'a> Constrained<'a> {
 
     /// The name of the design's hidden event for a machine offer.
     fn design_event(&self, chan: u16, args: &[Val]) -> Event {
-        self.enc.events.event(self.design_group[chan as usize], args)
+        match args {
+            // Looked up, not computed: the common case, once per move.
+            [] => self.chans[chan as usize].event,
+            _ => self.enc.events.event(self.design_group[chan as usize], args),
+        }
     }
 
     /// Describes the machines' control states (for counterexamples).
@@ -706,6 +719,8 @@ impl<'a> Constrained<'a> {
                             self.design.apply(m, n, mv.act, None)?;
                             out.set_label(Label::TAU);
                         }
+                        // A1: inputs are taken only while executing.
+                        Offer::In { .. } if phase != RUN => {}
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
                             let has_value = self.chans[*chan as usize].has_value;
@@ -726,7 +741,11 @@ impl<'a> Constrained<'a> {
                             let note = self.design_event(*chan, args);
                             let n = out.push_copy(st);
                             self.design.apply(m, n, mv.act, None)?;
-                            n[self.pend] = self.enc.events.event(self.write_group[o], args) as i32;
+                            let write = match (args.as_slice(), self.chans[*chan as usize].write_event) {
+                                ([], Some(e)) => e,
+                                _ => self.enc.events.event(self.write_group[o], args),
+                            };
+                            n[self.pend] = write as i32;
                             n[self.avail] &= !(1 << o);
                             out.set_label(Label { event: TAU, note });
                         }
