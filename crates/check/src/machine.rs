@@ -276,7 +276,7 @@ impl Machine {
 
     /// The steps the machine offers (time aside: see [`Machine::can_tock`]).
     // Inlined: called for every machine in every state of a search.
-    #[inline]
+    #[inline(always)]
     pub fn moves(&self, st: &[i32], out: &mut Vec<Move>) -> Result<(), StepError> {
         let pc = self.pc(st) as usize;
         if self.in_during(st) {
