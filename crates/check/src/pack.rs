@@ -575,6 +575,8 @@ impl Vectors {
 
     /// Appends a copy of `st` (labelled τ until [`Vectors::set_label`]) and
     /// returns it, to be changed in place.
+    // Inlined: called for nearly every successor.
+    #[inline]
     pub fn push_copy(&mut self, st: &[i32]) -> &mut [i32] {
         debug_assert_eq!(st.len(), self.width);
         self.labels.push(Label::TAU);
