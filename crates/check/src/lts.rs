@@ -167,9 +167,6 @@ pub struct Rows<S> {
     pub source: Box<[i32]>,
     /// See [`Rows::vectors`].
     pub words: Vec<u64>,
-    /// The layout whose unpacked state [`Rows::source`] and
-    /// [`Rows::words`] hold (0: none; see [`crate::pack::Layout::unpack_row_words`]).
-    pub unpacked: u64,
 }
 
 impl<S> Rows<S> {
@@ -183,7 +180,6 @@ impl<S> Rows<S> {
             vectors: crate::pack::Vectors::default(),
             source: Box::new([]),
             words: Vec::new(),
-            unpacked: 0,
         }
     }
 

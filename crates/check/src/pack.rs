@@ -83,6 +83,7 @@ pub struct Layout {
     bit_slots: Vec<u32>,
     /// Tells this layout's unpacked states from another's (see
     /// [`Layout::unpack_row_words`]); clones share it (they are equal).
+    /// Never 0, which a fresh buffer holds.
     id: u64,
 }
 
@@ -275,32 +276,34 @@ impl Layout {
     /// The slots of the state packed as `row`, into `out` (of [`Layout::len`] slots).
     pub fn unpack_row(&self, row: &[u8], out: &mut [i32]) {
         let mut words = Vec::new();
-        self.unpack_row_words(row, out, &mut words, &mut 0);
+        self.unpack_row_words(row, out, &mut words);
     }
 
     /// [`Layout::unpack_row`], also leaving the state's packed words in
     /// `words`: as many as the layout has, then zeros up to
     /// `SMALL_WORDS` (4) if there are fewer, which lets
-    /// [`Layout::pack_from`] copy them as a block.
+    /// [`Layout::pack_from`] copy them as a block, then this layout's id.
     ///
-    /// `*unpacked` names the layout whose state `out` and `words` hold
-    /// (0: none) and is set to this one's. When it is this one already,
-    /// only the slots whose bits differ from that state's are read: the
+    /// When `words` ends with this layout's id already, `out` must hold
+    /// the state `words` came from (as this function leaves them): then
+    /// only the slots whose bits differ from that state's are read. The
     /// sources of a search come in breadth-first order, and consecutive
-    /// ones differ in a few slots.
-    pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>, unpacked: &mut u64) {
-        let len = self.words.max(SMALL_WORDS);
-        if *unpacked == self.id && words.len() == len && out.len() == self.len() && self.words <= SMALL_WORDS {
+    /// ones differ in a few slots. (The id is kept in `words` rather than
+    /// in a field of [`Rows`](crate::lts::Rows), whose size the generic
+    /// search loop is sensitive to.)
+    pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>) {
+        let len = self.words.max(SMALL_WORDS) + 1;
+        if words.len() == len && words[len - 1] == self.id && out.len() == self.len() && self.words <= SMALL_WORDS {
             self.unpack_changed(row, out, words);
             return;
         }
-        *unpacked = self.id;
         // `read_words` writes every word of the layout: the padding only
         // needs zeroing when the buffer is (re)sized.
         if words.len() != len {
             words.clear();
             words.resize(len, 0);
         }
+        words[len - 1] = self.id;
         read_words(row, &mut words[..self.words]);
         // Word by word, so that the word stays in a register.
         let mut at = 0;
@@ -718,7 +721,7 @@ impl<T: VectorLts> crate::lts::Lts for T {
         if out.source.len() != e.layout.len() {
             out.source = vec![0; e.layout.len()].into_boxed_slice();
         }
-        e.layout.unpack_row_words(row, &mut out.source, &mut out.words, &mut out.unpacked);
+        e.layout.unpack_row_words(row, &mut out.source, &mut out.words);
         out.vectors.reset(e.layout.len());
         self.successor_values(&out.source, &mut out.vectors);
         out.pack_vectors(|source, words, next, rows| {
@@ -928,7 +931,7 @@ mod tests {
                 assert_eq!(again, row);
                 // The same from the words unpacking leaves (padded).
                 let (mut padded, mut vals) = (Vec::new(), vec![0; layout.len()]);
-                layout.unpack_row_words(&base_row, &mut vals, &mut padded, &mut 0);
+                layout.unpack_row_words(&base_row, &mut vals, &mut padded);
                 assert_eq!((&vals, &padded[..base_words.len()]), (&base, &base_words[..]));
                 let mut from_padded = vec![0u8; layout.row_width()];
                 layout.pack_from(&base, &padded, &st, &mut from_padded).unwrap();
