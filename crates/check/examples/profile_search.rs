@@ -4,14 +4,17 @@
 //!
 //! `cargo run --release -p robosim-check --example profile_search -- torus W REPS`
 //! (the engine bench's torus, `W × W` states) or
-//! `... -- design N K REPS` (the generated `N × K` design's schedulability).
+//! `... -- design N K REPS` (the generated `N × K` design's schedulability) or
+//! `... -- refine N K REPS` (its simulation's soundness: FD refinement).
 
-use robosim_check::algo::{find_deadlock, DeadlockResult};
+use robosim_check::algo::{find_deadlock, refines, DeadlockResult, RefinementResult, SemanticModel};
 use robosim_check::budget::Budget;
 use robosim_check::generate;
+use robosim_check::ir::Design;
 use robosim_check::lower::{lower_design, DomainDefaults};
 use robosim_check::lts::{Event, Label, Lts, FIRST_VISIBLE};
-use robosim_check::sched::{Constrained, Profile};
+use robosim_check::sched::{Constrained, Profile, Registers};
+use robosim_check::sim::SimModule;
 
 /// The engine bench's torus (`benches/engine.rs`), without extra work.
 struct Torus(u64);
@@ -37,7 +40,7 @@ impl Lts for Torus {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let num = |i: usize| -> usize {
-        args.get(i).and_then(|a| a.parse().ok()).expect("usage: torus W REPS | design N K REPS")
+        args.get(i).and_then(|a| a.parse().ok()).expect("usage: torus W REPS | design N K REPS | refine N K REPS")
     };
     let budget = Budget::default().with_threads(1);
     match args.first().map(String::as_str) {
@@ -50,12 +53,7 @@ fn main() {
             }
         }
         Some("design") => {
-            let text = generate::design(num(1), num(2));
-            let db = robosim_hir::RootDatabase::default();
-            let ws = robosim_hir::load_workspace(&db, [("m.rct".to_string(), text)], robosim_hir::RuleSet::Paper);
-            let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
-            let loc = robosim_hir::index::resolve_item(&db, ws, file, &["Mod".to_string()], |_| true)[0];
-            let d = lower_design(&db, ws, loc, &[], &DomainDefaults::default()).expect("supported");
+            let d = compile(generate::design(num(1), num(2)), "m.rct");
             let lts = Constrained::new(&d, 1, Profile::RoboTool3).expect("encodable");
             for _ in 0..num(3) {
                 let (r, s) = find_deadlock(&lts, &budget, None);
@@ -63,6 +61,27 @@ fn main() {
                 println!("{verdict}: {} states, {} transitions, {} bytes", s.states, s.transitions, s.bytes);
             }
         }
-        _ => panic!("usage: torus W REPS | design N K REPS"),
+        Some("refine") => {
+            let d = compile(generate::design(num(1), num(2)), "m.rct");
+            let s = compile(generate::simulation(num(1), num(2)), "s.rst");
+            let regs = Registers::new(&[&d, &s], Profile::RoboTool3).expect("registers");
+            let spec = Constrained::with_registers(&d, 1, Profile::RoboTool3, Some(&regs), false).expect("spec");
+            let imp = SimModule::new(&s, 1, &regs).expect("simulation");
+            for _ in 0..num(3) {
+                let (r, st) = refines(&spec, &imp, SemanticModel::FailuresDivergences, &budget, None);
+                let verdict = if matches!(r, RefinementResult::Holds) { "holds" } else { "fails" };
+                println!("{verdict}: {} pairs, {} transitions, {} bytes", st.states, st.transitions, st.bytes);
+            }
+        }
+        _ => panic!("usage: torus W REPS | design N K REPS | refine N K REPS"),
     }
+}
+
+/// The module `Mod` of the file `path` holding `text`, compiled.
+fn compile(text: String, path: &str) -> Design {
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, [(path.to_string(), text)], robosim_hir::RuleSet::Paper);
+    let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
+    let loc = robosim_hir::index::resolve_item(&db, ws, file, &["Mod".to_string()], |_| true)[0];
+    lower_design(&db, ws, loc, &[], &DomainDefaults::default()).expect("supported")
 }

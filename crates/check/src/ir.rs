@@ -687,6 +687,8 @@ impl Design {
 
     /// Machine `m` performs `act` on `st` in place (`value`: the value an
     /// input received).
+    // Inlined: once per machine step the models generate.
+    #[inline]
     pub fn apply(
         &self,
         m: &Machine,

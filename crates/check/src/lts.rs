@@ -235,26 +235,32 @@ impl<S> Rows<S> {
         }
     }
 
-    /// Appends the successors held in [`Rows::vectors`], in order, each
-    /// packed into a zeroed row by `pack(source, words, successor, row)`
-    /// (with [`Rows::source`] and [`Rows::words`]), which returns whether
-    /// to keep it. The buffers are borrowed in place, not moved out of
-    /// `self` and back for each state.
-    pub fn pack_vectors(&mut self, mut pack: impl FnMut(&[i32], &[u64], &[i32], &mut [u8]) -> bool) {
+    /// Appends the successors held in [`Rows::vectors`], in order: their
+    /// labels, and as many zeroed rows, which `pack(source, words,
+    /// vectors, rows)` fills (with [`Rows::source`] and [`Rows::words`]).
+    /// `pack` returns the indices, in increasing order, of the successors
+    /// it could not pack, which are dropped. One append for all, rather
+    /// than a push per successor; the buffers are borrowed in place.
+    pub fn pack_vectors(
+        &mut self,
+        pack: impl FnOnce(&[i32], &[u64], &crate::pack::Vectors, &mut [u8]) -> Result<(), Vec<usize>>,
+    ) {
         let Rows { width, labels, bytes, vectors, source, words, .. } = self;
-        let w = *width;
-        // Room for all, plus the 16 bytes a short row is appended as.
-        bytes.reserve(vectors.len() * w + 16);
-        labels.reserve(vectors.len());
-        for (label, next) in vectors.iter() {
-            let at = bytes.len();
-            Self::append_zeroed(bytes, w);
-            if pack(source, words, next, &mut bytes[at..]) {
-                labels.push(label);
-            } else {
-                bytes.truncate(at);
+        let (w, start, at) = (*width, labels.len(), bytes.len());
+        labels.extend_from_slice(vectors.labels());
+        bytes.resize(at + vectors.len() * w, 0);
+        let Err(failed) = pack(source, words, vectors, &mut bytes[at..]) else { return };
+        // Rare (a successor out of its encoding): close the gaps.
+        let mut to = start;
+        for k in 0..vectors.len() {
+            if failed.binary_search(&k).is_err() {
+                labels[to] = labels[start + k];
+                bytes.copy_within(at + k * w..at + (k + 1) * w, at + (to - start) * w);
+                to += 1;
             }
         }
+        labels.truncate(to);
+        bytes.truncate(at + (to - start) * w);
     }
 
     /// Appends `width` zero bytes to `bytes`.

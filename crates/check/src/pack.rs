@@ -54,6 +54,14 @@ struct Slot {
     shift: u32,
 }
 
+impl Slot {
+    /// The slot's value in its packed word `bits`.
+    #[inline]
+    fn read(&self, bits: u64) -> i32 {
+        self.lo.wrapping_add(((bits >> self.shift) & self.mask) as i32)
+    }
+}
+
 /// Packed states of up to this many words are packed and unpacked without
 /// an allocation.
 const SMALL_WORDS: usize = 4;
@@ -70,7 +78,17 @@ pub struct Layout {
     /// The bytes a packed state takes as a row: the words, the last one
     /// cut to the bytes its fields use (the rest is always zero).
     row_width: usize,
+    /// Per word, per bit, the slot whose field holds that bit (bits of no
+    /// field are always zero): which slots a changed bit belongs to.
+    bit_slots: Vec<u32>,
+    /// Tells this layout's unpacked states from another's (see
+    /// [`Layout::unpack_row_words`]); clones share it (they are equal).
+    /// Never 0, which a fresh buffer holds.
+    id: u64,
 }
+
+/// The source of [`Layout::id`]s (0 is no layout's).
+static NEXT_LAYOUT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 impl Layout {
     /// The layout for slots with these inclusive ranges.
@@ -93,7 +111,14 @@ impl Layout {
         let row_width = (8 * word + used.div_ceil(8) as usize).max(1);
         let word_ends = (0..=word).map(|w| fields.partition_point(|f| f.word as usize <= w)).collect();
         let slots = fields.iter().map(|f| Slot { mask: f.mask, lo: f.lo as i32, shift: f.shift }).collect();
-        Layout { fields, slots, word_ends, words: word + 1, row_width }
+        let mut bit_slots = vec![0u32; 64 * (word + 1)];
+        for (i, f) in fields.iter().enumerate() {
+            for b in f.shift..f.shift + f.bits {
+                bit_slots[64 * f.word as usize + b as usize] = i as u32;
+            }
+        }
+        let id = NEXT_LAYOUT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Layout { fields, slots, word_ends, words: word + 1, row_width, bit_slots, id }
     }
 
     /// The bytes of a packed state stored as a row (see [`Packed`]'s
@@ -138,59 +163,106 @@ impl Layout {
     /// slots where `st` differs from `base` are repacked (a successor
     /// differs from its source in a few slots). The same bytes, and the
     /// same errors, as [`Layout::pack_into`].
+    #[inline]
     pub fn pack_from(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
-        let (mut small, mut big) = ([0u64; SMALL_WORDS], Vec::new());
         let padded = base_words.get(..SMALL_WORDS).and_then(|w| <&[u64; SMALL_WORDS]>::try_from(w).ok());
-        let words: &mut [u64] = match padded {
-            // A fixed-size copy rather than a call to `memcpy`, when the
-            // words come padded (as `unpack_row_words` leaves them).
-            Some(p) if self.words <= SMALL_WORDS => {
-                small = *p;
-                &mut small[..self.words]
+        match padded {
+            // The hot path: a fixed-size copy of the words (padded, as
+            // `unpack_row_words` leaves them), indexed without bounds checks.
+            Some(&p) if self.words <= SMALL_WORDS => {
+                let mut words = p;
+                if !self.repack_changed(base, st, &mut words) {
+                    return Err(self.out_of_range(st));
+                }
+                write_words(&words[..self.words], row);
+                Ok(())
+            }
+            _ => self.pack_from_any(base, base_words, st, row),
+        }
+    }
+
+    /// Packs each vector of `next` as [`Layout::pack_from`] does, into
+    /// consecutive rows of `rows` ([`Layout::row_width`] bytes each, one
+    /// per vector). Fails with the indices of the vectors out of range
+    /// (their rows are left unspecified).
+    pub fn pack_all(
+        &self,
+        base: &[i32],
+        base_words: &[u64],
+        next: &Vectors,
+        rows: &mut [u8],
+    ) -> Result<(), Vec<usize>> {
+        let mut failed = Vec::new();
+        let rows = rows.chunks_exact_mut(self.row_width);
+        let padded = base_words.get(..SMALL_WORDS).and_then(|w| <&[u64; SMALL_WORDS]>::try_from(w).ok());
+        match padded {
+            // The hot path: the source's words copied as a fixed-size
+            // array (padded, as `unpack_row_words` leaves them) and indexed
+            // without bounds checks.
+            Some(&p) if self.words <= SMALL_WORDS => {
+                for (k, ((_, st), row)) in next.iter().zip(rows).enumerate() {
+                    let mut words = p;
+                    if self.repack_changed(base, st, &mut words) {
+                        write_words(&words[..self.words], row);
+                    } else {
+                        failed.push(k);
+                    }
+                }
             }
             _ => {
-                let words = self.scratch_words(&mut small, &mut big);
-                words.copy_from_slice(&base_words[..self.words]);
-                words
+                for (k, ((_, st), row)) in next.iter().zip(rows).enumerate() {
+                    if self.pack_from_any(base, base_words, st, row).is_err() {
+                        failed.push(k);
+                    }
+                }
             }
-        };
+        }
+        if failed.is_empty() {
+            Ok(())
+        } else {
+            Err(failed)
+        }
+    }
+
+    /// [`Layout::pack_from`] for words that do not fit `SMALL_WORDS` or
+    /// come unpadded.
+    #[inline(never)]
+    fn pack_from_any(&self, base: &[i32], base_words: &[u64], st: &[i32], row: &mut [u8]) -> Result<(), String> {
+        let mut words = base_words[..self.words].to_vec();
+        if !self.repack_changed(base, st, &mut words[..]) {
+            return Err(self.out_of_range(st));
+        }
+        write_words(&words, row);
+        Ok(())
+    }
+
+    /// Repacks into `words` (of at least the layout's words) the slots
+    /// where `st` differs from `base`; false if one is out of its range.
+    #[inline]
+    fn repack_changed<W: AsMut<[u64]> + ?Sized>(&self, base: &[i32], st: &[i32], words: &mut W) -> bool {
+        let words = words.as_mut();
         // Whole blocks of slots compare at once (fixed-size arrays compare
         // without a call); most are unchanged.
         const BLOCK: usize = 8;
         let n = self.fields.len().min(st.len()).min(base.len());
         let ((a, a_rest), (b, b_rest)) = (st[..n].as_chunks::<BLOCK>(), base[..n].as_chunks::<BLOCK>());
-        let mut at = 0;
-        for (x, y) in a.iter().zip(b) {
+        let (f8, f_rest) = self.fields[..n].as_chunks::<BLOCK>();
+        let mut ok = true;
+        for ((x, y), f) in a.iter().zip(b).zip(f8) {
             if x != y {
                 for k in 0..BLOCK {
                     if x[k] != y[k] {
-                        self.repack_slot(at + k, x[k], words).map_err(|()| self.out_of_range(st))?;
+                        ok &= repack(&f[k], x[k], words);
                     }
                 }
             }
-            at += BLOCK;
         }
-        for (k, (&v, &old)) in a_rest.iter().zip(b_rest).enumerate() {
+        for ((&v, &old), f) in a_rest.iter().zip(b_rest).zip(f_rest) {
             if v != old {
-                self.repack_slot(at + k, v, words).map_err(|()| self.out_of_range(st))?;
+                ok &= repack(f, v, words);
             }
         }
-        write_words(words, row);
-        Ok(())
-    }
-
-    /// Repacks slot `i` with value `v` into `words`; fails if `v` is out of
-    /// the slot's range.
-    #[inline]
-    fn repack_slot(&self, i: usize, v: i32, words: &mut [u64]) -> Result<(), ()> {
-        let f = &self.fields[i];
-        let off = (v as i64).wrapping_sub(f.lo) as u64;
-        if off > f.span {
-            return Err(());
-        }
-        let w = &mut words[f.word as usize];
-        *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
-        Ok(())
+        ok
     }
 
     /// The words of the state packed as `row`, into `words` (as many as
@@ -210,19 +282,31 @@ impl Layout {
     /// [`Layout::unpack_row`], also leaving the state's packed words in
     /// `words`: as many as the layout has, then zeros up to
     /// `SMALL_WORDS` (4) if there are fewer, which lets
-    /// [`Layout::pack_from`] copy them as a block.
+    /// [`Layout::pack_from`] copy them as a block, then this layout's id.
+    ///
+    /// When `words` ends with this layout's id already, `out` must hold
+    /// the state `words` came from (as this function leaves them): then
+    /// only the slots whose bits differ from that state's are read. The
+    /// sources of a search come in breadth-first order, and consecutive
+    /// ones differ in a few slots. (The id is kept in `words` rather than
+    /// in a field of [`Rows`](crate::lts::Rows), whose size the generic
+    /// search loop is sensitive to.)
     pub fn unpack_row_words(&self, row: &[u8], out: &mut [i32], words: &mut Vec<u64>) {
+        let len = self.words.max(SMALL_WORDS) + 1;
+        if words.len() == len && words[len - 1] == self.id && out.len() == self.len() && self.words <= SMALL_WORDS {
+            self.unpack_changed(row, out, words);
+            return;
+        }
         // `read_words` writes every word of the layout: the padding only
         // needs zeroing when the buffer is (re)sized.
-        let len = self.words.max(SMALL_WORDS);
         if words.len() != len {
             words.clear();
             words.resize(len, 0);
         }
+        words[len - 1] = self.id;
         read_words(row, &mut words[..self.words]);
         // Word by word, so that the word stays in a register.
         let mut at = 0;
-        let read = |bits: u64, s: &Slot| s.lo.wrapping_add(((bits >> s.shift) & s.mask) as i32);
         for (&bits, &end) in words.iter().zip(&self.word_ends) {
             // Four slots at a time: the loop's own instructions are a third
             // of the work otherwise.
@@ -230,13 +314,32 @@ impl Layout {
                 (self.slots[at..end].as_chunks::<4>(), out[at..end].as_chunks_mut::<4>());
             for (s, o) in s4.iter().zip(o4) {
                 for k in 0..4 {
-                    o[k] = read(bits, &s[k]);
+                    o[k] = s[k].read(bits);
                 }
             }
             for (s, o) in s_rest.iter().zip(o_rest) {
-                *o = read(bits, s);
+                *o = s.read(bits);
             }
             at = end;
+        }
+    }
+
+    /// Unpacks `row` over `out` and `words`, which hold another state of
+    /// this layout (of at most `SMALL_WORDS` words), reading only the
+    /// slots of the bits that differ.
+    fn unpack_changed(&self, row: &[u8], out: &mut [i32], words: &mut [u64]) {
+        let mut new = [0u64; SMALL_WORDS];
+        read_words(row, &mut new[..self.words]);
+        for (w, (old, &bits)) in words.iter_mut().zip(&new[..self.words]).enumerate() {
+            let mut changed = *old ^ bits;
+            *old = bits;
+            let slot_of = &self.bit_slots[64 * w..64 * w + 64];
+            while changed != 0 {
+                let i = slot_of[changed.trailing_zeros() as usize] as usize;
+                let s = &self.slots[i];
+                out[i] = s.read(bits);
+                changed &= !(s.mask << s.shift);
+            }
         }
     }
 
@@ -312,6 +415,20 @@ impl Layout {
     }
 }
 
+/// Repacks the slot of field `f` with value `v` into `words`; false if `v`
+/// is out of the field's range (then `words` are spoilt).
+#[inline]
+fn repack(f: &Field, v: i32, words: &mut [u64]) -> bool {
+    let off = (v as i64).wrapping_sub(f.lo) as u64;
+    // `words` has at least the layout's words (a power of two when it is
+    // the padded array): the mask keeps the index in bounds without a check.
+    let at = f.word as usize & (words.len().next_power_of_two() - 1);
+    if let Some(w) = words.get_mut(at) {
+        *w = (*w & !(f.mask << f.shift)) | (off << f.shift);
+    }
+    off <= f.span
+}
+
 /// Writes the words of a packed state into `row`, little-endian, the last
 /// one cut to the row's end.
 #[inline]
@@ -351,6 +468,13 @@ fn read_words(row: &[u8], words: &mut [u64]) {
         u64::from_le_bytes(b)
     };
     let (n, full) = (row.len(), row.len() / 8);
+    if let (9..=16, [first, second]) = (n, &mut *words) {
+        // The common widths: two (overlapping) 8-byte loads, as in
+        // `write_words`; the loop below would be a call to `memcpy`.
+        *first = word(&row[..8]);
+        *second = word(&row[n - 8..]) >> (64 - 8 * (n - 8));
+        return;
+    }
     for (c, w) in row.chunks_exact(8).zip(words.iter_mut()) {
         *w = word(c);
     }
@@ -454,6 +578,8 @@ impl Vectors {
 
     /// Appends a copy of `st` (labelled τ until [`Vectors::set_label`]) and
     /// returns it, to be changed in place.
+    // Inlined: called for nearly every successor.
+    #[inline]
     pub fn push_copy(&mut self, st: &[i32]) -> &mut [i32] {
         debug_assert_eq!(st.len(), self.width);
         self.labels.push(Label::TAU);
@@ -598,8 +724,12 @@ impl<T: VectorLts> crate::lts::Lts for T {
         e.layout.unpack_row_words(row, &mut out.source, &mut out.words);
         out.vectors.reset(e.layout.len());
         self.successor_values(&out.source, &mut out.vectors);
-        out.pack_vectors(|source, words, next, row| {
-            e.layout.pack_from(source, words, next, row).map_err(|err| e.error.set(err)).is_ok()
+        out.pack_vectors(|source, words, next, rows| {
+            let packed = e.layout.pack_all(source, words, next, rows);
+            if let Err(failed) = &packed {
+                e.error.set(e.layout.out_of_range(next.get(failed[0])));
+            }
+            packed
         });
     }
 }
@@ -712,6 +842,28 @@ mod tests {
             }
             // Some successors were out of range and dropped, in both.
             assert!(lts.0.error.get().is_some());
+        }
+    }
+
+    #[test]
+    fn rows_shared_by_two_layouts_unpack_each_source_in_full() {
+        // Same number of slots, different packing: a source unpacked by one
+        // layout is no base for the other's changed slots.
+        let a = Counters(Encoding::new(&[(0, 3), (-2, 5), (0, 1), (0, 40)], crate::events::EventTable::default()));
+        let b = Counters(Encoding::new(&[(0, 40), (0, 1), (-2, 5), (0, 3)], crate::events::EventTable::default()));
+        let w = a.state_width().max(b.state_width());
+        let mut shared: Rows<Packed> = Rows::new(w);
+        for (k, lts) in [&a, &b, &b, &a, &a, &b].into_iter().enumerate() {
+            let st: Vec<i32> =
+                lts.0.layout.fields.iter().map(|f| (f.lo + k as i64 % (f.span as i64 + 1)) as i32).collect();
+            let mut row = vec![0u8; lts.state_width()];
+            lts.0.layout.pack_into(&st, &mut row).unwrap();
+            shared.clear();
+            lts.successor_rows(&row, &mut shared);
+            let mut slow = Vec::new();
+            lts.successors(&lts.0.layout.pack(&st).unwrap(), &mut slow);
+            assert_eq!(shared.len(), slow.len());
+            assert_eq!(&*shared.source, &st[..], "source {k}");
         }
     }
 

@@ -147,6 +147,11 @@ pub struct Constrained<'a> {
     /// Channel indices of the inputs and outputs, in order.
     inputs: Vec<u16>,
     outputs: Vec<u16>,
+    /// Per design channel, what its offers need (looked up for every move).
+    chans: Vec<Chan>,
+    /// Per input, A3's reads of its register: the event, then the values
+    /// of A1's presence flag and value slots (computed once, not per state).
+    read_steps: Vec<Vec<(Event, i32, i32)>>,
     /// Event groups: register reads per input, register writes per output,
     /// the design's own (hidden) events per channel, `timelock`, `terminate`.
     read_group: Vec<usize>,
@@ -177,6 +182,21 @@ pub struct Constrained<'a> {
     len: usize,
     /// Packing, run-time errors, event names.
     enc: Encoding,
+}
+
+/// What the assumptions need to know of a design channel, per channel.
+#[derive(Debug, Clone, Copy)]
+struct Chan {
+    /// Its index among the platform inputs (A1's registers), if it is one.
+    input: Option<usize>,
+    /// Its index among the platform outputs (A2's registers), if it is one.
+    output: Option<usize>,
+    /// Whether it carries a value (an input's value is the register's).
+    has_value: bool,
+    /// Its design event without arguments (most channels have none).
+    event: Event,
+    /// Its output's register write without arguments, if it is an output.
+    write_event: Option<Event>,
 }
 
 /// The design has more outputs than the engine tracks (A2's set of outputs
@@ -278,7 +298,35 @@ impl<'a> Constrained<'a> {
         ]);
         bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
         bounds.extend(std::iter::repeat_n((0, design.channels.len() as i64 + 1), design.machines.len()));
+        let read_steps = inputs
+            .iter()
+            .zip(&read_group)
+            .map(|(&chan, &g)| {
+                // The register's domain (shared with the other side of a check).
+                let reg_lo = events.group(g).params.get(1).map(|p| p.dom().lo);
+                let steps = design.channels[chan as usize].read_values(reg_lo).map(|(present, v)| {
+                    let args = [present, v.unwrap_or(0)];
+                    let ev = events.event(g, &args[..1 + usize::from(v.is_some())]);
+                    (ev, present as i32, v.filter(|_| present == 1).unwrap_or(0) as i32)
+                });
+                steps.collect()
+            })
+            .collect();
+        let chans = (0..design.channels.len())
+            .map(|c| Chan {
+                input: inputs.iter().position(|&i| usize::from(i) == c),
+                output: outputs.iter().position(|&o| usize::from(o) == c),
+                has_value: !design.channels[c].params.is_empty(),
+                event: events.event(design_group[c], &[]),
+                write_event: outputs
+                    .iter()
+                    .position(|&o| usize::from(o) == c)
+                    .map(|o| events.event(write_group[o], &[])),
+            })
+            .collect();
         Ok(Constrained {
+            chans,
+            read_steps,
             design,
             profile,
             tlfree,
@@ -338,7 +386,11 @@ impl<'a> Constrained<'a> {
 
     /// The name of the design's hidden event for a machine offer.
     fn design_event(&self, chan: u16, args: &[Val]) -> Event {
-        self.enc.events.event(self.design_group[chan as usize], args)
+        match args {
+            // Looked up, not computed: the common case, once per move.
+            [] => self.chans[chan as usize].event,
+            _ => self.enc.events.event(self.design_group[chan as usize], args),
+        }
     }
 
     /// Describes the machines' control states (for counterexamples).
@@ -420,21 +472,17 @@ impl<'a> Constrained<'a> {
         if st[self.phase] != READ {
             return;
         }
-        for (i, &chan) in self.inputs.iter().enumerate() {
+        for (i, steps) in self.read_steps.iter().enumerate() {
             if st[self.arg] & (1 << i) == 0 {
                 continue;
             }
-            let c = &self.design.channels[chan as usize];
-            // The register's domain (shared with the other side of a check).
-            let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
-            for (present, v) in c.read_values(reg_lo) {
-                let args = [present, v.unwrap_or(0)];
-                let ev = self.enc.events.event(self.read_group[i], &args[..1 + usize::from(v.is_some())]);
+            let arg = st[self.arg] & !(1 << i);
+            for &(ev, present, v) in steps {
                 let n = out.push_copy(st);
-                n[self.a1 + 2 * i] = present as i32;
-                n[self.a1 + 2 * i + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
-                n[self.arg] &= !(1 << i);
-                if n[self.arg] == 0 {
+                n[self.a1 + 2 * i] = present;
+                n[self.a1 + 2 * i + 1] = v;
+                n[self.arg] = arg;
+                if arg == 0 {
                     n[self.phase] = RUN;
                 }
                 out.set_label(Label::plain(ev));
@@ -444,7 +492,7 @@ impl<'a> Constrained<'a> {
 
     /// An input the design may take now (A1): the input's index and value.
     fn input_allowed(&self, st: &[i32], chan: u16, value: Option<Val>) -> Option<(usize, Val)> {
-        let i = self.inputs.iter().position(|&c| c == chan)?;
+        let i = self.chans[chan as usize].input?;
         if st[self.phase] != RUN || st[self.a1 + 2 * i] == 0 {
             return None;
         }
@@ -537,10 +585,10 @@ impl<'a> Constrained<'a> {
                     }
                     continue;
                 }
-                moves.clear();
+                let from = moves.len();
                 m.moves(st, &mut moves).map_err(|e| e.0)?;
                 design_tock &= m.can_tock(st);
-                for mv in &moves {
+                for mv in &moves[from..] {
                     if self.design.is_internal(&mv.offer) {
                         internal.push((mi, mv.clone()));
                         continue;
@@ -553,15 +601,15 @@ impl<'a> Constrained<'a> {
                         }
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
-                            let has_value = !self.design.channels[*chan as usize].params.is_empty();
-                            let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
+                            let has_value = self.chans[*chan as usize].has_value;
+                            let args: &[Val] = if has_value { &[v] } else { &[] };
                             let n = out.push_copy(st);
                             self.design.apply(m, n, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
-                            out.set_label(Label::plain(self.design_event(*chan, &args)));
+                            out.set_label(Label::plain(self.design_event(*chan, args)));
                         }
                         Offer::Out { chan, args } => {
-                            let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
+                            let Some(o) = self.chans[*chan as usize].output else { continue };
                             let len = (0..nout).take_while(|&j| st[self.occ + j] != 0).count();
                             // Order: at most one output per register per cycle is buffered.
                             if phase != RUN || fm >= 0 || len >= nout {
@@ -636,7 +684,9 @@ impl<'a> Constrained<'a> {
         let start = out.len();
         let mode = st[self.mode];
         let phase = st[self.phase];
-        self.reads(st, out);
+        if phase == READ {
+            self.reads(st, out);
+        }
         // A2 writes the register of the output just produced.
         if st[self.pend] != 0 {
             let n = out.push_copy(st);
@@ -653,10 +703,11 @@ impl<'a> Constrained<'a> {
             moves.clear();
             let mut internal = Vec::new();
             for (mi, m) in self.design.machines.iter().enumerate() {
-                moves.clear();
+                // Each machine's moves after the others' (one clear per state).
+                let from = moves.len();
                 m.moves(st, &mut moves).map_err(|e| e.0)?;
                 design_tock &= m.can_tock(st);
-                for mv in &moves {
+                for mv in &moves[from..] {
                     if self.design.is_internal(&mv.offer) {
                         internal.push((mi, mv.clone()));
                         continue;
@@ -668,11 +719,13 @@ impl<'a> Constrained<'a> {
                             self.design.apply(m, n, mv.act, None)?;
                             out.set_label(Label::TAU);
                         }
+                        // A1: inputs are taken only while executing.
+                        Offer::In { .. } if phase != RUN => {}
                         Offer::In { chan, value } => {
                             let Some((i, v)) = self.input_allowed(st, *chan, *value) else { continue };
-                            let has_value = !self.design.channels[*chan as usize].params.is_empty();
-                            let args: Vec<Val> = if has_value { vec![v] } else { vec![] };
-                            let note = self.design_event(*chan, &args);
+                            let has_value = self.chans[*chan as usize].has_value;
+                            let args: &[Val] = if has_value { &[v] } else { &[] };
+                            let note = self.design_event(*chan, args);
                             let n = out.push_copy(st);
                             self.design.apply(m, n, mv.act, has_value.then_some(v))?;
                             n[self.a1 + 2 * i] = 0;
@@ -680,7 +733,7 @@ impl<'a> Constrained<'a> {
                         }
                         Offer::Out { chan, args } => {
                             design_out = true;
-                            let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
+                            let Some(o) = self.chans[*chan as usize].output else { continue };
                             // A2: once per period, each output immediately written.
                             if phase != RUN || st[self.pend] != 0 || st[self.k] >= 0 || st[self.avail] & (1 << o) == 0 {
                                 continue;
@@ -688,7 +741,11 @@ impl<'a> Constrained<'a> {
                             let note = self.design_event(*chan, args);
                             let n = out.push_copy(st);
                             self.design.apply(m, n, mv.act, None)?;
-                            n[self.pend] = self.enc.events.event(self.write_group[o], args) as i32;
+                            let write = match (args.as_slice(), self.chans[*chan as usize].write_event) {
+                                ([], Some(e)) => e,
+                                _ => self.enc.events.event(self.write_group[o], args),
+                            };
+                            n[self.pend] = write as i32;
                             n[self.avail] &= !(1 << o);
                             out.set_label(Label { event: TAU, note });
                         }
