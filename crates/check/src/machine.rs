@@ -151,10 +151,16 @@ impl Machine {
     /// The activities and timers of the states a transition from `source`
     /// leaves stop at once, innermost first (the trigger interrupts them),
     /// before any exit action runs.
+    #[inline]
     fn deactivate(&self, st: &mut [i32], source: u16) {
-        if self.activities.is_empty() && self.timers.is_empty() {
-            return;
+        if !(self.activities.is_empty() && self.timers.is_empty()) {
+            self.deactivate_states(st, source);
         }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn deactivate_states(&self, st: &mut [i32], source: u16) {
         let mut node = self.leaf(st);
         while let Some(n) = node {
             let nd = &self.nodes[n as usize];
@@ -420,7 +426,10 @@ impl Machine {
         Ok(())
     }
 
-    /// The steps of the running activities.
+    /// The steps of the running activities (out of line: most machines
+    /// have none, and `moves` is inlined into the search).
+    #[cold]
+    #[inline(never)]
     fn activity_moves(&self, st: &[i32], out: &mut Vec<Move>) -> Result<(), StepError> {
         let mut sat = false;
         let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
@@ -497,14 +506,30 @@ impl Machine {
 
     /// Whether time may pass: everywhere except before an urgent call and
     /// when a deadline has run out.
+    #[inline]
     pub fn can_tock(&self, st: &[i32]) -> bool {
-        let urgent = |pc: i32| matches!(self.code.get(pc as usize), Some(Instr::Out { urgent: true, .. }));
-        !urgent(st[self.slot(PC)])
-            && st[self.slot(DEADLINE)] != 0
-            && self.timers.iter().all(|&t| st[t as usize] != 0)
+        let main = !self.urgent_at(st[self.slot(PC)]) && st[self.slot(DEADLINE)] != 0;
+        // Most machines have neither timers nor activities.
+        if self.timers.is_empty() && self.activities.is_empty() {
+            return main;
+        }
+        main && self.threads_can_tock(st)
+    }
+
+    /// Whether the instruction at `pc` is an urgent call.
+    #[inline]
+    fn urgent_at(&self, pc: i32) -> bool {
+        matches!(self.code.get(pc as usize), Some(Instr::Out { urgent: true, .. }))
+    }
+
+    /// [`Machine::can_tock`] for the timers and activities.
+    #[cold]
+    #[inline(never)]
+    fn threads_can_tock(&self, st: &[i32]) -> bool {
+        self.timers.iter().all(|&t| st[t as usize] != 0)
             && self.activities.iter().all(|a| {
                 let pc = st[a.pc_slot as usize];
-                pc < 0 || (!urgent(pc) && st[a.deadline_slot as usize] != 0)
+                pc < 0 || (!self.urgent_at(pc) && st[a.deadline_slot as usize] != 0)
             })
     }
 
@@ -512,7 +537,7 @@ impl Machine {
     /// reason (empty when it can): for explanations of timelocks.
     pub fn tock_blockers(&self, st: &[i32]) -> Vec<String> {
         let mut why = Vec::new();
-        let urgent = |pc: i32| matches!(self.code.get(pc as usize), Some(Instr::Out { urgent: true, .. }));
+        let urgent = |pc: i32| self.urgent_at(pc);
         if urgent(st[self.slot(PC)]) {
             why.push(format!("{}: a platform operation call or register write cannot wait", self.name));
         }
@@ -545,6 +570,9 @@ impl Machine {
 
     /// One time unit passes for the machine (clocks are advanced by the caller).
     pub fn tock(&self, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
+        if self.timers.is_empty() && self.activities.is_empty() {
+            return self.tock_thread(self.main_thread(), st, clocks);
+        }
         for &t in &self.timers {
             if st[t as usize] > 0 {
                 st[t as usize] -= 1;
@@ -677,6 +705,26 @@ impl Machine {
                 st[self.slot(PC)] += 1;
             }
             Act::Exec => {}
+            Act::ActivityComm(_) | Act::ActivityChoose(..) | Act::ActivityExec(_) => {
+                return self.apply_activity(st, clocks, act, value, sat)
+            }
+        }
+        self.settle_noting(st, clocks, true, sat)
+    }
+
+    /// [`Machine::apply_noting`] for a step of an activity (out of line:
+    /// most machines have none).
+    #[cold]
+    #[inline(never)]
+    fn apply_activity(
+        &self,
+        st: &mut [i32],
+        clocks: &[Clock],
+        act: Act,
+        value: Option<Val>,
+        sat: &mut bool,
+    ) -> Result<(), StepError> {
+        match act {
             Act::ActivityComm(k) => {
                 let th = self.activity_thread(k);
                 if let (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) =
@@ -687,17 +735,17 @@ impl Machine {
                     }
                 }
                 st[th.pc] += 1;
-                return self.run(th, st, clocks, true, sat);
+                self.run(th, st, clocks, true, sat)
             }
             Act::ActivityChoose(k, n) => {
                 let th = self.activity_thread(k);
                 st[th.wait] = n.max(0) as i32;
                 st[th.pc] += 1;
-                return self.run(th, st, clocks, true, sat);
+                self.run(th, st, clocks, true, sat)
             }
-            Act::ActivityExec(k) => return self.run(self.activity_thread(k), st, clocks, true, sat),
+            Act::ActivityExec(k) => self.run(self.activity_thread(k), st, clocks, true, sat),
+            _ => Ok(()),
         }
-        self.settle_noting(st, clocks, true, sat)
     }
 
     /// A description of the machine's control state, for counterexamples.
