@@ -660,12 +660,7 @@ impl Machine {
                         st[*slot as usize] = v as i32;
                     }
                 }
-                for &(var, dom, from) in &tr.binds {
-                    let v = st[from as usize] as Val;
-                    if dom.contains(v) {
-                        st[var as usize] = v as i32;
-                    }
-                }
+                bind_inputs(st, tr);
                 st[self.slot(TRANS)] = i32::from(t);
                 self.deactivate(st, tr.source);
                 if tr.exec {
@@ -680,24 +675,12 @@ impl Machine {
             }
             Act::Junction(t) => {
                 let tr = &self.transitions[t as usize];
-                // RoboSim `$e?x` in the guard binds when the transition is taken.
-                for &(var, dom, from) in &tr.binds {
-                    let v = st[from as usize] as Val;
-                    if dom.contains(v) {
-                        st[var as usize] = v as i32;
-                    }
-                }
+                bind_inputs(st, tr);
                 st[self.slot(TRANS)] = i32::from(t);
                 st[self.slot(PC)] = tr.body_pc as i32;
             }
             Act::Comm => {
-                if let (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) =
-                    (self.code.get(self.pc(st) as usize), value)
-                {
-                    if dom.contains(v) {
-                        st[*slot as usize] = v as i32;
-                    }
-                }
+                self.receive(st, self.pc(st), value);
                 st[self.slot(PC)] += 1;
             }
             Act::Choose(n) => {
@@ -710,6 +693,16 @@ impl Machine {
             }
         }
         self.settle_noting(st, clocks, true, sat)
+    }
+
+    /// An input `e?x` at `pc` stores the value received (when in its type).
+    #[inline]
+    fn receive(&self, st: &mut [i32], pc: u32, value: Option<Val>) {
+        if let (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) = (self.code.get(pc as usize), value) {
+            if dom.contains(v) {
+                st[*slot as usize] = v as i32;
+            }
+        }
     }
 
     /// [`Machine::apply_noting`] for a step of an activity (out of line:
@@ -727,13 +720,7 @@ impl Machine {
         match act {
             Act::ActivityComm(k) => {
                 let th = self.activity_thread(k);
-                if let (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) =
-                    (self.code.get(st[th.pc] as usize), value)
-                {
-                    if dom.contains(v) {
-                        st[*slot as usize] = v as i32;
-                    }
-                }
+                self.receive(st, st[th.pc] as u32, value);
                 st[th.pc] += 1;
                 self.run(th, st, clocks, true, sat)
             }
@@ -773,6 +760,18 @@ impl Machine {
                 Some(l) => format!("in {}", at(l)),
                 None => "starting".into(),
             },
+        }
+    }
+}
+
+/// RoboSim `$e?x` in a transition's guard: `x` takes the input's value when
+/// the transition is taken (from a state or from a junction).
+#[inline]
+fn bind_inputs(st: &mut [i32], tr: &Transition) {
+    for &(var, dom, from) in &tr.binds {
+        let v = st[from as usize] as Val;
+        if dom.contains(v) {
+            st[var as usize] = v as i32;
         }
     }
 }
