@@ -889,14 +889,7 @@ impl MachineCx<'_, '_> {
                         }
                     }
                 }
-                let n = tuple_size(&comps);
-                if n > MAX_TUPLES {
-                    return Err(self.cx.unsupported(
-                        file,
-                        range,
-                        format!("the type `{}` has {n} values: too many to check natively", node.text()),
-                    ));
-                }
+                self.small_product(file, node, &comps)?;
                 return Ok(Ty::Tuple(comps));
             }
             SET_TYPE => {
@@ -962,14 +955,7 @@ impl MachineCx<'_, '_> {
                     }
                     names.push(name_of(&f));
                 }
-                let n = tuple_size(&doms);
-                if n > MAX_TUPLES {
-                    return Err(self.cx.unsupported(
-                        file,
-                        range,
-                        format!("the record `{}` has {n} values: too many to check natively", node.text()),
-                    ));
-                }
+                self.small_product(file, node, &doms)?;
                 return Ok(Ty::Record(names, doms));
             }
         }
@@ -981,6 +967,20 @@ impl MachineCx<'_, '_> {
                 node.text()
             ),
         ))
+    }
+
+    /// A product type (tuple or record) `node` of components `doms` is
+    /// small enough to be one slot.
+    fn small_product(&self, file: File, node: &SyntaxNode, doms: &[Dom]) -> Result<(), Unsupported> {
+        let n = tuple_size(doms);
+        if n > MAX_TUPLES {
+            return Err(self.cx.unsupported(
+                file,
+                node.text_range(),
+                format!("the type `{}` has {n} values: too many to check natively", node.text()),
+            ));
+        }
+        Ok(())
     }
 
     /// How event values of the type `node` are named when they are not
