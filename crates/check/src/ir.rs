@@ -492,6 +492,8 @@ pub struct Transition {
     pub binds: Vec<(u16, Dom, u16)>,
     /// The declaration's range.
     pub range: TextRange,
+    /// The file it is declared in (index into the design's files).
+    pub file: u16,
 }
 
 /// A compiled state machine.
@@ -507,6 +509,9 @@ pub struct Machine {
     pub code: Vec<Instr>,
     /// The source range of each instruction (statement, transition, state).
     pub code_ranges: Vec<TextRange>,
+    /// The file of each instruction (index into the design's files): the
+    /// body of an operation may be in another file than its machine.
+    pub code_files: Vec<u16>,
     /// Where execution starts (the root region's initial transition).
     pub start_pc: u32,
     /// RoboSim: an `Exec(start_pc)` instruction: where a machine waits for

@@ -651,6 +651,8 @@ impl Cx<'_> {
             decl_name: inst.decl_name.clone(),
             at: inst.node.text_range(),
             code_ranges: Vec::new(),
+            code_files: Vec::new(),
+            file_ix,
             clock_caps: HashMap::new(),
             binds: Vec::new(),
             else_transitions: Vec::new(),
@@ -692,6 +694,7 @@ impl Cx<'_> {
             transitions: mc.transitions,
             code: mc.code,
             code_ranges: mc.code_ranges,
+            code_files: mc.code_files,
             start_pc,
             first_cycle_pc,
             exec_transition_pc,
@@ -790,6 +793,10 @@ struct MachineCx<'a, 'b> {
     /// The source range of the code being emitted, and per instruction.
     at: TextRange,
     code_ranges: Vec<TextRange>,
+    /// The file of the code being emitted (index into the design's
+    /// files), and per instruction.
+    file_ix: u16,
+    code_files: Vec<u16>,
     /// `$e?x` bindings met while lowering a guard.
     binds: Vec<(u16, Dom, u16)>,
     /// Transitions with `condition else`, to complete.
@@ -844,6 +851,7 @@ impl MachineCx<'_, '_> {
     fn emit(&mut self, i: Instr) {
         self.code.push(i);
         self.code_ranges.push(self.at);
+        self.code_files.push(self.file_ix);
     }
 
     fn design(&mut self) -> &mut Design {
@@ -1551,6 +1559,7 @@ impl MachineCx<'_, '_> {
             exec,
             binds: std::mem::take(&mut self.binds),
             range: t.children().find(|n| n.kind() == NAME).map(|n| n.text_range()).unwrap_or(t.text_range()),
+            file: self.file_ix,
         });
         self.nodes[source as usize].out.push(id);
         Ok(())
@@ -1920,13 +1929,10 @@ impl MachineCx<'_, '_> {
     ) -> Result<(), Unsupported> {
         while let Some((k, i)) = self.pending_ops.pop() {
             let (name, file, node) = self.op_defs[i].clone();
-            if file != self.file {
-                return Err(self.cx.unsupported(
-                    file,
-                    node.text_range(),
-                    format!("operation `{name}` is defined in another file than its machine; not supported yet"),
-                ));
-            }
+            // The body's names resolve, and its code is located, in the
+            // file that defines it.
+            let saved_file = std::mem::replace(&mut self.file, file);
+            let saved_ix = std::mem::replace(&mut self.file_ix, self.cx.file_index(file));
             let saved_names = std::mem::take(&mut self.names);
             let saved_types = std::mem::take(&mut self.types);
             let saved_decl = std::mem::replace(&mut self.decl_name, name.clone());
@@ -1948,6 +1954,8 @@ impl MachineCx<'_, '_> {
             self.types = saved_types;
             self.decl_name = saved_decl;
             self.cur_op = saved_op;
+            self.file = saved_file;
+            self.file_ix = saved_ix;
         }
         Ok(())
     }

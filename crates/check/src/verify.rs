@@ -1029,6 +1029,13 @@ fn saturation_note(steps: &[Step]) -> Option<String> {
     ))
 }
 
+/// Where the instruction at `pc` of machine `m` is in the model.
+fn code_location(design: &Design, m: &crate::ir::Machine, pc: usize) -> Option<Location> {
+    let range = *m.code_ranges.get(pc)?;
+    let file = m.code_files.get(pc).and_then(|&f| design.files.get(f as usize)).cloned().unwrap_or_default();
+    Some(Location { file, range })
+}
+
 /// What machine `m` did by `act`, and where in the model.
 fn describe_act(
     design: &Design,
@@ -1037,10 +1044,9 @@ fn describe_act(
     prev: &[i32],
     next: &[i32],
 ) -> (Option<String>, Option<Location>) {
-    let file = design.files.get(m.file as usize).cloned().unwrap_or_default();
     let at = |n: Option<u16>| n.map(|n| m.nodes[n as usize].name.clone()).unwrap_or_else(|| "-".into());
     let pc = m.pc(prev) as usize;
-    let here = m.code_ranges.get(pc).copied().map(|range| Location { file: file.clone(), range });
+    let here = code_location(design, m, pc);
     match act {
         Act::Fire(t) | Act::Junction(t) => {
             let tr = &m.transitions[t as usize];
@@ -1048,6 +1054,7 @@ fn describe_act(
                 "{}: takes {} ({} → {})",
                 m.name, tr.name, m.nodes[tr.source as usize].name, m.nodes[tr.target as usize].name,
             );
+            let file = design.files.get(tr.file as usize).cloned().unwrap_or_default();
             (Some(what), Some(Location { file, range: tr.range }))
         }
         Act::Comm => {
@@ -1070,7 +1077,7 @@ fn describe_act(
                 (_, Some(Instr::In { .. })) => "receives".into(),
                 _ => "writes a variable".into(),
             };
-            let here = m.code_ranges.get(pc).copied().map(|range| Location { file: file.clone(), range });
+            let here = code_location(design, m, pc);
             (Some(format!("{}: {what} in the during action of {}", m.name, at(Some(a.state)))), here)
         }
     }
@@ -1087,7 +1094,6 @@ fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<P
     let phase = lts.phase(last);
     for (mname, mv) in lts.design_moves(last) {
         let Some(m) = design.machines.iter().find(|m| m.name == mname) else { continue };
-        let file = design.files.get(m.file as usize).cloned().unwrap_or_default();
         let pc = m.pc(last) as usize;
         if let Offer::Out { chan, args } = &mv.offer {
             let c = &design.channels[*chan as usize];
@@ -1107,9 +1113,7 @@ fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<P
                 line.push_str(&format!(", but the cycle assumption forbids it: the simulation is {phase}"));
             }
             explanation.push(line);
-            if let Some(&range) = m.code_ranges.get(pc) {
-                stuck_at.push(Location { file, range });
-            }
+            stuck_at.extend(code_location(design, m, pc));
         }
     }
     if explanation.is_empty() {

@@ -407,3 +407,38 @@ fn instantiations_give_types_and_constants() {
     let reason = r.reason.unwrap_or_default();
     assert!(reason.contains("`k` has no value") || reason.contains("`ID` has no range"), "{reason}");
 }
+
+/// An operation defined in another file (another package) than the
+/// machine that calls it: its body's names resolve in its own file, and
+/// the counterexample's steps point into that file.
+#[test]
+fn operations_defined_in_another_file() {
+    let ops = "package ops
+        interface Events { event e }
+        interface Calls { op() op2(x : nat) }
+        operation turn(n : nat) { requires Calls initial i final f
+          transition t { from i to f action op2(n); op2(n) } }";
+    let main = "import ops::*
+        interface Ops { turn(n : nat) }
+        stm M { uses Events requires Ops initial i0 state S { entry turn(2) }
+          transition t { from i0 to S } transition u { from S to S trigger e } }
+        controller C { uses Events requires Calls opref turn = ops::turn sref m = M connection C on e to m on e }
+        module Mod { robotic platform P { uses Events provides Calls } cref c = C
+          connection P on e to c on e ( _async ) }";
+    let rsa = "simulation S of Mod { cycleDef cycle == 1 }\nassertion A : S is schedulable";
+    let r = verify_texts(
+        [
+            ("ops.rct".to_string(), ops.to_string()),
+            ("main.rct".to_string(), main.to_string()),
+            ("checks.rsa".to_string(), rsa.to_string()),
+        ],
+        &Options::default(),
+    )
+    .remove(0);
+    assert_eq!(r.verdict, Verdict::Fail, "{r:#?}");
+    let c = r.counterexample.as_ref().unwrap();
+    assert_eq!(trace_text(&c.steps), "registerRead.i_e.true (op2Call.2) registerWrite.o_op2.2");
+    let call = c.steps.iter().find(|s| s.event == "(op2Call.2)").unwrap();
+    assert_eq!(call.location.as_ref().unwrap().file, "ops.rct");
+    assert_eq!(c.stuck_at.iter().map(|l| l.file.as_str()).collect::<Vec<_>>(), ["ops.rct"]);
+}
