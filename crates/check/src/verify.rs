@@ -1063,7 +1063,10 @@ fn describe_act(
                 Instr::Out { .. } => "outputs",
                 _ => "receives",
             };
-            (Some(format!("{}: {what} in {}", m.name, at(m.leaf(prev)))), here)
+            // Between states (on a transition out of a junction) there is
+            // no state to name.
+            let place = m.leaf(prev).map(|l| format!(" in {}", at(Some(l)))).unwrap_or_default();
+            (Some(format!("{}: {what}{place}", m.name)), here)
         }
         Act::Choose(n) => (Some(format!("{}: the wait interval resolves to {n}", m.name)), here),
         Act::Exec => (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here),

@@ -201,4 +201,8 @@ fn records() {
     // The first record received with b true and a below 2: (0, true).
     assert_eq!(traces[0], (Verdict::Pass, "e.in.0.1 o.out.1".to_string()), "{reports:#?}");
     assert_eq!(traces[1], (Verdict::Fail, "e.in.0.1 o.out.1".to_string()));
+    // The output happens on the transition out of the junction: between
+    // states, so no state is named.
+    let out = reports[0].counterexample.as_ref().unwrap().steps.iter().find(|s| s.event == "o.out.1").unwrap();
+    assert_eq!(out.description.as_deref(), Some("M: outputs"));
 }
