@@ -388,8 +388,6 @@ impl Machine {
         if self.in_during(st) {
             self.transition_moves(st, out)?;
         }
-        let mut sat = false;
-        let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
         let Some(instr) = self.code.get(pc) else {
             return Err(StepError(format!("machine `{}` ran off its code", self.name)));
         };
@@ -402,23 +400,12 @@ impl Machine {
                     }
                 }
             }
-            Instr::Out { chan, args, .. } => {
-                let args = args.iter().map(&mut eval).collect::<Result<_, _>>()?;
-                out.push(Move { offer: Offer::Out { chan: *chan, args }, act: Act::Comm });
-            }
-            Instr::In { chan, value, .. } => {
-                let value = value.as_ref().map(&mut eval).transpose()?;
-                out.push(Move { offer: Offer::In { chan: *chan, value }, act: Act::Comm });
-            }
-            Instr::ChooseWait(lo, hi) => {
-                let (a, b) = (eval(lo)?, eval(hi)?);
-                for n in a..=b {
-                    out.push(Move { offer: Offer::Tau, act: Act::Choose(n) });
+            Instr::Terminate | Instr::Exec(_) | Instr::ExecTransition => {}
+            _ => {
+                if !self.thread_offers(instr, st, out, Act::Comm, Act::Choose, Act::Exec)? {
+                    return Err(StepError(format!("machine `{}` stopped at an internal instruction", self.name)));
                 }
             }
-            Instr::Assign { .. } => out.push(Move { offer: Offer::Tau, act: Act::Exec }),
-            Instr::Wait | Instr::Terminate | Instr::Exec(_) | Instr::ExecTransition => {}
-            _ => return Err(StepError(format!("machine `{}` stopped at an internal instruction", self.name))),
         }
         if !self.activities.is_empty() {
             self.activity_moves(st, out)?;
@@ -431,40 +418,70 @@ impl Machine {
     #[cold]
     #[inline(never)]
     fn activity_moves(&self, st: &[i32], out: &mut Vec<Move>) -> Result<(), StepError> {
-        let mut sat = false;
-        let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
         for (k, a) in self.activities.iter().enumerate() {
             let k = k as u16;
             let pc = st[a.pc_slot as usize];
             if pc < 0 {
                 continue;
             }
-            match self.code.get(pc as usize) {
-                Some(Instr::Out { chan, args, .. }) => {
-                    let args = args.iter().map(&mut eval).collect::<Result<_, _>>()?;
-                    out.push(Move { offer: Offer::Out { chan: *chan, args }, act: Act::ActivityComm(k) });
-                }
-                Some(Instr::In { chan, value, .. }) => {
-                    let value = value.as_ref().map(&mut eval).transpose()?;
-                    out.push(Move { offer: Offer::In { chan: *chan, value }, act: Act::ActivityComm(k) });
-                }
-                Some(Instr::ChooseWait(lo, hi)) => {
-                    let (lo, hi) = (eval(lo)?, eval(hi)?);
-                    for n in lo..=hi {
-                        out.push(Move { offer: Offer::Tau, act: Act::ActivityChoose(k, n) });
-                    }
-                }
-                Some(Instr::Assign { .. }) => out.push(Move { offer: Offer::Tau, act: Act::ActivityExec(k) }),
-                Some(Instr::Wait | Instr::ActivityEnd) => {}
-                _ => {
-                    return Err(StepError(format!(
-                        "machine `{}`: the during action of `{}` stopped at an internal instruction",
-                        self.name, self.nodes[a.state as usize].name
-                    )))
-                }
+            let ok = match self.code.get(pc as usize) {
+                Some(Instr::ActivityEnd) => true,
+                Some(instr) => self.thread_offers(
+                    instr,
+                    st,
+                    out,
+                    Act::ActivityComm(k),
+                    |n| Act::ActivityChoose(k, n),
+                    Act::ActivityExec(k),
+                )?,
+                None => false,
+            };
+            if !ok {
+                return Err(StepError(format!(
+                    "machine `{}`: the during action of `{}` stopped at an internal instruction",
+                    self.name, self.nodes[a.state as usize].name
+                )));
             }
         }
         Ok(())
+    }
+
+    /// What a thread (the main one or an activity) stopped at `instr`
+    /// offers: a communication (`comm`), the choice of a wait (`choose`),
+    /// a variable write (`exec`), or nothing while it waits. False when it
+    /// should not have stopped there.
+    #[inline(always)]
+    fn thread_offers(
+        &self,
+        instr: &Instr,
+        st: &[i32],
+        out: &mut Vec<Move>,
+        comm: Act,
+        choose: impl Fn(Val) -> Act,
+        exec: Act,
+    ) -> Result<bool, StepError> {
+        let mut sat = false;
+        let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
+        match instr {
+            Instr::Out { chan, args, .. } => {
+                let args = args.iter().map(&mut eval).collect::<Result<_, _>>()?;
+                out.push(Move { offer: Offer::Out { chan: *chan, args }, act: comm });
+            }
+            Instr::In { chan, value, .. } => {
+                let value = value.as_ref().map(&mut eval).transpose()?;
+                out.push(Move { offer: Offer::In { chan: *chan, value }, act: comm });
+            }
+            Instr::ChooseWait(lo, hi) => {
+                let (a, b) = (eval(lo)?, eval(hi)?);
+                for n in a..=b {
+                    out.push(Move { offer: Offer::Tau, act: choose(n) });
+                }
+            }
+            Instr::Assign { .. } => out.push(Move { offer: Offer::Tau, act: exec }),
+            Instr::Wait => {}
+            _ => return Ok(false),
+        }
+        Ok(true)
     }
 
     /// Transitions of the leaf and of every enclosing state, with no
@@ -537,28 +554,22 @@ impl Machine {
     /// reason (empty when it can): for explanations of timelocks.
     pub fn tock_blockers(&self, st: &[i32]) -> Vec<String> {
         let mut why = Vec::new();
-        let urgent = |pc: i32| self.urgent_at(pc);
-        if urgent(st[self.slot(PC)]) {
+        if self.urgent_at(st[self.slot(PC)]) {
             why.push(format!("{}: a platform operation call or register write cannot wait", self.name));
         }
         if st[self.slot(DEADLINE)] == 0 {
             why.push(format!("{}: the deadline of a statement `<{{…}}` has run out", self.name));
         }
-        for (n, node) in self.nodes.iter().enumerate() {
+        for node in &self.nodes {
             if node.timer.is_some_and(|t| st[t as usize] == 0) {
                 let names: Vec<String> =
                     node.out.iter().map(|&t| &self.transitions[t as usize].name).map(|t| format!("`{t}`")).collect();
-                why.push(format!(
-                    "{}: the deadline of {} from {} has run out",
-                    self.name,
-                    names.join(", "),
-                    self.nodes[n].name
-                ));
+                why.push(format!("{}: the deadline of {} from {} has run out", self.name, names.join(", "), node.name));
             }
         }
         for a in &self.activities {
             let pc = st[a.pc_slot as usize];
-            if pc >= 0 && (urgent(pc) || st[a.deadline_slot as usize] == 0) {
+            if pc >= 0 && (self.urgent_at(pc) || st[a.deadline_slot as usize] == 0) {
                 why.push(format!(
                     "{}: the during action of {} cannot wait (an urgent call or a deadline that has run out)",
                     self.name, self.nodes[a.state as usize].name
@@ -679,20 +690,41 @@ impl Machine {
                 st[self.slot(TRANS)] = i32::from(t);
                 st[self.slot(PC)] = tr.body_pc as i32;
             }
-            Act::Comm => {
-                self.receive(st, self.pc(st), value);
-                st[self.slot(PC)] += 1;
+            Act::Comm | Act::Choose(_) | Act::Exec => {
+                return self.step(self.main_thread(), st, clocks, act, value, sat)
             }
-            Act::Choose(n) => {
-                st[self.slot(WAIT)] = n.max(0) as i32;
-                st[self.slot(PC)] += 1;
-            }
-            Act::Exec => {}
-            Act::ActivityComm(_) | Act::ActivityChoose(..) | Act::ActivityExec(_) => {
-                return self.apply_activity(st, clocks, act, value, sat)
+            Act::ActivityComm(k) | Act::ActivityChoose(k, _) | Act::ActivityExec(k) => {
+                return self.step(self.activity_thread(k), st, clocks, act, value, sat)
             }
         }
         self.settle_noting(st, clocks, true, sat)
+    }
+
+    /// A step of thread `th` at the instruction it stopped at: the
+    /// communication completes (storing a value received), the wait's
+    /// length is chosen, or the pending write runs; then the thread goes on.
+    #[inline]
+    fn step(
+        &self,
+        th: Thread,
+        st: &mut [i32],
+        clocks: &[Clock],
+        act: Act,
+        value: Option<Val>,
+        sat: &mut bool,
+    ) -> Result<(), StepError> {
+        match act {
+            Act::Comm | Act::ActivityComm(_) => {
+                self.receive(st, st[th.pc] as u32, value);
+                st[th.pc] += 1;
+            }
+            Act::Choose(n) | Act::ActivityChoose(_, n) => {
+                st[th.wait] = n.max(0) as i32;
+                st[th.pc] += 1;
+            }
+            _ => {}
+        }
+        self.run(th, st, clocks, true, sat)
     }
 
     /// An input `e?x` at `pc` stores the value received (when in its type).
@@ -702,36 +734,6 @@ impl Machine {
             if dom.contains(v) {
                 st[*slot as usize] = v as i32;
             }
-        }
-    }
-
-    /// [`Machine::apply_noting`] for a step of an activity (out of line:
-    /// most machines have none).
-    #[cold]
-    #[inline(never)]
-    fn apply_activity(
-        &self,
-        st: &mut [i32],
-        clocks: &[Clock],
-        act: Act,
-        value: Option<Val>,
-        sat: &mut bool,
-    ) -> Result<(), StepError> {
-        match act {
-            Act::ActivityComm(k) => {
-                let th = self.activity_thread(k);
-                self.receive(st, st[th.pc] as u32, value);
-                st[th.pc] += 1;
-                self.run(th, st, clocks, true, sat)
-            }
-            Act::ActivityChoose(k, n) => {
-                let th = self.activity_thread(k);
-                st[th.wait] = n.max(0) as i32;
-                st[th.pc] += 1;
-                self.run(th, st, clocks, true, sat)
-            }
-            Act::ActivityExec(k) => self.run(self.activity_thread(k), st, clocks, true, sat),
-            _ => Ok(()),
         }
     }
 
