@@ -2256,12 +2256,7 @@ impl MachineCx<'_, '_> {
             let mut conds = Vec::new();
             for (p, a) in clause.params.iter().zip(&args) {
                 let v = match p {
-                    CspExpr::Int(v) => Some(*v),
                     CspExpr::Bool(b) => Some(*b as Val),
-                    CspExpr::Neg(x) if matches!(**x, CspExpr::Int(_)) => match **x {
-                        CspExpr::Int(v) => Some(-v),
-                        _ => None,
-                    },
                     CspExpr::Name(n) => match self.csp_constructor(n) {
                         Some((v, _)) => Some(v),
                         None => {
@@ -2269,7 +2264,9 @@ impl MachineCx<'_, '_> {
                             None
                         }
                     },
-                    _ => return Err(self.err(at, format!("a pattern of `{name}` the native checker cannot match"))),
+                    _ => Some(int_pattern(p).ok_or_else(|| {
+                        self.err(at, format!("a pattern of `{name}` the native checker cannot match"))
+                    })?),
                 };
                 if let Some(v) = v {
                     conds.push(Expr::Cmp(CmpOp::Eq, Box::new(a.clone()), Box::new(Expr::Const(v))));
@@ -2554,6 +2551,18 @@ impl MachineCx<'_, '_> {
 /// The weight of component `i` in a tuple's code.
 fn stride(ds: &[Dom], i: usize) -> Val {
     tuple_size(&ds[i + 1..]) as Val
+}
+
+/// The value of an integer pattern `n` or `-n` of a CSPm clause.
+fn int_pattern(p: &CspExpr) -> Option<Val> {
+    match p {
+        CspExpr::Int(v) => Some(*v),
+        CspExpr::Neg(x) => match **x {
+            CspExpr::Int(v) => Some(-v),
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 /// The function's name and arguments of a call expression.

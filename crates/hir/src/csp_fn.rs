@@ -162,16 +162,7 @@ pub fn parse_definition(text: &str) -> Option<(String, Vec<CspExpr>, CspExpr)> {
         return None;
     }
     p.expect("(")?;
-    let mut params = Vec::new();
-    if !p.eat(")") {
-        loop {
-            params.push(p.expr(0)?);
-            if p.eat(")") {
-                break;
-            }
-            p.expect(",")?;
-        }
-    }
+    let params = p.arguments()?;
     p.expect("=")?;
     let body = p.expr(0)?;
     (p.at == p.toks.len()).then_some((name, params, body))
@@ -211,6 +202,21 @@ impl Parser {
 
     fn expect(&mut self, s: &str) -> Option<()> {
         self.eat(s).then_some(())
+    }
+
+    /// `a, b, …)` after an opening `(` (possibly none).
+    fn arguments(&mut self) -> Option<Vec<CspExpr>> {
+        let mut args = Vec::new();
+        if self.eat(")") {
+            return Some(args);
+        }
+        loop {
+            args.push(self.expr(0)?);
+            if self.eat(")") {
+                return Some(args);
+            }
+            self.expect(",")?;
+        }
     }
 
     /// An expression whose binary operators bind at least as tightly as
@@ -261,17 +267,7 @@ impl Parser {
                 if !self.eat("(") {
                     return Some(CspExpr::Name(w));
                 }
-                let mut args = Vec::new();
-                if !self.eat(")") {
-                    loop {
-                        args.push(self.expr(0)?);
-                        if self.eat(")") {
-                            break;
-                        }
-                        self.expect(",")?;
-                    }
-                }
-                Some(CspExpr::Call(w, args))
+                Some(CspExpr::Call(w, self.arguments()?))
             }
             Tok::Op(_) => None,
         }
