@@ -28,6 +28,7 @@ fn channel_name(c: &crate::ir::Channel) -> String {
     match (c.is_call, c.dir) {
         (true, _) => format!("{}Call", c.name),
         _ if c.internal => c.name.clone(),
+        _ if c.var => format!("set_{}", c.name),
         (false, Dir::In) => format!("{}.in", c.name),
         (false, Dir::Out) => format!("{}.out", c.name),
     }

@@ -265,10 +265,16 @@ pub struct Channel {
     /// fields of their own).
     pub shape: Vec<crate::events::Param>,
     /// RoboSim inputs: the slot of the register's presence flag (its value
-    /// is in the next slot).
+    /// is in the next slot); for a variable, the slot of its value (the
+    /// variable itself).
     pub register: Option<u16>,
     /// Between two machines of the design (hidden), not with the platform.
     pub internal: bool,
+    /// A variable of the robotic platform: an output's events are its
+    /// updates (`set_x.v`, paper §5.2: platform variables are outputs); a
+    /// RoboSim input's register holds its value, read with no presence
+    /// flag (`registerRead.i_x.v`).
+    pub var: bool,
 }
 
 /// Direction of a channel.
@@ -297,7 +303,8 @@ pub enum Instr {
     },
     /// `#C`.
     ResetClock(u16),
-    /// An output: `e!v`, `e`, or a platform operation call (urgent).
+    /// An output: `e!v`, `e`, a platform operation call (urgent), or the
+    /// update of a platform variable (urgent, with `store`).
     Out {
         /// Channel index.
         chan: u16,
@@ -305,6 +312,11 @@ pub enum Instr {
         args: Vec<Expr>,
         /// Urgent (operation calls): time cannot pass before it.
         urgent: bool,
+        /// A platform variable's update: the slot (and domain) that keeps
+        /// the value, written in the same step as the event, so that no
+        /// other machine sees the variable changed before the update or
+        /// unchanged after it.
+        store: Option<(u16, Dom)>,
     },
     /// An input statement `e?x` / `e.v` / `e`.
     In {
@@ -646,9 +658,12 @@ impl Design {
         }
         for c in &self.channels {
             if let Some(r) = c.register {
-                set(r, 0, 1);
-                let d = c.params.first().copied().unwrap_or(Dom { lo: 0, hi: 0 });
-                set(r + 1, d.lo.min(0), d.hi.max(0));
+                // A variable's register is the variable (bounded above).
+                if !c.var {
+                    set(r, 0, 1);
+                    let d = c.params.first().copied().unwrap_or(Dom { lo: 0, hi: 0 });
+                    set(r + 1, d.lo.min(0), d.hi.max(0));
+                }
             }
         }
         b
@@ -780,12 +795,25 @@ impl Channel {
     /// representative, `absent` (the value is never observed).
     pub fn read_values(&self, absent: Option<Val>) -> impl Iterator<Item = (Val, Option<Val>)> {
         // Present with each value, then absent (no allocation: this runs
-        // for every state that reads registers).
+        // for every state that reads registers). A variable's register
+        // always holds a value.
         let (values, last) = match self.params.first() {
             Some(d) => (Some(d.lo..=d.hi), (0, Some(absent.unwrap_or(d.lo)))),
             None => (None, (0, None)),
         };
         let unit = self.params.is_empty().then_some((1, None));
-        values.into_iter().flatten().map(|v| (1, Some(v))).chain(unit).chain(std::iter::once(last))
+        let last = (!self.var).then_some(last);
+        values.into_iter().flatten().map(|v| (1, Some(v))).chain(unit).chain(last)
+    }
+
+    /// The arguments of the register read of `(present, value)`:
+    /// `registerRead.i_e.b.v` for events, `registerRead.i_x.v` for
+    /// variables.
+    pub fn read_args(&self, present: Val, value: Option<Val>) -> ([Val; 2], usize) {
+        match (self.var, value) {
+            (true, v) => ([v.unwrap_or(0), 0], 1),
+            (false, Some(v)) => ([present, v], 2),
+            (false, None) => ([present, 0], 1),
+        }
     }
 }

@@ -763,6 +763,9 @@ enum Name {
         slot: u16,
         dom: Dom,
         shared: bool,
+        /// A platform variable: the channel of its updates (an assignment
+        /// is an output on it).
+        update: Option<u16>,
     },
     Const(Val),
     Clock(u16),
@@ -1034,24 +1037,32 @@ impl MachineCx<'_, '_> {
         external: &impl Fn(&str) -> Result<Option<Link>, String>,
     ) -> Result<(), Unsupported> {
         let file = self.file;
-        let mut sources: Vec<(File, SyntaxNode, bool)> = vec![(file, node.clone(), false)];
+        // Each source of declarations: its file, its node, whether it is an
+        // interface, and the I/O context it comes through (RoboSim).
+        let mut sources: Vec<(File, SyntaxNode, bool, Option<Dir>)> = vec![(file, node.clone(), false, None)];
         // RoboSim declares its inputs and outputs in I/O contexts.
-        let contexts: Vec<SyntaxNode> =
-            node.children().filter(|c| matches!(c.kind(), INPUT_CONTEXT | OUTPUT_CONTEXT)).collect();
-        sources.extend(contexts.iter().map(|c| (file, c.clone(), false)));
-        let uses: Vec<SyntaxNode> = std::iter::once(node.clone())
-            .chain(contexts)
-            .flat_map(|n| n.children().filter(|c| c.kind() == INTERFACE_USE).collect::<Vec<_>>())
+        let contexts: Vec<(SyntaxNode, Option<Dir>)> = node
+            .children()
+            .filter_map(|c| match c.kind() {
+                INPUT_CONTEXT => Some((c, Some(Dir::In))),
+                OUTPUT_CONTEXT => Some((c, Some(Dir::Out))),
+                _ => None,
+            })
             .collect();
-        for u in uses {
+        sources.extend(contexts.iter().map(|(c, d)| (file, c.clone(), false, *d)));
+        let uses: Vec<(SyntaxNode, Option<Dir>)> = std::iter::once((node.clone(), None))
+            .chain(contexts)
+            .flat_map(|(n, d)| n.children().filter(|c| c.kind() == INTERFACE_USE).map(move |u| (u, d)))
+            .collect();
+        for (u, context) in uses {
             let path = path_of(&u);
             let (f, n) = self
                 .cx
                 .resolve(file, &path, |k| k == DefKind::Interface)
                 .ok_or_else(|| self.err(u.text_range(), "the interface could not be resolved"))?;
-            sources.push((f, n, true));
+            sources.push((f, n, true, context));
         }
-        for (f, n, from_interface) in sources {
+        for (f, n, from_interface, context) in sources {
             for c in n.children() {
                 match c.kind() {
                     VARIABLE_LIST => {
@@ -1087,7 +1098,8 @@ impl MachineCx<'_, '_> {
                                 if from_interface {
                                     // A variable the machine requires: shared
                                     // by every machine of the design.
-                                    self.shared_variable(&c, &name, &ty, init.as_ref())?;
+                                    let shape = self.param_of(f, tnode.as_ref()).unwrap_or_else(|| ty.param());
+                                    self.shared_variable(&c, &name, (&ty, shape), init.as_ref(), context)?;
                                     continue;
                                 }
                                 let slot = self.new_slot();
@@ -1099,7 +1111,7 @@ impl MachineCx<'_, '_> {
                                 };
                                 let q = format!("{}::{name}", self.inst_prefix);
                                 self.design().vars.push(Var { name: q, slot, dom, init: initv });
-                                self.names.insert(name, Name::Var { slot, dom, shared: false });
+                                self.names.insert(name, Name::Var { slot, dom, shared: false, update: None });
                             }
                         }
                     }
@@ -1186,20 +1198,38 @@ impl MachineCx<'_, '_> {
     }
 
     /// The slot of the shared variable `name` (one per design), made on
-    /// first use. Variables of the robotic platform are its inputs and
-    /// outputs (RoboSim registers): not supported yet.
+    /// first use. A variable of the robotic platform is also an output of
+    /// the design (paper §5.2: "platform variables are outputs"): in
+    /// RoboChart, every update is an event `set_x.v`; in RoboSim, a variable
+    /// of the output context is written to its register (`registerWrite`),
+    /// and one of the input context is read from its register at the start
+    /// of each cycle (`registerRead.i_x.v`). `context` is the RoboSim I/O
+    /// context the variable comes through.
     fn shared_variable(
         &mut self,
         decl: &SyntaxNode,
         name: &str,
-        ty: &Ty,
+        (ty, shape): (&Ty, Param),
         init: Option<&SyntaxNode>,
+        context: Option<Dir>,
     ) -> Result<(), Unsupported> {
         let dom = ty.dom();
-        if self.cx.robosim || self.cx.platform_vars.contains(name) {
+        if self.cx.robosim && context.is_none() {
             return Err(self.err(
                 decl.text_range(),
-                format!("`{name}` is a variable of the robotic platform: platform variables are not supported yet"),
+                format!(
+                    "`{name}` is required by the machine itself: a RoboSim machine's variables of the platform are \
+                     inputs or outputs, required in its input or output context (RS:SM4)"
+                ),
+            ));
+        }
+        let platform = self.cx.robosim || self.cx.platform_vars.contains(name);
+        if platform && !ty.is_num() && !matches!(ty, Ty::Tuple(_) | Ty::Record(..)) {
+            return Err(self.err(
+                decl.text_range(),
+                format!(
+                    "variables of the platform carrying sets (`{name}`) are not supported by the native checker yet"
+                ),
             ));
         }
         let slot = match self.cx.shared_vars.get(name) {
@@ -1222,8 +1252,43 @@ impl MachineCx<'_, '_> {
             }
         };
         let shared = self.cx.machine_count > 1;
-        self.names.insert(name.to_string(), Name::Var { slot, dom, shared });
+        let update = match (platform, context) {
+            (false, _) => None,
+            // A RoboSim input: the register is the variable, set by each
+            // cycle's read.
+            (true, Some(Dir::In)) => {
+                self.var_channel(name, Dir::In, dom, shape, slot);
+                // An input and output keeps the output channel met before.
+                match self.names.get(name) {
+                    Some(Name::Var { update, .. }) => *update,
+                    _ => None,
+                }
+            }
+            (true, _) => Some(self.var_channel(name, Dir::Out, dom, shape, slot)),
+        };
+        self.names.insert(name.to_string(), Name::Var { slot, dom, shared, update });
         Ok(())
+    }
+
+    /// The channel of the platform variable `name` kept in `slot`, in
+    /// direction `dir` (made on first use).
+    fn var_channel(&mut self, name: &str, dir: Dir, dom: Dom, shape: Param, slot: u16) -> u16 {
+        let d = self.design();
+        if let Some(i) = d.channels.iter().position(|c| c.var && c.name == name && c.dir == dir) {
+            return i as u16;
+        }
+        let register = (dir == Dir::In).then_some(slot);
+        d.channels.push(Channel {
+            name: name.to_string(),
+            dir,
+            is_call: false,
+            params: vec![dom],
+            shape: vec![shape],
+            register,
+            internal: false,
+            var: true,
+        });
+        (d.channels.len() - 1) as u16
     }
 
     /// The channel `name` (made on first use); `shape` names its parameters.
@@ -1235,7 +1300,7 @@ impl MachineCx<'_, '_> {
             .design()
             .channels
             .iter()
-            .position(|c| c.name == name && c.is_call == is_call && (!lone || c.dir == dir))
+            .position(|c| !c.var && c.name == name && c.is_call == is_call && (!lone || c.dir == dir))
         {
             return i as u16;
         }
@@ -1247,7 +1312,16 @@ impl MachineCx<'_, '_> {
             s
         });
         let d = self.design();
-        d.channels.push(Channel { name: name.to_string(), dir, is_call, params, shape, register, internal: false });
+        d.channels.push(Channel {
+            name: name.to_string(),
+            dir,
+            is_call,
+            params,
+            shape,
+            register,
+            internal: false,
+            var: false,
+        });
         (d.channels.len() - 1) as u16
     }
 
@@ -1627,6 +1701,12 @@ impl MachineCx<'_, '_> {
                         );
                     }
                     match self.names.get(&var) {
+                        Some(Name::Var { update: Some(_), .. }) => {
+                            return Err(self.err(
+                                p.text_range(),
+                                format!("receiving into `{var}`, a variable of the robotic platform, is not supported: receive into a local variable and assign it"),
+                            ))
+                        }
                         Some(Name::Var { slot, dom, .. }) => bind = Some((*slot, *dom)),
                         _ => return Err(self.err(p.text_range(), format!("`{var}` is not a variable"))),
                     }
@@ -1696,8 +1776,20 @@ impl MachineCx<'_, '_> {
                     }
                 };
                 match self.names.get(&target) {
-                    Some(Name::Var { slot, dom, shared }) => {
-                        self.emit(Instr::Assign { slot: *slot, expr, dom: *dom, shared: *shared })
+                    // The update of a platform variable is an output, urgent
+                    // as an operation call: the platform cannot refuse it.
+                    Some(&Name::Var { slot, dom, update: Some(chan), .. }) => {
+                        self.emit(Instr::Out { chan, args: vec![expr], urgent: true, store: Some((slot, dom)) })
+                    }
+                    Some(&Name::Var { slot, dom, shared, update: None }) => {
+                        let is_input = self.design().channels.iter().any(|c| c.var && c.name == target);
+                        if is_input {
+                            return Err(self.err(
+                                s.text_range(),
+                                format!("`{target}` is an input of the machine: to write it, require it in the output context too"),
+                            ));
+                        }
+                        self.emit(Instr::Assign { slot, expr, dom, shared })
                     }
                     _ => return Err(self.err(s.text_range(), format!("`{target}` is not a variable of the machine"))),
                 }
@@ -1750,7 +1842,7 @@ impl MachineCx<'_, '_> {
                             return Err(self.err(comm.text_range(), format!("`{ev}` is an output: it cannot receive")));
                         }
                         let args = out.or(value).into_iter().collect();
-                        self.emit(Instr::Out { chan, args, urgent: false });
+                        self.emit(Instr::Out { chan, args, urgent: false, store: None });
                     }
                     Dir::In => {
                         if out.is_some() {
@@ -1767,7 +1859,7 @@ impl MachineCx<'_, '_> {
                     self.emit(Instr::CallOp { op, args });
                 } else {
                     let (chan, args) = self.call(s, "an operation of the robotic platform required by the machine")?;
-                    self.emit(Instr::Out { chan, args, urgent: true });
+                    self.emit(Instr::Out { chan, args, urgent: true, store: None });
                 }
             }
             WAIT_STMT => {
@@ -1801,7 +1893,7 @@ impl MachineCx<'_, '_> {
             SIM_CALL_STMT => {
                 // Register writes cannot be postponed (RoboTool: EDeadline(…, 0)).
                 let (chan, args) = self.call(s, "an output operation of the machine")?;
-                self.emit(Instr::Out { chan, args, urgent: true });
+                self.emit(Instr::Out { chan, args, urgent: true, store: None });
             }
             OUTPUT_COMM_STMT => {
                 let name = path_of(s).join("::");
@@ -1818,7 +1910,7 @@ impl MachineCx<'_, '_> {
                 if ty.is_some() == args.is_empty() {
                     return Err(self.err(s.text_range(), format!("`{name}` needs exactly its declared value")));
                 }
-                self.emit(Instr::Out { chan, args, urgent: true });
+                self.emit(Instr::Out { chan, args, urgent: true, store: None });
             }
             EXEC_STMT => {
                 let next = self.code.len() as u32 + 1;
@@ -1941,7 +2033,7 @@ impl MachineCx<'_, '_> {
             let params: Vec<SyntaxNode> =
                 plist.map(|pl| pl.children().filter(|p| p.kind() == PARAM).collect()).unwrap_or_default();
             for (p, &(slot, dom)) in params.iter().zip(&self.ops[k as usize].params.clone()) {
-                self.names.insert(name_of(p), Name::Var { slot, dom, shared: false });
+                self.names.insert(name_of(p), Name::Var { slot, dom, shared: false, update: None });
             }
             // The body runs in the caller's context: its events are the
             // caller's connections.
@@ -2016,18 +2108,23 @@ impl MachineCx<'_, '_> {
             }
             SIM_REF_EXPR => {
                 let name = path_of(e).join("::");
+                let suffix = e.children().find(|c| c.kind() == SIM_INPUT_SUFFIX);
+                match self.names.get(&name) {
+                    // `$x`: the variable's value (its register for an input).
+                    Some(&Name::Var { slot, .. }) if suffix.is_none() => return Ok(Expr::Slot(slot)),
+                    Some(Name::Var { .. }) => {
+                        return Err(self.err(e.text_range(), format!("`${name}` is a variable: it cannot be received")))
+                    }
+                    _ => {}
+                }
                 let Some(Name::Event { chan: Some((chan, Dir::In)), ty }) = self.names.get(&name).cloned() else {
-                    return Err(self.err(
-                        e.text_range(),
-                        format!(
-                            "`${name}` is not an input event of the machine (shared variables are not supported yet)"
-                        ),
-                    ));
+                    return Err(self
+                        .err(e.text_range(), format!("`${name}` is not an input event or a variable of the machine")));
                 };
                 let Some(reg) = self.design().channels[chan as usize].register else {
                     return Err(self.err(e.text_range(), "`$` references belong to RoboSim machines"));
                 };
-                if let Some(suffix) = e.children().find(|c| c.kind() == SIM_INPUT_SUFFIX) {
+                if let Some(suffix) = suffix {
                     let var = path_of(&suffix).join("::");
                     let Some(Name::Var { slot, dom, .. }) = self.names.get(&var).cloned() else {
                         return Err(self.err(suffix.text_range(), format!("`{var}` is not a variable")));

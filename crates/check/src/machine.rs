@@ -555,7 +555,10 @@ impl Machine {
     pub fn tock_blockers(&self, st: &[i32]) -> Vec<String> {
         let mut why = Vec::new();
         if self.urgent_at(st[self.slot(PC)]) {
-            why.push(format!("{}: a platform operation call or register write cannot wait", self.name));
+            why.push(format!(
+                "{}: a platform operation call, update of a platform variable or register write cannot wait",
+                self.name
+            ));
         }
         if st[self.slot(DEADLINE)] == 0 {
             why.push(format!("{}: the deadline of a statement `<{{…}}` has run out", self.name));
@@ -715,7 +718,7 @@ impl Machine {
     ) -> Result<(), StepError> {
         match act {
             Act::Comm | Act::ActivityComm(_) => {
-                self.receive(st, st[th.pc] as u32, value);
+                self.receive(st, st[th.pc] as u32, value, sat)?;
                 st[th.pc] += 1;
             }
             Act::Choose(n) | Act::ActivityChoose(_, n) => {
@@ -727,14 +730,26 @@ impl Machine {
         self.run(th, st, clocks, true, sat)
     }
 
-    /// An input `e?x` at `pc` stores the value received (when in its type).
+    /// An input `e?x` at `pc` stores the value received, and the update of
+    /// a platform variable the value sent (when in its type).
     #[inline]
-    fn receive(&self, st: &mut [i32], pc: u32, value: Option<Val>) {
-        if let (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) = (self.code.get(pc as usize), value) {
-            if dom.contains(v) {
+    fn receive(&self, st: &mut [i32], pc: u32, value: Option<Val>, sat: &mut bool) -> Result<(), StepError> {
+        match (self.code.get(pc as usize), value) {
+            (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) if dom.contains(v) => {
                 st[*slot as usize] = v as i32;
             }
+            (Some(Instr::Out { args, store: Some((slot, dom)), .. }), _) => {
+                let v = match args.first() {
+                    Some(e) => e.eval(st, sat).map_err(|e| self.eval_error(e))?,
+                    None => return Ok(()),
+                };
+                if dom.contains(v) {
+                    st[*slot as usize] = v as i32;
+                }
+            }
+            _ => {}
         }
+        Ok(())
     }
 
     /// A description of the machine's control state, for counterexamples.

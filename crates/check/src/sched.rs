@@ -72,14 +72,21 @@ impl Registers {
     pub fn new(designs: &[&Design], profile: Profile) -> Result<Registers, String> {
         let paper = profile == Profile::Paper2019;
         let too_many = |e: crate::events::TooManyEvents| format!("the channel `{}` has too many values", e.0);
-        let mut ins: Vec<(String, Vec<Param>)> = Vec::new();
-        let mut outs: Vec<(String, Vec<Param>)> = Vec::new();
+        // Per register: its name, parameters, and whether it is a variable.
+        let mut ins: Vec<(String, Vec<Param>, bool)> = Vec::new();
+        let mut outs: Vec<(String, Vec<Param>, bool)> = Vec::new();
         for d in designs {
             for c in d.channels.iter().filter(|c| !c.internal) {
                 let list = if c.dir == Dir::In { &mut ins } else { &mut outs };
                 let disagree = || format!("the two sides disagree on the arguments of `{}`", c.name);
-                match list.iter_mut().find(|(n, _)| *n == c.name) {
-                    Some((_, params)) => {
+                match list.iter_mut().find(|(n, ..)| *n == c.name) {
+                    Some((_, params, var)) => {
+                        if *var != c.var {
+                            return Err(format!(
+                                "`{}` is a variable of the platform on one side and an event or operation on the other",
+                                c.name
+                            ));
+                        }
                         if params.len() != c.shape.len() {
                             return Err(disagree());
                         }
@@ -87,28 +94,30 @@ impl Registers {
                             *p = p.union(q).ok_or_else(disagree)?;
                         }
                     }
-                    None => list.push((c.name.clone(), c.shape.clone())),
+                    None => list.push((c.name.clone(), c.shape.clone(), c.var)),
                 }
             }
         }
         let mut table = EventTable::default();
         let mut reads = Vec::new();
-        for (name, params) in &ins {
-            let mut ps = vec![Param::Bool];
+        for (name, params, var) in &ins {
+            // An event's register says whether it happened; a variable's
+            // always holds a value.
+            let mut ps = if *var { Vec::new() } else { vec![Param::Bool] };
             ps.extend(params.iter().cloned());
             let label = if paper { format!("registerRead.{name}U") } else { format!("registerRead.i_{name}") };
             reads.push((name.clone(), table.add(label, ps).map_err(too_many)?));
         }
         let first_write = table.next_event();
         let mut writes = Vec::new();
-        for (name, params) in &outs {
+        for (name, params, _) in &outs {
             let ps = params.clone();
             let label = if paper { format!("registerWrite.{name}U.true") } else { format!("registerWrite.o_{name}") };
             writes.push((name.clone(), table.add(label, ps).map_err(too_many)?));
         }
         let mut false_writes = Vec::new();
         if paper {
-            for (name, _) in &outs {
+            for (name, ..) in &outs {
                 false_writes.push((
                     name.clone(),
                     table.add(format!("registerWrite.{name}U.false"), Vec::new()).map_err(too_many)?,
@@ -258,6 +267,7 @@ impl<'a> Constrained<'a> {
             let name = match (c.is_call, c.dir, paper) {
                 (true, _, _) => format!("{}Call", c.name),
                 _ if c.internal => c.name.clone(),
+                _ if c.var => format!("set_{}", c.name),
                 (false, _, true) => c.name.clone(),
                 (false, Dir::In, false) => format!("{}.in", c.name),
                 (false, Dir::Out, false) => format!("{}.out", c.name),

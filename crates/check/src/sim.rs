@@ -163,13 +163,18 @@ impl<'a> SimModule<'a> {
                     }
                     let c = &self.design.channels[chan as usize];
                     let reg = c.register.unwrap_or_default() as usize;
-                    let reg_lo = self.enc.events.group(self.read_group[i]).params.get(1).map(|p| p.dom().lo);
+                    let value_param = usize::from(!c.var);
+                    let reg_lo = self.enc.events.group(self.read_group[i]).params.get(value_param).map(|p| p.dom().lo);
                     for (present, v) in c.read_values(reg_lo) {
-                        let args = [present, v.unwrap_or(0)];
-                        let ev = self.enc.events.event(self.read_group[i], &args[..1 + usize::from(v.is_some())]);
+                        let (args, n_args) = c.read_args(present, v);
+                        let ev = self.enc.events.event(self.read_group[i], &args[..n_args]);
                         let n = out.push_copy(st);
-                        n[reg] = present as i32;
-                        n[reg + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
+                        if c.var {
+                            n[reg] = v.unwrap_or(0) as i32;
+                        } else {
+                            n[reg] = present as i32;
+                            n[reg + 1] = v.filter(|_| present == 1).unwrap_or(0) as i32;
+                        }
                         n[self.arg] &= !(1 << i);
                         if n[self.arg] == 0 {
                             self.begin_run(n)?;

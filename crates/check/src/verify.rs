@@ -1059,6 +1059,7 @@ fn describe_act(
         }
         Act::Comm => {
             let what = match &m.code[pc] {
+                Instr::Out { store: Some(_), .. } => "updates the platform variable",
                 Instr::Out { urgent: true, .. } => "calls the platform operation",
                 Instr::Out { .. } => "outputs",
                 _ => "receives",
@@ -1075,6 +1076,7 @@ fn describe_act(
             let pc = prev[a.pc_slot as usize] as usize;
             let what = match (act, m.code.get(pc)) {
                 (Act::ActivityChoose(_, n), _) => format!("the wait interval resolves to {n}"),
+                (_, Some(Instr::Out { store: Some(_), .. })) => "updates the platform variable".into(),
                 (_, Some(Instr::Out { urgent: true, .. })) => "calls the platform operation".into(),
                 (_, Some(Instr::Out { .. })) => "outputs".into(),
                 (_, Some(Instr::In { .. })) => "receives".into(),
@@ -1100,11 +1102,19 @@ fn deadlock_counterexample(lts: &Constrained<'_>, design: &Design, path: &Path<P
         let pc = m.pc(last) as usize;
         if let Offer::Out { chan, args } = &mv.offer {
             let c = &design.channels[*chan as usize];
-            let call = format!("{}({})", c.name, args.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "));
+            let values = args.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", ");
             let urgent = matches!(m.code.get(pc), Some(Instr::Out { urgent: true, .. }));
-            let mut line =
-                format!("{mname} ({}) must {} {call} now", m.describe(last), if urgent { "call" } else { "output" });
-            if urgent {
+            let mut line = if c.var {
+                format!(
+                    "{mname} ({}) must set {} = {values} now (updates of platform variables cannot be delayed)",
+                    m.describe(last),
+                    c.name
+                )
+            } else {
+                let call = format!("{}({values})", c.name);
+                format!("{mname} ({}) must {} {call} now", m.describe(last), if urgent { "call" } else { "output" })
+            };
+            if urgent && !c.var {
                 line.push_str(" (platform operation calls cannot be delayed)");
             }
             if written.contains(&c.name) {
