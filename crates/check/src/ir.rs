@@ -270,11 +270,67 @@ pub struct Channel {
     pub register: Option<u16>,
     /// Between two machines of the design (hidden), not with the platform.
     pub internal: bool,
+    /// An asynchronous connection between machines or controllers: the
+    /// buffer between the sender and the receiver (then `internal`).
+    pub buffer: Option<Buffer>,
     /// A variable of the robotic platform: an output's events are its
     /// updates (`set_x.v`, paper §5.2: platform variables are outputs); a
     /// RoboSim input's register holds its value, read with no presence
     /// flag (`registerRead.i_x.v`).
     pub var: bool,
+}
+
+/// What an asynchronous connection does with the values sent and not yet
+/// received: RoboTool's choice is not documented in any source we have
+/// (semantics.md §11.3), so the engine checks such connections only under
+/// an assumption the user states.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AsyncBuffer {
+    /// How many values it holds (1 to [`AsyncBuffer::MAX`]).
+    pub size: u8,
+    /// When full: the oldest value is dropped (`true`), or the sender
+    /// waits (`false`).
+    pub overwrite: bool,
+}
+
+impl AsyncBuffer {
+    /// The largest buffer (each value is a slot of every state).
+    pub const MAX: u8 = 8;
+
+    /// Reads `SIZE[:overwrite|:block]` (overwrite when the policy is left out).
+    pub fn parse(text: &str) -> Result<AsyncBuffer, String> {
+        let (size, policy) = text.split_once(':').unwrap_or((text, "overwrite"));
+        let size: u8 =
+            size.trim().parse().ok().filter(|n| (1..=AsyncBuffer::MAX).contains(n)).ok_or_else(|| {
+                format!("the buffer size must be a number from 1 to {}, not `{size}`", AsyncBuffer::MAX)
+            })?;
+        let overwrite = match policy.trim() {
+            "overwrite" => true,
+            "block" => false,
+            p => return Err(format!("a full buffer either `overwrite`s its oldest value or `block`s, not `{p}`")),
+        };
+        Ok(AsyncBuffer { size, overwrite })
+    }
+
+    /// The assumption in words, for reports.
+    pub fn describe(self) -> String {
+        format!(
+            "asynchronous connections buffer {} value{}; when full, {} (an assumption: RoboTool's buffer is not documented)",
+            self.size,
+            if self.size == 1 { "" } else { "s" },
+            if self.overwrite { "a new value replaces the oldest" } else { "the sender waits" }
+        )
+    }
+}
+
+/// The buffer of an asynchronous channel in the state vector.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Buffer {
+    /// The slot of the number of values held; the values follow, oldest
+    /// first (unused ones are 0).
+    pub slot: u16,
+    /// Its policy.
+    pub policy: AsyncBuffer,
 }
 
 /// Direction of a channel.
@@ -657,6 +713,13 @@ impl Design {
             set(c.slot, 0, c.cap as i64);
         }
         for c in &self.channels {
+            if let Some(b) = c.buffer {
+                let d = c.params.first().copied().unwrap_or(Dom { lo: 0, hi: 0 });
+                set(b.slot, 0, b.policy.size as i64);
+                for k in 1..=b.policy.size as u16 {
+                    set(b.slot + k, d.lo.min(0), d.hi.max(0));
+                }
+            }
             if let Some(r) = c.register {
                 // A variable's register is the variable (bounded above).
                 if !c.var {
@@ -735,8 +798,9 @@ impl Design {
 impl Design {
     /// The communications between machines possible in `st`: an output of
     /// one machine on an internal channel with an input of another that
-    /// accepts the value, performed together. Each is (channel, arguments,
-    /// the state after both steps).
+    /// accepts the value, performed together; on an asynchronous channel,
+    /// each side alone, with the buffer. Each is (channel, arguments, the
+    /// state after the steps).
     #[allow(clippy::type_complexity)]
     #[inline]
     pub fn internal_steps(
@@ -760,9 +824,18 @@ impl Design {
     ) -> Result<Vec<(u16, Vec<Val>, Box<[i32]>)>, String> {
         use crate::machine::Offer;
         let mut out = Vec::new();
+        for (mi, mv) in moves {
+            let (Offer::Out { chan, .. } | Offer::In { chan, .. }) = &mv.offer else { continue };
+            if let Some(b) = self.channels[*chan as usize].buffer {
+                if let Some(step) = self.buffer_step(st, &self.machines[*mi], mv, b)? {
+                    out.push(step);
+                }
+            }
+        }
         for (si, send) in moves {
             let Offer::Out { chan, args } = &send.offer else { continue };
-            if !self.channels[*chan as usize].internal {
+            let c = &self.channels[*chan as usize];
+            if !c.internal || c.buffer.is_some() {
                 continue;
             }
             for (ri, recv) in moves {
@@ -776,6 +849,51 @@ impl Design {
             }
         }
         Ok(out)
+    }
+
+    /// A machine's step on an asynchronous channel: a value sent goes into
+    /// the buffer (dropping the oldest when full, if the policy says so);
+    /// the oldest value is received (when it is the one required).
+    #[allow(clippy::type_complexity)]
+    fn buffer_step(
+        &self,
+        st: &[i32],
+        m: &Machine,
+        mv: &crate::machine::Move,
+        b: Buffer,
+    ) -> Result<Option<(u16, Vec<Val>, Box<[i32]>)>, String> {
+        use crate::machine::Offer;
+        let (count, size) = (st[b.slot as usize] as usize, b.policy.size as usize);
+        let value = |k: usize| b.slot as usize + 1 + k;
+        Ok(match &mv.offer {
+            Offer::Out { chan, args } => {
+                if count == size && !b.policy.overwrite {
+                    return Ok(None);
+                }
+                let mut n = self.after(m, st, mv.act, None)?;
+                let mut len = count;
+                if len == size {
+                    n.copy_within(value(1)..value(size), value(0));
+                    len -= 1;
+                }
+                n[value(len)] = args.first().copied().unwrap_or(0) as i32;
+                n[b.slot as usize] = (len + 1) as i32;
+                Some((*chan, args.clone(), n))
+            }
+            Offer::In { chan, value: want } => {
+                let head = st[value(0)] as Val;
+                if count == 0 || want.is_some_and(|w| w != head) {
+                    return Ok(None);
+                }
+                let mut n = self.after(m, st, mv.act, Some(head))?;
+                n.copy_within(value(1)..value(size), value(0));
+                n[value(size - 1)] = 0;
+                n[b.slot as usize] = (count - 1) as i32;
+                let args = if self.channels[*chan as usize].params.is_empty() { Vec::new() } else { vec![head] };
+                Some((*chan, args, n))
+            }
+            Offer::Tau => None,
+        })
     }
 
     /// Whether `offer` is on an internal channel (it happens only together

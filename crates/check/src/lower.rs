@@ -121,6 +121,9 @@ pub struct DomainDefaults {
     /// Functions defined in CSPm by the instantiations, for the model's
     /// functions declared without a body.
     pub functions: Vec<CspFunction>,
+    /// The buffer assumed for asynchronous connections between machines
+    /// or controllers (none: such designs are refused).
+    pub async_buffer: Option<AsyncBuffer>,
 }
 
 impl Default for DomainDefaults {
@@ -134,6 +137,7 @@ impl Default for DomainDefaults {
             types: Vec::new(),
             constants: Vec::new(),
             functions: Vec::new(),
+            async_buffer: None,
         }
     }
 }
@@ -188,6 +192,8 @@ pub fn lower_element(
         platform_vars: BTreeSet::new(),
         machine_count: 0,
         lone: false,
+        async_ends: BTreeSet::new(),
+        bidirectional: BTreeSet::new(),
     };
     cx.lower(loc, inner)
 }
@@ -210,6 +216,11 @@ struct Cx<'a> {
     /// Whether the design is one machine on its own (every event faces the
     /// environment).
     lone: bool,
+    /// The ends of asynchronous connections between machines or
+    /// controllers.
+    async_ends: BTreeSet<End>,
+    /// The platform's events connected both ways (`[ mult ]`).
+    bidirectional: BTreeSet<String>,
 }
 
 /// One machine to compile: its declaration and where it sits.
@@ -229,12 +240,17 @@ struct Instance {
 /// A connection end: (node name, event name).
 type End = (String, String);
 
+/// An asynchronous connection: where it is declared, and its two ends.
+type AsyncLink = (File, TextRange, End, End);
+
 /// Where a machine's event leads: the channel's name, the direction from
 /// the machine's side, and whether it is internal (to another machine).
 struct Link {
     name: String,
     dir: Dir,
     internal: bool,
+    /// Through an asynchronous connection (then internal).
+    buffered: bool,
 }
 
 fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<(File, SyntaxNode)> {
@@ -290,6 +306,14 @@ impl Cx<'_> {
         }
     }
 
+    /// A connection with the platform marked `[ mult ]` carries its event
+    /// both ways: `e.in` and `e.out` are channels of their own.
+    fn note_bidirectional(&mut self, connection: &SyntaxNode, platform_event: &str) {
+        if connection.children().any(|n| n.kind() == MULT_FLAG) {
+            self.bidirectional.insert(platform_event.to_string());
+        }
+    }
+
     fn lower(&mut self, loc: ItemLoc, inner: Option<&str>) -> Result<Design, Unsupported> {
         let (file, node) = node_of(self.db, loc).ok_or_else(|| Unsupported {
             message: "the element to verify could not be found".into(),
@@ -304,7 +328,7 @@ impl Cx<'_> {
         // (with the direction seen from the software).
         let mut links: Vec<(End, End)> = Vec::new();
         let mut platform: HashMap<End, Dir> = HashMap::new();
-        let mut async_links: Vec<(File, TextRange)> = Vec::new();
+        let mut async_links: Vec<AsyncLink> = Vec::new();
         match node.kind() {
             MODULE => {
                 let mut platform_names = BTreeSet::new();
@@ -343,10 +367,12 @@ impl Cx<'_> {
                     let (a, b, is_async) = ends(&c);
                     if platform_names.contains(&a.0) {
                         platform.insert(a.clone(), Dir::In);
+                        self.note_bidirectional(&c, &a.1);
                     } else if platform_names.contains(&b.0) {
                         platform.insert(b.clone(), Dir::Out);
+                        self.note_bidirectional(&c, &b.1);
                     } else if is_async {
-                        async_links.push((file, c.text_range()));
+                        async_links.push((file, c.text_range(), a.clone(), b.clone()));
                     }
                     links.push((a, b));
                 }
@@ -358,9 +384,11 @@ impl Cx<'_> {
                     let (a, b, _) = ends(&c);
                     if a.0 == top_name {
                         platform.insert((top_name.clone(), a.1.clone()), Dir::In);
+                        self.note_bidirectional(&c, &a.1);
                     }
                     if b.0 == top_name {
                         platform.insert((top_name.clone(), b.1.clone()), Dir::Out);
+                        self.note_bidirectional(&c, &b.1);
                     }
                 }
                 // Inside `controller`, its own name is the controller end.
@@ -386,13 +414,26 @@ impl Cx<'_> {
                 ))
             }
         }
-        if let Some(&(f, r)) = async_links.first() {
-            return Err(self.unsupported(
-                f,
-                r,
-                "asynchronous connections between controllers or machines are not supported yet",
-            ));
+        if let Some((f, r, ..)) = async_links.first() {
+            if self.robosim {
+                return Err(self.unsupported(
+                    *f,
+                    *r,
+                    "asynchronous connections between RoboSim controllers or machines are not supported yet",
+                ));
+            }
+            if self.defaults.async_buffer.is_none() {
+                return Err(self.unsupported(
+                    *f,
+                    *r,
+                    "asynchronous connections between controllers or machines are checked only under a buffer you \
+                     choose, as RoboTool's (its size, and what it does when full) is not documented (semantics.md \
+                     §11.3): for example `robosim verify --async-buffer 1:overwrite`, or the editor setting \
+                     `robosim.verify.asyncBuffer`",
+                ));
+            }
         }
+        self.async_ends = async_links.iter().flat_map(|(_, _, a, b)| [a.clone(), b.clone()]).collect();
         self.build(&top_name, node.kind(), instances, &links, &platform)
     }
 
@@ -421,7 +462,7 @@ impl Cx<'_> {
         node: &SyntaxNode,
         instances: &mut Vec<Instance>,
         links: &mut Vec<(End, End)>,
-        async_links: &mut Vec<(File, TextRange)>,
+        async_links: &mut Vec<AsyncLink>,
     ) -> Result<(), Unsupported> {
         let ctrl_name = name_of(node);
         let mut machines = BTreeSet::new();
@@ -483,7 +524,7 @@ impl Cx<'_> {
             };
             let (a, b) = (qualify(a), qualify(b));
             if is_async && a.0.contains('.') && b.0.contains('.') {
-                async_links.push((file, c.text_range()));
+                async_links.push((file, c.text_range(), a.clone(), b.clone()));
             }
             links.push((a, b));
         }
@@ -577,13 +618,14 @@ impl Cx<'_> {
                 sends.insert(b, false);
             }
         }
+        let async_ends = std::mem::take(&mut self.async_ends);
         let external = |machine_end: &End| -> Result<Option<Link>, String> {
             let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
                 return Ok(None);
             };
             let plat: Vec<(&End, &Dir)> = class.iter().filter_map(|e| platform.get(e).map(|d| (e, d))).collect();
             if let Some((e, d)) = plat.first() {
-                return Ok(Some(Link { name: e.1.clone(), dir: **d, internal: false }));
+                return Ok(Some(Link { name: e.1.clone(), dir: **d, internal: false, buffered: false }));
             }
             // Between machines: a synchronous communication from the one
             // sender to the one receiver, hidden in the design.
@@ -598,7 +640,8 @@ impl Cx<'_> {
             }
             let dir = if sends.get(machine_end) == Some(&true) { Dir::Out } else { Dir::In };
             let name = format!("{}.{}", senders[0].0, senders[0].1);
-            Ok(Some(Link { name, dir, internal: true }))
+            let buffered = class.iter().any(|e| async_ends.contains(e));
+            Ok(Some(Link { name, dir, internal: true, buffered }))
         };
         let lone = top_kind == STATE_MACHINE;
         self.lone = lone;
@@ -612,7 +655,7 @@ impl Cx<'_> {
             let m = self.machine(inst, &mut slot, |ev: &str| {
                 if lone {
                     let dir = if received.iter().any(|r| r == ev) { Dir::In } else { Dir::Out };
-                    return Ok(Some(Link { name: ev.to_string(), dir, internal: false }));
+                    return Ok(Some(Link { name: ev.to_string(), dir, internal: false, buffered: false }));
                 }
                 let mut e = end.clone();
                 e.1 = ev.to_string();
@@ -817,8 +860,8 @@ struct MachineCx<'a, 'b> {
     /// The types of the variables, constants and events in scope whose
     /// values are not plain numbers (tuples, sets).
     types: HashMap<String, Ty>,
-    /// A lone machine's events that it both receives and sends: the
-    /// channel of their outputs.
+    /// The events a lone machine, or one connected both ways to the
+    /// platform, both receives and sends: the channel of their outputs.
     sends: HashMap<String, u16>,
     /// The during actions of composite states, and the deadline timers of
     /// states, so far.
@@ -1146,18 +1189,33 @@ impl MachineCx<'_, '_> {
                         }
                         let chan = match external(&name) {
                             Ok(Some(link)) => {
-                                if self.cx.lone && link.dir == Dir::In && sent_events(node).contains(&name) {
-                                    // A machine on its own that also sends
-                                    // the event it receives: `e.out` is a
-                                    // channel of its own.
+                                let both_ways = self.cx.lone || self.cx.bidirectional.contains(&link.name);
+                                if both_ways && link.dir == Dir::In && sent_events(node).contains(&name) {
+                                    // A machine on its own, or connected both
+                                    // ways, that also sends the event it
+                                    // receives: `e.out` is a channel of its own.
                                     let out = self.channel(&link.name, Dir::Out, false, shape.clone());
                                     self.sends.insert(name.clone(), out);
                                 }
                                 let chan = self.channel(&link.name, link.dir, false, shape);
                                 if link.internal {
-                                    let d = self.design();
-                                    d.channels[chan as usize].internal = true;
-                                    d.channels[chan as usize].register = None;
+                                    let policy = self.cx.defaults.async_buffer.filter(|_| link.buffered);
+                                    // Both ends share the channel: its buffer is made once.
+                                    let has_buffer = self.design().channels[chan as usize].buffer.is_some();
+                                    let buffer = match policy {
+                                        Some(policy) if !has_buffer => {
+                                            let slot = self.new_slot();
+                                            for _ in 0..policy.size {
+                                                self.new_slot();
+                                            }
+                                            Some(Buffer { slot, policy })
+                                        }
+                                        _ => self.design().channels[chan as usize].buffer,
+                                    };
+                                    let c = &mut self.design().channels[chan as usize];
+                                    c.internal = true;
+                                    c.register = None;
+                                    c.buffer = buffer;
                                 }
                                 Some((chan, link.dir))
                             }
@@ -1286,6 +1344,7 @@ impl MachineCx<'_, '_> {
             shape: vec![shape],
             register,
             internal: false,
+            buffer: None,
             var: true,
         });
         (d.channels.len() - 1) as u16
@@ -1293,14 +1352,15 @@ impl MachineCx<'_, '_> {
 
     /// The channel `name` (made on first use); `shape` names its parameters.
     fn channel(&mut self, name: &str, dir: Dir, is_call: bool, shape: Vec<Param>) -> u16 {
-        // A lone machine's `e.in` and `e.out` are two channels; otherwise
-        // the two ends of a connection between machines share one.
-        let lone = self.cx.lone;
+        // A lone machine's `e.in` and `e.out` are two channels, and so are
+        // those of a platform event connected both ways; otherwise the two
+        // ends of a connection between machines share one.
+        let by_dir = self.cx.lone || self.cx.bidirectional.contains(name);
         if let Some(i) = self
             .design()
             .channels
             .iter()
-            .position(|c| !c.var && c.name == name && c.is_call == is_call && (!lone || c.dir == dir))
+            .position(|c| !c.var && c.name == name && c.is_call == is_call && (!by_dir || c.dir == dir))
         {
             return i as u16;
         }
@@ -1320,6 +1380,7 @@ impl MachineCx<'_, '_> {
             shape,
             register,
             internal: false,
+            buffer: None,
             var: false,
         });
         (d.channels.len() - 1) as u16

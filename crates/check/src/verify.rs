@@ -26,6 +26,7 @@ use crate::pack::{Packed, VectorLts};
 use crate::sched::{Constrained, Registers, State};
 use crate::sim::SimModule;
 
+pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
 
 /// How to run checks.
@@ -35,6 +36,9 @@ pub struct Options {
     pub profile: Profile,
     /// Limits on the search.
     pub budget: Budget,
+    /// The buffer assumed for asynchronous connections between machines or
+    /// controllers (none: designs with such connections are not checked).
+    pub async_buffer: Option<AsyncBuffer>,
 }
 
 /// The outcome of one assertion.
@@ -203,7 +207,7 @@ pub fn verify_assertion(
         report.reason = Some(format!("the assertion is incomplete: {}", p.message));
         return report;
     }
-    let cx = Cx { db, ws, file, read, others, a };
+    let cx = Cx { db, ws, file, read, others, a, async_buffer: opts.async_buffer };
     match &a.kind {
         AssertionKind::Schedulable => schedulable(&cx, opts, progress, &mut report),
         AssertionKind::Refines { other, model, .. } => {
@@ -245,6 +249,8 @@ struct Cx<'a> {
     read: &'a AssertionFile,
     others: &'a [(File, AssertionFile)],
     a: &'a AssertionDecl,
+    /// The buffer assumed for asynchronous connections, if any.
+    async_buffer: Option<AsyncBuffer>,
 }
 
 impl Cx<'_> {
@@ -336,7 +342,7 @@ impl Cx<'_> {
 
     /// The bounded types, from `nametype core_X = {a..b}` lines.
     fn defaults(&self) -> DomainDefaults {
-        let mut defaults = DomainDefaults::default();
+        let mut defaults = DomainDefaults { async_buffer: self.async_buffer, ..DomainDefaults::default() };
         for r in std::iter::once(self.read).chain(self.others.iter().map(|(_, r)| r)) {
             for (name, lo, hi, _) in &r.instantiations.types {
                 defaults.set(name, *lo, *hi);
@@ -974,6 +980,9 @@ fn domains_note(design: &Design) -> String {
     if !design.constants.is_empty() {
         let cs: Vec<String> = design.constants.iter().map(|(n, v)| format!("{n} = {v}")).collect();
         s.push_str(&format!("; constants: {}", cs.join(", ")));
+    }
+    if let Some(b) = design.channels.iter().find_map(|c| c.buffer) {
+        s.push_str(&format!("; {}", b.policy.describe()));
     }
     s
 }

@@ -83,3 +83,36 @@ fn alpha_algorithm_assertions_match_fdr() {
     ];
     assert_eq!(got, expected.map(|(n, v)| (n.to_string(), v)).to_vec());
 }
+
+/// The Alpha Algorithm's module, whose controllers are connected
+/// asynchronously: under either one-place buffer it is non-deterministic
+/// (as FDR recorded, semantics.md §9.4 GT-28), divergence-free and
+/// deadlock-free (the assertions' polarity), and without an assumed
+/// buffer it is not checked.
+#[test]
+fn alpha_algorithm_module_under_assumed_buffers() {
+    let project =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/robo-star__robochart-alpha-algorithm");
+    let mut paths = Vec::new();
+    model_files(&project, &mut paths);
+    let files: Vec<(String, String)> =
+        paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).unwrap())).collect();
+    let run = |buffer: Option<&str>| -> Vec<(String, Verdict, u64)> {
+        let db = robosim_hir::RootDatabase::default();
+        let ws = robosim_hir::load_workspace(&db, files.clone(), robosim_hir::RuleSet::Paper);
+        let opts = Options {
+            async_buffer: buffer.map(|b| robosim_check::verify::AsyncBuffer::parse(b).expect("a buffer")),
+            ..Options::default()
+        };
+        verify_workspace(&db, ws, &opts, None)
+            .into_iter()
+            .filter(|r| r.file.ends_with("model.assertions") && ["a7", "a8", "a9"].contains(&r.name.as_str()))
+            .map(|r| (r.name, r.verdict, r.stats.states))
+            .collect()
+    };
+    for buffer in ["1:overwrite", "1:block"] {
+        let expected = [("a7", Verdict::Pass, 11), ("a8", Verdict::Pass, 4144), ("a9", Verdict::Pass, 4144)];
+        assert_eq!(run(Some(buffer)), expected.map(|(n, v, s)| (n.to_string(), v, s)).to_vec(), "{buffer}");
+    }
+    assert!(run(None).iter().all(|(_, v, _)| *v == Verdict::Unsupported));
+}

@@ -86,6 +86,12 @@ enum Command {
         /// Worker threads for the search (default: the number of cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// Check asynchronous connections between machines or controllers
+        /// with this buffer, `SIZE[:overwrite|:block]` (for example
+        /// `1:overwrite`): RoboTool's is not documented, so without it such
+        /// designs are not checked.
+        #[arg(long, value_name = "SIZE:POLICY", value_parser = parse_async_buffer)]
+        async_buffer: Option<robosim_check::verify::AsyncBuffer>,
         /// Also draw each counterexample on the diagrams it passes through,
         /// as SVG files in this folder (steps numbered by cycle).
         #[arg(long, value_name = "DIR")]
@@ -172,7 +178,7 @@ fn main() -> ExitCode {
         Command::Check { format, rules, color, paths } => check(format, rules, color, &paths),
         Command::Parse { tree, file } => parse(tree, &file),
         Command::Fmt { check, paths } => fmt::run(check, &paths),
-        Command::Verify { format, semantics, max_states, timeout, threads, diagrams, paths } => {
+        Command::Verify { format, semantics, max_states, timeout, threads, async_buffer, diagrams, paths } => {
             verify::run(verify::Args {
                 format,
                 profile: match semantics {
@@ -182,6 +188,7 @@ fn main() -> ExitCode {
                 max_states,
                 timeout,
                 threads,
+                async_buffer,
                 diagrams,
                 paths,
             })
@@ -267,4 +274,9 @@ fn parse(tree: bool, file: &std::path::Path) -> ExitCode {
         let _ = diagnostics::render_human(&ws, &diags, false);
     }
     ExitCode::from(u8::from(has_error))
+}
+
+/// `--async-buffer SIZE[:overwrite|:block]`.
+fn parse_async_buffer(text: &str) -> Result<robosim_check::verify::AsyncBuffer, String> {
+    robosim_check::verify::AsyncBuffer::parse(text)
 }

@@ -24,6 +24,8 @@ pub struct Args {
     pub max_states: Option<u64>,
     pub timeout: Option<f64>,
     pub threads: Option<usize>,
+    /// The buffer assumed for asynchronous connections.
+    pub async_buffer: Option<robosim_check::verify::AsyncBuffer>,
     /// Where to draw the counterexamples on diagrams, if anywhere.
     pub diagrams: Option<PathBuf>,
     pub paths: Vec<PathBuf>,
@@ -47,7 +49,7 @@ pub fn run(args: Args) -> ExitCode {
     if let Some(n) = args.threads {
         budget = budget.with_threads(n.max(1));
     }
-    let opts = Options { profile: args.profile, budget };
+    let opts = Options { profile: args.profile, budget, async_buffer: args.async_buffer };
     // A progress line on a terminal, for checks that take a while.
     let show_progress = std::io::stderr().is_terminal() && matches!(args.format, Format::Human);
     let started = Instant::now();

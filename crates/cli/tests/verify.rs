@@ -205,3 +205,30 @@ fn counterexample_on_the_diagram() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Asynchronous connections are checked under the buffer `--async-buffer`
+/// assumes, which every report states; without it they are not checked.
+#[test]
+fn asynchronous_connections_under_an_assumed_buffer() {
+    let dir = data().join("async");
+    let (code, v) = json(&[], &dir);
+    assert_eq!(code, Some(3));
+    let lost = find(&v, "checks.assertions", "Lost");
+    assert_eq!(lost["verdict"], "unsupported", "{lost:#}");
+    assert!(lost["reason"].as_str().unwrap().contains("--async-buffer"), "{lost:#}");
+    let (code, v) = json(&["--async-buffer", "1:overwrite"], &dir);
+    assert_eq!(code, Some(0), "{v:#}");
+    let lost = find(&v, "checks.assertions", "Lost");
+    assert_eq!(lost["verdict"], "pass", "{lost:#}");
+    assert!(lost["notes"][0].as_str().unwrap().contains("buffer 1 value; when full, a new value replaces the oldest"));
+    // When the sender waits instead, 1 is received too.
+    let (code, v) = json(&["--async-buffer", "1:block"], &dir);
+    assert_eq!(code, Some(1));
+    assert_eq!(find(&v, "checks.assertions", "Lost")["verdict"], "fail");
+    assert_eq!(find(&v, "checks.assertions", "Kept")["verdict"], "pass");
+    for bad in ["0", "1:drop", "x"] {
+        let out = robosim().args(["verify", "--async-buffer", bad]).arg(&dir).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--async-buffer"), "{bad}");
+    }
+}

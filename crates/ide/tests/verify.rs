@@ -31,7 +31,7 @@ fn simulation(path: &str, name: &str) -> VerifyTarget {
 }
 
 fn opts() -> Options {
-    Options { profile: Profile::RoboTool3, budget: Budget::default().with_threads(1) }
+    Options { profile: Profile::RoboTool3, budget: Budget::default().with_threads(1), async_buffer: None }
 }
 
 fn run(host: &AnalysisHost, target: &VerifyTarget) -> Vec<Report> {

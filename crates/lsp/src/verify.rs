@@ -22,7 +22,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use robosim_ide::verify::{format_seconds, lens_title, overall_verdict, Budget, Options, Profile, Report, Stats};
+use robosim_ide::verify::{
+    format_seconds, lens_title, overall_verdict, AsyncBuffer, Budget, Options, Profile, Report, Stats,
+};
 use robosim_ide::{Verified, VerifyLens, VerifyTarget};
 use serde_json::{json, Value};
 use tokio::sync::mpsc::{unbounded_channel, UnboundedReceiver, UnboundedSender};
@@ -49,11 +51,13 @@ pub(crate) struct VerifySettings {
     pub(crate) profile: Profile,
     /// `robosim.verify.timeoutSeconds`.
     pub(crate) timeout: Duration,
+    /// `robosim.verify.asyncBuffer` (`"1:overwrite"`; `""` for none).
+    pub(crate) async_buffer: Option<AsyncBuffer>,
 }
 
 impl Default for VerifySettings {
     fn default() -> Self {
-        VerifySettings { profile: Profile::RoboTool3, timeout: Duration::from_secs(60) }
+        VerifySettings { profile: Profile::RoboTool3, timeout: Duration::from_secs(60), async_buffer: None }
     }
 }
 
@@ -332,7 +336,12 @@ fn start(shared: &Arc<Shared>, target: VerifyTarget, client_token: Option<Number
             cancel: Some(job.cancel.clone()),
             ..Budget::default().with_threads(threads)
         };
-        (st.host.analysis(), job, Options { profile: settings.profile, budget }, supports_progress)
+        (
+            st.host.analysis(),
+            job,
+            Options { profile: settings.profile, budget, async_buffer: settings.async_buffer },
+            supports_progress,
+        )
     };
     let (tx, rx) = unbounded_channel();
     if let Some(token) = job.token.clone() {

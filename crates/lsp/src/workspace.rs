@@ -203,7 +203,8 @@ fn verify_setting<'a>(settings: &'a Value, key: &str) -> Option<&'a Value> {
 pub(crate) fn verify_from_settings(settings: &Value, current: VerifySettings) -> Option<(VerifySettings, Vec<String>)> {
     let semantics = verify_setting(settings, "semantics");
     let timeout = verify_setting(settings, "timeoutSeconds");
-    if semantics.is_none() && timeout.is_none() {
+    let buffer = verify_setting(settings, "asyncBuffer");
+    if semantics.is_none() && timeout.is_none() && buffer.is_none() {
         return None;
     }
     let mut out = current;
@@ -221,6 +222,17 @@ pub(crate) fn verify_from_settings(settings: &Value, current: VerifySettings) ->
             Some(t) if t.is_finite() && t > 0.0 && t <= 1e9 => out.timeout = std::time::Duration::from_secs_f64(t),
             _ => problems.push(format!("`robosim.verify.timeoutSeconds` must be a positive number, not {v}")),
         }
+    }
+    match buffer.map(|v| (v, v.as_str().map(str::trim))) {
+        None => {}
+        Some((_, Some("" | "none"))) => out.async_buffer = None,
+        Some((_, Some(text))) => match robosim_ide::verify::AsyncBuffer::parse(text) {
+            Ok(b) => out.async_buffer = Some(b),
+            Err(e) => problems.push(format!("`robosim.verify.asyncBuffer`: {e}")),
+        },
+        Some((v, None)) => problems.push(format!(
+            "`robosim.verify.asyncBuffer` must be a string such as \"1:overwrite\" or \"2:block\", not {v}"
+        )),
     }
     Some((out, problems))
 }
@@ -317,6 +329,13 @@ mod tests {
         let (s, problems) =
             verify_from_settings(&json!({"verify": {"semantics": "fdr", "timeoutSeconds": -1}}), d).unwrap();
         assert_eq!((s, problems.len()), (d, 2));
+        let (s, problems) = verify_from_settings(&json!({"verify": {"asyncBuffer": "2:block"}}), d).unwrap();
+        let block2 = robosim_ide::verify::AsyncBuffer { size: 2, overwrite: false };
+        assert_eq!((s.async_buffer, problems.len()), (Some(block2), 0));
+        let (s, problems) = verify_from_settings(&json!({"verify": {"asyncBuffer": ""}}), s).unwrap();
+        assert_eq!((s.async_buffer, problems.len()), (None, 0));
+        let (s, problems) = verify_from_settings(&json!({"verify": {"asyncBuffer": "0:drop"}}), d).unwrap();
+        assert_eq!((s, problems.len()), (d, 1));
         assert_eq!(verify_from_settings(&json!({"rules": "paper"}), d), None);
         assert_eq!(verify_from_settings(&json!(null), d), None);
     }

@@ -131,6 +131,9 @@ test("settings, commands and restricted-mode declarations", () => {
   assert.equal(props["robosim.verify.semantics"].default, "robotool3");
   assert.equal(props["robosim.verify.timeoutSeconds"].type, "number");
   assert.equal(props["robosim.verify.timeoutSeconds"].default, 60);
+  const buffer = new RegExp(props["robosim.verify.asyncBuffer"].pattern);
+  for (const ok of ["", "none", "1", "1:overwrite", "8:block"]) assert.ok(buffer.test(ok), ok);
+  for (const bad of ["0", "9", "1:drop", "x"]) assert.ok(!buffer.test(bad), bad);
   const commands = manifest.contributes.commands.map((c) => c.command).sort();
   assert.deepEqual(commands, ["robosim.restartServer", "robosim.showDiagram", "robosim.showOutput"]);
   const untrusted = manifest.capabilities.untrustedWorkspaces;

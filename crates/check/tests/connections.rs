@@ -1,0 +1,135 @@
+//! Connections the engine interprets beyond synchronous ones: asynchronous
+//! connections between controllers, under the buffer the user assumes
+//! (RoboTool's is not documented: semantics.md §11.3), and platform events
+//! connected both ways (`[ mult ]`).
+
+use robosim_check::verify::{trace_text, verify_texts, AsyncBuffer, Options, Report, Verdict};
+
+fn verify(files: &[(&str, &str)], async_buffer: Option<AsyncBuffer>) -> Vec<Report> {
+    let opts = Options { async_buffer, ..Options::default() };
+    let reports = verify_texts(files.iter().map(|(p, t)| (p.to_string(), t.to_string())), &opts);
+    for r in &reports {
+        println!("{} {:?} {} {:?} {:?}", r.name, r.verdict, r.stats.states, r.reason, r.notes);
+        if let Some(cx) = &r.counterexample {
+            println!("  {}", trace_text(&cx.steps));
+        }
+    }
+    reports
+}
+
+/// Controller `CS` sends 1 then 2 at once on `out`; controller `CR`, after
+/// waiting a time unit, receives them on `inp` (asynchronously), going to
+/// `G1` or `G2` after receiving 1 or 2, and on from there.
+const MODEL: &str = "
+    interface Out { event out : nat }
+    interface In { event inp : nat }
+    stm S { uses Out initial i state A { entry out!1 ; out!2 } transition t { from i to A } }
+    stm R {
+      uses In var x : nat
+      initial i junction J state W { entry wait(1) } state G1 { } state G2 { }
+      transition t0 { from i to W }
+      transition t1 { from W to J trigger inp?x }
+      transition g1 { from J to G1 condition x == 1 }
+      transition g2 { from J to G2 condition x == 2 }
+      transition n1 { from G1 to J trigger inp?x }
+    }
+    controller CS { uses Out sref s = S connection s on out to CS on out }
+    controller CR { uses In sref r = R connection CR on inp to r on inp }
+    module Mod { robotic platform P { } cref cs = CS cref cr = CR
+      connection cs on out to cr on inp ( _async ) }";
+
+/// Reachability of `G1` and `G2`; and as nothing happens after the
+/// values are received, a timed deadlock ("only time passes").
+const CHECKS: &str = "assertion G1 : cr::r::G1 is reachable in Mod
+    assertion G2 : cr::r::G2 is reachable in Mod
+    assertion D : Mod is not deadlock-free";
+
+fn buffer(text: &str) -> Option<AsyncBuffer> {
+    Some(AsyncBuffer::parse(text).expect("a buffer"))
+}
+
+fn verdicts(reports: &[Report]) -> Vec<(String, Verdict, u64)> {
+    reports.iter().map(|r| (r.name.clone(), r.verdict, r.stats.states)).collect()
+}
+
+fn expect(reports: &[Report], expected: &[(&str, Verdict, u64)]) {
+    let expected: Vec<(String, Verdict, u64)> = expected.iter().map(|(n, v, s)| (n.to_string(), *v, *s)).collect();
+    assert_eq!(verdicts(reports), expected);
+}
+
+#[test]
+fn without_an_assumed_buffer_asynchronous_connections_are_not_checked() {
+    let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], None);
+    for r in &reports {
+        assert_eq!(r.verdict, Verdict::Unsupported);
+        let reason = r.reason.as_deref().unwrap_or_default();
+        assert!(reason.contains("--async-buffer 1:overwrite") && reason.contains("m.rct:17:7"), "{reason}");
+    }
+}
+
+#[test]
+fn a_one_place_buffer_that_overwrites_loses_the_first_value() {
+    let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], buffer("1:overwrite"));
+    expect(&reports, &[("G1", Verdict::Fail, 6), ("G2", Verdict::Pass, 6), ("D", Verdict::Pass, 6)]);
+    // Both values are sent at once (hidden, as the connection is internal);
+    // 2 replaces 1 in the buffer and is what R receives.
+    let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
+    assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.2)");
+    assert!(
+        reports[0].notes.iter().any(|n| n.contains("buffer 1 value; when full, a new value replaces the oldest")),
+        "{:?}",
+        reports[0].notes
+    );
+}
+
+#[test]
+fn a_one_place_buffer_that_blocks_delays_the_sender() {
+    let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], buffer("1:block"));
+    expect(&reports, &[("G1", Verdict::Pass, 6), ("G2", Verdict::Pass, 9), ("D", Verdict::Pass, 9)]);
+    let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
+    assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) tock (cs.s.out.1) (cs.s.out.2) (cs.s.out.2)");
+}
+
+#[test]
+fn a_two_place_buffer_keeps_both_values() {
+    let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], buffer("2:overwrite"));
+    expect(&reports, &[("G1", Verdict::Pass, 6), ("G2", Verdict::Pass, 8), ("D", Verdict::Pass, 8)]);
+    let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
+    assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.1) (cs.s.out.2)");
+}
+
+#[test]
+fn buffer_assumptions_are_read_strictly() {
+    assert_eq!(AsyncBuffer::parse("3"), Ok(AsyncBuffer { size: 3, overwrite: true }));
+    assert_eq!(AsyncBuffer::parse("2:block"), Ok(AsyncBuffer { size: 2, overwrite: false }));
+    for bad in ["0", "9:overwrite", "x", "1:drop", ""] {
+        assert!(AsyncBuffer::parse(bad).is_err(), "{bad}");
+    }
+}
+
+/// A platform event connected both ways (`[ mult ]`): the machine receives
+/// `e.in` and sends `e.out`, two channels of their own.
+#[test]
+fn platform_events_connected_both_ways() {
+    let model = "
+        interface E { event e : nat }
+        stm M { uses E var x : nat initial i state S { }
+          transition t0 { from i to S }
+          transition t1 { from S to S trigger e?x action e!(x + 1) } }
+        controller C { uses E sref m = M connection C on e to m on e [ mult ] }
+        module Mod { robotic platform P { uses E } cref c = C connection P on e to c on e ( _async ) [ mult ] }";
+    let checks = "assertion D : Mod is deterministic
+        assertion N : Mod is deadlock-free";
+    let rsa = "simulation Sim of Mod { cycleDef cycle == 1 }
+        assertion A : Sim is schedulable";
+    let reports = verify(&[("m.rct", model), ("a.assertions", checks), ("a.rsa", rsa)], None);
+    expect(&reports, &[("D", Verdict::Pass, 7), ("N", Verdict::Pass, 7), ("A", Verdict::Pass, 31)]);
+    // Answering twice in a cycle: the input and the output are registers
+    // of their own, and the output's is written twice (the second output
+    // cannot wait for the next cycle: its deadline is 0).
+    let twice = model.replace("action e!(x + 1)", "action e!(x + 1); e!x <{0}");
+    let reports = verify(&[("m.rct", &twice), ("a.rsa", rsa)], None);
+    assert_eq!(reports[0].verdict, Verdict::Fail);
+    let cx = reports[0].counterexample.as_ref().expect("a counterexample");
+    assert_eq!(trace_text(&cx.steps), "registerRead.i_e.true.0 (e.in.0) (e.out.1) registerWrite.o_e.1");
+}
