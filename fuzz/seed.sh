@@ -42,6 +42,36 @@ module Mod { robotic platform P { uses I provides I } cref c = C
   connection P on e to c on e ( _async ) connection P on v to c on v ( _async ) }
 RCT
 } > "$out/activities"
+# Controllers connected asynchronously (selector 2: a one-place buffer that
+# overwrites) with a variable of the platform written by one machine and
+# read by the other.
+{ printf '\x02'; cat <<'RCT'
+interface Out { event out : nat }
+interface In { event inp : nat }
+interface PV { var speed : nat }
+stm Snd { uses Out requires PV initial i state A { entry out!1 ; speed = 1 ; out!2 } transition t { from i to A } }
+stm M { uses In requires PV var x : nat
+  initial i junction J state W { entry wait(1) } state G { }
+  transition t0 { from i to W } transition t1 { from W to J trigger inp?x }
+  transition g { from J to G condition x == speed } transition h { from J to W condition x != speed } }
+controller CS { uses Out requires PV sref s = Snd connection s on out to CS on out }
+controller CR { uses In requires PV sref r = M connection CR on inp to r on inp }
+module Mod { robotic platform P { provides PV } cref cs = CS cref cr = CR
+  connection cs on out to cr on inp ( _async ) }
+RCT
+} > "$out/async"
+# A RoboSim module reading a variable of the platform and writing another.
+{ printf '\x01'; cat <<'RST'
+interface Lvl { var level : nat }
+interface Alarm { var alarm : boolean }
+stm W { cycleDef cycle == 1 input context { requires Lvl } output context { requires Alarm }
+  initial i state S { } transition t0 { from i to S }
+  transition hi { from S to S exec condition $level >= 2 action $alarm = true }
+  transition lo { from S to S exec condition $level < 2 } }
+controller C { cycleDef cycle == 1 requires Lvl requires Alarm sref w = W }
+module Sim { cycleDef cycle == 1 robotic platform P { provides Lvl provides Alarm } cref c = C }
+RST
+} > "$out/platform-variables"
 echo "$(ls "$out" | wc -l) seeds in fuzz/$out"
 
 # fuzz/corpus/reparse: each model with a four-byte edit header (position,
