@@ -78,7 +78,17 @@ pub fn run(args: Args) -> ExitCode {
     let out = std::io::stdout();
     let result = match args.format {
         Format::Json => writeln!(out.lock(), "{}", to_json(&ws, &reports)),
-        Format::Human => write!(out.lock(), "{}", render_human(&ws, &reports, args.profile)),
+        Format::Human => {
+            let mut text = render_human(&ws, &reports, args.profile);
+            // A verdict that holds only under the assumed buffer says so.
+            if let Some(b) = args.async_buffer {
+                let assumption = b.describe();
+                if reports.iter().any(|r| r.notes.iter().any(|n| n.contains(&assumption))) {
+                    text.push_str(&format!("assumed: {assumption}\n"));
+                }
+            }
+            write!(out.lock(), "{text}")
+        }
     };
     if let Err(e) = result {
         if e.kind() != std::io::ErrorKind::BrokenPipe {

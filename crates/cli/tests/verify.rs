@@ -221,6 +221,16 @@ fn asynchronous_connections_under_an_assumed_buffer() {
     let lost = find(&v, "checks.assertions", "Lost");
     assert_eq!(lost["verdict"], "pass", "{lost:#}");
     assert!(lost["notes"][0].as_str().unwrap().contains("buffer 1 value; when full, a new value replaces the oldest"));
+    let out = robosim().args(["verify", "--async-buffer", "1:overwrite"]).arg(&dir).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.ends_with(
+            "verified 2 assertions (robotool3): 2 pass, 0 fail, 0 inconclusive, 0 unsupported\n\
+             assumed: asynchronous connections buffer 1 value; when full, a new value replaces the oldest \
+             (an assumption: RoboTool's buffer is not documented)\n"
+        ),
+        "{text}"
+    );
     // When the sender waits instead, 1 is received too.
     let (code, v) = json(&["--async-buffer", "1:block"], &dir);
     assert_eq!(code, Some(1));
