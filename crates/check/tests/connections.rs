@@ -67,35 +67,48 @@ fn without_an_assumed_buffer_asynchronous_connections_are_not_checked() {
     }
 }
 
-#[test]
-fn a_one_place_buffer_that_overwrites_loses_the_first_value() {
-    let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], buffer("1:overwrite"));
-    expect(&reports, &[("G1", Verdict::Fail, 6), ("G2", Verdict::Pass, 6), ("D", Verdict::Pass, 6)]);
-    // Both values are sent at once (hidden, as the connection is internal);
-    // 2 replaces 1 in the buffer and is what R receives.
-    let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
-    assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.2)");
-    assert!(
-        reports[0].notes.iter().any(|n| n.contains("buffer 1 value; when full, a new value replaces the oldest")),
-        "{:?}",
-        reports[0].notes
-    );
-}
+/// Per buffer: the verdicts (G1, G2, D) with their states, and the
+/// shortest trace to G2 (the hidden communications are the connection's).
+/// A buffer assumption, its verdicts and its trace to G2.
+type BufferCase = (&'static str, [(Verdict, u64); 3], &'static str);
+
+const BUFFERS: &[BufferCase] = &[
+    // 2 replaces 1 in the buffer, and is all R receives.
+    (
+        "1:overwrite",
+        [(Verdict::Fail, 6), (Verdict::Pass, 6), (Verdict::Pass, 6)],
+        "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.2)",
+    ),
+    // The sender waits for R to take 1 before it sends 2.
+    (
+        "1:block",
+        [(Verdict::Pass, 6), (Verdict::Pass, 9), (Verdict::Pass, 9)],
+        "(cs.s.out.1) tock (cs.s.out.1) (cs.s.out.2) (cs.s.out.2)",
+    ),
+    // Both values wait in the buffer.
+    (
+        "2:overwrite",
+        [(Verdict::Pass, 6), (Verdict::Pass, 8), (Verdict::Pass, 8)],
+        "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.1) (cs.s.out.2)",
+    ),
+];
 
 #[test]
-fn a_one_place_buffer_that_blocks_delays_the_sender() {
-    let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], buffer("1:block"));
-    expect(&reports, &[("G1", Verdict::Pass, 6), ("G2", Verdict::Pass, 9), ("D", Verdict::Pass, 9)]);
-    let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
-    assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) tock (cs.s.out.1) (cs.s.out.2) (cs.s.out.2)");
-}
-
-#[test]
-fn a_two_place_buffer_keeps_both_values() {
-    let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], buffer("2:overwrite"));
-    expect(&reports, &[("G1", Verdict::Pass, 6), ("G2", Verdict::Pass, 8), ("D", Verdict::Pass, 8)]);
-    let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
-    assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.1) (cs.s.out.2)");
+fn what_the_receiver_gets_depends_on_the_buffer() {
+    for &(b, expected, trace) in BUFFERS {
+        let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], buffer(b));
+        let names = ["G1", "G2", "D"];
+        expect(&reports, &names.iter().zip(expected).map(|(n, (v, s))| (*n, v, s)).collect::<Vec<_>>());
+        let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
+        assert_eq!(trace_text(&g2.steps), trace, "{b}");
+        // Every report states the assumption it holds under.
+        let assumption = buffer(b).expect("a buffer").describe();
+        assert!(reports.iter().all(|r| r.notes.iter().any(|n| n.contains(&assumption))), "{b}");
+    }
+    assert!(buffer("1:overwrite")
+        .expect("a buffer")
+        .describe()
+        .contains("buffer 1 value; when full, a new value replaces the oldest"));
 }
 
 #[test]
