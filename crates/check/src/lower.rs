@@ -1198,6 +1198,17 @@ impl MachineCx<'_, '_> {
                                     self.sends.insert(name.clone(), out);
                                 }
                                 let chan = self.channel(&link.name, link.dir, false, shape);
+                                if link.internal && self.cx.robosim {
+                                    return Err(self.err(
+                                        c.text_range(),
+                                        format!(
+                                            "`{name}` connects two RoboSim machines or controllers: not supported yet \
+                                             (the paper keeps such events in the module's memory, Rule 8, and in \
+                                             which cycle the receiver reads what the sender wrote is not pinned \
+                                             down)"
+                                        ),
+                                    ));
+                                }
                                 if link.internal {
                                     let policy = self.cx.defaults.async_buffer.filter(|_| link.buffered);
                                     // Both ends share the channel: its buffer is made once.

@@ -137,3 +137,32 @@ fn clocks_compared_above_their_range_are_refused() {
     let trace = trace_text(&r.counterexample.as_ref().unwrap().steps);
     assert!(trace.starts_with(&format!("{}opCall", "tock ".repeat(12))), "{trace}");
 }
+
+/// Two RoboSim controllers connected to each other: how the paper's
+/// module memory (Rule 8) passes the event between their cycles is not
+/// pinned down, so the module is refused, naming the event.
+#[test]
+fn connected_robosim_controllers_are_refused_with_the_event() {
+    let sim = "interface Sen { event obstacle } interface Link { event near } interface Ops { stop() }
+        stm A { cycleDef cycle == 1 input context { uses Sen } output context { uses Link }
+          initial i state S { } transition t0 { from i to S }
+          transition t1 { from S to S exec condition $obstacle action $near } }
+        stm B { cycleDef cycle == 1 input context { uses Link } output context { requires Ops }
+          initial i state S { } transition t0 { from i to S }
+          transition t1 { from S to S exec condition $near action $stop() } }
+        controller CA { cycleDef cycle == 1 uses Sen uses Link sref a = A
+          connection CA on obstacle to a on obstacle connection a on near to CA on near }
+        controller CB { cycleDef cycle == 1 uses Link requires Ops sref b = B connection CB on near to b on near }
+        module M { cycleDef cycle == 1 robotic platform P { uses Sen provides Ops } cref ca = CA cref cb = CB
+          connection P on obstacle to ca on obstacle ( _async ) connection ca on near to cb on near }";
+    let reports = verify_texts(
+        [("s.rst".to_string(), sim.to_string()), ("a.rsa".to_string(), "assertion D : M is deadlock-free".to_string())],
+        &Options::default(),
+    );
+    assert_eq!(reports[0].verdict, Verdict::Unsupported);
+    assert!(
+        reason(&reports[0]).contains("`near` connects two RoboSim machines or controllers"),
+        "{:?}",
+        reports[0].reason
+    );
+}
