@@ -530,3 +530,43 @@ fn a_failed_check_is_drawn_on_the_diagram() {
     assert!(svg.contains(">c0<"), "the cycle is written");
     server.shutdown();
 }
+
+/// `robosim.verify.asyncBuffer`: controllers connected asynchronously are
+/// checked under the buffer it names (stated in the hover), and without it
+/// the check says how to choose one.
+#[test]
+fn async_buffer_setting() {
+    let root = lsp_support::temp_dir("verify-async");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/verify/async");
+    for f in ["model.rct", "checks.assertions"] {
+        std::fs::copy(data.join(f), root.join(f)).unwrap();
+    }
+    let checks = file_uri(&root, "checks.assertions");
+    let checks_text = std::fs::read_to_string(root.join("checks.assertions")).unwrap();
+    let mut server = start(&root, json!({}), json!({"verify": {"asyncBuffer": "1:overwrite"}}), 2);
+    verify(&mut server, &checks, json!("Lost"));
+    let deadline = Instant::now() + TIMEOUT;
+    loop {
+        server.drain(Duration::from_millis(100));
+        let h = hover(&mut server, &checks, position(&checks_text, "Lost :"));
+        if h.contains("pass") {
+            assert!(
+                h.contains("asynchronous connections buffer 1 value; when full, a new value replaces the oldest"),
+                "{h}"
+            );
+            break;
+        }
+        assert!(Instant::now() < deadline, "{h}");
+    }
+    assert!(title_at(&mut server, &checks, &json!("Lost")).starts_with("✔ pass · 6 states"));
+    // No buffer: not checked, and the information says how to choose one.
+    server
+        .notify("workspace/didChangeConfiguration", json!({"settings": {"robosim": {"verify": {"asyncBuffer": ""}}}}));
+    verify(&mut server, &checks, json!("Lost"));
+    let diags = publish_where(&mut server, &checks, |d| !verify_diags(d).is_empty());
+    let d = verify_diags(&diags)[0];
+    assert_eq!(d["severity"], 3, "{d}");
+    assert!(d["message"].as_str().unwrap().contains("robosim.verify.asyncBuffer"), "{d}");
+    server.shutdown();
+    let _ = std::fs::remove_dir_all(&root);
+}
