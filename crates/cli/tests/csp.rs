@@ -193,10 +193,25 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
         "{stderr}"
     );
     assert!(
-        stderr.contains("module unsupported::WithVars is not exported: platform variables are not exported"),
+        stderr.contains(
+            "module unsupported::WithVars is not exported: platform variables (`battery`) are not exported yet"
+        ),
         "{stderr}"
     );
-    assert_eq!(stderr.matches("warning:").count(), 4, "{stderr}");
+    assert!(
+        stderr.contains(
+            "module unsupported::WithProvidedVars is not exported: platform variables (`speed`) are not exported yet"
+        ),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(
+            "controller unsupported::SharesLevel is not exported: `level` is required by `w` and `r`: variables \
+             shared between machines or controllers are not exported yet"
+        ),
+        "{stderr}"
+    );
+    assert_eq!(stderr.matches("warning:").count(), 6, "{stderr}");
     let csp = std::fs::read_to_string(dir.join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
     assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");

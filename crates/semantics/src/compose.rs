@@ -4,12 +4,12 @@
 //! `terminate`), their events renamed to the container's through the
 //! connections, connections between components hidden.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::rc::Rc;
 
 use robosim_hir::defs::DefKind;
 use robosim_hir::{Db, File, Workspace};
-use robosim_syntax::{SyntaxKind::*, SyntaxNode};
+use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode};
 
 use crate::cspm::{call, dot, hide, name, par, Decl, Expr};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, ElemState, Exporter, Reg, Ty};
@@ -119,6 +119,29 @@ struct Inst {
     /// Its name in the container (`sref`/`cref` name).
     name: String,
     elem: Rc<Elem>,
+}
+
+/// The non-constant variables of the interfaces `node` refers to with a
+/// keyword `which` accepts (`provides`, `requires`, `uses`).
+fn variables_of_interfaces(
+    ex: &Exporter<'_>,
+    file: File,
+    node: &SyntaxNode,
+    which: fn(SyntaxKind) -> bool,
+) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for u in children(node, INTERFACE_USE) {
+        if !u.first_token().is_some_and(|t| which(t.kind())) {
+            continue;
+        }
+        let Some((_, i)) = util::resolve(ex.db, ex.ws, file, &path_of(&u), |k| k == DefKind::Interface) else {
+            continue;
+        };
+        for l in children(&i, VARIABLE_LIST).filter(|l| !l.children_with_tokens().any(|t| t.kind() == CONST_KW)) {
+            out.extend(children(&l, VARIABLE).map(|v| name_of(&v)));
+        }
+    }
+    out
 }
 
 /// Events an interface-using context declares: own events and those of
@@ -325,16 +348,22 @@ fn module_(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: String,
         if let Some((pf, pn)) = pnode {
             platform_names.push(name_of(&c));
             events.extend(declared_events(ex, pf, &pn, &mut problems));
-            // Variables of the platform are outputs (Rule 1): not yet.
-            let has_vars =
-                children(&pn, VARIABLE_LIST).any(|l| !l.children_with_tokens().any(|t| t.kind() == CONST_KW));
-            if has_vars {
+            // Variables of the platform (its own, and those of the
+            // interfaces it uses or provides, as `robosim verify` reads
+            // them) are outputs (Rule 1): not exported yet.
+            let own_vars = children(&pn, VARIABLE_LIST)
+                .filter(|l| !l.children_with_tokens().any(|t| t.kind() == CONST_KW))
+                .flat_map(|l| children(&l, VARIABLE).map(|v| name_of(&v)).collect::<Vec<_>>());
+            let vars: BTreeSet<String> = own_vars.chain(variables_of_interfaces(ex, pf, &pn, |_| true)).collect();
+            if let Some(v) = vars.iter().next() {
                 problems.push((
                     pf,
                     util::name_range(&pn),
-                    "platform variables are not exported: how the platform's updates reach the machines \
-                     that require them is not pinned down (semantics.md §4.1 only says they are visible)"
-                        .into(),
+                    format!(
+                        "platform variables (`{v}`) are not exported yet: `robosim verify` reads them as the paper \
+                         does (outputs whose updates are visible, §5.2), but RoboTool's CSPm names for them are \
+                         not known"
+                    ),
                 ));
             }
         }
@@ -382,6 +411,31 @@ fn robochart_container(
     platforms: &[String],
 ) -> Result2 {
     let mut problems: Vec<Problem> = Vec::new();
+    // Each machine keeps the variables it requires in its own memory, so a
+    // variable two components require would not be shared (as it is in
+    // the model, and in `robosim verify`): refused rather than exported
+    // wrongly.
+    let mut requirers: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
+    for i in &insts {
+        for v in &i.elem.required {
+            requirers.entry(v.as_str()).or_default().push(i.name.as_str());
+        }
+    }
+    for (v, users) in &requirers {
+        if users.len() > 1 {
+            problems.push((
+                file,
+                util::name_range(node),
+                format!(
+                    "`{v}` is required by {}: variables shared between machines or controllers are not exported \
+                     yet (each would keep its own copy; `robosim verify` shares them)",
+                    users.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(" and ")
+                ),
+            ));
+        }
+    }
+    let provided = variables_of_interfaces(ex, file, node, |k| k == PROVIDES_KW);
+    let required: Vec<String> = requirers.keys().filter(|v| !provided.contains(**v)).map(|v| v.to_string()).collect();
     let is_own = |n: &str| n == own || platforms.iter().any(|p| p == n);
     // Renamings per instance: whole channels, and directed events of
     // internal connections (with the generators of their values).
@@ -518,7 +572,21 @@ fn robochart_container(
         Decl::Blank,
     ];
     let _ = ex;
-    Ok((Elem { kind, robosim: false, module, path, consts, chans, inputs: vec![], outputs: vec![], period: 1 }, decls))
+    Ok((
+        Elem {
+            kind,
+            robosim: false,
+            module,
+            path,
+            consts,
+            chans,
+            inputs: vec![],
+            outputs: vec![],
+            period: 1,
+            required,
+        },
+        decls,
+    ))
 }
 
 fn rename(p: Expr, pairs: &[(String, String)]) -> Expr {
@@ -656,5 +724,8 @@ fn robosim_container(
         Decl::Blank,
     ];
     let period = declared_period(ex.db, ex.ws, file, node).unwrap_or(1);
-    Ok((Elem { kind, robosim: true, module, path, consts, chans: vec![], inputs, outputs, period }, decls))
+    Ok((
+        Elem { kind, robosim: true, module, path, consts, chans: vec![], inputs, outputs, period, required: vec![] },
+        decls,
+    ))
 }

@@ -322,6 +322,10 @@ pub(crate) struct Elem {
     pub outputs: Vec<Reg>,
     /// RoboSim: the period of its `cycleDef` (1 when it has none).
     pub period: i64,
+    /// RoboChart: the variables it requires and keeps in its own memory
+    /// (a machine's required variables; a controller's machines' that it
+    /// does not provide).
+    pub required: Vec<String>,
 }
 
 /// A node key: the file and the node's range.

@@ -220,6 +220,9 @@ pub(crate) struct Gen<'e, 'a> {
     op_params: Vec<String>,
     /// `CALL__op` of the operations of the model called (their names).
     op_calls: Vec<(String, Decl)>,
+    /// The variables the machine requires through interfaces (kept in its
+    /// own memory: its container must not share them).
+    required: Vec<String>,
 }
 
 /// Statements and expressions nested deeper are not exported (the
@@ -264,6 +267,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             is_operation: false,
             op_params: Vec::new(),
             op_calls: Vec::new(),
+            required: Vec::new(),
         }
     }
 
@@ -419,6 +423,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                         let is_const = c.children_with_tokens().any(|t| t.kind() == CONST_KW);
                         let shared = self.is_operation && !is_const && n != *node;
                         for v in children(&c, VARIABLE) {
+                            if !is_const && !self.is_operation && io.is_none() && n != *node {
+                                self.required.push(name_of(&v));
+                            }
                             self.variable(f, &v, is_const, io, shared);
                         }
                     }
@@ -2891,6 +2898,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             inputs,
             outputs,
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, &self.node).unwrap_or(1),
+            required: self.required.clone(),
         }
     }
 }
