@@ -159,6 +159,20 @@ fn hover(server: &mut Server, uri: &str, (line, character): (u64, u64)) -> Strin
     res["result"]["contents"]["value"].as_str().unwrap_or_else(|| panic!("{res}")).to_string()
 }
 
+/// The hover at `pos` once it contains `text` (a check's result arrives
+/// in the background).
+fn hover_when(server: &mut Server, uri: &str, pos: (u64, u64), text: &str) -> String {
+    let deadline = Instant::now() + TIMEOUT;
+    loop {
+        server.drain(Duration::from_millis(100));
+        let h = hover(server, uri, pos);
+        if h.contains(text) {
+            return h;
+        }
+        assert!(Instant::now() < deadline, "{h}");
+    }
+}
+
 /// The GT-3 design from the lenses to the verdict: lenses on the
 /// simulation, the assertions and the module; a run with progress; the
 /// failure as a diagnostic with the counterexample in the design; the lens
@@ -490,16 +504,8 @@ fn semantics_setting_from_the_configuration() {
         json!({"settings": {"robosim": {"verify": {"semantics": "robotool3"}}}}),
     );
     verify(&mut server, &checks, json!("S1"));
-    let deadline = Instant::now() + TIMEOUT;
-    loop {
-        server.drain(Duration::from_millis(100));
-        let h = hover(&mut server, &checks, position(&checks_text, "S1 :"));
-        if h.contains(" · robotool3") {
-            assert!(h.contains("fail · 23 states"), "{h}");
-            break;
-        }
-        assert!(Instant::now() < deadline, "{h}");
-    }
+    let h = hover_when(&mut server, &checks, position(&checks_text, "S1 :"), " · robotool3");
+    assert!(h.contains("fail · 23 states"), "{h}");
     server.shutdown();
     let _ = std::fs::remove_dir_all(&root);
 }
@@ -545,19 +551,8 @@ fn async_buffer_setting() {
     let checks_text = std::fs::read_to_string(root.join("checks.assertions")).unwrap();
     let mut server = start(&root, json!({}), json!({"verify": {"asyncBuffer": "1:overwrite"}}), 2);
     verify(&mut server, &checks, json!("Lost"));
-    let deadline = Instant::now() + TIMEOUT;
-    loop {
-        server.drain(Duration::from_millis(100));
-        let h = hover(&mut server, &checks, position(&checks_text, "Lost :"));
-        if h.contains("pass") {
-            assert!(
-                h.contains("asynchronous connections buffer 1 value; when full, a new value replaces the oldest"),
-                "{h}"
-            );
-            break;
-        }
-        assert!(Instant::now() < deadline, "{h}");
-    }
+    let h = hover_when(&mut server, &checks, position(&checks_text, "Lost :"), "pass");
+    assert!(h.contains("asynchronous connections buffer 1 value; when full, a new value replaces the oldest"), "{h}");
     assert!(title_at(&mut server, &checks, &json!("Lost")).starts_with("✔ pass · 6 states"));
     // No buffer: not checked, and the information says how to choose one.
     server
