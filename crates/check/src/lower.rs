@@ -426,10 +426,9 @@ impl Cx<'_> {
                 return Err(self.unsupported(
                     *f,
                     *r,
-                    "asynchronous connections between controllers or machines are checked only under a buffer you \
-                     choose, as RoboTool's (its size, and what it does when full) is not documented (semantics.md \
-                     §11.3): for example `robosim verify --async-buffer 1:overwrite`, or the editor setting \
-                     `robosim.verify.asyncBuffer`",
+                    "asynchronous connections need an assumed buffer: `robosim verify --async-buffer 1:overwrite` \
+                     (or `2:block`, …), or the editor setting `robosim.verify.asyncBuffer`; RoboTool's buffer (its \
+                     size, and what it does when full) is not documented (semantics.md §11.3), so none is guessed",
                 ));
             }
         }

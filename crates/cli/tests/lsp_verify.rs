@@ -562,6 +562,9 @@ fn async_buffer_setting() {
     let d = verify_diags(&diags)[0];
     assert_eq!(d["severity"], 3, "{d}");
     assert!(d["message"].as_str().unwrap().contains("robosim.verify.asyncBuffer"), "{d}");
+    // The lens's shortened title still says what to do.
+    let title = title_at(&mut server, &checks, &json!("Lost"));
+    assert!(title.starts_with("unsupported: asynchronous connections need an assumed buffer"), "{title}");
     server.shutdown();
     let _ = std::fs::remove_dir_all(&root);
 }
