@@ -306,6 +306,22 @@ impl Cx<'_> {
         }
     }
 
+    /// The events a RoboSim machine's input context declares, itself or
+    /// through the interfaces it uses.
+    fn input_context_events(&self, file: File, machine: &SyntaxNode) -> Vec<String> {
+        let mut out = Vec::new();
+        for ctx in machine.children().filter(|c| c.kind() == INPUT_CONTEXT) {
+            let mut sources = vec![ctx.clone()];
+            for u in ctx.children().filter(|c| c.kind() == INTERFACE_USE) {
+                sources.extend(self.resolve(file, &path_of(&u), |k| k == DefKind::Interface).map(|(_, n)| n));
+            }
+            for n in sources {
+                out.extend(n.children().filter(|c| c.kind() == EVENT).map(|e| name_of(&e)));
+            }
+        }
+        out
+    }
+
     /// A connection with the platform marked `[ mult ]` carries its event
     /// both ways: `e.in` and `e.out` are channels of their own.
     fn note_bidirectional(&mut self, connection: &SyntaxNode, platform_event: &str) {
@@ -649,8 +665,12 @@ impl Cx<'_> {
         for inst in &instances {
             let end: End = (format!("{}.{}", inst.ctrl, inst.name), String::new());
             // A machine on its own: every event faces the environment, as an
-            // input if the machine ever receives it, else as an output.
-            let received = received_events(&inst.node);
+            // input if the machine ever receives it (a RoboSim machine: if
+            // its input context declares it), else as an output.
+            let mut received = received_events(&inst.node);
+            if self.robosim {
+                received.extend(self.input_context_events(inst.file, &inst.node));
+            }
             let m = self.machine(inst, &mut slot, |ev: &str| {
                 if lone {
                     let dir = if received.iter().any(|r| r == ev) { Dir::In } else { Dir::Out };

@@ -128,10 +128,14 @@ impl Registers {
         Ok(Registers { table, reads, writes, false_writes, write_range })
     }
 
-    /// The read event of input `name`.
+    /// The read event of input `name` (`present` is ignored for a
+    /// variable's register, which has no presence flag).
     pub fn read(&self, name: &str, present: bool, value: Option<Val>) -> Option<Event> {
         let g = self.reads.iter().find(|(n, _)| n == name)?.1;
-        let mut args = vec![present as Val];
+        // A variable's register carries its value alone; an event's, the
+        // flag and then its value (if it has one).
+        let variable = value.is_some() && self.table.group(g).params.len() == 1;
+        let mut args = if variable { Vec::new() } else { vec![present as Val] };
         args.extend(value);
         Some(self.table.event(g, &args))
     }

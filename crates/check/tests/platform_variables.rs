@@ -267,3 +267,25 @@ fn unsupported_uses_of_platform_variables_say_why() {
         assert!(reason.contains(why), "{reason}");
     }
 }
+
+/// The register events a check numbers: a variable's read carries its value
+/// alone, an event's its presence flag (and value); writes carry the value.
+#[test]
+fn register_events_of_variables() {
+    use robosim_check::lower::{lower_design, DomainDefaults};
+    use robosim_check::sched::Registers;
+    let text = watcher("pi", 2).replace("interface Out {", "interface Pings { event ping : nat } interface Out {");
+    let text = text.replace("input context { requires Lvl }", "input context { requires Lvl uses Pings }");
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, [("w.rst".to_string(), text)], robosim_hir::RuleSet::Paper);
+    let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
+    let path = ["pi".to_string(), "Watch".to_string()];
+    let loc = robosim_hir::index::resolve_item(&db, ws, file, &path, |_| true)[0];
+    let design = lower_design(&db, ws, loc, &[], &DomainDefaults::default()).expect("supported");
+    let regs = Registers::new(&[&design], Profile::RoboTool3).expect("registers");
+    let name = |e| regs.table.name(e).expect("a register event");
+    assert_eq!(name(regs.read("level", true, Some(2)).expect("level")), "registerRead.i_level.2");
+    assert_eq!(name(regs.read("ping", true, Some(1)).expect("ping")), "registerRead.i_ping.true.1");
+    assert_eq!(name(regs.read("ping", false, Some(0)).expect("ping")), "registerRead.i_ping.false.0");
+    assert_eq!(name(regs.write("alarm", &[1]).expect("alarm")), "registerWrite.o_alarm.true");
+}

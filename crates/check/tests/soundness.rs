@@ -309,3 +309,36 @@ fn tick_tock_soundness_of_figures_and_mutants() {
         assert_eq!(*fd == Verdict::Pass, expected, "{label} in FD");
     }
 }
+
+/// The machines on their own: Figure 3's RoboSim machine reads `obstacle`
+/// from its input context (it used to be taken for an output, and `$obstacle`
+/// refused), never deadlocks, and refines Figure 1's machine under the
+/// simulation assumptions, as the module does (the same 73 pairs).
+#[test]
+fn the_robosim_machine_on_its_own() {
+    let consts =
+        |m: &str| format!("constant PI of {m} set to 45, constant av of {m} set to 15, constant lv of {m} set to 1");
+    let rsa = format!(
+        "simulation PM of paper_design::SMovement {{ cycleDef cycle == 1 }}
+         assertion D : paper_sim::SimSMovement is deadlock-free with {} .
+         assertion R : paper_sim::SimSMovement refines PM in the failures divergences model with {}, {} .",
+        consts("paper_sim::SimSMovement").replacen(", constant lv", ", and constant lv", 1),
+        consts("paper_design::SMovement"),
+        consts("paper_sim::SimSMovement").replacen(", constant lv", ", and constant lv", 1),
+    );
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(
+        &db,
+        [
+            ("design.rct".to_string(), example("design.rct")),
+            ("sim.rst".to_string(), example("simulation.rst")),
+            ("checks.rsa".to_string(), rsa),
+        ],
+        robosim_hir::RuleSet::Paper,
+    );
+    let got: Vec<(String, Verdict, u64)> = verify_workspace(&db, ws, &Options::default(), None)
+        .into_iter()
+        .map(|r| (r.name, r.verdict, r.stats.states))
+        .collect();
+    assert_eq!(got, [("D".to_string(), Verdict::Pass, 64), ("R".to_string(), Verdict::Pass, 73)]);
+}
