@@ -24,7 +24,7 @@ pub struct DesignLts<'a> {
 }
 
 /// The printed name of a design channel's events.
-fn channel_name(c: &crate::ir::Channel) -> String {
+pub(crate) fn channel_name(c: &crate::ir::Channel) -> String {
     match (c.is_call, c.dir) {
         (true, _) => format!("{}Call", c.name),
         _ if c.internal => c.name.clone(),

@@ -280,6 +280,24 @@ pub struct Channel {
     pub var: bool,
 }
 
+impl Channel {
+    /// A channel to or from the platform with parameters named by `shape`
+    /// (no register, buffer or variable: callers set those).
+    pub fn new(name: &str, dir: Dir, is_call: bool, shape: Vec<crate::events::Param>) -> Channel {
+        Channel {
+            name: name.to_string(),
+            dir,
+            is_call,
+            params: shape.iter().map(crate::events::Param::dom).collect(),
+            shape,
+            register: None,
+            internal: false,
+            buffer: None,
+            var: false,
+        }
+    }
+}
+
 /// What an asynchronous connection does with the values sent and not yet
 /// received: RoboTool's choice is not documented in any source we have
 /// (semantics.md §11.3), so the engine checks such connections only under

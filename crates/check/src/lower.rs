@@ -192,7 +192,6 @@ pub fn lower_element(
         platform_vars: BTreeSet::new(),
         machine_count: 0,
         lone: false,
-        async_ends: BTreeSet::new(),
         bidirectional: BTreeSet::new(),
     };
     cx.lower(loc, inner)
@@ -216,9 +215,6 @@ struct Cx<'a> {
     /// Whether the design is one machine on its own (every event faces the
     /// environment).
     lone: bool,
-    /// The ends of asynchronous connections between machines or
-    /// controllers.
-    async_ends: BTreeSet<End>,
     /// The platform's events connected both ways (`[ mult ]`).
     bidirectional: BTreeSet<String>,
 }
@@ -291,13 +287,7 @@ impl Cx<'_> {
 
     /// Records the variables a robotic platform declares or provides.
     fn platform_variables(&mut self, file: File, platform: &SyntaxNode) {
-        let mut sources = vec![platform.clone()];
-        for u in platform.children().filter(|c| c.kind() == INTERFACE_USE) {
-            if let Some((_, i)) = self.resolve(file, &path_of(&u), |k| k == DefKind::Interface) {
-                sources.push(i);
-            }
-        }
-        for n in sources {
+        for n in self.with_interfaces(file, platform) {
             for v in n.children().filter(|c| c.kind() == VARIABLE_LIST).flat_map(|l| l.children()) {
                 if v.kind() == VARIABLE {
                     self.platform_vars.insert(name_of(&v));
@@ -309,17 +299,21 @@ impl Cx<'_> {
     /// The events a RoboSim machine's input context declares, itself or
     /// through the interfaces it uses.
     fn input_context_events(&self, file: File, machine: &SyntaxNode) -> Vec<String> {
-        let mut out = Vec::new();
-        for ctx in machine.children().filter(|c| c.kind() == INPUT_CONTEXT) {
-            let mut sources = vec![ctx.clone()];
-            for u in ctx.children().filter(|c| c.kind() == INTERFACE_USE) {
-                sources.extend(self.resolve(file, &path_of(&u), |k| k == DefKind::Interface).map(|(_, n)| n));
-            }
-            for n in sources {
-                out.extend(n.children().filter(|c| c.kind() == EVENT).map(|e| name_of(&e)));
-            }
+        let contexts = machine.children().filter(|c| c.kind() == INPUT_CONTEXT);
+        let sources = contexts.flat_map(|ctx| self.with_interfaces(file, &ctx));
+        sources
+            .flat_map(|n| n.children().filter(|c| c.kind() == EVENT).map(|e| name_of(&e)).collect::<Vec<_>>())
+            .collect()
+    }
+
+    /// `node` and the interfaces it uses, provides or requires (those that
+    /// resolve): where its declarations are.
+    fn with_interfaces(&self, file: File, node: &SyntaxNode) -> Vec<SyntaxNode> {
+        let mut sources = vec![node.clone()];
+        for u in node.children().filter(|c| c.kind() == INTERFACE_USE) {
+            sources.extend(self.resolve(file, &path_of(&u), |k| k == DefKind::Interface).map(|(_, n)| n));
         }
-        out
+        sources
     }
 
     /// A connection with the platform marked `[ mult ]` carries its event
@@ -448,8 +442,8 @@ impl Cx<'_> {
                 ));
             }
         }
-        self.async_ends = async_links.iter().flat_map(|(_, _, a, b)| [a.clone(), b.clone()]).collect();
-        self.build(&top_name, node.kind(), instances, &links, &platform)
+        let async_ends: BTreeSet<End> = async_links.into_iter().flat_map(|(_, _, a, b)| [a, b]).collect();
+        self.build(&top_name, node.kind(), instances, &links, &platform, &async_ends)
     }
 
     /// The machine `name` declared inside the controller `ctrl`, on its own
@@ -464,7 +458,7 @@ impl Cx<'_> {
                 self.unsupported(file, ctrl.text_range(), format!("the controller declares no state machine `{name}`"))
             })?;
         inst.ctrl = String::new();
-        self.build(name, STATE_MACHINE, vec![inst], &[], &HashMap::new())
+        self.build(name, STATE_MACHINE, vec![inst], &[], &HashMap::new(), &BTreeSet::new())
     }
 
     /// Collects the machines of a controller (referenced or inline) and its
@@ -553,6 +547,7 @@ impl Cx<'_> {
         instances: Vec<Instance>,
         links: &[(End, End)],
         platform: &HashMap<End, Dir>,
+        async_ends: &BTreeSet<End>,
     ) -> Result<Design, Unsupported> {
         // Literals of every machine widen the numeric domains (as RoboTool's
         // generator does), and so do the constants' values.
@@ -633,7 +628,6 @@ impl Cx<'_> {
                 sends.insert(b, false);
             }
         }
-        let async_ends = std::mem::take(&mut self.async_ends);
         let external = |machine_end: &End| -> Result<Option<Link>, String> {
             let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
                 return Ok(None);
@@ -1229,23 +1223,20 @@ impl MachineCx<'_, '_> {
                                     ));
                                 }
                                 if link.internal {
-                                    let policy = self.cx.defaults.async_buffer.filter(|_| link.buffered);
                                     // Both ends share the channel: its buffer is made once.
-                                    let has_buffer = self.design().channels[chan as usize].buffer.is_some();
-                                    let buffer = match policy {
-                                        Some(policy) if !has_buffer => {
-                                            let slot = self.new_slot();
-                                            for _ in 0..policy.size {
-                                                self.new_slot();
-                                            }
-                                            Some(Buffer { slot, policy })
+                                    let policy = self.cx.defaults.async_buffer.filter(|_| link.buffered);
+                                    if let Some(policy) =
+                                        policy.filter(|_| self.design().channels[chan as usize].buffer.is_none())
+                                    {
+                                        let slot = self.new_slot();
+                                        for _ in 0..policy.size {
+                                            self.new_slot();
                                         }
-                                        _ => self.design().channels[chan as usize].buffer,
-                                    };
+                                        self.design().channels[chan as usize].buffer = Some(Buffer { slot, policy });
+                                    }
                                     let c = &mut self.design().channels[chan as usize];
                                     c.internal = true;
                                     c.register = None;
-                                    c.buffer = buffer;
                                 }
                                 Some((chan, link.dir))
                             }
@@ -1345,14 +1336,14 @@ impl MachineCx<'_, '_> {
             // A RoboSim input: the register is the variable, set by each
             // cycle's read.
             (true, Some(Dir::In)) => {
-                self.var_channel(name, Dir::In, dom, shape, slot);
+                self.var_channel(name, Dir::In, shape, slot);
                 // An input and output keeps the output channel met before.
                 match self.names.get(name) {
                     Some(Name::Var { update, .. }) => *update,
                     _ => None,
                 }
             }
-            (true, _) => Some(self.var_channel(name, Dir::Out, dom, shape, slot)),
+            (true, _) => Some(self.var_channel(name, Dir::Out, shape, slot)),
         };
         self.names.insert(name.to_string(), Name::Var { slot, dom, shared, update });
         Ok(())
@@ -1360,23 +1351,15 @@ impl MachineCx<'_, '_> {
 
     /// The channel of the platform variable `name` kept in `slot`, in
     /// direction `dir` (made on first use).
-    fn var_channel(&mut self, name: &str, dir: Dir, dom: Dom, shape: Param, slot: u16) -> u16 {
+    fn var_channel(&mut self, name: &str, dir: Dir, shape: Param, slot: u16) -> u16 {
         let d = self.design();
         if let Some(i) = d.channels.iter().position(|c| c.var && c.name == name && c.dir == dir) {
             return i as u16;
         }
-        let register = (dir == Dir::In).then_some(slot);
-        d.channels.push(Channel {
-            name: name.to_string(),
-            dir,
-            is_call: false,
-            params: vec![dom],
-            shape: vec![shape],
-            register,
-            internal: false,
-            buffer: None,
-            var: true,
-        });
+        let mut c = Channel::new(name, dir, false, vec![shape]);
+        c.register = (dir == Dir::In).then_some(slot);
+        c.var = true;
+        d.channels.push(c);
         (d.channels.len() - 1) as u16
     }
 
@@ -1394,7 +1377,6 @@ impl MachineCx<'_, '_> {
         {
             return i as u16;
         }
-        let params = shape.iter().map(Param::dom).collect();
         // A RoboSim input is read into a register: presence, then value.
         let register = (self.cx.robosim && dir == Dir::In).then(|| {
             let s = self.new_slot();
@@ -1402,17 +1384,9 @@ impl MachineCx<'_, '_> {
             s
         });
         let d = self.design();
-        d.channels.push(Channel {
-            name: name.to_string(),
-            dir,
-            is_call,
-            params,
-            shape,
-            register,
-            internal: false,
-            buffer: None,
-            var: false,
-        });
+        let mut c = Channel::new(name, dir, is_call, shape);
+        c.register = register;
+        d.channels.push(c);
         (d.channels.len() - 1) as u16
     }
 

@@ -268,14 +268,9 @@ impl<'a> Constrained<'a> {
         let mut design_group = vec![usize::MAX; design.channels.len()];
         let mut ret_group = vec![usize::MAX; design.channels.len()];
         for (i, c) in design.channels.iter().enumerate() {
-            let name = match (c.is_call, c.dir, paper) {
-                (true, _, _) => format!("{}Call", c.name),
-                _ if c.internal => c.name.clone(),
-                _ if c.var => format!("set_{}", c.name),
-                (false, _, true) => c.name.clone(),
-                (false, Dir::In, false) => format!("{}.in", c.name),
-                (false, Dir::Out, false) => format!("{}.out", c.name),
-            };
+            // The paper names a plain event without `.in`/`.out`.
+            let plain = !(c.is_call || c.internal || c.var);
+            let name = if paper && plain { c.name.clone() } else { crate::design::channel_name(c) };
             let params = c.shape.clone();
             design_group[i] = events.add(name, params).map_err(too_many)?;
             if paper && c.is_call {
@@ -319,8 +314,8 @@ impl<'a> Constrained<'a> {
                 // The register's domain (shared with the other side of a check).
                 let reg_lo = events.group(g).params.get(1).map(|p| p.dom().lo);
                 let steps = design.channels[chan as usize].read_values(reg_lo).map(|(present, v)| {
-                    let args = [present, v.unwrap_or(0)];
-                    let ev = events.event(g, &args[..1 + usize::from(v.is_some())]);
+                    let (args, n_args) = design.channels[chan as usize].read_args(present, v);
+                    let ev = events.event(g, &args[..n_args]);
                     (ev, present as i32, v.filter(|_| present == 1).unwrap_or(0) as i32)
                 });
                 steps.collect()

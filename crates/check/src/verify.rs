@@ -1067,12 +1067,7 @@ fn describe_act(
             (Some(what), Some(Location { file, range: tr.range }))
         }
         Act::Comm => {
-            let what = match &m.code[pc] {
-                Instr::Out { store: Some(_), .. } => "updates the platform variable",
-                Instr::Out { urgent: true, .. } => "calls the platform operation",
-                Instr::Out { .. } => "outputs",
-                _ => "receives",
-            };
+            let what = out_verb(&m.code[pc]).unwrap_or("receives");
             // Between states (on a transition out of a junction) there is
             // no state to name.
             let place = m.leaf(prev).map(|l| format!(" in {}", at(Some(l)))).unwrap_or_default();
@@ -1085,15 +1080,24 @@ fn describe_act(
             let pc = prev[a.pc_slot as usize] as usize;
             let what = match (act, m.code.get(pc)) {
                 (Act::ActivityChoose(_, n), _) => format!("the wait interval resolves to {n}"),
-                (_, Some(Instr::Out { store: Some(_), .. })) => "updates the platform variable".into(),
-                (_, Some(Instr::Out { urgent: true, .. })) => "calls the platform operation".into(),
-                (_, Some(Instr::Out { .. })) => "outputs".into(),
+                (_, Some(i @ Instr::Out { .. })) => out_verb(i).unwrap_or_default().into(),
                 (_, Some(Instr::In { .. })) => "receives".into(),
                 _ => "writes a variable".into(),
             };
             let here = code_location(design, m, pc);
             (Some(format!("{}: {what} in the during action of {}", m.name, at(Some(a.state)))), here)
         }
+    }
+}
+
+/// What a machine does at an output instruction, in words (none for other
+/// instructions).
+fn out_verb(instr: &Instr) -> Option<&'static str> {
+    match instr {
+        Instr::Out { store: Some(_), .. } => Some("updates the platform variable"),
+        Instr::Out { urgent: true, .. } => Some("calls the platform operation"),
+        Instr::Out { .. } => Some("outputs"),
+        _ => None,
     }
 }
 

@@ -9,7 +9,7 @@
 //! one required in the input context is read from its register at the start
 //! of every cycle (`registerRead.i_x.v`, no presence flag).
 
-use robosim_check::verify::{trace_text, verify_workspace, Options, Profile, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_workspace, Counterexample, Options, Profile, Report, Verdict};
 
 fn verify(files: &[(&str, &str)], profile: Profile) -> Vec<Report> {
     let db = robosim_hir::RootDatabase::default();
@@ -37,6 +37,15 @@ fn verdicts(reports: &[Report]) -> Vec<(String, Verdict, u64)> {
 fn expect(reports: &[Report], expected: &[(&str, Verdict, u64)]) {
     let expected: Vec<(String, Verdict, u64)> = expected.iter().map(|(n, v, s)| (n.to_string(), *v, *s)).collect();
     assert_eq!(verdicts(reports), expected);
+}
+
+/// `report`'s counterexample, after checking its trace and its one-line
+/// explanation.
+fn counterexample<'r>(report: &'r Report, trace: &str, explanation: &str) -> &'r Counterexample {
+    let cx = report.counterexample.as_ref().unwrap_or_else(|| panic!("{}: no counterexample", report.name));
+    assert_eq!(trace_text(&cx.steps), trace, "{}", report.name);
+    assert_eq!(cx.explanation, [explanation], "{}", report.name);
+    cx
 }
 
 /// A design whose machine `Setter` sets the platform's `speed` on entering
@@ -134,15 +143,11 @@ fn two_updates_in_one_cycle_cannot_be_scheduled() {
         Profile::RoboTool3,
     );
     expect(&reports, &[("A", Verdict::Fail, 10)]);
-    let cx = reports[0].counterexample.as_ref().expect("a counterexample");
-    assert_eq!(
-        trace_text(&cx.steps),
-        "registerRead.i_obstacle.true (set_speed.1) registerWrite.o_speed.1 (obstacle.in)"
-    );
-    assert_eq!(
-        cx.explanation,
-        ["c::s (in B) must set speed = 2 now (updates of platform variables cannot be delayed), but `speed` was \
-          already written in this cycle (one write per output per cycle)"]
+    let cx = counterexample(
+        &reports[0],
+        "registerRead.i_obstacle.true (set_speed.1) registerWrite.o_speed.1 (obstacle.in)",
+        "c::s (in B) must set speed = 2 now (updates of platform variables cannot be delayed), but `speed` was \
+         already written in this cycle (one write per output per cycle)",
     );
     // The stuck point is B's entry action.
     let at = &cx.stuck_at[0];
@@ -195,14 +200,10 @@ fn a_simulation_writing_a_wrong_value_is_not_sound() {
         &reports,
         &[("A", Verdict::Pass, 23), ("R", Verdict::Fail, 13), ("C", Verdict::Fail, 16), ("D", Verdict::Pass, 31)],
     );
-    let r = reports[1].counterexample.as_ref().expect("R's counterexample");
-    assert_eq!(
-        trace_text(&r.steps),
-        "registerRead.i_obstacle.true registerWrite.o_speed.1 tock registerRead.i_obstacle.true"
-    );
-    assert_eq!(
-        r.explanation,
-        ["the implementation refuses every event the specification must offer: one of {registerWrite.o_speed.2}"]
+    counterexample(
+        &reports[1],
+        "registerRead.i_obstacle.true registerWrite.o_speed.1 tock registerRead.i_obstacle.true",
+        "the implementation refuses every event the specification must offer: one of {registerWrite.o_speed.2}",
     );
 }
 

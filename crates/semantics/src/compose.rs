@@ -137,11 +137,17 @@ fn variables_of_interfaces(
         let Some((_, i)) = util::resolve(ex.db, ex.ws, file, &path_of(&u), |k| k == DefKind::Interface) else {
             continue;
         };
-        for l in children(&i, VARIABLE_LIST).filter(|l| !l.children_with_tokens().any(|t| t.kind() == CONST_KW)) {
-            out.extend(children(&l, VARIABLE).map(|v| name_of(&v)));
-        }
+        out.extend(variables(&i));
     }
     out
+}
+
+/// The non-constant variables `node` declares itself.
+fn variables(node: &SyntaxNode) -> Vec<String> {
+    children(node, VARIABLE_LIST)
+        .filter(|l| !l.children_with_tokens().any(|t| t.kind() == CONST_KW))
+        .flat_map(|l| children(&l, VARIABLE).map(|v| name_of(&v)).collect::<Vec<_>>())
+        .collect()
 }
 
 /// Events an interface-using context declares: own events and those of
@@ -351,10 +357,8 @@ fn module_(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: String,
             // Variables of the platform (its own, and those of the
             // interfaces it uses or provides, as `robosim verify` reads
             // them) are outputs (Rule 1): not exported yet.
-            let own_vars = children(&pn, VARIABLE_LIST)
-                .filter(|l| !l.children_with_tokens().any(|t| t.kind() == CONST_KW))
-                .flat_map(|l| children(&l, VARIABLE).map(|v| name_of(&v)).collect::<Vec<_>>());
-            let vars: BTreeSet<String> = own_vars.chain(variables_of_interfaces(ex, pf, &pn, |_| true)).collect();
+            let mut vars = variables_of_interfaces(ex, pf, &pn, |_| true);
+            vars.extend(variables(&pn));
             if let Some(v) = vars.iter().next() {
                 problems.push((
                     pf,
