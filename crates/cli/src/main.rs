@@ -137,7 +137,16 @@ enum Command {
         paths: Vec<PathBuf>,
     },
     /// Run the language server (LSP over stdin/stdout).
-    Lsp,
+    Lsp {
+        /// Accepted for clients that announce the transport (VS Code's
+        /// `TransportKind.stdio` appends it); stdio is the only transport.
+        #[arg(long)]
+        stdio: bool,
+        /// Accepted and ignored, as most language servers do: the server
+        /// ends when the client closes its input.
+        #[arg(long = "clientProcessId", value_name = "PID")]
+        client_process_id: Option<u64>,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -213,7 +222,7 @@ fn main() -> ExitCode {
             out,
             paths,
         }),
-        Command::Lsp => robosim_lsp::run_stdio(),
+        Command::Lsp { stdio: _, client_process_id: _ } => robosim_lsp::run_stdio(),
     }
 }
 

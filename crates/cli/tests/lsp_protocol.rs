@@ -106,6 +106,19 @@ fn end_of_input_ends_the_server() {
     assert_eq!(status.code(), Some(1));
 }
 
+/// The arguments clients add to a server's command line: VS Code's
+/// `TransportKind.stdio` appends `--stdio`, and some clients pass
+/// `--clientProcessId`. The server accepts both and serves as usual.
+#[test]
+fn client_transport_arguments_are_accepted() {
+    for args in [&["--stdio"][..], &["--clientProcessId=4242"], &["--stdio", "--clientProcessId", "7"]] {
+        let mut server = Server::start_with_args(args);
+        let init = server.initialize(json!({}), Value::Null);
+        assert!(!init["result"]["capabilities"]["hoverProvider"].is_null(), "{args:?}: {init}");
+        server.shutdown();
+    }
+}
+
 /// `exit` before `initialize`: status 1, at once.
 #[test]
 fn exit_before_initialize() {

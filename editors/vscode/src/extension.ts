@@ -8,7 +8,6 @@ import {
   LanguageClientOptions,
   RevealOutputChannelOn,
   ServerOptions,
-  TransportKind,
 } from "vscode-languageclient/node";
 import { DIAGRAM_REQUEST, DiagramResult, DiagramViews, SHOW_DIAGRAM } from "./diagram";
 import { RstSwitcher } from "./rst-detect";
@@ -74,11 +73,12 @@ async function startClient(): Promise<void> {
   log(`starting ${found.command} lsp (found via ${found.source === "path" ? "PATH" : found.source})`);
 
   const serverOptions: ServerOptions = {
-    run: { command: found.command, args: ["lsp"], transport: TransportKind.stdio },
+    // No `transport`: with `TransportKind.stdio` the client appends
+    // `--stdio`; stdio is the default for an executable anyway.
+    run: { command: found.command, args: ["lsp"] },
     debug: {
       command: found.command,
       args: ["lsp"],
-      transport: TransportKind.stdio,
       options: { env: { ...process.env, RUST_BACKTRACE: "1" } },
     },
   };

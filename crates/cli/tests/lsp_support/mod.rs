@@ -37,8 +37,14 @@ pub struct Server {
 impl Server {
     /// Starts `robosim lsp`.
     pub fn start() -> Server {
+        Server::start_with_args(&[])
+    }
+
+    /// Starts `robosim lsp` with extra arguments after `lsp`.
+    pub fn start_with_args(args: &[&str]) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_robosim"))
             .arg("lsp")
+            .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
