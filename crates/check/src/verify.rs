@@ -8,8 +8,9 @@ use std::time::Instant;
 use robosim_hir::{parse, Db, File, TextRange, Workspace};
 
 use crate::algo::{
-    check_determinism, find_deadlock, find_divergence, find_timed_deadlock, refines, DeadlockResult, DeterminismResult,
-    DivergenceResult, Path, RefinementCex, RefinementResult, SemanticModel, TimedDeadlockResult,
+    check_determinism, find_deadlock, find_divergence, find_timed_deadlock, find_timelock, refines, DeadlockResult,
+    DeterminismResult, DivergenceResult, Path, RefinementCex, RefinementResult, SemanticModel, TimedDeadlockResult,
+    TimelockResult,
 };
 use crate::assertions::{read_assertions, AssertionDecl, AssertionFile, AssertionKind, SemanticModelName, Value};
 use crate::budget::{Budget, ProgressFn, Stats};
@@ -225,6 +226,14 @@ pub fn verify_assertion(
         | AssertionKind::DivergenceFree
         | AssertionKind::Deterministic
         | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
+        AssertionKind::ClockInitialised { .. } => {
+            // RT-10: RoboTool's authors commented such assertions out.
+            report.reason = Some(
+                "`clock … is initialised` assertions are not supported by RoboTool 3's semantics either \
+                 (it generates no encoding for them), so there is no verdict to match"
+                    .into(),
+            );
+        }
         other => {
             report.reason = Some(format!("`{}` assertions are not supported by the native checker yet", other.label()));
         }
@@ -581,6 +590,30 @@ fn refinement(
     }
 }
 
+/// Why time cannot pass at `state`, a stable state without `tock`: what
+/// it offers (which the environment may refuse), or that it has ended.
+fn timelock_reason(lts: &Side<'_>, state: &Packed) -> String {
+    let mut succ = Vec::new();
+    lts.successors(state, &mut succ);
+    let mut offered: Vec<String> = Vec::new();
+    for (label, _) in &succ {
+        let e = lts.event_name(label.event);
+        if !offered.contains(&e) {
+            offered.push(e);
+        }
+    }
+    match offered.as_slice() {
+        [] => "nothing can happen here, not even time passing".into(),
+        [only] if only == "✓" => {
+            "it has terminated: time cannot pass (RT-10 counts termination as a timelock)".into()
+        }
+        _ => format!(
+            "time cannot pass until one of {{{}}} happens, and the environment may refuse them (RT-10)",
+            offered.join(", ")
+        ),
+    }
+}
+
 /// Whether a property holds, its witness (kind, path, what happens at its
 /// end), and the verdict in words.
 type Outcome = (bool, Option<(&'static str, Path<Packed>, String)>, String);
@@ -619,16 +652,17 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                 }
             }
             AssertionKind::TimelockFree => {
-                let (r, stats) = find_deadlock(&lts, &opts.budget, progress);
+                // RT-10: the environment may refuse every event, so a
+                // stable state without `tock` stops time.
+                let (r, stats) = find_timelock(&lts, &opts.budget, progress);
                 report.stats = stats;
                 match r {
-                    DeadlockResult::Free => Ok((true, None, format!("time can always pass in {name}"))),
-                    DeadlockResult::Deadlock(path) => Ok((
-                        false,
-                        Some(("timelock", path, "nothing can happen here, not even time passing".into())),
-                        format!("{name} reaches a timelock"),
-                    )),
-                    DeadlockResult::Inconclusive(stop) => Err(stop),
+                    TimelockResult::Free => Ok((true, None, format!("time can always pass in {name}"))),
+                    TimelockResult::Timelock(path) => {
+                        let why = timelock_reason(&lts, path.last());
+                        Ok((false, Some(("timelock", path, why)), format!("{name} reaches a timelock")))
+                    }
+                    TimelockResult::Inconclusive(stop) => Err(stop),
                 }
             }
             AssertionKind::DivergenceFree => {

@@ -39,6 +39,13 @@ fn the_running_examples_design() {
     let c = d4.counterexample.as_ref().expect("a witness");
     assert_eq!(c.kind, "nondeterminism");
     assert!(trace_text(&c.steps).contains("stopCall"), "{}", trace_text(&c.steps));
+    // D3 (`is not timelock-free`, RT-10): the witness ends where the
+    // design must call the platform, which may refuse the call.
+    let d3 = &reports[2];
+    let c = d3.counterexample.as_ref().expect("a witness");
+    assert_eq!(c.kind, "timelock");
+    assert_eq!(trace_text(&c.steps), "");
+    assert!(c.explanation.iter().any(|e| e.contains("moveCall") && e.contains("RT-10")), "{:?}", c.explanation);
     // D5: the shortest way into Turning.
     let d5 = &reports[4];
     assert_eq!(
@@ -73,7 +80,8 @@ fn failing_properties() {
             ("B", Verdict::Fail, Some("divergence")),
             ("C", Verdict::Fail, Some("nondeterminism")),
             ("D", Verdict::Pass, Some("reachability")),
-            ("E", Verdict::Pass, None),
+            // RT-10: the platform may refuse the urgent call `op()`.
+            ("E", Verdict::Fail, Some("timelock")),
             ("F", Verdict::Fail, Some("timelock")),
         ],
         "{reports:#?}"
