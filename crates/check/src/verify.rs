@@ -8,16 +8,16 @@ use std::time::Instant;
 use robosim_hir::{parse, Db, File, TextRange, Workspace};
 
 use crate::algo::{
-    check_determinism, find_deadlock, find_divergence, find_timed_deadlock, find_timelock, refines, DeadlockResult,
-    DeterminismResult, DivergenceResult, Path, RefinementCex, RefinementResult, SemanticModel, TimedDeadlockResult,
-    TimelockResult,
+    check_determinism, find_deadlock, find_divergence, find_event, find_timed_deadlock, find_timelock, refines,
+    DeadlockResult, DeterminismResult, DivergenceResult, EventResult, Path, RefinementCex, RefinementResult,
+    SemanticModel, TimedDeadlockResult, TimelockResult,
 };
 use crate::assertions::{read_assertions, AssertionDecl, AssertionFile, AssertionKind, SemanticModelName, Value};
 use crate::budget::{Budget, ProgressFn, Stats};
 use crate::design::{shared_events, DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_element, ConstValue, DomainDefaults, Unsupported};
-use crate::lts::{Event, Label, Lts, TAU, TOCK};
+use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
 use crate::machine::{Act, Offer};
 use crate::pack::{Packed, VectorLts};
 use crate::sched::{Constrained, Registers, State};
@@ -225,6 +225,7 @@ pub fn verify_assertion(
         | AssertionKind::TimelockFree
         | AssertionKind::DivergenceFree
         | AssertionKind::Deterministic
+        | AssertionKind::Terminates
         | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
         AssertionKind::ClockInitialised { .. } => {
             // RT-10: RoboTool's authors commented such assertions out.
@@ -663,6 +664,35 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                         Ok((false, Some(("timelock", path, why)), format!("{name} reaches a timelock")))
                     }
                     TimelockResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            AssertionKind::Terminates => {
+                // RT-10: ✓ is reachable, and the process deadlocks only
+                // after ✓ (a state reached by ✓ is not a deadlock).
+                let (r, stats) = find_deadlock(&lts, &opts.budget, progress);
+                report.stats = stats;
+                match r {
+                    DeadlockResult::Deadlock(path) => Ok((
+                        false,
+                        Some(("deadlock", path, "nothing can happen here, and it has not terminated".into())),
+                        format!("{name} can deadlock before it terminates"),
+                    )),
+                    DeadlockResult::Inconclusive(stop) => Err(stop),
+                    DeadlockResult::Free => {
+                        let (r, stats) = find_event(&lts, TICK, &opts.budget, progress);
+                        report.stats.states += stats.states;
+                        report.stats.transitions += stats.transitions;
+                        report.stats.seconds += stats.seconds;
+                        match r {
+                            EventResult::Reached(path) => Ok((
+                                true,
+                                Some(("termination", path, "it terminates here".into())),
+                                format!("{name} terminates, and deadlocks only after it has"),
+                            )),
+                            EventResult::Unreachable => Ok((false, None, format!("{name} never terminates"))),
+                            EventResult::Inconclusive(stop) => Err(stop),
+                        }
+                    }
                 }
             }
             AssertionKind::DivergenceFree => {

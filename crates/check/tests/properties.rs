@@ -163,3 +163,38 @@ fn tick_tock_refinement_of_designs() {
     assert_eq!(trace_text(&c.steps), "tock");
     assert!(c.explanation[0].ends_with("one of {tock, a.in}"), "{:?}", c.explanation);
 }
+
+/// `terminates` (RT-10): ✓ is reachable, and the process deadlocks only
+/// after ✓.
+#[test]
+fn termination() {
+    let rct = "interface I { event e }
+        stm Ends { initial i final f transition t { from i to f } }
+        stm Waits { initial i state S { } transition t { from i to S } }
+        stm Late { initial i state S { entry (wait(2) <{1}) } final f
+          transition t { from i to S } transition u { from S to f } }
+        stm Maybe { uses I initial i state S { } final f
+          transition t { from i to S } transition u { from S to f trigger e } }";
+    let asserts = "assertion A : Ends terminates
+        assertion B : Waits terminates
+        assertion C : Late terminates
+        assertion D : Maybe terminates
+        assertion E : Waits does not terminate";
+    let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
+    assert_eq!(
+        verdicts(&reports),
+        vec![
+            ("A", Verdict::Pass, Some("termination")),
+            // Only time passes: no deadlock, but no ✓ either.
+            ("B", Verdict::Fail, None),
+            // The deadline cannot be met: nothing can happen before ✓.
+            ("C", Verdict::Fail, Some("deadlock")),
+            // After e it terminates; meanwhile time passes.
+            ("D", Verdict::Pass, Some("termination")),
+            ("E", Verdict::Pass, None),
+        ],
+        "{reports:#?}"
+    );
+    let d = reports[3].counterexample.as_ref().expect("a witness");
+    assert_eq!(trace_text(&d.steps), "e.in ✓");
+}

@@ -57,6 +57,8 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         ),
         Decl::Channel(vec!["terminate".into(), "timelock".into()], vec![]),
         Decl::Channel(vec!["deadline_done__".into()], vec![]),
+        Decl::Comment("`terminated__` follows termination in `terminates` checks (robotool-facts RT-10).".into()),
+        Decl::Channel(vec!["terminated__".into()], vec![]),
         Decl::Comment("Directions of RoboChart events.".into()),
         Decl::Datatype("InOut".into(), vec![("in".into(), vec![]), ("out".into(), vec![])]),
         Decl::Transparent(vec!["sbisim".into()]),
