@@ -7,7 +7,9 @@
 # editors/vscode), installs it into code-server with a fresh profile, points
 # `robosim.server.path` at ROBOSIM_BIN, opens a workspace of example models
 # and checks the features in the UI (test.mjs). Screenshots of every step go
-# to target/vscode-e2e/ (under CARGO_TARGET_DIR if set).
+# to target/vscode-e2e/shots/ (under CARGO_TARGET_DIR if set); the profile,
+# with the logs of the extension host and of the server's trace, stays in
+# target/vscode-e2e/state/ until the next run.
 #
 # ROBOSIM_BIN names the server binary; when unset, it is built with cargo.
 # Installs what it needs: Chromium, a C++ toolchain, libkrb5-dev and ripgrep
@@ -29,13 +31,11 @@ fail() {
 
 # --- System packages -------------------------------------------------------
 need=()
-command -v chromium >/dev/null 2>&1 || need+=(chromium)
-command -v g++ >/dev/null 2>&1 || need+=(g++)
-command -v make >/dev/null 2>&1 || need+=(make)
-command -v rg >/dev/null 2>&1 || need+=(ripgrep)
-command -v python3 >/dev/null 2>&1 || need+=(python3) # node-gyp
-[ -e /usr/include/krb5.h ] || [ -e /usr/include/gssapi/gssapi.h ] || need+=(libkrb5-dev) # kerberos
-fc-list 2>/dev/null | grep -qi "DejaVu Sans" || need+=(fonts-dejavu-core)
+# chromium: the browser; g++, make, python3 (node-gyp) and libkrb5-dev (the
+# `kerberos` module): code-server's native modules; ripgrep: see below.
+for p in chromium g++ make python3 libkrb5-dev ripgrep fonts-dejavu-core; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || need+=("$p")
+done
 if [ "${#need[@]}" -gt 0 ]; then
   echo "vscode-e2e: installing ${need[*]} with apt-get"
   if [ "$(id -u)" -eq 0 ]; then sudo=""; else sudo="sudo"; fi
@@ -54,23 +54,31 @@ nodedir="$(cd "$(dirname "$(readlink -f "$(command -v node)")")/.." && pwd)"
   || fail "Node's headers ($nodedir/include/node/node.h) are missing: install the nodejs package that ships them"
 
 # --- Node packages -----------------------------------------------------------
-cache="$here/.cache"
-if [ ! -x "$here/node_modules/.bin/code-server" ] || [ ! -d "$here/node_modules/playwright-core" ] \
-  || [ ! -e "$here/node_modules/code-server/lib/vscode/node_modules/@vscode/ripgrep/bin/rg" ] \
-  || [ "$here/package-lock.json" -nt "$here/node_modules/.package-lock.json" ]; then
+# Installed outside editors/vscode (vsce would walk a node_modules there on
+# every `npm run package`), from this folder's package.json and lock file.
+node_dir="$out/node"
+if [ ! -x "$node_dir/node_modules/.bin/code-server" ] || [ ! -d "$node_dir/node_modules/playwright-core" ] \
+  || [ ! -e "$node_dir/node_modules/code-server/lib/vscode/node_modules/@vscode/ripgrep/bin/rg" ] \
+  || ! cmp -s "$here/package-lock.json" "$node_dir/package-lock.json"; then
+  rm -rf "$node_dir"
+  mkdir -p "$node_dir"
+  cp "$here/package.json" "$here/package-lock.json" "$node_dir/"
   # @vscode/ripgrep (a dependency of code-server's VS Code) downloads rg in
   # its install script unless the archive is in its cache, under TMPDIR: the
   # archive it expects, with Debian's rg in it. Both names follow the
   # versions that code-server 4.100.3's shrinkwrap pins.
-  rm -rf "$cache"
+  cache="$node_dir/.install"
   mkdir -p "$cache/tmp/vscode-ripgrep-cache-1.15.11" "$cache/rg"
   cp "$(command -v rg)" "$cache/rg/rg"
   tar czf "$cache/tmp/vscode-ripgrep-cache-1.15.11/ripgrep-v13.0.0-10-x86_64-unknown-linux-musl.tar.gz" -C "$cache/rg" rg
   echo "vscode-e2e: npm ci (code-server builds its native modules; about a minute)"
-  (cd "$here" && TMPDIR="$cache/tmp" npm_config_yes=true npm_config_unsafe_perm=true npm_config_nodedir="$nodedir" \
+  # npm_config_yes: code-server's install runs `npx node-gyp`; unsafe_perm:
+  # it refuses to install as root without it.
+  (cd "$node_dir" && TMPDIR="$cache/tmp" npm_config_yes=true npm_config_unsafe_perm=true npm_config_nodedir="$nodedir" \
     npm ci --no-audit --no-fund >"$cache/npm-ci.log" 2>&1) || {
     tail -40 "$cache/npm-ci.log" >&2
-    fail "npm ci in editors/vscode/e2e (log: $cache/npm-ci.log)"
+    rm -f "$node_dir/package-lock.json" # install again next time
+    fail "npm ci of editors/vscode/e2e/package-lock.json (log: $cache/npm-ci.log)"
   }
 fi
 
@@ -95,10 +103,9 @@ esac
 [ -x "$ROBOSIM_BIN" ] || fail "ROBOSIM_BIN=$ROBOSIM_BIN is not an executable file"
 
 # --- A fresh profile and workspace -------------------------------------------
-rm -rf "$out"
+rm -rf "$out/shots" "$out/state" "$out"/*.log "$out"/*.txt
 mkdir -p "$out/shots"
-state="$here/.run" # profile, extensions and the workspace copy
-rm -rf "$state"
+state="$out/state" # profile, extensions and the workspace copy
 mkdir -p "$state/config" "$state/data" "$state/user-data/User" "$state/extensions" "$state/tmp"
 # code-server writes to ~/.config and ~/.local/share even with
 # --user-data-dir; keep it all inside the test's folder.
@@ -108,7 +115,7 @@ mkdir -p "$workspace"
 cp -r "$repo/examples/paper" "$workspace/paper"
 cp -r "$here/workspace/." "$workspace/"
 
-cs=("$here/node_modules/.bin/code-server" --user-data-dir "$state/user-data" --extensions-dir "$state/extensions")
+cs=("$node_dir/node_modules/.bin/code-server" --user-data-dir "$state/user-data" --extensions-dir "$state/extensions")
 timeout 120 "${cs[@]}" --install-extension "$vsix" >"$out/install.log" 2>&1 || {
   cat "$out/install.log" >&2
   fail "code-server --install-extension $vsix"
@@ -159,7 +166,8 @@ trap 'exit 130' INT TERM
 setsid "${cs[@]}" --bind-addr "127.0.0.1:$port" --auth none --disable-telemetry --disable-update-check \
   --disable-workspace-trust --disable-getting-started-override --ignore-last-opened "$workspace" \
   >"$out/code-server.log" 2>&1 </dev/null &
-pgid=$! # setsid runs code-server as the leader of a new process group
+pgid=$! # setsid (not a group leader here, so it does not fork) makes code-server one
+[ "$(ps -o pgid= -p "$pgid" | tr -d ' ')" = "$pgid" ] || fail "code-server is not the leader of its process group"
 for _ in $(seq 1 120); do
   grep -q "HTTP server listening" "$out/code-server.log" 2>/dev/null && break
   kill -0 "$pgid" 2>/dev/null || break
@@ -172,7 +180,7 @@ grep -q "HTTP server listening" "$out/code-server.log" || {
 
 status=0
 VSCODE_E2E_URL="http://127.0.0.1:$port/?folder=$workspace" VSCODE_E2E_WORKSPACE="$workspace" \
-  VSCODE_E2E_SHOTS="$out/shots" VSCODE_E2E_SETTINGS="$state/user-data/User/settings.json" \
+  VSCODE_E2E_NODE="$node_dir" VSCODE_E2E_SHOTS="$out/shots" VSCODE_E2E_SETTINGS="$state/user-data/User/settings.json" \
   timeout 600 node "$here/test.mjs" || status=$?
 # test.mjs prints `vscode-e2e: N passed, M failed`; a crash before it did not.
 if [ "$status" -ne 0 ] && [ "$status" -ne 1 ]; then
