@@ -281,11 +281,13 @@ try {
     console.log(`vscode-e2e:   hover: ${oneLine(text)}`);
   }, 45);
 
-  await step("hover on a declaration", async () => {
+  // A use of a machine: the hover shows its declaration and its comment.
+  await step("hover shows the declaration", async () => {
     await openFile("paper/design.rct");
     const [line, column] = find("paper/design.rct", "sref sm = SMovement", 10);
     await goTo(line, column + 2);
     const text = await hoverAtCursor("stm SMovement");
+    if (!text.includes("Move forward; on an obstacle, stop and turn")) throw new Error(`no doc comment: ${oneLine(text)}`);
     console.log(`vscode-e2e:   hover: ${oneLine(text)}`);
   });
 
@@ -293,8 +295,9 @@ try {
   await step("go to definition across files", async () => {
     await openFile("paper/simulation_alt.rst");
     const [line, column] = find("paper/simulation_alt.rst", "requires MovementI", 9);
+    await until("RoboSim is the language mode", async () => (await languageMode()) === "RoboSim");
     await goTo(line, column + 2);
-    await command("Go to Definition");
+    await page.keyboard.press("F12");
     const [declLine] = find("paper/simulation.rst", "interface MovementI");
     await until("simulation.rst is the active editor", async () =>
       (await page.locator(".editor-group-container.active .tab.active").first().getAttribute("aria-label"))?.startsWith("simulation.rst"),
@@ -362,6 +365,10 @@ try {
     await page.waitForTimeout(2000);
     const mode = await languageMode();
     if (mode !== "reStructuredText") throw new Error(`notes.rst switched to ${mode}`);
+    // Nor does the server check it.
+    await command("View: Focus Problems");
+    const problems = await page.locator(".markers-panel").innerText();
+    if (problems.includes("notes.rst")) throw new Error(`notes.rst has problems: ${oneLine(problems)}`);
   });
 
   await step("rst: a RoboSim model opens as RoboSim", async () => {
