@@ -108,15 +108,22 @@ const cursor = () => statusText("status.editor.selection");
 const languageMode = () => statusText("status.editor.mode");
 const activeEditor = () => page.locator(".editor-group-container.active .monaco-editor").first();
 
+/** Runs a command from the Command Palette (F1), by its title. */
 async function command(title) {
   await page.keyboard.press("F1");
   const input = page.locator(".quick-input-widget input");
   await input.waitFor({ state: "visible" });
   await input.fill(`>${title}`);
-  await page.locator(".quick-input-list .monaco-list-row", { hasText: title }).first().waitFor();
+  // As in openFile: Enter only once the list has filtered down to it.
+  const first = page.locator(".quick-input-list .monaco-list-row").first();
+  await until(`the command palette offers ${title} first`, async () => {
+    const label = (await first.getAttribute("aria-label")) ?? "";
+    return label.startsWith(title) ? label : seen(label);
+  });
   await page.keyboard.press("Enter");
 }
 
+/** Opens a workspace file with Quick Open (Ctrl+P). */
 async function openFile(rel) {
   const name = rel.split("/").pop();
   const folder = rel.includes("/") ? rel.slice(0, rel.lastIndexOf("/")) : "";
@@ -162,6 +169,7 @@ function find(rel, needle, offset = 0) {
   return [before.length, before[before.length - 1].length + 1];
 }
 
+/** The text of the hover on screen ("" when there is none). */
 async function hoverText() {
   const hover = page.locator(".monaco-hover:not(.hidden) .monaco-hover-content");
   if (!(await hover.count())) return "";
@@ -194,10 +202,9 @@ async function hoverAtCursor(expect, ms = 15000) {
   }, ms);
 }
 
-
 const oneLine = (t) => t.replace(/\s+/g, " ").slice(0, 200);
 
-/** The top of line `line`'s number in the gutter of the active editor. */
+/** The box of line `line`'s number in the gutter of the active editor. */
 async function lineBox(line) {
   const n = activeEditor().locator(".margin-view-overlays .line-numbers", { hasText: new RegExp(`^\\s*${line}\\s*$`) });
   return (await n.count()) ? n.first().boundingBox() : null;
