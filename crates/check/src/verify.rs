@@ -8,15 +8,16 @@ use std::time::Instant;
 use robosim_hir::{parse, Db, File, TextRange, Workspace};
 
 use crate::algo::{
-    check_determinism, find_deadlock, find_divergence, find_timed_deadlock, refines, DeadlockResult, DeterminismResult,
-    DivergenceResult, Path, RefinementCex, RefinementResult, SemanticModel, TimedDeadlockResult,
+    check_determinism, find_deadlock, find_divergence, find_event, find_timed_deadlock, find_timelock, refines,
+    DeadlockResult, DeterminismResult, DivergenceResult, EventResult, Path, RefinementCex, RefinementResult,
+    SemanticModel, TimedDeadlockResult, TimelockResult,
 };
 use crate::assertions::{read_assertions, AssertionDecl, AssertionFile, AssertionKind, SemanticModelName, Value};
 use crate::budget::{Budget, ProgressFn, Stats};
 use crate::design::{shared_events, DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_element, ConstValue, DomainDefaults, Unsupported};
-use crate::lts::{Event, Label, Lts, TAU, TOCK};
+use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
 use crate::machine::{Act, Offer};
 use crate::pack::{Packed, VectorLts};
 use crate::sched::{Constrained, Registers, State};
@@ -224,7 +225,16 @@ pub fn verify_assertion(
         | AssertionKind::TimelockFree
         | AssertionKind::DivergenceFree
         | AssertionKind::Deterministic
+        | AssertionKind::Terminates
         | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
+        AssertionKind::ClockInitialised { .. } => {
+            // RT-10: RoboTool's authors commented such assertions out.
+            report.reason = Some(
+                "`clock … is initialised` assertions are not supported by RoboTool 3's semantics either \
+                 (it generates no encoding for them), so there is no verdict to match"
+                    .into(),
+            );
+        }
         other => {
             report.reason = Some(format!("`{}` assertions are not supported by the native checker yet", other.label()));
         }
@@ -581,6 +591,30 @@ fn refinement(
     }
 }
 
+/// Why time cannot pass at `state`, a stable state without `tock`: what
+/// it offers (which the environment may refuse), or that it has ended.
+fn timelock_reason(lts: &Side<'_>, state: &Packed) -> String {
+    let mut succ = Vec::new();
+    lts.successors(state, &mut succ);
+    let mut offered: Vec<String> = Vec::new();
+    for (label, _) in &succ {
+        let e = lts.event_name(label.event);
+        if !offered.contains(&e) {
+            offered.push(e);
+        }
+    }
+    match offered.as_slice() {
+        [] => "nothing can happen here, not even time passing".into(),
+        [only] if only == "✓" => {
+            "it has terminated: time cannot pass (RT-10 counts termination as a timelock)".into()
+        }
+        _ => format!(
+            "time cannot pass until one of {{{}}} happens, and the environment may refuse them (RT-10)",
+            offered.join(", ")
+        ),
+    }
+}
+
 /// Whether a property holds, its witness (kind, path, what happens at its
 /// end), and the verdict in words.
 type Outcome = (bool, Option<(&'static str, Path<Packed>, String)>, String);
@@ -619,16 +653,46 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                 }
             }
             AssertionKind::TimelockFree => {
+                // RT-10: the environment may refuse every event, so a
+                // stable state without `tock` stops time.
+                let (r, stats) = find_timelock(&lts, &opts.budget, progress);
+                report.stats = stats;
+                match r {
+                    TimelockResult::Free => Ok((true, None, format!("time can always pass in {name}"))),
+                    TimelockResult::Timelock(path) => {
+                        let why = timelock_reason(&lts, path.last());
+                        Ok((false, Some(("timelock", path, why)), format!("{name} reaches a timelock")))
+                    }
+                    TimelockResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            AssertionKind::Terminates => {
+                // RT-10: ✓ is reachable, and the process deadlocks only
+                // after ✓ (a state reached by ✓ is not a deadlock).
                 let (r, stats) = find_deadlock(&lts, &opts.budget, progress);
                 report.stats = stats;
                 match r {
-                    DeadlockResult::Free => Ok((true, None, format!("time can always pass in {name}"))),
                     DeadlockResult::Deadlock(path) => Ok((
                         false,
-                        Some(("timelock", path, "nothing can happen here, not even time passing".into())),
-                        format!("{name} reaches a timelock"),
+                        Some(("deadlock", path, "nothing can happen here, and it has not terminated".into())),
+                        format!("{name} can deadlock before it terminates"),
                     )),
                     DeadlockResult::Inconclusive(stop) => Err(stop),
+                    DeadlockResult::Free => {
+                        let (r, stats) = find_event(&lts, TICK, &opts.budget, progress);
+                        report.stats.states += stats.states;
+                        report.stats.transitions += stats.transitions;
+                        report.stats.seconds += stats.seconds;
+                        match r {
+                            EventResult::Reached(path) => Ok((
+                                true,
+                                Some(("termination", path, "it terminates here".into())),
+                                format!("{name} terminates, and deadlocks only after it has"),
+                            )),
+                            EventResult::Unreachable => Ok((false, None, format!("{name} never terminates"))),
+                            EventResult::Inconclusive(stop) => Err(stop),
+                        }
+                    }
                 }
             }
             AssertionKind::DivergenceFree => {

@@ -330,19 +330,35 @@ fn assertion(
         AssertionKind::TimelockFree => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let p = process(ex, file, a, &s, "D__")?;
-            // Time can always pass eventually: with everything but `tock`
-            // hidden, `tock` is never refused (and no Zeno divergence).
-            let tocks = call("RUN", vec![Expr::Set(vec![name("tock")])]);
-            let p = hide(
-                crate::cspm::seq(vec![p, tocks.clone()]),
-                call("diff", vec![name("Events"), Expr::Set(vec![name("tock")])]),
-            );
-            one(AssertKind::Refines(Model::FailuresDivergences, tocks, p))
+            // RT-10, as the native checker reads it: after any trace, with
+            // every other event refusable (urgent ones included), `tock` is
+            // never refused; termination counts as a timelock.
+            let others = call("diff", vec![name("Events"), Expr::Set(vec![name("tock")])]);
+            one(AssertKind::Refines(Model::Failures, call("TimelockFree__", vec![others]), p))
         }
         AssertionKind::Terminates => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let p = process(ex, file, a, &s, "D__")?;
-            one(AssertKind::Refines(Model::FailuresDivergences, Expr::Skip, hide(p, name("Events"))))
+            // RT-10, as the native checker reads it: ✓ is reachable (P
+            // has a trace outside CHAOS(Events), whose traces never end in
+            // ✓), and P deadlocks only after ✓ (followed by endless
+            // `terminated__`, it never deadlocks).
+            if a.negated {
+                return Err("`does not terminate` is a disjunction of two checks, which FDR cannot assert at once".into());
+            }
+            let after = call("RUN", vec![Expr::Set(vec![name("terminated__")])]);
+            Ok(vec![
+                Assert {
+                    negated: true,
+                    kind: AssertKind::Refines(Model::Traces, call("CHAOS", vec![name("Events")]), p.clone()),
+                    tau_priority: None,
+                },
+                Assert {
+                    negated: false,
+                    kind: AssertKind::DeadlockFree(crate::cspm::seq(vec![p, after]), Model::Failures),
+                    tau_priority: None,
+                },
+            ])
         }
         AssertionKind::Refines { other, model: m, .. } | AssertionKind::Equals { other, model: m, .. } => {
             let m = model(*m)?;
