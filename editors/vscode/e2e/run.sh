@@ -167,6 +167,11 @@ setsid "${cs[@]}" --bind-addr "127.0.0.1:$port" --auth none --disable-telemetry 
   --disable-workspace-trust --disable-getting-started-override --ignore-last-opened "$workspace" \
   >"$out/code-server.log" 2>&1 </dev/null &
 pgid=$! # setsid (not a group leader here, so it does not fork) makes code-server one
+# The forked shell runs setsid a moment after `&` returns.
+for _ in $(seq 1 50); do
+  [ "$(ps -o pgid= -p "$pgid" | tr -d ' ')" = "$pgid" ] && break
+  sleep 0.1
+done
 [ "$(ps -o pgid= -p "$pgid" | tr -d ' ')" = "$pgid" ] || fail "code-server is not the leader of its process group"
 for _ in $(seq 1 120); do
   grep -q "HTTP server listening" "$out/code-server.log" 2>/dev/null && break
