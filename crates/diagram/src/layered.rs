@@ -22,13 +22,17 @@ use crate::layout::Cubic;
 /// Gap between an edge and its label.
 pub(crate) const GAP: f64 = 6.0;
 /// Space between two ranks.
-const RANK_SEP: f64 = 22.0;
+const RANK_SEP: f64 = 20.0;
 /// Space between two nodes of a rank.
 const NODE_SEP: f64 = 18.0;
 /// Space next to an edge's dummy.
 const DUMMY_SEP: f64 = 8.0;
 /// How far a self-loop reaches out of its node before its label.
 const LOOP_REACH: f64 = 26.0;
+/// How far a self-loop under its node reaches down, and how far from the
+/// node's start it is.
+const UNDER_REACH: f64 = 16.0;
+const UNDER_INSET: f64 = 18.0;
 
 /// A node: its size across ranks (`cross`) and along them (`along`).
 #[derive(Debug, Clone, Copy)]
@@ -98,15 +102,6 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) 
             loops[e.from].push(i);
         }
     }
-    for (v, ls) in loops.iter().enumerate() {
-        if ls.is_empty() {
-            continue;
-        }
-        let widest = ls.iter().filter_map(|&i| edges[i].label).map(|l| l.0).fold(0.0, f64::max);
-        let tall: f64 = ls.iter().map(|&i| edges[i].label.map_or(12.0, |l| l.1.max(12.0))).sum();
-        reserve[v].0 += LOOP_REACH + GAP + widest;
-        reserve[v].1 = reserve[v].1.max(tall);
-    }
     let proper: Vec<usize> = (0..edges.len()).filter(|&i| edges[i].from != edges[i].to).collect();
     let labelled = proper.iter().any(|&i| edges[i].label.is_some());
     let minlen = if labelled { 2 } else { 1 };
@@ -114,6 +109,25 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) 
     // Cycles: reverse the back edges of a depth-first search.
     let reversed = back_edges(n, edges, &proper);
     let dir = |i: usize| if reversed[i] { (edges[i].to, edges[i].from) } else { (edges[i].from, edges[i].to) };
+    // A node's only self-loop goes under it when nothing leaves from there
+    // and its label fits under it (a wide composite state), else beside it.
+    let mut under = vec![false; n];
+    for (v, ls) in loops.iter().enumerate() {
+        if ls.is_empty() {
+            continue;
+        }
+        let (lw, lh) = edges[ls[0]].label.unwrap_or((0.0, 12.0));
+        let leaves = proper.iter().any(|&i| dir(i).0 == v);
+        if ls.len() == 1 && !leaves && !nodes[v].round && lw + UNDER_INSET + GAP + 12.0 <= nodes[v].cross {
+            under[v] = true;
+            reserve[v].1 += UNDER_REACH + lh.max(12.0) / 2.0 + 2.0;
+            continue;
+        }
+        let widest = ls.iter().filter_map(|&i| edges[i].label).map(|l| l.0).fold(0.0, f64::max);
+        let tall: f64 = ls.iter().map(|&i| edges[i].label.map_or(12.0, |l| l.1.max(12.0))).sum();
+        reserve[v].0 += LOOP_REACH + GAP + widest;
+        reserve[v].1 = reserve[v].1.max(tall);
+    }
     let ranks = rank(n, &proper, &dir, minlen, max_cross.map(|m| (m, &reserve)));
 
     // The layered graph.
@@ -171,10 +185,14 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) 
         band.push((at, thick));
         at += thick + RANK_SEP;
     }
+    // A box with self-loops is stretched along the rank axis to the height
+    // of their labels' stack, so that each loop meets it beside its label.
     let node_rect = |v: usize| {
         let (start, thick) = band[lnodes[v].rank];
         let g = &nodes[v];
-        GRect { cross: pos[v] - g.cross / 2.0, along: start + (thick - g.along) / 2.0, w: g.cross, h: g.along }
+        let along = if g.round || under[v] { g.along } else { reserve[v].1 };
+        let top = start + (thick - reserve[v].1.max(along)) / 2.0;
+        GRect { cross: pos[v] - g.cross / 2.0, along: top, w: g.cross, h: along }
     };
     let rects: Vec<GRect> = (0..n).map(node_rect).collect();
 
@@ -185,7 +203,7 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) 
         let spread = |list: &mut Vec<(f64, usize)>, out: bool, port: &mut Vec<(f64, f64)>| {
             list.sort_by(|a, b| a.0.total_cmp(&b.0));
             let k = list.len() as f64;
-            let step = if nodes[v].round { 0.0 } else { (nodes[v].cross * 0.7 / k).min(14.0) };
+            let step = (nodes[v].cross * 0.7 / k).min(14.0);
             for (j, &(_, i)) in list.iter().enumerate() {
                 let x = pos[v] + (j as f64 - (k - 1.0) / 2.0) * step;
                 if out {
@@ -262,18 +280,34 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) 
             continue;
         }
         let r = rects[v];
+        if under[v] {
+            let i = ls[0];
+            let bottom = r.along + r.h;
+            let x = r.cross + UNDER_INSET;
+            let apex = (x + 6.0, bottom + UNDER_REACH);
+            paths[i] = vec![
+                Cubic { p0: (x - 6.0, bottom), c1: (x - 6.0, bottom + 10.0), c2: (apex.0 - 8.0, apex.1), p3: apex },
+                Cubic { p0: apex, c1: (apex.0 + 8.0, apex.1), c2: (x + 18.0, bottom + 10.0), p3: (x + 18.0, bottom) },
+            ];
+            if let Some((w, h)) = edges[i].label {
+                labels[i] = Some(GRect { cross: x + 18.0 + GAP, along: apex.1 - h / 2.0, w, h });
+            }
+            continue;
+        }
         let right = r.cross + r.w;
         let tall: f64 = ls.iter().map(|&i| edges[i].label.map_or(12.0, |l| l.1.max(12.0))).sum();
         let mut y = r.along + r.h / 2.0 - tall / 2.0;
-        let k = ls.len() as f64;
-        for (j, &i) in ls.iter().enumerate() {
+        for &i in ls {
             let h = edges[i].label.map_or(12.0, |l| l.1.max(12.0));
-            let apex = (right + LOOP_REACH, y + h / 2.0);
-            let attach = r.along + r.h * (j as f64 + 1.0) / (k + 1.0);
-            let (a, b) = ((right, attach - 4.0), (right, attach + 4.0));
+            // Each loop within its label's own stretch of the side: loops
+            // never cross one another.
+            let mid = y + h / 2.0;
+            let a = (h / 3.0).min(5.0);
+            let apex = (right + LOOP_REACH, mid);
+            let (p, q) = ((right, mid - a), (right, mid + a));
             paths[i] = vec![
-                Cubic { p0: a, c1: (a.0 + 12.0, a.1), c2: (apex.0, apex.1 - h / 3.0), p3: apex },
-                Cubic { p0: apex, c1: (apex.0, apex.1 + h / 3.0), c2: (b.0 + 12.0, b.1), p3: b },
+                Cubic { p0: p, c1: (p.0 + 10.0, p.1), c2: (apex.0, mid - a), p3: apex },
+                Cubic { p0: apex, c1: (apex.0, mid + a), c2: (q.0 + 10.0, q.1), p3: q },
             ];
             if let Some((w, lh)) = edges[i].label {
                 labels[i] = Some(GRect { cross: apex.0 + GAP, along: y + (h - lh) / 2.0, w, h: lh });

@@ -30,6 +30,9 @@ const PAD: f64 = 8.0;
 const WRAP: usize = 40;
 /// Lines of a label, or of one action, before the rest is elided.
 const MAX_LINES: usize = 3;
+/// Line length and lines of labels wrapped narrower, for diagrams too wide.
+const NARROW_WRAP: usize = 22;
+const NARROW_LINES: usize = 5;
 /// Longest name of a state or block before it is elided.
 const MAX_NAME: usize = 32;
 
@@ -207,6 +210,11 @@ impl Edge {
 /// Splits `text` into lines of at most `WRAP` characters, at spaces (and
 /// inside words longer than a line).
 pub fn wrap(text: &str) -> Vec<String> {
+    wrap_at(text, WRAP)
+}
+
+/// Splits `text` into lines of at most `width` characters.
+fn wrap_at(text: &str, width: usize) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     let mut cur = String::new();
     let words = text.split(' ').flat_map(|w| {
@@ -214,14 +222,14 @@ pub fn wrap(text: &str) -> Vec<String> {
         let pieces: Vec<String> = if chars.is_empty() {
             vec![String::new()]
         } else {
-            chars.chunks(WRAP).map(|c| c.iter().collect()).collect()
+            chars.chunks(width).map(|c| c.iter().collect()).collect()
         };
         pieces
     });
     for word in words {
         let word = word.as_str();
         let len = cur.chars().count() + 1 + word.chars().count();
-        if !cur.is_empty() && len > WRAP {
+        if !cur.is_empty() && len > width {
             lines.push(std::mem::take(&mut cur));
         }
         if !cur.is_empty() {
@@ -238,14 +246,18 @@ pub fn wrap(text: &str) -> Vec<String> {
 /// `text` wrapped, its lines beyond `MAX_LINES` elided; and whether some
 /// were.
 pub fn wrap_elided(text: &str) -> (Vec<String>, bool) {
-    let mut lines = wrap(text);
-    if lines.len() <= MAX_LINES {
+    wrap_elided_at(text, WRAP, MAX_LINES)
+}
+
+fn wrap_elided_at(text: &str, width: usize, max_lines: usize) -> (Vec<String>, bool) {
+    let mut lines = wrap_at(text, width);
+    if lines.len() <= max_lines {
         return (lines, false);
     }
-    lines.truncate(MAX_LINES);
-    let last = &mut lines[MAX_LINES - 1];
-    if last.chars().count() >= WRAP {
-        *last = last.chars().take(WRAP - 1).collect();
+    lines.truncate(max_lines);
+    let last = &mut lines[max_lines - 1];
+    if last.chars().count() >= width {
+        *last = last.chars().take(width - 1).collect();
     }
     last.push('…');
     (lines, true)
@@ -273,7 +285,7 @@ fn text_width(s: &str) -> f64 {
 /// Lays out a diagram.
 pub fn layout(d: &Diagram) -> Laid {
     let (w, h, shapes, edges) = match &d.region {
-        Some(r) => layout_region(r),
+        Some(r) => layout_region(r, true),
         None => layout_structure(&d.blocks, &d.connections),
     };
     Laid { w, h, shapes, edges }
@@ -296,9 +308,11 @@ struct EdgeReq {
     both_heads: bool,
     dashed: bool,
     title: Option<String>,
+    /// The whole label, to wrap narrower.
+    full: String,
 }
 
-fn layout_region(r: &Region) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
+fn layout_region(r: &Region, top: bool) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
     let mut items = Vec::new();
     let mut index: HashMap<&str, usize> = HashMap::new();
     for n in &r.nodes {
@@ -350,9 +364,10 @@ fn layout_region(r: &Region) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
             both_heads: false,
             dashed: false,
             title: cut.then(|| t.label.clone()),
+            full: t.label.clone(),
         });
     }
-    place(items, reqs)
+    place(items, reqs, top)
 }
 
 fn transition_subject(t: &Transition) -> Subject {
@@ -405,7 +420,7 @@ fn node_item(n: &Node) -> Item {
     let mut edges = Vec::new();
     let mut separator = None;
     if composite {
-        let (iw, ih, inner_shapes, inner_edges) = layout_region(&n.region);
+        let (iw, ih, inner_shapes, inner_edges) = layout_region(&n.region, false);
         separator = Some(header);
         w = w.max(iw + 2.0 * PAD);
         h = header + PAD + ih + PAD;
@@ -492,7 +507,8 @@ fn layout_structure(blocks: &[Block], connections: &[Connection]) -> (f64, f64, 
             from,
             to,
             label: lines,
-            title: cut.then_some(label),
+            title: cut.then(|| label.clone()),
+            full: label,
             subject: Subject::Connection {
                 from: c.from.clone(),
                 to: c.to.clone(),
@@ -504,7 +520,7 @@ fn layout_structure(blocks: &[Block], connections: &[Connection]) -> (f64, f64, 
             dashed: c.is_async,
         });
     }
-    place(items, reqs)
+    place(items, reqs, true)
 }
 
 /// The two orientations tried: ranks downwards or rightwards.
@@ -561,24 +577,36 @@ fn extent(p: &Placed, flow: Flow) -> (f64, f64, f64, f64) {
 }
 
 /// How good a candidate layout is (lower is better): its area, raised for
-/// each crossing, and much raised when it is wider or taller than about 3:1.
-fn score(w: f64, h: f64, crossings: usize) -> f64 {
+/// each crossing, and, for a whole diagram (`top`; the inside of a
+/// composite state may be of any shape), much raised when it is wider or
+/// taller than about 3:1.
+fn score(w: f64, h: f64, crossings: usize, top: bool) -> f64 {
     let skew = (w / h.max(1.0)).max(h / w.max(1.0));
-    let aspect = if skew > 2.8 { 20.0 * (skew / 2.8).powi(2) } else { 1.0 };
+    let aspect = if top && skew > 2.8 { 20.0 * (skew / 2.8).powi(2) } else { 1.0 };
     w * h * (1.0 + 0.35 * crossings as f64) * aspect
 }
 
 /// Lays out items and edges: layered downwards and rightwards, with ranks
 /// unbounded or wrapped at several widths; keeps the best (see [`score`]).
-fn place(items: Vec<Item>, reqs: Vec<EdgeReq>) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
+fn place(items: Vec<Item>, reqs: Vec<EdgeReq>, top: bool) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
     if items.is_empty() {
         return (0.0, 0.0, Vec::new(), Vec::new());
     }
     let mut area: f64 = items.iter().map(|it| (it.size.0 + 18.0) * (it.size.1 + 22.0)).sum();
     area += reqs.iter().map(|r| label_size(&r.label)).map(|(w, h)| (w + 14.0) * (h + 22.0)).sum::<f64>();
     let side = area.sqrt();
-    let mut best: Option<(f64, Flow, Placed)> = None;
-    for flow in [Flow::Down, Flow::Right] {
+    // Labels as wrapped, and wrapped narrower when that fits better.
+    let narrow: Vec<(Vec<String>, bool)> = reqs
+        .iter()
+        .map(|r| if r.full.is_empty() { (Vec::new(), false) } else { wrap_elided_at(&r.full, NARROW_WRAP, NARROW_LINES) })
+        .collect();
+    let changed = reqs.iter().zip(&narrow).any(|(r, n)| r.label != n.0);
+    let mut best: Option<(f64, Flow, bool, Placed)> = None;
+    for (flow, thin) in [(Flow::Down, false), (Flow::Right, false), (Flow::Down, true), (Flow::Right, true)] {
+        if thin && !changed {
+            continue;
+        }
+        let label_of = |i: usize| if thin { &narrow[i].0 } else { &reqs[i].label };
         let nodes: Vec<GNode> = items
             .iter()
             .map(|it| {
@@ -588,10 +616,11 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>) -> (f64, f64, Vec<Shape>, Vec<Edg
             .collect();
         let edges: Vec<GEdge> = reqs
             .iter()
-            .map(|r| GEdge {
+            .enumerate()
+            .map(|(i, r)| GEdge {
                 from: r.from,
                 to: r.to,
-                label: (!r.label.is_empty()).then(|| flow.size(label_size(&r.label))),
+                label: (!label_of(i).is_empty()).then(|| flow.size(label_size(label_of(i)))),
             })
             .collect();
         let widest = nodes.iter().map(|g| g.cross).fold(0.0, f64::max);
@@ -601,13 +630,13 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>) -> (f64, f64, Vec<Shape>, Vec<Edg
         for limit in limits {
             let p = layered(&nodes, &edges, limit);
             let (_, _, w, h) = extent(&p, flow);
-            let s = score(w, h, p.crossings);
+            let s = score(w, h, p.crossings, top);
             if best.as_ref().is_none_or(|b| s < b.0) {
-                best = Some((s, flow, p));
+                best = Some((s, flow, thin, p));
             }
         }
     }
-    let Some((_, flow, placed)) = best else { return (0.0, 0.0, Vec::new(), Vec::new()) };
+    let Some((_, flow, thin, placed)) = best else { return (0.0, 0.0, Vec::new(), Vec::new()) };
     let (x0, y0, w, h) = extent(&placed, flow);
     let margin = 4.0;
     let (dx, dy) = (margin - x0, margin - y0);
@@ -616,10 +645,19 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>) -> (f64, f64, Vec<Shape>, Vec<Edg
         let r = flow.rect(r);
         let mut s = item.shape;
         s.translate(r.x - s.rect.x + dx, r.y - s.rect.y + dy);
+        // Stretched for its self-loops.
+        if s.children.is_empty() && !item.circle {
+            s.rect.w = r.w;
+            s.rect.h = r.h;
+        }
         shapes.push(s);
     }
     let mut edges = Vec::new();
-    for (i, r) in reqs.into_iter().enumerate() {
+    for (i, (mut r, n)) in reqs.into_iter().zip(narrow).enumerate() {
+        if thin {
+            r.label = n.0;
+            r.title = n.1.then(|| r.full.clone());
+        }
         let path: Vec<Cubic> = placed.paths[i]
             .iter()
             .map(|c| {

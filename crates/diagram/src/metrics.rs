@@ -98,13 +98,42 @@ fn cross(a: (f64, f64), b: (f64, f64), c: (f64, f64), d: (f64, f64)) -> Option<(
     ((0.0..1.0).contains(&t) && (0.0..1.0).contains(&u)).then(|| (a.0 + t * r.0, a.1 + t * r.1))
 }
 
+/// The points where two different edges of our layout cross.
+pub fn crossing_points(laid: &Laid) -> Vec<(f64, f64)> {
+    let mut lines = Vec::new();
+    let mut leaves = Vec::new();
+    let mut nodes = 0;
+    fn walk(s: &Shape, lines: &mut Vec<Line>, leaves: &mut Vec<Rect>, nodes: &mut usize) {
+        *nodes += 1;
+        if s.children.is_empty() {
+            leaves.push(s.rect);
+        }
+        for c in &s.children {
+            walk(c, lines, leaves, nodes);
+        }
+        lines.extend(s.edges.iter().map(line_of));
+    }
+    for s in &laid.shapes {
+        walk(s, &mut lines, &mut leaves, &mut nodes);
+    }
+    lines.extend(laid.edges.iter().map(line_of));
+    let mut out = Vec::new();
+    crossings_at(&lines, &leaves, &mut out);
+    out
+}
+
 /// The points where two different edges cross, outside the (slightly
 /// grown) leaf nodes: edges that meet at a node's border are not crossing.
 fn crossings(lines: &[Line], leaves: &[Rect]) -> usize {
+    let mut out = Vec::new();
+    crossings_at(lines, leaves, &mut out);
+    out.len()
+}
+
+fn crossings_at(lines: &[Line], leaves: &[Rect], out: &mut Vec<(f64, f64)>) {
     let near_node = |p: (f64, f64)| {
         leaves.iter().any(|r| p.0 >= r.x - 3.0 && p.0 <= r.x + r.w + 3.0 && p.1 >= r.y - 3.0 && p.1 <= r.y + r.h + 3.0)
     };
-    let mut count = 0;
     for (i, a) in lines.iter().enumerate() {
         for b in &lines[i + 1..] {
             let mut found: Vec<(f64, f64)> = Vec::new();
@@ -119,10 +148,9 @@ fn crossings(lines: &[Line], leaves: &[Rect]) -> usize {
                     }
                 }
             }
-            count += found.len();
+            out.extend(found);
         }
     }
-    count
 }
 
 fn point_rect_distance(p: (f64, f64), r: &Rect) -> f64 {

@@ -192,6 +192,14 @@ fn corpus_against_dot() {
                 for d in file_diagrams(&db, ws, f) {
                     let key = format!("{} {}", d.file, d.qualified_name);
                     let ours = measure(&layout(&d));
+                    if std::env::var("ROBOSIM_CROSSINGS_OF").is_ok_and(|e| e == d.qualified_name) {
+                        eprintln!("{key}: {:?}", robosim_diagram::metrics::crossing_points(&layout(&d)));
+                    }
+                    // For a look at dot's drawing: `dot -Tsvg DIR/….dot`.
+                    if let Some(dir) = std::env::var_os("ROBOSIM_DOT_DUMP") {
+                        let name: String = key.chars().map(|c| if c.is_alphanumeric() { c } else { '_' }).collect();
+                        std::fs::write(Path::new(&dir).join(format!("{name}.dot")), reference_dot(&d, true)).unwrap();
+                    }
                     let dot = if live {
                         run_dot(&reference_dot(&d, true))
                             .or_else(|| run_dot(&reference_dot(&d, false)))
