@@ -91,8 +91,9 @@ struct Chain {
 }
 
 /// Lays out a graph; `max_cross` bounds the summed size of the real nodes
-/// of a rank (ranks wrap beyond it).
-pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) -> Placed {
+/// of a rank (ranks wrap beyond it). Labels go beside their edge, or, with
+/// `on_line`, centred on it (the renderer gives them a background).
+pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, on_line: bool) -> Placed {
     let n = nodes.len();
     // Self-loops are drawn beside their node, which reserves room for them.
     let mut loops: Vec<Vec<usize>> = vec![Vec::new(); n];
@@ -148,7 +149,11 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) 
             let (before, after, along) = match edges[i].label {
                 Some((w, h)) if r == mid => {
                     label_at = Some(lnodes.len());
-                    (2.0, GAP + w, h)
+                    if on_line {
+                        (w / 2.0, w / 2.0, h)
+                    } else {
+                        (2.0, GAP + w, h)
+                    }
                 }
                 _ => (1.0, 1.0, 0.0),
             };
@@ -247,7 +252,8 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>) 
             pts.push((pos[d], s + t));
             if c.label_at == Some(d) {
                 let (w, h) = edges[i].label.unwrap_or((0.0, 0.0));
-                labels[i] = Some(GRect { cross: pos[d] + GAP, along: s + (t - h) / 2.0, w, h });
+                let cross = if on_line { pos[d] - w / 2.0 } else { pos[d] + GAP };
+                labels[i] = Some(GRect { cross, along: s + (t - h) / 2.0, w, h });
             }
         }
         let (s, _) = band[lnodes[v].rank];

@@ -628,7 +628,7 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>, top: bool) -> (f64, f64, Vec<Shap
         limits.extend([2.5, 1.6, 1.1, 0.75, 0.5].iter().map(|k| Some((side * k).max(widest))));
         limits.dedup();
         for limit in limits {
-            let p = layered(&nodes, &edges, limit);
+            let p = layered(&nodes, &edges, limit, flow == Flow::Right);
             let (_, _, w, h) = extent(&p, flow);
             let s = score(w, h, p.crossings, top);
             if best.as_ref().is_none_or(|b| s < b.0) {
