@@ -541,7 +541,8 @@ fn order(layers: &mut [Vec<usize>], up: &[Vec<usize>], down: &[Vec<usize>], coun
             break;
         }
         let downward = iter % 2 == 0;
-        let range: Vec<usize> = if downward { (1..layers.len()).collect() } else { (0..layers.len().saturating_sub(1)).rev().collect() };
+        let range: Vec<usize> =
+            if downward { (1..layers.len()).collect() } else { (0..layers.len().saturating_sub(1)).rev().collect() };
         for l in range {
             let nb = if downward { up } else { down };
             let mut keyed: Vec<(f64, usize)> = layers[l]
@@ -635,7 +636,8 @@ fn coordinates(lnodes: &[LNode], layers: &[Vec<usize>], up: &[Vec<usize>], down:
         _ => 2.0,
     };
     for iter in 0..24 {
-        let order: Vec<usize> = if iter % 2 == 0 { (0..layers.len()).collect() } else { (0..layers.len()).rev().collect() };
+        let order: Vec<usize> =
+            if iter % 2 == 0 { (0..layers.len()).collect() } else { (0..layers.len()).rev().collect() };
         for l in order {
             let layer = &layers[l];
             let want: Vec<(f64, f64)> = layer
@@ -670,10 +672,7 @@ fn coordinates(lnodes: &[LNode], layers: &[Vec<usize>], up: &[Vec<usize>], down:
             }
         }
     }
-    let min = layers
-        .iter()
-        .flat_map(|l| l.iter().map(|&v| pos[v] - lnodes[v].before))
-        .fold(f64::MAX, f64::min);
+    let min = layers.iter().flat_map(|l| l.iter().map(|&v| pos[v] - lnodes[v].before)).fold(f64::MAX, f64::min);
     pos.iter().map(|p| p - min).collect()
 }
 

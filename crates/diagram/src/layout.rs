@@ -14,7 +14,6 @@
 
 use std::collections::HashMap;
 
-
 use crate::layered::{layered, GEdge, GNode, GRect, Placed};
 use crate::model::{Block, Connection, Diagram, Node, NodeKind, Region, Span, Transition};
 
@@ -291,7 +290,6 @@ pub fn layout(d: &Diagram) -> Laid {
     Laid { w, h, shapes, edges }
 }
 
-
 /// One item to lay out: its size, and how to build its shape at a position.
 struct Item {
     size: (f64, f64),
@@ -397,7 +395,11 @@ fn node_item(n: &Node) -> Item {
     }
     // A state: its name, its actions, then its inside.
     let (name, mut cut) = elide_name(&n.name);
-    let mut texts = vec![TextLine { rect: Rect { x: PAD, y: PAD, w: text_width(&name), h: LINE_H }, text: name, class: "state-name" }];
+    let mut texts = vec![TextLine {
+        rect: Rect { x: PAD, y: PAD, w: text_width(&name), h: LINE_H },
+        text: name,
+        class: "state-name",
+    }];
     let mut y = PAD + LINE_H + 4.0;
     for a in &n.actions {
         let (lines, elided) = wrap_elided(&format!("{} {}", a.kind, a.text));
@@ -596,10 +598,16 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>, top: bool) -> (f64, f64, Vec<Shap
     area += reqs.iter().map(|r| label_size(&r.label)).map(|(w, h)| (w + 14.0) * (h + 22.0)).sum::<f64>();
     let side = area.sqrt();
     // Labels as wrapped, and wrapped narrower when that fits better.
-    let narrow: Vec<(Vec<String>, bool)> = reqs
-        .iter()
-        .map(|r| if r.full.is_empty() { (Vec::new(), false) } else { wrap_elided_at(&r.full, NARROW_WRAP, NARROW_LINES) })
-        .collect();
+    let narrow: Vec<(Vec<String>, bool)> =
+        reqs.iter()
+            .map(|r| {
+                if r.full.is_empty() {
+                    (Vec::new(), false)
+                } else {
+                    wrap_elided_at(&r.full, NARROW_WRAP, NARROW_LINES)
+                }
+            })
+            .collect();
     let changed = reqs.iter().zip(&narrow).any(|(r, n)| r.label != n.0);
     let mut best: Option<(f64, Flow, bool, Placed)> = None;
     for (flow, thin) in [(Flow::Down, false), (Flow::Right, false), (Flow::Down, true), (Flow::Right, true)] {
@@ -630,7 +638,8 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>, top: bool) -> (f64, f64, Vec<Shap
         for limit in limits {
             let p = layered(&nodes, &edges, limit, flow == Flow::Right);
             let (_, _, w, h) = extent(&p, flow);
-            let s = score(w, h, p.crossings, top);
+            // Narrower labels only when clearly better: wide lines read best.
+            let s = score(w, h, p.crossings, top) * if thin { 1.25 } else { 1.0 };
             if best.as_ref().is_none_or(|b| s < b.0) {
                 best = Some((s, flow, thin, p));
             }

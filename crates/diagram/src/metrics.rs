@@ -66,7 +66,13 @@ pub fn measure(laid: &Laid) -> Metrics {
         walk(s, &mut lines, &mut leaves, &mut nodes);
     }
     lines.extend(laid.edges.iter().map(line_of));
-    Metrics { nodes, w: laid.w, h: laid.h, crossings: crossings(&lines, &leaves), label_distance: label_distance(&lines) }
+    Metrics {
+        nodes,
+        w: laid.w,
+        h: laid.h,
+        crossings: crossings(&lines, &leaves),
+        label_distance: label_distance(&lines),
+    }
 }
 
 fn line_of(e: &Edge) -> Line {
@@ -141,8 +147,7 @@ fn crossings_at(lines: &[Line], leaves: &[Rect], out: &mut Vec<(f64, f64)>) {
                 for sb in b.points.windows(2) {
                     if let Some(p) = cross(sa[0], sa[1], sb[0], sb[1]) {
                         // One crossing sampled twice at a segment joint.
-                        if !near_node(p) && !found.iter().any(|q| (q.0 - p.0).abs() < 2.0 && (q.1 - p.1).abs() < 2.0)
-                        {
+                        if !near_node(p) && !found.iter().any(|q| (q.0 - p.0).abs() < 2.0 && (q.1 - p.1).abs() < 2.0) {
                             found.push(p);
                         }
                     }
@@ -226,7 +231,13 @@ pub fn reference_dot(d: &Diagram, compound: bool) -> String {
 }
 
 /// Writes a region; `k` numbers the nodes across the whole diagram.
-fn dot_region(r: &Region, k: &mut usize, pad: &str, compound: bool, out: &mut String) -> HashMap<String, (String, bool)> {
+fn dot_region(
+    r: &Region,
+    k: &mut usize,
+    pad: &str,
+    compound: bool,
+    out: &mut String,
+) -> HashMap<String, (String, bool)> {
     // Node id → (DOT node, whether it is a cluster's anchor).
     let mut names: HashMap<String, (String, bool)> = HashMap::new();
     for n in &r.nodes {
@@ -295,8 +306,12 @@ pub fn measure_plain(plain: &str) -> Option<Metrics> {
                 size = Some((w * 72.0, h * 72.0));
             }
             Some("node") => {
-                let (x, y, w, h): (f64, f64, f64, f64) =
-                    (f.get(2)?.parse().ok()?, f.get(3)?.parse().ok()?, f.get(4)?.parse().ok()?, f.get(5)?.parse().ok()?);
+                let (x, y, w, h): (f64, f64, f64, f64) = (
+                    f.get(2)?.parse().ok()?,
+                    f.get(3)?.parse().ok()?,
+                    f.get(4)?.parse().ok()?,
+                    f.get(5)?.parse().ok()?,
+                );
                 if f[1].starts_with('a') {
                     clusters.insert(f[1].clone());
                     continue;
@@ -307,7 +322,12 @@ pub fn measure_plain(plain: &str) -> Option<Metrics> {
             Some("edge") => {
                 let n: usize = f.get(3)?.parse().ok()?;
                 let pts: Vec<(f64, f64)> = (0..n)
-                    .map(|i| Some((f.get(4 + 2 * i)?.parse::<f64>().ok()? * 72.0, f.get(5 + 2 * i)?.parse::<f64>().ok()? * 72.0)))
+                    .map(|i| {
+                        Some((
+                            f.get(4 + 2 * i)?.parse::<f64>().ok()? * 72.0,
+                            f.get(5 + 2 * i)?.parse::<f64>().ok()? * 72.0,
+                        ))
+                    })
                     .collect::<Option<_>>()?;
                 // A B-spline of cubic pieces: p0 c1 c2 p1 c1 c2 p2 …
                 let mut points = vec![pts[0]];

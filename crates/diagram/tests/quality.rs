@@ -221,7 +221,15 @@ fn corpus_against_dot() {
             let _ = writeln!(
                 t,
                 "{}\t{}\t{:.0}\t{:.0}\t{}\t{:.1}\t{:.0}\t{:.0}\t{}",
-                r.key, r.ours.nodes, r.ours.w, r.ours.h, r.ours.crossings, r.ours.label_distance, r.dot.w, r.dot.h, r.dot.crossings
+                r.key,
+                r.ours.nodes,
+                r.ours.w,
+                r.ours.h,
+                r.ours.crossings,
+                r.ours.label_distance,
+                r.dot.w,
+                r.dot.h,
+                r.dot.crossings
             );
         }
         std::fs::write(path, t).unwrap();
