@@ -121,7 +121,7 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
         let leaves = proper.iter().any(|&i| dir(i).0 == v);
         if ls.len() == 1 && !leaves && !nodes[v].round && lw + UNDER_INSET + GAP + 12.0 <= nodes[v].cross {
             under[v] = true;
-            reserve[v].1 += UNDER_REACH + lh.max(12.0) / 2.0 + 2.0;
+            reserve[v].1 += under_reach(lh) + lh.max(12.0) / 2.0 + 2.0;
             continue;
         }
         let widest = ls.iter().filter_map(|&i| edges[i].label).map(|l| l.0).fold(0.0, f64::max);
@@ -290,7 +290,7 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
             let i = ls[0];
             let bottom = r.along + r.h;
             let x = r.cross + UNDER_INSET;
-            let apex = (x + 6.0, bottom + UNDER_REACH);
+            let apex = (x + 6.0, bottom + under_reach(edges[i].label.map_or(12.0, |l| l.1)));
             paths[i] = vec![
                 Cubic { p0: (x - 6.0, bottom), c1: (x - 6.0, bottom + 10.0), c2: (apex.0 - 8.0, apex.1), p3: apex },
                 Cubic { p0: apex, c1: (apex.0 + 8.0, apex.1), c2: (x + 18.0, bottom + 10.0), p3: (x + 18.0, bottom) },
@@ -310,7 +310,9 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
             let mid = y + h / 2.0;
             let a = (h / 3.0).min(5.0);
             let apex = (right + LOOP_REACH, mid);
-            let (p, q) = ((right, mid - a), (right, mid + a));
+            // On the node's side (a round node is not stretched).
+            let side = |y: f64| y.clamp(r.along + 1.0, r.along + r.h - 1.0);
+            let (p, q) = ((right, side(mid - a)), (right, side(mid + a)));
             paths[i] = vec![
                 Cubic { p0: p, c1: (p.0 + 10.0, p.1), c2: (apex.0, mid - a), p3: apex },
                 Cubic { p0: apex, c1: (apex.0, mid + a), c2: (q.0 + 10.0, q.1), p3: q },
@@ -322,6 +324,12 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
         }
     }
     Placed { nodes: rects, paths, labels, crossings }
+}
+
+/// How far under its node a self-loop's apex is: its label, centred on
+/// it, must clear the node.
+fn under_reach(label_h: f64) -> f64 {
+    UNDER_REACH.max(4.0 + label_h / 2.0)
 }
 
 fn straight(a: (f64, f64), b: (f64, f64)) -> Cubic {
@@ -397,7 +405,7 @@ fn rank(
     // Sources go down next to their successors.
     for &v in topo.iter().rev() {
         if preds[v].is_empty() && !succs[v].is_empty() {
-            r[v] = succs[v].iter().map(|&s| r[s]).min().unwrap_or(minlen) - minlen;
+            r[v] = succs[v].iter().map(|&s| r[s]).min().unwrap_or(minlen).saturating_sub(minlen);
         }
     }
     // Balance: each node to the median of its neighbours within its slack.
@@ -407,7 +415,7 @@ fn rank(
                 continue;
             }
             let lo = preds[v].iter().map(|&p| r[p] + minlen).max().unwrap_or(0);
-            let hi = succs[v].iter().map(|&s| r[s] - minlen).min().unwrap_or(lo);
+            let hi = succs[v].iter().map(|&s| r[s].saturating_sub(minlen)).min().unwrap_or(lo);
             if hi <= lo {
                 continue;
             }
@@ -694,4 +702,100 @@ fn isotonic(values: &[(f64, f64)]) -> Vec<f64> {
         }
     }
     blocks.iter().flat_map(|&(m, _, c)| std::iter::repeat_n(m, c)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (no dependency).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self, n: usize) -> usize {
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((self.0 >> 33) % n as u64) as usize
+        }
+    }
+
+    fn overlap(a: &GRect, b: &GRect) -> bool {
+        a.cross < b.cross + b.w - 0.01
+            && b.cross < a.cross + a.w - 0.01
+            && a.along < b.along + b.h - 0.01
+            && b.along < a.along + a.h - 0.01
+    }
+
+    /// Random graphs with cycles, self-loops, parallel edges, round nodes
+    /// and labels, wrapped or not, labels on or beside their line: every
+    /// edge is drawn from its source to its target, and no two boxes
+    /// (nodes, labels) overlap.
+    #[test]
+    fn random_graphs_are_laid_out_without_overlaps() {
+        let mut g = Lcg(7);
+        for case in 0..300 {
+            let n = 1 + g.next(14);
+            let nodes: Vec<GNode> = (0..n)
+                .map(|_| {
+                    let round = g.next(4) == 0;
+                    let (w, h) =
+                        if round { (16.0, 16.0) } else { (40.0 + g.next(200) as f64, 30.0 + g.next(60) as f64) };
+                    GNode { cross: w, along: h, round }
+                })
+                .collect();
+            let m = g.next(3 * n + 2);
+            let edges: Vec<GEdge> = (0..m)
+                .map(|_| GEdge {
+                    from: g.next(n),
+                    to: g.next(n),
+                    label: (g.next(3) > 0).then(|| (20.0 + g.next(250) as f64, 16.0 * (1 + g.next(3)) as f64)),
+                })
+                .collect();
+            let limit = [None, Some(200.0), Some(500.0)][case % 3];
+            let p = layered(&nodes, &edges, limit, case % 2 == 0);
+            assert_eq!(p.nodes.len(), n);
+            let boxes: Vec<GRect> = p.nodes.iter().chain(p.labels.iter().flatten()).copied().collect();
+            for (i, a) in boxes.iter().enumerate() {
+                for b in &boxes[i + 1..] {
+                    assert!(!overlap(a, b), "case {case}: {a:?} overlaps {b:?}");
+                }
+            }
+            for (i, e) in edges.iter().enumerate() {
+                let path = &p.paths[i];
+                assert!(!path.is_empty(), "case {case}: edge {i} is not drawn");
+                assert_eq!(e.label.is_some(), p.labels[i].is_some(), "case {case}: edge {i}'s label");
+                // From the source's box to the target's (round nodes: their centre).
+                let near = |pt: (f64, f64), r: &GRect| {
+                    pt.0 >= r.cross - 0.5
+                        && pt.0 <= r.cross + r.w + 0.5
+                        && pt.1 >= r.along - 0.5
+                        && pt.1 <= r.along + r.h + 0.5
+                };
+                assert!(
+                    near(path[0].p0, &p.nodes[e.from]),
+                    "case {case}: edge {i} {e:?} starts away from its source: {path:?} {:?} {:?}",
+                    p.nodes[e.from],
+                    p.nodes[e.to]
+                );
+                assert!(
+                    near(path[path.len() - 1].p3, &p.nodes[e.to]),
+                    "case {case}: edge {i} ends away from its target"
+                );
+                // Through no other node.
+                for (k, r) in p.nodes.iter().enumerate() {
+                    if k == e.from || k == e.to {
+                        continue;
+                    }
+                    for c in path {
+                        for t in 0..=16 {
+                            let q = c.at(t as f64 / 16.0);
+                            let inside = q.0 > r.cross + 0.5
+                                && q.0 < r.cross + r.w - 0.5
+                                && q.1 > r.along + 0.5
+                                && q.1 < r.along + r.h - 0.5;
+                            assert!(!inside, "case {case}: edge {i} passes through node {k}");
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
