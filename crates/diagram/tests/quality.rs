@@ -160,7 +160,7 @@ fn report(rows: &[Row]) -> String {
     let widths: Vec<f64> = rows.iter().map(|r| r.ours.w).collect();
     let over = widths.iter().filter(|x| **x > 1920.0).count();
     line(&mut s, "our width (px)", widths, "(1,920)", over, &int);
-    s.push_str("\nThe five widest diagrams:\n\n| diagram | nodes | ours (w × h, crossings) | dot (w × h, crossings) |\n|---|---|---|---|\n");
+    s.push_str("\nThe five widest diagrams now:\n\n| diagram | nodes | ours (w × h, crossings) | dot (w × h, crossings) |\n|---|---|---|---|\n");
     let mut widest: Vec<&Row> = rows.iter().collect();
     widest.sort_by(|a, b| b.ours.w.total_cmp(&a.ours.w));
     for r in widest.iter().take(5) {
@@ -170,8 +170,70 @@ fn report(rows: &[Row]) -> String {
             r.key, r.ours.nodes, r.ours.w, r.ours.h, r.ours.crossings, r.dot.w, r.dot.h, r.dot.crossings
         );
     }
+    let mut widest = String::from(
+        "The five widest diagrams then, and now (the drawing, without the title):\n\n\
+         | diagram | before | now | dot |\n|---|---|---|---|\n",
+    );
+    for (key, before) in WIDEST_BEFORE {
+        let r = rows.iter().find(|r| r.key == *key).unwrap_or_else(|| panic!("{key} is not measured"));
+        let _ = writeln!(
+            widest,
+            "| `{}` | {before} | {:.0} × {:.0}, {} crossings | {:.0} × {:.0}, {} crossings |",
+            key.split(' ').nth(1).unwrap_or(key),
+            r.ours.w,
+            r.ours.h,
+            r.ours.crossings,
+            r.dot.w,
+            r.dot.h,
+            r.dot.crossings
+        );
+    }
+    s.push_str(&BEFORE.replace("{WIDEST}", &widest));
     s
 }
+
+/// The five widest diagrams with `layout-rs`: key, size and crossings.
+const WIDEST_BEFORE: [(&str, &str); 5] = [
+    ("reference/alpha-algorithm/rc2rs/robochart/movementC.rct pkg223_::MovementC", "20,490 × 190, 0 crossings"),
+    (
+        "corpus/UoY-RoboStar__SLEEC-TK/sleec-core/Examples/RAD-AssistiveDressingRobot/robochart/system.rct RAD::Software",
+        "16,282 × 363, 3 crossings",
+    ),
+    ("corpus/UoY-RoboStar__roboarch-examples/ObstacleAvoidance/RoboChart/Control.rct Control::Control", "14,636 × 363, 36 crossings"),
+    (
+        "corpus/UoY-RoboStar__roboarch-examples/ObstacleAvoidance/RoboChart/Control_SkillsManager.rct Control::SkillsManager::SkillsManager",
+        "12,131 × 1,507, 350 crossings",
+    ),
+    (
+        "corpus/UoY-RoboStar__roboarch-examples/ObstacleAvoidance/RoboChart/ObstacleAvoidance.rct ObstacleAvoidance::ObstacleAvoidance",
+        "12,111 × 190, 54 crossings",
+    ),
+];
+
+/// The same measures of the layout with `layout-rs` that this one replaced
+/// (measured once, when issue 21 was worked on).
+const BEFORE: &str = "
+## Before: the layout with `layout-rs` (issue 21)
+
+The same diagrams, measured the same way, before this layout replaced the one made with the
+`layout-rs` crate (which drew controllers and modules in one long row):
+
+| measure | median | worst | over the bound |
+|---|---|---|---|
+| aspect (longer side : shorter side) | 2.48 | 107.84 | 22 |
+| area / dot's area | 1.65 | 10.13 | 94 |
+| crossings | 0 | 350 | 16 above dot's |
+| largest label-to-edge distance (px) | 6 | 67 | 2 |
+| width (px) | 342 | 20,490 | 31 wider than 1,920 |
+
+{WIDEST}
+Two of them now (`crates/cli/tests/data/diagram/browser_test.sh` renders all five in headless
+Chromium and keeps the screenshots in `target/diagram-test/`):
+
+![The roboarch Control controller](diagrams/after-issue21.Control.Control.png)
+
+![The roboarch SkillsManager state machine](diagrams/after-issue21.SkillsManager.png)
+";
 
 #[test]
 fn corpus_against_dot() {
