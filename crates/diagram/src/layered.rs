@@ -603,11 +603,11 @@ fn transpose(layers: &mut [Vec<usize>], up: &[Vec<usize>], down: &[Vec<usize>], 
     };
     for _ in 0..4 {
         let mut improved = false;
-        for l in 0..layers.len() {
-            for i in 0..layers[l].len().saturating_sub(1) {
-                let (a, b) = (layers[l][i], layers[l][i + 1]);
+        for layer in layers.iter_mut() {
+            for i in 0..layer.len().saturating_sub(1) {
+                let (a, b) = (layer[i], layer[i + 1]);
                 if pair(a, b, at) > pair(b, a, at) {
-                    layers[l].swap(i, i + 1);
+                    layer.swap(i, i + 1);
                     at[a] = i + 1;
                     at[b] = i;
                     improved = true;

@@ -742,11 +742,11 @@ pub(crate) fn unresolved_size(name: &str) -> (f64, f64) {
     (text_width(&format!("?{name}")) + 2.0 * PAD, LINE_H + 2.0 * PAD)
 }
 
-/// The blocks' sizes and the connections as (from, to, label size).
-pub(crate) fn structure_sizes(
-    blocks: &[Block],
-    connections: &[Connection],
-) -> (Vec<(f64, f64)>, Vec<(usize, usize, (f64, f64))>) {
+/// A connection between two blocks (by index) with its label's size.
+pub(crate) type SizedLink = (usize, usize, (f64, f64));
+
+/// The blocks' sizes and the connections.
+pub(crate) fn structure_sizes(blocks: &[Block], connections: &[Connection]) -> (Vec<(f64, f64)>, Vec<SizedLink>) {
     let (_, _, shapes, _) = layout_structure(blocks, connections);
     let sizes = shapes.iter().map(|s| (s.rect.w, s.rect.h)).collect();
     let index = |id: &str| blocks.iter().position(|b| b.id == id);
