@@ -41,17 +41,14 @@ impl Metrics {
     }
 }
 
-/// A polyline with its label's box and its ends (node indices).
+/// An edge as a polyline, with its label's box.
 struct Line {
     points: Vec<(f64, f64)>,
     label: Option<Rect>,
 }
 
-/// Measures our layout of a diagram.
-pub fn measure(laid: &Laid) -> Metrics {
-    let mut lines = Vec::new();
-    let mut leaves = Vec::new();
-    let mut nodes = 0;
+/// Our layout's edges, its leaf nodes' boxes and its number of nodes.
+fn flatten(laid: &Laid) -> (Vec<Line>, Vec<Rect>, usize) {
     fn walk(s: &Shape, lines: &mut Vec<Line>, leaves: &mut Vec<Rect>, nodes: &mut usize) {
         *nodes += 1;
         if s.children.is_empty() {
@@ -62,10 +59,17 @@ pub fn measure(laid: &Laid) -> Metrics {
         }
         lines.extend(s.edges.iter().map(line_of));
     }
+    let (mut lines, mut leaves, mut nodes) = (Vec::new(), Vec::new(), 0);
     for s in &laid.shapes {
         walk(s, &mut lines, &mut leaves, &mut nodes);
     }
     lines.extend(laid.edges.iter().map(line_of));
+    (lines, leaves, nodes)
+}
+
+/// Measures our layout of a diagram.
+pub fn measure(laid: &Laid) -> Metrics {
+    let (lines, leaves, nodes) = flatten(laid);
     Metrics {
         nodes,
         w: laid.w,
@@ -104,25 +108,10 @@ fn cross(a: (f64, f64), b: (f64, f64), c: (f64, f64), d: (f64, f64)) -> Option<(
     ((0.0..1.0).contains(&t) && (0.0..1.0).contains(&u)).then_some((a.0 + t * r.0, a.1 + t * r.1))
 }
 
-/// The points where two different edges of our layout cross.
+/// The points where two different edges of our layout cross (outside
+/// every node), to see where [`measure`]'s crossings are.
 pub fn crossing_points(laid: &Laid) -> Vec<(f64, f64)> {
-    let mut lines = Vec::new();
-    let mut leaves = Vec::new();
-    let mut nodes = 0;
-    fn walk(s: &Shape, lines: &mut Vec<Line>, leaves: &mut Vec<Rect>, nodes: &mut usize) {
-        *nodes += 1;
-        if s.children.is_empty() {
-            leaves.push(s.rect);
-        }
-        for c in &s.children {
-            walk(c, lines, leaves, nodes);
-        }
-        lines.extend(s.edges.iter().map(line_of));
-    }
-    for s in &laid.shapes {
-        walk(s, &mut lines, &mut leaves, &mut nodes);
-    }
-    lines.extend(laid.edges.iter().map(line_of));
+    let (lines, leaves, _) = flatten(laid);
     let mut out = Vec::new();
     crossings_at(&lines, &leaves, &mut out);
     out
@@ -288,9 +277,10 @@ fn dot_region(
     names
 }
 
-/// Measures `dot -Tplain`'s layout of [`reference_dot`]'s graph (its
-/// clusters are not in the plain output: only leaf nodes are obstacles).
-/// `None` if the text is not plain output.
+/// Measures `dot -Tplain`'s layout of [`reference_dot`]'s graph: its size
+/// and crossings (its clusters are not in the plain output: only leaf nodes
+/// are obstacles; its labels' distances are not measured). `None` if the
+/// text is not plain output.
 pub fn measure_plain(plain: &str) -> Option<Metrics> {
     let mut size = None;
     let mut leaves = Vec::new();
@@ -330,7 +320,7 @@ pub fn measure_plain(plain: &str) -> Option<Metrics> {
                     })
                     .collect::<Option<_>>()?;
                 // A B-spline of cubic pieces: p0 c1 c2 p1 c1 c2 p2 …
-                let mut points = vec![pts[0]];
+                let mut points = vec![*pts.first()?];
                 for seg in pts[1..].chunks(3) {
                     if let [c1, c2, p3] = seg {
                         let p0 = *points.last()?;
@@ -338,8 +328,7 @@ pub fn measure_plain(plain: &str) -> Option<Metrics> {
                         points.extend((1..=24).map(|t| cubic.at(t as f64 / 24.0)));
                     }
                 }
-                // The label's centre, when labelled: its box is the one
-                // we asked for, which dot gives back as the label's text.
+                // dot's labels are not measured (`label_distance` is 0).
                 lines.push(Line { points, label: None });
             }
             _ => {}

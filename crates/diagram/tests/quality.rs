@@ -254,6 +254,7 @@ fn corpus_against_dot() {
                 for d in file_diagrams(&db, ws, f) {
                     let key = format!("{} {}", d.file, d.qualified_name);
                     let ours = measure(&layout(&d));
+                    // Where a diagram's crossings are, to look at them.
                     if std::env::var("ROBOSIM_CROSSINGS_OF").is_ok_and(|e| e == d.qualified_name) {
                         eprintln!("{key}: {:?}", robosim_diagram::metrics::crossing_points(&layout(&d)));
                     }
