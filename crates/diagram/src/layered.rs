@@ -27,6 +27,10 @@ const RANK_SEP: f64 = 20.0;
 const NODE_SEP: f64 = 18.0;
 /// Space next to an edge's dummy.
 const DUMMY_SEP: f64 = 8.0;
+/// Space between the ends of two edges on a node's side, and the part of
+/// the side they spread over.
+const PORT_STEP: f64 = 7.0;
+const PORT_SPAN: f64 = 0.8;
 /// How far a self-loop reaches out of its node before its label.
 const LOOP_REACH: f64 = 26.0;
 /// How far a self-loop under its node reaches down, and how far from the
@@ -41,6 +45,9 @@ pub(crate) struct GNode {
     pub along: f64,
     /// Small round nodes: every edge meets them at the centre.
     pub round: bool,
+    /// Whether the box may grow (for its edges' ends, or its self-loops'
+    /// labels): not circles, nor composite states.
+    pub stretch: bool,
 }
 
 /// An edge, with its label's size (cross, along) if labelled.
@@ -95,6 +102,31 @@ struct Chain {
 /// `on_line`, centred on it (the renderer gives them a background).
 pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, on_line: bool) -> Placed {
     let n = nodes.len();
+    let proper: Vec<usize> =
+        (0..edges.len()).filter(|&i| edges[i].from != edges[i].to && edges[i].from < n && edges[i].to < n).collect();
+    let labelled = proper.iter().any(|&i| edges[i].label.is_some());
+    let minlen = if labelled { 2 } else { 1 };
+
+    // Cycles: reverse the back edges of a depth-first search.
+    let reversed = back_edges(n, edges, &proper);
+    let dir = |i: usize| if reversed[i] { (edges[i].to, edges[i].from) } else { (edges[i].from, edges[i].to) };
+    // A box that many edges meet on one side grows along it, so that their
+    // ends stay apart (a controller with thirty connections).
+    let mut ends = vec![(0usize, 0usize); n];
+    for &i in &proper {
+        let (u, v) = dir(i);
+        ends[u].0 += 1;
+        ends[v].1 += 1;
+    }
+    let nodes: Vec<GNode> = nodes
+        .iter()
+        .zip(&ends)
+        .map(|(g, &(o, i))| {
+            let need = o.max(i) as f64 * PORT_STEP / PORT_SPAN;
+            GNode { cross: if g.stretch { g.cross.max(need) } else { g.cross }, ..*g }
+        })
+        .collect();
+    let nodes = &nodes[..];
     // Self-loops are drawn beside their node, which reserves room for them.
     let mut loops: Vec<Vec<usize>> = vec![Vec::new(); n];
     let mut reserve: Vec<(f64, f64)> = nodes.iter().map(|g| (g.cross, g.along)).collect();
@@ -103,13 +135,6 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
             loops[e.from].push(i);
         }
     }
-    let proper: Vec<usize> = (0..edges.len()).filter(|&i| edges[i].from != edges[i].to).collect();
-    let labelled = proper.iter().any(|&i| edges[i].label.is_some());
-    let minlen = if labelled { 2 } else { 1 };
-
-    // Cycles: reverse the back edges of a depth-first search.
-    let reversed = back_edges(n, edges, &proper);
-    let dir = |i: usize| if reversed[i] { (edges[i].to, edges[i].from) } else { (edges[i].from, edges[i].to) };
     // A node's only self-loop goes under it when nothing leaves from there
     // and its label fits under it (a wide composite state), else beside it.
     let mut under = vec![false; n];
@@ -195,8 +220,17 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
     let node_rect = |v: usize| {
         let (start, thick) = band[lnodes[v].rank];
         let g = &nodes[v];
-        let along = if g.round || under[v] { g.along } else { reserve[v].1 };
-        let top = start + (thick - reserve[v].1.max(along)) / 2.0;
+        let room = reserve[v].1.max(g.along);
+        let top = start + (thick - room) / 2.0;
+        // Under-loops below the box; a box that cannot grow in the middle
+        // of its loops' labels.
+        let (top, along) = if under[v] {
+            (top, g.along)
+        } else if !g.stretch {
+            (top + (room - g.along) / 2.0, g.along)
+        } else {
+            (top, room)
+        };
         GRect { cross: pos[v] - g.cross / 2.0, along: top, w: g.cross, h: along }
     };
     let rects: Vec<GRect> = (0..n).map(node_rect).collect();
@@ -208,7 +242,7 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
         let spread = |list: &mut Vec<(f64, usize)>, out: bool, port: &mut Vec<(f64, f64)>| {
             list.sort_by(|a, b| a.0.total_cmp(&b.0));
             let k = list.len() as f64;
-            let step = (nodes[v].cross * 0.7 / k).min(14.0);
+            let step = (nodes[v].cross * PORT_SPAN / k).min(14.0);
             for (j, &(_, i)) in list.iter().enumerate() {
                 let x = pos[v] + (j as f64 - (k - 1.0) / 2.0) * step;
                 if out {
@@ -310,7 +344,7 @@ pub(crate) fn layered(nodes: &[GNode], edges: &[GEdge], max_cross: Option<f64>, 
             let mid = y + h / 2.0;
             let a = (h / 3.0).min(5.0);
             let apex = (right + LOOP_REACH, mid);
-            // On the node's side (a round node is not stretched).
+            // On the node's side (which may not have been stretched).
             let side = |y: f64| y.clamp(r.along + 1.0, r.along + r.h - 1.0);
             let (p, q) = ((right, side(mid - a)), (right, side(mid + a)));
             paths[i] = vec![
@@ -738,7 +772,7 @@ mod tests {
                     let round = g.next(4) == 0;
                     let (w, h) =
                         if round { (16.0, 16.0) } else { (40.0 + g.next(200) as f64, 30.0 + g.next(60) as f64) };
-                    GNode { cross: w, along: h, round }
+                    GNode { cross: w, along: h, round, stretch: !round && g.next(5) > 0 }
                 })
                 .collect();
             let m = g.next(3 * n + 2);

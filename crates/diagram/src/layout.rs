@@ -458,44 +458,45 @@ fn node_item(n: &Node) -> Item {
     }
 }
 
+/// A block: its stereotype and its (elided) name.
+fn block_item(b: &Block) -> Item {
+    let full = match &b.reference {
+        Some(r) => format!("{}: {r}", b.id),
+        None => b.id.clone(),
+    };
+    let (title, cut) = elide_name(&full);
+    let kind = format!("«{}»", b.kind);
+    let texts = vec![
+        TextLine { rect: Rect { x: PAD, y: PAD, w: text_width(&kind), h: LINE_H }, text: kind, class: "stereotype" },
+        TextLine {
+            rect: Rect { x: PAD, y: PAD + LINE_H, w: text_width(&title), h: LINE_H },
+            text: title,
+            class: "block-name",
+        },
+    ];
+    let w = texts.iter().map(|t| t.rect.w).fold(0.0, f64::max) + 2.0 * PAD;
+    let h = 2.0 * LINE_H + 2.0 * PAD;
+    Item {
+        size: (w, h),
+        circle: false,
+        shape: Shape {
+            subject: Subject::Block { id: b.id.clone(), kind: b.kind.clone(), range: b.range },
+            rect: Rect { x: 0.0, y: 0.0, w, h },
+            texts,
+            separator: None,
+            children: Vec::new(),
+            edges: Vec::new(),
+            title: cut.then_some(full),
+        },
+    }
+}
+
 fn layout_structure(blocks: &[Block], connections: &[Connection]) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
     let mut items = Vec::new();
     let mut index: HashMap<&str, usize> = HashMap::new();
     for b in blocks {
         index.insert(&b.id, items.len());
-        let full = match &b.reference {
-            Some(r) => format!("{}: {r}", b.id),
-            None => b.id.clone(),
-        };
-        let (title, cut) = elide_name(&full);
-        let kind = format!("«{}»", b.kind);
-        let texts = vec![
-            TextLine {
-                rect: Rect { x: PAD, y: PAD, w: text_width(&kind), h: LINE_H },
-                text: kind,
-                class: "stereotype",
-            },
-            TextLine {
-                rect: Rect { x: PAD, y: PAD + LINE_H, w: text_width(&title), h: LINE_H },
-                text: title,
-                class: "block-name",
-            },
-        ];
-        let w = texts.iter().map(|t| t.rect.w).fold(0.0, f64::max) + 2.0 * PAD;
-        let h = 2.0 * LINE_H + 2.0 * PAD;
-        items.push(Item {
-            size: (w, h),
-            circle: false,
-            shape: Shape {
-                subject: Subject::Block { id: b.id.clone(), kind: b.kind.clone(), range: b.range },
-                rect: Rect { x: 0.0, y: 0.0, w, h },
-                texts,
-                separator: None,
-                children: Vec::new(),
-                edges: Vec::new(),
-                title: cut.then_some(full),
-            },
-        });
+        items.push(block_item(b));
     }
     let mut reqs = Vec::new();
     for c in connections {
@@ -619,7 +620,7 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>, top: bool) -> (f64, f64, Vec<Shap
             .iter()
             .map(|it| {
                 let (cross, along) = flow.size(it.size);
-                GNode { cross, along, round: it.circle }
+                GNode { cross, along, round: it.circle, stretch: !it.circle && it.shape.children.is_empty() }
             })
             .collect();
         let edges: Vec<GEdge> = reqs
@@ -654,7 +655,7 @@ fn place(items: Vec<Item>, reqs: Vec<EdgeReq>, top: bool) -> (f64, f64, Vec<Shap
         let r = flow.rect(r);
         let mut s = item.shape;
         s.translate(r.x - s.rect.x + dx, r.y - s.rect.y + dy);
-        // Stretched for its self-loops.
+        // Stretched for its edges' ends or its self-loops.
         if s.children.is_empty() && !item.circle {
             s.rect.w = r.w;
             s.rect.h = r.h;
@@ -747,8 +748,7 @@ pub(crate) type SizedLink = (usize, usize, (f64, f64));
 
 /// The blocks' sizes and the connections.
 pub(crate) fn structure_sizes(blocks: &[Block], connections: &[Connection]) -> (Vec<(f64, f64)>, Vec<SizedLink>) {
-    let (_, _, shapes, _) = layout_structure(blocks, connections);
-    let sizes = shapes.iter().map(|s| (s.rect.w, s.rect.h)).collect();
+    let sizes = blocks.iter().map(|b| block_item(b).size).collect();
     let index = |id: &str| blocks.iter().position(|b| b.id == id);
     let edges = connections
         .iter()
