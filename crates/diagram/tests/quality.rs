@@ -227,12 +227,9 @@ The same diagrams, measured the same way, before this layout replaced the one ma
 | width (px) | 342 | 20,490 | 31 wider than 1,920 |
 
 {WIDEST}
-Two of them now (`crates/cli/tests/data/diagram/browser_test.sh` renders all five in headless
-Chromium and keeps the screenshots in `target/diagram-test/`):
-
-![The roboarch Control controller](diagrams/after-issue21.Control.Control.png)
-
-![The roboarch SkillsManager state machine](diagrams/after-issue21.SkillsManager.png)
+`crates/cli/tests/data/diagram/browser_test.sh` renders all five in headless Chromium and keeps
+the screenshots in `target/diagram-test/`. They are drawings of other people's models, so they
+are not copied into the repository; the running example's diagrams are in `docs/diagrams/`.
 ";
 
 #[test]
