@@ -452,8 +452,9 @@ pub enum Instr {
         /// The deadlines of the state's transitions.
         limits: Vec<Expr>,
     },
-    /// The end of a composite state's entry action: its during action
-    /// starts as an activity running alongside the substates.
+    /// The end of a substate's entry action: its composite state's during
+    /// action starts as an activity running alongside the substates,
+    /// unless it already runs (RT-17: once per entry of the composite).
     StartActivity(u16),
     /// The end of an activity's code: it lets time pass until its state
     /// is left (`TStop`).
@@ -519,8 +520,8 @@ pub struct Node {
 }
 
 /// A composite state's during action, which runs alongside its substates
-/// from the end of its entry action until a transition leaves the state:
-/// a thread of the machine with its own control slots.
+/// from the end of the first substate's entry action until a transition
+/// leaves the composite state (RT-17): a thread of the machine with its own control slots.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Activity {
     /// The state.

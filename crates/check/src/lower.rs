@@ -1480,10 +1480,12 @@ impl MachineCx<'_, '_> {
                         self.action_stmt(&a)?;
                     }
                     self.at = self.nodes[id].range;
+                    self.start_parent_activity(id);
                     let has_children = self.nodes.iter().any(|n| n.parent == Some(node_id));
                     // The state's activity starts when its entry action ends
                     // (the exporter's `activate__`): the deadline timer of
-                    // its transitions, and a composite state's during action.
+                    // its transitions. A composite state's during action is
+                    // compiled here and started by its substates (RT-17).
                     let limits: Vec<Expr> =
                         self.deadlines.iter().filter(|(s, _)| *s == node_id).map(|(_, e)| e.clone()).collect();
                     if !limits.is_empty() {
@@ -1531,6 +1533,7 @@ impl MachineCx<'_, '_> {
                 }
                 NodeKind::Final => {
                     self.nodes[id].entry_pc = self.code.len() as u32;
+                    self.start_parent_activity(id);
                     // A final state ends the machine, or returns from an
                     // operation's body; in a composite state it just rests.
                     self.emit(match (self.nodes[id].parent, self.cur_op) {
@@ -1550,8 +1553,21 @@ impl MachineCx<'_, '_> {
         Ok(())
     }
 
+    /// RT-17: a composite state's during action starts once the substate
+    /// first entered has finished its entry action (the generated
+    /// `During` waits for a substate's `entered`), and only then: a
+    /// substate entered later finds it running (or done) and leaves it.
+    /// Parents come before their substates in `nodes`, so the parent's
+    /// activity is known here.
+    fn start_parent_activity(&mut self, id: usize) {
+        if let Some(k) = self.nodes[id].parent.and_then(|p| self.nodes[p as usize].activity) {
+            self.emit(Instr::StartActivity(k));
+        }
+    }
+
     /// A composite state's during action: an activity of the machine,
-    /// started by the state's entry code, its code out of line.
+    /// started by its substates' entry code (see
+    /// [`MachineCx::start_parent_activity`]), its code out of line.
     fn activity(&mut self, state: u16, during: &SyntaxNode) -> Result<(), Unsupported> {
         if self.cx.robosim {
             return Err(self.err(
@@ -1563,7 +1579,6 @@ impl MachineCx<'_, '_> {
         let k = self.activities.len() as u16;
         let slots = *self.slot;
         *self.slot += 3;
-        self.emit(Instr::StartActivity(k));
         let jump = self.code.len();
         self.emit(Instr::Jump(u32::MAX));
         let start_pc = self.code.len() as u32;

@@ -76,19 +76,19 @@ const BUFFERS: &[BufferCase] = &[
     // 2 replaces 1 in the buffer, and is all R receives.
     (
         "1:overwrite",
-        [(Verdict::Fail, 6), (Verdict::Pass, 6), (Verdict::Pass, 6)],
+        [(Verdict::Fail, 7), (Verdict::Pass, 7), (Verdict::Pass, 7)],
         "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.2)",
     ),
     // The sender waits for R to take 1 before it sends 2.
     (
         "1:block",
-        [(Verdict::Pass, 6), (Verdict::Pass, 9), (Verdict::Pass, 9)],
+        [(Verdict::Pass, 7), (Verdict::Pass, 10), (Verdict::Pass, 10)],
         "(cs.s.out.1) tock (cs.s.out.1) (cs.s.out.2) (cs.s.out.2)",
     ),
     // Both values wait in the buffer.
     (
         "2:overwrite",
-        [(Verdict::Pass, 6), (Verdict::Pass, 8), (Verdict::Pass, 8)],
+        [(Verdict::Pass, 7), (Verdict::Pass, 9), (Verdict::Pass, 9)],
         "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.1) (cs.s.out.2)",
     ),
 ];

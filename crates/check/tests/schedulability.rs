@@ -49,7 +49,7 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "one call per cycle",
         "stm M { requires I initial i0 state S { entry op(); wait(1) } transition t { from i0 to S }
          transition u { from S to S } }",
-        1, Verdict::Pass, 143, "",
+        1, Verdict::Pass, 207, "",
     ),
     (
         "two calls in one cycle",
@@ -65,7 +65,7 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "a call due between samples",
         "stm M { requires I initial i0 state S { entry op(); wait(1); op2(2); wait(1) } transition t { from i0 to S }
          transition u { from S to S } }",
-        2, Verdict::Fail, 39, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
+        2, Verdict::Fail, 47, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
     ),
     (
         // The guard sees the value of `x` before the input (as in RoboChart).
@@ -85,13 +85,13 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "wait interval at period 1",
         "stm M { requires I initial i0 state S { entry op(); wait([1, 2]) } transition t { from i0 to S }
          transition u { from S to S } }",
-        1, Verdict::Pass, 271, "",
+        1, Verdict::Pass, 335, "",
     ),
     (
         "wait interval with period 2",
         "stm M { requires I initial i0 state S { entry op(); wait([1, 2]) } transition t { from i0 to S }
          transition u { from S to S } }",
-        2, Verdict::Fail, 95, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
+        2, Verdict::Fail, 127, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
     ),
     (
         "clock guard with since",
@@ -120,13 +120,13 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "stm M { requires I var n : nat initial i0 junction J state S { entry n = n + 1; if n > 1 then op() else op2(n) end; wait(1) }
          transition t { from i0 to S } transition u { from S to J }
          transition a { from J to S condition n < 2 } transition b { from J to S condition n >= 2 action n = 0 } }",
-        1, Verdict::Pass, 287, "",
+        1, Verdict::Pass, 383, "",
     ),
     (
         "enumeration variable",
         "stm M { requires I var c : Colour = Colour::Red initial i0 state S { entry if c == Colour::Blue then op() end; wait(1) }
          transition t { from i0 to S } transition u { from S to S action c = Colour::Blue } }",
-        1, Verdict::Pass, 127, "",
+        1, Verdict::Pass, 191, "",
     ),
     (
         "termination",
@@ -138,7 +138,7 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "during action",
         "stm M { requires I uses I initial i0 state S { during op2(1); wait(1); op2(1); wait(1) } state T { }
          transition t { from i0 to S } transition u { from S to T trigger i } transition w { from T to S trigger i } }",
-        1, Verdict::Pass, 231, "",
+        1, Verdict::Pass, 327, "",
     ),
     (
         "during action calling twice in a cycle",
@@ -157,15 +157,15 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "during action of a composite state alongside its substate",
         "stm M { requires I initial i0 state S { during op() initial j state T { entry wait(1); op2(1) }
          transition a { from j to T } } transition t { from i0 to S } }",
-        1, Verdict::Pass, 111, "",
+        1, Verdict::Pass, 143, "",
     ),
     (
-        // Both call op in the first cycle: the during action runs in
-        // parallel with the substates, not before them.
+        // Both call op in the first cycle: the during action starts after
+        // the substate's entry (RT-17), then runs in parallel with it.
         "during action of a composite state calling in the substate's cycle",
         "stm M { requires I initial i0 state S { during op() initial j state T { entry op() }
          transition a { from j to T } } transition t { from i0 to S } }",
-        1, Verdict::Fail, 47, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op",
+        1, Verdict::Fail, 31, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op",
     ),
     (
         // The environment must offer i within a time unit of entering S:
