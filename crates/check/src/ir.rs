@@ -299,9 +299,9 @@ impl Channel {
 }
 
 /// What an asynchronous connection does with the values sent and not yet
-/// received: RoboTool's choice is not documented in any source we have
-/// (semantics.md §11.3), so the engine checks such connections only under
-/// an assumption the user states.
+/// received. RoboTool's generated CSPm puts a one-place buffer that
+/// overwrites between two controllers (robotool-facts.md RT-12,
+/// [`AsyncBuffer::ROBOTOOL`]); a user may check under another.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct AsyncBuffer {
     /// How many values it holds (1 to [`AsyncBuffer::MAX`]).
@@ -314,6 +314,10 @@ pub struct AsyncBuffer {
 impl AsyncBuffer {
     /// The largest buffer (each value is a slot of every state).
     pub const MAX: u8 = 8;
+
+    /// RoboTool's buffer (RT-12): one place; the sender never blocks and an
+    /// unread value is lost when the next one arrives.
+    pub const ROBOTOOL: AsyncBuffer = AsyncBuffer { size: 1, overwrite: true };
 
     /// Reads `SIZE[:overwrite|:block]` (overwrite when the policy is left out).
     pub fn parse(text: &str) -> Result<AsyncBuffer, String> {
@@ -330,14 +334,20 @@ impl AsyncBuffer {
         Ok(AsyncBuffer { size, overwrite })
     }
 
-    /// The assumption in words, for reports.
+    /// The buffer in words, for reports: which one the verdict holds under,
+    /// and whether it is RoboTool's.
     pub fn describe(self) -> String {
-        format!(
-            "asynchronous connections buffer {} value{}; when full, {} (an assumption: RoboTool's buffer is not documented)",
+        let what = format!(
+            "asynchronous connections buffer {} value{}; when full, {}",
             self.size,
             if self.size == 1 { "" } else { "s" },
             if self.overwrite { "a new value replaces the oldest" } else { "the sender waits" }
-        )
+        );
+        if self == AsyncBuffer::ROBOTOOL {
+            format!("{what} (RoboTool's default buffer)")
+        } else {
+            format!("{what} (assumed with `--async-buffer`; RoboTool's default buffer is `1:overwrite`)")
+        }
     }
 }
 

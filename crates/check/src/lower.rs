@@ -122,7 +122,7 @@ pub struct DomainDefaults {
     /// functions declared without a body.
     pub functions: Vec<CspFunction>,
     /// The buffer assumed for asynchronous connections between machines
-    /// or controllers (none: such designs are refused).
+    /// or controllers (none: RoboTool's, [`AsyncBuffer::ROBOTOOL`]).
     pub async_buffer: Option<AsyncBuffer>,
 }
 
@@ -430,15 +430,6 @@ impl Cx<'_> {
                     *f,
                     *r,
                     "asynchronous connections between RoboSim controllers or machines are not supported yet",
-                ));
-            }
-            if self.defaults.async_buffer.is_none() {
-                return Err(self.unsupported(
-                    *f,
-                    *r,
-                    "asynchronous connections need an assumed buffer: `robosim verify --async-buffer 1:overwrite` \
-                     (or `2:block`, …), or the editor setting `robosim.verify.asyncBuffer`; RoboTool's buffer (its \
-                     size, and what it does when full) is not documented (semantics.md §11.3), so none is guessed",
                 ));
             }
         }
@@ -1224,7 +1215,9 @@ impl MachineCx<'_, '_> {
                                 }
                                 if link.internal {
                                     // Both ends share the channel: its buffer is made once.
-                                    let policy = self.cx.defaults.async_buffer.filter(|_| link.buffered);
+                                    // RT-12: RoboTool's buffer unless the user assumes another.
+                                    let policy = self.cx.defaults.async_buffer.unwrap_or(AsyncBuffer::ROBOTOOL);
+                                    let policy = Some(policy).filter(|_| link.buffered);
                                     if let Some(policy) =
                                         policy.filter(|_| self.design().channels[chan as usize].buffer.is_none())
                                     {

@@ -37,7 +37,7 @@ pub struct Options {
     /// Limits on the search.
     pub budget: Budget,
     /// The buffer assumed for asynchronous connections between machines or
-    /// controllers (none: designs with such connections are not checked).
+    /// controllers (none: RoboTool's one-place overwriting buffer, RT-12).
     pub async_buffer: Option<AsyncBuffer>,
 }
 
