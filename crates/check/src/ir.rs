@@ -278,6 +278,14 @@ pub struct Channel {
     /// RoboSim input's register holds its value, read with no presence
     /// flag (`registerRead.i_x.v`).
     pub var: bool,
+    /// A machine's event connected to nothing (then `internal`): the
+    /// controller hides it, so the machine's communications on it are
+    /// hidden steps of its own, an input taking any value (RT-15).
+    pub alone: bool,
+    /// How many machines take part in an internal synchronous
+    /// communication besides the sender: with several, all receive at once
+    /// (RT-14: a multi-way synchronisation).
+    pub receivers: u8,
 }
 
 impl Channel {
@@ -294,6 +302,8 @@ impl Channel {
             internal: false,
             buffer: None,
             var: false,
+            alone: false,
+            receivers: 1,
         }
     }
 }
@@ -622,6 +632,11 @@ pub struct Machine {
     pub activities: Vec<Activity>,
     /// The slots of the states' deadline timers.
     pub timers: Vec<u16>,
+    /// By instruction: the waits whose continuation runs inside the `tock`
+    /// step that ends them, a reduction that changes no verdict (see
+    /// `eager.rs`); empty when none. Any other wait ends in a hidden step
+    /// of its own (RT-18).
+    pub eager_waits: Vec<bool>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,
@@ -855,16 +870,23 @@ impl Design {
         let mut out = Vec::new();
         for (mi, mv) in moves {
             let (Offer::Out { chan, .. } | Offer::In { chan, .. }) = &mv.offer else { continue };
-            if let Some(b) = self.channels[*chan as usize].buffer {
+            let c = &self.channels[*chan as usize];
+            if let Some(b) = c.buffer {
                 if let Some(step) = self.buffer_step(st, &self.machines[*mi], mv, b)? {
                     out.push(step);
                 }
+            } else if c.alone {
+                self.alone_steps(st, &self.machines[*mi], mv, &mut out)?;
             }
         }
         for (si, send) in moves {
             let Offer::Out { chan, args } = &send.offer else { continue };
             let c = &self.channels[*chan as usize];
-            if !c.internal || c.buffer.is_some() {
+            if !c.internal || c.buffer.is_some() || c.alone {
+                continue;
+            }
+            if c.receivers > 1 {
+                self.multiway(st, moves, (*si, send), *chan, args, c.receivers as usize, &mut out)?;
                 continue;
             }
             for (ri, recv) in moves {
@@ -878,6 +900,82 @@ impl Design {
             }
         }
         Ok(out)
+    }
+
+    /// RT-14: a send on a channel with several receiving machines happens
+    /// when every one of them accepts the value, all in one step: one step
+    /// per combination of the receivers' accepting moves.
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
+    #[cold]
+    fn multiway(
+        &self,
+        st: &[i32],
+        moves: &[(usize, crate::machine::Move)],
+        (si, send): (usize, &crate::machine::Move),
+        chan: u16,
+        args: &[Val],
+        receivers: usize,
+        out: &mut Vec<(u16, Vec<Val>, Box<[i32]>)>,
+    ) -> Result<(), String> {
+        use crate::machine::Offer;
+        // The accepting moves, by receiving machine.
+        let mut by_machine: Vec<(usize, Vec<&crate::machine::Move>)> = Vec::new();
+        for (ri, recv) in moves {
+            let Offer::In { chan: c2, value } = &recv.offer else { continue };
+            if *c2 != chan || *ri == si || value.is_some_and(|v| args.first() != Some(&v)) {
+                continue;
+            }
+            match by_machine.iter_mut().find(|(m, _)| m == ri) {
+                Some((_, v)) => v.push(recv),
+                None => by_machine.push((*ri, vec![recv])),
+            }
+        }
+        if by_machine.len() < receivers {
+            return Ok(());
+        }
+        let first = self.after(&self.machines[si], st, send.act, None)?;
+        let mut states = vec![first];
+        for (ri, accepting) in &by_machine {
+            let mut next = Vec::with_capacity(states.len() * accepting.len());
+            for n in &states {
+                for recv in accepting {
+                    next.push(self.after(&self.machines[*ri], n, recv.act, args.first().copied())?);
+                }
+            }
+            states = next;
+        }
+        out.extend(states.into_iter().map(|n| (chan, args.to_vec(), n)));
+        Ok(())
+    }
+
+    /// A machine's communication on an event connected to nothing: a
+    /// hidden step of its own (RT-15); an input `e?x` takes any value of
+    /// its type, as hiding the event makes the choice internal.
+    #[allow(clippy::type_complexity)]
+    fn alone_steps(
+        &self,
+        st: &[i32],
+        m: &Machine,
+        mv: &crate::machine::Move,
+        out: &mut Vec<(u16, Vec<Val>, Box<[i32]>)>,
+    ) -> Result<(), String> {
+        use crate::machine::Offer;
+        match &mv.offer {
+            Offer::Out { chan, args } => out.push((*chan, args.clone(), self.after(m, st, mv.act, None)?)),
+            Offer::In { chan, value } => {
+                let c = &self.channels[*chan as usize];
+                let values: Vec<Option<Val>> = match (value, c.params.first()) {
+                    (Some(v), _) => vec![Some(*v)],
+                    (None, Some(d)) => (d.lo..=d.hi).map(Some).collect(),
+                    (None, None) => vec![None],
+                };
+                for v in values {
+                    out.push((*chan, v.into_iter().collect(), self.after(m, st, mv.act, v)?));
+                }
+            }
+            Offer::Tau => {}
+        }
+        Ok(())
     }
 
     /// A machine's step on an asynchronous channel: a value sent goes into

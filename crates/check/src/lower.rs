@@ -170,7 +170,7 @@ pub fn lower_design(
 
 /// Compiles the RoboChart module, controller or machine `loc`, or with
 /// `inner`, the machine of that name declared inside the controller `loc`
-/// (on its own, with the controller's operations).
+/// (on its own: the controller's operations are call events, RT-19).
 pub fn lower_element(
     db: &dyn Db,
     ws: Workspace,
@@ -247,6 +247,10 @@ struct Link {
     internal: bool,
     /// Through an asynchronous connection (then internal).
     buffered: bool,
+    /// Connected to nothing: hidden by the controller (RT-15; then internal).
+    hidden: bool,
+    /// How many machines receive it (internal synchronous links, RT-14).
+    receivers: u8,
 }
 
 fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<(File, SyntaxNode)> {
@@ -438,7 +442,9 @@ impl Cx<'_> {
     }
 
     /// The machine `name` declared inside the controller `ctrl`, on its own
-    /// (every event faces the environment), with the controller's operations.
+    /// (every event faces the environment). The controller's operations
+    /// are undefined for it: calls of them are urgent visible call events
+    /// (`opCall`), as for platform operations (RT-19).
     fn inner_machine(&mut self, file: File, ctrl: &SyntaxNode, name: &str) -> Result<Design, Unsupported> {
         let (mut instances, mut links, mut async_links) = (Vec::new(), Vec::new(), Vec::new());
         self.controller(&name_of(ctrl), file, ctrl, &mut instances, &mut links, &mut async_links)?;
@@ -449,6 +455,7 @@ impl Cx<'_> {
                 self.unsupported(file, ctrl.text_range(), format!("the controller declares no state machine `{name}`"))
             })?;
         inst.ctrl = String::new();
+        inst.ops.clear();
         self.build(name, STATE_MACHINE, vec![inst], &[], &HashMap::new(), &BTreeSet::new())
     }
 
@@ -619,29 +626,63 @@ impl Cx<'_> {
                 sends.insert(b, false);
             }
         }
-        let external = |machine_end: &End| -> Result<Option<Link>, String> {
+        // `receives`: whether the machine ever receives the event (for one
+        // connected to nothing, which has no connection to say).
+        let robosim = self.robosim;
+        let external = |machine_end: &End, receives: bool| -> Result<Option<Link>, String> {
             let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
-                return Ok(None);
+                // RT-15: an event connected to nothing is hidden by the
+                // controller (a RoboSim machine's is refused where used).
+                if robosim {
+                    return Ok(None);
+                }
+                let name = format!("{}.{}", machine_end.0, machine_end.1);
+                let dir = if receives { Dir::In } else { Dir::Out };
+                return Ok(Some(Link { name, dir, internal: true, buffered: false, hidden: true, receivers: 1 }));
             };
             let plat: Vec<(&End, &Dir)> = class.iter().filter_map(|e| platform.get(e).map(|d| (e, d))).collect();
             if let Some((e, d)) = plat.first() {
-                return Ok(Some(Link { name: e.1.clone(), dir: **d, internal: false, buffered: false }));
+                return Ok(Some(Link {
+                    name: e.1.clone(),
+                    dir: **d,
+                    internal: false,
+                    buffered: false,
+                    hidden: false,
+                    receivers: 1,
+                }));
             }
             // Between machines: a synchronous communication from the one
-            // sender to the one receiver, hidden in the design.
+            // sender to every receiver at once (RT-14: a multi-way
+            // synchronisation when there are several), hidden in the design.
             let ends: Vec<&End> = class.iter().filter(|e| e.0.contains('.')).collect();
             let senders: Vec<&&End> = ends.iter().filter(|e| sends.get(**e) == Some(&true)).collect();
-            if ends.len() != 2 || senders.len() != 1 {
+            if ends.len() == 1 {
                 return Err(format!(
-                    "event `{}` connects {} machine ends; only one sender and one receiver are supported",
+                    "event `{}` reaches its controller's boundary, but the controller's event is connected to \
+                     nothing in the module: not supported yet (whether RoboTool hides it is not pinned down)",
+                    machine_end.1
+                ));
+            }
+            if senders.len() != 1 {
+                return Err(format!(
+                    "event `{}` connects {} machine ends of which {} send; only one sender is supported",
                     machine_end.1,
-                    ends.len()
+                    ends.len(),
+                    senders.len()
                 ));
             }
             let dir = if sends.get(machine_end) == Some(&true) { Dir::Out } else { Dir::In };
             let name = format!("{}.{}", senders[0].0, senders[0].1);
             let buffered = class.iter().any(|e| async_ends.contains(e));
-            Ok(Some(Link { name, dir, internal: true, buffered }))
+            let receivers = u8::try_from(ends.len() - 1)
+                .map_err(|_| format!("event `{}` has too many receivers", machine_end.1))?;
+            if buffered && receivers > 1 {
+                return Err(format!(
+                    "event `{}` is sent asynchronously to {receivers} receivers: not supported yet",
+                    machine_end.1
+                ));
+            }
+            Ok(Some(Link { name, dir, internal: true, buffered, hidden: false, receivers }))
         };
         let lone = top_kind == STATE_MACHINE;
         self.lone = lone;
@@ -659,15 +700,24 @@ impl Cx<'_> {
             let m = self.machine(inst, &mut slot, |ev: &str| {
                 if lone {
                     let dir = if received.iter().any(|r| r == ev) { Dir::In } else { Dir::Out };
-                    return Ok(Some(Link { name: ev.to_string(), dir, internal: false, buffered: false }));
+                    return Ok(Some(Link {
+                        name: ev.to_string(),
+                        dir,
+                        internal: false,
+                        buffered: false,
+                        hidden: false,
+                        receivers: 1,
+                    }));
                 }
                 let mut e = end.clone();
                 e.1 = ev.to_string();
-                external(&e)
+                external(&e, received.iter().any(|r| r == ev))
             })?;
             self.design.as_mut().expect("design").machines.push(m);
         }
         let mut design = self.design.take().expect("design");
+        let shared: std::collections::HashSet<u16> = self.shared_vars.values().map(|&(s, _)| s).collect();
+        crate::eager::mark_eager_waits(&mut design, &shared);
         design.slots = slot;
         design.files = self.files.iter().map(|f| f.path(self.db).clone()).collect();
         Ok(design)
@@ -748,6 +798,7 @@ impl Cx<'_> {
             ops: std::mem::take(&mut mc.ops),
             activities: std::mem::take(&mut mc.activities),
             timers: std::mem::take(&mut mc.timers),
+            eager_waits: Vec::new(),
             base,
             file: file_ix,
         };
@@ -1230,6 +1281,8 @@ impl MachineCx<'_, '_> {
                                     let c = &mut self.design().channels[chan as usize];
                                     c.internal = true;
                                     c.register = None;
+                                    c.alone = link.hidden;
+                                    c.receivers = link.receivers;
                                 }
                                 Some((chan, link.dir))
                             }

@@ -622,13 +622,20 @@ impl Machine {
     /// One time unit passes for one thread: its deadline budget and wait
     /// counter count down. A wait that ends does not let the thread go on
     /// here: that is a hidden step of its own after the `tock` (RT-18), so
-    /// that it interleaves with the other threads' steps and guards.
-    fn tock_thread(&self, th: Thread, st: &mut [i32], _clocks: &[Clock]) -> Result<(), StepError> {
+    /// that it interleaves with the other threads' steps and guards —
+    /// unless going on touches nothing another thread sees, which changes
+    /// no verdict (`eager.rs`).
+    fn tock_thread(&self, th: Thread, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
         if st[th.deadline] > 0 {
             st[th.deadline] -= 1;
         }
-        if matches!(self.code.get(st[th.pc] as usize), Some(Instr::Wait)) && st[th.wait] > 0 {
+        let pc = st[th.pc] as usize;
+        if matches!(self.code.get(pc), Some(Instr::Wait)) && st[th.wait] > 0 {
             st[th.wait] -= 1;
+            if st[th.wait] == 0 && self.eager_waits.get(pc) == Some(&true) {
+                st[th.pc] += 1;
+                self.run(th, st, clocks, false, &mut false)?;
+            }
         }
         Ok(())
     }

@@ -63,7 +63,7 @@ fn expect(reports: &[Report], expected: &[(&str, Verdict, u64)]) {
 #[test]
 fn without_an_assumed_buffer_robotools_is_used() {
     let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], None);
-    expect(&reports, &[("G1", Verdict::Fail, 7), ("G2", Verdict::Pass, 7), ("D", Verdict::Pass, 7)]);
+    expect(&reports, &[("G1", Verdict::Fail, 6), ("G2", Verdict::Pass, 6), ("D", Verdict::Pass, 6)]);
     let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
     assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.2)");
     let default = "asynchronous connections buffer 1 value; when full, a new value replaces the oldest \
@@ -82,19 +82,19 @@ const BUFFERS: &[BufferCase] = &[
     // 2 replaces 1 in the buffer, and is all R receives.
     (
         "1:overwrite",
-        [(Verdict::Fail, 7), (Verdict::Pass, 7), (Verdict::Pass, 7)],
+        [(Verdict::Fail, 6), (Verdict::Pass, 6), (Verdict::Pass, 6)],
         "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.2)",
     ),
     // The sender waits for R to take 1 before it sends 2.
     (
         "1:block",
-        [(Verdict::Pass, 7), (Verdict::Pass, 10), (Verdict::Pass, 10)],
+        [(Verdict::Pass, 6), (Verdict::Pass, 9), (Verdict::Pass, 9)],
         "(cs.s.out.1) tock (cs.s.out.1) (cs.s.out.2) (cs.s.out.2)",
     ),
     // Both values wait in the buffer.
     (
         "2:overwrite",
-        [(Verdict::Pass, 7), (Verdict::Pass, 9), (Verdict::Pass, 9)],
+        [(Verdict::Pass, 6), (Verdict::Pass, 8), (Verdict::Pass, 8)],
         "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.1) (cs.s.out.2)",
     ),
 ];

@@ -164,7 +164,7 @@ fn other_machines_read_the_value_set() {
     let rsa = "assertion Q : c::r::R is reachable in pd::Mod
         assertion N : pd::Mod is deadlock-free";
     let reports = verify(&[("d.rct", &d), ("a.rsa", rsa)], Profile::RoboTool3);
-    expect(&reports, &[("Q", Verdict::Pass, 8), ("N", Verdict::Pass, 15)]);
+    expect(&reports, &[("Q", Verdict::Pass, 7), ("N", Verdict::Pass, 12)]);
     let q = reports[0].counterexample.as_ref().expect("a trace to R");
     assert_eq!(trace_text(&q.steps), "set_speed.1 tock obstacle.in set_speed.2 reportCall.2");
     // Never set to 2: R is out of reach.
@@ -182,12 +182,12 @@ fn a_simulation_writing_the_variable_is_sound() {
     let reports = verify(&files, Profile::RoboTool3);
     expect(
         &reports,
-        &[("A", Verdict::Pass, 33), ("R", Verdict::Pass, 44), ("C", Verdict::Pass, 48), ("D", Verdict::Pass, 31)],
+        &[("A", Verdict::Pass, 23), ("R", Verdict::Pass, 38), ("C", Verdict::Pass, 38), ("D", Verdict::Pass, 31)],
     );
     let reports = verify(&files, Profile::Paper2019);
     expect(
         &reports,
-        &[("A", Verdict::Pass, 40), ("R", Verdict::Pass, 69), ("C", Verdict::Pass, 55), ("D", Verdict::Pass, 43)],
+        &[("A", Verdict::Pass, 30), ("R", Verdict::Pass, 54), ("C", Verdict::Pass, 45), ("D", Verdict::Pass, 43)],
     );
 }
 
@@ -198,7 +198,7 @@ fn a_simulation_writing_a_wrong_value_is_not_sound() {
     let reports = verify(&[("d.rct", &d), ("s.rst", &s), ("a.rsa", SOUNDNESS)], Profile::RoboTool3);
     expect(
         &reports,
-        &[("A", Verdict::Pass, 33), ("R", Verdict::Fail, 13), ("C", Verdict::Fail, 20), ("D", Verdict::Pass, 31)],
+        &[("A", Verdict::Pass, 23), ("R", Verdict::Fail, 13), ("C", Verdict::Fail, 16), ("D", Verdict::Pass, 31)],
     );
     counterexample(
         &reports[1],

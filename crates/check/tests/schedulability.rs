@@ -49,7 +49,7 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "one call per cycle",
         "stm M { requires I initial i0 state S { entry op(); wait(1) } transition t { from i0 to S }
          transition u { from S to S } }",
-        1, Verdict::Pass, 207, "",
+        1, Verdict::Pass, 143, "",
     ),
     (
         "two calls in one cycle",
@@ -65,7 +65,7 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "a call due between samples",
         "stm M { requires I initial i0 state S { entry op(); wait(1); op2(2); wait(1) } transition t { from i0 to S }
          transition u { from S to S } }",
-        2, Verdict::Fail, 47, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
+        2, Verdict::Fail, 39, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
     ),
     (
         // The guard sees the value of `x` before the input (as in RoboChart).
@@ -85,13 +85,13 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "wait interval at period 1",
         "stm M { requires I initial i0 state S { entry op(); wait([1, 2]) } transition t { from i0 to S }
          transition u { from S to S } }",
-        1, Verdict::Pass, 335, "",
+        1, Verdict::Pass, 271, "",
     ),
     (
         "wait interval with period 2",
         "stm M { requires I initial i0 state S { entry op(); wait([1, 2]) } transition t { from i0 to S }
          transition u { from S to S } }",
-        2, Verdict::Fail, 127, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
+        2, Verdict::Fail, 95, "registerRead.i_i.true registerRead.i_v.true.0 (opCall) registerWrite.o_op tock",
     ),
     (
         "clock guard with since",
@@ -120,13 +120,13 @@ const CASES: &[(&str, &str, u32, Verdict, u64, &str)] = &[
         "stm M { requires I var n : nat initial i0 junction J state S { entry n = n + 1; if n > 1 then op() else op2(n) end; wait(1) }
          transition t { from i0 to S } transition u { from S to J }
          transition a { from J to S condition n < 2 } transition b { from J to S condition n >= 2 action n = 0 } }",
-        1, Verdict::Pass, 383, "",
+        1, Verdict::Pass, 287, "",
     ),
     (
         "enumeration variable",
         "stm M { requires I var c : Colour = Colour::Red initial i0 state S { entry if c == Colour::Blue then op() end; wait(1) }
          transition t { from i0 to S } transition u { from S to S action c = Colour::Blue } }",
-        1, Verdict::Pass, 191, "",
+        1, Verdict::Pass, 127, "",
     ),
     (
         "termination",

@@ -560,7 +560,7 @@ fn async_buffer_setting() {
     verify(&mut server, &checks, json!("Lost"));
     let h = hover_when(&mut server, &checks, position(&checks_text, "Lost :"), "pass");
     assert!(h.contains("when full, a new value replaces the oldest (RoboTool's default buffer)"), "{h}");
-    assert!(title_at(&mut server, &checks, &json!("Lost")).starts_with("✔ pass · 7 states"));
+    assert!(title_at(&mut server, &checks, &json!("Lost")).starts_with("✔ pass · 6 states"));
     server.shutdown();
     let _ = std::fs::remove_dir_all(&root);
 }
