@@ -627,15 +627,17 @@ impl Cx<'_> {
             }
         }
         // `receives`: whether the machine ever receives the event (for one
-        // connected to nothing, which has no connection to say).
+        // connected to nothing, which has no connection to say); none when
+        // it never communicates on it.
         let robosim = self.robosim;
-        let external = |machine_end: &End, receives: bool| -> Result<Option<Link>, String> {
+        let external = |machine_end: &End, receives: Option<bool>| -> Result<Option<Link>, String> {
             let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
                 // RT-15: an event connected to nothing is hidden by the
-                // controller (a RoboSim machine's is refused where used).
-                if robosim {
+                // controller (a RoboSim machine's is refused where used);
+                // one the machine never uses needs no channel.
+                let Some(receives) = receives.filter(|_| !robosim) else {
                     return Ok(None);
-                }
+                };
                 let name = format!("{}.{}", machine_end.0, machine_end.1);
                 let dir = if receives { Dir::In } else { Dir::Out };
                 return Ok(Some(Link { name, dir, internal: true, buffered: false, hidden: true, receivers: 1 }));
@@ -697,6 +699,8 @@ impl Cx<'_> {
             if self.robosim {
                 received.extend(self.input_context_events(inst.file, &inst.node));
             }
+            let mut used = communicated_events(&inst.node);
+            used.extend(inst.ops.iter().flat_map(|(_, _, body)| communicated_events(body)));
             let m = self.machine(inst, &mut slot, |ev: &str| {
                 if lone {
                     let dir = if received.iter().any(|r| r == ev) { Dir::In } else { Dir::Out };
@@ -711,7 +715,8 @@ impl Cx<'_> {
                 }
                 let mut e = end.clone();
                 e.1 = ev.to_string();
-                external(&e, received.iter().any(|r| r == ev))
+                let uses = used.iter().any(|u| u == ev);
+                external(&e, uses.then(|| received.iter().any(|r| r == ev)))
             })?;
             self.design.as_mut().expect("design").machines.push(m);
         }
@@ -833,6 +838,14 @@ fn received_events(machine: &SyntaxNode) -> Vec<String> {
             c.parent().is_some_and(|p| p.kind() == TRIGGER)
                 || c.children().any(|p| matches!(p.kind(), COMM_INPUT | COMM_SYNC))
         })
+        .filter_map(|c| c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)))
+        .collect()
+}
+
+/// The events a machine (or an operation) communicates on, in any way.
+fn communicated_events(node: &SyntaxNode) -> Vec<String> {
+    node.descendants()
+        .filter(|n| n.kind() == COMMUNICATION)
         .filter_map(|c| c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)))
         .collect()
 }
