@@ -394,6 +394,12 @@ pub enum Instr {
         dom: Dom,
         /// Whether another machine can read it.
         shared: bool,
+        /// RT-16: the writer's copy of a variable its controller provides
+        /// to several machines: the controller's slot, the slot of the
+        /// machines still to update, and those to update after this write
+        /// (a bit per machine). The write waits while an earlier one is
+        /// being forwarded ([`Design::forward_steps`]).
+        forward: Option<(u16, u16, i32)>,
     },
     /// `#C`.
     ResetClock(u16),
@@ -668,6 +674,20 @@ pub struct Var {
     pub init: Val,
 }
 
+/// RT-16: a variable a controller provides to several machines lives in
+/// the controller's slot; each machine reads its own copy, and a write is
+/// forwarded to the other machines' copies by hidden steps of their own,
+/// one machine after another.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Forward {
+    /// The controller's slot.
+    pub ctrl: u16,
+    /// The machines whose copies are still to update (bit `k`: `copies[k]`).
+    pub pending: u16,
+    /// The machines' copies, in the controller's order.
+    pub copies: Vec<u16>,
+}
+
 /// A RoboChart module (or controller, or machine) compiled for checking.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Design {
@@ -689,6 +709,8 @@ pub struct Design {
     pub domains: Vec<(String, Dom)>,
     /// Constants and the values used.
     pub constants: Vec<(String, Val)>,
+    /// Variables forwarded from a controller to its machines' copies.
+    pub forwards: Vec<Forward>,
 }
 
 impl Machine {
@@ -755,6 +777,9 @@ impl Design {
         }
         for c in &self.clocks {
             set(c.slot, 0, c.cap as i64);
+        }
+        for f in &self.forwards {
+            set(f.pending, 0, (1i64 << f.copies.len()) - 1);
         }
         for c in &self.channels {
             if let Some(b) = c.buffer {
@@ -1021,6 +1046,26 @@ impl Design {
             }
             Offer::Tau => None,
         })
+    }
+
+    /// RT-16: the hidden steps that forward a variable's last write to the
+    /// next machine's copy (one per variable being forwarded).
+    #[inline]
+    pub fn forward_steps(&self, st: &[i32]) -> Vec<Box<[i32]>> {
+        if self.forwards.is_empty() {
+            return Vec::new();
+        }
+        self.forwards
+            .iter()
+            .filter(|f| st[f.pending as usize] != 0)
+            .map(|f| {
+                let p = st[f.pending as usize];
+                let mut n: Box<[i32]> = st.into();
+                n[f.copies[p.trailing_zeros() as usize] as usize] = st[f.ctrl as usize];
+                n[f.pending as usize] = p & (p - 1);
+                n
+            })
+            .collect()
     }
 
     /// Whether `offer` is on an internal channel (it happens only together

@@ -7,7 +7,7 @@
 //! source location ([`Unsupported`]) instead of being approximated: a wrong
 //! verdict is worse than none.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::index::{resolve_item, ItemLoc};
@@ -189,6 +189,7 @@ pub fn lower_element(
         files: Vec::new(),
         robosim,
         shared_vars: HashMap::new(),
+        copies: BTreeMap::new(),
         platform_vars: BTreeSet::new(),
         machine_count: 0,
         lone: false,
@@ -208,6 +209,9 @@ struct Cx<'a> {
     robosim: bool,
     /// Variables shared by the machines (required through interfaces).
     shared_vars: HashMap<String, (u16, Dom)>,
+    /// RT-16: each machine's copy of a variable its controller provides
+    /// (by variable: machine index and copy slot).
+    copies: BTreeMap<String, Vec<(usize, u16)>>,
     /// Variables of the robotic platform (by name).
     platform_vars: BTreeSet<String>,
     /// How many machines the design has.
@@ -592,6 +596,7 @@ impl Cx<'_> {
                 ("core_real".into(), self.defaults.real),
             ],
             constants: Vec::new(),
+            forwards: Vec::new(),
         });
         // Union-find over connection ends: a machine event is external when
         // its class contains a platform end.
@@ -721,11 +726,67 @@ impl Cx<'_> {
             self.design.as_mut().expect("design").machines.push(m);
         }
         let mut design = self.design.take().expect("design");
-        let shared: std::collections::HashSet<u16> = self.shared_vars.values().map(|&(s, _)| s).collect();
+        let mut shared: std::collections::HashSet<u16> = self.shared_vars.values().map(|&(s, _)| s).collect();
+        self.forwards(&mut design, &mut slot, &mut shared)?;
         crate::eager::mark_eager_waits(&mut design, &shared);
         design.slots = slot;
         design.files = self.files.iter().map(|f| f.path(self.db).clone()).collect();
         Ok(design)
+    }
+
+    /// RT-16: the forwarding of each variable a controller provides to
+    /// several machines: a slot of the machines still to update, and each
+    /// machine's writes marked with it. Receiving into such a variable is
+    /// refused (the write would be part of the communication).
+    fn forwards(
+        &mut self,
+        design: &mut Design,
+        slot: &mut u16,
+        shared: &mut std::collections::HashSet<u16>,
+    ) -> Result<(), Unsupported> {
+        for (name, copies) in std::mem::take(&mut self.copies) {
+            let Some(&(ctrl, _)) = self.shared_vars.get(&name) else { continue };
+            let pending = *slot;
+            *slot += 1;
+            shared.extend(copies.iter().map(|&(_, c)| c));
+            shared.insert(pending);
+            let all = (1i32 << copies.len()) - 1;
+            for (k, &(mi, copy)) in copies.iter().enumerate() {
+                let m = &mut design.machines[mi];
+                let binds = m.transitions.iter().filter_map(|t| match &t.trigger {
+                    Some(Trigger::In { bind: Some((s, _)), .. }) if *s == copy => Some(t.range),
+                    _ => None,
+                });
+                let stmts = m.code.iter().zip(&m.code_ranges).filter_map(|(i, r)| match i {
+                    Instr::In { bind: Some((s, _)), .. } if *s == copy => Some(*r),
+                    _ => None,
+                });
+                if let Some(r) = binds.chain(stmts).next() {
+                    let file = self.files[m.file as usize];
+                    return Err(self.unsupported(
+                        file,
+                        r,
+                        format!(
+                            "receiving into `{name}`, which the controller provides to several machines, is not \
+                             supported yet"
+                        ),
+                    ));
+                }
+                for i in &mut m.code {
+                    if let Instr::Assign { slot: s, forward, .. } = i {
+                        if *s == copy {
+                            *forward = Some((ctrl, pending, all & !(1 << k)));
+                        }
+                    }
+                }
+            }
+            design.forwards.push(crate::ir::Forward {
+                ctrl,
+                pending,
+                copies: copies.iter().map(|&(_, c)| c).collect(),
+            });
+        }
+        Ok(())
     }
 
     /// Compiles one machine. `external(e)` says which platform channel (and
@@ -1390,6 +1451,25 @@ impl MachineCx<'_, '_> {
             }
         };
         let shared = self.cx.machine_count > 1;
+        // RT-16: with several machines, each reads its own copy of a
+        // variable its controller provides (see `Cx::forwards`).
+        let slot = if shared && !platform {
+            let machine = self.design().machines.len();
+            let copies = self.cx.copies.entry(name.to_string()).or_default();
+            match copies.iter().find(|(m, _)| *m == machine) {
+                Some(&(_, copy)) => copy,
+                None => {
+                    let copy = self.new_slot();
+                    self.cx.copies.get_mut(name).expect("made above").push((machine, copy));
+                    let init = self.design().vars.iter().find(|v| v.slot == slot).map_or(0, |v| v.init);
+                    let var = format!("{name} ({}'s copy)", self.inst_prefix);
+                    self.design().vars.push(Var { name: var, slot: copy, dom, init });
+                    copy
+                }
+            }
+        } else {
+            slot
+        };
         let update = match (platform, context) {
             (false, _) => None,
             // A RoboSim input: the register is the variable, set by each
@@ -1928,7 +2008,7 @@ impl MachineCx<'_, '_> {
                                 format!("`{target}` is an input of the machine: to write it, require it in the output context too"),
                             ));
                         }
-                        self.emit(Instr::Assign { slot, expr, dom, shared })
+                        self.emit(Instr::Assign { slot, expr, dom, shared, forward: None })
                     }
                     _ => return Err(self.err(s.text_range(), format!("`{target}` is not a variable of the machine"))),
                 }

@@ -205,13 +205,21 @@ impl Machine {
                 return Err(StepError(format!("machine `{}` ran off its code", self.name)));
             };
             match instr {
-                Instr::Assign { slot, expr, dom, shared } => {
+                Instr::Assign { slot, expr, dom, shared, forward } => {
                     if *shared && !first {
+                        return Ok(());
+                    }
+                    // RT-16: the controller is still forwarding a write.
+                    if forward.is_some_and(|(_, pending, _)| st[pending as usize] != 0) {
                         return Ok(());
                     }
                     let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
                     if dom.contains(v) {
                         st[*slot as usize] = v as i32;
+                    }
+                    if let Some((ctrl, pending, others)) = *forward {
+                        st[ctrl as usize] = st[*slot as usize];
+                        st[pending as usize] = others;
                     }
                     st[th.pc] += 1;
                 }
@@ -491,6 +499,8 @@ impl Machine {
                     out.push(Move { offer: Offer::Tau, act: choose(n) });
                 }
             }
+            // RT-16: a write waits while an earlier one is being forwarded.
+            Instr::Assign { forward: Some((_, pending, _)), .. } if st[*pending as usize] != 0 => {}
             Instr::Assign { .. } => out.push(Move { offer: Offer::Tau, act: exec }),
             // RT-18: what follows a wait that ended at a `tock` is a hidden
             // step of its own, interleaving freely with the other threads'

@@ -142,3 +142,28 @@ fn a_composite_during_action_runs_once_per_entry() {
     );
     expect(&reports, &[("A", Verdict::Fail, ""), ("B", Verdict::Pass, "reachability: f.in")]);
 }
+
+/// RT-16: a variable the controller provides lives in the controller's
+/// memory and each machine reads its own copy; a write reaches the other
+/// machines' copies in hidden steps of their own. Q can therefore take
+/// `o` while its copy of `x` is still 0, although P wrote 1 before sending
+/// `o`; and once forwarded, Q sees 1.
+#[test]
+fn other_machines_see_a_shared_write_after_it_is_forwarded() {
+    let machines = "
+        interface V { var x : nat }
+        stm P { uses I requires V initial i state S { entry x = 1; o } transition t { from i to S } }
+        stm Q { uses I requires V initial i state S { } state Old { } state New { }
+          transition t { from i to S }
+          transition a { from S to Old trigger o condition x == 0 } transition b { from S to New trigger o condition x == 1 } }
+        controller Ctl { uses I provides V sref p = P sref q = Q connection p on o to q on o }";
+    let reports = run(
+        machines,
+        "assertion A : Ctl::q::Old is reachable in Ctl
+         assertion B : Ctl::q::New is reachable in Ctl",
+    );
+    expect(
+        &reports,
+        &[("A", Verdict::Pass, "reachability: (Ctl.p.o)"), ("B", Verdict::Pass, "reachability: (Ctl.p.o)")],
+    );
+}
