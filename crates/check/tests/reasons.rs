@@ -64,7 +64,7 @@ fn spent_budgets_are_inconclusive() {
 }
 
 /// A machine declared inside its controller is named `C::M`: it is checked
-/// on its own, calling the controller's operations.
+/// on its own, calling the controller's operations as call events (RT-19).
 #[test]
 fn machines_inside_controllers_are_checked_on_their_own() {
     let rct = "interface I { event e op() } interface Ops { turn() }

@@ -19,8 +19,10 @@ mod diagnostics;
 pub mod index;
 mod more_checks;
 pub mod nav;
+pub mod profile;
 pub mod resolve;
 mod robosim;
+pub mod target;
 pub mod types;
 mod walk;
 
