@@ -83,7 +83,7 @@ pub fn run(args: Args) -> ExitCode {
             // A verdict that holds only under the buffer (RoboTool's, or the
             // one assumed instead) says so.
             {
-                let b = args.async_buffer.unwrap_or(robosim_check::verify::AsyncBuffer::ROBOTOOL);
+                let b = args.async_buffer.unwrap_or(robosim_ide::verify::AsyncBuffer::ROBOTOOL);
                 let assumption = b.describe();
                 if reports.iter().any(|r| r.notes.iter().any(|n| n.contains(&assumption))) {
                     text.push_str(&format!("assumed: {assumption}\n"));
