@@ -1,5 +1,5 @@
 //! How machines compose in a controller, as RoboTool's generated CSPm
-//! composes them (../shared/spec/robotool-facts.md RT-14, RT-15, RT-19):
+//! composes them (../shared/spec/robotool-facts.md RT-13, RT-14, RT-15, RT-19):
 //! events connected to nothing are hidden, one sender and several
 //! receivers synchronise all at once, and a machine checked on its own
 //! calls its controller's operations as visible, urgent events.
@@ -118,4 +118,28 @@ fn a_machine_on_its_own_calls_its_controllers_operations_as_events() {
             ("B", Verdict::Fail, "trace: e.in tock"),
         ],
     );
+}
+
+/// RT-13: `_async` between a machine and its controller's boundary is a
+/// plain renaming: no buffer, so the machine's output is the controller's
+/// event itself (visible, in order, and the machine waits for it), exactly
+/// as with a synchronous connection; and no report mentions a buffer.
+#[test]
+fn async_to_the_controller_boundary_is_a_renaming() {
+    let model = "
+        stm M { uses I initial i state S { entry o; f } state T { } transition t { from i to S }
+          transition u { from S to T } }
+        controller Ctl { uses I sref m = M connection m on o to Ctl on o ( _async ) connection m on f to Ctl on f }
+        controller Sync { uses I sref m = M connection m on o to Sync on o connection m on f to Sync on f }";
+    let reports = run(
+        model,
+        "assertion A : Ctl::m::T is reachable in Ctl
+         assertion B : Ctl refines Sync
+         assertion C : Sync refines Ctl",
+    );
+    expect(
+        &reports,
+        &[("A", Verdict::Pass, "reachability: o.out f.out"), ("B", Verdict::Pass, ""), ("C", Verdict::Pass, "")],
+    );
+    assert!(reports.iter().all(|r| r.notes.iter().all(|n| !n.contains("buffer"))), "{reports:#?}");
 }
