@@ -153,6 +153,9 @@ impl<'a> DesignLts<'a> {
         for (chan, args, n) in self.design.internal_steps(st, &internal)? {
             out.push(Label { event: TAU, note: self.enc.events.event(self.group[chan as usize], &args) }, &n);
         }
+        for n in self.design.forward_steps(st) {
+            out.push(Label::TAU, &n);
+        }
         if self.design.machines.iter().all(|m| m.terminated(st)) {
             let n = out.push_copy(st);
             n[self.ended] = 1;

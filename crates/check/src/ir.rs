@@ -278,6 +278,14 @@ pub struct Channel {
     /// RoboSim input's register holds its value, read with no presence
     /// flag (`registerRead.i_x.v`).
     pub var: bool,
+    /// A machine's event connected to nothing (then `internal`): the
+    /// controller hides it, so the machine's communications on it are
+    /// hidden steps of its own, an input taking any value (RT-15).
+    pub alone: bool,
+    /// How many machines take part in an internal synchronous
+    /// communication besides the sender: with several, all receive at once
+    /// (RT-14: a multi-way synchronisation).
+    pub receivers: u8,
 }
 
 impl Channel {
@@ -294,14 +302,16 @@ impl Channel {
             internal: false,
             buffer: None,
             var: false,
+            alone: false,
+            receivers: 1,
         }
     }
 }
 
 /// What an asynchronous connection does with the values sent and not yet
-/// received: RoboTool's choice is not documented in any source we have
-/// (semantics.md §11.3), so the engine checks such connections only under
-/// an assumption the user states.
+/// received. RoboTool's generated CSPm puts a one-place buffer that
+/// overwrites between two controllers (robotool-facts.md RT-12,
+/// [`AsyncBuffer::ROBOTOOL`]); a user may check under another.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct AsyncBuffer {
     /// How many values it holds (1 to [`AsyncBuffer::MAX`]).
@@ -314,6 +324,10 @@ pub struct AsyncBuffer {
 impl AsyncBuffer {
     /// The largest buffer (each value is a slot of every state).
     pub const MAX: u8 = 8;
+
+    /// RoboTool's buffer (RT-12): one place; the sender never blocks and an
+    /// unread value is lost when the next one arrives.
+    pub const ROBOTOOL: AsyncBuffer = AsyncBuffer { size: 1, overwrite: true };
 
     /// Reads `SIZE[:overwrite|:block]` (overwrite when the policy is left out).
     pub fn parse(text: &str) -> Result<AsyncBuffer, String> {
@@ -330,14 +344,20 @@ impl AsyncBuffer {
         Ok(AsyncBuffer { size, overwrite })
     }
 
-    /// The assumption in words, for reports.
+    /// The buffer in words, for reports: which one the verdict holds under,
+    /// and whether it is RoboTool's.
     pub fn describe(self) -> String {
-        format!(
-            "asynchronous connections buffer {} value{}; when full, {} (an assumption: RoboTool's buffer is not documented)",
+        let what = format!(
+            "asynchronous connections buffer {} value{}; when full, {}",
             self.size,
             if self.size == 1 { "" } else { "s" },
             if self.overwrite { "a new value replaces the oldest" } else { "the sender waits" }
-        )
+        );
+        if self == AsyncBuffer::ROBOTOOL {
+            format!("{what} (RoboTool's default buffer)")
+        } else {
+            format!("{what} (assumed with `--async-buffer`; RoboTool's default buffer is `1:overwrite`)")
+        }
     }
 }
 
@@ -374,6 +394,12 @@ pub enum Instr {
         dom: Dom,
         /// Whether another machine can read it.
         shared: bool,
+        /// RT-16: the writer's copy of a variable its controller provides
+        /// to several machines: the controller's slot, the slot of the
+        /// machines still to update, and those to update after this write
+        /// (a bit per machine). The write waits while an earlier one is
+        /// being forwarded ([`Design::forward_steps`]).
+        forward: Option<(u16, u16, i32)>,
     },
     /// `#C`.
     ResetClock(u16),
@@ -452,8 +478,9 @@ pub enum Instr {
         /// The deadlines of the state's transitions.
         limits: Vec<Expr>,
     },
-    /// The end of a composite state's entry action: its during action
-    /// starts as an activity running alongside the substates.
+    /// The end of a substate's entry action: its composite state's during
+    /// action starts as an activity running alongside the substates,
+    /// unless it already runs (RT-17: once per entry of the composite).
     StartActivity(u16),
     /// The end of an activity's code: it lets time pass until its state
     /// is left (`TStop`).
@@ -519,8 +546,8 @@ pub struct Node {
 }
 
 /// A composite state's during action, which runs alongside its substates
-/// from the end of its entry action until a transition leaves the state:
-/// a thread of the machine with its own control slots.
+/// from the end of the first substate's entry action until a transition
+/// leaves the composite state (RT-17): a thread of the machine with its own control slots.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Activity {
     /// The state.
@@ -611,6 +638,11 @@ pub struct Machine {
     pub activities: Vec<Activity>,
     /// The slots of the states' deadline timers.
     pub timers: Vec<u16>,
+    /// By instruction: the waits whose continuation runs inside the `tock`
+    /// step that ends them, a reduction that changes no verdict (see
+    /// `eager.rs`); empty when none. Any other wait ends in a hidden step
+    /// of its own (RT-18).
+    pub eager_waits: Vec<bool>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,
@@ -642,6 +674,20 @@ pub struct Var {
     pub init: Val,
 }
 
+/// RT-16: a variable a controller provides to several machines lives in
+/// the controller's slot; each machine reads its own copy, and a write is
+/// forwarded to the other machines' copies by hidden steps of their own,
+/// one machine after another.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Forward {
+    /// The controller's slot.
+    pub ctrl: u16,
+    /// The machines whose copies are still to update (bit `k`: `copies[k]`).
+    pub pending: u16,
+    /// The machines' copies, in the controller's order.
+    pub copies: Vec<u16>,
+}
+
 /// A RoboChart module (or controller, or machine) compiled for checking.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Design {
@@ -666,6 +712,8 @@ pub struct Design {
     /// The values the model takes from RoboTool's defaults because it
     /// gives none (robotool-facts RT-1, RT-4), described for the report.
     pub defaults: Vec<String>,
+    /// Variables forwarded from a controller to its machines' copies.
+    pub forwards: Vec<Forward>,
 }
 
 impl Machine {
@@ -732,6 +780,9 @@ impl Design {
         }
         for c in &self.clocks {
             set(c.slot, 0, c.cap as i64);
+        }
+        for f in &self.forwards {
+            set(f.pending, 0, (1i64 << f.copies.len()) - 1);
         }
         for c in &self.channels {
             if let Some(b) = c.buffer {
@@ -847,16 +898,23 @@ impl Design {
         let mut out = Vec::new();
         for (mi, mv) in moves {
             let (Offer::Out { chan, .. } | Offer::In { chan, .. }) = &mv.offer else { continue };
-            if let Some(b) = self.channels[*chan as usize].buffer {
+            let c = &self.channels[*chan as usize];
+            if let Some(b) = c.buffer {
                 if let Some(step) = self.buffer_step(st, &self.machines[*mi], mv, b)? {
                     out.push(step);
                 }
+            } else if c.alone {
+                self.alone_steps(st, &self.machines[*mi], mv, &mut out)?;
             }
         }
         for (si, send) in moves {
             let Offer::Out { chan, args } = &send.offer else { continue };
             let c = &self.channels[*chan as usize];
-            if !c.internal || c.buffer.is_some() {
+            if !c.internal || c.buffer.is_some() || c.alone {
+                continue;
+            }
+            if c.receivers > 1 {
+                self.multiway(st, moves, (*si, send), *chan, args, c.receivers as usize, &mut out)?;
                 continue;
             }
             for (ri, recv) in moves {
@@ -870,6 +928,82 @@ impl Design {
             }
         }
         Ok(out)
+    }
+
+    /// RT-14: a send on a channel with several receiving machines happens
+    /// when every one of them accepts the value, all in one step: one step
+    /// per combination of the receivers' accepting moves.
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
+    #[cold]
+    fn multiway(
+        &self,
+        st: &[i32],
+        moves: &[(usize, crate::machine::Move)],
+        (si, send): (usize, &crate::machine::Move),
+        chan: u16,
+        args: &[Val],
+        receivers: usize,
+        out: &mut Vec<(u16, Vec<Val>, Box<[i32]>)>,
+    ) -> Result<(), String> {
+        use crate::machine::Offer;
+        // The accepting moves, by receiving machine.
+        let mut by_machine: Vec<(usize, Vec<&crate::machine::Move>)> = Vec::new();
+        for (ri, recv) in moves {
+            let Offer::In { chan: c2, value } = &recv.offer else { continue };
+            if *c2 != chan || *ri == si || value.is_some_and(|v| args.first() != Some(&v)) {
+                continue;
+            }
+            match by_machine.iter_mut().find(|(m, _)| m == ri) {
+                Some((_, v)) => v.push(recv),
+                None => by_machine.push((*ri, vec![recv])),
+            }
+        }
+        if by_machine.len() < receivers {
+            return Ok(());
+        }
+        let first = self.after(&self.machines[si], st, send.act, None)?;
+        let mut states = vec![first];
+        for (ri, accepting) in &by_machine {
+            let mut next = Vec::with_capacity(states.len() * accepting.len());
+            for n in &states {
+                for recv in accepting {
+                    next.push(self.after(&self.machines[*ri], n, recv.act, args.first().copied())?);
+                }
+            }
+            states = next;
+        }
+        out.extend(states.into_iter().map(|n| (chan, args.to_vec(), n)));
+        Ok(())
+    }
+
+    /// A machine's communication on an event connected to nothing: a
+    /// hidden step of its own (RT-15); an input `e?x` takes any value of
+    /// its type, as hiding the event makes the choice internal.
+    #[allow(clippy::type_complexity)]
+    fn alone_steps(
+        &self,
+        st: &[i32],
+        m: &Machine,
+        mv: &crate::machine::Move,
+        out: &mut Vec<(u16, Vec<Val>, Box<[i32]>)>,
+    ) -> Result<(), String> {
+        use crate::machine::Offer;
+        match &mv.offer {
+            Offer::Out { chan, args } => out.push((*chan, args.clone(), self.after(m, st, mv.act, None)?)),
+            Offer::In { chan, value } => {
+                let c = &self.channels[*chan as usize];
+                let values: Vec<Option<Val>> = match (value, c.params.first()) {
+                    (Some(v), _) => vec![Some(*v)],
+                    (None, Some(d)) => (d.lo..=d.hi).map(Some).collect(),
+                    (None, None) => vec![None],
+                };
+                for v in values {
+                    out.push((*chan, v.into_iter().collect(), self.after(m, st, mv.act, v)?));
+                }
+            }
+            Offer::Tau => {}
+        }
+        Ok(())
     }
 
     /// A machine's step on an asynchronous channel: a value sent goes into
@@ -915,6 +1049,26 @@ impl Design {
             }
             Offer::Tau => None,
         })
+    }
+
+    /// RT-16: the hidden steps that forward a variable's last write to the
+    /// next machine's copy (one per variable being forwarded).
+    #[inline]
+    pub fn forward_steps(&self, st: &[i32]) -> Vec<Box<[i32]>> {
+        if self.forwards.is_empty() {
+            return Vec::new();
+        }
+        self.forwards
+            .iter()
+            .filter(|f| st[f.pending as usize] != 0)
+            .map(|f| {
+                let p = st[f.pending as usize];
+                let mut n: Box<[i32]> = st.into();
+                n[f.copies[p.trailing_zeros() as usize] as usize] = st[f.ctrl as usize];
+                n[f.pending as usize] = p & (p - 1);
+                n
+            })
+            .collect()
     }
 
     /// Whether `offer` is on an internal channel (it happens only together

@@ -9,6 +9,7 @@ pub mod algo;
 pub use robosim_hir::assertions;
 pub mod budget;
 pub mod design;
+mod eager;
 pub mod events;
 pub mod generate;
 pub mod ir;

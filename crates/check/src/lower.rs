@@ -7,7 +7,7 @@
 //! source location ([`Unsupported`]) instead of being approximated: a wrong
 //! verdict is worse than none.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::index::{resolve_item, ItemLoc};
@@ -122,7 +122,7 @@ pub struct DomainDefaults {
     /// functions declared without a body.
     pub functions: Vec<CspFunction>,
     /// The buffer assumed for asynchronous connections between machines
-    /// or controllers (none: such designs are refused).
+    /// or controllers (none: RoboTool's, [`AsyncBuffer::ROBOTOOL`]).
     pub async_buffer: Option<AsyncBuffer>,
 }
 
@@ -170,7 +170,7 @@ pub fn lower_design(
 
 /// Compiles the RoboChart module, controller or machine `loc`, or with
 /// `inner`, the machine of that name declared inside the controller `loc`
-/// (on its own, with the controller's operations).
+/// (on its own: the controller's operations are call events, RT-19).
 pub fn lower_element(
     db: &dyn Db,
     ws: Workspace,
@@ -189,6 +189,7 @@ pub fn lower_element(
         files: Vec::new(),
         robosim,
         shared_vars: HashMap::new(),
+        copies: BTreeMap::new(),
         platform_vars: BTreeSet::new(),
         machine_count: 0,
         lone: false,
@@ -208,6 +209,9 @@ struct Cx<'a> {
     robosim: bool,
     /// Variables shared by the machines (required through interfaces).
     shared_vars: HashMap<String, (u16, Dom)>,
+    /// RT-16: each machine's copy of a variable its controller provides
+    /// (by variable: machine index and copy slot).
+    copies: BTreeMap<String, Vec<(usize, u16)>>,
     /// Variables of the robotic platform (by name).
     platform_vars: BTreeSet<String>,
     /// How many machines the design has.
@@ -247,6 +251,10 @@ struct Link {
     internal: bool,
     /// Through an asynchronous connection (then internal).
     buffered: bool,
+    /// Connected to nothing: hidden by the controller (RT-15; then internal).
+    hidden: bool,
+    /// How many machines receive it (internal synchronous links, RT-14).
+    receivers: u8,
 }
 
 fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<(File, SyntaxNode)> {
@@ -432,22 +440,15 @@ impl Cx<'_> {
                     "asynchronous connections between RoboSim controllers or machines are not supported yet",
                 ));
             }
-            if self.defaults.async_buffer.is_none() {
-                return Err(self.unsupported(
-                    *f,
-                    *r,
-                    "asynchronous connections need an assumed buffer: `robosim verify --async-buffer 1:overwrite` \
-                     (or `2:block`, …), or the editor setting `robosim.verify.asyncBuffer`; RoboTool's buffer (its \
-                     size, and what it does when full) is not documented (semantics.md §11.3), so none is guessed",
-                ));
-            }
         }
         let async_ends: BTreeSet<End> = async_links.into_iter().flat_map(|(_, _, a, b)| [a, b]).collect();
         self.build(&top_name, node.kind(), instances, &links, &platform, &async_ends)
     }
 
     /// The machine `name` declared inside the controller `ctrl`, on its own
-    /// (every event faces the environment), with the controller's operations.
+    /// (every event faces the environment). The controller's operations
+    /// are undefined for it: calls of them are urgent visible call events
+    /// (`opCall`), as for platform operations (RT-19).
     fn inner_machine(&mut self, file: File, ctrl: &SyntaxNode, name: &str) -> Result<Design, Unsupported> {
         let (mut instances, mut links, mut async_links) = (Vec::new(), Vec::new(), Vec::new());
         self.controller(&name_of(ctrl), file, ctrl, &mut instances, &mut links, &mut async_links)?;
@@ -458,6 +459,7 @@ impl Cx<'_> {
                 self.unsupported(file, ctrl.text_range(), format!("the controller declares no state machine `{name}`"))
             })?;
         inst.ctrl = String::new();
+        inst.ops.clear();
         self.build(name, STATE_MACHINE, vec![inst], &[], &HashMap::new(), &BTreeSet::new())
     }
 
@@ -595,6 +597,7 @@ impl Cx<'_> {
             ],
             constants: Vec::new(),
             defaults: Vec::new(),
+            forwards: Vec::new(),
         });
         // Union-find over connection ends: a machine event is external when
         // its class contains a platform end.
@@ -629,29 +632,65 @@ impl Cx<'_> {
                 sends.insert(b, false);
             }
         }
-        let external = |machine_end: &End| -> Result<Option<Link>, String> {
+        // `receives`: whether the machine ever receives the event (for one
+        // connected to nothing, which has no connection to say); none when
+        // it never communicates on it.
+        let robosim = self.robosim;
+        let external = |machine_end: &End, receives: Option<bool>| -> Result<Option<Link>, String> {
             let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
-                return Ok(None);
+                // RT-15: an event connected to nothing is hidden by the
+                // controller (a RoboSim machine's is refused where used);
+                // one the machine never uses needs no channel.
+                let Some(receives) = receives.filter(|_| !robosim) else {
+                    return Ok(None);
+                };
+                let name = format!("{}.{}", machine_end.0, machine_end.1);
+                let dir = if receives { Dir::In } else { Dir::Out };
+                return Ok(Some(Link { name, dir, internal: true, buffered: false, hidden: true, receivers: 1 }));
             };
             let plat: Vec<(&End, &Dir)> = class.iter().filter_map(|e| platform.get(e).map(|d| (e, d))).collect();
             if let Some((e, d)) = plat.first() {
-                return Ok(Some(Link { name: e.1.clone(), dir: **d, internal: false, buffered: false }));
+                return Ok(Some(Link {
+                    name: e.1.clone(),
+                    dir: **d,
+                    internal: false,
+                    buffered: false,
+                    hidden: false,
+                    receivers: 1,
+                }));
             }
             // Between machines: a synchronous communication from the one
-            // sender to the one receiver, hidden in the design.
+            // sender to every receiver at once (RT-14: a multi-way
+            // synchronisation when there are several), hidden in the design.
             let ends: Vec<&End> = class.iter().filter(|e| e.0.contains('.')).collect();
             let senders: Vec<&&End> = ends.iter().filter(|e| sends.get(**e) == Some(&true)).collect();
-            if ends.len() != 2 || senders.len() != 1 {
+            if ends.len() == 1 {
                 return Err(format!(
-                    "event `{}` connects {} machine ends; only one sender and one receiver are supported",
+                    "event `{}` reaches its controller's boundary, but the controller's event is connected to \
+                     nothing in the module: not supported yet (whether RoboTool hides it is not pinned down)",
+                    machine_end.1
+                ));
+            }
+            if senders.len() != 1 {
+                return Err(format!(
+                    "event `{}` connects {} machine ends of which {} send; only one sender is supported",
                     machine_end.1,
-                    ends.len()
+                    ends.len(),
+                    senders.len()
                 ));
             }
             let dir = if sends.get(machine_end) == Some(&true) { Dir::Out } else { Dir::In };
             let name = format!("{}.{}", senders[0].0, senders[0].1);
             let buffered = class.iter().any(|e| async_ends.contains(e));
-            Ok(Some(Link { name, dir, internal: true, buffered }))
+            let receivers = u8::try_from(ends.len() - 1)
+                .map_err(|_| format!("event `{}` has too many receivers", machine_end.1))?;
+            if buffered && receivers > 1 {
+                return Err(format!(
+                    "event `{}` is sent asynchronously to {receivers} receivers: not supported yet",
+                    machine_end.1
+                ));
+            }
+            Ok(Some(Link { name, dir, internal: true, buffered, hidden: false, receivers }))
         };
         let lone = top_kind == STATE_MACHINE;
         self.lone = lone;
@@ -666,21 +705,89 @@ impl Cx<'_> {
             if self.robosim {
                 received.extend(self.input_context_events(inst.file, &inst.node));
             }
+            let mut used = communicated_events(&inst.node);
+            used.extend(inst.ops.iter().flat_map(|(_, _, body)| communicated_events(body)));
             let m = self.machine(inst, &mut slot, |ev: &str| {
                 if lone {
                     let dir = if received.iter().any(|r| r == ev) { Dir::In } else { Dir::Out };
-                    return Ok(Some(Link { name: ev.to_string(), dir, internal: false, buffered: false }));
+                    return Ok(Some(Link {
+                        name: ev.to_string(),
+                        dir,
+                        internal: false,
+                        buffered: false,
+                        hidden: false,
+                        receivers: 1,
+                    }));
                 }
                 let mut e = end.clone();
                 e.1 = ev.to_string();
-                external(&e)
+                let uses = used.iter().any(|u| u == ev);
+                external(&e, uses.then(|| received.iter().any(|r| r == ev)))
             })?;
             self.design.as_mut().expect("design").machines.push(m);
         }
         let mut design = self.design.take().expect("design");
+        let mut shared: std::collections::HashSet<u16> = self.shared_vars.values().map(|&(s, _)| s).collect();
+        self.forwards(&mut design, &mut slot, &mut shared)?;
+        crate::eager::mark_eager_waits(&mut design, &shared);
         design.slots = slot;
         design.files = self.files.iter().map(|f| f.path(self.db).clone()).collect();
         Ok(design)
+    }
+
+    /// RT-16: the forwarding of each variable a controller provides to
+    /// several machines: a slot of the machines still to update, and each
+    /// machine's writes marked with it. Receiving into such a variable is
+    /// refused (the write would be part of the communication).
+    fn forwards(
+        &mut self,
+        design: &mut Design,
+        slot: &mut u16,
+        shared: &mut std::collections::HashSet<u16>,
+    ) -> Result<(), Unsupported> {
+        for (name, copies) in std::mem::take(&mut self.copies) {
+            let Some(&(ctrl, _)) = self.shared_vars.get(&name) else { continue };
+            let pending = *slot;
+            *slot += 1;
+            shared.extend(copies.iter().map(|&(_, c)| c));
+            shared.insert(pending);
+            let all = (1i32 << copies.len()) - 1;
+            for (k, &(mi, copy)) in copies.iter().enumerate() {
+                let m = &mut design.machines[mi];
+                let binds = m.transitions.iter().filter_map(|t| match &t.trigger {
+                    Some(Trigger::In { bind: Some((s, _)), .. }) if *s == copy => Some(t.range),
+                    _ => None,
+                });
+                let stmts = m.code.iter().zip(&m.code_ranges).filter_map(|(i, r)| match i {
+                    Instr::In { bind: Some((s, _)), .. } if *s == copy => Some(*r),
+                    _ => None,
+                });
+                if let Some(r) = binds.chain(stmts).next() {
+                    let file = self.files[m.file as usize];
+                    return Err(self.unsupported(
+                        file,
+                        r,
+                        format!(
+                            "receiving into `{name}`, which the controller provides to several machines, is not \
+                             supported yet"
+                        ),
+                    ));
+                }
+                for i in &mut m.code {
+                    if let Instr::Assign { slot: s, forward, .. } = i {
+                        if *s == copy {
+                            *forward = Some((ctrl, pending, all & !(1 << k)));
+                        }
+                    }
+                }
+            }
+            design.forwards.push(crate::ir::Forward {
+                ctrl,
+                pending,
+                copies: copies.iter().map(|&(_, c)| c).collect(),
+            });
+        }
+        Ok(())
     }
 
     /// Compiles one machine. `external(e)` says which platform channel (and
@@ -758,6 +865,7 @@ impl Cx<'_> {
             ops: std::mem::take(&mut mc.ops),
             activities: std::mem::take(&mut mc.activities),
             timers: std::mem::take(&mut mc.timers),
+            eager_waits: Vec::new(),
             base,
             file: file_ix,
         };
@@ -792,6 +900,14 @@ fn received_events(machine: &SyntaxNode) -> Vec<String> {
             c.parent().is_some_and(|p| p.kind() == TRIGGER)
                 || c.children().any(|p| matches!(p.kind(), COMM_INPUT | COMM_SYNC))
         })
+        .filter_map(|c| c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)))
+        .collect()
+}
+
+/// The events a machine (or an operation) communicates on, in any way.
+fn communicated_events(node: &SyntaxNode) -> Vec<String> {
+    node.descendants()
+        .filter(|n| n.kind() == COMMUNICATION)
         .filter_map(|c| c.children().find(|n| n.kind() == NAME_REF).map(|n| ident_text(&n)))
         .collect()
 }
@@ -1257,7 +1373,9 @@ impl MachineCx<'_, '_> {
                                 }
                                 if link.internal {
                                     // Both ends share the channel: its buffer is made once.
-                                    let policy = self.cx.defaults.async_buffer.filter(|_| link.buffered);
+                                    // RT-12: RoboTool's buffer unless the user assumes another.
+                                    let policy = self.cx.defaults.async_buffer.unwrap_or(AsyncBuffer::ROBOTOOL);
+                                    let policy = Some(policy).filter(|_| link.buffered);
                                     if let Some(policy) =
                                         policy.filter(|_| self.design().channels[chan as usize].buffer.is_none())
                                     {
@@ -1270,6 +1388,8 @@ impl MachineCx<'_, '_> {
                                     let c = &mut self.design().channels[chan as usize];
                                     c.internal = true;
                                     c.register = None;
+                                    c.alone = link.hidden;
+                                    c.receivers = link.receivers;
                                 }
                                 Some((chan, link.dir))
                             }
@@ -1369,6 +1489,25 @@ impl MachineCx<'_, '_> {
             }
         };
         let shared = self.cx.machine_count > 1;
+        // RT-16: with several machines, each reads its own copy of a
+        // variable its controller provides (see `Cx::forwards`).
+        let slot = if shared && !platform {
+            let machine = self.design().machines.len();
+            let copies = self.cx.copies.entry(name.to_string()).or_default();
+            match copies.iter().find(|(m, _)| *m == machine) {
+                Some(&(_, copy)) => copy,
+                None => {
+                    let copy = self.new_slot();
+                    self.cx.copies.get_mut(name).expect("made above").push((machine, copy));
+                    let init = self.design().vars.iter().find(|v| v.slot == slot).map_or(0, |v| v.init);
+                    let var = format!("{name} ({}'s copy)", self.inst_prefix);
+                    self.design().vars.push(Var { name: var, slot: copy, dom, init });
+                    copy
+                }
+            }
+        } else {
+            slot
+        };
         let update = match (platform, context) {
             (false, _) => None,
             // A RoboSim input: the register is the variable, set by each
@@ -1518,10 +1657,12 @@ impl MachineCx<'_, '_> {
                         self.action_stmt(&a)?;
                     }
                     self.at = self.nodes[id].range;
+                    self.start_parent_activity(id);
                     let has_children = self.nodes.iter().any(|n| n.parent == Some(node_id));
                     // The state's activity starts when its entry action ends
                     // (the exporter's `activate__`): the deadline timer of
-                    // its transitions, and a composite state's during action.
+                    // its transitions. A composite state's during action is
+                    // compiled here and started by its substates (RT-17).
                     let limits: Vec<Expr> =
                         self.deadlines.iter().filter(|(s, _)| *s == node_id).map(|(_, e)| e.clone()).collect();
                     if !limits.is_empty() {
@@ -1569,6 +1710,7 @@ impl MachineCx<'_, '_> {
                 }
                 NodeKind::Final => {
                     self.nodes[id].entry_pc = self.code.len() as u32;
+                    self.start_parent_activity(id);
                     // A final state ends the machine, or returns from an
                     // operation's body; in a composite state it just rests.
                     self.emit(match (self.nodes[id].parent, self.cur_op) {
@@ -1588,8 +1730,21 @@ impl MachineCx<'_, '_> {
         Ok(())
     }
 
+    /// RT-17: a composite state's during action starts once the substate
+    /// first entered has finished its entry action (the generated
+    /// `During` waits for a substate's `entered`), and only then: a
+    /// substate entered later finds it running (or done) and leaves it.
+    /// Parents come before their substates in `nodes`, so the parent's
+    /// activity is known here.
+    fn start_parent_activity(&mut self, id: usize) {
+        if let Some(k) = self.nodes[id].parent.and_then(|p| self.nodes[p as usize].activity) {
+            self.emit(Instr::StartActivity(k));
+        }
+    }
+
     /// A composite state's during action: an activity of the machine,
-    /// started by the state's entry code, its code out of line.
+    /// started by its substates' entry code (see
+    /// [`MachineCx::start_parent_activity`]), its code out of line.
     fn activity(&mut self, state: u16, during: &SyntaxNode) -> Result<(), Unsupported> {
         if self.cx.robosim {
             return Err(self.err(
@@ -1601,7 +1756,6 @@ impl MachineCx<'_, '_> {
         let k = self.activities.len() as u16;
         let slots = *self.slot;
         *self.slot += 3;
-        self.emit(Instr::StartActivity(k));
         let jump = self.code.len();
         self.emit(Instr::Jump(u32::MAX));
         let start_pc = self.code.len() as u32;
@@ -1892,7 +2046,7 @@ impl MachineCx<'_, '_> {
                                 format!("`{target}` is an input of the machine: to write it, require it in the output context too"),
                             ));
                         }
-                        self.emit(Instr::Assign { slot, expr, dom, shared })
+                        self.emit(Instr::Assign { slot, expr, dom, shared, forward: None })
                     }
                     _ => return Err(self.err(s.text_range(), format!("`{target}` is not a variable of the machine"))),
                 }

@@ -205,13 +205,21 @@ impl Machine {
                 return Err(StepError(format!("machine `{}` ran off its code", self.name)));
             };
             match instr {
-                Instr::Assign { slot, expr, dom, shared } => {
+                Instr::Assign { slot, expr, dom, shared, forward } => {
                     if *shared && !first {
+                        return Ok(());
+                    }
+                    // RT-16: the controller is still forwarding a write.
+                    if forward.is_some_and(|(_, pending, _)| st[pending as usize] != 0) {
                         return Ok(());
                     }
                     let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
                     if dom.contains(v) {
                         st[*slot as usize] = v as i32;
+                    }
+                    if let Some((ctrl, pending, others)) = *forward {
+                        st[ctrl as usize] = st[*slot as usize];
+                        st[pending as usize] = others;
                     }
                     st[th.pc] += 1;
                 }
@@ -238,7 +246,10 @@ impl Machine {
                     if st[th.wait] > 0 {
                         return Ok(());
                     }
+                    // Passing an ended wait touches nothing another thread
+                    // sees: a write right after it is still the step's first.
                     st[th.pc] += 1;
+                    continue;
                 }
                 Instr::JumpIfNot(c, target) => {
                     let v = c.eval(st, sat).map_err(|e| self.eval_error(e))?;
@@ -292,6 +303,12 @@ impl Machine {
                 Instr::StartActivity(k) => {
                     let start = self.activities[*k as usize].start_pc;
                     let act = self.activity_thread(*k);
+                    // Started once per entry of its state (RT-17): a later
+                    // substate's entry leaves it as it is.
+                    if st[act.pc] >= 0 {
+                        st[th.pc] += 1;
+                        continue;
+                    }
                     st[act.pc] = start as i32;
                     st[act.wait] = 0;
                     st[act.deadline] = -1;
@@ -402,7 +419,8 @@ impl Machine {
             }
             Instr::Terminate | Instr::Exec(_) | Instr::ExecTransition => {}
             _ => {
-                if !self.thread_offers(instr, st, out, Act::Comm, Act::Choose, Act::Exec)? {
+                let waited = st[self.slot(WAIT)] == 0;
+                if !self.thread_offers(instr, st, out, waited, Act::Comm, Act::Choose, Act::Exec)? {
                     return Err(StepError(format!("machine `{}` stopped at an internal instruction", self.name)));
                 }
             }
@@ -430,6 +448,7 @@ impl Machine {
                     instr,
                     st,
                     out,
+                    st[a.wait_slot as usize] == 0,
                     Act::ActivityComm(k),
                     |n| Act::ActivityChoose(k, n),
                     Act::ActivityExec(k),
@@ -448,14 +467,17 @@ impl Machine {
 
     /// What a thread (the main one or an activity) stopped at `instr`
     /// offers: a communication (`comm`), the choice of a wait (`choose`),
-    /// a variable write (`exec`), or nothing while it waits. False when it
+    /// a variable write (`exec`), going on after a wait that has ended
+    /// (`waited`: also `exec`), or nothing while it waits. False when it
     /// should not have stopped there.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn thread_offers(
         &self,
         instr: &Instr,
         st: &[i32],
         out: &mut Vec<Move>,
+        waited: bool,
         comm: Act,
         choose: impl Fn(Val) -> Act,
         exec: Act,
@@ -477,7 +499,13 @@ impl Machine {
                     out.push(Move { offer: Offer::Tau, act: choose(n) });
                 }
             }
+            // RT-16: a write waits while an earlier one is being forwarded.
+            Instr::Assign { forward: Some((_, pending, _)), .. } if st[*pending as usize] != 0 => {}
             Instr::Assign { .. } => out.push(Move { offer: Offer::Tau, act: exec }),
+            // RT-18: what follows a wait that ended at a `tock` is a hidden
+            // step of its own, interleaving freely with the other threads'
+            // (and their guards); τ has priority over `tock` only.
+            Instr::Wait if waited => out.push(Move { offer: Offer::Tau, act: exec }),
             Instr::Wait => {}
             _ => return Ok(false),
         }
@@ -592,7 +620,6 @@ impl Machine {
                 st[t as usize] -= 1;
             }
         }
-        // Activities first: the main thread's settling may stop or start them.
         for k in 0..self.activities.len() {
             let th = self.activity_thread(k as u16);
             if st[th.pc] >= 0 {
@@ -603,16 +630,21 @@ impl Machine {
     }
 
     /// One time unit passes for one thread: its deadline budget and wait
-    /// counter count down; a wait that ends lets the thread go on.
+    /// counter count down. A wait that ends does not let the thread go on
+    /// here: that is a hidden step of its own after the `tock` (RT-18), so
+    /// that it interleaves with the other threads' steps and guards —
+    /// unless going on touches nothing another thread sees, which changes
+    /// no verdict (`eager.rs`).
     fn tock_thread(&self, th: Thread, st: &mut [i32], clocks: &[Clock]) -> Result<(), StepError> {
         if st[th.deadline] > 0 {
             st[th.deadline] -= 1;
         }
-        if matches!(self.code.get(st[th.pc] as usize), Some(Instr::Wait)) && st[th.wait] > 0 {
+        let pc = st[th.pc] as usize;
+        if matches!(self.code.get(pc), Some(Instr::Wait)) && st[th.wait] > 0 {
             st[th.wait] -= 1;
-            if st[th.wait] == 0 {
+            if st[th.wait] == 0 && self.eager_waits.get(pc) == Some(&true) {
                 st[th.pc] += 1;
-                self.run(th, st, clocks, true, &mut false)?;
+                self.run(th, st, clocks, false, &mut false)?;
             }
         }
         Ok(())

@@ -640,6 +640,9 @@ impl<'a> Constrained<'a> {
             for (_, _, n) in self.design.internal_steps(st, &internal)? {
                 out.push(Label::TAU, &n);
             }
+            for n in self.design.forward_steps(st) {
+                out.push(Label::TAU, &n);
+            }
             // Termination (`end`) only at a cycle's end, before time passes.
             let terminated = !returning && self.design.machines.iter().all(|m| m.terminated(st));
             if terminated && phase == WAIT && st[self.arg] == self.period {
@@ -765,6 +768,10 @@ impl<'a> Constrained<'a> {
             for (chan, args, n) in self.design.internal_steps(st, &internal)? {
                 design_tau = true;
                 out.push(Label { event: TAU, note: self.design_event(chan, &args) }, &n);
+            }
+            for n in self.design.forward_steps(st) {
+                design_tau = true;
+                out.push(Label::TAU, &n);
             }
             if terminated {
                 design_tau = true;

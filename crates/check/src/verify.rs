@@ -35,7 +35,7 @@ pub struct Options {
     /// Limits on the search.
     pub budget: Budget,
     /// The buffer assumed for asynchronous connections between machines or
-    /// controllers (none: designs with such connections are not checked).
+    /// controllers (none: RoboTool's one-place overwriting buffer, RT-12).
     pub async_buffer: Option<AsyncBuffer>,
 }
 
@@ -1061,6 +1061,9 @@ fn describe_act(
             (Some(format!("{}: {what}{place}", m.name)), here)
         }
         Act::Choose(n) => (Some(format!("{}: the wait interval resolves to {n}", m.name)), here),
+        Act::Exec if matches!(m.code.get(pc), Some(Instr::Wait)) => {
+            (Some(format!("{}: goes on after its wait, now {}", m.name, m.describe(next))), here)
+        }
         Act::Exec => (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here),
         Act::ActivityComm(k) | Act::ActivityChoose(k, _) | Act::ActivityExec(k) => {
             let a = &m.activities[k as usize];
@@ -1069,6 +1072,7 @@ fn describe_act(
                 (Act::ActivityChoose(_, n), _) => format!("the wait interval resolves to {n}"),
                 (_, Some(i @ Instr::Out { .. })) => out_verb(i).unwrap_or_default().into(),
                 (_, Some(Instr::In { .. })) => "receives".into(),
+                (_, Some(Instr::Wait)) => "goes on after its wait".into(),
                 _ => "writes a variable".into(),
             };
             let here = code_location(design, m, pc);

@@ -1,7 +1,7 @@
 //! Connections the engine interprets beyond synchronous ones: asynchronous
-//! connections between controllers, under the buffer the user assumes
-//! (RoboTool's is not documented: semantics.md §11.3), and platform events
-//! connected both ways (`[ mult ]`).
+//! connections between controllers, through RoboTool's one-place buffer
+//! that overwrites (robotool-facts.md RT-12) or the buffer the user
+//! assumes instead, and platform events connected both ways (`[ mult ]`).
 
 use robosim_check::verify::{trace_text, verify_texts, AsyncBuffer, Options, Report, Verdict};
 
@@ -57,13 +57,19 @@ fn expect(reports: &[Report], expected: &[(&str, Verdict, u64)]) {
     assert_eq!(verdicts(reports), expected);
 }
 
+/// RT-12: without an assumed buffer, an asynchronous connection between
+/// controllers is RoboTool's one-place buffer that overwrites (the
+/// generated `Buffer0`), and every verdict says so.
 #[test]
-fn without_an_assumed_buffer_asynchronous_connections_are_not_checked() {
+fn without_an_assumed_buffer_robotools_is_used() {
     let reports = verify(&[("m.rct", MODEL), ("a.assertions", CHECKS)], None);
+    expect(&reports, &[("G1", Verdict::Fail, 6), ("G2", Verdict::Pass, 6), ("D", Verdict::Pass, 6)]);
+    let g2 = reports[1].counterexample.as_ref().expect("a trace to G2");
+    assert_eq!(trace_text(&g2.steps), "(cs.s.out.1) (cs.s.out.2) tock (cs.s.out.2)");
+    let default = "asynchronous connections buffer 1 value; when full, a new value replaces the oldest \
+                   (RoboTool's default buffer)";
     for r in &reports {
-        assert_eq!(r.verdict, Verdict::Unsupported);
-        let reason = r.reason.as_deref().unwrap_or_default();
-        assert!(reason.contains("--async-buffer 1:overwrite") && reason.contains("m.rct:17:7"), "{reason}");
+        assert!(r.notes.iter().any(|n| n.contains(default)), "{:?}", r.notes);
     }
 }
 
@@ -108,7 +114,10 @@ fn what_the_receiver_gets_depends_on_the_buffer() {
     assert!(buffer("1:overwrite")
         .expect("a buffer")
         .describe()
-        .contains("buffer 1 value; when full, a new value replaces the oldest"));
+        .contains("buffer 1 value; when full, a new value replaces the oldest (RoboTool's default buffer)"));
+    assert!(buffer("2:block").expect("a buffer").describe().ends_with(
+        "when full, the sender waits (assumed with `--async-buffer`; RoboTool's default buffer is `1:overwrite`)"
+    ));
 }
 
 #[test]

@@ -88,8 +88,8 @@ enum Command {
         threads: Option<usize>,
         /// Check asynchronous connections between machines or controllers
         /// with this buffer, `SIZE[:overwrite|:block]` (for example
-        /// `1:overwrite`): RoboTool's is not documented, so without it such
-        /// designs are not checked.
+        /// `2:block`) instead of RoboTool's, `1:overwrite` (one place; a new
+        /// value replaces an unread one).
         #[arg(long, value_name = "SIZE:POLICY", value_parser = parse_async_buffer)]
         async_buffer: Option<robosim_ide::verify::AsyncBuffer>,
         /// Also draw each counterexample on the diagrams it passes through,

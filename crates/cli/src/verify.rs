@@ -80,8 +80,10 @@ pub fn run(args: Args) -> ExitCode {
         Format::Json => writeln!(out.lock(), "{}", to_json(&ws, &reports)),
         Format::Human => {
             let mut text = render_human(&ws, &reports, args.profile);
-            // A verdict that holds only under the assumed buffer says so.
-            if let Some(b) = args.async_buffer {
+            // A verdict that holds only under the buffer (RoboTool's, or the
+            // one assumed instead) says so.
+            {
+                let b = args.async_buffer.unwrap_or(robosim_ide::verify::AsyncBuffer::ROBOTOOL);
                 let assumption = b.describe();
                 if reports.iter().any(|r| r.notes.iter().any(|n| n.contains(&assumption))) {
                     text.push_str(&format!("assumed: {assumption}\n"));

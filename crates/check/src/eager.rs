@@ -1,0 +1,144 @@
+//! Which waits may go on inside the `tock` step that ends them, as a
+//! reduction that changes no verdict.
+//!
+//! RT-18 makes what a thread does after a wait a hidden step of its own,
+//! so that it interleaves with the other threads' steps and guards. When
+//! that step only touches what no other thread reads or writes, it commutes
+//! with every other step, nothing else can disable it, and it takes no
+//! choice: it is a confluent τ (Groote and van de Pol's τ-confluence). Taking
+//! it at once, with the `tock`, then preserves branching bisimilarity, so
+//! traces, stable failures, divergences, determinism and the states each
+//! machine passes through are the same; the states skipped are unstable
+//! (τ is possible) and only ever lead to the state taken.
+//!
+//! A wait is marked when its machine has no activity (a composite state's
+//! during action is another thread of the same machine, and leaving the
+//! state would disable it), it is not in a simple state's during action
+//! (a transition of the state would interrupt it), and every path of
+//! internal code from it to where the thread stops reads and writes only
+//! the machine's own variables and clocks: no variable shared with another
+//! machine or of the platform, no operation call or exit sequence (whose
+//! targets are only known at run time), no activity started.
+
+use std::collections::HashSet;
+
+use crate::ir::{Design, Expr, Instr, Machine};
+
+/// The most instructions followed from one wait before giving up (the
+/// wait is then not marked).
+const LIMIT: usize = 4096;
+
+/// Marks, in every machine of `design`, the waits whose continuation is a
+/// confluent τ ([`Machine::eager_waits`]). `shared` holds the slots of the
+/// variables other machines or the platform can read or write.
+pub(crate) fn mark_eager_waits(design: &mut Design, shared: &HashSet<u16>) {
+    for m in &mut design.machines {
+        m.eager_waits = eager_waits(m, shared);
+    }
+}
+
+fn eager_waits(m: &Machine, shared: &HashSet<u16>) -> Vec<bool> {
+    if !m.activities.is_empty() {
+        return Vec::new();
+    }
+    let in_during =
+        |pc: usize| m.nodes.iter().filter_map(|n| n.during).any(|(s, e)| (s as usize..e as usize).contains(&pc));
+    let marks: Vec<bool> = m
+        .code
+        .iter()
+        .enumerate()
+        .map(|(pc, i)| matches!(i, Instr::Wait) && !in_during(pc) && local_from(m, pc + 1, shared))
+        .collect();
+    if marks.iter().any(|&b| b) {
+        marks
+    } else {
+        Vec::new()
+    }
+}
+
+/// Whether every path of internal code from `start` to a stopping point
+/// touches only the machine's own data.
+fn local_from(m: &Machine, start: usize, shared: &HashSet<u16>) -> bool {
+    let reads = |e: &Expr| !reads_shared(e, shared);
+    let mut todo = vec![start];
+    let mut seen = HashSet::new();
+    while let Some(pc) = todo.pop() {
+        if !seen.insert(pc) {
+            continue;
+        }
+        if seen.len() > LIMIT {
+            return false;
+        }
+        let Some(instr) = m.code.get(pc) else { return false };
+        let next = match instr {
+            Instr::Assign { slot, expr, shared: s, .. } => {
+                if *s || shared.contains(slot) || !reads(expr) {
+                    return false;
+                }
+                vec![pc + 1]
+            }
+            Instr::ResetClock(_) | Instr::EndDeadline => vec![pc + 1],
+            Instr::SetWait(e) | Instr::Deadline(e) => {
+                if !reads(e) {
+                    return false;
+                }
+                vec![pc + 1]
+            }
+            Instr::ChooseWait(a, b) => {
+                if !(reads(a) && reads(b)) {
+                    return false;
+                }
+                vec![pc + 1]
+            }
+            Instr::StartTimer { limits, .. } => {
+                if !limits.iter().all(reads) {
+                    return false;
+                }
+                vec![pc + 1]
+            }
+            // A wait of length 0 is passed at once.
+            Instr::Wait => vec![pc + 1],
+            Instr::JumpIfNot(c, target) => {
+                if !reads(c) {
+                    return false;
+                }
+                vec![pc + 1, *target as usize]
+            }
+            Instr::Jump(target) => vec![*target as usize],
+            Instr::Enter(n) => match m.nodes.get(*n as usize) {
+                Some(node) => vec![node.entry_pc as usize],
+                None => return false,
+            },
+            // Where these continue is only known at run time.
+            Instr::CallOp { .. } | Instr::Return(_) | Instr::BeginExits | Instr::ExitDone(_) => return false,
+            Instr::StartActivity(_) => return false,
+            // The thread stops: what it offers there is a step of its own.
+            Instr::Out { .. }
+            | Instr::In { .. }
+            | Instr::Rest
+            | Instr::Junction(_)
+            | Instr::Terminate
+            | Instr::Exec(_)
+            | Instr::ExecTransition
+            | Instr::ActivityEnd => Vec::new(),
+        };
+        todo.extend(next);
+    }
+    true
+}
+
+/// Whether `e` reads one of the `shared` slots.
+fn reads_shared(e: &Expr, shared: &HashSet<u16>) -> bool {
+    match e {
+        Expr::Const(_) | Expr::Clock(_) => false,
+        Expr::Slot(s) => shared.contains(s),
+        Expr::Neg(a, _) | Expr::Not(a) | Expr::Proj(a, ..) | Expr::Elem(a, _) | Expr::Card(a) => {
+            reads_shared(a, shared)
+        }
+        Expr::Arith(_, a, b, _) | Expr::Cmp(_, a, b) | Expr::Log(_, a, b) | Expr::Set(_, a, b) => {
+            reads_shared(a, shared) || reads_shared(b, shared)
+        }
+        Expr::If(c, a, b) => reads_shared(c, shared) || reads_shared(a, shared) || reads_shared(b, shared),
+        Expr::Tuple(parts) => parts.iter().any(|(p, _)| reads_shared(p, shared)),
+    }
+}
