@@ -7,7 +7,7 @@
 use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
-use crate::index::{file_summary, import_matches, resolve_item, ItemLoc};
+use crate::index::{file_summary, import_matches, resolve_in_scope, resolve_item, ItemLoc};
 use crate::{parse, Db, File, Workspace};
 
 /// Where a name leads.
@@ -353,6 +353,17 @@ impl Resolver<'_> {
         let text = path.join("::");
         let found = resolve_item(self.db, self.ws, self.file, path, accept).first().copied();
         self.push(range, text.clone(), kind, found.map(Target::Item));
+        if let Some(l) = found {
+            if resolve_in_scope(self.db, self.ws, self.file, path, accept).is_empty() {
+                let pkg = crate::index::file_summary(self.db, l.file).package.join("::");
+                let full = if pkg.is_empty() { text.clone() } else { format!("{pkg}::{text}") };
+                self.problem(
+                    "LNK-02",
+                    range,
+                    format!("`{text}` is not imported here; taken to be `{full}`, the only {} of that name (every declaration of it is the same): add `import {full}`", kind.describe()),
+                );
+            }
+        }
         if found.is_none() {
             // Say what the name is when it exists with another kind.
             let any = resolve_item(self.db, self.ws, self.file, path, |_| true);

@@ -14,7 +14,7 @@ use robosim_syntax::{ast, FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, TextR
 
 use crate::body::body_resolution;
 use crate::defs::{file_defs, lower_type, DefData, DefKind, FileDefs, TypeRef};
-use crate::index::{file_summary, resolve_item, ItemLoc};
+use crate::index::{canonical_type, file_summary, resolve_item, ItemLoc};
 use crate::resolve::{file_resolution, ResolveProblem, Target};
 use crate::{parse, Db, File, Workspace};
 
@@ -193,10 +193,10 @@ fn named_type(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Ty {
             "real" => Ty::Real,
             "boolean" => Ty::Bool,
             "string" => Ty::Str,
-            _ => Ty::Named(loc, s.name.clone(), s.kind),
+            _ => Ty::Named(canonical_type(db, ws, loc), s.name.clone(), s.kind),
         };
     }
-    Ty::Named(loc, s.name.clone(), s.kind)
+    Ty::Named(canonical_type(db, ws, loc), s.name.clone(), s.kind)
 }
 
 /// Instantiates generic parameters by matching a parameter type against an
@@ -366,6 +366,11 @@ impl Typer<'_> {
         })
     }
 
+    /// The type declared at `loc` (one type for identical copies).
+    fn named(&self, loc: ItemLoc, kind: DefKind) -> Ty {
+        Ty::Named(canonical_type(self.db, self.ws, loc), loc.summary(self.db).name.clone(), kind)
+    }
+
     fn problem(&mut self, code: &'static str, range: TextRange, message: String) {
         self.out.push(ResolveProblem { code, range, message });
     }
@@ -490,7 +495,7 @@ impl Typer<'_> {
                 let s = loc.summary(self.db);
                 let m = &s.members[i as usize];
                 match m.kind {
-                    DefKind::EnumLiteral => Ty::Named(loc, s.name.clone(), DefKind::Enumeration),
+                    DefKind::EnumLiteral => self.named(loc, DefKind::Enumeration),
                     _ => m.ty.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error),
                 }
             }
@@ -594,7 +599,7 @@ impl Typer<'_> {
                 self.bare_literal(n);
                 let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
                 match refs.first().and_then(|r| self.targets.get(&r.text_range())) {
-                    Some(Target::Item(loc)) => Ty::Named(*loc, loc.summary(self.db).name.clone(), DefKind::Enumeration),
+                    Some(Target::Item(loc)) => self.named(*loc, DefKind::Enumeration),
                     _ => Ty::Error,
                 }
             }
@@ -629,7 +634,7 @@ impl Typer<'_> {
                     }
                 }
                 match loc {
-                    Some(loc) => Ty::Named(loc, loc.summary(self.db).name.clone(), DefKind::Record),
+                    Some(loc) => self.named(loc, DefKind::Record),
                     None => Ty::Error,
                 }
             }
@@ -1167,7 +1172,7 @@ impl Typer<'_> {
                     }
                 }
             }
-            return Ty::Named(loc, s.name.clone(), DefKind::Enumeration);
+            return self.named(loc, DefKind::Enumeration);
         }
         let t = self.expr(callee);
         match t {
