@@ -118,6 +118,7 @@ rules! {
     "RC-STMT-03" E E "The condition of an `if` statement is boolean.";
     "RC-STMT-04" E E "`wait` takes an integer or a set of integers.";
     "RC-STMT-05" E E "An operation call has the right number of arguments, of compatible types.";
+    "RC-STMT-05-narrow" W W "An operation argument of a wider number type than its parameter (`int` for `nat`, `real` for `int`) is accepted, as RoboTool does; a negative or fractional value would be wrong at run time.";
     "RC:TE1" E E "`since` and `sinceEntry` do not occur in actions.";
     "RC:TE3" E E "`sinceEntry(S)` names a non-final state of the enclosing machine or operation.";
     "RC:TE5" E E "`sinceEntry(S)` in a transition names a state of the transition's own container.";

@@ -140,7 +140,50 @@ pub fn compatible(t: &Ty, u: &Ty) -> bool {
         (Ty::Vector(a, Some(n)), Ty::Product(ts)) | (Ty::Product(ts), Ty::Vector(a, Some(n))) => {
             ts.len() as i128 == *n && ts.iter().all(|t| compatible(t, a) || compatible(a, t))
         }
+        // A vector holds the same values as a one-row matrix (RoboTool
+        // assigns one to the other, and a vector literal to a matrix).
+        (Ty::Vector(a, n), Ty::Matrix(b, r, c)) | (Ty::Matrix(a, r, c), Ty::Vector(b, n)) => {
+            compatible(a, b) && r.is_none_or(|r| r == 1) && (n.is_none() || c.is_none() || n == c)
+        }
+        // A function of one parameter has a one-tuple domain.
+        (Ty::Product(v), t) if v.len() == 1 => compatible(&v[0], t),
+        (t, Ty::Product(v)) if v.len() == 1 => compatible(t, &v[0]),
         _ => false,
+    }
+}
+
+/// Whether `e` contains an open interval `(a, b)`, which readers take for
+/// a pair.
+fn has_open_interval(e: &SyntaxNode) -> bool {
+    e.descendants().any(|d| {
+        d.kind() == INTERVAL_EXPR
+            && d.first_token().is_some_and(|t| t.kind() == L_PAREN)
+            && d.last_token().is_some_and(|t| t.kind() == R_PAREN)
+    })
+}
+
+/// When `t` is a wider number than `u` (`int` for `nat`, `real` for `int`
+/// or `nat`, also inside sets, sequences, products, vectors and matrices):
+/// the values of `t` that `u` cannot hold.
+fn narrowing(t: &Ty, u: &Ty) -> Option<&'static str> {
+    match (t, u) {
+        (Ty::Int, Ty::Nat) => Some("a negative value"),
+        (Ty::Real, Ty::Int) => Some("a fractional value"),
+        (Ty::Real, Ty::Nat) => Some("a negative or fractional value"),
+        (Ty::Set(a), Ty::Set(b))
+        | (Ty::Seq(a), Ty::Seq(b))
+        | (Ty::Vector(a, _), Ty::Vector(b, _))
+        | (Ty::Matrix(a, ..), Ty::Matrix(b, ..)) => narrowing(a, b),
+        (Ty::Product(a), Ty::Product(b)) if a.len() == b.len() => {
+            let mut risk = None;
+            for (x, y) in a.iter().zip(b) {
+                if !compatible(x, y) {
+                    risk = Some(narrowing(x, y)?);
+                }
+            }
+            risk
+        }
+        _ => None,
     }
 }
 
@@ -1122,7 +1165,15 @@ impl Typer<'_> {
                                 self.problem(
                                     "RC-EXP-10",
                                     x.text_range(),
-                                    format!("argument {} of `{name}` has type {a}, expected {p}", i + 1),
+                                    format!(
+                                        "argument {} of `{name}` has type {a}, expected {p}{}",
+                                        i + 1,
+                                        if has_open_interval(x) {
+                                            " (`(a, b)` is an open interval; a pair is written `(|a, b|)`)"
+                                        } else {
+                                            ""
+                                        }
+                                    ),
                                 );
                             }
                         }
@@ -1315,12 +1366,27 @@ impl Typer<'_> {
             return;
         }
         for (i, (p, (x, a))) in params.iter().zip(&args).enumerate() {
-            if !compatible(a, p) {
-                self.problem(
+            if compatible(a, p) {
+                continue;
+            }
+            match narrowing(a, p) {
+                // RoboTool accepts a wider numeric argument (it compares the
+                // parameter's type with the argument's); the call still means
+                // something, but the value may not fit.
+                Some(risk) => self.problem(
+                    "RC-STMT-05-narrow",
+                    x.text_range(),
+                    format!(
+                        "argument {} of `{}` has type {a} where {p} is expected: {risk} would be wrong at run time",
+                        i + 1,
+                        name()
+                    ),
+                ),
+                None => self.problem(
                     "RC-STMT-05",
                     x.text_range(),
                     format!("argument {} of `{}` has type {a}, expected {p}", i + 1, name()),
-                );
+                ),
             }
         }
     }
