@@ -31,6 +31,7 @@ rules! {
     "SYN-02" W W "Accepted here, but RoboTool's lexer rejects it.";
     "LNK-01" E E "Every reference resolves to an element of the right kind in scope.";
     "LNK-02" W W "A name is imported before use; RoboTool also resolves a plain name in a RoboSim file that no import reaches, which we accept only when every declaration of that name is the same.";
+    "LNK-03" W W "A name no file of the workspace declares, in a file importing a package the workspace does not hold (such as a physical model's), cannot be checked.";
     "DUP-01" E E "No two elements of the same kind share a name in the same place.";
     "REQ-01" E E "Required parts are present: RoboSim modules, controllers and machines need a cycleDef; machines and operations need input and output contexts.";
     "RC-PKG-01" W W "Fully qualified names are unique across the workspace.";

@@ -372,7 +372,25 @@ impl Resolver<'_> {
                     let other = l.summary(self.db).kind.describe();
                     self.problem("LNK-01", range, format!("`{text}` is a {other}, not a {}", kind.describe()));
                 }
-                None => self.unresolved(range, kind, &text),
+                None => match self
+                    .defs
+                    .imports
+                    .iter()
+                    .find(|i| !import_matches(self.db, self.ws, &i.path, i.wildcard))
+                {
+                    // A package the workspace does not hold (a physical
+                    // model's) may declare it: it cannot be checked.
+                    Some(i) => self.problem(
+                        "LNK-03",
+                        range,
+                        format!(
+                            "{} `{text}` is not declared in the workspace: it may come from `{}`, which no file here declares (a physical model?); load that package to check it",
+                            kind.describe(),
+                            i.path.join("::")
+                        ),
+                    ),
+                    None => self.unresolved(range, kind, &text),
+                },
             }
         }
         found
@@ -554,8 +572,11 @@ impl Resolver<'_> {
             };
             let Some(ctx) = ctx else { continue };
             let members = ctx_members(self.db, self.ws, ctx);
-            let m = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev);
-            self.push(*erange, ev.clone(), RefKind::ConnectionEvent, m.map(|m| m.target));
+            let mut m = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev).cloned();
+            if m.is_none() {
+                m = machine_event(self.db, self.ws, ctx, ev);
+            }
+            self.push(*erange, ev.clone(), RefKind::ConnectionEvent, m.as_ref().map(|m| m.target));
             if m.is_none() {
                 self.problem("RC:Cn10", *erange, format!("`{ev}` is not an event of `{name}`"));
             }
@@ -587,6 +608,24 @@ impl Resolver<'_> {
             }
         }
     }
+}
+
+/// An event `name` of a RoboSim controller's machines, for a connection
+/// end on a controller that does not declare the event itself: RoboTool
+/// lets the controller's events come from the interfaces its machines
+/// use (the connection makes the relay explicit).
+fn machine_event(db: &dyn Db, ws: Workspace, ctx: Ctx, name: &str) -> Option<Member> {
+    let (file, def) = ctx_def(db, ctx)?;
+    if file.kind(db) != robosim_syntax::FileKind::RoboSim || file_defs(db, file).def(def).kind != DefKind::Controller {
+        return None;
+    }
+    let defs = file_defs(db, file);
+    defs.children(Some(def)).filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::MachineRef)).find_map(
+        |(id, _)| {
+            let mctx = node_ctx(db, ws, file, id)?;
+            ctx_members(db, ws, mctx).iter().find(|m| m.kind == DefKind::Event && m.name == name).cloned()
+        },
+    )
 }
 
 fn enclosing_machine(defs: &FileDefs, id: DefId) -> Option<DefId> {
