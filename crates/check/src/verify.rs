@@ -220,6 +220,9 @@ pub fn verify_assertion(
         | AssertionKind::DivergenceFree
         | AssertionKind::Deterministic
         | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
+        AssertionKind::Probabilistic { .. } => {
+            report.reason = Some("probabilistic properties are checked with PRISM".into());
+        }
         other => {
             report.reason = Some(format!("`{}` assertions are not supported by the native checker yet", other.label()));
         }

@@ -7,6 +7,8 @@
 use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
+mod prob;
+
 use crate::index::{file_summary, import_matches, resolve_in_scope, resolve_item, ItemLoc};
 use crate::{parse, Db, File, Workspace};
 
@@ -314,6 +316,9 @@ pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution
     r.uses();
     r.types();
     r.definitions();
+    if file.kind(db).is_assertions() {
+        r.probabilistic(&root);
+    }
     r.out.refs.sort_by_key(|x| x.range.start());
     r.out
 }
