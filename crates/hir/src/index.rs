@@ -345,7 +345,9 @@ pub fn import_matches(db: &dyn Db, ws: Workspace, path: &[String], wildcard: boo
 #[salsa::tracked(returns(ref))]
 pub fn type_copies(db: &dyn Db, ws: Workspace) -> FxHashMap<ItemLoc, ItemLoc> {
     let index = workspace_index(db, ws);
-    let mut groups: HashMap<(&str, DefKind, &[MemberSummary]), Vec<(&str, ItemLoc)>> = HashMap::new();
+    // (name, kind, members) → the declarations with them, and their paths.
+    type Shape<'a> = (&'a str, DefKind, &'a [MemberSummary]);
+    let mut groups: HashMap<Shape<'_>, Vec<(&str, ItemLoc)>> = HashMap::new();
     for locs in index.items.values() {
         for &loc in locs {
             let s = loc.summary(db);
