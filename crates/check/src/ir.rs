@@ -663,6 +663,9 @@ pub struct Design {
     pub domains: Vec<(String, Dom)>,
     /// Constants and the values used.
     pub constants: Vec<(String, Val)>,
+    /// The values the model takes from RoboTool's defaults because it
+    /// gives none (robotool-facts RT-1, RT-4), described for the report.
+    pub defaults: Vec<String>,
 }
 
 impl Machine {

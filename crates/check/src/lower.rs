@@ -594,6 +594,7 @@ impl Cx<'_> {
                 ("core_real".into(), self.defaults.real),
             ],
             constants: Vec::new(),
+            defaults: Vec::new(),
         });
         // Union-find over connection ends: a machine event is external when
         // its class contains a platform end.
@@ -1070,6 +1071,36 @@ impl MachineCx<'_, '_> {
         ))
     }
 
+    /// The default of the type `node` (`ty` lowered): RoboTool's, true for
+    /// booleans (RT-1, RT-4), otherwise the least value of each number
+    /// (0 when in range), the first literal, the empty set.
+    fn default_of(&self, file: File, node: Option<&SyntaxNode>, ty: &Ty) -> Val {
+        match self.param_of(file, node) {
+            Some(Param::Bool) => 1,
+            _ => ty.default_value(),
+        }
+    }
+
+    /// The initial value of a variable declared without one (RT-4): the
+    /// type's default; a boolean's `true` is recorded as a default the
+    /// verdict rests on, since a modeller may expect `false`.
+    fn uninitialised(&mut self, q: &str, file: File, node: Option<&SyntaxNode>, ty: &Ty) -> Val {
+        let v = self.default_of(file, node, ty);
+        if matches!(self.param_of(file, node), Some(Param::Bool)) {
+            self.design().defaults.push(format!("variable {q} starts true (RT-4)"));
+        }
+        v
+    }
+
+    /// A value of the type `node` as the modeller writes it.
+    fn value_text(&self, file: File, node: Option<&SyntaxNode>, v: Val) -> String {
+        match self.param_of(file, node) {
+            Some(Param::Bool) => (v != 0).to_string(),
+            Some(Param::Named(names)) => names.get(v as usize).cloned().unwrap_or_else(|| v.to_string()),
+            _ => v.to_string(),
+        }
+    }
+
     /// The value an assertion gives the constant `name`, else the one an
     /// instantiation block gives it (RoboTool's `pkg_Machine_name` or
     /// `Machine_name`).
@@ -1135,23 +1166,25 @@ impl MachineCx<'_, '_> {
                             let init = v.children().find(|e| ast::is_expr_kind(e.kind()));
                             self.bind_ty(&name, &ty);
                             if is_const {
+                                let q = format!("{}::{name}", self.inst_prefix);
                                 let value = match self.const_value(&name) {
                                     Some(v) => v,
-                                    None => match init.as_ref().map(|e| self.typed(e, &ty)).transpose()?.and_then(|e| e.constant())
+                                    None => match init
+                                        .as_ref()
+                                        .map(|e| self.typed(e, &ty))
+                                        .transpose()?
+                                        .and_then(|e| e.constant())
                                     {
                                         Some(v) => v,
                                         None => {
-                                            return Err(self.err(
-                                                v.text_range(),
-                                                format!(
-                                                    "the constant `{name}` has no value: give it one with `with constant {name} of {} set to …` in the assertion",
-                                                    self.decl_name
-                                                ),
-                                            ))
+                                            // RT-1: RoboTool writes the type's default.
+                                            let v = self.default_of(f, tnode.as_ref(), &ty);
+                                            let shown = self.value_text(f, tnode.as_ref(), v);
+                                            self.design().defaults.push(format!("constant {q} = {shown} (RT-1)"));
+                                            v
                                         }
                                     },
                                 };
-                                let q = format!("{}::{name}", self.inst_prefix);
                                 self.design().constants.push((q, value));
                                 self.names.insert(name, Name::Const(value));
                             } else {
@@ -1163,13 +1196,13 @@ impl MachineCx<'_, '_> {
                                     continue;
                                 }
                                 let slot = self.new_slot();
+                                let q = format!("{}::{name}", self.inst_prefix);
                                 let initv = match init.as_ref() {
                                     Some(e) => self.typed(e, &ty)?.constant().ok_or_else(|| {
                                         self.err(e.text_range(), "initial values must be constant expressions")
                                     })?,
-                                    None => ty.default_value(),
+                                    None => self.uninitialised(&q, f, tnode.as_ref(), &ty),
                                 };
-                                let q = format!("{}::{name}", self.inst_prefix);
                                 self.design().vars.push(Var { name: q, slot, dom, init: initv });
                                 self.names.insert(name, Name::Var { slot, dom, shared: false, update: None });
                             }
@@ -1327,6 +1360,11 @@ impl MachineCx<'_, '_> {
                         .typed(e, ty)?
                         .constant()
                         .ok_or_else(|| self.err(e.text_range(), "initial values must be constant expressions"))?,
+                    // RT-4: booleans, platform memories too, start true.
+                    None if shape == Param::Bool => {
+                        self.design().defaults.push(format!("variable {name} starts true (RT-4)"));
+                        1
+                    }
                     None => ty.default_value(),
                 };
                 self.design().vars.push(Var { name: name.to_string(), slot, dom, init: value });

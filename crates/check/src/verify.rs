@@ -971,6 +971,9 @@ fn domains_note(design: &Design) -> String {
     if let Some(b) = design.channels.iter().find_map(|c| c.buffer) {
         s.push_str(&format!("; {}", b.policy.describe()));
     }
+    if !design.defaults.is_empty() {
+        s.push_str(&format!("; RoboTool's defaults, as the model gives no value: {}", design.defaults.join(", ")));
+    }
     s
 }
 

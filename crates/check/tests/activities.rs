@@ -146,7 +146,7 @@ fn a_composite_during_action_runs_alongside_the_substates() {
           state C { during o initial j state A { } state B { }
             transition x { from j to A } transition y { from A to B trigger e } }
           transition t { from i to C } }
-        stm PS { uses I var done : boolean initial i
+        stm PS { uses I var done : boolean = false initial i
           state S { during o; done = true } state T { entry if not done then o end }
           transition t { from i to S } transition b { from S to T trigger e } }
         stm PF { uses I initial i

@@ -38,7 +38,6 @@ fn undecided_assertions_say_why() {
         ("B", "no cycle period from 1 to 1000"),
         ("C", "is not a RoboChart module, controller or machine"),
         ("D", "is not an integer or boolean literal"),
-        ("E", "the constant `k` has no value"),
         ("F", "is not a simulation, module, controller or machine"),
     ] {
         let r = by(name);
@@ -46,6 +45,11 @@ fn undecided_assertions_say_why() {
         assert!(reason(r).contains(expected), "{name}: {}", reason(r));
     }
     assert_eq!(by("G").verdict, Verdict::Pass, "{:?}", by("G").reason);
+    // A constant without a value takes RoboTool's default (RT-1), and the
+    // verdict says so.
+    let e = by("E");
+    assert_ne!(e.verdict, Verdict::Unsupported, "{:?}", e.reason);
+    assert!(e.notes.iter().any(|n| n.contains("(RT-1)") && n.contains("k = 0")), "{:?}", e.notes);
 }
 
 #[test]

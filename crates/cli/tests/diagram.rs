@@ -37,18 +37,31 @@ fn one_svg_per_element_of_the_running_example() {
         r#"data-kind="transition" data-id="t0""#,
         r#"data-kind="transition" data-id="t1""#,
         r#"data-kind="transition" data-id="t2""#,
-        ">obstacle #MBC / stop(); wait([0, 1])</text>",
-        ">[since(MBC) &gt;= PI / av]</text>",
         ">entry move(lv, 0); wait(1)</text>",
     ] {
         assert!(svg.contains(needle), "missing {needle}");
     }
+    // Labels may be wrapped: their lines, joined, are the whole label.
+    assert_eq!(label_of(&svg, "t1"), "obstacle #MBC / stop(); wait([0, 1])");
+    assert_eq!(label_of(&svg, "t2"), "[since(MBC) &gt;= PI / av]");
     // The source range of t1 (line 41, 0-based 40), for click-to-source.
     assert!(svg.contains(r#"data-id="t1" data-parent="" data-source="Moving" data-target="Turning" data-start="#));
     let module = std::fs::read_to_string(dir.join("paper_design.CFootBot.svg")).unwrap();
     assert!(module.contains(r#"class="connection input async""#), "{module}");
     assert!(module.contains(">mv: Movement</text>"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The text lines of transition `id`'s group, joined with spaces.
+fn label_of(svg: &str, id: &str) -> String {
+    let start = svg.find(&format!(r#"data-kind="transition" data-id="{id}""#)).expect("the transition");
+    let group = &svg[start..start + svg[start..].find("</g>").unwrap()];
+    group
+        .split("</text>")
+        .filter_map(|t| t.rfind('>').map(|i| &t[i + 1..]))
+        .filter(|t| !t.trim().is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 #[test]

@@ -1,25 +1,20 @@
-//! Layout of a diagram with `layout-rs` (a Sugiyama-style layered layout:
-//! ranks, crossing minimisation, Brandes–Köpf placement, spline edges).
+//! Layout of a diagram: each region (a machine's, a composite state's, or
+//! a controller's or module's blocks) is a layered graph ([`crate::layered`]),
+//! laid out downwards and rightwards with ranks of several widths, the most
+//! compact of those that are neither too wide nor too tall being kept.
 //!
-//! `layout-rs` has no clusters, so hierarchy is laid out inside out: the
-//! region of each composite state is laid out first, and the state becomes a
-//! box of that size (plus its header) in its parent's layout; the inner
-//! shapes are then moved into the box.
+//! Hierarchy is laid out inside out: the region of each composite state is
+//! laid out first, and the state becomes a box of that size (plus its
+//! header) in its parent's layout; the inner shapes are then moved into it.
 //!
-//! Edge labels are sized nodes of the layout (layout-rs's label connectors),
-//! so they never overlap nodes or each other. A connector's box is twice the
-//! label's width: the edge passes through its middle, and the label goes on
-//! the side of the edge the curve does not cross.
+//! Edge labels are sized dummy nodes of the layered graph, so they never
+//! overlap nodes or each other, and sit beside their own edge. Long texts
+//! are wrapped, then elided after a few lines; the shape or edge then has
+//! the full text as a tooltip (`title`).
 
 use std::collections::HashMap;
 
-use layout::core::base::Orientation;
-use layout::core::format::{ClipHandle, RenderBackend};
-use layout::core::geometry::Point;
-use layout::core::style::StyleAttr;
-use layout::std_shapes::shapes::{Arrow, Element, ShapeKind};
-use layout::topo::layout::VisualGraph;
-
+use crate::layered::{layered, GEdge, GNode, GRect, Placed};
 use crate::model::{Block, Connection, Diagram, Node, NodeKind, Region, Span, Transition};
 
 /// Font size of every text, in pixels.
@@ -30,10 +25,15 @@ pub const CHAR_W: f64 = 7.2;
 pub const LINE_H: f64 = 16.0;
 /// Padding inside boxes.
 const PAD: f64 = 8.0;
-/// Gap between an edge and its label.
-const GAP: f64 = 6.0;
 /// Longest line of a label before it wraps.
-const WRAP: usize = 44;
+const WRAP: usize = 40;
+/// Lines of a label, or of one action, before the rest is elided.
+const MAX_LINES: usize = 3;
+/// Line length and lines of labels wrapped narrower, for diagrams too wide.
+const NARROW_WRAP: usize = 22;
+const NARROW_LINES: usize = 5;
+/// Longest name of a state or block before it is elided.
+const MAX_NAME: usize = 32;
 
 /// An axis-aligned rectangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -93,14 +93,15 @@ pub struct Cubic {
 }
 
 impl Cubic {
-    fn at(&self, t: f64) -> (f64, f64) {
+    /// The point at `t` in [0, 1].
+    pub fn at(&self, t: f64) -> (f64, f64) {
         let u = 1.0 - t;
         let f =
             |a: f64, b: f64, c: f64, d: f64| u * u * u * a + 3.0 * u * u * t * b + 3.0 * u * t * t * c + t * t * t * d;
         (f(self.p0.0, self.c1.0, self.c2.0, self.p3.0), f(self.p0.1, self.c1.1, self.c2.1, self.p3.1))
     }
 
-    fn reversed(&self) -> Cubic {
+    pub(crate) fn reversed(&self) -> Cubic {
         Cubic { p0: self.p3, c1: self.c2, c2: self.c1, p3: self.p0 }
     }
 
@@ -142,6 +143,8 @@ pub struct Shape {
     pub children: Vec<Shape>,
     /// The edges inside (composite states).
     pub edges: Vec<Edge>,
+    /// The full texts, when some were elided.
+    pub title: Option<String>,
 }
 
 /// A laid-out transition or connection.
@@ -157,6 +160,8 @@ pub struct Edge {
     pub dashed: bool,
     /// The label's lines.
     pub texts: Vec<TextLine>,
+    /// The full label, when it was elided.
+    pub title: Option<String>,
 }
 
 /// A laid-out diagram, in pixels from (0, 0).
@@ -170,9 +175,6 @@ pub struct Laid {
     pub shapes: Vec<Shape>,
     /// The top-level edges.
     pub edges: Vec<Edge>,
-    /// How many regions the layout engine failed on (laid out in a column
-    /// instead).
-    pub fallbacks: usize,
 }
 
 impl Shape {
@@ -204,13 +206,29 @@ impl Edge {
     }
 }
 
-/// Splits `text` into lines of at most `WRAP` characters, at spaces.
+/// Splits `text` into lines of at most `WRAP` characters, at spaces (and
+/// inside words longer than a line).
 pub fn wrap(text: &str) -> Vec<String> {
+    wrap_at(text, WRAP)
+}
+
+/// Splits `text` into lines of at most `width` characters.
+fn wrap_at(text: &str, width: usize) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     let mut cur = String::new();
-    for word in text.split(' ') {
+    let words = text.split(' ').flat_map(|w| {
+        let chars: Vec<char> = w.chars().collect();
+        let pieces: Vec<String> = if chars.is_empty() {
+            vec![String::new()]
+        } else {
+            chars.chunks(width).map(|c| c.iter().collect()).collect()
+        };
+        pieces
+    });
+    for word in words {
+        let word = word.as_str();
         let len = cur.chars().count() + 1 + word.chars().count();
-        if !cur.is_empty() && len > WRAP {
+        if !cur.is_empty() && len > width {
             lines.push(std::mem::take(&mut cur));
         }
         if !cur.is_empty() {
@@ -224,22 +242,52 @@ pub fn wrap(text: &str) -> Vec<String> {
     lines
 }
 
+/// `text` wrapped, its lines beyond `MAX_LINES` elided; and whether some
+/// were.
+pub fn wrap_elided(text: &str) -> (Vec<String>, bool) {
+    wrap_elided_at(text, WRAP, MAX_LINES)
+}
+
+fn wrap_elided_at(text: &str, width: usize, max_lines: usize) -> (Vec<String>, bool) {
+    let mut lines = wrap_at(text, width);
+    if lines.len() <= max_lines {
+        return (lines, false);
+    }
+    lines.truncate(max_lines);
+    let last = &mut lines[max_lines - 1];
+    if last.chars().count() >= width {
+        *last = last.chars().take(width - 1).collect();
+    }
+    last.push('…');
+    (lines, true)
+}
+
+/// A name shortened in the middle to `MAX_NAME` characters (the start and
+/// end of a long identifier say most); and whether it was.
+pub fn elide_name(name: &str) -> (String, bool) {
+    let chars: Vec<char> = name.chars().collect();
+    if chars.len() <= MAX_NAME {
+        return (name.to_string(), false);
+    }
+    let head = (MAX_NAME - 1) * 2 / 5;
+    let tail = MAX_NAME - 1 - head;
+    let mut s: String = chars[..head].iter().collect();
+    s.push('…');
+    s.extend(&chars[chars.len() - tail..]);
+    (s, true)
+}
+
 fn text_width(s: &str) -> f64 {
     s.chars().count() as f64 * CHAR_W
 }
 
 /// Lays out a diagram.
 pub fn layout(d: &Diagram) -> Laid {
-    FALLBACKS.with(|f| f.set(0));
     let (w, h, shapes, edges) = match &d.region {
-        Some(r) => layout_region(r),
+        Some(r) => layout_region(r, true),
         None => layout_structure(&d.blocks, &d.connections),
     };
-    Laid { w, h, shapes, edges, fallbacks: FALLBACKS.with(|f| f.get()) }
-}
-
-thread_local! {
-    static FALLBACKS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+    Laid { w, h, shapes, edges }
 }
 
 /// One item to lay out: its size, and how to build its shape at a position.
@@ -257,9 +305,12 @@ struct EdgeReq {
     subject: Subject,
     both_heads: bool,
     dashed: bool,
+    title: Option<String>,
+    /// The whole label, to wrap narrower.
+    full: String,
 }
 
-fn layout_region(r: &Region) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
+fn layout_region(r: &Region, top: bool) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
     let mut items = Vec::new();
     let mut index: HashMap<&str, usize> = HashMap::new();
     for n in &r.nodes {
@@ -268,7 +319,7 @@ fn layout_region(r: &Region) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
     }
     let mut reqs = Vec::new();
     for t in &r.transitions {
-        let label = if t.label.is_empty() { Vec::new() } else { wrap(&t.label) };
+        let (label, cut) = label_text(&t.label);
         // An end that does not resolve gets a small box of its own, so that
         // every transition is drawn.
         let end = |id: &Option<String>, name: &str, items: &mut Vec<Item>| -> usize {
@@ -296,15 +347,25 @@ fn layout_region(r: &Region) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
                     separator: None,
                     children: Vec::new(),
                     edges: Vec::new(),
+                    title: None,
                 },
             });
             items.len() - 1
         };
         let from = end(&t.source, &t.source_name, &mut items);
         let to = end(&t.target, &t.target_name, &mut items);
-        reqs.push(EdgeReq { from, to, label, subject: transition_subject(t), both_heads: false, dashed: false });
+        reqs.push(EdgeReq {
+            from,
+            to,
+            label,
+            subject: transition_subject(t),
+            both_heads: false,
+            dashed: false,
+            title: cut.then(|| t.label.clone()),
+            full: t.label.clone(),
+        });
     }
-    place(items, reqs)
+    place(items, reqs, top)
 }
 
 fn transition_subject(t: &Transition) -> Subject {
@@ -320,6 +381,7 @@ fn node_item(n: &Node) -> Item {
         separator: None,
         children: Vec::new(),
         edges: Vec::new(),
+        title: None,
     };
     match n.kind {
         NodeKind::Initial => return Item { size: (16.0, 16.0), circle: true, shape: empty(16.0, false) },
@@ -332,14 +394,17 @@ fn node_item(n: &Node) -> Item {
         _ => {}
     }
     // A state: its name, its actions, then its inside.
+    let (name, mut cut) = elide_name(&n.name);
     let mut texts = vec![TextLine {
-        rect: Rect { x: PAD, y: PAD, w: text_width(&n.name), h: LINE_H },
-        text: n.name.clone(),
+        rect: Rect { x: PAD, y: PAD, w: text_width(&name), h: LINE_H },
+        text: name,
         class: "state-name",
     }];
     let mut y = PAD + LINE_H + 4.0;
     for a in &n.actions {
-        for (i, line) in wrap(&format!("{} {}", a.kind, a.text)).into_iter().enumerate() {
+        let (lines, elided) = wrap_elided(&format!("{} {}", a.kind, a.text));
+        cut |= elided;
+        for (i, line) in lines.into_iter().enumerate() {
             let indent = if i == 0 { 0.0 } else { 2.0 * CHAR_W };
             texts.push(TextLine {
                 rect: Rect { x: PAD + indent, y, w: text_width(&line), h: LINE_H },
@@ -357,7 +422,7 @@ fn node_item(n: &Node) -> Item {
     let mut edges = Vec::new();
     let mut separator = None;
     if composite {
-        let (iw, ih, inner_shapes, inner_edges) = layout_region(&n.region);
+        let (iw, ih, inner_shapes, inner_edges) = layout_region(&n.region, false);
         separator = Some(header);
         w = w.max(iw + 2.0 * PAD);
         h = header + PAD + ih + PAD;
@@ -382,6 +447,46 @@ fn node_item(n: &Node) -> Item {
             separator,
             children,
             edges,
+            title: cut.then(|| {
+                let mut full = n.name.clone();
+                for a in &n.actions {
+                    full.push_str(&format!("\n{} {}", a.kind, a.text));
+                }
+                full
+            }),
+        },
+    }
+}
+
+/// A block: its stereotype and its (elided) name.
+fn block_item(b: &Block) -> Item {
+    let full = match &b.reference {
+        Some(r) => format!("{}: {r}", b.id),
+        None => b.id.clone(),
+    };
+    let (title, cut) = elide_name(&full);
+    let kind = format!("«{}»", b.kind);
+    let texts = vec![
+        TextLine { rect: Rect { x: PAD, y: PAD, w: text_width(&kind), h: LINE_H }, text: kind, class: "stereotype" },
+        TextLine {
+            rect: Rect { x: PAD, y: PAD + LINE_H, w: text_width(&title), h: LINE_H },
+            text: title,
+            class: "block-name",
+        },
+    ];
+    let w = texts.iter().map(|t| t.rect.w).fold(0.0, f64::max) + 2.0 * PAD;
+    let h = 2.0 * LINE_H + 2.0 * PAD;
+    Item {
+        size: (w, h),
+        circle: false,
+        shape: Shape {
+            subject: Subject::Block { id: b.id.clone(), kind: b.kind.clone(), range: b.range },
+            rect: Rect { x: 0.0, y: 0.0, w, h },
+            texts,
+            separator: None,
+            children: Vec::new(),
+            edges: Vec::new(),
+            title: cut.then_some(full),
         },
     }
 }
@@ -391,37 +496,7 @@ fn layout_structure(blocks: &[Block], connections: &[Connection]) -> (f64, f64, 
     let mut index: HashMap<&str, usize> = HashMap::new();
     for b in blocks {
         index.insert(&b.id, items.len());
-        let title = match &b.reference {
-            Some(r) => format!("{}: {r}", b.id),
-            None => b.id.clone(),
-        };
-        let kind = format!("«{}»", b.kind);
-        let texts = vec![
-            TextLine {
-                rect: Rect { x: PAD, y: PAD, w: text_width(&kind), h: LINE_H },
-                text: kind,
-                class: "stereotype",
-            },
-            TextLine {
-                rect: Rect { x: PAD, y: PAD + LINE_H, w: text_width(&title), h: LINE_H },
-                text: title,
-                class: "block-name",
-            },
-        ];
-        let w = texts.iter().map(|t| t.rect.w).fold(0.0, f64::max) + 2.0 * PAD;
-        let h = 2.0 * LINE_H + 2.0 * PAD;
-        items.push(Item {
-            size: (w, h),
-            circle: false,
-            shape: Shape {
-                subject: Subject::Block { id: b.id.clone(), kind: b.kind.clone(), range: b.range },
-                rect: Rect { x: 0.0, y: 0.0, w, h },
-                texts,
-                separator: None,
-                children: Vec::new(),
-                edges: Vec::new(),
-            },
-        });
+        items.push(block_item(b));
     }
     let mut reqs = Vec::new();
     for c in connections {
@@ -430,10 +505,13 @@ fn layout_structure(blocks: &[Block], connections: &[Connection]) -> (f64, f64, 
         if c.is_async {
             label.push_str(" (async)");
         }
+        let (lines, cut) = wrap_elided(&label);
         reqs.push(EdgeReq {
             from,
             to,
-            label: wrap(&label),
+            label: lines,
+            title: cut.then(|| label.clone()),
+            full: label,
             subject: Subject::Connection {
                 from: c.from.clone(),
                 to: c.to.clone(),
@@ -445,287 +523,242 @@ fn layout_structure(blocks: &[Block], connections: &[Connection]) -> (f64, f64, 
             dashed: c.is_async,
         });
     }
-    place(items, reqs)
+    place(items, reqs, true)
 }
 
-/// What the layout engine reports while "rendering": the edges' curves.
-#[derive(Default)]
-struct Capture {
-    arrows: Vec<Captured>,
+/// The two orientations tried: ranks downwards or rightwards.
+#[derive(Clone, Copy, PartialEq)]
+enum Flow {
+    Down,
+    Right,
 }
 
-/// An edge's index, its path as layout-rs draws it, and its arrowheads
-/// (start, end).
-type Captured = (usize, Vec<(Point, Point)>, (bool, bool));
-
-impl RenderBackend for Capture {
-    fn draw_rect(&mut self, _: Point, _: Point, _: &StyleAttr, _: Option<String>, _: Option<ClipHandle>) {}
-    fn draw_line(&mut self, _: Point, _: Point, _: &StyleAttr, _: Option<String>) {}
-    fn draw_circle(&mut self, _: Point, _: Point, _: &StyleAttr, _: Option<String>) {}
-    fn draw_text(&mut self, _: Point, _: &str, _: &StyleAttr) {}
-    fn draw_arrow(
-        &mut self,
-        path: &[(Point, Point)],
-        _: bool,
-        head: (bool, bool),
-        _: &StyleAttr,
-        properties: Option<String>,
-        _: &str,
-    ) {
-        if let Some(i) = properties.and_then(|p| p.parse().ok()) {
-            self.arrows.push((i, path.to_vec(), head));
+impl Flow {
+    /// (cross, along) of an (x, y) size.
+    fn size(self, (w, h): (f64, f64)) -> (f64, f64) {
+        match self {
+            Flow::Down => (w, h),
+            Flow::Right => (h, w),
         }
     }
-    fn create_clip(&mut self, _: Point, _: Point, _: usize) -> ClipHandle {
-        0
-    }
-}
 
-/// The font size given to the layout's label connectors: their text is a
-/// block of characters whose count sets the box size exactly.
-const UNIT: usize = 2;
-/// layout-rs pads connector boxes by this much.
-const CONN_PAD: f64 = 10.0;
-const MARK: char = '@';
-
-/// The placeholder text of edge `i`'s label connector, for a box of `w`×`h`.
-fn placeholder(i: usize, w: f64, h: f64) -> String {
-    let cols = (((w - CONN_PAD) / UNIT as f64).ceil() as usize).max(8);
-    let rows = (((h - CONN_PAD) / UNIT as f64).ceil() as usize).max(1);
-    let head = format!("{MARK}{i}{MARK}");
-    let first: String = head.chars().chain(std::iter::repeat('x')).take(cols.max(head.len())).collect();
-    let other = "x".repeat(cols);
-    let mut s = first;
-    for _ in 1..rows {
-        s.push('\n');
-        s.push_str(&other);
-    }
-    s
-}
-
-fn placeholder_index(s: &str) -> Option<usize> {
-    let rest = s.strip_prefix(MARK)?;
-    rest[..rest.find(MARK)?].parse().ok()
-}
-
-/// Lays out items and edges with layout-rs; falls back to a column when the
-/// engine fails (it asserts on some inputs).
-fn place(items: Vec<Item>, reqs: Vec<EdgeReq>) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
-    if items.is_empty() {
-        return (0.0, 0.0, Vec::new(), Vec::new());
-    }
-    let engine = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_engine(&items, &reqs)));
-    let (node_rects, edges) = match engine {
-        Ok(r) => r,
-        Err(_) => {
-            FALLBACKS.with(|f| f.set(f.get() + 1));
-            fallback(&items, &reqs)
+    fn point(self, (c, a): (f64, f64)) -> (f64, f64) {
+        match self {
+            Flow::Down => (c, a),
+            Flow::Right => (a, c),
         }
-    };
-    let mut shapes = Vec::new();
-    for (item, r) in items.into_iter().zip(node_rects) {
-        let mut s = item.shape;
-        s.translate(r.x - s.rect.x, r.y - s.rect.y);
-        shapes.push(s);
     }
-    let mut edges = edges;
-    // Move everything to (0, 0).
+
+    fn rect(self, r: &GRect) -> Rect {
+        match self {
+            Flow::Down => Rect { x: r.cross, y: r.along, w: r.w, h: r.h },
+            Flow::Right => Rect { x: r.along, y: r.cross, w: r.h, h: r.w },
+        }
+    }
+}
+
+/// The size of a layout: the box of its nodes, labels and curves.
+fn extent(p: &Placed, flow: Flow) -> (f64, f64, f64, f64) {
     let mut min = (f64::MAX, f64::MAX);
     let mut max = (f64::MIN, f64::MIN);
     let mut grow = |x: f64, y: f64| {
         min = (min.0.min(x), min.1.min(y));
         max = (max.0.max(x), max.1.max(y));
     };
-    for s in &shapes {
-        grow(s.rect.x, s.rect.y);
-        grow(s.rect.x + s.rect.w, s.rect.y + s.rect.h);
+    for r in p.nodes.iter().chain(p.labels.iter().flatten()) {
+        let r = flow.rect(r);
+        grow(r.x, r.y);
+        grow(r.x + r.w, r.y + r.h);
     }
-    for e in &edges {
-        for c in &e.path {
-            for t in 0..=8 {
-                let p = c.at(t as f64 / 8.0);
-                grow(p.0, p.1);
+    for c in p.paths.iter().flatten() {
+        for t in 0..=8 {
+            let q = flow.point(c.at(t as f64 / 8.0));
+            grow(q.0, q.1);
+        }
+    }
+    (min.0, min.1, max.0 - min.0, max.1 - min.1)
+}
+
+/// How good a candidate layout is (lower is better): its area, raised for
+/// each crossing, and, for a whole diagram (`top`; the inside of a
+/// composite state may be of any shape), much raised when it is wider or
+/// taller than about 3:1.
+fn score(w: f64, h: f64, crossings: usize, top: bool) -> f64 {
+    let skew = (w / h.max(1.0)).max(h / w.max(1.0));
+    let aspect = if top && skew > 2.8 { 20.0 * (skew / 2.8).powi(2) } else { 1.0 };
+    w * h * (1.0 + 0.35 * crossings as f64) * aspect
+}
+
+/// Lays out items and edges: layered downwards and rightwards, with ranks
+/// unbounded or wrapped at several widths; keeps the best (see [`score`]).
+fn place(items: Vec<Item>, reqs: Vec<EdgeReq>, top: bool) -> (f64, f64, Vec<Shape>, Vec<Edge>) {
+    if items.is_empty() {
+        return (0.0, 0.0, Vec::new(), Vec::new());
+    }
+    let mut area: f64 = items.iter().map(|it| (it.size.0 + 18.0) * (it.size.1 + 22.0)).sum();
+    area += reqs.iter().map(|r| label_size(&r.label)).map(|(w, h)| (w + 14.0) * (h + 22.0)).sum::<f64>();
+    let side = area.sqrt();
+    // Labels as wrapped, and wrapped narrower when that fits better.
+    let narrow: Vec<(Vec<String>, bool)> =
+        reqs.iter()
+            .map(|r| {
+                if r.full.is_empty() {
+                    (Vec::new(), false)
+                } else {
+                    wrap_elided_at(&r.full, NARROW_WRAP, NARROW_LINES)
+                }
+            })
+            .collect();
+    let changed = reqs.iter().zip(&narrow).any(|(r, n)| r.label != n.0);
+    let mut best: Option<(f64, Flow, bool, Placed)> = None;
+    for (flow, thin) in [(Flow::Down, false), (Flow::Right, false), (Flow::Down, true), (Flow::Right, true)] {
+        if thin && !changed {
+            continue;
+        }
+        let label_of = |i: usize| if thin { &narrow[i].0 } else { &reqs[i].label };
+        let nodes: Vec<GNode> = items
+            .iter()
+            .map(|it| {
+                let (cross, along) = flow.size(it.size);
+                GNode { cross, along, round: it.circle, stretch: !it.circle && it.shape.children.is_empty() }
+            })
+            .collect();
+        let edges: Vec<GEdge> = reqs
+            .iter()
+            .enumerate()
+            .map(|(i, r)| GEdge {
+                from: r.from,
+                to: r.to,
+                label: (!label_of(i).is_empty()).then(|| flow.size(label_size(label_of(i)))),
+            })
+            .collect();
+        let widest = nodes.iter().map(|g| g.cross).fold(0.0, f64::max);
+        let mut limits = vec![None];
+        limits.extend([2.5, 1.6, 1.1, 0.75, 0.5].iter().map(|k| Some((side * k).max(widest))));
+        limits.dedup();
+        for limit in limits {
+            let p = layered(&nodes, &edges, limit, flow == Flow::Right);
+            let (_, _, w, h) = extent(&p, flow);
+            // Narrower labels only when clearly better: wide lines read best.
+            let s = score(w, h, p.crossings, top) * if thin { 1.25 } else { 1.0 };
+            if best.as_ref().is_none_or(|b| s < b.0) {
+                best = Some((s, flow, thin, p));
             }
         }
-        for t in &e.texts {
-            grow(t.rect.x, t.rect.y);
-            grow(t.rect.x + t.rect.w, t.rect.y + t.rect.h);
-        }
     }
+    let Some((_, flow, thin, placed)) = best else { return (0.0, 0.0, Vec::new(), Vec::new()) };
+    let (x0, y0, w, h) = extent(&placed, flow);
     let margin = 4.0;
-    let (dx, dy) = (margin - min.0, margin - min.1);
-    for s in &mut shapes {
-        s.translate(dx, dy);
+    let (dx, dy) = (margin - x0, margin - y0);
+    let mut shapes = Vec::new();
+    for (item, r) in items.into_iter().zip(&placed.nodes) {
+        let r = flow.rect(r);
+        let mut s = item.shape;
+        s.translate(r.x - s.rect.x + dx, r.y - s.rect.y + dy);
+        // Stretched for its edges' ends or its self-loops.
+        if s.children.is_empty() && !item.circle {
+            s.rect.w = r.w;
+            s.rect.h = r.h;
+        }
+        shapes.push(s);
     }
-    for e in &mut edges {
-        e.translate(dx, dy);
+    let mut edges = Vec::new();
+    for (i, (mut r, n)) in reqs.into_iter().zip(narrow).enumerate() {
+        if thin {
+            r.label = n.0;
+            r.title = n.1.then(|| r.full.clone());
+        }
+        let path: Vec<Cubic> = placed.paths[i]
+            .iter()
+            .map(|c| {
+                let m = |p: (f64, f64)| {
+                    let q = flow.point(p);
+                    (q.0 + dx, q.1 + dy)
+                };
+                Cubic { p0: m(c.p0), c1: m(c.c1), c2: m(c.c2), p3: m(c.p3) }
+            })
+            .collect();
+        let texts = match &placed.labels[i] {
+            Some(g) => {
+                let at = flow.rect(g);
+                r.label
+                    .iter()
+                    .enumerate()
+                    .map(|(k, l)| TextLine {
+                        text: l.clone(),
+                        rect: Rect { x: at.x + dx, y: at.y + dy + k as f64 * LINE_H, w: text_width(l), h: LINE_H },
+                        class: "edge-label",
+                    })
+                    .collect()
+            }
+            None => Vec::new(),
+        };
+        edges.push(Edge {
+            subject: r.subject,
+            path,
+            both_heads: r.both_heads,
+            dashed: r.dashed,
+            texts,
+            title: r.title,
+        });
     }
-    (max.0 - min.0 + 2.0 * margin, max.1 - min.1 + 2.0 * margin, shapes, edges)
+    (w + 2.0 * margin, h + 2.0 * margin, shapes, edges)
 }
 
 /// The label's size.
-fn label_size(label: &[String]) -> (f64, f64) {
+pub(crate) fn label_size(label: &[String]) -> (f64, f64) {
     let w = label.iter().map(|l| text_width(l)).fold(0.0, f64::max);
     (w, label.len() as f64 * LINE_H)
 }
 
-fn run_engine(items: &[Item], reqs: &[EdgeReq]) -> (Vec<Rect>, Vec<Edge>) {
-    let dir = Orientation::TopToBottom;
-    let mut vg = VisualGraph::new(dir);
-    let handles: Vec<_> = items
-        .iter()
-        .map(|it| {
-            let shape = if it.circle { ShapeKind::new_circle("") } else { ShapeKind::new_box("") };
-            vg.add_node(Element::create(shape, StyleAttr::simple(), dir, Point::new(it.size.0, it.size.1)))
-        })
-        .collect();
-    for (i, r) in reqs.iter().enumerate() {
-        let mut arrow = Arrow::simple_with_properties("", i.to_string());
-        arrow.look.font_size = UNIT;
-        if !r.label.is_empty() {
-            let (w, h) = label_size(&r.label);
-            arrow.text = placeholder(i, 2.0 * (w + GAP), h);
-        }
-        vg.add_edge(arrow, handles[r.from], handles[r.to]);
+/// A transition label's lines, as drawn.
+pub(crate) fn label_lines(label: &str) -> Vec<String> {
+    label_text(label).0
+}
+
+/// A transition label's lines (none when empty), and whether it was elided.
+fn label_text(label: &str) -> (Vec<String>, bool) {
+    if label.is_empty() {
+        (Vec::new(), false)
+    } else {
+        wrap_elided(label)
     }
-    let mut capture = Capture::default();
-    vg.do_it(false, false, false, &mut capture);
-    let rects: Vec<Rect> = handles
+}
+
+/// The size of a node that is not composite, and whether it is a circle.
+pub(crate) fn leaf_size(n: &Node) -> (f64, f64, bool) {
+    let it = node_item(n);
+    (it.size.0, it.size.1, it.circle)
+}
+
+/// The size of a composite state's header (name and actions).
+pub(crate) fn header_size(n: &Node) -> (f64, f64) {
+    let flat = Node { region: Region::default(), ..n.clone() };
+    let it = node_item(&flat);
+    it.size
+}
+
+/// The box of an unresolved end.
+pub(crate) fn unresolved_size(name: &str) -> (f64, f64) {
+    (text_width(&format!("?{name}")) + 2.0 * PAD, LINE_H + 2.0 * PAD)
+}
+
+/// A connection between two blocks (by index) with its label's size.
+pub(crate) type SizedLink = (usize, usize, (f64, f64));
+
+/// The blocks' sizes and the connections.
+pub(crate) fn structure_sizes(blocks: &[Block], connections: &[Connection]) -> (Vec<(f64, f64)>, Vec<SizedLink>) {
+    let sizes = blocks.iter().map(|b| block_item(b).size).collect();
+    let index = |id: &str| blocks.iter().position(|b| b.id == id);
+    let edges = connections
         .iter()
-        .map(|h| {
-            let (a, b) = vg.pos(*h).bbox(false);
-            Rect { x: a.x, y: a.y, w: b.x - a.x, h: b.y - a.y }
-        })
-        .collect();
-    // The label connectors: edge index → (box, pass point).
-    let mut boxes: HashMap<usize, (Rect, Point)> = HashMap::new();
-    for n in vg.iter_nodes() {
-        let e = vg.element(n);
-        if let ShapeKind::Connector(Some(text)) = &e.shape {
-            if let Some(i) = placeholder_index(text) {
-                let (a, b) = e.pos.bbox(false);
-                boxes.insert(i, (Rect { x: a.x, y: a.y, w: b.x - a.x, h: b.y - a.y }, e.pos.center()));
+        .filter_map(|c| {
+            let mut label = c.label.clone();
+            if c.is_async {
+                label.push_str(" (async)");
             }
-        }
-    }
-    // Labels go beside their edge, where they overlap no node and no
-    // other label (layout-rs's placement can leave label boxes touching).
-    let mut taken: Vec<Rect> = rects.clone();
-    let mut edges = Vec::new();
-    let mut arrows = capture.arrows;
-    arrows.sort_by_key(|a| a.0);
-    for (i, path, head) in arrows {
-        let r = &reqs[i];
-        let mut curve = to_cubics(&path);
-        // layout-rs reverses back edges; draw them from source to target.
-        if head.0 && !head.1 {
-            curve = curve.iter().rev().map(Cubic::reversed).collect();
-        }
-        let texts = match boxes.get(&i) {
-            Some((b, pass)) => place_label(&r.label, b, pass, &curve, &mut taken),
-            None => Vec::new(),
-        };
-        edges.push(Edge { subject: r.subject.clone(), path: curve, both_heads: r.both_heads, dashed: r.dashed, texts });
-    }
-    (rects, edges)
-}
-
-/// layout-rs's path (`M p0 C c1 c2 p1 S c p …`) as explicit cubics.
-fn to_cubics(path: &[(Point, Point)]) -> Vec<Cubic> {
-    let pt = |p: Point| (p.x, p.y);
-    let mut out = Vec::new();
-    if path.len() < 2 {
-        return out;
-    }
-    let mut start = pt(path[0].0);
-    let mut c1 = pt(path[0].1);
-    for seg in &path[1..] {
-        let (c2, end) = (pt(seg.0), pt(seg.1));
-        out.push(Cubic { p0: start, c1, c2, p3: end });
-        // The next segment's first control point mirrors this one's second.
-        c1 = (2.0 * end.0 - c2.0, 2.0 * end.1 - c2.1);
-        start = end;
-    }
-    out
-}
-
-/// Puts a label's lines beside the edge, in its connector box on the side
-/// the curve crosses least, or else as near as possible where it overlaps
-/// nothing in `taken`; the chosen box is added to `taken`.
-fn place_label(label: &[String], b: &Rect, pass: &Point, curve: &[Cubic], taken: &mut Vec<Rect>) -> Vec<TextLine> {
-    let (w, h) = label_size(label);
-    let top = b.y + (b.h - h).max(0.0) / 2.0;
-    let hits = |r: &Rect| {
-        curve
-            .iter()
-            .flat_map(|c| (0..=32).map(move |t| c.at(t as f64 / 32.0)))
-            .filter(|p| p.0 >= r.x && p.0 <= r.x + r.w && p.1 >= r.y && p.1 <= r.y + r.h)
-            .count()
-    };
-    let free = |r: &Rect, taken: &[Rect]| !taken.iter().any(|t| t.overlaps(r));
-    let right = Rect { x: pass.x + GAP, y: top, w, h };
-    let left = Rect { x: pass.x - GAP - w, y: top, w, h };
-    let mut candidates = if hits(&left) < hits(&right) { vec![left, right] } else { vec![right, left] };
-    // Then further and further away, up and down.
-    for k in 1..=12 {
-        let dy = k as f64 * (LINE_H / 2.0);
-        for base in [candidates[0], candidates[1]] {
-            candidates.push(Rect { y: base.y + dy, ..base });
-            candidates.push(Rect { y: base.y - dy, ..base });
-        }
-    }
-    let at = candidates.into_iter().find(|r| free(r, taken)).unwrap_or_else(|| {
-        // Beyond everything on the right, which is always free.
-        let x = taken.iter().map(|t| t.x + t.w).fold(pass.x, f64::max) + GAP;
-        Rect { x, y: top, w, h }
-    });
-    taken.push(at);
-    label
-        .iter()
-        .enumerate()
-        .map(|(k, l)| TextLine {
-            text: l.clone(),
-            rect: Rect { x: at.x, y: at.y + k as f64 * LINE_H, w: text_width(l), h: LINE_H },
-            class: "edge-label",
+            Some((index(&c.from)?, index(&c.to)?, label_size(&wrap_elided(&label).0)))
         })
-        .collect()
-}
-
-/// A plain layout when the engine fails: nodes in a column, edges on the
-/// right, labels stacked in a column beyond them.
-fn fallback(items: &[Item], reqs: &[EdgeReq]) -> (Vec<Rect>, Vec<Edge>) {
-    let mut y = 0.0;
-    let mut rects = Vec::new();
-    let mut width: f64 = 0.0;
-    for it in items {
-        rects.push(Rect { x: 0.0, y, w: it.size.0, h: it.size.1 });
-        width = width.max(it.size.0);
-        y += it.size.1 + 30.0;
-    }
-    let mut label_y = 0.0;
-    let mut edges = Vec::new();
-    for (k, r) in reqs.iter().enumerate() {
-        let (a, b) = (&rects[r.from], &rects[r.to]);
-        let bend = width + 20.0 + 12.0 * k as f64;
-        let p0 = (a.x + a.w, a.y + a.h / 2.0);
-        let p3 = (b.x + b.w, b.y + b.h / 2.0);
-        let path = vec![Cubic { p0, c1: (bend, p0.1), c2: (bend, p3.1), p3 }];
-        let label_x = width + 40.0 + 12.0 * reqs.len() as f64;
-        let texts = r
-            .label
-            .iter()
-            .map(|l| {
-                let t = TextLine {
-                    text: l.clone(),
-                    rect: Rect { x: label_x, y: label_y, w: text_width(l), h: LINE_H },
-                    class: "edge-label",
-                };
-                label_y += LINE_H;
-                t
-            })
-            .collect();
-        label_y += 4.0;
-        edges.push(Edge { subject: r.subject.clone(), path, both_heads: r.both_heads, dashed: r.dashed, texts });
-    }
-    (rects, edges)
+        .collect();
+    (sizes, edges)
 }

@@ -5,7 +5,9 @@
 #![warn(missing_docs)]
 
 pub mod dot;
+mod layered;
 pub mod layout;
+pub mod metrics;
 pub mod model;
 pub mod svg;
 

@@ -333,6 +333,9 @@ fn shape(out: &mut String, s: &Shape, d: &Diagram, parent: &str, marks: &Marked)
     let mark = marked(&s.subject, marks);
     let class = if mark.is_some() { format!("{class} highlight") } else { class };
     let _ = writeln!(out, r#"<g class="{class}"{attrs}>"#);
+    if let Some(t) = &s.title {
+        let _ = writeln!(out, "<title>{}</title>", esc(t));
+    }
     let r = &s.rect;
     if let Some(cycles) = mark {
         badge(out, cycles, r.x + r.w + 2.0, r.y + 10.0);
@@ -410,6 +413,9 @@ fn edge(out: &mut String, e: &Edge, d: &Diagram, parent: &str, marks: &Marked) {
     let mark = marked(&e.subject, marks);
     let class = if mark.is_some() { format!("{class} highlight") } else { class };
     let _ = writeln!(out, r#"<g class="{class}"{attrs}>"#);
+    if let Some(t) = &e.title {
+        let _ = writeln!(out, "<title>{}</title>", esc(t));
+    }
     if let (Some(cycles), Some(t)) = (mark, e.texts.first()) {
         badge(out, cycles, t.rect.x, t.rect.y - 2.0);
     }

@@ -145,13 +145,14 @@ fn a_simulation_without_assertions_is_checked_as_is() {
     assert_eq!((r.name.as_str(), r.text.as_str(), r.file.as_str()), ("P3", "P3 is schedulable", "/w/extra.rsa"));
     assert_eq!(&extra[r.name_range], "P3");
     // The design's constants have no values without an assertion to give
-    // them: the engine says so.
-    assert_eq!(r.verdict, Verdict::Unsupported);
+    // them: RoboTool's defaults (RT-1), which the report names. With PI =
+    // av = 0 the design cannot be scheduled.
+    assert_eq!(r.verdict, Verdict::Fail, "{:?}", r.reason);
+    assert!(r.notes.iter().any(|n| n.contains("sm::PI = 0 (RT-1)")), "{:?}", r.notes);
     let verified = [Verified { report: r.clone(), profile: Profile::RoboTool3 }];
     let diags = host.analysis().verify_diagnostics(file(&host, "/w/extra.rsa"), &verified).unwrap();
     assert_eq!(diags.len(), 1);
-    assert_eq!((diags[0].severity, &extra[diags[0].range]), (Severity::Info, "P3"));
-    assert!(diags[0].message.contains("has no value"), "{}", diags[0].message);
+    assert_eq!(&extra[diags[0].range], "P3");
     // Two simulations of the module: two lenses on it.
     let lenses = host.analysis().verify_lenses(file(&host, "/w/design.rct")).unwrap();
     let cycles: Vec<Option<i64>> = lenses.iter().map(|l| l.cycle).collect();

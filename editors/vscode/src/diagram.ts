@@ -3,7 +3,9 @@
 // controller or module, as the server draws it (`robosim/diagram`). The view
 // follows the text: it asks again 300 ms after the last change to a model.
 // Clicking a state, transition, block or connection moves the cursor to its
-// declaration (the SVG's groups carry `data-line`/`data-character`).
+// declaration (the SVG's groups carry `data-line`/`data-character`). The
+// view opens fitted to the window, zooms with the wheel and pans by
+// dragging, and keeps its zoom across redraws.
 //
 // The page has a strict Content Security Policy: nothing is loaded from
 // anywhere, the SVG is inline and the only script is the page's own, with a
@@ -79,20 +81,88 @@ export interface PageContent {
 }
 
 // The page's script: clicks go back to the extension, updates come in as
-// messages (the panel is not reloaded on each edit, so the scroll stays).
-// Plain ES2017, no dependencies.
+// messages (the panel is not reloaded on each edit, so the view stays).
+// The view zooms (wheel, buttons) and pans (drag); it opens fitted to the
+// window and follows the window's size until the user zooms or pans, and
+// keeps its zoom and position across redraws and reloads (the webview's
+// state). A drag is not a click: only a click without movement moves the
+// cursor. Plain ES2017, no dependencies.
 const PAGE_SCRIPT = `
 (function () {
   const vscode = acquireVsCodeApi();
+  const viewport = document.getElementById("viewport");
   const diagram = document.getElementById("diagram");
   const status = document.getElementById("status");
+  const zoomText = document.getElementById("zoom");
+  const MIN = 0.05, MAX = 8, MARGIN = 12, STEP = 1.25;
+  const saved = vscode.getState();
+  let view = saved && typeof saved.scale === "number" ? saved : { scale: 1, x: 0, y: 0, fit: true };
   let selected = null;
+  let drag = null;
+  let dragged = false;
+  function clamp(k) { return Math.min(MAX, Math.max(MIN, k)); }
+  function drawing() {
+    const svg = diagram.querySelector("svg");
+    if (!svg) return null;
+    const w = Number(svg.getAttribute("width")), h = Number(svg.getAttribute("height"));
+    return w > 0 && h > 0 ? { w: w, h: h } : null;
+  }
+  function apply() {
+    diagram.style.transform = "translate(" + view.x + "px, " + view.y + "px) scale(" + view.scale + ")";
+    zoomText.textContent = Math.round(view.scale * 100) + "%";
+    vscode.setState(view);
+  }
+  // The whole drawing in the window, never enlarged past twice its size.
+  function fit() {
+    const d = drawing();
+    if (!d) return;
+    const vw = viewport.clientWidth, vh = viewport.clientHeight;
+    const k = clamp(Math.min((vw - 2 * MARGIN) / d.w, (vh - 2 * MARGIN) / d.h, 2));
+    view = { scale: k, x: Math.max(MARGIN, (vw - d.w * k) / 2), y: Math.max(MARGIN, (vh - d.h * k) / 2), fit: true };
+    apply();
+  }
+  // Zooms by factor keeping the point (px, py) of the viewport in place.
+  function zoomAt(factor, px, py) {
+    const k = clamp(view.scale * factor);
+    const f = k / view.scale;
+    view = { scale: k, x: px - (px - view.x) * f, y: py - (py - view.y) * f, fit: false };
+    apply();
+  }
+  function centre() { return [viewport.clientWidth / 2, viewport.clientHeight / 2]; }
   function select(g) {
     if (selected) selected.classList.remove("highlight");
     selected = g;
     if (g) g.classList.add("highlight");
   }
+  viewport.addEventListener("wheel", function (event) {
+    event.preventDefault();
+    const r = viewport.getBoundingClientRect();
+    zoomAt(Math.exp(-event.deltaY * 0.002), event.clientX - r.left, event.clientY - r.top);
+  }, { passive: false });
+  viewport.addEventListener("pointerdown", function (event) {
+    if (event.button !== 0) return;
+    drag = { x: event.clientX, y: event.clientY, vx: view.x, vy: view.y };
+    dragged = false;
+  });
+  window.addEventListener("pointermove", function (event) {
+    if (!drag) return;
+    const dx = event.clientX - drag.x, dy = event.clientY - drag.y;
+    if (!dragged && Math.abs(dx) + Math.abs(dy) < 4) return;
+    dragged = true;
+    viewport.classList.add("dragging");
+    view = { scale: view.scale, x: drag.vx + dx, y: drag.vy + dy, fit: false };
+    apply();
+  });
+  window.addEventListener("pointerup", function () {
+    drag = null;
+    viewport.classList.remove("dragging");
+  });
+  window.addEventListener("resize", function () { if (view.fit) fit(); });
+  document.getElementById("fit").addEventListener("click", fit);
+  document.getElementById("zoom-in").addEventListener("click", function () { const c = centre(); zoomAt(STEP, c[0], c[1]); });
+  document.getElementById("zoom-out").addEventListener("click", function () { const c = centre(); zoomAt(1 / STEP, c[0], c[1]); });
   document.addEventListener("click", function (event) {
+    if (dragged) { dragged = false; return; }
     const target = event.target;
     const g = target && target.closest ? target.closest("[data-line]") : null;
     if (!g) return;
@@ -112,11 +182,14 @@ const PAGE_SCRIPT = `
     if (typeof m.svg === "string") {
       diagram.innerHTML = m.svg;
       selected = null;
+      // A redraw keeps the user's zoom; a fitted view fits the new drawing.
+      if (view.fit) fit(); else apply();
     }
     status.textContent = m.message || "";
     status.hidden = !m.message;
     document.body.classList.toggle("stale", Boolean(m.stale));
   });
+  if (view.fit) fit(); else apply();
   vscode.postMessage({ type: "ready" });
 })();
 `;
@@ -138,15 +211,23 @@ export function diagramHtml(page: PageContent): string {
 <meta name="viewport" content="width=device-width, initial-scale=1.0">
 <title>${escapeHtml(page.title)}</title>
 <style>
-  body { margin: 0; padding: 8px; background: var(--vscode-editor-background); color: var(--vscode-foreground); }
-  #status { font-family: var(--vscode-font-family); margin: 0 0 8px 0; padding: 4px 8px; border-left: 3px solid var(--vscode-editorWarning-foreground, #c09000); }
+  html, body { height: 100%; }
+  body { margin: 0; display: flex; flex-direction: column; background: var(--vscode-editor-background); color: var(--vscode-foreground); font-family: var(--vscode-font-family); }
+  #toolbar { display: flex; gap: 4px; align-items: center; padding: 4px 8px; }
+  #toolbar button { color: var(--vscode-button-secondaryForeground, inherit); background: var(--vscode-button-secondaryBackground, transparent); border: 1px solid var(--vscode-contrastBorder, transparent); padding: 1px 8px; cursor: pointer; }
+  #zoom { min-width: 4em; opacity: 0.8; }
+  #status { margin: 0 8px 4px 8px; padding: 4px 8px; border-left: 3px solid var(--vscode-editorWarning-foreground, #c09000); }
+  #viewport { flex: 1; position: relative; overflow: hidden; cursor: grab; touch-action: none; }
+  #viewport.dragging { cursor: grabbing; }
+  #diagram { position: absolute; left: 0; top: 0; transform-origin: 0 0; }
   #diagram svg { display: block; background: #ffffff; }
   body.stale #diagram { opacity: 0.5; }
 </style>
 </head>
 <body>
+<div id="toolbar"><button id="fit" title="Fit to window">Fit</button><button id="zoom-out" title="Zoom out">−</button><button id="zoom-in" title="Zoom in">+</button><span id="zoom"></span><span>wheel to zoom, drag to move</span></div>
 <div id="status"${message ? "" : " hidden"}>${escapeHtml(message)}</div>
-<div id="diagram">${page.svg ?? ""}</div>
+<div id="viewport"><div id="diagram">${page.svg ?? ""}</div></div>
 <script nonce="${page.nonce}">${PAGE_SCRIPT}</script>
 </body>
 </html>

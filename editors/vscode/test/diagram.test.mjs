@@ -203,24 +203,58 @@ test("nonces are fresh and fit a CSP source expression", () => {
   assert.match(a, /^[A-Za-z0-9]{16,}$/);
 });
 
-/** Runs the page's script in a fake DOM; returns what it posted and the handles. */
-function runPage(html) {
+/** An element of the fake DOM: listeners by type, classes, a style. */
+function element(extra = {}) {
+  const listeners = {};
+  const set = new Set();
+  return {
+    listeners,
+    style: {},
+    classList: { add: (c) => set.add(c), remove: (c) => set.delete(c), toggle: (c, on) => (on ? set.add(c) : set.delete(c)), has: (c) => set.has(c) },
+    addEventListener: (type, f) => (listeners[type] = f),
+    ...extra,
+  };
+}
+
+/**
+ * Runs the page's script in a fake DOM; returns what it posted and the
+ * handles. `state` is what the webview kept (`getState`); the viewport is
+ * `width`×`height`.
+ */
+function runPage(html, { state: kept, width = 1000, height = 800 } = {}) {
   const script = html.match(/<script nonce="[^"]+">([\s\S]*?)<\/script>/)[1];
   const posted = [];
+  const states = [];
   const listeners = {};
   const windowListeners = {};
-  const classes = () => {
-    const set = new Set();
-    return { add: (c) => set.add(c), remove: (c) => set.delete(c), toggle: (c, on) => (on ? set.add(c) : set.delete(c)), has: (c) => set.has(c) };
-  };
+  const diagramEl = element({
+    innerHTML: html.match(/<div id="diagram">([\s\S]*?)<\/div><\/div>/)[1],
+    // The drawing's size, from the SVG's attributes.
+    querySelector(sel) {
+      if (sel !== "svg") return null;
+      const m = this.innerHTML.match(/<svg[^>]*>/);
+      if (!m) return null;
+      const attr = (n) => (m[0].match(new RegExp(` ${n}="([^"]*)"`)) || [])[1] ?? null;
+      return { getAttribute: attr };
+    },
+  });
   const elements = {
-    diagram: { innerHTML: "" },
+    viewport: element({ clientWidth: width, clientHeight: height, getBoundingClientRect: () => ({ left: 10, top: 30 }) }),
+    diagram: diagramEl,
     status: { textContent: "", hidden: true },
+    zoom: { textContent: "" },
+    fit: element(),
+    "zoom-in": element(),
+    "zoom-out": element(),
   };
-  const body = { classList: classes() };
+  const body = element();
   const context = {
     // Messages cross realms as JSON, as they do from a webview.
-    acquireVsCodeApi: () => ({ postMessage: (m) => posted.push(JSON.parse(JSON.stringify(m))) }),
+    acquireVsCodeApi: () => ({
+      postMessage: (m) => posted.push(JSON.parse(JSON.stringify(m))),
+      getState: () => kept,
+      setState: (s) => states.push(JSON.parse(JSON.stringify(s))),
+    }),
     document: {
       body,
       getElementById: (id) => elements[id],
@@ -229,9 +263,11 @@ function runPage(html) {
     window: { addEventListener: (type, f) => (windowListeners[type] = f) },
     Number,
     Boolean,
+    Math,
   };
   vm.runInNewContext(script, context);
-  return { posted, listeners, windowListeners, elements, body };
+  const view = () => states.at(-1);
+  return { posted, states, view, listeners, windowListeners, elements, body };
 }
 
 test("the page's script: ready, a click posts the group's range, updates replace the SVG", () => {
@@ -244,6 +280,8 @@ test("the page's script: ready, a click posts the group's range, updates replace
     "data-end-character": "5",
   };
   const group = { getAttribute: (n) => attrs[n], classList: { add() {}, remove() {} } };
+  page.elements.viewport.listeners.pointerdown({ button: 0, clientX: 100, clientY: 100 });
+  page.windowListeners.pointerup({});
   const text = { closest: (sel) => (sel === "[data-line]" ? group : null) };
   page.listeners.click({ target: text });
   assert.deepEqual(page.posted[1], { type: "reveal", line: 3, character: 4, endLine: 5, endCharacter: 5 });
@@ -258,6 +296,104 @@ test("the page's script: ready, a click posts the group's range, updates replace
   assert.equal(page.elements.status.textContent, "no such element");
   assert.equal(page.elements.status.hidden, false);
   assert.ok(page.body.classList.has("stale"));
+});
+
+const WIDE = '<svg xmlns="http://www.w3.org/2000/svg" class="robosim-diagram" width="2000" height="500" viewBox="0 0 2000 500">' + SVG.slice(SVG.indexOf(">") + 1);
+
+/** The transform the page set on the diagram, as numbers. */
+function transform(page) {
+  const m = page.elements.diagram.style.transform.match(/^translate\((-?[\d.e-]+)px, (-?[\d.e-]+)px\) scale\(([\d.e-]+)\)$/);
+  assert.ok(m, `a translate and scale: ${page.elements.diagram.style.transform}`);
+  return { x: Number(m[1]), y: Number(m[2]), scale: Number(m[3]) };
+}
+
+const close = (a, b, what) => assert.ok(Math.abs(a - b) < 1e-6, `${what}: ${a} is not ${b}`);
+
+test("the view opens fitted to the window and follows the window's size", () => {
+  const page = runPage(diagram.diagramHtml({ cspSource: "x", nonce: "n", title: "t", svg: WIDE }));
+  // 2000 × 500 in 1000 × 800 with 12 px margins: the width decides.
+  const t = transform(page);
+  close(t.scale, 976 / 2000, "scale");
+  close(t.x, 12, "x");
+  close(t.y, (800 - 500 * t.scale) / 2, "y, centred");
+  assert.equal(page.elements.zoom.textContent, "49%");
+  assert.equal(page.view().fit, true);
+  // A narrower window: fitted again.
+  page.elements.viewport.clientWidth = 500;
+  page.windowListeners.resize();
+  close(transform(page).scale, 476 / 2000, "scale after the resize");
+  // A small drawing is not blown up past twice its size.
+  const small = runPage(diagram.diagramHtml({ cspSource: "x", nonce: "n", title: "t", svg: WIDE.replace('width="2000" height="500"', 'width="100" height="50"') }));
+  close(transform(small).scale, 2, "scale of a small drawing");
+});
+
+test("the wheel zooms about the pointer, a drag pans, neither is a click; the Fit button fits again", () => {
+  const page = runPage(diagram.diagramHtml({ cspSource: "x", nonce: "n", title: "t", svg: WIDE }));
+  const before = transform(page);
+  let prevented = false;
+  // The pointer at (300, 200) in the viewport (its box starts at 10, 30).
+  page.elements.viewport.listeners.wheel({ deltaY: -100, clientX: 310, clientY: 230, preventDefault: () => (prevented = true) });
+  assert.ok(prevented, "the page does not scroll");
+  const zoomed = transform(page);
+  assert.ok(zoomed.scale > before.scale, "wheel up zooms in");
+  // The drawing's point under the pointer stays under it.
+  close((300 - zoomed.x) / zoomed.scale, (300 - before.x) / before.scale, "x under the pointer");
+  close((200 - zoomed.y) / zoomed.scale, (200 - before.y) / before.scale, "y under the pointer");
+  assert.equal(page.view().fit, false);
+
+  // A drag moves the drawing by as much as the pointer.
+  page.elements.viewport.listeners.pointerdown({ button: 0, clientX: 100, clientY: 100 });
+  page.windowListeners.pointermove({ clientX: 160, clientY: 70 });
+  assert.ok(page.elements.viewport.classList.has("dragging"));
+  page.windowListeners.pointerup({});
+  const panned = transform(page);
+  close(panned.x, zoomed.x + 60, "x after the drag");
+  close(panned.y, zoomed.y - 30, "y after the drag");
+  close(panned.scale, zoomed.scale, "the drag keeps the zoom");
+  // The click that ends a drag does not move the cursor.
+  const group = { getAttribute: () => "1", classList: { add() {}, remove() {} } };
+  page.listeners.click({ target: { closest: () => group } });
+  assert.equal(page.posted.filter((m) => m.type === "reveal").length, 0);
+  // A press that barely moves is still a click.
+  page.elements.viewport.listeners.pointerdown({ button: 0, clientX: 100, clientY: 100 });
+  page.windowListeners.pointermove({ clientX: 101, clientY: 101 });
+  page.windowListeners.pointerup({});
+  page.listeners.click({ target: { closest: () => group } });
+  assert.equal(page.posted.filter((m) => m.type === "reveal").length, 1);
+  close(transform(page).x, panned.x, "no pan below the threshold");
+
+  // The buttons: in and out about the centre, then Fit.
+  page.elements["zoom-in"].listeners.click();
+  close(transform(page).scale, panned.scale * 1.25, "zoom in");
+  page.elements["zoom-out"].listeners.click();
+  close(transform(page).scale, panned.scale, "zoom out");
+  page.elements.fit.listeners.click();
+  close(transform(page).scale, before.scale, "fitted again");
+  assert.equal(page.view().fit, true);
+});
+
+test("redraws after edits keep the zoom; a fitted view fits the new drawing; a reload restores the view", () => {
+  const page = runPage(diagram.diagramHtml({ cspSource: "x", nonce: "n", title: "t", svg: WIDE }));
+  page.elements.viewport.listeners.wheel({ deltaY: -200, clientX: 110, clientY: 130, preventDefault() {} });
+  const zoomed = transform(page);
+  // The edited model's drawing is larger: the zoom and position stay.
+  const edited = WIDE.replace('width="2000" height="500"', 'width="2400" height="900"');
+  page.windowListeners.message({ data: { type: "update", svg: edited } });
+  assert.equal(page.elements.diagram.innerHTML, edited);
+  assert.deepEqual(transform(page), zoomed);
+
+  // Fitted: a redraw fits the new drawing.
+  page.elements.fit.listeners.click();
+  page.windowListeners.message({ data: { type: "update", svg: WIDE } });
+  close(transform(page).scale, 976 / 2000, "fitted to the new drawing");
+  page.windowListeners.message({ data: { type: "update", svg: edited } });
+  close(transform(page).scale, Math.min(976 / 2400, 776 / 900), "fitted to the edited drawing");
+
+  // The page is reloaded (hidden, then shown): the kept view is restored.
+  const kept = { scale: 1.5, x: -40, y: 25, fit: false };
+  const reloaded = runPage(diagram.diagramHtml({ cspSource: "x", nonce: "n", title: "t", svg: WIDE }), { state: kept });
+  assert.deepEqual(transform(reloaded), { x: -40, y: 25, scale: 1.5 });
+  assert.deepEqual(reloaded.view(), kept);
 });
 
 test("reveal messages: positions are checked, an end before the start is the start", () => {

@@ -1,7 +1,8 @@
 // Geometry checks of the diagrams embedded in the page, run by headless
 // Chromium (browser_test.sh): every node lies inside its parent state's box
-// (or inside the drawing for top-level nodes), no two texts overlap, and
-// every expected state is drawn. Bounding boxes come from the DOM.
+// (or inside the drawing for top-level nodes), no two texts overlap, every
+// expected state is drawn, and the drawing's aspect ratio is within
+// `data-max-aspect` when given. Bounding boxes come from the DOM.
 (function () {
   const out = [];
   const eps = 0.5;
@@ -39,6 +40,12 @@
         if (overlap(texts[i][1], texts[j][1])) problems.push(`labels overlap: "${texts[i][0]}" and "${texts[j][0]}"`);
       }
       if (!inside(texts[i][1], drawing)) problems.push(`label "${texts[i][0]}" is outside the drawing`);
+    }
+    // Neither wider than `max` times its height nor taller than `max` times its width.
+    const max = Number(svg.parentElement.getAttribute('data-max-aspect') || '0');
+    if (max > 0) {
+      const ratio = drawing.width / drawing.height;
+      if (ratio > max || ratio < 1 / max) problems.push(`the drawing is ${Math.round(drawing.width)} × ${Math.round(drawing.height)}, beyond ${max}:1`);
     }
     const expected = (svg.parentElement.getAttribute('data-expect-states') || '').split(' ').filter((s) => s);
     for (const s of expected) {
