@@ -807,6 +807,7 @@ impl Cx<'_> {
             file,
             inst_prefix: if inst.ctrl.is_empty() { inst.name.clone() } else { format!("{}::{}", inst.ctrl, inst.name) },
             names: HashMap::new(),
+            op_names: HashMap::new(),
             nodes: Vec::new(),
             node_syntax: Vec::new(),
             transitions: Vec::new(),
@@ -960,6 +961,9 @@ struct MachineCx<'a, 'b> {
     file: File,
     inst_prefix: String,
     names: HashMap<String, Name>,
+    /// Operations, apart from `names`: an event and an operation may share
+    /// a name, and the syntax says which is meant (a call or not).
+    op_names: HashMap<String, Name>,
     nodes: Vec<Node>,
     node_syntax: Vec<SyntaxNode>,
     transitions: Vec<Transition>,
@@ -1412,11 +1416,11 @@ impl MachineCx<'_, '_> {
                         // The controller may define it: then it is no platform call.
                         if let Some(i) = self.op_defs.iter().position(|(n, ..)| *n == name) {
                             let k = self.operation(i, &params)?;
-                            self.names.insert(name, Name::Defined(k));
+                            self.op_names.insert(name, Name::Defined(k));
                             continue;
                         }
                         let chan = self.channel(&name, Dir::Out, true, shape);
-                        self.names.insert(name, Name::Op { params, chan });
+                        self.op_names.insert(name, Name::Op { params, chan });
                     }
                     OPERATION_DEF | OPERATION_REF | FUNCTION => return Err(self.err(
                         c.text_range(),
@@ -2111,7 +2115,7 @@ impl MachineCx<'_, '_> {
             }
             CALL_STMT => {
                 let name = path_of(s).join("::");
-                if let Some(&Name::Defined(op)) = self.names.get(&name) {
+                if let Some(&Name::Defined(op)) = self.op_names.get(&name) {
                     let args = self.arguments(s, self.ops[op as usize].params.len(), &name)?;
                     self.emit(Instr::CallOp { op, args });
                 } else {
@@ -2209,7 +2213,7 @@ impl MachineCx<'_, '_> {
     /// of a platform operation (`what` says what `op` must be).
     fn call(&mut self, s: &SyntaxNode, what: &str) -> Result<(u16, Vec<Expr>), Unsupported> {
         let name = path_of(s).join("::");
-        let Some(Name::Op { params, chan }) = self.names.get(&name).cloned() else {
+        let Some(Name::Op { params, chan }) = self.op_names.get(&name).cloned() else {
             return Err(self.err(s.text_range(), format!("`{name}` is not {what}")));
         };
         Ok((chan, self.arguments(s, params.len(), &name)?))

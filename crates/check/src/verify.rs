@@ -227,6 +227,9 @@ pub fn verify_assertion(
         | AssertionKind::Deterministic
         | AssertionKind::Terminates
         | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
+        AssertionKind::Probabilistic { .. } => {
+            report.reason = Some("probabilistic properties are checked with PRISM".into());
+        }
         AssertionKind::ClockInitialised { .. } => {
             // RT-10: RoboTool's authors commented such assertions out.
             report.reason = Some(

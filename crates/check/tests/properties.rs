@@ -164,6 +164,21 @@ fn tick_tock_refinement_of_designs() {
     assert!(c.explanation[0].ends_with("one of {tock, a.in}"), "{:?}", c.explanation);
 }
 
+/// A platform operation and an event of the same name: the trigger `stop`
+/// is the event, the call `stop()` the operation (their channels differ:
+/// `stop.in` and `stopCall`).
+#[test]
+fn an_event_and_an_operation_of_the_same_name() {
+    let rct = "interface Ops { stop() }
+        interface Evs { event stop }
+        stm S { requires Ops uses Evs initial i state A { } state B { entry stop() }
+          transition t0 { from i to A } transition t1 { from A to B trigger stop } }";
+    let asserts = "assertion R : S::B is reachable in S";
+    let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
+    assert_eq!(verdicts(&reports), vec![("R", Verdict::Pass, Some("reachability"))], "{reports:#?}");
+    assert_eq!(trace_text(&reports[0].counterexample.as_ref().unwrap().steps), "stop.in");
+}
+
 /// `terminates` (RT-10): ✓ is reachable, and the process deadlocks only
 /// after ✓.
 #[test]

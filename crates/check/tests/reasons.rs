@@ -171,3 +171,23 @@ fn connected_robosim_controllers_are_refused_with_the_event() {
         reports[0].reason
     );
 }
+
+/// Probabilistic properties (checked by RoboTool with PRISM) are listed as
+/// unsupported, with that reason, next to the assertions that are checked.
+#[test]
+fn probabilistic_properties_are_for_prism() {
+    let assertions = "const t : core::nat
+        constants K : Mod::c::m::k set to 1
+        prob property P1 : Prob=? of [ Finally Mod::c::m::k == t ] with constants K
+        prob property P2 : Prob >= 0.5 of [ Globally not deadlock ]
+        assertion D : M is deadlock-free with constant k of M set to 1";
+    let reports = verify_texts(
+        [("m.rct".to_string(), DESIGN.to_string()), ("a.assertions".to_string(), assertions.to_string())],
+        &Options::default(),
+    );
+    let got: Vec<(&str, Verdict, &str)> = reports.iter().map(|r| (r.name.as_str(), r.verdict, reason(r))).collect();
+    assert_eq!(got[0], ("P1", Verdict::Unsupported, "probabilistic properties are checked with PRISM"));
+    assert_eq!(got[1], ("P2", Verdict::Unsupported, "probabilistic properties are checked with PRISM"));
+    assert_eq!(got[2].0, "D");
+    assert_ne!(got[2].1, Verdict::Unsupported, "{:?}", got[2]);
+}

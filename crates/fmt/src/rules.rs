@@ -220,6 +220,14 @@ pub(crate) fn spacing(a: &SyntaxToken, b: &SyntaxToken) -> Spacing {
     let (ak, bk) = (a.kind(), b.kind());
     let (ap, bp) = (parent_kind(a), parent_kind(b));
 
+    // A probability query keeps RoboTool's spelling: `Prob=? of`,
+    // `Prob max=? [`.
+    if bp == Some(PROB_BOUND) && bk == EQ {
+        return None;
+    }
+    if ap == Some(PROB_BOUND) && ak == QUESTION {
+        return Space;
+    }
     // Prefixes that attach to what follows: `$e`, `#C`, `a::b`, `r.f`,
     // `Set(T`, `?X`, `e?x`, `e!v`, `-x`.
     match ak {

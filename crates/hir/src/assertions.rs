@@ -14,6 +14,8 @@
 //! other than [`AssertionKind::Other`], which only broken (incomplete)
 //! assertions produce.
 
+mod prob;
+
 use robosim_syntax::{ast, ast::AstNode, SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken, TextRange, TextSize};
 
 /// Everything the verifier needs from one assertion file.
@@ -147,6 +149,12 @@ pub enum AssertionKind {
         /// The clock's range.
         clock_range: TextRange,
     },
+    /// `prob property NAME : formula` of probabilistic RoboChart, checked by
+    /// RoboTool with PRISM: the formula's text.
+    Probabilistic {
+        /// The formula, as collapsed text.
+        formula: String,
+    },
     /// An assertion whose body could not be read (the user is typing): the
     /// body's text. Every complete form of the grammar has its own variant.
     Other(String),
@@ -167,6 +175,7 @@ impl AssertionKind {
             AssertionKind::Equals { .. } => "equals",
             AssertionKind::Reachable { .. } => "reachable",
             AssertionKind::ClockInitialised { .. } => "clock-initialised",
+            AssertionKind::Probabilistic { .. } => "probabilistic",
             AssertionKind::Other(_) => "other",
         }
     }
@@ -431,6 +440,7 @@ pub fn read_assertions(root: &SyntaxNode) -> AssertionFile {
     for node in root.descendants() {
         match node.kind() {
             ASSERTION => file.assertions.push(read_assertion(&node)),
+            PROB_PROPERTY => file.assertions.push(prob::read_prob_property(&node)),
             SIMULATION => file.simulations.push(read_simulation(&node)),
             CSP_BLOCK => {
                 let block = read_csp_block(&node, &mut file.instantiations);

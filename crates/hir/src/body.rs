@@ -316,7 +316,33 @@ impl<'a> Body<'a> {
             );
             return;
         }
+        if let Some(pkg) = self.external_import() {
+            self.problem("LNK-03", range, format!("`{name}` is not declared in the workspace: it may come from `{pkg}`, which no file here declares (a physical model?); load that package to check it"));
+            return;
+        }
         self.problem("LNK-01", range, format!("cannot resolve `{name}`: no variable, constant, parameter, function or enumeration literal of that name is in scope"));
+    }
+
+    /// An import of the file that names no package or element of the
+    /// workspace: names it brings cannot be checked (RoboSim models import
+    /// the packages of their physical models, written in another language).
+    fn external_import(&self) -> Option<String> {
+        self.defs
+            .imports
+            .iter()
+            .find(|i| !crate::index::import_matches(self.db, self.ws, &i.path, i.wildcard))
+            .map(|i| i.path.join("::"))
+    }
+
+    /// `I::op(…)`: an operation named through its interface. RoboTool falls
+    /// back to the global scope for calls, where an interface's operations
+    /// have qualified names; the interface is usually one the enclosing
+    /// controller, module or platform provides.
+    fn qualified_operation(&self, path: &[String]) -> Option<Target> {
+        let (op, iface) = path.split_last()?;
+        let loc = *resolve_item(self.db, self.ws, self.file, iface, |k| k == DefKind::Interface).first()?;
+        let i = loc.summary(self.db).members.iter().position(|m| m.kind == DefKind::OperationSig && &m.name == op)?;
+        Some(Target::Member(loc, i as u32))
     }
 
     fn dollar_expr(&mut self, n: &SyntaxNode) {
@@ -533,6 +559,12 @@ impl<'a> Body<'a> {
             let t = m.target;
             self.push(range, name, RefKind::Operation, Some(t));
             return;
+        }
+        if path.len() > 1 {
+            if let Some(t) = self.qualified_operation(&path) {
+                self.push(range, name, RefKind::Operation, Some(t));
+                return;
+            }
         }
         self.push(range, name.clone(), RefKind::Operation, None);
         if self.rs && !dollar && ops.iter().any(|m| m.io == Some(Io::Output)) {

@@ -30,6 +30,8 @@ rules! {
     "SYN-01" E E "The file parses with RoboTool's grammar for its language.";
     "SYN-02" W W "Accepted here, but RoboTool's lexer rejects it.";
     "LNK-01" E E "Every reference resolves to an element of the right kind in scope.";
+    "LNK-02" W W "A name is imported before use; RoboTool also resolves a plain name in a RoboSim file that no import reaches, which we accept only when every declaration of that name is the same.";
+    "LNK-03" W W "A name no file of the workspace declares, in a file importing a package the workspace does not hold (such as a physical model's), cannot be checked.";
     "DUP-01" E E "No two elements of the same kind share a name in the same place.";
     "REQ-01" E E "Required parts are present: RoboSim modules, controllers and machines need a cycleDef; machines and operations need input and output contexts.";
     "RC-PKG-01" W W "Fully qualified names are unique across the workspace.";
@@ -117,6 +119,7 @@ rules! {
     "RC-STMT-03" E E "The condition of an `if` statement is boolean.";
     "RC-STMT-04" E E "`wait` takes an integer or a set of integers.";
     "RC-STMT-05" E E "An operation call has the right number of arguments, of compatible types.";
+    "RC-STMT-05-narrow" W W "An operation argument of a wider number type than its parameter (`int` for `nat`, `real` for `int`) is accepted, as RoboTool does; a negative or fractional value would be wrong at run time.";
     "RC:TE1" E E "`since` and `sinceEntry` do not occur in actions.";
     "RC:TE3" E E "`sinceEntry(S)` names a non-final state of the enclosing machine or operation.";
     "RC:TE5" E E "`sinceEntry(S)` in a transition names a state of the transition's own container.";

@@ -649,8 +649,6 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
                 message: format!("the cycleDef of {what} admits no positive period"),
                 related: Vec::new(),
             });
-            infos.push((id, CycleInfo { own, joint: None }));
-            continue;
         }
         // The components whose specifications must agree with this one.
         let parts: Vec<(String, TextRange, Option<Spec>)> = match d.kind {
@@ -660,10 +658,10 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
         };
         let joint = if parts.is_empty() {
             None
-        } else if parts.iter().any(|(_, _, s)| {
-            s.as_ref().is_none_or(|s| s.shape != Shape::Boolean || decide(&[&s.formula]) == Feasibility::Infeasible)
-        }) {
-            // A missing, ill-typed or self-contradictory part is reported on its own.
+        } else if parts.iter().any(|(_, _, s)| s.as_ref().is_none_or(|s| s.shape != Shape::Boolean)) {
+            // A missing or ill-typed part is reported on its own. A part
+            // that contradicts itself (RS-CYC-01) still makes the conjunction
+            // the paper's rule speaks of unsatisfiable: that is C2/M2 here.
             None
         } else {
             let all: Vec<&Formula> = std::iter::once(&spec.formula)
@@ -698,12 +696,21 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
                             related.push((file, *via, format!("`{name}` is part of {what} here")));
                         }
                     }
+                    if keep.is_empty() {
+                        // The element's own contradiction is the whole story: one
+                        // diagnostic (the rule's) instead of RS-CYC-01 as well.
+                        problems.retain(|p| !(p.code == "RS-CYC-01" && p.range == spec.range));
+                    }
                     problems.push(CycleProblem {
                         code: rule,
                         range: spec.range,
-                        message: format!(
-                            "no positive period satisfies the cycleDef of {what} together with those of its {sub}"
-                        ),
+                        message: if keep.is_empty() {
+                            format!("the cycleDef of {what} admits no positive period, so none agrees with its {sub}")
+                        } else {
+                            format!(
+                                "no positive period satisfies the cycleDef of {what} together with those of its {sub}"
+                            )
+                        },
                         related,
                     });
                 }

@@ -720,8 +720,13 @@ impl Lower {
                 }
                 return;
             }
-            ASSERTION => {
+            ASSERTION | PROB_PROPERTY | PROB_CONSTANTS => {
                 self.push(DefKind::Assertion, node, parent, io, DefData::None);
+                return;
+            }
+            PROB_CONST => {
+                let data = DefData::Typed { ty: type_child(node), init: None, broadcast: false };
+                self.push(DefKind::Constant, node, parent, io, data);
                 return;
             }
             CSP_BLOCK => {

@@ -185,6 +185,53 @@ pub fn resolve_item(db: &dyn Db, ws: Workspace, from: File, path: &[String], acc
     if path.is_empty() {
         return Vec::new();
     }
+    let found = resolve_in_scope(db, ws, from, path, accept);
+    if found.is_empty() && path.len() == 1 && from.kind(db) == robosim_syntax::FileKind::RoboSim {
+        return unique_copy(db, ws, &path[0], accept).into_iter().collect();
+    }
+    found
+}
+
+/// The item a simple name written in a RoboSim file denotes when no import
+/// brings it into scope: RoboTool's RoboChart-to-RoboSim output writes
+/// plain names of interfaces it copied into other packages (`uses
+/// SensingHw` in a package that imports neither copy), and RoboTool
+/// resolves them. We accept such a name only when every declaration of it
+/// in the workspace is the same (a copy, compared like [`type_copies`]),
+/// so the choice cannot matter; [`resolve_in_scope`] tells the resolver to
+/// warn (LNK-02).
+pub fn unique_copy(db: &dyn Db, ws: Workspace, name: &str, accept: KindFilter) -> Option<ItemLoc> {
+    let index = workspace_index(db, ws);
+    let mut all: Vec<ItemLoc> = index
+        .items
+        .iter()
+        .filter(|(full, _)| full.last().is_some_and(|n| n == name))
+        .flat_map(|(_, locs)| locs.iter().copied())
+        .filter(|l| accept(l.summary(db).kind))
+        .collect();
+    all.sort_by(|a, b| (a.file.path(db), a.index).cmp(&(b.file.path(db), b.index)));
+    let first = *all.first()?;
+    // Signature parameters keep their type ranges in summaries.
+    let params = |ps: &[(String, Option<TypeRef>)]| -> Vec<(String, Option<TypeRef>)> {
+        ps.iter().map(|(n, t)| (n.clone(), strip_ranges(t.clone()))).collect()
+    };
+    let key = |l: &ItemLoc| {
+        let s = l.summary(db);
+        let members: Vec<MemberSummary> =
+            s.members.iter().map(|m| MemberSummary { params: params(&m.params), ..m.clone() }).collect();
+        (s.kind, members, s.uses.clone(), params(&s.params))
+    };
+    let k = key(&first);
+    all.iter().all(|l| key(l) == k).then_some(first)
+}
+
+/// The items that `path`, written in `from`, denotes through the file's
+/// package, files without a package, its imports and the library (best
+/// first); [`resolve_item`] adds RoboTool's fallback for RoboSim files.
+pub fn resolve_in_scope(db: &dyn Db, ws: Workspace, from: File, path: &[String], accept: KindFilter) -> Vec<ItemLoc> {
+    if path.is_empty() {
+        return Vec::new();
+    }
     // Simple names, by far the most common, come from the file's scope.
     if path.len() == 1 {
         if let Some(levels) = file_scope(db, ws, from).get(&path[0]) {
@@ -285,4 +332,45 @@ pub fn import_matches(db: &dyn Db, ws: Workspace, path: &[String], wildcard: boo
     } else {
         index.items.contains_key(path) || index.packages.contains(path)
     }
+}
+
+/// Type identity across packages. RoboTool compares declared types by kind
+/// and simple name, and its RoboChart-to-RoboSim output relies on it: the
+/// generated package redeclares `type ID` and `enumeration Position {…}`
+/// and connects events typed with the copies to events typed with the
+/// originals. We go half way: declarations of the same kind and simple
+/// name with identical members (a copy) are one type, represented by the
+/// first of them in path order; same-named declarations that differ stay
+/// distinct (RoboTool's name-only comparison would mix them up).
+#[salsa::tracked(returns(ref))]
+pub fn type_copies(db: &dyn Db, ws: Workspace) -> FxHashMap<ItemLoc, ItemLoc> {
+    let index = workspace_index(db, ws);
+    // (name, kind, members) → the declarations with them, and their paths.
+    type Shape<'a> = (&'a str, DefKind, &'a [MemberSummary]);
+    let mut groups: HashMap<Shape<'_>, Vec<(&str, ItemLoc)>> = HashMap::new();
+    for locs in index.items.values() {
+        for &loc in locs {
+            let s = loc.summary(db);
+            if s.kind.is_type() {
+                groups
+                    .entry((s.name.as_str(), s.kind, s.members.as_slice()))
+                    .or_default()
+                    .push((loc.file.path(db), loc));
+            }
+        }
+    }
+    let mut out = FxHashMap::default();
+    for mut same in groups.into_values().filter(|g| g.len() > 1) {
+        same.sort_by(|a, b| (a.0, a.1.index).cmp(&(b.0, b.1.index)));
+        let first = same[0].1;
+        for (_, loc) in &same[1..] {
+            out.insert(*loc, first);
+        }
+    }
+    out
+}
+
+/// The representative of the type declared at `loc` (see [`type_copies`]).
+pub fn canonical_type(db: &dyn Db, ws: Workspace, loc: ItemLoc) -> ItemLoc {
+    type_copies(db, ws).get(&loc).copied().unwrap_or(loc)
 }

@@ -447,7 +447,16 @@ fn connection_types(db: &dyn Db, ws: Workspace, file: File, owner: DefId, out: &
                     out.push(Problem::new(
                         "RC-CONN-02",
                         ef.1,
-                        format!("events `{}` ({tx}) and `{}` ({ty}) have incompatible types", ef.0, et.0),
+                        format!(
+                            "events `{}` ({tx}) and `{}` ({ty}) have incompatible types{}",
+                            ef.0,
+                            et.0,
+                            if tx.to_string() == ty.to_string() {
+                                ": their types are different declarations of the same name"
+                            } else {
+                                ""
+                            }
+                        ),
                     ));
                 }
             }
@@ -858,8 +867,28 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
             None => {}
         }
     }
+    let machines = callers.len();
     callers.extend(ops.iter().cloned());
-    for (xname, xf, xdef) in &callers {
+    // RoboSim operations work on their machine's copies of the variables
+    // (RT-23), so a variable an operation's callee needs may come from the
+    // machines that reach the calling operation instead of from the
+    // operation itself (RoboTool's generated operations rely on this).
+    let reach: Vec<HashSet<String>> = callers[..machines]
+        .iter()
+        .map(|(_, f, d)| {
+            let mut seen: HashSet<String> = HashSet::new();
+            let mut stack: Vec<String> = usage_of(db, *f, *d).calls.iter().cloned().collect();
+            while let Some(n) = stack.pop() {
+                if seen.insert(n.clone()) {
+                    for (_, of, od) in ops.iter().filter(|(o, _, _)| *o == n) {
+                        stack.extend(usage_of(db, *of, *od).calls.iter().cloned());
+                    }
+                }
+            }
+            seen
+        })
+        .collect();
+    for (k, (xname, xf, xdef)) in callers.iter().enumerate() {
         let calls = usage_of(db, *xf, *xdef).calls;
         let xmembers = ctx_members(db, ws, Ctx::Local(*xf, *xdef));
         let xdefs = file_defs(db, *xf);
@@ -882,11 +911,21 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
                         // Same name, same var/const, compatible type (catalogue RC:STM8).
                         let same_kind = m.kind;
                         let mf = member_file(m).unwrap_or(*of);
-                        if !has(&|x: &Member| {
-                            x.kind == same_kind
-                                && x.io.is_none()
-                                && same_var(m, x, db, ws, mf, member_file(x).unwrap_or(*xf))
-                        }) {
+                        let provides = |members: &[Member], xf: File| {
+                            members.iter().any(|x: &Member| {
+                                x.kind == same_kind
+                                    && x.io.is_none()
+                                    && same_var(m, x, db, ws, mf, member_file(x).unwrap_or(xf))
+                            })
+                        };
+                        let from_machines = rs
+                            && k >= machines
+                            && callers[..machines]
+                                .iter()
+                                .zip(&reach)
+                                .filter(|(_, r)| r.contains(xname))
+                                .all(|((_, mf, md), _)| provides(&ctx_members(db, ws, Ctx::Local(*mf, *md)), *mf));
+                        if !provides(&xmembers, *xf) && !from_machines {
                             missing.push(("RC:STM8", format!("variable `{}`", m.name)));
                         }
                     }

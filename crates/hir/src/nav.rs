@@ -229,6 +229,8 @@ fn signature(d: &Def) -> String {
                 DefKind::Junction => "junction",
                 DefKind::Final => "final",
                 DefKind::ProbabilisticJunction => "probabilistic",
+                DefKind::Assertion if d.syntax == PROB_PROPERTY => "prob property",
+                DefKind::Assertion if d.syntax == PROB_CONSTANTS => "constants",
                 DefKind::Assertion => "assertion",
                 DefKind::CspProcess => "csp",
                 DefKind::Simulation => "simulation",

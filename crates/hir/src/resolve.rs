@@ -7,7 +7,9 @@
 use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
-use crate::index::{file_summary, import_matches, resolve_item, ItemLoc};
+mod prob;
+
+use crate::index::{file_summary, import_matches, resolve_in_scope, resolve_item, ItemLoc};
 use crate::{parse, Db, File, Workspace};
 
 /// Where a name leads.
@@ -314,6 +316,9 @@ pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution
     r.uses();
     r.types();
     r.definitions();
+    if file.kind(db).is_assertions() {
+        r.probabilistic(&root);
+    }
     r.out.refs.sort_by_key(|x| x.range.start());
     r.out
 }
@@ -353,6 +358,17 @@ impl Resolver<'_> {
         let text = path.join("::");
         let found = resolve_item(self.db, self.ws, self.file, path, accept).first().copied();
         self.push(range, text.clone(), kind, found.map(Target::Item));
+        if let Some(l) = found {
+            if resolve_in_scope(self.db, self.ws, self.file, path, accept).is_empty() {
+                let pkg = crate::index::file_summary(self.db, l.file).package.join("::");
+                let full = if pkg.is_empty() { text.clone() } else { format!("{pkg}::{text}") };
+                self.problem(
+                    "LNK-02",
+                    range,
+                    format!("`{text}` is not imported here; taken to be `{full}`, the only {} of that name (every declaration of it is the same): add `import {full}`", kind.describe()),
+                );
+            }
+        }
         if found.is_none() {
             // Say what the name is when it exists with another kind.
             let any = resolve_item(self.db, self.ws, self.file, path, |_| true);
@@ -361,7 +377,25 @@ impl Resolver<'_> {
                     let other = l.summary(self.db).kind.describe();
                     self.problem("LNK-01", range, format!("`{text}` is a {other}, not a {}", kind.describe()));
                 }
-                None => self.unresolved(range, kind, &text),
+                None => match self
+                    .defs
+                    .imports
+                    .iter()
+                    .find(|i| !import_matches(self.db, self.ws, &i.path, i.wildcard))
+                {
+                    // A package the workspace does not hold (a physical
+                    // model's) may declare it: it cannot be checked.
+                    Some(i) => self.problem(
+                        "LNK-03",
+                        range,
+                        format!(
+                            "{} `{text}` is not declared in the workspace: it may come from `{}`, which no file here declares (a physical model?); load that package to check it",
+                            kind.describe(),
+                            i.path.join("::")
+                        ),
+                    ),
+                    None => self.unresolved(range, kind, &text),
+                },
             }
         }
         found
@@ -543,8 +577,11 @@ impl Resolver<'_> {
             };
             let Some(ctx) = ctx else { continue };
             let members = ctx_members(self.db, self.ws, ctx);
-            let m = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev);
-            self.push(*erange, ev.clone(), RefKind::ConnectionEvent, m.map(|m| m.target));
+            let mut m = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev).cloned();
+            if m.is_none() {
+                m = machine_event(self.db, self.ws, ctx, ev);
+            }
+            self.push(*erange, ev.clone(), RefKind::ConnectionEvent, m.as_ref().map(|m| m.target));
             if m.is_none() {
                 self.problem("RC:Cn10", *erange, format!("`{ev}` is not an event of `{name}`"));
             }
@@ -576,6 +613,24 @@ impl Resolver<'_> {
             }
         }
     }
+}
+
+/// An event `name` of a RoboSim controller's machines, for a connection
+/// end on a controller that does not declare the event itself: RoboTool
+/// lets the controller's events come from the interfaces its machines
+/// use (the connection makes the relay explicit).
+fn machine_event(db: &dyn Db, ws: Workspace, ctx: Ctx, name: &str) -> Option<Member> {
+    let (file, def) = ctx_def(db, ctx)?;
+    if file.kind(db) != robosim_syntax::FileKind::RoboSim || file_defs(db, file).def(def).kind != DefKind::Controller {
+        return None;
+    }
+    let defs = file_defs(db, file);
+    defs.children(Some(def)).filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::MachineRef)).find_map(
+        |(id, _)| {
+            let mctx = node_ctx(db, ws, file, id)?;
+            ctx_members(db, ws, mctx).iter().find(|m| m.kind == DefKind::Event && m.name == name).cloned()
+        },
+    )
 }
 
 fn enclosing_machine(defs: &FileDefs, id: DefId) -> Option<DefId> {

@@ -14,7 +14,7 @@ use robosim_syntax::{ast, FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, TextR
 
 use crate::body::body_resolution;
 use crate::defs::{file_defs, lower_type, DefData, DefKind, FileDefs, TypeRef};
-use crate::index::{file_summary, resolve_item, ItemLoc};
+use crate::index::{canonical_type, file_summary, resolve_item, ItemLoc};
 use crate::resolve::{file_resolution, ResolveProblem, Target};
 use crate::{parse, Db, File, Workspace};
 
@@ -140,7 +140,50 @@ pub fn compatible(t: &Ty, u: &Ty) -> bool {
         (Ty::Vector(a, Some(n)), Ty::Product(ts)) | (Ty::Product(ts), Ty::Vector(a, Some(n))) => {
             ts.len() as i128 == *n && ts.iter().all(|t| compatible(t, a) || compatible(a, t))
         }
+        // A vector holds the same values as a one-row matrix (RoboTool
+        // assigns one to the other, and a vector literal to a matrix).
+        (Ty::Vector(a, n), Ty::Matrix(b, r, c)) | (Ty::Matrix(a, r, c), Ty::Vector(b, n)) => {
+            compatible(a, b) && r.is_none_or(|r| r == 1) && (n.is_none() || c.is_none() || n == c)
+        }
+        // A function of one parameter has a one-tuple domain.
+        (Ty::Product(v), t) if v.len() == 1 => compatible(&v[0], t),
+        (t, Ty::Product(v)) if v.len() == 1 => compatible(t, &v[0]),
         _ => false,
+    }
+}
+
+/// Whether `e` contains an open interval `(a, b)`, which readers take for
+/// a pair.
+fn has_open_interval(e: &SyntaxNode) -> bool {
+    e.descendants().any(|d| {
+        d.kind() == INTERVAL_EXPR
+            && d.first_token().is_some_and(|t| t.kind() == L_PAREN)
+            && d.last_token().is_some_and(|t| t.kind() == R_PAREN)
+    })
+}
+
+/// When `t` is a wider number than `u` (`int` for `nat`, `real` for `int`
+/// or `nat`, also inside sets, sequences, products, vectors and matrices):
+/// the values of `t` that `u` cannot hold.
+fn narrowing(t: &Ty, u: &Ty) -> Option<&'static str> {
+    match (t, u) {
+        (Ty::Int, Ty::Nat) => Some("a negative value"),
+        (Ty::Real, Ty::Int) => Some("a fractional value"),
+        (Ty::Real, Ty::Nat) => Some("a negative or fractional value"),
+        (Ty::Set(a), Ty::Set(b))
+        | (Ty::Seq(a), Ty::Seq(b))
+        | (Ty::Vector(a, _), Ty::Vector(b, _))
+        | (Ty::Matrix(a, ..), Ty::Matrix(b, ..)) => narrowing(a, b),
+        (Ty::Product(a), Ty::Product(b)) if a.len() == b.len() => {
+            let mut risk = None;
+            for (x, y) in a.iter().zip(b) {
+                if !compatible(x, y) {
+                    risk = Some(narrowing(x, y)?);
+                }
+            }
+            risk
+        }
+        _ => None,
     }
 }
 
@@ -193,10 +236,10 @@ fn named_type(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Ty {
             "real" => Ty::Real,
             "boolean" => Ty::Bool,
             "string" => Ty::Str,
-            _ => Ty::Named(loc, s.name.clone(), s.kind),
+            _ => Ty::Named(canonical_type(db, ws, loc), s.name.clone(), s.kind),
         };
     }
-    Ty::Named(loc, s.name.clone(), s.kind)
+    Ty::Named(canonical_type(db, ws, loc), s.name.clone(), s.kind)
 }
 
 /// Instantiates generic parameters by matching a parameter type against an
@@ -366,6 +409,11 @@ impl Typer<'_> {
         })
     }
 
+    /// The type declared at `loc` (one type for identical copies).
+    fn named(&self, loc: ItemLoc, kind: DefKind) -> Ty {
+        Ty::Named(canonical_type(self.db, self.ws, loc), loc.summary(self.db).name.clone(), kind)
+    }
+
     fn problem(&mut self, code: &'static str, range: TextRange, message: String) {
         self.out.push(ResolveProblem { code, range, message });
     }
@@ -490,7 +538,7 @@ impl Typer<'_> {
                 let s = loc.summary(self.db);
                 let m = &s.members[i as usize];
                 match m.kind {
-                    DefKind::EnumLiteral => Ty::Named(loc, s.name.clone(), DefKind::Enumeration),
+                    DefKind::EnumLiteral => self.named(loc, DefKind::Enumeration),
                     _ => m.ty.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error),
                 }
             }
@@ -594,7 +642,7 @@ impl Typer<'_> {
                 self.bare_literal(n);
                 let refs: Vec<SyntaxNode> = n.children().filter(|c| c.kind() == NAME_REF).collect();
                 match refs.first().and_then(|r| self.targets.get(&r.text_range())) {
-                    Some(Target::Item(loc)) => Ty::Named(*loc, loc.summary(self.db).name.clone(), DefKind::Enumeration),
+                    Some(Target::Item(loc)) => self.named(*loc, DefKind::Enumeration),
                     _ => Ty::Error,
                 }
             }
@@ -629,7 +677,7 @@ impl Typer<'_> {
                     }
                 }
                 match loc {
-                    Some(loc) => Ty::Named(loc, loc.summary(self.db).name.clone(), DefKind::Record),
+                    Some(loc) => self.named(loc, DefKind::Record),
                     None => Ty::Error,
                 }
             }
@@ -1117,7 +1165,15 @@ impl Typer<'_> {
                                 self.problem(
                                     "RC-EXP-10",
                                     x.text_range(),
-                                    format!("argument {} of `{name}` has type {a}, expected {p}", i + 1),
+                                    format!(
+                                        "argument {} of `{name}` has type {a}, expected {p}{}",
+                                        i + 1,
+                                        if has_open_interval(x) {
+                                            " (`(a, b)` is an open interval; a pair is written `(|a, b|)`)"
+                                        } else {
+                                            ""
+                                        }
+                                    ),
                                 );
                             }
                         }
@@ -1167,7 +1223,7 @@ impl Typer<'_> {
                     }
                 }
             }
-            return Ty::Named(loc, s.name.clone(), DefKind::Enumeration);
+            return self.named(loc, DefKind::Enumeration);
         }
         let t = self.expr(callee);
         match t {
@@ -1310,12 +1366,27 @@ impl Typer<'_> {
             return;
         }
         for (i, (p, (x, a))) in params.iter().zip(&args).enumerate() {
-            if !compatible(a, p) {
-                self.problem(
+            if compatible(a, p) {
+                continue;
+            }
+            match narrowing(a, p) {
+                // RoboTool accepts a wider numeric argument (it compares the
+                // parameter's type with the argument's); the call still means
+                // something, but the value may not fit.
+                Some(risk) => self.problem(
+                    "RC-STMT-05-narrow",
+                    x.text_range(),
+                    format!(
+                        "argument {} of `{}` has type {a} where {p} is expected: {risk} would be wrong at run time",
+                        i + 1,
+                        name()
+                    ),
+                ),
+                None => self.problem(
                     "RC-STMT-05",
                     x.text_range(),
                     format!("argument {} of `{}` has type {a}, expected {p}", i + 1, name()),
-                );
+                ),
             }
         }
     }

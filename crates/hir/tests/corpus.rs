@@ -93,3 +93,36 @@ fn corpus_under_paper_rules() {
     let (text, _) = check(RuleSet::Paper);
     expect_test::expect_file!["corpus_paper.txt"].assert_eq(&text);
 }
+
+/// `../shared/reference/alpha-algorithm` as one project: the RoboChart
+/// model, RoboTool's RoboChart-to-RoboSim output (`rc2rs/robochart`,
+/// `rc2rs/robosim`, which redeclare `type ID` and name interfaces no import
+/// reaches) and every assertion file. RoboTool generated CSPm from all of
+/// it, so neither rule set finds an error.
+#[test]
+fn reference_alpha_algorithm_is_error_free() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/alpha-algorithm");
+    let mut texts = Vec::new();
+    for dir in project_dirs(&root) {
+        for e in std::fs::read_dir(&dir).unwrap().flatten() {
+            let p = e.path();
+            if p.is_file() && FileKind::from_path(&p).is_some() {
+                let rel = p.strip_prefix(&root).unwrap().to_string_lossy().replace('\\', "/");
+                texts.push((rel, std::fs::read_to_string(&p).unwrap()));
+            }
+        }
+    }
+    texts.sort();
+    assert!(texts.iter().any(|(p, _)| p.starts_with("rc2rs/robosim/")), "reference not found");
+    for rules in [RuleSet::Paper, RuleSet::RoboTool] {
+        let db = RootDatabase::default();
+        let ws = load_workspace(&db, texts.clone(), rules);
+        let mut errors = Vec::new();
+        for f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
+            for d in file_diagnostics(&db, ws, *f).iter().filter(|d| d.severity == Severity::Error) {
+                errors.push(format!("{} {}: {}", f.path(&db), d.code, d.message));
+            }
+        }
+        assert!(errors.is_empty(), "{rules:?}: errors on the reference RoboTool accepted:\n{}", errors.join("\n"));
+    }
+}

@@ -402,6 +402,9 @@ fn assertion(
         AssertionKind::ClockInitialised { .. } => {
             Err("clock initialisation checks need RoboTool's instrumented semantics, which the export does not generate yet".into())
         }
+        AssertionKind::Probabilistic { .. } => {
+            Err("probabilistic properties are checked with PRISM, not with FDR: not exported".into())
+        }
         AssertionKind::Other(t) => Err(format!("the assertion `{t}` could not be read")),
     }
 }

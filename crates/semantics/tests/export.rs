@@ -121,6 +121,22 @@ fn periods_are_the_least_the_cycle_defs_admit() {
     }
 }
 
+/// A platform operation and an event of the same name: the trigger is the
+/// event, the call the operation, and the machine is exported with both.
+#[test]
+fn an_event_and_an_operation_may_share_a_name() {
+    let model = "interface Ops { stop() }
+        interface Evs { event stop }
+        stm S { requires Ops uses Evs initial i state A { } state B { entry stop() }
+          transition t0 { from i to A } transition t1 { from A to B trigger stop } }";
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let e = export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 });
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| &w.message).collect::<Vec<_>>());
+    let text: String = e.files.iter().map(|f| f.text()).collect();
+    assert!(text.contains("stop__.TID_t1.in -> Enter__B") && text.contains("EDeadline(stopCall, 0)"), "{text}");
+}
+
 /// `terminates` and `timelock-free` as the native checker reads RT-10:
 /// termination is two checks (✓ reachable; no deadlock before ✓), and
 /// timelock freedom a refinement of a specification that may refuse every

@@ -444,6 +444,19 @@ syntax_kinds! {
         TYPE_INSTANTIATION,
         SIMULATION,
         UNSUPPORTED_ITEM,
+        // probabilistic assertions (syntax.md §5.3)
+        PROB_CONST,
+        PROB_CONSTANTS,
+        PROB_CONFIG,
+        PROB_PROPERTY,
+        PROB_WITH_CONSTANTS,
+        PROB_QUERY,
+        PROB_BOUND,
+        PROB_PATH_QUANT,
+        PROB_TEMPORAL,
+        PROB_UNTIL,
+        PROB_PATH,
+        PROB_DEADLOCK,
     }
 }
 

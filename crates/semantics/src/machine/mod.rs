@@ -103,7 +103,6 @@ enum Nm {
     Const(usize),
     Clock(usize),
     Event(usize),
-    Op(usize),
     /// A parameter of the function being exported: its CSPm name and type.
     Param(String, Ty),
 }
@@ -187,6 +186,9 @@ pub(crate) struct Gen<'e, 'a> {
     robosim: bool,
     profile: Profile,
     names: HashMap<String, Nm>,
+    /// Operations by name, apart from `names`: an event and an operation
+    /// may share a name, and the syntax says which is meant (a call or not).
+    op_names: HashMap<String, usize>,
     locals: HashSet<String>,
     vars: Vec<VarI>,
     consts: Vec<ConstParam>,
@@ -247,6 +249,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             robosim,
             profile,
             names: HashMap::new(),
+            op_names: HashMap::new(),
             locals: HashSet::new(),
             vars: Vec::new(),
             consts: Vec::new(),
@@ -467,7 +470,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     }
                     OPERATION_SIG => {
                         let n = name_of(&c);
-                        if self.names.contains_key(&n) {
+                        if self.op_names.contains_key(&n) {
                             continue;
                         }
                         let mut params = Vec::new();
@@ -488,7 +491,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                             })
                             .is_some_and(|(_, d)| child(&d, INITIAL).is_some());
                         self.ops.push(OpI { name: n.clone(), params, defined });
-                        self.names.insert(n, Nm::Op(self.ops.len() - 1));
+                        self.op_names.insert(n, self.ops.len() - 1);
                     }
                     OPERATION_DEF | OPERATION_REF | FUNCTION => self.problem(
                         c.text_range(),

@@ -113,7 +113,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             CALL_STMT => {
                 let n = path_of(s).join("::");
-                let Some(Nm::Op(o)) = self.names.get(&n).cloned() else {
+                let Some(o) = self.op_names.get(&n).copied() else {
                     self.problem(
                         r,
                         format!("`{n}` is not an operation of the platform: calls of operations defined in the model are not supported by the export yet"),
@@ -188,7 +188,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             SIM_CALL_STMT => {
                 let n = path_of(s).join("::");
-                let Some(Nm::Op(o)) = self.names.get(&n).cloned() else {
+                let Some(o) = self.op_names.get(&n).copied() else {
                     self.problem(r, format!("`${n}` is not an output operation of the machine"));
                     return None;
                 };
@@ -348,20 +348,13 @@ impl<'e, 'a> Gen<'e, 'a> {
                     self.events[i].csp.clone()
                 }
                 OpChanKind::Call | OpChanKind::Ret => {
-                    let i = match self.names.get(&ch.model).cloned() {
-                        Some(Nm::Op(i)) => i,
+                    let i = match self.op_names.get(&ch.model).copied() {
+                        Some(i) => i,
                         None => {
                             let params = ch.params.clone();
                             self.ops.push(OpI { name: ch.model.clone(), params, defined: false });
-                            self.names.insert(ch.model.clone(), Nm::Op(self.ops.len() - 1));
+                            self.op_names.insert(ch.model.clone(), self.ops.len() - 1);
                             self.ops.len() - 1
-                        }
-                        Some(_) => {
-                            self.problem(
-                                r,
-                                format!("`{}` of the operation is not an operation of the caller", ch.model),
-                            );
-                            return None;
                         }
                     };
                     if self.ops[i].params != ch.params || self.ops[i].defined {

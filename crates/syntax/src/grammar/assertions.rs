@@ -17,7 +17,9 @@ pub(crate) const ITEM_START: TokenSet = TokenSet::new(&[
     PACKAGE_KW,
 ]);
 
-/// Words that start the probabilistic sub-language (§5.3), not reserved.
+/// Words that start the probabilistic sub-language (§5.3), not reserved;
+/// `prob property`, `constants` and `const` are parsed (`prob.rs`), the
+/// others skipped.
 const PROBABILISTIC: &[&str] = &["prob", "label", "formula", "rewards", "defs", "pmodules", "constants"];
 
 pub(crate) fn assertion_file(p: &mut Parser<'_>) {
@@ -63,10 +65,10 @@ fn item(p: &mut Parser<'_>) {
         }
         SIMULATION_KW => simulation(p),
         IDENT if is_sleec(p, 0) => sleec(p),
+        _ if super::prob::at_item(p) => super::prob::item(p),
         IDENT if PROBABILISTIC.contains(&p.nth_text(0)) => {
             unsupported(p, "probabilistic assertions (PRISM) are not supported; this item is skipped")
         }
-        CONST_KW => unsupported(p, "probabilistic assertions (PRISM) are not supported; this item is skipped"),
         _ => {
             let m = p.start();
             p.error(format!(
@@ -76,7 +78,7 @@ fn item(p: &mut Parser<'_>) {
             ));
             loop {
                 p.bump_balanced();
-                if p.at_eof() || p.at_ts(ITEM_START) || is_sleec(p, 0) {
+                if p.at_eof() || p.at_ts(ITEM_START) || is_sleec(p, 0) || super::prob::at_item(p) {
                     break;
                 }
             }
@@ -106,7 +108,7 @@ fn unsupported(p: &mut Parser<'_>, msg: &str) {
 }
 
 fn skip_to_item(p: &mut Parser<'_>) {
-    while !p.at_eof() && !p.at_ts(ITEM_START) && !is_sleec(p, 0) {
+    while !p.at_eof() && !p.at_ts(ITEM_START) && !is_sleec(p, 0) && !super::prob::at_item(p) {
         p.bump_balanced();
     }
 }

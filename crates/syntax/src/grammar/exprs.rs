@@ -21,7 +21,7 @@ const LVL_ADD: u8 = 12;
 const LVL_NEG: u8 = 15;
 const LVL_ATOM: u8 = 19;
 
-fn binop_level(k: SyntaxKind) -> Option<u8> {
+pub(crate) fn binop_level(k: SyntaxKind) -> Option<u8> {
     Some(match k {
         IFF_KW => 2,
         IMPLIES => 3,

@@ -4,6 +4,7 @@
 
 mod assertions;
 mod exprs;
+mod prob;
 mod stmts;
 mod types;
 
