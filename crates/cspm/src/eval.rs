@@ -1,0 +1,1061 @@
+//! The evaluator: environments (an arena of frames, so that recursive
+//! definitions need no reference cycles), lazily evaluated definitions,
+//! values, patterns and dotted values. Processes are built in `proc_eval`
+//! and explored in `lts`.
+
+use std::collections::BTreeSet;
+use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use rustc_hash::FxHashMap;
+
+use crate::ast::{BinOp, Clause, Decl, DeclKind, Expr, ExprKind, Name, Pat, Stmt, Timed, UnOp};
+use crate::proc::P;
+use crate::resolve::ExternalName;
+use crate::value::Opaque;
+use crate::{Code, Diagnostic, Module, NameLookup, TextRange, Value};
+
+pub(crate) type R<T> = Result<T, Diagnostic>;
+
+/// Bounds on one evaluation. Reaching one is a `CSP-E02` diagnostic.
+#[derive(Clone, Debug)]
+pub struct Limits {
+    /// Deepest nesting of evaluation (recursion of functions included).
+    pub max_depth: u32,
+    /// Largest set, sequence or enumeration built.
+    pub max_set: usize,
+    /// Most states of one LTS.
+    pub max_states: usize,
+    /// Wall-clock budget of the evaluator (from its creation).
+    pub time: Duration,
+    /// Set to `true` from elsewhere to stop the evaluation.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits { max_depth: 400, max_set: 200_000, max_states: 500_000, time: Duration::from_secs(20), cancel: None }
+    }
+}
+
+/// A function value (opaque outside the crate).
+#[derive(Debug)]
+pub struct Function(pub(crate) Func);
+
+#[derive(Debug)]
+pub(crate) enum Func {
+    /// A definition's clauses, the frame they were defined in, and the
+    /// argument groups given so far (curried definitions `f(x)(y)`).
+    User { name: Name, clauses: Rc<[Rc<Clause>]>, env: u32, given: Vec<Vec<Value>>, timed: Option<Rc<Timed>> },
+    Lambda { pats: Rc<[Pat]>, body: Rc<Expr>, env: u32 },
+    Builtin { name: &'static str, given: Vec<Value> },
+}
+
+#[derive(Clone, Debug)]
+pub(crate) enum Slot {
+    Val(Value),
+    Thunk(u32),
+}
+
+struct Frame {
+    parent: Option<u32>,
+    vars: Vec<(Name, Slot)>,
+    timed: Option<Rc<Timed>>,
+}
+
+enum ThunkBody {
+    Decl(Rc<[Decl]>, usize),
+    /// One name of a pattern binding: the whole value is matched each time.
+    PatName(Rc<[Decl]>, usize, Name),
+}
+
+enum ThunkState {
+    Todo,
+    Busy,
+    Done(Value),
+}
+
+struct Thunk {
+    body: ThunkBody,
+    env: u32,
+    state: ThunkState,
+    range: TextRange,
+}
+
+/// Evaluates the definitions of a checked [`Module`]: values, and
+/// processes as explicit LTSs ([`Evaluator::lts`]).
+pub struct Evaluator<'m> {
+    pub(crate) names: &'m dyn NameLookup,
+    pub(crate) limits: Limits,
+    frames: Vec<Frame>,
+    thunks: Vec<Thunk>,
+    next_id: u64,
+    /// Channels and constructors: the value lists of their fields.
+    pub(crate) fields: FxHashMap<Name, Rc<[Rc<[Value]>]>>,
+    pub(crate) channels: Vec<Name>,
+    pub(crate) datatypes: FxHashMap<Name, Vec<Name>>,
+    pub(crate) events: Vec<Value>,
+    pub(crate) event_ids: FxHashMap<Value, u32>,
+    pub(crate) calls: FxHashMap<(Value, Vec<Value>), Rc<P>>,
+    pub(crate) depth: u32,
+    started: Instant,
+    steps: u64,
+    pub(crate) global: u32,
+
+}
+
+pub(crate) fn err(code: Code, range: TextRange, msg: impl Into<String>) -> Diagnostic {
+    Diagnostic::error(code, range, msg)
+}
+
+impl<'m> Evaluator<'m> {
+    /// An evaluator of `module`'s definitions, with the model's names from
+    /// `names` (pass the same lookup as to [`Module::check`]).
+    pub fn new(module: &Module, names: &'m dyn NameLookup, limits: Limits) -> Evaluator<'m> {
+        let mut ev = Evaluator {
+            names,
+            limits,
+            frames: Vec::new(),
+            thunks: Vec::new(),
+            next_id: 1,
+            fields: FxHashMap::default(),
+            channels: Vec::new(),
+            datatypes: FxHashMap::default(),
+            events: Vec::new(),
+            event_ids: FxHashMap::default(),
+            calls: FxHashMap::default(),
+            depth: 0,
+            started: Instant::now(),
+            steps: 0,
+            global: 0,
+
+        };
+        ev.frames.push(Frame { parent: None, vars: Vec::new(), timed: None });
+        ev.bind_decls(&module.decls, 0);
+        ev
+    }
+
+    /// The value of a top-level name (a constant, a set, a function, a
+    /// process). The name may also be one the model supplies.
+    pub fn value(&mut self, name: &str) -> Result<Value, Diagnostic> {
+        let at = TextRange::empty(0.into());
+        self.lookup(name, self.global, at)
+    }
+
+    /// Evaluates an expression (written in CSPm) in the scope of the
+    /// module's top-level definitions.
+    pub fn eval_text(&mut self, expr: &str) -> Result<Value, Diagnostic> {
+        let m = Module::check(&format!("x__ = {expr}"), self.names);
+        if let Some(d) = m.diagnostics().iter().find(|d| d.severity == crate::Severity::Error) {
+            if d.code != Code::Unresolved {
+                return Err(d.clone());
+            }
+        }
+        let Some(Decl { kind: DeclKind::Fun(_, clauses), .. }) = m.decls.first() else {
+            return Err(err(Code::Syntax, TextRange::empty(0.into()), "expected an expression"));
+        };
+        let body = &clauses[0].body;
+        self.eval(body, self.global)
+    }
+
+    pub(crate) fn fresh_id(&mut self) -> u64 {
+        self.next_id += 1;
+        self.next_id
+    }
+
+    pub(crate) fn func(&mut self, f: Func) -> Value {
+        Value::Func(Opaque { id: self.fresh_id(), inner: Rc::new(Function(f)) })
+    }
+
+    pub(crate) fn proc_value(&mut self, p: Rc<P>) -> Value {
+        Value::Proc(Opaque { id: self.fresh_id(), inner: p })
+    }
+
+    /// Counts a step; fails when the time is up or the caller cancelled.
+    pub(crate) fn tick(&mut self, at: TextRange) -> R<()> {
+        self.steps += 1;
+        if self.steps % 256 == 0 {
+            if self.limits.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
+                return Err(err(Code::Cancelled, at, "evaluation cancelled"));
+            }
+            if self.started.elapsed() > self.limits.time {
+                return Err(err(Code::Limit, at, format!("evaluation took longer than {:?}", self.limits.time)));
+            }
+        }
+        Ok(())
+    }
+
+    pub(crate) fn check_size(&self, n: usize, at: TextRange) -> R<()> {
+        if n > self.limits.max_set {
+            return Err(err(Code::Limit, at, format!("a set or sequence of more than {} elements", self.limits.max_set)));
+        }
+        Ok(())
+    }
+
+    fn new_frame(&mut self, parent: u32, timed: Option<Rc<Timed>>) -> u32 {
+        let timed = timed.or_else(|| self.frames[parent as usize].timed.clone());
+        self.frames.push(Frame { parent: Some(parent), vars: Vec::new(), timed });
+        (self.frames.len() - 1) as u32
+    }
+
+    pub(crate) fn timed_of(&self, env: u32) -> Option<Rc<Timed>> {
+        self.frames[env as usize].timed.clone()
+    }
+
+    fn bind(&mut self, env: u32, name: Name, slot: Slot) {
+        self.frames[env as usize].vars.push((name, slot));
+    }
+
+    /// Binds declarations in `env` (lazily: each is evaluated when first used).
+    pub(crate) fn bind_decls(&mut self, decls: &Rc<[Decl]>, env: u32) {
+        for (i, d) in decls.iter().enumerate() {
+            match &d.kind {
+                DeclKind::Fun(name, _) | DeclKind::Nametype(name, _) => {
+                    let t = self.new_thunk(ThunkBody::Decl(decls.clone(), i), env, d.range);
+                    self.bind(env, name.clone(), Slot::Thunk(t));
+                }
+                DeclKind::PatBind(p, _) => {
+                    let mut names = Vec::new();
+                    crate::resolve::pat_names(p, &mut |n, _| names.push(Name::from(n)));
+                    for n in names {
+                        if self.fields.contains_key(&n) {
+                            continue;
+                        }
+                        let t = self.new_thunk(ThunkBody::PatName(decls.clone(), i, n.clone()), env, d.range);
+                        self.bind(env, n, Slot::Thunk(t));
+                    }
+                }
+                DeclKind::Channel(names, ty) => {
+                    let fields = match ty {
+                        Some(ty) => match self.eval(ty, env).and_then(|v| self.type_fields(v, ty.range)) {
+                            Ok(f) => f,
+                            Err(_) => Vec::new(),
+                        },
+                        None => Vec::new(),
+                    };
+                    let fields: Rc<[Rc<[Value]>]> = fields.into();
+                    for (n, _) in names {
+                        self.fields.insert(n.clone(), fields.clone());
+                        self.channels.push(n.clone());
+                        self.bind(env, n.clone(), Slot::Val(Value::Ctor(n.clone())));
+                    }
+                }
+                DeclKind::Datatype(name, clauses) | DeclKind::Subtype(name, clauses) => {
+                    let is_sub = matches!(d.kind, DeclKind::Subtype(..));
+                    let mut ctors = Vec::new();
+                    for (c, _, _) in clauses {
+                        if !is_sub {
+                            // Fields are evaluated when first needed (they may
+                            // mention the datatype itself).
+                            self.fields.insert(c.clone(), Rc::from(Vec::new()));
+                            self.bind(env, c.clone(), Slot::Val(Value::Ctor(c.clone())));
+                        }
+                        ctors.push(c.clone());
+                    }
+                    for (c, _, fe) in clauses {
+                        if is_sub {
+                            continue;
+                        }
+                        if let Some(fe) = fe {
+                            if let Ok(f) = self.eval(fe, env).and_then(|v| self.type_fields(v, fe.range)) {
+                                self.fields.insert(c.clone(), f.into());
+                            }
+                        }
+                    }
+                    self.datatypes.insert(name.clone(), ctors);
+                    let t = self.new_thunk(ThunkBody::Decl(decls.clone(), i), env, d.range);
+                    self.bind(env, name.clone(), Slot::Thunk(t));
+                }
+                DeclKind::Assert => {}
+            }
+        }
+    }
+
+    fn new_thunk(&mut self, body: ThunkBody, env: u32, range: TextRange) -> u32 {
+        self.thunks.push(Thunk { body, env, state: ThunkState::Todo, range });
+        (self.thunks.len() - 1) as u32
+    }
+
+    /// The fields of a channel or constructor from its type expression's
+    /// value: `A.B` gives two fields, a set of dotted values is split.
+    pub(crate) fn type_fields(&mut self, v: Value, at: TextRange) -> R<Vec<Rc<[Value]>>> {
+        let mut out = Vec::new();
+        let parts: Vec<Value> = match v {
+            Value::Dot(vs) if !matches!(vs.first(), Some(Value::Ctor(_))) => vs.to_vec(),
+            v => vec![v],
+        };
+        for part in parts {
+            let set = self.type_set(part, at)?;
+            let all_dots = !set.is_empty()
+                && set.iter().all(|x| matches!(x, Value::Dot(d) if !matches!(d.first(), Some(Value::Ctor(_)))));
+            if all_dots {
+                let n = set.iter().map(|x| if let Value::Dot(d) = x { d.len() } else { 0 }).min().unwrap_or(0);
+                for k in 0..n {
+                    let col: BTreeSet<Value> =
+                        set.iter().filter_map(|x| if let Value::Dot(d) = x { d.get(k).cloned() } else { None }).collect();
+                    out.push(col.into_iter().collect());
+                }
+            } else {
+                out.push(set.into_iter().collect());
+            }
+        }
+        Ok(out)
+    }
+
+    /// The values of a type expression: a set, a tuple of sets (their
+    /// product), `Int` is refused (it cannot be enumerated).
+    fn type_set(&mut self, v: Value, at: TextRange) -> R<BTreeSet<Value>> {
+        match v {
+            Value::Set(s) => Ok((*s).clone()),
+            Value::Tuple(parts) => {
+                let mut acc = vec![Vec::new()];
+                for p in parts.iter() {
+                    let s = self.type_set(p.clone(), at)?;
+                    let mut next = Vec::new();
+                    for a in &acc {
+                        for x in &s {
+                            let mut t = a.clone();
+                            t.push(x.clone());
+                            next.push(t);
+                        }
+                    }
+                    self.check_size(next.len(), at)?;
+                    acc = next;
+                }
+                Ok(acc.into_iter().map(|t| Value::Tuple(t.into())).collect())
+            }
+            Value::Ints => Err(err(Code::Limit, at, "a channel or constructor of type `Int` cannot be enumerated")),
+            other => Err(err(Code::Type, at, format!("expected a set as a type, found {}", other.kind_name()))),
+        }
+    }
+
+    pub(crate) fn lookup(&mut self, name: &str, env: u32, at: TextRange) -> R<Value> {
+        let mut f = Some(env);
+        while let Some(i) = f {
+            let frame = &self.frames[i as usize];
+            if let Some((_, slot)) = frame.vars.iter().rev().find(|(n, _)| &**n == name) {
+                return match slot.clone() {
+                    Slot::Val(v) => Ok(v),
+                    Slot::Thunk(t) => self.force(t, at),
+                };
+            }
+            f = frame.parent;
+        }
+        if let Some(v) = crate::builtins::value(self, name) {
+            return Ok(v);
+        }
+        match self.names.lookup(name) {
+            Some(ExternalName::Value(v)) => Ok(v),
+            Some(ExternalName::Channel(fields)) => {
+                let n: Name = name.into();
+                if !self.fields.contains_key(&n) {
+                    self.fields.insert(n.clone(), fields.into_iter().map(Rc::from).collect());
+                    self.channels.push(n.clone());
+                }
+                Ok(Value::Ctor(n))
+            }
+            None => Err(err(Code::Unresolved, at, format!("`{name}` is not defined"))),
+        }
+    }
+
+    /// The slot of a name (for process calls, which must not force it).
+    pub(crate) fn slot(&self, name: &str, env: u32) -> Option<Slot> {
+        let mut f = Some(env);
+        while let Some(i) = f {
+            let frame = &self.frames[i as usize];
+            if let Some((_, slot)) = frame.vars.iter().rev().find(|(n, _)| &**n == name) {
+                return Some(slot.clone());
+            }
+            f = frame.parent;
+        }
+        None
+    }
+
+    pub(crate) fn thunk_done(&self, t: u32) -> Option<Value> {
+        match &self.thunks[t as usize].state {
+            ThunkState::Done(v) => Some(v.clone()),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn force(&mut self, t: u32, at: TextRange) -> R<Value> {
+        let th = &self.thunks[t as usize];
+        match &th.state {
+            ThunkState::Done(v) => return Ok(v.clone()),
+            ThunkState::Busy => {
+                return Err(err(Code::Runtime, at, "this definition depends on its own value (an unguarded recursion)"))
+            }
+            ThunkState::Todo => {}
+        }
+        let env = th.env;
+        let range = th.range;
+        let (decls, i, pat_name) = match &th.body {
+            ThunkBody::Decl(d, i) => (d.clone(), *i, None),
+            ThunkBody::PatName(d, i, n) => (d.clone(), *i, Some(n.clone())),
+        };
+        self.thunks[t as usize].state = ThunkState::Busy;
+        let d = &decls[i];
+        let r = self.eval_decl(d, env, pat_name, range);
+        self.thunks[t as usize].state = match &r {
+            Ok(v) => ThunkState::Done(v.clone()),
+            Err(_) => ThunkState::Todo,
+        };
+        r
+    }
+
+    fn eval_decl(&mut self, d: &Decl, env: u32, pat_name: Option<Name>, range: TextRange) -> R<Value> {
+        match &d.kind {
+            DeclKind::Fun(name, clauses) => {
+                if clauses.len() == 1 && clauses[0].params.is_empty() {
+                    let e = self.new_frame(env, d.timed.clone());
+                    let c = clauses[0].clone();
+                    return self.eval_maybe_proc(&c.body, e);
+                }
+                let f = Func::User {
+                    name: name.clone(),
+                    clauses: clauses.clone().into(),
+                    env,
+                    given: Vec::new(),
+                    timed: d.timed.clone(),
+                };
+                Ok(self.func(f))
+            }
+            DeclKind::PatBind(p, e) => {
+                let fr = self.new_frame(env, d.timed.clone());
+                let v = self.eval_maybe_proc(e, fr)?;
+                let mut binds = Vec::new();
+                if !self.matches(p, &v, &mut binds)? {
+                    return Err(err(Code::Runtime, range, format!("the value {v} does not match the pattern")));
+                }
+                let want = pat_name.unwrap_or_default();
+                binds
+                    .into_iter()
+                    .find(|(n, _)| **n == *want)
+                    .map(|(_, v)| v)
+                    .ok_or_else(|| err(Code::Runtime, range, "pattern binding without that name"))
+            }
+            DeclKind::Nametype(_, e) => {
+                let v = self.eval(e, env)?;
+                self.type_value(v, e.range)
+            }
+            DeclKind::Datatype(name, _) | DeclKind::Subtype(name, _) => {
+                let mut out = BTreeSet::new();
+                let ctors = self.datatypes.get(name).cloned().unwrap_or_default();
+                for c in ctors {
+                    for v in self.completions(Value::Ctor(c), range)? {
+                        out.insert(v);
+                    }
+                }
+                Ok(Value::Set(Rc::new(out)))
+            }
+            _ => Err(err(Code::Runtime, range, "not a value")),
+        }
+    }
+
+    /// A nametype's value: dotted sets become the set of dotted values.
+    fn type_value(&mut self, v: Value, at: TextRange) -> R<Value> {
+        match v {
+            Value::Dot(parts) if !matches!(parts.first(), Some(Value::Ctor(_))) => {
+                let mut acc: Vec<Value> = Vec::new();
+                for (i, p) in parts.iter().enumerate() {
+                    let s = self.type_set(p.clone(), at)?;
+                    if i == 0 {
+                        acc = s.into_iter().collect();
+                        continue;
+                    }
+                    let mut next = Vec::new();
+                    for a in &acc {
+                        for x in &s {
+                            next.push(self.dot(a.clone(), x.clone(), at)?);
+                        }
+                    }
+                    self.check_size(next.len(), at)?;
+                    acc = next;
+                }
+                Ok(Value::set(acc))
+            }
+            Value::Tuple(_) => Ok(Value::Set(Rc::new(self.type_set(v, at)?))),
+            v => Ok(v),
+        }
+    }
+
+    /// Evaluates a definition's body; process bodies stay lazy in their
+    /// recursive calls (see `proc_eval`).
+    pub(crate) fn eval_maybe_proc(&mut self, e: &Expr, env: u32) -> R<Value> {
+        if crate::proc_eval::is_process_syntax(e) {
+            let p = self.eval_proc(e, env)?;
+            return Ok(self.proc_value(p));
+        }
+        self.eval(e, env)
+    }
+
+    pub(crate) fn enter(&mut self, at: TextRange) -> R<()> {
+        self.depth += 1;
+        if self.depth > self.limits.max_depth {
+            self.depth -= 1;
+            return Err(err(Code::Limit, at, format!("evaluation nested deeper than {} (a runaway recursion?)", self.limits.max_depth)));
+        }
+        self.tick(at)
+    }
+
+    pub(crate) fn eval(&mut self, e: &Expr, env: u32) -> R<Value> {
+        self.enter(e.range)?;
+        let r = self.eval_inner(e, env);
+        self.depth -= 1;
+        r
+    }
+
+    fn eval_inner(&mut self, e: &Expr, env: u32) -> R<Value> {
+        use ExprKind::*;
+        let at = e.range;
+        Ok(match &e.kind {
+            Int(i) => Value::Int(*i),
+            Bool(b) => Value::Bool(*b),
+            Char(c) => Value::Char(*c),
+            Str(s) => Value::Seq(s.chars().map(Value::Char).collect()),
+            Var(n) => self.lookup(n, env, at)?,
+            Tuple(es) => Value::Tuple(self.eval_all(es, env)?.into()),
+            App(f, args) => {
+                let fv = self.eval(f, env)?;
+                let args = self.eval_all(args, env)?;
+                self.apply(fv, args, at)?
+            }
+            Bin(op, a, b) => self.binary(*op, a, b, env, at)?,
+            Un(op, a) => {
+                let v = self.eval(a, env)?;
+                match (op, v) {
+                    (UnOp::Not, Value::Bool(b)) => Value::Bool(!b),
+                    (UnOp::Neg, Value::Int(i)) => Value::Int(i.checked_neg().ok_or_else(|| overflow(at))?),
+                    (UnOp::Len, Value::Seq(s)) => Value::Int(s.len() as i64),
+                    (_, v) => return Err(err(Code::Type, at, format!("this operator does not apply to {}", v.kind_name()))),
+                }
+            }
+            Set(es) => Value::set(self.eval_all(es, env)?),
+            Seq(es) => Value::Seq(self.eval_all(es, env)?.into()),
+            SetRange(a, b) | SeqRange(a, b) => {
+                let lo = self.int(a, env)?;
+                let Some(b) = b else {
+                    return Err(err(Code::Limit, at, "an infinite range cannot be evaluated"));
+                };
+                let hi = self.int(b, env)?;
+                let n = if hi >= lo { (hi - lo) as u128 + 1 } else { 0 };
+                self.check_size(n.min(usize::MAX as u128) as usize, at)?;
+                let items = (lo..=hi).map(Value::Int);
+                if matches!(e.kind, SetRange(..)) {
+                    Value::set(items)
+                } else {
+                    Value::Seq(items.collect())
+                }
+            }
+            SetComp(x, stmts) | SeqComp(x, stmts) => {
+                let mut out = Vec::new();
+                let seq = matches!(e.kind, SeqComp(..));
+                self.comprehend(stmts, 0, env, &mut |ev, env| {
+                    let v = ev.eval(x, env)?;
+                    match (&x.kind, v) {
+                        (SetRange(..), Value::Set(s)) if !seq => out.extend(s.iter().cloned()),
+                        (SeqRange(..), Value::Seq(s)) if seq => out.extend(s.iter().cloned()),
+                        (_, v) => out.push(v),
+                    }
+                    ev.check_size(out.len(), x.range)
+                })?;
+                if seq {
+                    Value::Seq(out.into())
+                } else {
+                    Value::set(out)
+                }
+            }
+            Closure(es, stmts) => {
+                let mut heads = Vec::new();
+                self.comprehend(stmts, 0, env, &mut |ev, env| {
+                    for x in es {
+                        heads.push(ev.eval(x, env)?);
+                    }
+                    Ok(())
+                })?;
+                let mut out = BTreeSet::new();
+                for h in heads {
+                    out.extend(self.completions(h, at)?);
+                    self.check_size(out.len(), at)?;
+                }
+                Value::Set(Rc::new(out))
+            }
+            Map(_) => return Err(err(Code::Unsupported, at, "maps `(| … |)` are not supported")),
+            Let(decls, body) => {
+                let fr = self.new_frame(env, None);
+                self.bind_decls(decls, fr);
+                self.eval_maybe_proc(body, fr)?
+            }
+            If(c, t, f) => {
+                if self.bool(c, env)? {
+                    self.eval_maybe_proc(t, env)?
+                } else {
+                    self.eval_maybe_proc(f, env)?
+                }
+            }
+            Lambda(pats, body) => self.func(Func::Lambda { pats: pats.clone(), body: body.clone(), env }),
+            Error => return Err(err(Code::Syntax, at, "this expression has errors")),
+            _ => {
+                let p = self.eval_proc(e, env)?;
+                self.proc_value(p)
+            }
+        })
+    }
+
+    pub(crate) fn eval_all(&mut self, es: &[Expr], env: u32) -> R<Vec<Value>> {
+        es.iter().map(|e| self.eval(e, env)).collect()
+    }
+
+    pub(crate) fn int(&mut self, e: &Expr, env: u32) -> R<i64> {
+        match self.eval(e, env)? {
+            Value::Int(i) => Ok(i),
+            v => Err(err(Code::Type, e.range, format!("expected an integer, found {}", v.kind_name()))),
+        }
+    }
+
+    pub(crate) fn bool(&mut self, e: &Expr, env: u32) -> R<bool> {
+        match self.eval(e, env)? {
+            Value::Bool(b) => Ok(b),
+            v => Err(err(Code::Type, e.range, format!("expected a boolean, found {}", v.kind_name()))),
+        }
+    }
+
+    pub(crate) fn set_of(&mut self, e: &Expr, env: u32) -> R<Rc<BTreeSet<Value>>> {
+        match self.eval(e, env)? {
+            Value::Set(s) => Ok(s),
+            Value::Ints => Err(err(Code::Limit, e.range, "the set of all integers cannot be enumerated")),
+            v => Err(err(Code::Type, e.range, format!("expected a set, found {}", v.kind_name()))),
+        }
+    }
+
+    fn binary(&mut self, op: BinOp, a: &Expr, b: &Expr, env: u32, at: TextRange) -> R<Value> {
+        match op {
+            BinOp::And => return Ok(Value::Bool(self.bool(a, env)? && self.bool(b, env)?)),
+            BinOp::Or => return Ok(Value::Bool(self.bool(a, env)? || self.bool(b, env)?)),
+            _ => {}
+        }
+        let x = self.eval(a, env)?;
+        let y = self.eval(b, env)?;
+        Ok(match (op, x, y) {
+            (BinOp::Add, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_add(y).ok_or_else(|| overflow(at))?),
+            (BinOp::Sub, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_sub(y).ok_or_else(|| overflow(at))?),
+            (BinOp::Mul, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_mul(y).ok_or_else(|| overflow(at))?),
+            (BinOp::Div | BinOp::Mod, Value::Int(_), Value::Int(0)) => {
+                return Err(err(Code::Runtime, at, "division by zero"))
+            }
+            // Haskell's `quot` and `rem` (libcspm): truncation towards zero.
+            (BinOp::Div, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_div(y).ok_or_else(|| overflow(at))?),
+            (BinOp::Mod, Value::Int(x), Value::Int(y)) => Value::Int(x.checked_rem(y).ok_or_else(|| overflow(at))?),
+            (BinOp::Eq, x, y) => Value::Bool(x == y),
+            (BinOp::Ne, x, y) => Value::Bool(x != y),
+            (BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge, Value::Set(x), Value::Set(y)) => Value::Bool(match op {
+                BinOp::Lt => x.is_subset(&y) && x.len() < y.len(),
+                BinOp::Le => x.is_subset(&y),
+                BinOp::Gt => y.is_subset(&x) && y.len() < x.len(),
+                _ => y.is_subset(&x),
+            }),
+            (BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge, Value::Seq(x), Value::Seq(y)) => Value::Bool(match op {
+                BinOp::Lt => y.starts_with(&x) && x.len() < y.len(),
+                BinOp::Le => y.starts_with(&x),
+                BinOp::Gt => x.starts_with(&y) && y.len() < x.len(),
+                _ => x.starts_with(&y),
+            }),
+            (BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge, x, y)
+                if matches!((&x, &y), (Value::Int(_), Value::Int(_)) | (Value::Char(_), Value::Char(_))) =>
+            {
+                Value::Bool(match op {
+                    BinOp::Lt => x < y,
+                    BinOp::Le => x <= y,
+                    BinOp::Gt => x > y,
+                    _ => x >= y,
+                })
+            }
+            (BinOp::Concat, Value::Seq(x), Value::Seq(y)) => {
+                self.check_size(x.len() + y.len(), at)?;
+                Value::Seq(x.iter().chain(y.iter()).cloned().collect())
+            }
+            (BinOp::Dot, x, y) => self.dot(x, y, at)?,
+            (_, x, y) => {
+                return Err(err(
+                    Code::Type,
+                    at,
+                    format!("this operator does not apply to {} and {}", x.kind_name(), y.kind_name()),
+                ))
+            }
+        })
+    }
+
+    /// Runs `body` for every binding of the statements (generators and
+    /// predicates, left to right).
+    pub(crate) fn comprehend(
+        &mut self,
+        stmts: &[Stmt],
+        i: usize,
+        env: u32,
+        body: &mut dyn FnMut(&mut Self, u32) -> R<()>,
+    ) -> R<()> {
+        let Some(s) = stmts.get(i) else { return body(self, env) };
+        match s {
+            Stmt::Pred(e) => {
+                if self.bool(e, env)? {
+                    self.comprehend(stmts, i + 1, env, body)?;
+                }
+            }
+            Stmt::Gen(p, e) => {
+                let items: Vec<Value> = match self.eval(e, env)? {
+                    Value::Set(s) => s.iter().cloned().collect(),
+                    Value::Seq(s) => s.to_vec(),
+                    Value::Ints => return Err(err(Code::Limit, e.range, "cannot draw from the set of all integers")),
+                    v => return Err(err(Code::Type, e.range, format!("expected a set or sequence, found {}", v.kind_name()))),
+                };
+                for v in items {
+                    self.tick(e.range)?;
+                    let mut binds = Vec::new();
+                    if self.matches(p, &v, &mut binds)? {
+                        let fr = self.new_frame(env, None);
+                        for (n, v) in binds {
+                            self.bind(fr, n, Slot::Val(v));
+                        }
+                        self.comprehend(stmts, i + 1, fr, body)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// A frame binding the names of a successful match.
+    pub(crate) fn frame_with(&mut self, env: u32, binds: Vec<(Name, Value)>, timed: Option<Rc<Timed>>) -> u32 {
+        let fr = self.new_frame(env, timed);
+        for (n, v) in binds {
+            self.bind(fr, n, Slot::Val(v));
+        }
+        fr
+    }
+
+    pub(crate) fn is_ctor(&self, n: &str) -> bool {
+        self.fields.contains_key(n) || matches!(n, "true" | "false")
+    }
+
+    /// Matches `v` against `p`, pushing the bindings.
+    pub(crate) fn matches(&mut self, p: &Pat, v: &Value, binds: &mut Vec<(Name, Value)>) -> R<bool> {
+        Ok(match (p, v) {
+            (Pat::Wild, _) => true,
+            (Pat::Name(n, _), v) if self.is_ctor(n) => match &**n {
+                "true" => *v == Value::Bool(true),
+                "false" => *v == Value::Bool(false),
+                _ => *v == Value::Ctor(n.clone()),
+            },
+            (Pat::Name(n, _), v) => {
+                binds.push((n.clone(), v.clone()));
+                true
+            }
+            (Pat::Int(i), Value::Int(j)) => i == j,
+            (Pat::Bool(a), Value::Bool(b)) => a == b,
+            (Pat::Char(a), Value::Char(b)) => a == b,
+            (Pat::Str(s), Value::Seq(vs)) => {
+                let cs: Vec<Value> = s.chars().map(Value::Char).collect();
+                cs[..] == vs[..]
+            }
+            (Pat::Tuple(ps), Value::Tuple(vs)) => ps.len() == vs.len() && self.all_match(ps, vs, binds)?,
+            (Pat::Seq(ps), Value::Seq(vs)) => ps.len() == vs.len() && self.all_match(ps, vs, binds)?,
+            (Pat::Set(ps), Value::Set(vs)) => match (ps.first(), vs.len()) {
+                (None, 0) => true,
+                (Some(p), 1) => {
+                    let x = vs.iter().next().cloned().unwrap_or(Value::Int(0));
+                    self.matches(p, &x, binds)?
+                }
+                _ => false,
+            },
+            (Pat::Concat(a, b), Value::Seq(vs)) => {
+                // One side must have a fixed length (`<x>^xs`, `xs^<x>`).
+                match (fixed_len(a), fixed_len(b)) {
+                    (Some(n), _) if n <= vs.len() => {
+                        self.matches(a, &Value::Seq(vs[..n].into()), binds)?
+                            && self.matches(b, &Value::Seq(vs[n..].into()), binds)?
+                    }
+                    (_, Some(n)) if n <= vs.len() => {
+                        let k = vs.len() - n;
+                        self.matches(a, &Value::Seq(vs[..k].into()), binds)?
+                            && self.matches(b, &Value::Seq(vs[k..].into()), binds)?
+                    }
+                    _ => false,
+                }
+            }
+            (Pat::Double(a, b), v) => self.matches(a, v, binds)? && self.matches(b, v, binds)?,
+            (Pat::Dot(..), v) => {
+                let mut ps = Vec::new();
+                flatten_dot_pat(p, &mut ps);
+                let vs: Vec<Value> = match v {
+                    Value::Dot(vs) => vs.to_vec(),
+                    v => vec![v.clone()],
+                };
+                self.match_dots(&ps, &vs, binds)?
+            }
+            _ => false,
+        })
+    }
+
+    fn all_match(&mut self, ps: &[Pat], vs: &[Value], binds: &mut Vec<(Name, Value)>) -> R<bool> {
+        for (p, v) in ps.iter().zip(vs) {
+            if !self.matches(p, v, binds)? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// `c.x.y` against a flat dotted value: the last pattern takes the rest.
+    fn match_dots(&mut self, ps: &[&Pat], vs: &[Value], binds: &mut Vec<(Name, Value)>) -> R<bool> {
+        if ps.len() > vs.len() {
+            // A constructor value nested as one field: `A.x` against `c.(A.1)`.
+            return Ok(false);
+        }
+        for (i, p) in ps.iter().enumerate() {
+            let v = if i + 1 == ps.len() && vs.len() > ps.len() {
+                Value::Dot(vs[i..].into())
+            } else {
+                vs[i].clone()
+            };
+            if !self.matches(p, &v, binds)? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    pub(crate) fn apply(&mut self, f: Value, args: Vec<Value>, at: TextRange) -> R<Value> {
+        // A process-valued call is evaluated once per arguments, so that
+        // every path to `F(x)` reaches the same term (and the same state).
+        let user = matches!(&f, Value::Func(func) if !matches!(func.inner.0, Func::Builtin { .. }));
+        let key = if user { Some((f.clone(), args.clone())) } else { None };
+        if let Some(p) = key.as_ref().and_then(|k| self.calls.get(k)) {
+            let p = p.clone();
+            return Ok(self.proc_value(p));
+        }
+        self.enter(at)?;
+        let r = self.apply_inner(f, args, at);
+        self.depth -= 1;
+        if let (Some(k), Ok(Value::Proc(p))) = (key, &r) {
+            self.calls.insert(k, p.inner.clone());
+        }
+        r
+    }
+
+    fn apply_inner(&mut self, f: Value, args: Vec<Value>, at: TextRange) -> R<Value> {
+        let Value::Func(func) = f else {
+            return Err(err(Code::Type, at, format!("{} is not a function", f.kind_name())));
+        };
+        match &func.inner.0 {
+            Func::Builtin { name, given } => {
+                let mut all = given.clone();
+                all.extend(args);
+                crate::builtins::call(self, name, all, at)
+            }
+            Func::Lambda { pats, body, env } => {
+                if pats.len() != args.len() {
+                    return Err(err(Code::Type, at, format!("this function takes {} arguments, not {}", pats.len(), args.len())));
+                }
+                let mut binds = Vec::new();
+                for (p, v) in pats.iter().zip(&args) {
+                    if !self.matches(p, v, &mut binds)? {
+                        return Err(err(Code::Runtime, at, "the arguments do not match the lambda's patterns"));
+                    }
+                }
+                let fr = self.frame_with(*env, binds, None);
+                let body = body.clone();
+                self.eval_maybe_proc(&body, fr)
+            }
+            Func::User { name, clauses, env, given, timed } => {
+                let mut given = given.clone();
+                given.push(args);
+                let groups = clauses.first().map_or(0, |c| c.params.len());
+                if given.len() < groups {
+                    let f = Func::User { name: name.clone(), clauses: clauses.clone(), env: *env, given, timed: timed.clone() };
+                    return Ok(self.func(f));
+                }
+                for c in clauses.iter() {
+                    if c.params.len() != given.len() {
+                        continue;
+                    }
+                    let mut binds = Vec::new();
+                    let mut ok = true;
+                    for (ps, vs) in c.params.iter().zip(&given) {
+                        if ps.len() != vs.len() || !self.all_match(ps, vs, &mut binds)? {
+                            ok = false;
+                            break;
+                        }
+                    }
+                    if ok {
+                        let fr = self.frame_with(*env, binds, timed.clone());
+                        let c = c.clone();
+                        return self.eval_maybe_proc(&c.body, fr);
+                    }
+                }
+                let shown: Vec<String> = given.iter().flatten().map(|v| v.to_string()).collect();
+                Err(err(Code::Runtime, at, format!("no clause of `{name}` matches ({})", shown.join(", "))))
+            }
+        }
+    }
+
+    /// The number of fields of a constructor or channel.
+    pub(crate) fn arity(&self, name: &str) -> usize {
+        self.fields.get(name).map_or(0, |f| f.len())
+    }
+
+    /// Whether a dotted value is a constructor/channel with all its fields.
+    pub(crate) fn complete(&self, v: &Value) -> bool {
+        match v {
+            Value::Ctor(n) => self.arity(n) == 0,
+            Value::Dot(vs) => match vs.first() {
+                Some(Value::Ctor(n)) => vs.len() - 1 == self.arity(n) && vs[1..].iter().all(|x| self.complete(x)),
+                _ => true,
+            },
+            _ => true,
+        }
+    }
+
+    /// `x.y`, filling the innermost incomplete field of `x` first.
+    pub(crate) fn dot(&mut self, x: Value, y: Value, at: TextRange) -> R<Value> {
+        // A plain dotted `y` (`1.2`) fills fields one component at a time.
+        if let Value::Dot(ys) = &y {
+            if !matches!(ys.first(), Some(Value::Ctor(_))) && !self.complete(&x) {
+                let mut acc = x;
+                for c in ys.iter() {
+                    acc = self.dot(acc, c.clone(), at)?;
+                }
+                return Ok(acc);
+            }
+        }
+        if self.complete(&x) {
+            let mut parts: Vec<Value> = match x {
+                Value::Dot(xs) if !matches!(xs.first(), Some(Value::Ctor(_))) => xs.to_vec(),
+                x => vec![x],
+            };
+            match y {
+                Value::Dot(ys) if !matches!(ys.first(), Some(Value::Ctor(_))) => parts.extend(ys.iter().cloned()),
+                y => parts.push(y),
+            }
+            return Ok(Value::Dot(parts.into()));
+        }
+        let mut parts: Vec<Value> = match x {
+            Value::Dot(xs) => xs.to_vec(),
+            x => vec![x],
+        };
+        let last_incomplete = parts.len() > 1 && parts.last().is_some_and(|l| !self.complete(l));
+        if last_incomplete {
+            let last = parts.pop().unwrap_or(Value::Int(0));
+            parts.push(self.dot(last, y, at)?);
+        } else {
+            parts.push(y);
+        }
+        Ok(Value::Dot(parts.into()))
+    }
+
+    /// The values the next field of an incomplete dotted value can take.
+    pub(crate) fn next_field(&self, v: &Value) -> Option<Rc<[Value]>> {
+        match v {
+            Value::Ctor(n) => self.fields.get(n).and_then(|f| f.first().cloned()),
+            Value::Dot(vs) => {
+                let Some(Value::Ctor(n)) = vs.first() else { return None };
+                let last = vs.last()?;
+                if vs.len() > 1 && !self.complete(last) {
+                    return self.next_field(last);
+                }
+                self.fields.get(n).and_then(|f| f.get(vs.len() - 1).cloned())
+            }
+            _ => None,
+        }
+    }
+
+    /// All complete values extending `v` (`{| c |}`, a datatype's values).
+    pub(crate) fn completions(&mut self, v: Value, at: TextRange) -> R<Vec<Value>> {
+        let mut out = Vec::new();
+        let mut todo = vec![v];
+        while let Some(v) = todo.pop() {
+            self.tick(at)?;
+            if self.complete(&v) {
+                out.push(v);
+                self.check_size(out.len(), at)?;
+                continue;
+            }
+            let Some(next) = self.next_field(&v) else {
+                return Err(err(Code::Type, at, format!("`{v}` has no field to complete")));
+            };
+            for x in next.iter() {
+                todo.push(self.dot(v.clone(), x.clone(), at)?);
+                self.check_size(todo.len(), at)?;
+            }
+        }
+        out.sort();
+        Ok(out)
+    }
+
+    /// The event id of a complete event value.
+    pub(crate) fn event(&mut self, v: Value, at: TextRange) -> R<u32> {
+        if let Some(&id) = self.event_ids.get(&v) {
+            return Ok(id);
+        }
+        let channel = match &v {
+            Value::Ctor(n) => Some(n),
+            Value::Dot(vs) => match vs.first() {
+                Some(Value::Ctor(n)) => Some(n),
+                _ => None,
+            },
+            _ => None,
+        };
+        if !channel.is_some_and(|c| self.channels.contains(c)) || !self.complete(&v) {
+            return Err(err(Code::Type, at, format!("`{v}` is not an event")));
+        }
+        let id = self.events.len() as u32;
+        self.events.push(v.clone());
+        self.event_ids.insert(v, id);
+        Ok(id)
+    }
+
+    /// Event ids of a set value.
+    pub(crate) fn event_set(&mut self, v: &Value, at: TextRange) -> R<Rc<[u32]>> {
+        let Value::Set(s) = v else {
+            return Err(err(Code::Type, at, format!("expected a set of events, found {}", v.kind_name())));
+        };
+        let mut ids: Vec<u32> = s.iter().map(|e| self.event(e.clone(), at)).collect::<R<_>>()?;
+        ids.sort_unstable();
+        ids.dedup();
+        Ok(ids.into())
+    }
+
+    /// All events of all channels (`Events`).
+    pub(crate) fn all_events(&mut self, at: TextRange) -> R<Value> {
+        let mut out = BTreeSet::new();
+        for c in self.channels.clone() {
+            out.extend(self.completions(Value::Ctor(c), at)?);
+            self.check_size(out.len(), at)?;
+        }
+        Ok(Value::Set(Rc::new(out)))
+    }
+}
+
+fn overflow(at: TextRange) -> Diagnostic {
+    err(Code::Runtime, at, "integer overflow")
+}
+
+fn fixed_len(p: &Pat) -> Option<usize> {
+    match p {
+        Pat::Seq(ps) => Some(ps.len()),
+        Pat::Str(s) => Some(s.chars().count()),
+        Pat::Concat(a, b) => Some(fixed_len(a)? + fixed_len(b)?),
+        _ => None,
+    }
+}
+
+fn flatten_dot_pat<'p>(p: &'p Pat, out: &mut Vec<&'p Pat>) {
+    match p {
+        Pat::Dot(a, b) => {
+            flatten_dot_pat(a, out);
+            flatten_dot_pat(b, out);
+        }
+        p => out.push(p),
+    }
+}

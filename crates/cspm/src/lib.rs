@@ -15,13 +15,26 @@
 //! it panic. Names the text does not define (a model's channels and
 //! constants) can be supplied through [`NameLookup`].
 
+mod ast;
+mod builtins;
+mod eval;
 mod grammar;
 mod kinds;
 mod lexer;
+mod lts;
 mod parser;
+mod proc;
+mod proc_eval;
+mod resolve;
+mod value;
 
+pub use ast::Module;
+pub use eval::{Evaluator, Limits};
 pub use kinds::{CspmLanguage, SyntaxKind, SyntaxNode, SyntaxToken};
+pub use lts::{Label, Lts};
+pub use resolve::{ExternalName, NameLookup, NoNames};
 pub use rowan::{TextRange, TextSize};
+pub use value::Value;
 
 /// Stable codes of diagnostics (shown as `CSP-…`; tests and clients may
 /// rely on them).
