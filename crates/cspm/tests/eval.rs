@@ -1,0 +1,145 @@
+//! Evaluation and LTS compilation: values, pattern matching, and the
+//! transitions of processes, including `Timed(OneStep)` sections with the
+//! tock insertion of FDR's front end.
+
+use robosim_cspm::{Code, Evaluator, Label, Limits, Lts, Module, NoNames};
+
+fn module(text: &str) -> Module {
+    let m = Module::check(text, &NoNames);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    m
+}
+
+fn value(text: &str, name: &str) -> String {
+    let m = module(text);
+    let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    ev.value(name).map(|v| v.to_string()).unwrap_or_else(|e| e.to_string())
+}
+
+fn lts(text: &str, name: &str) -> Lts {
+    let m = module(text);
+    let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    ev.lts(name).unwrap()
+}
+
+fn initials(l: &Lts, s: u32) -> Vec<String> {
+    l.transitions[s as usize]
+        .iter()
+        .map(|(lab, _)| match lab {
+            Label::Tau => "τ".to_owned(),
+            Label::Tick => "✓".to_owned(),
+            Label::Event(e) => l.events[*e as usize].clone(),
+        })
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect()
+}
+
+#[test]
+fn values_and_functions() {
+    let text = "
+fact(0) = 1
+fact(n) = n * fact(n-1)
+len(<>) = 0
+len(<_>^xs) = 1 + len(xs)
+datatype T = A | B.{0..1}
+S = { x * 2 | x <- {0..3}, x != 1 }
+Q = let f = \\ x @ x + 1 within f(41)
+";
+    assert_eq!(value(text, "S"), "{0, 4, 6}");
+    assert_eq!(value(&format!("{text}\nr = fact(5)"), "r"), "120");
+    assert_eq!(value(&format!("{text}\nr = len(<1,2,3>)"), "r"), "3");
+    assert_eq!(value(text, "T"), "{A, B.0, B.1}");
+    assert_eq!(value(text, "Q"), "42");
+    assert_eq!(value(&format!("{text}\nr = -7 / 2 == -3 and -7 % 2 == -1"), "r"), "true");
+}
+
+#[test]
+fn prefixes_choice_hiding_and_renaming() {
+    let text = "
+channel c : {0..2}
+channel d : {0..2}.Bool
+channel e : {0..2}
+P = c?x:{0,1} -> d!x!true -> P
+Q = (P [] c.2 -> STOP) \\ {| d |}
+R = P [[ c <- e ]]
+";
+    let p = lts(text, "P");
+    assert_eq!(p.states(), 3);
+    assert_eq!(initials(&p, 0), ["c.0", "c.1"]);
+    assert!(p.has_trace(&["c.1", "d.1.true", "c.0"]));
+    assert!(!p.has_trace(&["c.2"]));
+    let q = lts(text, "Q");
+    assert!(q.has_trace(&["c.1", "c.0"]));
+    let r = lts(text, "R");
+    assert!(r.has_trace(&["e.0", "d.0.true", "e.1"]));
+    assert!(!r.has_trace(&["c.0"]));
+}
+
+#[test]
+fn parallel_interleaving_and_termination() {
+    let text = "
+channel a, b, c
+P = a -> b -> SKIP
+Q = b -> c -> SKIP
+S = P [| {b} |] Q
+I = (a -> SKIP) ||| (c -> SKIP)
+X = (a -> STOP) [| {a} |> (c -> SKIP)
+";
+    let s = lts(text, "S");
+    assert!(s.has_trace(&["a", "b", "c"]));
+    assert!(!s.has_trace(&["b"]));
+    let i = lts(text, "I");
+    assert!(i.has_trace(&["c", "a"]));
+    // Both sides terminate, then the whole does: ✓ after two τs.
+    let ticks = i.transitions.iter().flatten().filter(|(l, _)| *l == Label::Tick).count();
+    assert_eq!(ticks, 1);
+    assert!(lts(text, "X").has_trace(&["a", "c"]));
+}
+
+#[test]
+fn timed_sections_insert_tocks_as_fdr_does() {
+    let text = "
+channel tock, a, b
+OneStep(_) = 1
+Timed(OneStep) {
+  P = a -> b -> STOP
+}
+";
+    let p = lts(text, "P");
+    // μX. tock -> X [] a -> tock -> (μY. tock -> Y [] b -> tock -> TSTOP)
+    assert_eq!(initials(&p, 0), ["a", "tock"]);
+    assert!(p.has_trace(&["tock", "tock", "a", "tock", "tock", "b", "tock", "tock"]));
+    assert!(!p.has_trace(&["a", "b"]));
+    assert_eq!(p.states(), 5);
+}
+
+#[test]
+fn timed_external_choice_synchronises_on_tock() {
+    let text = "
+channel tock, a, b
+OneStep(_) = 1
+Timed(OneStep) {
+  P = (a -> STOP) [] (WAIT(2); b -> STOP)
+}
+";
+    let p = lts(text, "P");
+    assert!(p.has_trace(&["tock", "a"]));
+    assert!(p.has_trace(&["tock", "tock", "b"]));
+    assert!(!p.has_trace(&["b"]));
+}
+
+#[test]
+fn bounds_and_errors_are_diagnostics() {
+    let text = "channel c : {0..3}\nP(n) = c.0 -> P(n+1)\nR = P(0)\nZ = 1/0\nU = head(<>)";
+    let m = module(text);
+    let limits = Limits { max_states: 100, ..Limits::default() };
+    let mut ev = Evaluator::new(&m, &NoNames, limits);
+    assert_eq!(ev.lts("R").unwrap_err().code, Code::Limit);
+    let z = ev.value("Z").unwrap_err();
+    assert_eq!((z.code, &text[z.range]), (Code::Runtime, "1/0"));
+    assert_eq!(ev.value("U").unwrap_err().code, Code::Runtime);
+    let bad = Module::check("P = a -> Q\n", &NoNames);
+    let codes: Vec<_> = bad.diagnostics().iter().map(|d| (d.code, u32::from(d.range.start()))).collect();
+    assert_eq!(codes, [(Code::Unresolved, 4), (Code::Unresolved, 9)]);
+}
