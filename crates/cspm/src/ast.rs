@@ -273,7 +273,8 @@ impl Lower {
     fn decl(&mut self, n: &SyntaxNode, out: &mut Vec<Decl>) {
         let range = n.text_range();
         let timed = self.timed.clone();
-        let push = |out: &mut Vec<Decl>, kind, name_range| out.push(Decl { kind, range, name_range, timed: timed.clone() });
+        let push =
+            |out: &mut Vec<Decl>, kind, name_range| out.push(Decl { kind, range, name_range, timed: timed.clone() });
         match n.kind() {
             DEFINITION => {
                 let kids = nodes(n);
@@ -301,7 +302,11 @@ impl Lower {
                     }
                     push(out, DeclKind::Fun(name, vec![clause]), head.text_range());
                 } else if !params.is_empty() {
-                    self.err(Code::BadPattern, head.text_range(), "a function definition needs a name before its arguments");
+                    self.err(
+                        Code::BadPattern,
+                        head.text_range(),
+                        "a function definition needs a name before its arguments",
+                    );
                 } else {
                     let pat = self.pat(lhs);
                     push(out, DeclKind::PatBind(pat, Rc::new(body)), lhs.text_range());
@@ -324,7 +329,11 @@ impl Lower {
                     clauses.push((t.text().into(), t.text_range(), fields));
                 }
                 let nm: Name = name.text().into();
-                let kind = if n.kind() == DATATYPE_DECL { DeclKind::Datatype(nm, clauses) } else { DeclKind::Subtype(nm, clauses) };
+                let kind = if n.kind() == DATATYPE_DECL {
+                    DeclKind::Datatype(nm, clauses)
+                } else {
+                    DeclKind::Subtype(nm, clauses)
+                };
                 push(out, kind, name.text_range());
             }
             NAMETYPE_DECL => {
@@ -368,7 +377,9 @@ impl Lower {
         nodes(n)
             .iter()
             .filter(|c| c.kind() == NAME_LIST)
-            .flat_map(|l| tokens(l).filter(|t| t.kind() == IDENT).map(|t| (t.text().into(), t.text_range())).collect::<Vec<_>>())
+            .flat_map(|l| {
+                tokens(l).filter(|t| t.kind() == IDENT).map(|t| (t.text().into(), t.text_range())).collect::<Vec<_>>()
+            })
             .collect()
     }
 
@@ -498,7 +509,8 @@ impl Lower {
                     // as `Union({{a, b} | x <- S})` (`concat` for sequences).
                     let kind = if seq { ExprKind::Seq(elems) } else { ExprKind::Set(elems) };
                     let e = Expr { kind, range };
-                    let kind = if seq { ExprKind::SeqComp(Box::new(e), stmts) } else { ExprKind::SetComp(Box::new(e), stmts) };
+                    let kind =
+                        if seq { ExprKind::SeqComp(Box::new(e), stmts) } else { ExprKind::SetComp(Box::new(e), stmts) };
                     let f = Expr { kind: ExprKind::Var((if seq { "concat" } else { "Union" }).into()), range };
                     return Expr { kind: ExprKind::App(Box::new(f), vec![Expr { kind, range }]), range };
                 };
@@ -524,7 +536,23 @@ impl Lower {
                 ExprKind::Map(pairs)
             }
             LET_EXPR => {
-                let body = kids.iter().rev().find(|c| !matches!(c.kind(), DEFINITION | TYPE_ANNOTATION | TIMED_SECTION | CHANNEL_DECL | DATATYPE_DECL | NAMETYPE_DECL | SUBTYPE_DECL | EXTERNAL_DECL | TRANSPARENT_DECL | ASSERT_DECL | PRINT_DECL | MODULE_DECL));
+                let body = kids.iter().rev().find(|c| {
+                    !matches!(
+                        c.kind(),
+                        DEFINITION
+                            | TYPE_ANNOTATION
+                            | TIMED_SECTION
+                            | CHANNEL_DECL
+                            | DATATYPE_DECL
+                            | NAMETYPE_DECL
+                            | SUBTYPE_DECL
+                            | EXTERNAL_DECL
+                            | TRANSPARENT_DECL
+                            | ASSERT_DECL
+                            | PRINT_DECL
+                            | MODULE_DECL
+                    )
+                });
                 let mut decls = Vec::new();
                 for d in kids.iter().filter(|c| Some(*c) != body) {
                     self.decl(d, &mut decls);
@@ -555,7 +583,8 @@ impl Lower {
                         }
                     });
                 }
-                let body = kids.iter().skip(1).rfind(|c| !matches!(c.kind(), INPUT_FIELD | NONDET_FIELD | OUTPUT_FIELD));
+                let body =
+                    kids.iter().skip(1).rfind(|c| !matches!(c.kind(), INPUT_FIELD | NONDET_FIELD | OUTPUT_FIELD));
                 ExprKind::Prefix(ev, fields, self.boxed(body, range))
             }
             GUARD_EXPR => ExprKind::Guard(self.boxed(k0, range), self.boxed(k1, range)),
@@ -570,7 +599,12 @@ impl Lower {
             }
             ALPHA_PARALLEL => {
                 let k3 = kids.get(3);
-                ExprKind::AlphaPar(self.boxed(k0, range), self.boxed(k1, range), self.boxed(k2, range), self.boxed(k3, range))
+                ExprKind::AlphaPar(
+                    self.boxed(k0, range),
+                    self.boxed(k1, range),
+                    self.boxed(k2, range),
+                    self.boxed(k3, range),
+                )
             }
             LINK_PARALLEL => {
                 let links = self.links(&kids);

@@ -11,11 +11,50 @@ use crate::proc::P;
 use crate::{Code, TextRange, Value};
 
 const FUNCTIONS: &[&str] = &[
-    "union", "inter", "diff", "Union", "Inter", "member", "card", "empty", "set", "Set", "seq", "concat", "head",
-    "tail", "length", "null", "elem", "error", "show", "RUN", "CHAOS", "prioritise", "timed_priority", "WAIT",
-    "TSTOP", "TSKIP", "productions", "extensions", "transpose",
-    "dbisim", "sbisim", "wbisim", "diamond", "normal", "normalise", "normalize", "explicate", "lazyenumerate",
-    "chase", "chase_nocache", "deter", "model_compress", "tau_loop_factor", "lazynorm",
+    "union",
+    "inter",
+    "diff",
+    "Union",
+    "Inter",
+    "member",
+    "card",
+    "empty",
+    "set",
+    "Set",
+    "seq",
+    "concat",
+    "head",
+    "tail",
+    "length",
+    "null",
+    "elem",
+    "error",
+    "show",
+    "RUN",
+    "CHAOS",
+    "prioritise",
+    "timed_priority",
+    "WAIT",
+    "TSTOP",
+    "TSKIP",
+    "productions",
+    "extensions",
+    "transpose",
+    "dbisim",
+    "sbisim",
+    "wbisim",
+    "diamond",
+    "normal",
+    "normalise",
+    "normalize",
+    "explicate",
+    "lazyenumerate",
+    "chase",
+    "chase_nocache",
+    "deter",
+    "model_compress",
+    "tau_loop_factor",
+    "lazynorm",
 ];
 
 const CONSTANTS: &[&str] = &["STOP", "SKIP", "DIV", "Events", "Int", "Bool", "Proc", "Char", "Event"];
@@ -161,7 +200,8 @@ pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at:
         }
         "timed_priority" => {
             let p = proc(a, at)?;
-            let tock = ev.value("tock").map_err(|_| err(Code::Unresolved, at, "`timed_priority` needs a channel `tock`"))?;
+            let tock =
+                ev.value("tock").map_err(|_| err(Code::Unresolved, at, "`timed_priority` needs a channel `tock`"))?;
             let t = ev.event(tock, at)?;
             ev.proc_value(Rc::new(P::Prioritise(vec![Rc::from([]), Rc::from([t])].into(), p)))
         }

@@ -48,9 +48,22 @@ pub struct Function(pub(crate) Func);
 pub(crate) enum Func {
     /// A definition's clauses, the frame they were defined in, and the
     /// argument groups given so far (curried definitions `f(x)(y)`).
-    User { name: Name, clauses: Rc<[Rc<Clause>]>, env: u32, given: Vec<Vec<Value>>, timed: Option<Rc<Timed>> },
-    Lambda { pats: Rc<[Pat]>, body: Rc<Expr>, env: u32 },
-    Builtin { name: &'static str, given: Vec<Value> },
+    User {
+        name: Name,
+        clauses: Rc<[Rc<Clause>]>,
+        env: u32,
+        given: Vec<Vec<Value>>,
+        timed: Option<Rc<Timed>>,
+    },
+    Lambda {
+        pats: Rc<[Pat]>,
+        body: Rc<Expr>,
+        env: u32,
+    },
+    Builtin {
+        name: &'static str,
+        given: Vec<Value>,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -103,7 +116,6 @@ pub struct Evaluator<'m> {
     started: Instant,
     steps: u64,
     pub(crate) global: u32,
-
 }
 
 pub(crate) fn err(code: Code, range: TextRange, msg: impl Into<String>) -> Diagnostic {
@@ -130,7 +142,6 @@ impl<'m> Evaluator<'m> {
             started: Instant::now(),
             steps: 0,
             global: 0,
-
         };
         ev.frames.push(Frame { parent: None, vars: Vec::new(), timed: None });
         ev.bind_decls(&module.decls, 0);
@@ -176,7 +187,7 @@ impl<'m> Evaluator<'m> {
     /// Counts a step; fails when the time is up or the caller cancelled.
     pub(crate) fn tick(&mut self, at: TextRange) -> R<()> {
         self.steps += 1;
-        if self.steps % 256 == 0 {
+        if self.steps.is_multiple_of(256) {
             if self.limits.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
                 return Err(err(Code::Cancelled, at, "evaluation cancelled"));
             }
@@ -189,7 +200,11 @@ impl<'m> Evaluator<'m> {
 
     pub(crate) fn check_size(&self, n: usize, at: TextRange) -> R<()> {
         if n > self.limits.max_set {
-            return Err(err(Code::Limit, at, format!("a set or sequence of more than {} elements", self.limits.max_set)));
+            return Err(err(
+                Code::Limit,
+                at,
+                format!("a set or sequence of more than {} elements", self.limits.max_set),
+            ));
         }
         Ok(())
     }
@@ -229,10 +244,9 @@ impl<'m> Evaluator<'m> {
                 }
                 DeclKind::Channel(names, ty) => {
                     let fields = match ty {
-                        Some(ty) => match self.eval(ty, env).and_then(|v| self.type_fields(v, ty.range)) {
-                            Ok(f) => f,
-                            Err(_) => Vec::new(),
-                        },
+                        // An unusable type (e.g. `Int`) leaves the channel without
+                        // fields: its events are then refused where used.
+                        Some(ty) => self.eval(ty, env).and_then(|v| self.type_fields(v, ty.range)).unwrap_or_default(),
                         None => Vec::new(),
                     };
                     let fields: Rc<[Rc<[Value]>]> = fields.into();
@@ -293,8 +307,10 @@ impl<'m> Evaluator<'m> {
             if all_dots {
                 let n = set.iter().map(|x| if let Value::Dot(d) = x { d.len() } else { 0 }).min().unwrap_or(0);
                 for k in 0..n {
-                    let col: BTreeSet<Value> =
-                        set.iter().filter_map(|x| if let Value::Dot(d) = x { d.get(k).cloned() } else { None }).collect();
+                    let col: BTreeSet<Value> = set
+                        .iter()
+                        .filter_map(|x| if let Value::Dot(d) = x { d.get(k).cloned() } else { None })
+                        .collect();
                     out.push(col.into_iter().collect());
                 }
             } else {
@@ -495,7 +511,11 @@ impl<'m> Evaluator<'m> {
         self.depth += 1;
         if self.depth > self.limits.max_depth {
             self.depth -= 1;
-            return Err(err(Code::Limit, at, format!("evaluation nested deeper than {} (a runaway recursion?)", self.limits.max_depth)));
+            return Err(err(
+                Code::Limit,
+                at,
+                format!("evaluation nested deeper than {} (a runaway recursion?)", self.limits.max_depth),
+            ));
         }
         self.tick(at)
     }
@@ -529,7 +549,9 @@ impl<'m> Evaluator<'m> {
                     (UnOp::Not, Value::Bool(b)) => Value::Bool(!b),
                     (UnOp::Neg, Value::Int(i)) => Value::Int(i.checked_neg().ok_or_else(|| overflow(at))?),
                     (UnOp::Len, Value::Seq(s)) => Value::Int(s.len() as i64),
-                    (_, v) => return Err(err(Code::Type, at, format!("this operator does not apply to {}", v.kind_name()))),
+                    (_, v) => {
+                        return Err(err(Code::Type, at, format!("this operator does not apply to {}", v.kind_name())))
+                    }
                 }
             }
             Set(es) => Value::set(self.eval_all(es, env)?),
@@ -708,7 +730,13 @@ impl<'m> Evaluator<'m> {
                     Value::Set(s) => s.iter().cloned().collect(),
                     Value::Seq(s) => s.to_vec(),
                     Value::Ints => return Err(err(Code::Limit, e.range, "cannot draw from the set of all integers")),
-                    v => return Err(err(Code::Type, e.range, format!("expected a set or sequence, found {}", v.kind_name()))),
+                    v => {
+                        return Err(err(
+                            Code::Type,
+                            e.range,
+                            format!("expected a set or sequence, found {}", v.kind_name()),
+                        ))
+                    }
                 };
                 for v in items {
                     self.tick(e.range)?;
@@ -814,11 +842,7 @@ impl<'m> Evaluator<'m> {
             return Ok(false);
         }
         for (i, p) in ps.iter().enumerate() {
-            let v = if i + 1 == ps.len() && vs.len() > ps.len() {
-                Value::Dot(vs[i..].into())
-            } else {
-                vs[i].clone()
-            };
+            let v = if i + 1 == ps.len() && vs.len() > ps.len() { Value::Dot(vs[i..].into()) } else { vs[i].clone() };
             if !self.matches(p, &v, binds)? {
                 return Ok(false);
             }
@@ -856,7 +880,11 @@ impl<'m> Evaluator<'m> {
             }
             Func::Lambda { pats, body, env } => {
                 if pats.len() != args.len() {
-                    return Err(err(Code::Type, at, format!("this function takes {} arguments, not {}", pats.len(), args.len())));
+                    return Err(err(
+                        Code::Type,
+                        at,
+                        format!("this function takes {} arguments, not {}", pats.len(), args.len()),
+                    ));
                 }
                 let mut binds = Vec::new();
                 for (p, v) in pats.iter().zip(&args) {
@@ -873,7 +901,13 @@ impl<'m> Evaluator<'m> {
                 given.push(args);
                 let groups = clauses.first().map_or(0, |c| c.params.len());
                 if given.len() < groups {
-                    let f = Func::User { name: name.clone(), clauses: clauses.clone(), env: *env, given, timed: timed.clone() };
+                    let f = Func::User {
+                        name: name.clone(),
+                        clauses: clauses.clone(),
+                        env: *env,
+                        given,
+                        timed: timed.clone(),
+                    };
                     return Ok(self.func(f));
                 }
                 for c in clauses.iter() {
@@ -938,6 +972,7 @@ impl<'m> Evaluator<'m> {
                 Value::Dot(ys) if !matches!(ys.first(), Some(Value::Ctor(_))) => parts.extend(ys.iter().cloned()),
                 y => parts.push(y),
             }
+            self.check_size(parts.len(), at)?;
             return Ok(Value::Dot(parts.into()));
         }
         let mut parts: Vec<Value> = match x {

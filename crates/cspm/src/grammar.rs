@@ -44,7 +44,13 @@ fn decls(p: &mut Parser, end: fn(SyntaxKind) -> bool, ctx: Ctx) {
             _ => false,
         };
         if banned {
-            let place = if ctx.in_let { "`let`" } else if ctx.in_module { "a module" } else { "a `Timed` section" };
+            let place = if ctx.in_let {
+                "`let`"
+            } else if ctx.in_module {
+                "a module"
+            } else {
+                "a `Timed` section"
+            };
             let range = p.current_range();
             p.errors.push(crate::Diagnostic::error(
                 crate::Code::Syntax,
@@ -625,8 +631,23 @@ fn primary(p: &mut Parser) -> bool {
             // Keep closers and definition boundaries for the callers.
             if !matches!(
                 p.current(),
-                R_PAREN | R_BRACE | R_BRACK | R_PIPE_BRACE | R_RENAME | R_PAR | GT | EQ | WITHIN_KW | THEN_KW
-                    | ELSE_KW | COMMA | EOF | AT | PIPE | ENDMODULE_KW | EXPORTS_KW
+                R_PAREN
+                    | R_BRACE
+                    | R_BRACK
+                    | R_PIPE_BRACE
+                    | R_RENAME
+                    | R_PAR
+                    | GT
+                    | EQ
+                    | WITHIN_KW
+                    | THEN_KW
+                    | ELSE_KW
+                    | COMMA
+                    | EOF
+                    | AT
+                    | PIPE
+                    | ENDMODULE_KW
+                    | EXPORTS_KW
             ) && !p.at_line_break()
             {
                 p.start(ERROR);

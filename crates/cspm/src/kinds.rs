@@ -105,9 +105,24 @@ impl SyntaxKind {
         use SyntaxKind::*;
         !matches!(
             self,
-            IDENT | INT | STRING | CHAR | R_PAREN | R_BRACE | R_PIPE_BRACE | R_MAP | R_RENAME | GT
-                | TRUE_KW | FALSE_KW | EXPORTS_KW | ENDMODULE_KW | INCLUDE_LINE | PRINT_LINE
-                | ERROR_TOKEN | EOF
+            IDENT
+                | INT
+                | STRING
+                | CHAR
+                | R_PAREN
+                | R_BRACE
+                | R_PIPE_BRACE
+                | R_MAP
+                | R_RENAME
+                | GT
+                | TRUE_KW
+                | FALSE_KW
+                | EXPORTS_KW
+                | ENDMODULE_KW
+                | INCLUDE_LINE
+                | PRINT_LINE
+                | ERROR_TOKEN
+                | EOF
         )
     }
 
@@ -116,10 +131,31 @@ impl SyntaxKind {
         use SyntaxKind::*;
         !matches!(
             self,
-            IDENT | L_PAREN | L_PIPE_BRACE | L_BRACE | L_MAP | LT | MINUS | HASH | CHANNEL_KW
-                | DATATYPE_KW | SUBTYPE_KW | NAMETYPE_KW | MODULE_KW | EXPORTS_KW | ENDMODULE_KW
-                | INSTANCE_KW | EXTERNAL_KW | TRANSPARENT_KW | ASSERT_KW | TIMED_KW | INCLUDE_LINE
-                | PRINT_LINE | ERROR_TOKEN | EOF | COLON2
+            IDENT
+                | L_PAREN
+                | L_PIPE_BRACE
+                | L_BRACE
+                | L_MAP
+                | LT
+                | MINUS
+                | HASH
+                | CHANNEL_KW
+                | DATATYPE_KW
+                | SUBTYPE_KW
+                | NAMETYPE_KW
+                | MODULE_KW
+                | EXPORTS_KW
+                | ENDMODULE_KW
+                | INSTANCE_KW
+                | EXTERNAL_KW
+                | TRANSPARENT_KW
+                | ASSERT_KW
+                | TIMED_KW
+                | INCLUDE_LINE
+                | PRINT_LINE
+                | ERROR_TOKEN
+                | EOF
+                | COLON2
         )
     }
 }

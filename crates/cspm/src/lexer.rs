@@ -125,7 +125,11 @@ pub(crate) fn lex(text: &str, errors: &mut Vec<Diagnostic>) -> Vec<Token> {
             kind
         } else {
             i = char_boundary(text, i + 1);
-            errors.push(Diagnostic::error(Code::Lex, range(start, i), format!("unexpected character {:?}", &text[start..i])));
+            errors.push(Diagnostic::error(
+                Code::Lex,
+                range(start, i),
+                format!("unexpected character {:?}", &text[start..i]),
+            ));
             ERROR_TOKEN
         };
         out.push(Token { kind, start: start as u32, len: (i - start) as u32 });

@@ -52,7 +52,9 @@ impl Lts {
             let Some(e) = self.event(name) else { return false };
             let next: Vec<u32> = cur
                 .iter()
-                .flat_map(|&s| self.transitions[s as usize].iter().filter(|(l, _)| *l == Label::Event(e)).map(|(_, t)| *t))
+                .flat_map(|&s| {
+                    self.transitions[s as usize].iter().filter(|(l, _)| *l == Label::Event(e)).map(|(_, t)| *t)
+                })
                 .collect();
             if next.is_empty() {
                 return false;

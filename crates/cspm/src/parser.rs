@@ -116,9 +116,8 @@ impl<'t> Parser<'t> {
         else {
             return false;
         };
-        let newline = self.tokens[prev + 1..cur]
-            .iter()
-            .any(|t| t.kind == WHITESPACE && self.text[t.range()].contains('\n'));
+        let newline =
+            self.tokens[prev + 1..cur].iter().any(|t| t.kind == WHITESPACE && self.text[t.range()].contains('\n'));
         // Keywords that only start declarations end the previous one on a
         // new line even after a soaking token (`]` of `:[deadlock free]`).
         let starts_decl = matches!(

@@ -174,10 +174,11 @@ impl Evaluator<'_> {
                     for (l, q2) in ts {
                         match l {
                             L::Ev(e) => events.push(*e),
-                            l => {
+                            L::Tau | L::Tick => {
                                 let mut cs2 = cs.clone();
                                 cs2[i].1 = q2.clone();
-                                out.push((if *l == L::Tick { L::Tau } else { L::Tau }, Rc::new(P::AlphaPar(cs2))));
+                                // τ, and ✓ of one component (which then waits as Ω), are τ.
+                                out.push((L::Tau, Rc::new(P::AlphaPar(cs2))));
                             }
                         }
                     }
@@ -243,7 +244,10 @@ impl Evaluator<'_> {
                                 }
                             }
                         }
-                        l => out.push((if *l == L::Tick { L::Tau } else { *l }, Rc::new(P::Link(map.clone(), a2.clone(), b.clone())))),
+                        l => out.push((
+                            if *l == L::Tick { L::Tau } else { *l },
+                            Rc::new(P::Link(map.clone(), a2.clone(), b.clone())),
+                        )),
                     }
                 }
                 for (l, b2) in tb {

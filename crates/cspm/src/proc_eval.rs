@@ -117,7 +117,8 @@ impl Evaluator<'_> {
                 let fv = match &f.kind {
                     Var(n) if timed && &**n == "WAIT" => {
                         let t = self.tock_set(env, at)?.unwrap_or(0);
-                        let n = self.int(args.first().ok_or_else(|| err(Code::Type, at, "WAIT takes a number"))?, env)?;
+                        let n =
+                            self.int(args.first().ok_or_else(|| err(Code::Type, at, "WAIT takes a number"))?, env)?;
                         let mut p = Rc::new(P::TSkip(t));
                         for _ in 0..n.clamp(0, 100_000) {
                             p = Rc::new(P::Prefix(t, p));
@@ -163,7 +164,13 @@ impl Evaluator<'_> {
                                     let v = self.events[ev as usize].clone();
                                     match self.apply(f.clone(), vec![v], at)? {
                                         Value::Int(n) => n,
-                                        v => return Err(err(Code::Type, at, format!("the `Timed` function returned {}", v.kind_name()))),
+                                        v => {
+                                            return Err(err(
+                                                Code::Type,
+                                                at,
+                                                format!("the `Timed` function returned {}", v.kind_name()),
+                                            ))
+                                        }
                                     }
                                 }
                                 None => 1,
@@ -404,7 +411,9 @@ impl Evaluator<'_> {
             return match (op, tock) {
                 (RepOp::Int, _) => Err(err(Code::Runtime, at, "replicated internal choice over an empty set")),
                 (RepOp::Seq, _) => Ok(Rc::new(if tock.is_some() { P::TSkip(tock.unwrap_or(0)) } else { P::Skip })),
-                (RepOp::Link(..), _) => Err(err(Code::Runtime, at, "replicated linked parallel over an empty sequence")),
+                (RepOp::Link(..), _) => {
+                    Err(err(Code::Runtime, at, "replicated linked parallel over an empty sequence"))
+                }
                 (_, Some(t)) => Ok(Rc::new(P::TStop(t))),
                 (RepOp::Ext, None) => Ok(Rc::new(P::Stop)),
                 (_, None) => Ok(Rc::new(P::Skip)),

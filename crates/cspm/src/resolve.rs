@@ -110,13 +110,10 @@ impl Resolver<'_> {
     }
 
     fn defined(&mut self, n: &str) -> bool {
-        self.scopes.iter().any(|s| s.contains(n))
-            || self.ctors.contains(n)
-            || crate::builtins::is_builtin(n)
-            || {
-                let names = self.names;
-                *self.cache.entry(n.to_owned()).or_insert_with(|| names.lookup(n).is_some())
-            }
+        self.scopes.iter().any(|s| s.contains(n)) || self.ctors.contains(n) || crate::builtins::is_builtin(n) || {
+            let names = self.names;
+            *self.cache.entry(n.to_owned()).or_insert_with(|| names.lookup(n).is_some())
+        }
     }
 
     fn decls(&mut self, decls: &[Decl], top: bool) {
@@ -133,7 +130,11 @@ impl Resolver<'_> {
         let mut scope = FxHashSet::default();
         for (n, r, _) in &names {
             if !scope.insert(n.clone()) {
-                self.diags.push(Diagnostic::error(Code::Duplicate, *r, format!("`{n}` is defined more than once here")));
+                self.diags.push(Diagnostic::error(
+                    Code::Duplicate,
+                    *r,
+                    format!("`{n}` is defined more than once here"),
+                ));
             }
         }
         self.scopes.push(scope);

@@ -90,7 +90,12 @@ impl Value {
     }
 }
 
-fn list(f: &mut fmt::Formatter<'_>, open: &str, items: impl Iterator<Item = impl fmt::Display>, close: &str) -> fmt::Result {
+fn list(
+    f: &mut fmt::Formatter<'_>,
+    open: &str,
+    items: impl Iterator<Item = impl fmt::Display>,
+    close: &str,
+) -> fmt::Result {
     f.write_str(open)?;
     for (i, v) in items.enumerate() {
         if i > 0 {
@@ -109,7 +114,8 @@ impl fmt::Display for Value {
             Value::Char(c) => write!(f, "{c:?}"),
             Value::Tuple(vs) => list(f, "(", vs.iter(), ")"),
             Value::Seq(vs) if !vs.is_empty() && vs.iter().all(|v| matches!(v, Value::Char(_))) => {
-                let s: String = vs.iter().filter_map(|v| if let Value::Char(c) = v { Some(*c) } else { None }).collect();
+                let s: String =
+                    vs.iter().filter_map(|v| if let Value::Char(c) = v { Some(*c) } else { None }).collect();
                 write!(f, "{s:?}")
             }
             Value::Seq(vs) => list(f, "<", vs.iter(), ">"),
@@ -122,7 +128,9 @@ impl fmt::Display for Value {
                         f.write_str(".")?;
                     }
                     match v {
-                        Value::Dot(_) | Value::Ctor(_) | Value::Int(_) | Value::Bool(_) | Value::Char(_) => write!(f, "{v}")?,
+                        Value::Dot(_) | Value::Ctor(_) | Value::Int(_) | Value::Bool(_) | Value::Char(_) => {
+                            write!(f, "{v}")?
+                        }
                         _ => write!(f, "{v}")?,
                     }
                 }
