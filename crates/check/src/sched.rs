@@ -44,7 +44,7 @@ const WRITES: i32 = 3;
 
 /// Which semantics (semantics.md §2): one definition for the checks and
 /// the CSPm export.
-pub use robosim_semantics::Profile;
+pub use robosim_hir::profile::Profile;
 
 /// The register events of a check (`registerRead.i_e.b.v`,
 /// `registerWrite.o_e.args`; the paper profile's `registerRead.eU…`,

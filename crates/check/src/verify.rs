@@ -25,6 +25,7 @@ use crate::machine::{Act, Offer};
 use crate::pack::{Packed, VectorLts};
 use crate::sched::{Constrained, Registers, State};
 use crate::sim::SimModule;
+use robosim_hir::cycle::Feasibility;
 
 pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
@@ -305,8 +306,31 @@ impl Cx<'_> {
         if loc.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
             return Ok(Target::Design { name, loc, inner: None });
         }
-        let period = overridden.unwrap_or_else(|| element_cycle(self.db, loc));
+        let period = match overridden {
+            Some(p) => p,
+            None => self.element_period(&name, loc)?,
+        };
         Ok(Target::Simulation { name, loc, period })
+    }
+
+    /// The period of the RoboSim element `loc` (hir's one choice: the
+    /// least that its cycleDef and its components' allow), with the
+    /// assertion's constants bound; `None` when nothing declares one.
+    fn element_period(&self, name: &str, loc: ItemLoc) -> Result<Option<i64>, String> {
+        let Some(def) = loc.def(self.db) else { return Ok(None) };
+        let bound: Vec<(String, i64)> =
+            self.constants().unwrap_or_default().into_iter().map(|c| (c.name, c.value)).collect();
+        match robosim_hir::cycle::simulation_period(self.db, self.ws, loc.file, def, &bound) {
+            None => Ok(None),
+            Some(Feasibility::Feasible(p)) => Ok(i64::try_from(p).ok()),
+            Some(Feasibility::Infeasible) => Err(format!(
+                "no positive period satisfies the cycleDef of `{name}` together with those of its components \
+                 (RS:M2/RS:C2): give them a common period"
+            )),
+            Some(Feasibility::Unknown) => Err(format!(
+                "the period of `{name}` could not be decided from its cycleDefs: give one with `cycleDef cycle == N`"
+            )),
+        }
     }
 
     /// The controller `C` when `path` is `C::M` and `C` declares the
@@ -383,22 +407,6 @@ impl Cx<'_> {
             .map_err(|u| unsupported_reason(self.db, self.ws, &u))?;
         Ok((design, period as u32))
     }
-}
-
-/// The period a RoboSim element declares (`cycleDef cycle == N`).
-fn element_cycle(db: &dyn Db, loc: ItemLoc) -> Option<i64> {
-    let id = loc.def(db)?;
-    let range = robosim_hir::defs::file_defs(db, loc.file).def(id).range;
-    let root = parse(db, loc.file).syntax_node();
-    let node = root.descendants().find(|n| n.text_range() == range)?;
-    let cd = node.children().find(|c| c.kind() == robosim_syntax::SyntaxKind::CYCLE_DEF)?;
-    let bin = cd.descendants().find(|c| c.kind() == robosim_syntax::SyntaxKind::BIN_EXPR)?;
-    let has_cycle = bin.children().any(|c| c.kind() == robosim_syntax::SyntaxKind::CYCLE_EXPR);
-    let lit = bin.children().find(|c| c.kind() == robosim_syntax::SyntaxKind::LITERAL)?;
-    if !has_cycle {
-        return None;
-    }
-    lit.text().to_string().trim().parse().ok()
 }
 
 /// Any element of a check, as one LTS type.

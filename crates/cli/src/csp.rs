@@ -6,10 +6,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use robosim_semantics::{export_workspace, Options, Profile};
+use robosim_ide::export::Profile;
 
 use crate::fail;
-use crate::workspace::{io_msg, Workspace};
+use crate::workspace::{done, io_msg, Workspace};
 
 /// The command's arguments.
 pub struct Args {
@@ -19,14 +19,14 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> ExitCode {
-    let ws = match Workspace::load(&args.paths, robosim_hir::RuleSet::Paper) {
+    let ws = match Workspace::load(&args.paths, robosim_ide::RuleSet::Paper) {
         Ok(ws) => ws,
         Err(e) => return fail(e),
     };
     if ws.user_files == 0 {
         return fail("no model files (.rct, .rst, .assertions, .rsa) were found");
     }
-    let export = export_workspace(&ws.db, ws.input, &Options { profile: args.profile });
+    let export = done(ws.analysis.export_csp(args.profile));
     for w in &export.warnings {
         eprintln!("robosim: warning: {w}");
     }

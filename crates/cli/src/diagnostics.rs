@@ -5,12 +5,12 @@ use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label, Severity
 use codespan_reporting::files::SimpleFiles;
 use codespan_reporting::term::termcolor::{ColorChoice, StandardStream};
 use codespan_reporting::term::{self, Styles, StylesWriter};
-use robosim_syntax::TextRange;
+use robosim_ide::TextRange;
 use serde_json::{json, Value};
 
 use crate::workspace::Workspace;
 
-pub use robosim_hir::Severity;
+pub use robosim_ide::Severity;
 
 /// A secondary location that explains a diagnostic.
 #[derive(Debug, Clone)]
@@ -66,7 +66,7 @@ pub fn to_json(ws: &Workspace, diags: &[Diagnostic]) -> Value {
 pub fn render_human(ws: &Workspace, diags: &[Diagnostic], color: bool) -> std::io::Result<()> {
     let mut files = SimpleFiles::new();
     for f in &ws.files {
-        files.add(f.path.clone(), f.text.as_str());
+        files.add(f.path.clone(), &*f.text);
     }
     let stream = StandardStream::stdout(if color { ColorChoice::Always } else { ColorChoice::Never });
     let mut lock = stream.lock();

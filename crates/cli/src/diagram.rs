@@ -6,10 +6,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use robosim_diagram::{file_diagrams, render_dot, render_svg, Diagram};
+use robosim_ide::diagram::{render_dot, render_svg, Diagram};
 
 use crate::fail;
-use crate::workspace::Workspace;
+use crate::workspace::{done, Workspace};
 
 /// What to write.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -28,13 +28,13 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> ExitCode {
-    let ws = match Workspace::load(&args.paths, robosim_hir::RuleSet::Paper) {
+    let ws = match Workspace::load(&args.paths, robosim_ide::RuleSet::Paper) {
         Ok(ws) => ws,
         Err(e) => return fail(e),
     };
     let mut diagrams: Vec<Diagram> = Vec::new();
     for f in ws.files.iter().take(ws.user_files) {
-        diagrams.extend(file_diagrams(&ws.db, ws.input, f.input));
+        diagrams.extend(done(ws.analysis.diagram_models(f.id)));
     }
     if let Some(name) = &args.element {
         diagrams.retain(|d| &d.name == name || &d.qualified_name == name);

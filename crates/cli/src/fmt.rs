@@ -6,12 +6,9 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use robosim_fmt::Options;
-use robosim_syntax::FileKind;
-
+use robosim_ide::batch::{io_msg, model_files};
 use robosim_ide::workspace_files::looks_like_restructured_text;
-
-use crate::workspace::{find_model_files, io_msg};
+use robosim_ide::{format_text, FileKind};
 
 /// What happened to the files of one run, for the exit status.
 #[derive(Default)]
@@ -25,15 +22,14 @@ struct Tally {
 }
 
 pub(crate) fn run(check: bool, paths: &[PathBuf]) -> ExitCode {
-    let found = match find_model_files(paths) {
+    let found = match model_files(paths) {
         Ok(found) => found,
         Err(e) => return crate::fail(e),
     };
-    let opts = Options::default();
     let mut tally = Tally::default();
     let mut out = io::stdout().lock();
     for (path, explicit) in found {
-        format_file(&path, explicit, check, &opts, &mut tally, &mut out);
+        format_file(&path, explicit, check, &mut tally, &mut out);
     }
     if !check {
         let files = if tally.changed == 1 { "file" } else { "files" };
@@ -49,7 +45,7 @@ pub(crate) fn run(check: bool, paths: &[PathBuf]) -> ExitCode {
     ExitCode::from(status)
 }
 
-fn format_file(path: &Path, explicit: bool, check: bool, opts: &Options, tally: &mut Tally, out: &mut impl Write) {
+fn format_file(path: &Path, explicit: bool, check: bool, tally: &mut Tally, out: &mut impl Write) {
     let shown = path.display();
     let bytes = match fs::read(path) {
         Ok(bytes) => bytes,
@@ -70,7 +66,7 @@ fn format_file(path: &Path, explicit: bool, check: bool, opts: &Options, tally: 
     if kind == FileKind::RoboSim && !explicit && looks_like_restructured_text(&text) {
         return;
     }
-    let formatted = match robosim_fmt::format(&text, kind, opts) {
+    let formatted = match format_text(&text, kind) {
         Ok(formatted) => formatted,
         Err(e) => {
             eprintln!("robosim: {shown}: not formatted: {e}");

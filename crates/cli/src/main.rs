@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use diagnostics::{Diagnostic, Severity};
-use workspace::Workspace;
+use workspace::{done, Workspace};
 
 // The semantic model and the syntax trees allocate and free many small
 // objects (a rowan cursor node per visited node); mimalloc makes a re-check
@@ -91,7 +91,7 @@ enum Command {
         /// `1:overwrite`): RoboTool's is not documented, so without it such
         /// designs are not checked.
         #[arg(long, value_name = "SIZE:POLICY", value_parser = parse_async_buffer)]
-        async_buffer: Option<robosim_check::verify::AsyncBuffer>,
+        async_buffer: Option<robosim_ide::verify::AsyncBuffer>,
         /// Also draw each counterexample on the diagrams it passes through,
         /// as SVG files in this folder (steps numbered by cycle).
         #[arg(long, value_name = "DIR")]
@@ -191,8 +191,8 @@ fn main() -> ExitCode {
             verify::run(verify::Args {
                 format,
                 profile: match semantics {
-                    Semantics::Robotool3 => robosim_check::verify::Profile::RoboTool3,
-                    Semantics::Paper2019 => robosim_check::verify::Profile::Paper2019,
+                    Semantics::Robotool3 => robosim_ide::verify::Profile::RoboTool3,
+                    Semantics::Paper2019 => robosim_ide::verify::Profile::Paper2019,
                 },
                 max_states,
                 timeout,
@@ -216,8 +216,8 @@ fn main() -> ExitCode {
         }),
         Command::Csp { semantics, out, paths } => csp::run(csp::Args {
             profile: match semantics {
-                Semantics::Robotool3 => robosim_semantics::Profile::RoboTool3,
-                Semantics::Paper2019 => robosim_semantics::Profile::Paper2019,
+                Semantics::Robotool3 => robosim_ide::export::Profile::RoboTool3,
+                Semantics::Paper2019 => robosim_ide::export::Profile::Paper2019,
             },
             out,
             paths,
@@ -233,8 +233,8 @@ pub(crate) fn fail(msg: impl std::fmt::Display) -> ExitCode {
 
 fn check(format: Format, rules: Rules, color: Color, paths: &[PathBuf]) -> ExitCode {
     let rules = match rules {
-        Rules::Paper => robosim_hir::RuleSet::Paper,
-        Rules::Robotool => robosim_hir::RuleSet::RoboTool,
+        Rules::Paper => robosim_ide::RuleSet::Paper,
+        Rules::Robotool => robosim_ide::RuleSet::RoboTool,
     };
     let ws = match Workspace::load(paths, rules) {
         Ok(ws) => ws,
@@ -266,18 +266,18 @@ fn check(format: Format, rules: Rules, color: Color, paths: &[PathBuf]) -> ExitC
 }
 
 fn parse(tree: bool, file: &std::path::Path) -> ExitCode {
-    let ws = match Workspace::load(&[file.to_path_buf()], robosim_hir::RuleSet::Paper) {
+    let ws = match Workspace::load(&[file.to_path_buf()], robosim_ide::RuleSet::Paper) {
         Ok(ws) => ws,
         Err(e) => return fail(e),
     };
     if ws.user_files == 0 {
         return fail(format!("`{}` is not a model file (.rct, .rst, .assertions, .rsa)", file.display()));
     }
-    let parse = ws.parse(0);
+    let id = ws.files[0].id;
     let mut out = std::io::stdout().lock();
-    let text = if tree { parse.debug_dump() } else { parse.syntax_node().text().to_string() };
+    let text = if tree { done(ws.analysis.syntax_tree(id)) } else { done(ws.analysis.reprint(id)) };
     let _ = out.write_all(text.as_bytes());
-    let has_error = parse.errors().iter().any(|e| e.severity == robosim_syntax::Severity::Error);
+    let has_error = done(ws.analysis.syntax_diagnostics(id)).iter().any(|d| d.severity == Severity::Error);
     if !tree {
         let diags: Vec<Diagnostic> = ws.diagnostics();
         let _ = diagnostics::render_human(&ws, &diags, false);
@@ -286,6 +286,6 @@ fn parse(tree: bool, file: &std::path::Path) -> ExitCode {
 }
 
 /// `--async-buffer SIZE[:overwrite|:block]`.
-fn parse_async_buffer(text: &str) -> Result<robosim_check::verify::AsyncBuffer, String> {
-    robosim_check::verify::AsyncBuffer::parse(text)
+fn parse_async_buffer(text: &str) -> Result<robosim_ide::verify::AsyncBuffer, String> {
+    robosim_ide::verify::AsyncBuffer::parse(text)
 }

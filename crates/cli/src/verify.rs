@@ -8,13 +8,13 @@ use std::process::ExitCode;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use robosim_check::budget::{Budget, Stats};
-use robosim_check::verify::{
-    counterexample_table, verify_workspace, Counterexample, Location, Options, Profile, Report, Step, Verdict,
+use robosim_ide::diagram::render_marked;
+use robosim_ide::verify::{
+    counterexample_table, Budget, Counterexample, Location, Options, Profile, Report, Stats, Step, Verdict,
 };
 use serde_json::{json, Value};
 
-use crate::workspace::Workspace;
+use crate::workspace::{done, Workspace};
 use crate::{fail, Format};
 
 /// The command's arguments.
@@ -25,14 +25,14 @@ pub struct Args {
     pub timeout: Option<f64>,
     pub threads: Option<usize>,
     /// The buffer assumed for asynchronous connections.
-    pub async_buffer: Option<robosim_check::verify::AsyncBuffer>,
+    pub async_buffer: Option<robosim_ide::verify::AsyncBuffer>,
     /// Where to draw the counterexamples on diagrams, if anywhere.
     pub diagrams: Option<PathBuf>,
     pub paths: Vec<PathBuf>,
 }
 
 pub fn run(args: Args) -> ExitCode {
-    let ws = match Workspace::load(&args.paths, robosim_hir::RuleSet::Paper) {
+    let ws = match Workspace::load(&args.paths, robosim_ide::RuleSet::Paper) {
         Ok(ws) => ws,
         Err(e) => return fail(e),
     };
@@ -65,7 +65,7 @@ pub fn run(args: Args) -> ExitCode {
             }
         }
     };
-    let reports = verify_workspace(&ws.db, ws.input, &opts, Some(&progress));
+    let reports = done(ws.analysis.verify_workspace(&opts, Some(&progress)));
     if show_progress && started.elapsed() >= Duration::from_millis(500) {
         eprint!("\r{}\r", " ".repeat(72));
     }
@@ -107,30 +107,15 @@ fn draw_counterexamples(ws: &Workspace, reports: &[Report], dir: &std::path::Pat
     for r in reports {
         let Some(c) = &r.counterexample else { continue };
         for f in ws.files.iter().take(ws.user_files) {
-            let last = c.steps.last().map_or(0, |s| s.cycle);
-            let mut steps: Vec<(u32, u32)> = c
-                .steps
-                .iter()
-                .chain(&c.specification)
-                .filter_map(|s| {
-                    let l = s.location.as_ref().filter(|l| l.file == f.path)?;
-                    Some((u32::from(l.range.start()), s.cycle))
-                })
-                .collect();
-            // Where it got stuck, in the last cycle.
-            steps.extend(c.stuck_at.iter().filter(|l| l.file == f.path).map(|l| (u32::from(l.range.start()), last)));
-            if steps.is_empty() {
-                continue;
-            }
-            for d in robosim_diagram::file_diagrams(&ws.db, ws.input, f.input) {
-                let inside = steps.iter().any(|&(at, _)| d.range.start <= at && at < d.range.end);
-                if !inside || d.region.is_none() {
+            for d in done(ws.analysis.diagram_models(f.id)) {
+                if d.region.is_none() {
                     continue;
                 }
-                let marks = robosim_diagram::Marks { steps: steps.clone() };
                 let name = format!("{}.{}.svg", r.name, d.qualified_name.replace("::", "."));
-                std::fs::write(dir.join(name), robosim_diagram::render_svg_marked(&d, &marks))?;
-                written += 1;
+                if let Some(marked) = render_marked(d, std::slice::from_ref(c)) {
+                    std::fs::write(dir.join(name), marked.svg)?;
+                    written += 1;
+                }
             }
         }
     }
@@ -154,10 +139,8 @@ type LineCol = (u32, u32);
 
 /// The start and end of `loc` in its file, when the file is loaded.
 fn position(ws: &Workspace, loc: &Location) -> Option<(LineCol, LineCol)> {
-    let f = ws.files.iter().find(|f| f.path == loc.file)?;
-    let s = f.line_index.line_col(&f.text, loc.range.start());
-    let e = f.line_index.line_col(&f.text, loc.range.end());
-    Some(((s.line, s.col), (e.line, e.col)))
+    let i = ws.files.iter().position(|f| f.path == loc.file)?;
+    Some((ws.line_col(i, loc.range.start()), ws.line_col(i, loc.range.end())))
 }
 
 fn json_location(ws: &Workspace, loc: &Location) -> Value {

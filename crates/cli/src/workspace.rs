@@ -1,111 +1,89 @@
-//! Collecting the model files named on the command line, and checking them.
-
-use std::fmt;
-use std::path::{Path, PathBuf};
+//! The model files named on the command line, loaded into an `ide`
+//! analysis host, and their diagnostics.
 
 use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Arc;
 
-use robosim_hir::{RootDatabase, RuleSet};
-use robosim_syntax::line_index::LineIndex;
-use robosim_syntax::{FileKind, Parse, TextRange, TextSize};
-
-use robosim_ide::workspace_files::{self, looks_like_restructured_text, read_model_file};
+use robosim_ide::batch::{load_paths, LoadError};
+use robosim_ide::{Analysis, AnalysisHost, Cancellable, FileId, LineIndex, RuleSet, TextRange, TextSize};
 
 use crate::diagnostics::{Diagnostic, Related, Severity};
+
+pub use robosim_ide::batch::io_msg;
 
 /// One loaded model file.
 pub struct SourceFile {
     /// The path as given or as found under a given folder.
     pub path: String,
-    pub text: String,
-    pub line_index: LineIndex,
+    pub text: Arc<str>,
+    pub line_index: Arc<LineIndex>,
     /// Byte offset of the first invalid UTF-8 sequence, if any.
     pub invalid_utf8: Option<usize>,
-    /// The file's input in the semantic database.
-    pub input: robosim_hir::File,
+    /// The file in the analysis host.
+    pub id: FileId,
 }
 
-/// Every file of one `check` run, and the semantic database over them. The
-/// bundled library files come after the user's files.
+/// Every file of one run and the analysis over them. The bundled library
+/// files come after the user's files.
 pub struct Workspace {
     pub files: Vec<SourceFile>,
     /// How many of `files` the user gave (the rest is the library).
     pub user_files: usize,
-    pub db: RootDatabase,
-    pub input: robosim_hir::Workspace,
+    /// Keeps the database alive; nothing changes it after loading.
+    _host: AnalysisHost,
+    pub analysis: Analysis,
 }
 
-/// A usage or I/O problem: exit status 2.
-pub struct LoadError(String);
-
-impl fmt::Display for LoadError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+/// The answer of a query. Queries are cancelled only when an input
+/// changes, and a command-line run changes none after loading.
+pub fn done<T>(result: Cancellable<T>) -> T {
+    match result {
+        Ok(v) => v,
+        Err(_) => unreachable!("the command line changes no input while it queries"),
     }
 }
 
 impl Workspace {
     pub fn load(paths: &[PathBuf], rules: RuleSet) -> Result<Workspace, LoadError> {
-        let found = find_model_files(paths)?;
-        let mut loaded = Vec::new();
-        for (p, explicit) in found {
-            let (text, invalid_utf8) =
-                read_model_file(&p).map_err(|e| LoadError(format!("cannot read `{}`: {}", p.display(), io_msg(&e))))?;
-            let kind = FileKind::from_path(&p).unwrap_or(FileKind::RoboChart);
-            if kind == FileKind::RoboSim && !explicit && looks_like_restructured_text(&text) {
-                continue;
-            }
-            loaded.push((p.to_string_lossy().into_owned(), text, invalid_utf8));
-        }
-        Ok(Workspace::new(loaded, rules))
-    }
-
-    fn new(loaded: Vec<(String, String, Option<usize>)>, rules: RuleSet) -> Workspace {
-        let db = RootDatabase::default();
-        let input = robosim_hir::load_workspace(&db, loaded.iter().map(|(p, t, _)| (p.clone(), t.clone())), rules);
-        let inputs = input.files(&db).clone();
-        // The library comes first in the database, last here.
-        let (lib, user): (Vec<_>, Vec<_>) = inputs.into_iter().partition(|f| f.is_library(&db));
-        let mut files: Vec<SourceFile> = user
-            .into_iter()
-            .zip(loaded)
-            .map(|(input, (path, text, invalid_utf8))| SourceFile {
-                path,
-                line_index: LineIndex::new(&text),
-                text,
-                invalid_utf8,
-                input,
-            })
-            .collect();
-        let user_files = files.len();
-        for input in lib {
-            let text = input.text(&db).clone();
+        let loaded = load_paths(paths, rules)?;
+        let analysis = loaded.host.analysis();
+        let user_files = loaded.files.len();
+        let mut files = Vec::new();
+        let mut add = |path: String, id: FileId, invalid_utf8: Option<usize>| {
             files.push(SourceFile {
-                path: input.path(&db).clone(),
-                line_index: LineIndex::new(&text),
-                text,
-                invalid_utf8: None,
-                input,
-            });
+                path,
+                text: done(analysis.file_text(id)),
+                line_index: done(analysis.line_index(id)),
+                invalid_utf8,
+                id,
+            })
+        };
+        for f in loaded.files {
+            add(f.path, f.id, f.invalid_utf8);
         }
-        Workspace { files, user_files, db, input }
+        for (path, id) in loaded.host.library_files() {
+            add(path, id, None);
+        }
+        Ok(Workspace { files, user_files, _host: loaded.host, analysis })
     }
 
-    /// The syntax tree of file `i`.
-    pub fn parse(&self, i: usize) -> &Parse {
-        robosim_hir::parse(&self.db, self.files[i].input)
+    /// The position of `offset` in file `i`: 0-based line, UTF-16 column.
+    pub fn line_col(&self, i: usize, offset: TextSize) -> (u32, u32) {
+        let f = &self.files[i];
+        let lc = f.line_index.line_col(&f.text, offset);
+        (lc.line, lc.col)
     }
 
     /// Every diagnostic of the user's files, ordered by file and position.
     pub fn diagnostics(&self) -> Vec<Diagnostic> {
-        let index: HashMap<robosim_hir::File, usize> =
-            self.files.iter().enumerate().map(|(i, f)| (f.input, i)).collect();
+        let index: HashMap<FileId, usize> = self.files.iter().enumerate().map(|(i, f)| (f.id, i)).collect();
         let mut out = Vec::new();
-        for (id, f) in self.files.iter().enumerate().take(self.user_files) {
+        for (file, f) in self.files.iter().enumerate().take(self.user_files) {
             if let Some(at) = f.invalid_utf8 {
                 let at = TextSize::from(at as u32);
                 out.push(Diagnostic {
-                    file: id,
+                    file,
                     range: TextRange::new(at, at),
                     severity: Severity::Error,
                     code: "SYN-01".into(),
@@ -113,18 +91,18 @@ impl Workspace {
                     related: Vec::new(),
                 });
             }
-            for d in robosim_hir::file_diagnostics(&self.db, self.input, f.input) {
+            for d in done(self.analysis.diagnostics(f.id)) {
                 out.push(Diagnostic {
-                    file: id,
+                    file,
                     range: d.range,
                     severity: d.severity,
-                    code: d.code.clone(),
-                    message: d.message.clone(),
+                    code: d.code,
+                    message: d.message,
                     related: d
                         .related
-                        .iter()
+                        .into_iter()
                         .filter_map(|r| {
-                            Some(Related { file: *index.get(&r.file)?, range: r.range, message: r.message.clone() })
+                            Some(Related { file: *index.get(&r.file)?, range: r.range, message: r.message })
                         })
                         .collect(),
                 });
@@ -132,45 +110,5 @@ impl Workspace {
         }
         out.sort_by_key(|d| (d.file, d.range.start(), d.range.end()));
         out
-    }
-}
-
-/// The model files named on the command line, and those found under the
-/// folders named there, each with whether it was named explicitly.
-pub(crate) fn find_model_files(paths: &[PathBuf]) -> Result<Vec<(PathBuf, bool)>, LoadError> {
-    let mut found = Vec::new();
-    for p in paths {
-        let meta =
-            std::fs::metadata(p).map_err(|e| LoadError(format!("cannot read `{}`: {}", p.display(), io_msg(&e))))?;
-        if meta.is_dir() {
-            walk(p, &mut found)?;
-        } else if FileKind::from_path(p).is_some() {
-            found.push((p.clone(), true));
-        } else {
-            return Err(LoadError(format!(
-                "`{}` is not a model file: expected .rct, .rst, .assertions or .rsa",
-                p.display()
-            )));
-        }
-    }
-    Ok(found)
-}
-
-/// The model files under `dir`; a folder that cannot be read stops the
-/// run (exit status 2) rather than being skipped silently.
-fn walk(dir: &Path, out: &mut Vec<(PathBuf, bool)>) -> Result<(), LoadError> {
-    let (files, errors) = workspace_files::find_model_files(dir);
-    if let Some((d, e)) = errors.first() {
-        return Err(LoadError(format!("cannot read `{}`: {}", d.display(), io_msg(e))));
-    }
-    out.extend(files.into_iter().map(|p| (p, false)));
-    Ok(())
-}
-
-pub(crate) fn io_msg(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file or directory".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        _ => e.to_string(),
     }
 }

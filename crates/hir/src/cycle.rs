@@ -284,6 +284,9 @@ enum Shape {
 
 struct Lowerer<'a> {
     consts: &'a HashMap<String, SyntaxNode>,
+    /// Values given to constants from outside the model (an assertion's
+    /// `with constant k of X set to v`); they win over initialisers.
+    bound: &'a [(String, i64)],
     /// Every constant in scope (with or without a foldable initialiser).
     const_names: &'a std::collections::HashSet<String>,
     depth: u32,
@@ -472,6 +475,9 @@ impl Lowerer<'_> {
             },
             REF_EXPR => {
                 let name = crate::defs::name_text(n);
+                if let Some((_, v)) = self.bound.iter().find(|(k, _)| *k == name) {
+                    return Term::Lin(Rational::int(0), Rational::int(i128::from(*v)));
+                }
                 match self.consts.get(&name).cloned() {
                     Some(init) if self.depth < 16 => {
                         self.depth += 1;
@@ -527,6 +533,11 @@ struct Spec {
 
 /// The cycle specification of a definition (its first `cycleDef`).
 fn spec_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Spec> {
+    spec_bound(db, ws, file, id, &[])
+}
+
+/// [`spec_of`], with constants bound to values from outside the model.
+fn spec_bound(db: &dyn Db, ws: Workspace, file: File, id: DefId, bound: &[(String, i64)]) -> Option<Spec> {
     let defs = file_defs(db, file);
     let range = *defs.facts(id).cycle_defs.first()?;
     let root = parse(db, file).syntax_node();
@@ -546,7 +557,7 @@ fn spec_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Spec> {
             .filter(|m| m.kind == DefKind::Constant)
             .map(|m| m.name.clone())
             .collect();
-    let mut l = Lowerer { consts: &consts, const_names: &const_names, depth: 0, impure: Vec::new() };
+    let mut l = Lowerer { consts: &consts, bound, const_names: &const_names, depth: 0, impure: Vec::new() };
     let shape = l.shape(&node);
     let formula = if shape == Shape::Boolean { l.formula(&node) } else { Formula::Unknown };
     Some(Spec { file, range, formula, shape, impure: l.impure })
@@ -723,6 +734,22 @@ fn components(
     inline: &[DefKind],
     reference: DefKind,
 ) -> Vec<(String, TextRange, Option<Spec>)> {
+    component_defs(db, ws, file, owner, inline, reference)
+        .into_iter()
+        .map(|(name, via, file, def)| (name, via, spec_of(db, ws, file, def)))
+        .collect()
+}
+
+/// A container's components (inline, or through a reference whose range
+/// is given), each once, with where it is declared.
+fn component_defs(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    owner: DefId,
+    inline: &[DefKind],
+    reference: DefKind,
+) -> Vec<(String, TextRange, File, DefId)> {
     let defs = file_defs(db, file);
     let mut out = Vec::new();
     let mut seen: Vec<(File, DefId)> = Vec::new();
@@ -730,7 +757,7 @@ fn components(
         if inline.contains(&c.kind) {
             if !seen.contains(&(file, cid)) {
                 seen.push((file, cid));
-                out.push((c.name.clone(), c.name_range, spec_of(db, ws, file, cid)));
+                out.push((c.name.clone(), c.name_range, file, cid));
             }
         } else if c.kind == reference {
             let DefData::Reference { path, .. } = &c.data else { continue };
@@ -747,10 +774,51 @@ fn components(
                 continue;
             }
             seen.push((loc.file, def));
-            out.push((path.join("::"), c.name_range, spec_of(db, ws, loc.file, def)));
+            out.push((path.join("::"), c.name_range, loc.file, def));
         }
     }
     out
+}
+
+/// The period a RoboSim module, controller or machine is simulated with:
+/// the least positive period that satisfies its own `cycleDef` and those
+/// of every component below it (a module's controllers and their machines,
+/// a controller's machines), as RoboTool's generator chooses it. `bound`
+/// gives constants values from outside the model (an assertion's `with
+/// constant`). `None` when nothing in the hierarchy has a `cycleDef`.
+///
+/// This is the one place a period is chosen: the native checker and the
+/// CSPm export both ask here, so `cycle > 2` means period 3 for both.
+pub fn simulation_period(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    def: DefId,
+    bound: &[(String, i64)],
+) -> Option<Feasibility> {
+    let mut specs = Vec::new();
+    let mut todo = vec![(file, def)];
+    let mut seen = Vec::new();
+    while let Some((file, def)) = todo.pop() {
+        if seen.contains(&(file, def)) {
+            continue;
+        }
+        seen.push((file, def));
+        specs.extend(spec_bound(db, ws, file, def, bound));
+        let below = match file_defs(db, file).def(def).kind {
+            DefKind::Module => component_defs(db, ws, file, def, &[DefKind::Controller], DefKind::ControllerRef),
+            DefKind::Controller => component_defs(db, ws, file, def, &[DefKind::StateMachine], DefKind::MachineRef),
+            _ => Vec::new(),
+        };
+        todo.extend(below.into_iter().map(|(_, _, f, d)| (f, d)));
+    }
+    if specs.is_empty() {
+        return None;
+    }
+    if specs.iter().any(|s| s.shape != Shape::Boolean) {
+        return Some(Feasibility::Unknown);
+    }
+    Some(decide(&specs.iter().map(|s| &s.formula).collect::<Vec<_>>()))
 }
 
 #[cfg(test)]

@@ -19,6 +19,7 @@ mod diagnostics;
 pub mod index;
 mod more_checks;
 pub mod nav;
+pub mod profile;
 pub mod resolve;
 mod robosim;
 pub mod types;

@@ -7,6 +7,8 @@ use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::{Db, File, Workspace};
 use robosim_syntax::TextRange;
 
+pub use robosim_diagram::{render_dot, render_svg};
+
 pub use robosim_diagram::model::{
     Action, Block, Connection, Diagram, DiagramKind, Node, NodeKind, Region, Span, Transition,
 };
@@ -126,6 +128,18 @@ pub fn render(diagram: Diagram) -> RenderedDiagram {
 /// marked (states and transitions highlighted, labelled with their
 /// cycles); plainly when none does.
 pub fn render_with(diagram: Diagram, counterexamples: &[robosim_check::verify::Counterexample]) -> RenderedDiagram {
+    match render_marked(diagram.clone(), counterexamples) {
+        Some(marked) => marked,
+        None => render(diagram),
+    }
+}
+
+/// Draws `diagram` with the steps of `counterexamples` that fall in it
+/// marked; `None` when none does.
+pub fn render_marked(
+    diagram: Diagram,
+    counterexamples: &[robosim_check::verify::Counterexample],
+) -> Option<RenderedDiagram> {
     let mut steps = Vec::new();
     for c in counterexamples {
         let last = c.steps.last().map_or(0, |s| s.cycle);
@@ -138,8 +152,8 @@ pub fn render_with(diagram: Diagram, counterexamples: &[robosim_check::verify::C
         }
     }
     if steps.is_empty() {
-        return render(diagram);
+        return None;
     }
     let svg = robosim_diagram::render_svg_marked(&diagram, &robosim_diagram::Marks { steps });
-    RenderedDiagram { diagram, svg }
+    Some(RenderedDiagram { diagram, svg })
 }

@@ -12,11 +12,13 @@
 //! Results use byte ranges ([`TextRange`]); converting them to lines and
 //! UTF-16 columns is the caller's business ([`LineIndex`] does it).
 
+pub mod batch;
 mod completion;
 mod csp_hover;
 mod diagnostics;
 pub mod diagram;
 mod edit;
+pub mod export;
 mod fixes;
 mod folding;
 mod formatting;
@@ -187,6 +189,14 @@ impl AnalysisHost {
         self.workspace.rules(&self.db)
     }
 
+    /// The bundled library's files, by path.
+    pub fn library_files(&self) -> Vec<(String, FileId)> {
+        let mut out: Vec<(String, FileId)> =
+            self.files.iter().filter(|(_, f)| f.is_library(&self.db)).map(|(p, f)| (p.clone(), FileId(*f))).collect();
+        out.sort();
+        out
+    }
+
     /// The user's files (not the library), by path.
     pub fn user_files(&self) -> Vec<(String, FileId)> {
         let mut out: Vec<(String, FileId)> =
@@ -272,6 +282,19 @@ impl Analysis {
     /// Fast enough for every keystroke of a large file.
     pub fn syntax_diagnostics(&self, file: FileId) -> Cancellable<Vec<Diagnostic>> {
         self.with_db(|db| diagnostics::syntax_diagnostics(db, file.0))
+    }
+
+    /// The syntax tree of `file` as text: one line per node or token, with
+    /// byte ranges and token texts, then the syntax errors (the format of
+    /// the parser's snapshot tests).
+    pub fn syntax_tree(&self, file: FileId) -> Cancellable<String> {
+        self.with_db(|db| parse(db, file.0).debug_dump())
+    }
+
+    /// The text of `file` printed back from its syntax tree (the tree is
+    /// lossless, so this is the text).
+    pub fn reprint(&self, file: FileId) -> Cancellable<String> {
+        self.with_db(|db| parse(db, file.0).syntax_node().text().to_string())
     }
 
     /// The declarations of `file` as a tree, in source order.
@@ -403,6 +426,28 @@ impl Analysis {
         Ok(models.map(|all| all.into_iter().map(diagram::render).collect()))
     }
 
+    /// The diagram models of `file` (not laid out), in source order.
+    pub fn diagram_models(&self, file: FileId) -> Cancellable<Vec<diagram::Diagram>> {
+        self.with_db(|db| robosim_diagram::file_diagrams(db, self.workspace, file.0))
+    }
+
+    /// The workspace's tock-CSP semantics as CSPm files for FDR, with the
+    /// assertions of its assertion files.
+    pub fn export_csp(&self, profile: export::Profile) -> Cancellable<export::Export> {
+        self.with_db(|db| robosim_semantics::export_workspace(db, self.workspace, &export::Options { profile }))
+    }
+
+    /// Runs every assertion of the workspace's assertion files with the
+    /// native engine, in file order: one report each. Like
+    /// [`Analysis::verify`], it may run for long.
+    pub fn verify_workspace(
+        &self,
+        opts: &verify::Options,
+        progress: Option<verify::ProgressFn>,
+    ) -> Cancellable<Vec<verify::Report>> {
+        self.with_db(|db| robosim_check::verify::verify_workspace(db, self.workspace, opts, progress))
+    }
+
     /// Whether `target` names an assertion or a simulation of an assertion
     /// file of the workspace, or what is wrong.
     pub fn check_verify_target(&self, target: &VerifyTarget) -> Cancellable<Result<(), String>> {
@@ -468,4 +513,11 @@ fn line_index(db: &dyn Db, file: File) -> Arc<LineIndex> {
 /// that run no query (queries check on entry).
 fn check_cancelled(db: &dyn Db) {
     db.unwind_if_revision_cancelled();
+}
+
+/// Formats a model text in the canonical style of `robosim fmt` (the same
+/// as [`Analysis::format`]); an error, saying where, when the text has a
+/// syntax error.
+pub fn format_text(text: &str, kind: FileKind) -> Result<String, String> {
+    robosim_fmt::format(text, kind, &robosim_fmt::Options::default()).map_err(|e| e.to_string())
 }

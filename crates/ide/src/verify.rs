@@ -16,7 +16,9 @@ use robosim_check::assertions::{
 };
 pub use robosim_check::budget::{Budget, ProgressFn, Stats};
 use robosim_check::verify::verify_assertion;
-pub use robosim_check::verify::{AsyncBuffer, Counterexample, Location, Options, Profile, Report, Step, Verdict};
+pub use robosim_check::verify::{
+    counterexample_table, AsyncBuffer, Counterexample, Location, Options, Profile, Report, Step, Verdict,
+};
 use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::index::resolve_item;
 use robosim_hir::{parse, Db, File, Severity, Workspace};

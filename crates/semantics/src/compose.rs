@@ -14,7 +14,7 @@ use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode};
 use crate::cspm::{call, dot, hide, name, par, Decl, Expr};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, ElemState, Exporter, Reg, Ty};
 use crate::machine::{Gen, Problem};
-use crate::util::{self, child, children, expr_child, ident, ident_text, name_of, path_of};
+use crate::util::{self, children, ident, ident_text, name_of, path_of};
 
 /// The element declared at `node` of `file`, exported on first use.
 pub(crate) fn element(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Option<Rc<Elem>> {
@@ -86,30 +86,14 @@ fn referenced(
     e
 }
 
-/// The period a RoboSim container declares (`cycleDef cycle == N`), or
-/// the least one its `cycleDef` admits.
+/// The period a RoboSim container is simulated with: hir's choice, the
+/// least that its `cycleDef` and those of its components admit (the same
+/// period the native checker explores).
 pub(crate) fn declared_period(db: &dyn Db, ws: Workspace, file: File, node: &SyntaxNode) -> Option<i64> {
-    let cd = child(node, CYCLE_DEF)?;
-    let mut e = expr_child(&cd)?;
-    while e.kind() == PAREN_EXPR {
-        e = expr_child(&e)?;
-    }
-    if e.kind() == BIN_EXPR && robosim_syntax::ast::binary_operator(&e) == Some(EQ2) {
-        let ops = robosim_syntax::ast::operand_exprs(&e);
-        if let [a, b] = ops.as_slice() {
-            for (c, v) in [(a, b), (b, a)] {
-                if c.kind() == CYCLE_EXPR && v.kind() == LITERAL {
-                    if let Ok(n) = v.text().to_string().trim().parse::<i64>() {
-                        return Some(n);
-                    }
-                }
-            }
-        }
-    }
     let defs = robosim_hir::defs::file_defs(db, file);
     let id = defs.iter().find(|(_, d)| d.range == node.text_range() && d.syntax == node.kind()).map(|(i, _)| i)?;
-    match robosim_hir::nav::cycle_info(db, ws, file, id)?.own {
-        robosim_hir::cycle::Feasibility::Feasible(p) => Some(p as i64),
+    match robosim_hir::cycle::simulation_period(db, ws, file, id, &[])? {
+        robosim_hir::cycle::Feasibility::Feasible(p) => i64::try_from(p).ok(),
         _ => None,
     }
 }

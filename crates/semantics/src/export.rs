@@ -14,26 +14,7 @@ use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
 use crate::cspm::{call, dot, name, Decl, Expr, Field};
 use crate::util::{self, ident, name_of, path_of, qualified};
 
-/// Which tock-CSP semantics to generate (semantics.md §2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
-pub enum Profile {
-    /// What RoboTool 3 generates (the default).
-    #[default]
-    RoboTool3,
-    /// The definitions of Cavalcanti et al., *Verified simulation for
-    /// robotics*, SCP 2019.
-    Paper2019,
-}
-
-impl Profile {
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Profile::RoboTool3 => "robotool3",
-            Profile::Paper2019 => "paper2019",
-        }
-    }
-}
+pub use robosim_hir::profile::Profile;
 
 /// Options of an export.
 #[derive(Debug, Clone, Default)]

@@ -93,3 +93,30 @@ fn long_and_deep_models_do_not_overflow() {
     };
     std::thread::Builder::new().stack_size(2 << 20).spawn(run).unwrap().join().unwrap();
 }
+
+/// The period of a RoboSim module is the least its cycleDefs admit (hir's
+/// `simulation_period`, the one the native checker explores too): `cycle >
+/// 2` at every level is period 3, and a constant in a cycleDef takes its
+/// initialiser.
+#[test]
+fn periods_are_the_least_the_cycle_defs_admit() {
+    for (spec, period) in [("cycle > 2", 3), ("cycle >= 2 /\\ cycle % 5 == 0", 5), ("cycle == K", 4)] {
+        let model = format!(
+            "interface I {{ event i }}
+             stm M {{ const K : nat = 4 cycleDef {spec} input context {{ uses I }} output context {{ }}
+               initial i0 state S {{ }} transition t {{ from i0 to S }} transition u {{ from S to S exec }} }}
+             controller C {{ const K : nat = 4 cycleDef {spec} uses I sref m = M connection C on i to m on i ( _async ) }}
+             module Mod {{ const K : nat = 4 cycleDef {spec} robotic platform P {{ uses I }} cref c = C
+               connection P on i to c on i ( _async ) }}"
+        );
+        let db = robosim_hir::RootDatabase::default();
+        let ws = robosim_hir::load_workspace(
+            &db,
+            [("m.rst".to_string(), model), ("a.rsa".to_string(), "assertion A : Mod is deadlock-free".to_string())],
+            robosim_hir::RuleSet::Paper,
+        );
+        let e = export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 });
+        let asserts = e.files.iter().find(|f| f.name == "a_assertions.csp").expect("the assertions file").text();
+        assert!(asserts.contains(&format!("Mod::D__(0, {period},")), "{spec}: {asserts}");
+    }
+}
