@@ -106,7 +106,7 @@ fn proc(v: &Value, at: TextRange) -> R<Rc<P>> {
 /// Applies a built-in function.
 pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at: TextRange) -> R<Value> {
     let arity = match name {
-        "union" | "inter" | "diff" | "member" | "elem" | "prioritise" => 2,
+        "union" | "inter" | "diff" | "member" | "elem" | "prioritise" | "prioritise_nocache" => 2,
         _ => 1,
     };
     if args.len() != arity {
@@ -193,7 +193,16 @@ pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at:
             let p = if name == "RUN" { P::Run(s) } else { P::Chaos(s) };
             ev.proc_value(Rc::new(p))
         }
-        "prioritise" => {
+        "loop" => {
+            // `loop(P) = P ; loop(P)`: a sequence whose second part is itself.
+            let p = proc(a, at)?;
+            let key = (ev.value("loop")?, args.clone());
+            let call = Rc::new(P::Call(Rc::new(key.clone())));
+            let body = Rc::new(P::Seq(p, call.clone()));
+            ev.calls.insert(key, body.clone());
+            ev.proc_value(body)
+        }
+        "prioritise" | "prioritise_nocache" => {
             let p = proc(a, at)?;
             let levels: Vec<_> = seq(&args[1], at)?.iter().map(|s| ev.event_set(s, at)).collect::<R<_>>()?;
             ev.proc_value(Rc::new(P::Prioritise(levels.into(), p)))

@@ -107,6 +107,8 @@ pub struct Evaluator<'m> {
     next_id: u64,
     /// Channels and constructors: the value lists of their fields.
     pub(crate) fields: FxHashMap<Name, Rc<[Rc<[Value]>]>>,
+    /// The number of fields of every channel and constructor.
+    pub(crate) arity: FxHashMap<Name, usize>,
     pub(crate) channels: Vec<Name>,
     pub(crate) datatypes: FxHashMap<Name, Vec<Name>>,
     pub(crate) events: Vec<Value>,
@@ -133,6 +135,7 @@ impl<'m> Evaluator<'m> {
             thunks: Vec::new(),
             next_id: 1,
             fields: FxHashMap::default(),
+            arity: FxHashMap::default(),
             channels: Vec::new(),
             datatypes: FxHashMap::default(),
             events: Vec::new(),
@@ -223,8 +226,12 @@ impl<'m> Evaluator<'m> {
         self.frames[env as usize].vars.push((name, slot));
     }
 
-    /// Binds declarations in `env` (lazily: each is evaluated when first used).
+    /// Binds declarations in `env` (lazily: each is evaluated when first
+    /// used). Channels and constructors get their number of fields from
+    /// the syntax first, then their value sets once every name is bound
+    /// (declarations may refer to later ones, and datatypes to themselves).
     pub(crate) fn bind_decls(&mut self, decls: &Rc<[Decl]>, env: u32) {
+        let mut typed = Vec::new();
         for (i, d) in decls.iter().enumerate() {
             match &d.kind {
                 DeclKind::Fun(name, _) | DeclKind::Nametype(name, _) => {
@@ -235,7 +242,7 @@ impl<'m> Evaluator<'m> {
                     let mut names = Vec::new();
                     crate::resolve::pat_names(p, &mut |n, _| names.push(Name::from(n)));
                     for n in names {
-                        if self.fields.contains_key(&n) {
+                        if self.is_ctor(&n) {
                             continue;
                         }
                         let t = self.new_thunk(ThunkBody::PatName(decls.clone(), i, n.clone()), env, d.range);
@@ -243,46 +250,63 @@ impl<'m> Evaluator<'m> {
                     }
                 }
                 DeclKind::Channel(names, ty) => {
-                    let fields = match ty {
-                        // An unusable type (e.g. `Int`) leaves the channel without
-                        // fields: its events are then refused where used.
-                        Some(ty) => self.eval(ty, env).and_then(|v| self.type_fields(v, ty.range)).unwrap_or_default(),
-                        None => Vec::new(),
-                    };
-                    let fields: Rc<[Rc<[Value]>]> = fields.into();
                     for (n, _) in names {
-                        self.fields.insert(n.clone(), fields.clone());
+                        self.arity.insert(n.clone(), ty.as_ref().map_or(0, dot_count));
+                        self.fields.remove(n);
+                        if ty.is_none() {
+                            self.fields.insert(n.clone(), Rc::from(Vec::new()));
+                        }
                         self.channels.push(n.clone());
                         self.bind(env, n.clone(), Slot::Val(Value::Ctor(n.clone())));
+                        if let Some(ty) = ty {
+                            typed.push((n.clone(), ty, None));
+                        }
                     }
                 }
                 DeclKind::Datatype(name, clauses) | DeclKind::Subtype(name, clauses) => {
                     let is_sub = matches!(d.kind, DeclKind::Subtype(..));
-                    let mut ctors = Vec::new();
-                    for (c, _, _) in clauses {
-                        if !is_sub {
-                            // Fields are evaluated when first needed (they may
-                            // mention the datatype itself).
-                            self.fields.insert(c.clone(), Rc::from(Vec::new()));
-                            self.bind(env, c.clone(), Slot::Val(Value::Ctor(c.clone())));
-                        }
-                        ctors.push(c.clone());
-                    }
-                    for (c, _, fe) in clauses {
-                        if is_sub {
-                            continue;
-                        }
-                        if let Some(fe) = fe {
-                            if let Ok(f) = self.eval(fe, env).and_then(|v| self.type_fields(v, fe.range)) {
-                                self.fields.insert(c.clone(), f.into());
-                            }
-                        }
-                    }
-                    self.datatypes.insert(name.clone(), ctors);
                     let t = self.new_thunk(ThunkBody::Decl(decls.clone(), i), env, d.range);
                     self.bind(env, name.clone(), Slot::Thunk(t));
+                    if is_sub {
+                        continue;
+                    }
+                    let mut ctors = Vec::new();
+                    for (c, _, fe) in clauses {
+                        self.arity.insert(c.clone(), fe.as_ref().map_or(0, dot_count));
+                        self.fields.remove(c);
+                        match fe {
+                            Some(fe) => typed.push((c.clone(), fe, Some(t))),
+                            None => {
+                                self.fields.insert(c.clone(), Rc::from(Vec::new()));
+                            }
+                        }
+                        self.bind(env, c.clone(), Slot::Val(Value::Ctor(c.clone())));
+                        ctors.push(c.clone());
+                    }
+                    self.datatypes.insert(name.clone(), ctors);
                 }
                 DeclKind::Assert => {}
+            }
+        }
+        for (name, ty, own) in typed {
+            // A datatype's own name in its fields (a recursive type) cannot
+            // be enumerated: its thunk is busy meanwhile, so that fails fast.
+            if let Some(t) = own {
+                if matches!(self.thunks[t as usize].state, ThunkState::Todo) {
+                    self.thunks[t as usize].state = ThunkState::Busy;
+                }
+            }
+            let r = self.eval(ty, env).and_then(|v| self.type_fields(v, ty.range));
+            if let Some(t) = own {
+                if matches!(self.thunks[t as usize].state, ThunkState::Busy) {
+                    self.thunks[t as usize].state = ThunkState::Todo;
+                }
+            }
+            // Otherwise (`Int`, a recursive type) the values can be built
+            // and matched but not enumerated.
+            if let Ok(f) = r {
+                self.arity.insert(name.clone(), f.len());
+                self.fields.insert(name, f.into());
             }
         }
     }
@@ -366,7 +390,8 @@ impl<'m> Evaluator<'m> {
             Some(ExternalName::Value(v)) => Ok(v),
             Some(ExternalName::Channel(fields)) => {
                 let n: Name = name.into();
-                if !self.fields.contains_key(&n) {
+                if !self.arity.contains_key(&n) {
+                    self.arity.insert(n.clone(), fields.len());
                     self.fields.insert(n.clone(), fields.into_iter().map(Rc::from).collect());
                     self.channels.push(n.clone());
                 }
@@ -456,7 +481,30 @@ impl<'m> Evaluator<'m> {
                 let v = self.eval(e, env)?;
                 self.type_value(v, e.range)
             }
-            DeclKind::Datatype(name, _) | DeclKind::Subtype(name, _) => {
+            DeclKind::Subtype(_, clauses) => {
+                let mut out = BTreeSet::new();
+                for (c, _, fe) in clauses {
+                    let Some(fe) = fe else {
+                        out.extend(self.completions(Value::Ctor(c.clone()), range)?);
+                        continue;
+                    };
+                    let v = self.eval(fe, env)?;
+                    let mut acc = vec![Value::Ctor(c.clone())];
+                    for set in self.type_fields(v, fe.range)? {
+                        let mut next = Vec::new();
+                        for a in &acc {
+                            for x in set.iter() {
+                                next.push(self.dot(a.clone(), x.clone(), fe.range)?);
+                            }
+                        }
+                        self.check_size(next.len(), fe.range)?;
+                        acc = next;
+                    }
+                    out.extend(acc);
+                }
+                Ok(Value::Set(Rc::new(out)))
+            }
+            DeclKind::Datatype(name, _) => {
                 let mut out = BTreeSet::new();
                 let ctors = self.datatypes.get(name).cloned().unwrap_or_default();
                 for c in ctors {
@@ -653,6 +701,19 @@ impl<'m> Evaluator<'m> {
     }
 
     fn binary(&mut self, op: BinOp, a: &Expr, b: &Expr, env: u32, at: TextRange) -> R<Value> {
+        if op == BinOp::Dot {
+            // `a.b.c` is parsed to the right but built from the left, so
+            // that each value fills the next free field (as libcspm does).
+            let mut parts = Vec::new();
+            flatten_dot_expr(a, &mut parts);
+            flatten_dot_expr(b, &mut parts);
+            let mut acc = self.eval(parts[0], env)?;
+            for p in &parts[1..] {
+                let v = self.eval(p, env)?;
+                acc = self.dot(acc, v, at)?;
+            }
+            return Ok(acc);
+        }
         match op {
             BinOp::And => return Ok(Value::Bool(self.bool(a, env)? && self.bool(b, env)?)),
             BinOp::Or => return Ok(Value::Bool(self.bool(a, env)? || self.bool(b, env)?)),
@@ -685,7 +746,12 @@ impl<'m> Evaluator<'m> {
                 _ => x.starts_with(&y),
             }),
             (BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge, x, y)
-                if matches!((&x, &y), (Value::Int(_), Value::Int(_)) | (Value::Char(_), Value::Char(_))) =>
+                if matches!(
+                    (&x, &y),
+                    (Value::Int(_), Value::Int(_))
+                        | (Value::Char(_), Value::Char(_))
+                        | (Value::Tuple(_), Value::Tuple(_))
+                ) =>
             {
                 Value::Bool(match op {
                     BinOp::Lt => x < y,
@@ -764,7 +830,7 @@ impl<'m> Evaluator<'m> {
     }
 
     pub(crate) fn is_ctor(&self, n: &str) -> bool {
-        self.fields.contains_key(n) || matches!(n, "true" | "false")
+        self.arity.contains_key(n) || matches!(n, "true" | "false")
     }
 
     /// Matches `v` against `p`, pushing the bindings.
@@ -835,19 +901,36 @@ impl<'m> Evaluator<'m> {
         Ok(true)
     }
 
-    /// `c.x.y` against a flat dotted value: the last pattern takes the rest.
+    /// `p1.p2.…` against the components of a dotted value. Nested
+    /// constructor values are opened while patterns outnumber components
+    /// (`Ccl.x.Bcl.y` against `Ccl.0.(Bcl.1)`); then each pattern takes as
+    /// many components as it has parts, and the last one the rest.
     fn match_dots(&mut self, ps: &[&Pat], vs: &[Value], binds: &mut Vec<(Name, Value)>) -> R<bool> {
-        if ps.len() > vs.len() {
-            // A constructor value nested as one field: `A.x` against `c.(A.1)`.
-            return Ok(false);
+        let mut vs = vs.to_vec();
+        let widths: Vec<usize> = ps.iter().map(|p| pat_width(p)).collect();
+        let need: usize = widths.iter().sum();
+        while need > vs.len() {
+            let Some(i) =
+                vs.iter().position(|v| matches!(v, Value::Dot(d) if matches!(d.first(), Some(Value::Ctor(_)))))
+            else {
+                return Ok(false);
+            };
+            let Value::Dot(inner) = vs[i].clone() else { return Ok(false) };
+            vs.splice(i..=i, inner.iter().cloned());
         }
+        let mut at = 0;
         for (i, p) in ps.iter().enumerate() {
-            let v = if i + 1 == ps.len() && vs.len() > ps.len() { Value::Dot(vs[i..].into()) } else { vs[i].clone() };
+            let take = if i + 1 == ps.len() { vs.len() - at } else { widths[i] };
+            if take == 0 || at + take > vs.len() {
+                return Ok(false);
+            }
+            let v = if take == 1 { vs[at].clone() } else { Value::Dot(vs[at..at + take].into()) };
+            at += take;
             if !self.matches(p, &v, binds)? {
                 return Ok(false);
             }
         }
-        Ok(true)
+        Ok(at == vs.len())
     }
 
     pub(crate) fn apply(&mut self, f: Value, args: Vec<Value>, at: TextRange) -> R<Value> {
@@ -936,7 +1019,7 @@ impl<'m> Evaluator<'m> {
 
     /// The number of fields of a constructor or channel.
     pub(crate) fn arity(&self, name: &str) -> usize {
-        self.fields.get(name).map_or(0, |f| f.len())
+        self.arity.get(name).copied().unwrap_or(0)
     }
 
     /// Whether a dotted value is a constructor/channel with all its fields.
@@ -989,42 +1072,60 @@ impl<'m> Evaluator<'m> {
         Ok(Value::Dot(parts.into()))
     }
 
-    /// The values the next field of an incomplete dotted value can take.
-    pub(crate) fn next_field(&self, v: &Value) -> Option<Rc<[Value]>> {
-        match v {
-            Value::Ctor(n) => self.fields.get(n).and_then(|f| f.first().cloned()),
-            Value::Dot(vs) => {
-                let Some(Value::Ctor(n)) = vs.first() else { return None };
-                let last = vs.last()?;
-                if vs.len() > 1 && !self.complete(last) {
-                    return self.next_field(last);
-                }
-                self.fields.get(n).and_then(|f| f.get(vs.len() - 1).cloned())
-            }
-            _ => None,
-        }
-    }
-
-    /// All complete values extending `v` (`{| c |}`, a datatype's values).
+    /// All complete values extending `v` (`{| c |}`, `productions`, a
+    /// datatype's values): the declared values of its channel or
+    /// constructor (restricted field types included) that start with `v`.
     pub(crate) fn completions(&mut self, v: Value, at: TextRange) -> R<Vec<Value>> {
-        let mut out = Vec::new();
-        let mut todo = vec![v];
-        while let Some(v) = todo.pop() {
-            self.tick(at)?;
-            if self.complete(&v) {
-                out.push(v);
-                self.check_size(out.len(), at)?;
-                continue;
-            }
-            let Some(next) = self.next_field(&v) else {
-                return Err(err(Code::Type, at, format!("`{v}` has no field to complete")));
-            };
-            for x in next.iter() {
-                todo.push(self.dot(v.clone(), x.clone(), at)?);
-                self.check_size(todo.len(), at)?;
-            }
+        if self.complete(&v) {
+            return Ok(vec![v]);
         }
+        let head = match &v {
+            Value::Ctor(n) => n.clone(),
+            Value::Dot(d) => match d.first() {
+                Some(Value::Ctor(n)) => n.clone(),
+                _ => return Ok(vec![v]),
+            },
+            _ => return Ok(vec![v]),
+        };
+        let Some(fields) = self.fields.get(&head).cloned() else {
+            return Err(err(
+                Code::Limit,
+                at,
+                format!("the values of `{head}` cannot be enumerated (a field of type `Int` or a recursive type)"),
+            ));
+        };
+        let mut prefix = Vec::new();
+        flatten_value(&v, &mut prefix);
+        let mut acc: Vec<Vec<Value>> = vec![vec![Value::Ctor(head)]];
+        for set in fields.iter() {
+            let mut next = Vec::with_capacity(acc.len() * set.len());
+            for a in &acc {
+                for x in set.iter() {
+                    self.tick(at)?;
+                    let mut t = a.clone();
+                    t.push(x.clone());
+                    // Prune early: the components so far must agree with `v`.
+                    let mut flat = Vec::new();
+                    t.iter().for_each(|c| flatten_value(c, &mut flat));
+                    let n = flat.len().min(prefix.len());
+                    if flat[..n] == prefix[..n] {
+                        next.push(t);
+                    }
+                }
+            }
+            self.check_size(next.len(), at)?;
+            acc = next;
+        }
+        let mut out: Vec<Value> = acc
+            .into_iter()
+            .filter_map(|t| {
+                let mut flat = Vec::new();
+                t.iter().for_each(|c| flatten_value(c, &mut flat));
+                (flat.len() >= prefix.len()).then(|| if t.len() == 1 { t[0].clone() } else { Value::Dot(t.into()) })
+            })
+            .collect();
         out.sort();
+        out.dedup();
         Ok(out)
     }
 
@@ -1092,5 +1193,48 @@ fn flatten_dot_pat<'p>(p: &'p Pat, out: &mut Vec<&'p Pat>) {
             flatten_dot_pat(b, out);
         }
         p => out.push(p),
+    }
+}
+
+/// The number of `.`-separated parts of a type expression.
+fn dot_count(e: &Expr) -> usize {
+    match &e.kind {
+        ExprKind::Bin(BinOp::Dot, a, b) => dot_count(a) + dot_count(b),
+        _ => 1,
+    }
+}
+
+/// How many dotted components a pattern needs.
+pub(crate) fn pat_width(p: &Pat) -> usize {
+    match p {
+        Pat::Dot(a, b) => pat_width(a) + pat_width(b),
+        Pat::Double(a, b) => pat_width(a).max(pat_width(b)),
+        _ => 1,
+    }
+}
+
+/// The number of components of a value once nested constructors are opened.
+pub(crate) fn value_width(v: &Value) -> usize {
+    match v {
+        Value::Dot(d) => d.iter().map(value_width).sum(),
+        _ => 1,
+    }
+}
+
+fn flatten_dot_expr<'e>(e: &'e Expr, out: &mut Vec<&'e Expr>) {
+    match &e.kind {
+        ExprKind::Bin(BinOp::Dot, a, b) => {
+            flatten_dot_expr(a, out);
+            flatten_dot_expr(b, out);
+        }
+        _ => out.push(e),
+    }
+}
+
+/// The components of a value with nested constructor values opened.
+pub(crate) fn flatten_value(v: &Value, out: &mut Vec<Value>) {
+    match v {
+        Value::Dot(d) => d.iter().for_each(|x| flatten_value(x, out)),
+        v => out.push(v.clone()),
     }
 }

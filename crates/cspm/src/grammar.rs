@@ -261,7 +261,9 @@ fn infix(kind: SyntaxKind, gt_closes: bool) -> Option<(u8, u8)> {
     Some(match kind {
         AT2 => (1, 2),
         YIELD | YIELD_STAR => (3, 2),
-        BACKSLASH | PROJECT => (2, 3),
+        // The set of `P \ A op Q` ends before the process operator:
+        // `(P \ A) op Q`, as libcspm re-associates it.
+        BACKSLASH | PROJECT => (2, 22),
         INTERLEAVE => (4, 5),
         L_PAR | L_BRACK => (6, 7),
         INT_CHOICE => (8, 9),

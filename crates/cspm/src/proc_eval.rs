@@ -329,26 +329,40 @@ impl Evaluator<'_> {
                     return Err(err(Code::Unsupported, body.range, "nondeterministic input `$x` is not supported"));
                 }
                 let at = body.range;
-                // A dotted pattern `?x.y` takes one field per component.
-                let parts = dot_parts(p);
                 let candidates: Vec<Value> = match restrict {
                     Some(s) => self.set_of(s, env)?.iter().cloned().collect(),
                     None => {
-                        let mut acc = vec![head.clone()];
-                        for _ in 0..parts.max(1) {
-                            let mut next = Vec::new();
-                            for h in &acc {
-                                let Some(vals) = self.next_field(h) else {
-                                    return Err(err(Code::Type, at, format!("`{h}` has no field to input")));
-                                };
-                                for v in vals.iter() {
-                                    next.push(self.dot(h.clone(), v.clone(), at)?);
-                                }
+                        // The pattern takes whole fields of the declared
+                        // values, one at a time until it has as many
+                        // components as it has parts (`?x.y` over
+                        // `{0,1}.{0,1}` takes two fields, `?X.x` over a
+                        // datatype field one); the last input takes the rest.
+                        let last = i + 1 == fields.len();
+                        let want = crate::eval::pat_width(p);
+                        let k = match &head {
+                            Value::Dot(x) => x.len(),
+                            _ => 1,
+                        };
+                        let mut heads = std::collections::BTreeSet::new();
+                        for e in self.completions(head.clone(), at)? {
+                            let Value::Dot(parts) = &e else { continue };
+                            if parts.len() <= k {
+                                continue;
                             }
-                            self.check_size(next.len(), at)?;
-                            acc = next;
+                            let mut j = 0;
+                            let mut width = 0;
+                            while k + j < parts.len() && (last || width < want) {
+                                width += crate::eval::value_width(&parts[k + j]);
+                                j += 1;
+                            }
+                            let mut h: Vec<Value> = match &head {
+                                Value::Dot(x) => x.to_vec(),
+                                x => vec![x.clone()],
+                            };
+                            h.extend(parts[k..k + j].iter().cloned());
+                            heads.insert(Value::Dot(h.into()));
                         }
-                        return self.input_branches(&head, acc, p, fields, i, env, body, out);
+                        return self.input_branches(&head, heads.into_iter().collect(), p, fields, i, env, body, out);
                     }
                 };
                 let mut full = Vec::new();
@@ -376,14 +390,28 @@ impl Evaluator<'_> {
             Value::Dot(x) => x.len(),
             _ => 1,
         };
+        let mut head_flat = Vec::new();
+        crate::eval::flatten_value(head, &mut head_flat);
         for v in extended {
             self.tick(body.range)?;
-            // The value the pattern sees: what was added to the head.
-            let added: Vec<Value> = match &v {
-                Value::Dot(y) if y.len() > skip => y[skip..].to_vec(),
-                _ => continue,
+            // The value the pattern sees: the fields added to the head (one
+            // field as it is; several, or a nested field, as components).
+            let seen = match &v {
+                Value::Dot(y) if y.len() == skip + 1 => y[skip].clone(),
+                _ => {
+                    let mut flat = Vec::new();
+                    crate::eval::flatten_value(&v, &mut flat);
+                    if flat.len() <= head_flat.len() {
+                        continue;
+                    }
+                    let added = &flat[head_flat.len()..];
+                    if added.len() == 1 {
+                        added[0].clone()
+                    } else {
+                        Value::Dot(added.into())
+                    }
+                }
             };
-            let seen = if added.len() == 1 { added[0].clone() } else { Value::Dot(added.into()) };
             let mut binds = Vec::new();
             if self.matches(p, &seen, &mut binds)? {
                 let fr = self.frame_with(env, binds, None);
@@ -445,12 +473,5 @@ impl Evaluator<'_> {
                 return Ok(acc);
             }
         }))
-    }
-}
-
-fn dot_parts(p: &crate::ast::Pat) -> usize {
-    match p {
-        crate::ast::Pat::Dot(a, b) => dot_parts(a) + dot_parts(b),
-        _ => 1,
     }
 }
