@@ -167,6 +167,8 @@ pub(crate) enum DeclKind {
     Subtype(Name, Vec<(Name, TextRange, Option<Expr>)>),
     Nametype(Name, Expr),
     Assert,
+    /// `f, g :: T`: the names annotated (the types are not read).
+    Annotation(Vec<Name>),
 }
 
 #[derive(Debug)]
@@ -196,6 +198,7 @@ impl Module {
         let decls = lower.decls(&parse.syntax_node());
         diagnostics.append(&mut lower.diags);
         crate::resolve::resolve(&decls, names, &mut diagnostics);
+        crate::typeck::check(&decls, &mut diagnostics);
         diagnostics.sort_by_key(|d| (d.range.start(), d.range.end()));
         diagnostics.dedup();
         Module { parse, decls: decls.into(), diagnostics }
@@ -229,7 +232,7 @@ impl Module {
                     out.push(n.to_string());
                     out.extend(cs.iter().map(|(c, _, _)| c.to_string()));
                 }
-                DeclKind::Assert => {}
+                DeclKind::Assert | DeclKind::Annotation(_) => {}
             }
         }
         out
@@ -312,7 +315,20 @@ impl Lower {
                     push(out, DeclKind::PatBind(pat, Rc::new(body)), lhs.text_range());
                 }
             }
-            TYPE_ANNOTATION | EXTERNAL_DECL | TRANSPARENT_DECL | PRINT_DECL => {}
+            TYPE_ANNOTATION => {
+                let names = nodes(n)
+                    .first()
+                    .map(|l| {
+                        l.descendants_with_tokens()
+                            .filter_map(|e| e.into_token())
+                            .filter(|t| t.kind() == IDENT)
+                            .map(|t| Name::from(t.text()))
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                push(out, DeclKind::Annotation(names), range);
+            }
+            EXTERNAL_DECL | TRANSPARENT_DECL | PRINT_DECL => {}
             ASSERT_DECL => push(out, DeclKind::Assert, range),
             CHANNEL_DECL => {
                 let names = self.name_list(n);

@@ -55,6 +55,8 @@ const FUNCTIONS: &[&str] = &[
     "model_compress",
     "tau_loop_factor",
     "lazynorm",
+    "prioritise_nocache",
+    "loop",
 ];
 
 const CONSTANTS: &[&str] = &["STOP", "SKIP", "DIV", "Events", "Int", "Bool", "Proc", "Char", "Event"];

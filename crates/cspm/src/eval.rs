@@ -285,7 +285,7 @@ impl<'m> Evaluator<'m> {
                     }
                     self.datatypes.insert(name.clone(), ctors);
                 }
-                DeclKind::Assert => {}
+                DeclKind::Assert | DeclKind::Annotation(_) => {}
             }
         }
         for (name, ty, own) in typed {

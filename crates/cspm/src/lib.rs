@@ -26,6 +26,7 @@ mod parser;
 mod proc;
 mod proc_eval;
 mod resolve;
+mod typeck;
 mod value;
 
 pub use ast::Module;

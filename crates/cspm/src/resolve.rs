@@ -66,7 +66,7 @@ fn decl_names(d: &Decl, out: &mut Vec<(String, TextRange, bool)>, ctors: &FxHash
                 out.extend(cs.iter().map(|(c, r, _)| (c.to_string(), *r, true)));
             }
         }
-        DeclKind::Assert => {}
+        DeclKind::Assert | DeclKind::Annotation(_) => {}
     }
 }
 
@@ -76,12 +76,14 @@ struct Resolver<'a> {
     names: &'a dyn crate::NameLookup,
     diags: &'a mut Vec<Diagnostic>,
     cache: FxHashMap<String, bool>,
+    /// Inside a definition of a `Timed` section.
+    timed: bool,
 }
 
 pub(crate) fn resolve(decls: &[Decl], names: &dyn crate::NameLookup, diags: &mut Vec<Diagnostic>) {
     let mut ctors = FxHashSet::default();
     collect_ctors(decls, &mut ctors);
-    let mut r = Resolver { scopes: Vec::new(), ctors, names, diags, cache: FxHashMap::default() };
+    let mut r = Resolver { scopes: Vec::new(), ctors, names, diags, cache: FxHashMap::default(), timed: false };
     r.decls(decls, true);
 }
 
@@ -146,6 +148,13 @@ impl Resolver<'_> {
     }
 
     fn decl(&mut self, d: &Decl) {
+        let saved = self.timed;
+        self.timed |= d.timed.is_some();
+        self.decl_inner(d);
+        self.timed = saved;
+    }
+
+    fn decl_inner(&mut self, d: &Decl) {
         if let Some(t) = &d.timed {
             if let Some(f) = &t.f {
                 self.expr(f);
@@ -181,7 +190,7 @@ impl Resolver<'_> {
                     }
                 }
             }
-            DeclKind::Channel(_, None) | DeclKind::Assert => {}
+            DeclKind::Channel(_, None) | DeclKind::Assert | DeclKind::Annotation(_) => {}
         }
     }
 
@@ -199,14 +208,36 @@ impl Resolver<'_> {
         }
     }
 
+    /// Reports a name `p` binds that an earlier generator or input of the
+    /// same list already bound.
+    fn no_rebinding(&mut self, p: &Pat, all: &mut FxHashSet<String>) {
+        let mut bound = Vec::new();
+        pat_names(p, &mut |n, r| bound.push((n.to_owned(), r)));
+        for (n, r) in bound {
+            if self.is_ctor(&n) {
+                continue;
+            }
+            if !all.insert(n.clone()) {
+                self.diags.push(Diagnostic::error(
+                    Code::Duplicate,
+                    r,
+                    format!("`{n}` is already bound earlier in this list"),
+                ));
+            }
+        }
+    }
+
     fn stmts_then(&mut self, stmts: &[Stmt], then: &mut dyn FnMut(&mut Self)) {
         let depth = self.scopes.len();
+        // One name is bound once per statement list (as in FDR).
+        let mut all = FxHashSet::default();
         for s in stmts {
             match s {
                 Stmt::Gen(p, e) => {
                     self.expr(e);
                     let mut scope = FxHashSet::default();
                     self.bind_pat(p, &mut scope);
+                    self.no_rebinding(p, &mut all);
                     self.scopes.push(scope);
                 }
                 Stmt::Pred(e) => self.expr(e),
@@ -220,6 +251,17 @@ impl Resolver<'_> {
         use ExprKind::*;
         match &e.kind {
             Int(_) | Bool(_) | Char(_) | Str(_) | Error => {}
+            Var(n)
+                if matches!(&**n, "WAIT" | "timed_priority")
+                    && !self.timed
+                    && !self.scopes.iter().any(|s| s.contains(&**n)) =>
+            {
+                self.diags.push(Diagnostic::error(
+                    Code::Unresolved,
+                    e.range,
+                    format!("`{n}` is only defined inside a `Timed` section"),
+                ));
+            }
             Var(n) => {
                 if !self.defined(n) {
                     self.diags.push(Diagnostic::error(Code::Unresolved, e.range, format!("`{n}` is not defined")));
@@ -277,6 +319,7 @@ impl Resolver<'_> {
             Prefix(ev, fields, body) => {
                 self.expr(ev);
                 let depth = self.scopes.len();
+                let mut all = FxHashSet::default();
                 for f in fields {
                     match f {
                         Field::Output(e) => self.expr(e),
@@ -286,6 +329,7 @@ impl Resolver<'_> {
                             }
                             let mut scope = FxHashSet::default();
                             self.bind_pat(p, &mut scope);
+                            self.no_rebinding(p, &mut all);
                             self.scopes.push(scope);
                         }
                     }
