@@ -2,11 +2,13 @@
 //! the sizes of the LTSs of the processes named on the command line.
 fn main() {
     let mut args = std::env::args().skip(1);
-    let path = args.next().expect("a .csp file");
-    let bytes = std::fs::read(path).expect("readable");
+    let path = std::path::PathBuf::from(args.next().expect("a .csp file"));
+    let bytes = std::fs::read(&path).expect("readable");
     let text = String::from_utf8_lossy(&bytes);
     let names = robosim_cspm::NoNames;
-    let m = robosim_cspm::Module::check(&text, &names);
+    let dir = path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
+    let load = |f: &str| std::fs::read(dir.join(f)).ok().map(|b| String::from_utf8_lossy(&b).into_owned());
+    let m = robosim_cspm::Module::check_with_includes(&text, &names, &load);
     for d in m.diagnostics() {
         let line = text[..usize::from(d.range.start())].lines().count();
         println!("{line}: {d}");
@@ -21,8 +23,24 @@ fn main() {
         }
     }
     for p in args {
-        match ev.lts(&p) {
-            Ok(l) => println!("{p}: {} states, {:?}", l.states(), l.transitions.iter().take(8).collect::<Vec<_>>()),
+        let t = std::time::Instant::now();
+        let r = ev.eval_text(&p).and_then(|v| ev.lts_of(&v));
+        eprintln!("{p}: {:?}", t.elapsed());
+        match r {
+            Ok(l) => {
+                // States with no transition that ✓ does not lead to: deadlocks.
+                let after_tick: std::collections::BTreeSet<u32> = l
+                    .transitions
+                    .iter()
+                    .flatten()
+                    .filter(|(lab, _)| *lab == robosim_cspm::Label::Tick)
+                    .map(|(_, t)| *t)
+                    .collect();
+                let dead = (0..l.states() as u32)
+                    .filter(|s| l.transitions[*s as usize].is_empty() && !after_tick.contains(s))
+                    .count();
+                println!("{p}: {} states, {dead} deadlocked", l.states());
+            }
             Err(e) => println!("{p}: {e}"),
         }
     }

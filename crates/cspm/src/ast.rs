@@ -169,6 +169,9 @@ pub(crate) enum DeclKind {
     Assert,
     /// `f, g :: T`: the names annotated (the types are not read).
     Annotation(Vec<Name>),
+    /// A module without parameters: its definitions (exported or not) are
+    /// visible inside it and as `M::x` after it.
+    Module(Name, Rc<[Decl]>),
 }
 
 #[derive(Debug)]
@@ -177,6 +180,8 @@ pub(crate) struct Decl {
     pub range: TextRange,
     pub name_range: TextRange,
     pub timed: Option<Rc<Timed>>,
+    /// From an included file: its ranges are in that file's text.
+    pub foreign: bool,
 }
 
 /// A checked CSPm text: its tree, its declarations and every diagnostic
@@ -192,9 +197,22 @@ impl Module {
     /// Parses, lowers and resolves `text`; names it does not define are
     /// looked up in `names` (the model), then in the built-ins.
     pub fn check(text: &str, names: &dyn crate::NameLookup) -> Module {
+        Module::check_with_includes(text, names, &|_| None)
+    }
+
+    /// As [`Module::check`], with `include "file"` read through `load`
+    /// (given the name as written; `None` when it cannot be read). The
+    /// included definitions are in scope; their own diagnostics are not
+    /// reported here (check each file on its own for them), except one
+    /// at the `include` when the file has errors or cannot be read.
+    pub fn check_with_includes(
+        text: &str,
+        names: &dyn crate::NameLookup,
+        load: &dyn Fn(&str) -> Option<String>,
+    ) -> Module {
         let parse = crate::parse(text);
         let mut diagnostics = parse.errors().to_vec();
-        let mut lower = Lower { diags: Vec::new(), timed: None };
+        let mut lower = Lower { diags: Vec::new(), timed: None, load, depth: 0, foreign: false };
         let decls = lower.decls(&parse.syntax_node());
         diagnostics.append(&mut lower.diags);
         crate::resolve::resolve(&decls, names, &mut diagnostics);
@@ -232,6 +250,10 @@ impl Module {
                     out.push(n.to_string());
                     out.extend(cs.iter().map(|(c, _, _)| c.to_string()));
                 }
+                DeclKind::Module(m, inner) => {
+                    let sub = Module { parse: self.parse.clone(), decls: inner.clone(), diagnostics: Vec::new() };
+                    out.extend(sub.defined_names().into_iter().map(|n| format!("{m}::{n}")));
+                }
                 DeclKind::Assert | DeclKind::Annotation(_) => {}
             }
         }
@@ -239,9 +261,14 @@ impl Module {
     }
 }
 
-struct Lower {
+struct Lower<'l> {
     diags: Vec<Diagnostic>,
     timed: Option<Rc<Timed>>,
+    load: &'l dyn Fn(&str) -> Option<String>,
+    /// Nesting of includes (a cycle stops at a bound).
+    depth: u32,
+    /// Lowering an included file.
+    foreign: bool,
 }
 
 fn nodes(n: &SyntaxNode) -> Vec<SyntaxNode> {
@@ -260,7 +287,7 @@ fn first_token(n: &SyntaxNode) -> Option<SyntaxKind> {
     tokens(n).next().map(|t| t.kind())
 }
 
-impl Lower {
+impl Lower<'_> {
     fn err(&mut self, code: Code, range: TextRange, msg: impl Into<String>) {
         self.diags.push(Diagnostic::error(code, range, msg));
     }
@@ -276,8 +303,10 @@ impl Lower {
     fn decl(&mut self, n: &SyntaxNode, out: &mut Vec<Decl>) {
         let range = n.text_range();
         let timed = self.timed.clone();
-        let push =
-            |out: &mut Vec<Decl>, kind, name_range| out.push(Decl { kind, range, name_range, timed: timed.clone() });
+        let foreign = self.foreign;
+        let push = |out: &mut Vec<Decl>, kind, name_range| {
+            out.push(Decl { kind, range, name_range, timed: timed.clone(), foreign })
+        };
         match n.kind() {
             DEFINITION => {
                 let kids = nodes(n);
@@ -371,7 +400,44 @@ impl Lower {
                 }
                 self.timed = saved;
             }
-            MODULE_DECL | INSTANCE_DECL | INCLUDE_DECL => {
+            MODULE_DECL if !nodes(n).iter().any(|c| c.kind() == ARG_LIST) => {
+                let Some(name) = tokens(n).find(|t| t.kind() == IDENT) else { return };
+                let mut inner = Vec::new();
+                for c in nodes(n) {
+                    if c.kind() == MODULE_EXPORTS {
+                        for e in nodes(&c) {
+                            self.decl(&e, &mut inner);
+                        }
+                    } else {
+                        self.decl(&c, &mut inner);
+                    }
+                }
+                push(out, DeclKind::Module(name.text().into(), inner.into()), name.text_range());
+            }
+            INCLUDE_DECL => {
+                let Some(t) = tokens(n).next() else { return };
+                let line = &t.text()["include".len()..];
+                let file = line.split("--").next().unwrap_or("").trim().trim_matches('"').to_owned();
+                let loaded = if self.depth < 16 { (self.load)(&file) } else { None };
+                let Some(inner_text) = loaded else {
+                    self.err(Code::Unresolved, t.text_range(), format!("cannot read the included file `{file}`"));
+                    return;
+                };
+                let inner = crate::parse(&inner_text);
+                if !inner.errors().is_empty() && !self.foreign {
+                    self.err(Code::Syntax, t.text_range(), format!("the included file `{file}` has syntax errors"));
+                }
+                let saved = (self.foreign, std::mem::take(&mut self.diags));
+                self.foreign = true;
+                self.depth += 1;
+                for d in nodes(&inner.syntax_node()) {
+                    self.decl(&d, out);
+                }
+                self.depth -= 1;
+                self.foreign = saved.0;
+                self.diags = saved.1;
+            }
+            MODULE_DECL | INSTANCE_DECL => {
                 let what = match n.kind() {
                     MODULE_DECL => "modules",
                     INSTANCE_DECL => "module instances",

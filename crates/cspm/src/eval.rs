@@ -285,6 +285,16 @@ impl<'m> Evaluator<'m> {
                     }
                     self.datatypes.insert(name.clone(), ctors);
                 }
+                DeclKind::Module(m, inner) => {
+                    // The module's own frame, then its names again as `M::x`
+                    // (the same slots: evaluated once, in the module).
+                    let fr = self.new_frame(env, None);
+                    self.bind_decls(inner, fr);
+                    let vars = self.frames[fr as usize].vars.clone();
+                    for (n, slot) in vars {
+                        self.bind(env, format!("{m}::{n}").into(), slot);
+                    }
+                }
                 DeclKind::Assert | DeclKind::Annotation(_) => {}
             }
         }

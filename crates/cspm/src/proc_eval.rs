@@ -339,28 +339,23 @@ impl Evaluator<'_> {
                         // datatype field one); the last input takes the rest.
                         let last = i + 1 == fields.len();
                         let want = crate::eval::pat_width(p);
-                        let k = match &head {
-                            Value::Dot(x) => x.len(),
-                            _ => 1,
-                        };
                         let mut heads = std::collections::BTreeSet::new();
                         for e in self.completions(head.clone(), at)? {
-                            let Value::Dot(parts) = &e else { continue };
-                            if parts.len() <= k {
+                            let rest = remaining_fields(&head, &e);
+                            if rest.is_empty() {
                                 continue;
                             }
                             let mut j = 0;
                             let mut width = 0;
-                            while k + j < parts.len() && (last || width < want) {
-                                width += crate::eval::value_width(&parts[k + j]);
+                            while j < rest.len() && (last || width < want) {
+                                width += crate::eval::value_width(&rest[j]);
                                 j += 1;
                             }
-                            let mut h: Vec<Value> = match &head {
-                                Value::Dot(x) => x.to_vec(),
-                                x => vec![x.clone()],
-                            };
-                            h.extend(parts[k..k + j].iter().cloned());
-                            heads.insert(Value::Dot(h.into()));
+                            let mut h = head.clone();
+                            for v in &rest[..j] {
+                                h = self.dot(h, v.clone(), at)?;
+                            }
+                            heads.insert(h);
                         }
                         return self.input_branches(&head, heads.into_iter().collect(), p, fields, i, env, body, out);
                     }
@@ -474,4 +469,25 @@ impl Evaluator<'_> {
             }
         }))
     }
+}
+
+/// The field values a complete value `e` adds to its prefix `head`, in
+/// order (the rest of a nested incomplete field first).
+fn remaining_fields(head: &Value, e: &Value) -> Vec<Value> {
+    let (hp, ep): (Vec<Value>, Vec<Value>) = match (head, e) {
+        (Value::Dot(h), Value::Dot(x)) => (h.to_vec(), x.to_vec()),
+        (h, Value::Dot(x)) => (vec![h.clone()], x.to_vec()),
+        _ => return Vec::new(),
+    };
+    let k = hp.len();
+    if k > ep.len() {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    if k > 1 && hp[k - 1] != ep[k - 1] {
+        // The head's last field is an incomplete constructor value.
+        out = remaining_fields(&hp[k - 1], &ep[k - 1]);
+    }
+    out.extend(ep[k..].iter().cloned());
+    out
 }

@@ -66,6 +66,13 @@ fn decl_names(d: &Decl, out: &mut Vec<(String, TextRange, bool)>, ctors: &FxHash
                 out.extend(cs.iter().map(|(c, r, _)| (c.to_string(), *r, true)));
             }
         }
+        DeclKind::Module(m, inner) => {
+            let mut sub = Vec::new();
+            for d in inner.iter() {
+                decl_names(d, &mut sub, ctors);
+            }
+            out.extend(sub.into_iter().map(|(n, r, c)| (format!("{m}::{n}"), r, c)));
+        }
         DeclKind::Assert | DeclKind::Annotation(_) => {}
     }
 }
@@ -90,6 +97,12 @@ pub(crate) fn resolve(decls: &[Decl], names: &dyn crate::NameLookup, diags: &mut
 fn collect_ctors(decls: &[Decl], ctors: &mut FxHashSet<String>) {
     for d in decls {
         match &d.kind {
+            DeclKind::Module(m, inner) => {
+                let mut sub = FxHashSet::default();
+                collect_ctors(inner, &mut sub);
+                ctors.extend(sub.iter().map(|c| format!("{m}::{c}")));
+                ctors.extend(sub);
+            }
             DeclKind::Channel(ns, _) => ctors.extend(ns.iter().map(|(n, _)| n.to_string())),
             DeclKind::Datatype(_, cs) => ctors.extend(cs.iter().map(|(c, _, _)| c.to_string())),
             _ => {}
@@ -148,6 +161,9 @@ impl Resolver<'_> {
     }
 
     fn decl(&mut self, d: &Decl) {
+        if d.foreign {
+            return;
+        }
         let saved = self.timed;
         self.timed |= d.timed.is_some();
         self.decl_inner(d);
@@ -190,6 +206,7 @@ impl Resolver<'_> {
                     }
                 }
             }
+            DeclKind::Module(_, inner) => self.decls(inner, false),
             DeclKind::Channel(_, None) | DeclKind::Assert | DeclKind::Annotation(_) => {}
         }
     }

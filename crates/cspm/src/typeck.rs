@@ -51,7 +51,7 @@ enum State {
 
 struct Checker<'a> {
     subst: Vec<Option<Ty>>,
-    scopes: Vec<FxHashMap<&'a str, Bind<'a>>>,
+    scopes: Vec<FxHashMap<String, Bind<'a>>>,
     states: FxHashMap<*const Decl, State>,
     diags: &'a mut Vec<Diagnostic>,
     /// Whether the definition being checked already has an error (one per
@@ -168,38 +168,52 @@ impl<'a> Checker<'a> {
                 self.failed = false;
                 self.expr(e);
             }
+            if let DeclKind::Module(_, inner) = &d.kind {
+                self.decls(inner);
+                self.scopes.pop();
+            }
         }
     }
 
     /// Puts the names of `decls` in a new scope (kept: the caller pops it).
     fn bind_decls(&mut self, decls: &'a [Decl]) {
-        let mut scope: FxHashMap<&'a str, Bind<'a>> = FxHashMap::default();
+        let mut scope: FxHashMap<String, Bind<'a>> = FxHashMap::default();
         for d in decls {
             match &d.kind {
                 DeclKind::Fun(n, _) | DeclKind::Nametype(n, _) => {
-                    scope.insert(n, Bind::Decl(d));
+                    scope.insert(n.to_string(), Bind::Decl(d));
                 }
                 DeclKind::PatBind(p, _) => crate::resolve::pat_names(p, &mut |n, _| {
                     if !scope.contains_key(n) {
-                        scope.insert(leak(p, n), Bind::Decl(d));
+                        scope.insert(n.to_owned(), Bind::Decl(d));
                     }
                 }),
                 DeclKind::Channel(ns, ty) => {
                     for (n, _) in ns {
                         self.ctors.insert(n);
-                        scope.insert(n, Bind::Mono(if ty.is_none() { Event } else { Any }));
+                        scope.insert(n.to_string(), Bind::Mono(if ty.is_none() { Event } else { Any }));
                     }
                 }
                 DeclKind::Datatype(n, cs) => {
                     let plain = cs.iter().all(|c| c.2.is_none());
                     for (c, _, f) in cs {
                         self.ctors.insert(c);
-                        scope.insert(c, Bind::Mono(if f.is_none() { Data(n.to_string()) } else { Any }));
+                        scope.insert(c.to_string(), Bind::Mono(if f.is_none() { Data(n.to_string()) } else { Any }));
                     }
-                    scope.insert(n, Bind::Mono(set(if plain { Data(n.to_string()) } else { Any })));
+                    scope.insert(n.to_string(), Bind::Mono(set(if plain { Data(n.to_string()) } else { Any })));
                 }
                 DeclKind::Subtype(n, _) => {
-                    scope.insert(n, Bind::Mono(set(Any)));
+                    scope.insert(n.to_string(), Bind::Mono(set(Any)));
+                }
+                DeclKind::Module(m, inner) => {
+                    // Qualified names are not typed (no false errors).
+                    let mut sub = Vec::new();
+                    for d in inner.iter() {
+                        decl_names(d, &mut sub);
+                    }
+                    for n in sub {
+                        scope.insert(format!("{m}::{n}"), Bind::Mono(Any));
+                    }
                 }
                 DeclKind::Assert | DeclKind::Annotation(_) => {}
             }
@@ -226,7 +240,8 @@ impl<'a> Checker<'a> {
         decl_names(d, &mut names);
         let vars: FxHashMap<String, Ty> = names.iter().map(|n| (n.clone(), self.fresh())).collect();
         self.states.insert(key, State::Busy(vars.clone()));
-        let saved = std::mem::replace(&mut self.failed, false);
+        // An included definition's errors are reported in its own file.
+        let saved = std::mem::replace(&mut self.failed, d.foreign);
         // Definitions are checked in the scopes they were written in: the
         // current scopes are those of the use, so restore the definition's
         // scope depth by searching for it.
@@ -370,7 +385,7 @@ impl<'a> Checker<'a> {
 
     fn bind_mono(&mut self, n: &'a str, t: Ty) {
         if let Some(s) = self.scopes.last_mut() {
-            s.insert(n, Bind::Mono(t));
+            s.insert(n.to_owned(), Bind::Mono(t));
         }
     }
 
