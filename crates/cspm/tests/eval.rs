@@ -143,3 +143,31 @@ fn bounds_and_errors_are_diagnostics() {
     let codes: Vec<_> = bad.diagnostics().iter().map(|d| (d.code, u32::from(d.range.start()))).collect();
     assert_eq!(codes, [(Code::Unresolved, 4), (Code::Unresolved, 9)]);
 }
+
+#[test]
+fn modules_includes_and_nested_inputs() {
+    let text = "
+module M
+  X = {0, 1}
+exports
+  channel c : X
+  P = c?x -> P
+endmodule
+datatype R = i_x.Bool
+channel rr : R
+Q = M::P
+S = rr.i_x?b -> (if b then STOP else SKIP)
+";
+    let q = lts(text, "Q");
+    assert_eq!(initials(&q, 0), ["c.0", "c.1"]);
+    let s = lts(text, "S");
+    assert_eq!(initials(&s, 0), ["rr.i_x.false", "rr.i_x.true"]);
+    let load = |f: &str| (f == "defs.csp").then(|| "channel d : {7}\nD = d.7 -> STOP".to_owned());
+    let m = Module::check_with_includes("include \"defs.csp\"\nT = D ; SKIP", &NoNames, &load);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    assert!(ev.lts("T").unwrap().has_trace(&["d.7"]));
+    let missing = Module::check_with_includes("include \"nope.csp\"\n", &NoNames, &load);
+    let d = &missing.diagnostics()[0];
+    assert_eq!((d.code, d.message.as_str()), (Code::Unresolved, "cannot read the included file `nope.csp`"));
+}
