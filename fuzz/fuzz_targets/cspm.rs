@@ -23,6 +23,7 @@ fuzz_target!(|data: &[u8]| {
         max_states: 2_000,
         time: Duration::from_millis(200),
         cancel: None,
+        max_stack: 256 << 10,
     };
     let mut ev = Evaluator::new(&m, &NoNames, limits);
     for name in m.defined_names().into_iter().take(20) {

@@ -212,7 +212,14 @@ impl Module {
     ) -> Module {
         let parse = crate::parse(text);
         let mut diagnostics = parse.errors().to_vec();
-        let mut lower = Lower { diags: Vec::new(), timed: None, load, depth: 0, foreign: false };
+        let mut lower = Lower {
+            diags: Vec::new(),
+            timed: None,
+            load,
+            depth: 0,
+            foreign: false,
+            stack: crate::stack::StackGuard::new(crate::stack::STATIC_PASS_STACK),
+        };
         let decls = lower.decls(&parse.syntax_node());
         diagnostics.append(&mut lower.diags);
         crate::resolve::resolve(&decls, names, &mut diagnostics);
@@ -269,6 +276,7 @@ struct Lower<'l> {
     depth: u32,
     /// Lowering an included file.
     foreign: bool,
+    stack: crate::stack::StackGuard,
 }
 
 fn nodes(n: &SyntaxNode) -> Vec<SyntaxNode> {
@@ -493,6 +501,10 @@ impl Lower<'_> {
 
     pub(crate) fn expr(&mut self, n: &SyntaxNode) -> Expr {
         let range = n.text_range();
+        if self.stack.exceeded() {
+            self.err(Code::Limit, range, "expression nested too deeply");
+            return Expr { kind: ExprKind::Error, range };
+        }
         let kids = nodes(n);
         let k0 = kids.first();
         let k1 = kids.get(1);
@@ -781,6 +793,10 @@ impl Lower<'_> {
     }
 
     pub(crate) fn pat(&mut self, n: &SyntaxNode) -> Pat {
+        if self.stack.exceeded() {
+            self.err(Code::Limit, n.text_range(), "pattern nested too deeply");
+            return Pat::Wild;
+        }
         let kids = nodes(n);
         let bad = |s: &mut Self| {
             s.err(Code::BadPattern, n.text_range(), format!("`{}` is not a pattern", n.text()));

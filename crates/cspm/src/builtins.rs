@@ -224,10 +224,7 @@ pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at:
             let Value::Int(n) = a else { return Err(err(Code::Type, at, "WAIT takes a number of time units")) };
             let tock = ev.value("tock").map_err(|_| err(Code::Unresolved, at, "`WAIT` needs a channel `tock`"))?;
             let t = ev.event(tock, at)?;
-            let mut p = Rc::new(P::TSkip(t));
-            for _ in 0..(*n).clamp(0, 100_000) {
-                p = Rc::new(P::Prefix(t, p));
-            }
+            let p = P::tocks(t, *n, Rc::new(P::TSkip(t)));
             ev.proc_value(p)
         }
         "productions" => Value::set(ev.completions(a.clone(), at)?),

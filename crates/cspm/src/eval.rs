@@ -32,11 +32,22 @@ pub struct Limits {
     pub time: Duration,
     /// Set to `true` from elsewhere to stop the evaluation.
     pub cancel: Option<Arc<AtomicBool>>,
+    /// Most bytes of stack one evaluation may use (measured from its
+    /// outermost call), well below the thread's stack size.
+    pub max_stack: usize,
 }
 
 impl Default for Limits {
     fn default() -> Limits {
-        Limits { max_depth: 400, max_set: 200_000, max_states: 500_000, time: Duration::from_secs(20), cancel: None }
+        Limits {
+            max_depth: 2_000,
+            max_set: 200_000,
+            max_states: 500_000,
+            time: Duration::from_secs(20),
+            cancel: None,
+            // Half of the 2 MiB of a default spawned thread.
+            max_stack: 1 << 20,
+        }
     }
 }
 
@@ -115,6 +126,8 @@ pub struct Evaluator<'m> {
     pub(crate) event_ids: FxHashMap<Value, u32>,
     pub(crate) calls: FxHashMap<(Value, Vec<Value>), Rc<P>>,
     pub(crate) depth: u32,
+    /// Stack use since the outermost evaluation step.
+    stack: crate::stack::StackGuard,
     started: Instant,
     steps: u64,
     pub(crate) global: u32,
@@ -142,6 +155,7 @@ impl<'m> Evaluator<'m> {
             event_ids: FxHashMap::default(),
             calls: FxHashMap::default(),
             depth: 0,
+            stack: crate::stack::StackGuard::new(1 << 20),
             started: Instant::now(),
             steps: 0,
             global: 0,
@@ -566,6 +580,11 @@ impl<'m> Evaluator<'m> {
     }
 
     pub(crate) fn enter(&mut self, at: TextRange) -> R<()> {
+        if self.depth == 0 {
+            self.stack = crate::stack::StackGuard::new(self.limits.max_stack);
+        } else if self.stack.exceeded() {
+            return Err(err(Code::Limit, at, "evaluation nested too deeply for the stack (a runaway recursion?)"));
+        }
         self.depth += 1;
         if self.depth > self.limits.max_depth {
             self.depth -= 1;

@@ -287,7 +287,7 @@ fn infix(kind: SyntaxKind, gt_closes: bool) -> Option<(u8, u8)> {
 }
 
 pub(crate) fn expr_bp(p: &mut Parser, min_bp: u8) -> bool {
-    if p.depth >= MAX_DEPTH {
+    if p.depth >= MAX_DEPTH || p.stack.exceeded() {
         p.error("expression nested too deeply");
         p.skip_until(|_| false);
         return false;
@@ -303,6 +303,10 @@ fn expr_bp_inner(p: &mut Parser, min_bp: u8) -> bool {
     if !prefix_expr(p) {
         return false;
     }
+    // Each operator applied here nests the tree one level deeper (`a + b
+    // + c` is `(a + b) + c`): counted with the recursion depth, so that the
+    // whole tree stays shallow enough to walk recursively.
+    let depth_before = p.depth;
     loop {
         if p.at_line_break() {
             break;
@@ -312,6 +316,12 @@ fn expr_bp_inner(p: &mut Parser, min_bp: u8) -> bool {
         if lbp < min_bp {
             break;
         }
+        if p.depth >= MAX_DEPTH || p.stack.exceeded() {
+            p.error("expression nested too deeply (split it into definitions)");
+            p.skip_until(|_| false);
+            break;
+        }
+        p.depth += 1;
         match op {
             L_PAREN => {
                 p.start_at(cp, CALL_EXPR);
@@ -404,6 +414,7 @@ fn expr_bp_inner(p: &mut Parser, min_bp: u8) -> bool {
             p.error("comparisons do not chain: add parentheses");
         }
     }
+    p.depth = depth_before;
     true
 }
 

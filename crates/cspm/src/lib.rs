@@ -26,6 +26,7 @@ mod parser;
 mod proc;
 mod proc_eval;
 mod resolve;
+mod stack;
 mod typeck;
 mod value;
 

@@ -14,7 +14,7 @@ use crate::{Code, Diagnostic, TextRange};
 
 /// Deepest nesting of expressions; deeper input is one error, skipped flat,
 /// so that nothing walking the tree recursively can overflow the stack.
-pub(crate) const MAX_DEPTH: u32 = 200;
+pub(crate) const MAX_DEPTH: u32 = 300;
 
 /// Look-aheads without progress after which the parser sees end of file
 /// (a guard against a grammar bug looping).
@@ -35,6 +35,7 @@ pub(crate) struct Parser<'t> {
     /// Inside a sequence literal `<…>`, where `>` closes it rather than
     /// compares (reset inside brackets, as libcspm's sequence stack does).
     pub(crate) gt_closes: bool,
+    pub(crate) stack: crate::stack::StackGuard,
 }
 
 impl<'t> Parser<'t> {
@@ -51,6 +52,7 @@ impl<'t> Parser<'t> {
             fuel: std::cell::Cell::new(FUEL),
             depth: 0,
             gt_closes: false,
+            stack: crate::stack::StackGuard::new(crate::stack::STATIC_PASS_STACK),
         }
     }
 

@@ -37,6 +37,10 @@ pub enum P {
     /// `[+A+]`: events of A are performed by every branch together.
     SyncExt(Events, Vec<Rc<P>>),
     Seq(Rc<P>, Rc<P>),
+    /// `; x : s @ P(x)`: the current process, all of them, the next index.
+    SeqList(Rc<P>, Rc<[Rc<P>]>, u32),
+    /// `n` tocks, then the process (`n` ≥ 1).
+    Tocks(u32, u32, Rc<P>),
     /// Generalised parallel (interleaving when the set is empty), n-ary.
     Par(Events, Vec<Rc<P>>),
     AlphaPar(Vec<(Events, Rc<P>)>),
@@ -58,6 +62,17 @@ pub enum P {
     TSkip(u32),
     /// A named process or an application, unfolded on demand.
     Call(Rc<(crate::Value, Vec<crate::Value>)>),
+}
+
+impl P {
+    /// `n` tocks then `p` (kept as one node: no deep terms).
+    pub(crate) fn tocks(tock: u32, n: i64, p: Rc<P>) -> Rc<P> {
+        match u32::try_from(n) {
+            Ok(0) | Err(_) if n <= 0 => p,
+            Ok(n) => Rc::new(P::Tocks(tock, n, p)),
+            Err(_) => Rc::new(P::Tocks(tock, u32::MAX, p)),
+        }
+    }
 }
 
 impl Evaluator<'_> {
@@ -256,6 +271,19 @@ impl Evaluator<'_> {
                     }
                     out.push((if l == L::Tick { L::Tau } else { l }, Rc::new(P::Link(map.clone(), a.clone(), b2))));
                 }
+            }
+            P::SeqList(cur, all, next) => {
+                for (l, c2) in self.transitions(cur, at)? {
+                    match (l, all.get(*next as usize)) {
+                        (L::Tick, Some(n)) => out.push((L::Tau, Rc::new(P::SeqList(n.clone(), all.clone(), next + 1)))),
+                        (L::Tick, None) => out.push((L::Tick, c2)),
+                        (l, _) => out.push((l, Rc::new(P::SeqList(c2, all.clone(), *next)))),
+                    }
+                }
+            }
+            P::Tocks(tock, n, q) => {
+                let next = if *n <= 1 { q.clone() } else { Rc::new(P::Tocks(*tock, n - 1, q.clone())) };
+                out.push((L::Ev(*tock), next));
             }
             P::Interrupt(a, b) => {
                 for (l, a2) in self.transitions(a, at)? {

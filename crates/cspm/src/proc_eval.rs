@@ -119,11 +119,7 @@ impl Evaluator<'_> {
                         let t = self.tock_set(env, at)?.unwrap_or(0);
                         let n =
                             self.int(args.first().ok_or_else(|| err(Code::Type, at, "WAIT takes a number"))?, env)?;
-                        let mut p = Rc::new(P::TSkip(t));
-                        for _ in 0..n.clamp(0, 100_000) {
-                            p = Rc::new(P::Prefix(t, p));
-                        }
-                        return Ok(p);
+                        return Ok(P::tocks(t, n, Rc::new(P::TSkip(t))));
                     }
                     _ => self.eval(f, env)?,
                 };
@@ -175,11 +171,7 @@ impl Evaluator<'_> {
                                 }
                                 None => 1,
                             };
-                            let mut q = p;
-                            for _ in 0..n.clamp(0, 100_000) {
-                                q = Rc::new(P::Prefix(tock, q));
-                            }
-                            bs.push((ev, q));
+                            bs.push((ev, P::tocks(tock, n, p)));
                         }
                         Rc::new(P::TimedPrefix(tock, bs.into()))
                     }
@@ -448,18 +440,13 @@ impl Evaluator<'_> {
             RepOp::Ext => P::Ext(ps),
             RepOp::Int => P::Int(ps),
             RepOp::Interleave => P::Par(tockset, ps),
-            RepOp::Seq => {
-                let mut it = ps.into_iter().rev();
-                let mut acc = it.next().unwrap_or_else(|| Rc::new(P::Skip));
-                for p in it {
-                    acc = Rc::new(P::Seq(p, acc));
-                }
-                return Ok(acc);
-            }
+            // Flat, however long the sequence (no deep terms).
+            RepOp::Seq => P::SeqList(ps[0].clone(), ps.into(), 1),
             RepOp::GenPar(a) => P::Par(self.events_of(a, env, true)?, ps),
             RepOp::SyncExt(a) => P::SyncExt(self.events_of(a, env, true)?, ps),
             RepOp::AlphaPar(_) => P::AlphaPar(alphas.into_iter().zip(ps).collect()),
             RepOp::Link(..) => {
+                self.check_size(ps.len() * 100, at)?;
                 let mut it = ps.into_iter().zip(links).rev();
                 let Some((mut acc, _)) = it.next() else { return Ok(Rc::new(P::Stop)) };
                 for (p, l) in it {

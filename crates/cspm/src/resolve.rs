@@ -85,12 +85,21 @@ struct Resolver<'a> {
     cache: FxHashMap<String, bool>,
     /// Inside a definition of a `Timed` section.
     timed: bool,
+    stack: crate::stack::StackGuard,
 }
 
 pub(crate) fn resolve(decls: &[Decl], names: &dyn crate::NameLookup, diags: &mut Vec<Diagnostic>) {
     let mut ctors = FxHashSet::default();
     collect_ctors(decls, &mut ctors);
-    let mut r = Resolver { scopes: Vec::new(), ctors, names, diags, cache: FxHashMap::default(), timed: false };
+    let mut r = Resolver {
+        scopes: Vec::new(),
+        ctors,
+        names,
+        diags,
+        cache: FxHashMap::default(),
+        timed: false,
+        stack: crate::stack::StackGuard::new(crate::stack::STATIC_PASS_STACK),
+    };
     r.decls(decls, true);
 }
 
@@ -266,6 +275,9 @@ impl Resolver<'_> {
 
     fn expr(&mut self, e: &Expr) {
         use ExprKind::*;
+        if self.stack.exceeded() {
+            return; // Lowering already reported the nesting.
+        }
         match &e.kind {
             Int(_) | Bool(_) | Char(_) | Str(_) | Error => {}
             Var(n)

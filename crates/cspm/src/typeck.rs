@@ -61,6 +61,7 @@ struct Checker<'a> {
     ctors: rustc_hash::FxHashSet<&'a str>,
     /// Definitions of `let`s (monomorphic).
     local: rustc_hash::FxHashSet<*const Decl>,
+    stack: crate::stack::StackGuard,
 }
 
 /// Type-checks `decls`, adding `CSP-T01` diagnostics.
@@ -73,6 +74,7 @@ pub(crate) fn check(decls: &[Decl], diags: &mut Vec<Diagnostic>) {
         failed: false,
         ctors: Default::default(),
         local: Default::default(),
+        stack: crate::stack::StackGuard::new(crate::stack::STATIC_PASS_STACK),
     };
     c.decls(decls);
 }
@@ -482,6 +484,9 @@ impl<'a> Checker<'a> {
 
     fn expr(&mut self, e: &'a Expr) -> Ty {
         use ExprKind::*;
+        if self.stack.exceeded() {
+            return Any;
+        }
         match &e.kind {
             ExprKind::Int(_) => Ty::Int,
             ExprKind::Bool(_) => Ty::Bool,

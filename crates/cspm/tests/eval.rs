@@ -139,6 +139,18 @@ fn bounds_and_errors_are_diagnostics() {
     let z = ev.value("Z").unwrap_err();
     assert_eq!((z.code, &text[z.range]), (Code::Runtime, "1/0"));
     assert_eq!(ev.value("U").unwrap_err().code, Code::Runtime);
+    // Cancellation stops an evaluation that would otherwise run long.
+    let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+    let limits = Limits { cancel: Some(cancel), ..Limits::default() };
+    let mut ev = Evaluator::new(&m, &NoNames, limits);
+    assert_eq!(ev.lts("R").unwrap_err().code, Code::Cancelled);
+    // Runaway recursion is a depth limit, not a stack overflow.
+    let deep = module(
+        "f(n) = f(n+1) + 1
+x = f(0)",
+    );
+    let mut ev = Evaluator::new(&deep, &NoNames, Limits::default());
+    assert_eq!(ev.value("x").unwrap_err().code, Code::Limit);
     let bad = Module::check("P = a -> Q\n", &NoNames);
     let codes: Vec<_> = bad.diagnostics().iter().map(|d| (d.code, u32::from(d.range.start()))).collect();
     assert_eq!(codes, [(Code::Unresolved, 4), (Code::Unresolved, 9)]);
