@@ -52,10 +52,14 @@ impl Default for Limits {
 }
 
 /// A function value (opaque outside the crate).
-#[derive(Debug)]
 pub struct Function(pub(crate) Func);
 
-#[derive(Debug)]
+impl std::fmt::Debug for Function {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("<function>")
+    }
+}
+
 pub(crate) enum Func {
     /// A definition's clauses, the frame they were defined in, and the
     /// argument groups given so far (curried definitions `f(x)(y)`).
@@ -74,6 +78,12 @@ pub(crate) enum Func {
     Builtin {
         name: &'static str,
         given: Vec<Value>,
+    },
+    /// A process the host supplies as an LTS (see `ExternalName::Process`).
+    External {
+        name: Name,
+        arity: usize,
+        build: crate::resolve::BuildLts,
     },
 }
 
@@ -420,6 +430,19 @@ impl<'m> Evaluator<'m> {
                     self.channels.push(n.clone());
                 }
                 Ok(Value::Ctor(n))
+            }
+            Some(ExternalName::Process { arity: 0, build }) => {
+                let key = (Value::Ctor(format!("{name}()").into()), Vec::new());
+                if let Some(p) = self.calls.get(&key).cloned() {
+                    return Ok(self.proc_value(p));
+                }
+                let lts = build(&[]).map_err(|m| err(Code::Runtime, at, format!("`{name}`: {m}")))?;
+                let p = self.external_process(lts, at)?;
+                self.calls.insert(key, p.clone());
+                Ok(self.proc_value(p))
+            }
+            Some(ExternalName::Process { arity, build }) => {
+                Ok(self.func(Func::External { name: name.into(), arity, build }))
             }
             None => Err(err(Code::Unresolved, at, format!("`{name}` is not defined"))),
         }
@@ -990,6 +1013,14 @@ impl<'m> Evaluator<'m> {
                 all.extend(args);
                 crate::builtins::call(self, name, all, at)
             }
+            Func::External { name, arity, build } => {
+                if args.len() != *arity {
+                    return Err(err(Code::Type, at, format!("`{name}` takes {arity} argument(s), not {}", args.len())));
+                }
+                let lts = build(&args).map_err(|m| err(Code::Runtime, at, format!("`{name}`: {m}")))?;
+                let p = self.external_process(lts, at)?;
+                Ok(self.proc_value(p))
+            }
             Func::Lambda { pats, body, env } => {
                 if pats.len() != args.len() {
                     return Err(err(
@@ -1178,6 +1209,30 @@ impl<'m> Evaluator<'m> {
         self.events.push(v.clone());
         self.event_ids.insert(v, id);
         Ok(id)
+    }
+
+    /// A process term for an external LTS: its events interned (their
+    /// channels are looked up through the host's names).
+    pub(crate) fn external_process(&mut self, lts: crate::Lts, at: TextRange) -> R<Rc<P>> {
+        let mut map = Vec::with_capacity(lts.event_values.len());
+        for v in &lts.event_values {
+            let head = match v {
+                Value::Ctor(n) => Some(n.clone()),
+                Value::Dot(d) => match d.first() {
+                    Some(Value::Ctor(n)) => Some(n.clone()),
+                    _ => None,
+                },
+                _ => None,
+            };
+            if let Some(h) = head {
+                if !self.channels.contains(&h) {
+                    let _ = self.lookup(&h, self.global, at);
+                }
+            }
+            map.push(self.event(v.clone(), at)?);
+        }
+        let ext = crate::proc::ExternalLts { id: self.fresh_id(), lts, map };
+        Ok(Rc::new(P::External(Rc::new(ext), 0)))
     }
 
     /// Event ids of a set value.

@@ -34,7 +34,7 @@ pub use ast::Module;
 pub use eval::{Evaluator, Limits};
 pub use kinds::{CspmLanguage, SyntaxKind, SyntaxNode, SyntaxToken};
 pub use lts::{Label, Lts};
-pub use resolve::{ExternalName, NameLookup, NoNames};
+pub use resolve::{BuildLts, ExternalName, NameLookup, NoNames};
 pub use rowan::{TextRange, TextSize};
 pub use value::Value;
 

@@ -60,8 +60,31 @@ pub enum P {
     /// `TSTOP` (`μX. tock -> X`) and `TSKIP` (`μX. tock -> X [] SKIP`).
     TStop(u32),
     TSkip(u32),
+    /// A state of an LTS the host supplied.
+    External(Rc<ExternalLts>, u32),
     /// A named process or an application, unfolded on demand.
     Call(Rc<(crate::Value, Vec<crate::Value>)>),
+}
+
+/// An LTS from outside, with its event indices mapped to ours. Compared
+/// by identity.
+#[derive(Debug)]
+pub struct ExternalLts {
+    pub(crate) id: u64,
+    pub(crate) lts: crate::Lts,
+    pub(crate) map: Vec<u32>,
+}
+
+impl PartialEq for ExternalLts {
+    fn eq(&self, o: &Self) -> bool {
+        self.id == o.id
+    }
+}
+impl Eq for ExternalLts {}
+impl std::hash::Hash for ExternalLts {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        self.id.hash(h)
+    }
 }
 
 impl P {
@@ -279,6 +302,22 @@ impl Evaluator<'_> {
                         (L::Tick, None) => out.push((L::Tick, c2)),
                         (l, _) => out.push((l, Rc::new(P::SeqList(c2, all.clone(), *next)))),
                     }
+                }
+            }
+            P::External(ext, s) => {
+                for (l, t) in ext.lts.transitions.get(*s as usize).into_iter().flatten() {
+                    let l = match l {
+                        crate::Label::Tau => L::Tau,
+                        crate::Label::Tick => L::Tick,
+                        crate::Label::Event(e) => match ext.map.get(*e as usize) {
+                            Some(&id) => L::Ev(id),
+                            None => {
+                                return Err(err(Code::Runtime, at, "an external LTS uses an event it does not list"))
+                            }
+                        },
+                    };
+                    let next = if l == L::Tick { Rc::new(P::Omega) } else { Rc::new(P::External(ext.clone(), *t)) };
+                    out.push((l, next));
                 }
             }
             P::Tocks(tock, n, q) => {

@@ -8,15 +8,39 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use crate::ast::{Decl, DeclKind, Expr, ExprKind, Field, Pat, RepOp, Stmt};
 use crate::{Code, Diagnostic, TextRange, Value};
 
-/// A name supplied from outside the text (the model's channels and
-/// constants, for the bridge to the native engine).
-#[derive(Clone, Debug)]
+/// Builds the LTS of an external process from its arguments (none for a
+/// process name); the error is a message for the caller of the process.
+pub type BuildLts = std::rc::Rc<dyn Fn(&[Value]) -> Result<crate::Lts, String>>;
+
+/// A name supplied from outside the text (the model's channels, constants
+/// and processes, for the bridge to the native engine).
+#[derive(Clone)]
 pub enum ExternalName {
     /// A channel and the value sets of its fields, in order (empty for a
     /// channel without data).
     Channel(Vec<Vec<Value>>),
     /// A constant, a set (a type), a function-free value.
     Value(Value),
+    /// A process given as an explicit LTS (e.g. a model element compiled by
+    /// the native engine): `arity` arguments (0 for a plain name) are
+    /// passed to `build`. The events of the LTS are given by
+    /// [`crate::Lts::event_values`], on channels this lookup also knows.
+    Process {
+        /// How many arguments the process takes.
+        arity: usize,
+        /// Builds its LTS.
+        build: BuildLts,
+    },
+}
+
+impl std::fmt::Debug for ExternalName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ExternalName::Channel(fields) => f.debug_tuple("Channel").field(fields).finish(),
+            ExternalName::Value(v) => f.debug_tuple("Value").field(v).finish(),
+            ExternalName::Process { arity, .. } => f.debug_struct("Process").field("arity", arity).finish(),
+        }
+    }
 }
 
 /// The hook through which names a text does not define are supplied.

@@ -183,3 +183,44 @@ S = rr.i_x?b -> (if b then STOP else SKIP)
     let d = &missing.diagnostics()[0];
     assert_eq!((d.code, d.message.as_str()), (Code::Unresolved, "cannot read the included file `nope.csp`"));
 }
+
+/// A host (the model) supplying a channel, a constant and a process family.
+struct Host;
+
+impl robosim_cspm::NameLookup for Host {
+    fn lookup(&self, name: &str) -> Option<robosim_cspm::ExternalName> {
+        use robosim_cspm::{ExternalName, Value};
+        match name {
+            "M::e" => Some(ExternalName::Channel(vec![vec![Value::Int(0), Value::Int(1)]])),
+            "const_M_k" => Some(ExternalName::Value(Value::Int(1))),
+            "M::O__" => Some(ExternalName::Process {
+                arity: 1,
+                build: std::rc::Rc::new(|args: &[Value]| {
+                    let Value::Int(k) = args[0] else { return Err("expected an integer".to_owned()) };
+                    let e = Value::Dot(vec![Value::Ctor("M::e".into()), Value::Int(k)].into());
+                    // One state looping on `M::e.k`.
+                    Ok(Lts {
+                        events: vec![format!("M::e.{k}")],
+                        event_values: vec![e],
+                        initial: 0,
+                        transitions: vec![vec![(Label::Event(0), 0)]],
+                    })
+                }),
+            }),
+            _ => None,
+        }
+    }
+}
+
+#[test]
+fn names_and_processes_from_the_host() {
+    let text = "Spec = M::O__(const_M_k) [[ M::e.1 <- M::e.0 ]]\nBad = M::O__(true)";
+    let m = Module::check(text, &Host);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = Evaluator::new(&m, &Host, Limits::default());
+    let l = ev.lts("Spec").unwrap();
+    assert!(l.has_trace(&["M::e.0", "M::e.0"]));
+    assert!(!l.has_trace(&["M::e.1"]));
+    let e = ev.lts("Bad").unwrap_err();
+    assert_eq!((e.code, e.message.as_str()), (Code::Runtime, "`M::O__`: expected an integer"));
+}
