@@ -882,7 +882,10 @@ impl<'m> Evaluator<'m> {
     }
 
     pub(crate) fn is_ctor(&self, n: &str) -> bool {
-        self.arity.contains_key(n) || matches!(n, "true" | "false")
+        self.arity.contains_key(n)
+            || matches!(n, "true" | "false")
+            || (self.slot(n, self.global).is_none()
+                && matches!(self.names.lookup(n), Some(ExternalName::Value(Value::Ctor(_)))))
     }
 
     /// Matches `v` against `p`, pushing the bindings.

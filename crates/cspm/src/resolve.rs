@@ -153,7 +153,8 @@ impl Resolver<'_> {
         }
         let names = self.names;
         *self.cache.entry(n.to_owned()).or_insert_with(|| {
-            matches!(names.lookup(n), Some(ExternalName::Channel(_))) || matches!(n, "true" | "false")
+            matches!(names.lookup(n), Some(ExternalName::Channel(_) | ExternalName::Value(Value::Ctor(_))))
+                || matches!(n, "true" | "false")
         })
     }
 

@@ -224,3 +224,45 @@ fn names_and_processes_from_the_host() {
     let e = ev.lts("Bad").unwrap_err();
     assert_eq!((e.code, e.message.as_str()), (Code::Runtime, "`M::O__`: expected an integer"));
 }
+
+/// RoboTool's names for a module `Mv` with events `go` and `done` of type
+/// `InOut` (`in`/`out`) and `speed` carrying a number.
+struct Robo;
+
+impl robosim_cspm::NameLookup for Robo {
+    fn lookup(&self, name: &str) -> Option<robosim_cspm::ExternalName> {
+        use robosim_cspm::{ExternalName, Value};
+        let inout = || vec![Value::Ctor("in".into()), Value::Ctor("out".into())];
+        match name {
+            "Mv::go" | "Mv::done" => Some(ExternalName::Channel(vec![inout()])),
+            "Mv::speed" => Some(ExternalName::Channel(vec![inout(), vec![Value::Int(0), Value::Int(1)]])),
+            "in" | "out" => Some(ExternalName::Value(Value::Ctor(name.into()))),
+            _ => None,
+        }
+    }
+}
+
+#[test]
+fn a_contract_over_model_events() {
+    // The shape of the corpus's EBDS properties: `let PRE … within`.
+    let text = "
+All = {| Mv::go, Mv::done, Mv::speed |}
+Spec = let
+    PRE = |~| ev : diff(All, {Mv::go.in}) @ ev -> PRE
+          |~| Mv::go.in -> CON
+    CON = |~| ev : {| Mv::speed.out |} @ ev -> CON
+          |~| Mv::done.out -> POS
+    POS = CHAOS(All)
+  within PRE
+Last = Mv::speed.in?x -> (if x == 1 then Mv::done.out -> STOP else STOP)
+";
+    let m = Module::check(text, &Robo);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = Evaluator::new(&m, &Robo, Limits::default());
+    let l = ev.lts("Spec").unwrap();
+    assert!(l.has_trace(&["Mv::done.in", "Mv::go.in", "Mv::speed.out.1", "Mv::done.out", "Mv::go.out"]));
+    assert!(!l.has_trace(&["Mv::go.in", "Mv::go.in"]));
+    let last = ev.lts("Last").unwrap();
+    assert!(last.has_trace(&["Mv::speed.in.1", "Mv::done.out"]));
+    assert!(!last.has_trace(&["Mv::speed.in.0", "Mv::done.out"]));
+}
