@@ -151,36 +151,7 @@ impl Evaluator<'_> {
                 let head = self.eval(ev, env)?;
                 let mut branches = Vec::new();
                 self.prefix_fields(head, fields, 0, env, body, &mut branches)?;
-                match self.timed(env, at)? {
-                    Some((tock, f)) => {
-                        let mut bs = Vec::new();
-                        for (ev, p) in branches {
-                            let n = match &f {
-                                Some(f) => {
-                                    let v = self.events[ev as usize].clone();
-                                    match self.apply(f.clone(), vec![v], at)? {
-                                        Value::Int(n) => n,
-                                        v => {
-                                            return Err(err(
-                                                Code::Type,
-                                                at,
-                                                format!("the `Timed` function returned {}", v.kind_name()),
-                                            ))
-                                        }
-                                    }
-                                }
-                                None => 1,
-                            };
-                            bs.push((ev, P::tocks(tock, n, p)));
-                        }
-                        Rc::new(P::TimedPrefix(tock, bs.into()))
-                    }
-                    None if branches.len() == 1 => {
-                        let (ev, p) = branches.pop().unwrap_or((0, Rc::new(P::Stop)));
-                        Rc::new(P::Prefix(ev, p))
-                    }
-                    None => Rc::new(P::Ext(branches.into_iter().map(|(e, p)| Rc::new(P::Prefix(e, p))).collect())),
-                }
+                self.assemble_prefix(branches, env, at)?
             }
             Proc(op, a, b) => {
                 let pa = self.eval_proc(a, env)?;
@@ -256,6 +227,49 @@ impl Evaluator<'_> {
         })
     }
 
+    /// The choice between a prefix's branches; in a `Timed` section each
+    /// event is followed by `f(e)` tocks and the prefix may idle (`tock`).
+    fn assemble_prefix(&mut self, branches: Vec<Branch>, env: u32, at: TextRange) -> R<Rc<P>> {
+        let mut events = Vec::new();
+        let mut procs = Vec::new();
+        for b in branches {
+            match b {
+                Branch::Event(e, p) => events.push((e, p)),
+                Branch::Proc(p) => procs.push(p),
+            }
+        }
+        let timed = self.timed(env, at)?;
+        if let Some((tock, f)) = timed {
+            let mut bs = Vec::new();
+            for (ev, p) in events {
+                let n = match &f {
+                    Some(f) => {
+                        let v = self.events[ev as usize].clone();
+                        match self.apply(f.clone(), vec![v], at)? {
+                            Value::Int(n) => n,
+                            v => {
+                                return Err(err(
+                                    Code::Type,
+                                    at,
+                                    format!("the `Timed` function returned {}", v.kind_name()),
+                                ))
+                            }
+                        }
+                    }
+                    None => 1,
+                };
+                bs.push((ev, P::tocks(tock, n, p)));
+            }
+            if !bs.is_empty() || procs.is_empty() {
+                procs.insert(0, Rc::new(P::TimedPrefix(tock, bs.into())));
+            }
+            return Ok(if procs.len() == 1 { procs.remove(0) } else { Rc::new(P::SyncExt(Rc::from([tock]), procs)) });
+        }
+        let mut all: Vec<Rc<P>> = events.into_iter().map(|(e, p)| Rc::new(P::Prefix(e, p))).collect();
+        all.extend(procs);
+        Ok(if all.len() == 1 { all.remove(0) } else { Rc::new(P::Ext(all)) })
+    }
+
     fn let_proc(&mut self, decls: &Rc<[crate::ast::Decl]>, body: &Expr, env: u32) -> R<Rc<P>> {
         let fr = self.frame_with(env, Vec::new(), None);
         self.bind_decls(decls, fr);
@@ -302,12 +316,12 @@ impl Evaluator<'_> {
         i: usize,
         env: u32,
         body: &Expr,
-        out: &mut Vec<(u32, Rc<P>)>,
+        out: &mut Vec<Branch>,
     ) -> R<()> {
         let Some(f) = fields.get(i) else {
             let ev = self.event(head, body.range)?;
             let p = self.eval_proc(body, env)?;
-            out.push((ev, p));
+            out.push(Branch::Event(ev, p));
             return Ok(());
         };
         match f {
@@ -316,49 +330,72 @@ impl Evaluator<'_> {
                 let head = self.dot(head, v, e.range)?;
                 self.prefix_fields(head, fields, i + 1, env, body, out)
             }
-            Field::Input(p, restrict) | Field::NonDet(p, restrict) => {
-                if matches!(f, Field::NonDet(..)) {
-                    return Err(err(Code::Unsupported, body.range, "nondeterministic input `$x` is not supported"));
-                }
+            Field::Input(p, restrict) => {
+                let heads = self.input_heads(&head, p, restrict.as_ref(), i + 1 == fields.len(), env, body.range)?;
+                self.input_branches(&head, heads, p, fields, i, env, body, out)
+            }
+            Field::NonDet(p, restrict) => {
+                // `c$x -> P` is `|~| x @ c.x -> P`: one process per value.
                 let at = body.range;
-                let candidates: Vec<Value> = match restrict {
-                    Some(s) => self.set_of(s, env)?.iter().cloned().collect(),
-                    None => {
-                        // The pattern takes whole fields of the declared
-                        // values, one at a time until it has as many
-                        // components as it has parts (`?x.y` over
-                        // `{0,1}.{0,1}` takes two fields, `?X.x` over a
-                        // datatype field one); the last input takes the rest.
-                        let last = i + 1 == fields.len();
-                        let want = crate::eval::pat_width(p);
-                        let mut heads = std::collections::BTreeSet::new();
-                        for e in self.completions(head.clone(), at)? {
-                            let rest = remaining_fields(&head, &e);
-                            if rest.is_empty() {
-                                continue;
-                            }
-                            let mut j = 0;
-                            let mut width = 0;
-                            while j < rest.len() && (last || width < want) {
-                                width += crate::eval::value_width(&rest[j]);
-                                j += 1;
-                            }
-                            let mut h = head.clone();
-                            for v in &rest[..j] {
-                                h = self.dot(h, v.clone(), at)?;
-                            }
-                            heads.insert(h);
-                        }
-                        return self.input_branches(&head, heads.into_iter().collect(), p, fields, i, env, body, out);
+                let heads = self.input_heads(&head, p, restrict.as_ref(), i + 1 == fields.len(), env, at)?;
+                let mut procs = Vec::new();
+                for h in heads {
+                    let mut sub = Vec::new();
+                    self.input_branches(&head, vec![h], p, fields, i, env, body, &mut sub)?;
+                    if !sub.is_empty() {
+                        procs.push(self.assemble_prefix(sub, env, at)?);
                     }
-                };
-                let mut full = Vec::new();
-                for c in candidates {
-                    full.push(self.dot(head.clone(), c, at)?);
                 }
-                self.input_branches(&head, full, p, fields, i, env, body, out)
+                if procs.is_empty() {
+                    return Err(err(Code::Runtime, at, "nondeterministic input over no values"));
+                }
+                out.push(Branch::Proc(Rc::new(P::Int(procs))));
+                Ok(())
             }
         }
+    }
+
+    /// The heads an input field extends `head` to: the values of `?x:S`,
+    /// or whole fields of the declared values, one at a time until the
+    /// pattern has as many components as it has parts (`?x.y` over
+    /// `{0,1}.{0,1}` takes two fields, `?X.x` over a datatype field one);
+    /// the last field of a prefix takes the rest.
+    fn input_heads(
+        &mut self,
+        head: &Value,
+        p: &crate::ast::Pat,
+        restrict: Option<&Expr>,
+        last: bool,
+        env: u32,
+        at: TextRange,
+    ) -> R<Vec<Value>> {
+        if let Some(s) = restrict {
+            let mut full = Vec::new();
+            for c in self.set_of(s, env)?.iter() {
+                full.push(self.dot(head.clone(), c.clone(), at)?);
+            }
+            return Ok(full);
+        }
+        let want = crate::eval::pat_width(p);
+        let mut heads = std::collections::BTreeSet::new();
+        for e in self.completions(head.clone(), at)? {
+            let rest = remaining_fields(head, &e);
+            if rest.is_empty() {
+                continue;
+            }
+            let mut j = 0;
+            let mut width = 0;
+            while j < rest.len() && (last || width < want) {
+                width += crate::eval::value_width(&rest[j]);
+                j += 1;
+            }
+            let mut h = head.clone();
+            for v in &rest[..j] {
+                h = self.dot(h, v.clone(), at)?;
+            }
+            heads.insert(h);
+        }
+        Ok(heads.into_iter().collect())
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -371,7 +408,7 @@ impl Evaluator<'_> {
         i: usize,
         env: u32,
         body: &Expr,
-        out: &mut Vec<(u32, Rc<P>)>,
+        out: &mut Vec<Branch>,
     ) -> R<()> {
         let skip = match head {
             Value::Dot(x) => x.len(),
@@ -477,4 +514,11 @@ fn remaining_fields(head: &Value, e: &Value) -> Vec<Value> {
     }
     out.extend(ep[k..].iter().cloned());
     out
+}
+
+/// One alternative of a prefix: an event and what follows, or (for a
+/// nondeterministic input) a whole process.
+enum Branch {
+    Event(u32, Rc<P>),
+    Proc(Rc<P>),
 }

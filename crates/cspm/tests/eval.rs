@@ -71,6 +71,10 @@ R = P [[ c <- e ]]
     assert!(!p.has_trace(&["c.2"]));
     let q = lts(text, "Q");
     assert!(q.has_trace(&["c.1", "c.0"]));
+    // `$x`: the process, not the environment, picks the value.
+    let n = lts(&format!("{text}\nN = c$x:{{0,1}} -> STOP"), "N");
+    assert_eq!(initials(&n, 0), ["τ"]);
+    assert_eq!(n.transitions[0].len(), 2);
     let r = lts(text, "R");
     assert!(r.has_trace(&["e.0", "d.0.true", "e.1"]));
     assert!(!r.has_trace(&["c.0"]));
