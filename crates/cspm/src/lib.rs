@@ -17,6 +17,7 @@
 
 mod ast;
 mod builtins;
+mod dotted;
 mod eval;
 mod grammar;
 mod kinds;

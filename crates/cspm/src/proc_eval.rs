@@ -376,7 +376,7 @@ impl Evaluator<'_> {
             }
             return Ok(full);
         }
-        let want = crate::eval::pat_width(p);
+        let want = crate::dotted::pat_width(p);
         let mut heads = std::collections::BTreeSet::new();
         for e in self.completions(head.clone(), at)? {
             let rest = remaining_fields(head, &e);
@@ -386,7 +386,7 @@ impl Evaluator<'_> {
             let mut j = 0;
             let mut width = 0;
             while j < rest.len() && (last || width < want) {
-                width += crate::eval::value_width(&rest[j]);
+                width += crate::dotted::value_width(&rest[j]);
                 j += 1;
             }
             let mut h = head.clone();
@@ -415,7 +415,7 @@ impl Evaluator<'_> {
             _ => 1,
         };
         let mut head_flat = Vec::new();
-        crate::eval::flatten_value(head, &mut head_flat);
+        crate::dotted::flatten_value(head, &mut head_flat);
         for v in extended {
             self.tick(body.range)?;
             // The value the pattern sees: the fields added to the head (one
@@ -424,7 +424,7 @@ impl Evaluator<'_> {
                 Value::Dot(y) if y.len() == skip + 1 => y[skip].clone(),
                 _ => {
                     let mut flat = Vec::new();
-                    crate::eval::flatten_value(&v, &mut flat);
+                    crate::dotted::flatten_value(&v, &mut flat);
                     if flat.len() <= head_flat.len() {
                         continue;
                     }
