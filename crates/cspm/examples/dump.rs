@@ -1,6 +1,11 @@
 //! Prints a CSPm file's diagnostics, the values of its `test*` names and
 //! the sizes of the LTSs of the processes named on the command line.
 fn main() {
+    // Deep recursions (long sequences, big terms) need a big stack.
+    std::thread::Builder::new().stack_size(1 << 30).spawn(run).unwrap().join().unwrap();
+}
+
+fn run() {
     let mut args = std::env::args().skip(1);
     let path = std::path::PathBuf::from(args.next().expect("a .csp file"));
     let bytes = std::fs::read(&path).expect("readable");
@@ -13,7 +18,14 @@ fn main() {
         let line = text[..usize::from(d.range.start())].lines().count();
         println!("{line}: {d}");
     }
-    let mut ev = robosim_cspm::Evaluator::new(&m, &names, robosim_cspm::Limits::default());
+    let limits = robosim_cspm::Limits {
+        max_stack: 1000 << 20,
+        max_depth: 1_000_000,
+        max_states: std::env::var("MAX_STATES").ok().and_then(|s| s.parse().ok()).unwrap_or(500_000),
+        time: std::time::Duration::from_secs(120),
+        ..robosim_cspm::Limits::default()
+    };
+    let mut ev = robosim_cspm::Evaluator::new(&m, &names, limits);
     for n in m.defined_names() {
         if n.starts_with("test") {
             match ev.value(&n) {

@@ -135,6 +135,8 @@ pub struct Evaluator<'m> {
     pub(crate) events: Vec<Value>,
     pub(crate) event_ids: FxHashMap<Value, u32>,
     pub(crate) calls: FxHashMap<(Value, Vec<Value>), Rc<P>>,
+    /// Calls being evaluated (see `apply`).
+    in_progress: rustc_hash::FxHashSet<(Value, Vec<Value>)>,
     pub(crate) depth: u32,
     /// Stack use since the outermost evaluation step.
     stack: crate::stack::StackGuard,
@@ -164,6 +166,7 @@ impl<'m> Evaluator<'m> {
             events: Vec::new(),
             event_ids: FxHashMap::default(),
             calls: FxHashMap::default(),
+            in_progress: Default::default(),
             depth: 0,
             stack: crate::stack::StackGuard::new(1 << 20),
             started: Instant::now(),
@@ -256,6 +259,27 @@ impl<'m> Evaluator<'m> {
     /// (declarations may refer to later ones, and datatypes to themselves).
     pub(crate) fn bind_decls(&mut self, decls: &Rc<[Decl]>, env: u32) {
         let mut typed = Vec::new();
+        self.bind_names(decls, env, &mut typed);
+        // Field types may use each other in any order (`channel c : T.N`
+        // before `datatype T`, `nametype N`): evaluated until no progress.
+        loop {
+            let before = typed.len();
+            let mut failed = Vec::new();
+            for (name, ty, own, env) in typed {
+                if !self.field_types(&name, ty, own, env) {
+                    failed.push((name, ty, own, env));
+                }
+            }
+            typed = failed;
+            if typed.is_empty() || typed.len() == before {
+                break;
+            }
+        }
+    }
+
+    /// Binds the names of `decls` (modules recursively), collecting the
+    /// field types of channels and constructors to evaluate.
+    fn bind_names<'d>(&mut self, decls: &'d Rc<[Decl]>, env: u32, typed: &mut Vec<(Name, &'d Expr, Option<u32>, u32)>) {
         for (i, d) in decls.iter().enumerate() {
             match &d.kind {
                 DeclKind::Fun(name, _) | DeclKind::Nametype(name, _) => {
@@ -283,7 +307,7 @@ impl<'m> Evaluator<'m> {
                         self.channels.push(n.clone());
                         self.bind(env, n.clone(), Slot::Val(Value::Ctor(n.clone())));
                         if let Some(ty) = ty {
-                            typed.push((n.clone(), ty, None));
+                            typed.push((n.clone(), ty, None, env));
                         }
                     }
                 }
@@ -299,7 +323,7 @@ impl<'m> Evaluator<'m> {
                         self.arity.insert(c.clone(), fe.as_ref().map_or(0, dot_count));
                         self.fields.remove(c);
                         match fe {
-                            Some(fe) => typed.push((c.clone(), fe, Some(t))),
+                            Some(fe) => typed.push((c.clone(), fe, Some(t), env)),
                             None => {
                                 self.fields.insert(c.clone(), Rc::from(Vec::new()));
                             }
@@ -313,7 +337,7 @@ impl<'m> Evaluator<'m> {
                     // The module's own frame, then its names again as `M::x`
                     // (the same slots: evaluated once, in the module).
                     let fr = self.new_frame(env, None);
-                    self.bind_decls(inner, fr);
+                    self.bind_names(inner, fr, typed);
                     let vars = self.frames[fr as usize].vars.clone();
                     for (n, slot) in vars {
                         self.bind(env, format!("{m}::{n}").into(), slot);
@@ -322,26 +346,32 @@ impl<'m> Evaluator<'m> {
                 DeclKind::Assert | DeclKind::Annotation(_) => {}
             }
         }
-        for (name, ty, own) in typed {
-            // A datatype's own name in its fields (a recursive type) cannot
-            // be enumerated: its thunk is busy meanwhile, so that fails fast.
-            if let Some(t) = own {
-                if matches!(self.thunks[t as usize].state, ThunkState::Todo) {
-                    self.thunks[t as usize].state = ThunkState::Busy;
-                }
+    }
+
+    /// Evaluates the field types of a channel or constructor; whether it
+    /// could (a recursive type or `Int` cannot: its values can then be
+    /// built and matched but not enumerated).
+    fn field_types(&mut self, name: &Name, ty: &Expr, own: Option<u32>, env: u32) -> bool {
+        // A datatype's own name in its fields (a recursive type) fails fast:
+        // its thunk is busy meanwhile.
+        if let Some(t) = own {
+            if matches!(self.thunks[t as usize].state, ThunkState::Todo) {
+                self.thunks[t as usize].state = ThunkState::Busy;
             }
-            let r = self.eval(ty, env).and_then(|v| self.type_fields(v, ty.range));
-            if let Some(t) = own {
-                if matches!(self.thunks[t as usize].state, ThunkState::Busy) {
-                    self.thunks[t as usize].state = ThunkState::Todo;
-                }
+        }
+        let r = self.eval(ty, env).and_then(|v| self.type_fields(v, ty.range));
+        if let Some(t) = own {
+            if matches!(self.thunks[t as usize].state, ThunkState::Busy) {
+                self.thunks[t as usize].state = ThunkState::Todo;
             }
-            // Otherwise (`Int`, a recursive type) the values can be built
-            // and matched but not enumerated.
-            if let Ok(f) = r {
+        }
+        match r {
+            Ok(f) => {
                 self.arity.insert(name.clone(), f.len());
-                self.fields.insert(name, f.into());
+                self.fields.insert(name.clone(), f.into());
+                true
             }
+            Err(_) => false,
         }
     }
 
@@ -468,12 +498,16 @@ impl<'m> Evaluator<'m> {
         }
     }
 
-    pub(crate) fn force(&mut self, t: u32, at: TextRange) -> R<Value> {
+    pub(crate) fn force(&mut self, t: u32, _at: TextRange) -> R<Value> {
         let th = &self.thunks[t as usize];
         match &th.state {
             ThunkState::Done(v) => return Ok(v.clone()),
+            // A definition used while it is being evaluated (`P = F(P)`):
+            // a lazy reference, which only a process can be (anything else
+            // is then a type error where it is used).
             ThunkState::Busy => {
-                return Err(err(Code::Runtime, at, "this definition depends on its own value (an unguarded recursion)"))
+                let key = (Value::Int(t as i64), Vec::new());
+                return Ok(self.proc_value(Rc::new(P::Call(Rc::new(key)))));
             }
             ThunkState::Todo => {}
         }
@@ -886,15 +920,30 @@ impl<'m> Evaluator<'m> {
         // every path to `F(x)` reaches the same term (and the same state).
         let user = matches!(&f, Value::Func(func) if !matches!(func.inner.0, Func::Builtin { .. }));
         let key = if user { Some((f.clone(), args.clone())) } else { None };
-        if let Some(p) = key.as_ref().and_then(|k| self.calls.get(k)) {
-            let p = p.clone();
-            return Ok(self.proc_value(p));
+        if let Some(k) = &key {
+            if let Some(p) = self.calls.get(k) {
+                let p = p.clone();
+                return Ok(self.proc_value(p));
+            }
+            // The same call inside its own evaluation (`P(x) = F(P(x))`,
+            // arguments being evaluated eagerly): a lazy reference to it.
+            if self.in_progress.contains(k) {
+                let call = Rc::new(P::Call(Rc::new(k.clone())));
+                return Ok(self.proc_value(call));
+            }
+            self.in_progress.insert(k.clone());
         }
-        self.enter(at)?;
-        let r = self.apply_inner(f, args, at);
-        self.depth -= 1;
-        if let (Some(k), Ok(Value::Proc(p))) = (key, &r) {
-            self.calls.insert(k, p.inner.clone());
+        let entered = self.enter(at);
+        let r = entered.and_then(|_| {
+            let r = self.apply_inner(f, args, at);
+            self.depth -= 1;
+            r
+        });
+        if let Some(k) = key {
+            self.in_progress.remove(&k);
+            if let Ok(Value::Proc(p)) = &r {
+                self.calls.insert(k, p.inner.clone());
+            }
         }
         r
     }

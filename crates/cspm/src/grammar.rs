@@ -233,19 +233,27 @@ fn assert_decl(p: &mut Parser) {
 fn property(p: &mut Parser) {
     p.start(ASSERT_PROPERTY);
     p.bump();
+    // `]]` of `[FD]]` is one token: it closes two brackets.
     let mut depth = 1;
-    while !p.at(EOF) {
+    loop {
+        if p.at(EOF) {
+            p.error("expected `]` to close the property");
+            break;
+        }
         match p.current() {
             L_BRACK => depth += 1,
+            L_RENAME => depth += 2,
             R_BRACK => depth -= 1,
+            R_RENAME => depth -= 2,
             _ => {}
         }
         p.bump();
-        if depth == 0 {
+        if depth <= 0 {
+            p.hard_break_after_previous();
             break;
         }
     }
-    if p.eat(COLON) || (p.at(LT) && !p.at_line_break()) {
+    if (!p.at_line_break() && p.eat(COLON)) || (p.at(LT) && !p.at_line_break()) {
         expr(p);
     }
     p.finish_node();

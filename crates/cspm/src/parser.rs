@@ -36,6 +36,9 @@ pub(crate) struct Parser<'t> {
     /// compares (reset inside brackets, as libcspm's sequence stack does).
     pub(crate) gt_closes: bool,
     pub(crate) stack: crate::stack::StackGuard,
+    /// A token after which a line break is hard whatever its kind (the `]`
+    /// closing an assertion's property, which libcspm lexes apart).
+    hard_after: Option<usize>,
 }
 
 impl<'t> Parser<'t> {
@@ -53,6 +56,7 @@ impl<'t> Parser<'t> {
             depth: 0,
             gt_closes: false,
             stack: crate::stack::StackGuard::new(crate::stack::STATIC_PASS_STACK),
+            hard_after: None,
         }
     }
 
@@ -97,6 +101,11 @@ impl<'t> Parser<'t> {
         }
     }
 
+    /// Makes a line break after the previous token end the definition.
+    pub(crate) fn hard_break_after_previous(&mut self) {
+        self.hard_after = self.pos.checked_sub(1).and_then(|p| self.significant.get(p)).copied();
+    }
+
     /// The text of the current token.
     pub(crate) fn token_text(&self) -> &'t str {
         &self.text[self.current_range()]
@@ -126,7 +135,9 @@ impl<'t> Parser<'t> {
             self.tokens[cur].kind,
             ASSERT_KW | CHANNEL_KW | DATATYPE_KW | NAMETYPE_KW | SUBTYPE_KW | MODULE_KW | TIMED_KW
         );
-        newline && (starts_decl || (!self.tokens[prev].kind.soaks_after() && !self.tokens[cur].kind.soaks_before()))
+        let hard = self.hard_after == Some(prev);
+        newline
+            && (starts_decl || hard || (!self.tokens[prev].kind.soaks_after() && !self.tokens[cur].kind.soaks_before()))
     }
 
     fn emit_one(&mut self) {
