@@ -5,27 +5,24 @@
 
 use std::time::Instant;
 
-use robosim_hir::defs::DefKind;
-use robosim_hir::index::{resolve_item, ItemLoc};
 use robosim_hir::{parse, Db, File, TextRange, Workspace};
 
 use crate::algo::{
-    check_determinism, find_deadlock, find_divergence, find_timed_deadlock, refines, DeadlockResult, DeterminismResult,
-    DivergenceResult, Path, RefinementCex, RefinementResult, SemanticModel, TimedDeadlockResult,
+    check_determinism, find_deadlock, find_divergence, find_event, find_timed_deadlock, find_timelock, refines,
+    DeadlockResult, DeterminismResult, DivergenceResult, EventResult, Path, RefinementCex, RefinementResult,
+    SemanticModel, TimedDeadlockResult, TimelockResult,
 };
-use crate::assertions::{
-    read_assertions, AssertionDecl, AssertionFile, AssertionKind, Override, SemanticModelName, Value,
-};
+use crate::assertions::{read_assertions, AssertionDecl, AssertionFile, AssertionKind, SemanticModelName, Value};
 use crate::budget::{Budget, ProgressFn, Stats};
 use crate::design::{shared_events, DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
 use crate::lower::{lower_element, ConstValue, DomainDefaults, Unsupported};
-use crate::lts::{Event, Label, Lts, TAU, TOCK};
+use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
 use crate::machine::{Act, Offer};
 use crate::pack::{Packed, VectorLts};
 use crate::sched::{Constrained, Registers, State};
 use crate::sim::SimModule;
-use robosim_hir::cycle::Feasibility;
+use robosim_hir::target::{Scope, Subject as Target};
 
 pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
@@ -208,6 +205,15 @@ pub fn verify_assertion(
         report.reason = Some(format!("the assertion is incomplete: {}", p.message));
         return report;
     }
+    let timing = robosim_hir::target::timing(a);
+    if !timing.timed {
+        report.reason = Some(
+            "`untimed` assertions are checked in RoboTool's untimed semantics (RT-9: `wait` is SKIP, clock \
+             guards hold, no `tock`), which the native checker does not implement yet"
+                .into(),
+        );
+        return report;
+    }
     let cx = Cx { db, ws, file, read, others, a, async_buffer: opts.async_buffer };
     match &a.kind {
         AssertionKind::Schedulable => schedulable(&cx, opts, progress, &mut report),
@@ -219,7 +225,16 @@ pub fn verify_assertion(
         | AssertionKind::TimelockFree
         | AssertionKind::DivergenceFree
         | AssertionKind::Deterministic
+        | AssertionKind::Terminates
         | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
+        AssertionKind::ClockInitialised { .. } => {
+            // RT-10: RoboTool's authors commented such assertions out.
+            report.reason = Some(
+                "`clock … is initialised` assertions are not supported by RoboTool 3's semantics either \
+                 (it generates no encoding for them), so there is no verdict to match"
+                    .into(),
+            );
+        }
         other => {
             report.reason = Some(format!("`{}` assertions are not supported by the native checker yet", other.label()));
         }
@@ -227,19 +242,15 @@ pub fn verify_assertion(
     if report.stats.seconds == 0.0 {
         report.stats.seconds = started.elapsed().as_secs_f64();
     }
+    if timing.untimed && matches!(report.verdict, Verdict::Pass | Verdict::Fail) {
+        // RT-8: RoboTool reports a plain assertion in both semantics.
+        report.notes.push(
+            "checked in the timed semantics; RoboTool also reports this assertion in the untimed semantics \
+             (RT-8), which the native checker does not run yet"
+                .into(),
+        );
+    }
     report
-}
-
-/// What an assertion's subject (or other side) denotes.
-enum Target {
-    /// `simulation S of M`: the RoboChart element `M` under the simulation
-    /// assumptions with period `p`.
-    Constrained { name: String, loc: ItemLoc, period: Option<i64> },
-    /// A RoboSim module, controller or machine, with its period.
-    Simulation { name: String, loc: ItemLoc, period: Option<i64> },
-    /// A RoboChart module, controller or machine on its own; with `inner`,
-    /// the machine of that name declared inside the controller `loc`.
-    Design { name: String, loc: ItemLoc, inner: Option<String> },
 }
 
 /// Everything an assertion's check needs from the workspace.
@@ -255,113 +266,24 @@ struct Cx<'a> {
 }
 
 impl Cx<'_> {
-    /// The simulation declaration, or the RoboSim element, named `path`;
-    /// `cycleDef of X set to N` overrides its period.
+    /// What `path`, a side of the assertion, denotes (hir's one reading).
     fn target(&self, path: &[String]) -> Result<Target, String> {
-        let name = path.join("::");
-        let sim = self
-            .read
-            .simulation(&name)
-            .map(|s| (self.file, s))
-            .or_else(|| self.others.iter().find_map(|(f, r)| r.simulation(path.last()?).map(|s| (*f, s))));
-        let overridden = self.a.overrides.iter().find_map(|o| match o {
-            Override::CycleDef { of, value, .. } if of.last() == path.last() => Some(value.as_int()),
-            _ => None,
-        });
-        if let Some((sim_file, sim)) = sim {
-            let loc = resolve_item(self.db, self.ws, sim_file, &sim.of, |k| {
-                matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine)
-            })
-            .into_iter()
-            .next()
-            .ok_or_else(|| format!("`{}` is not a RoboChart module, controller or machine", sim.of.join("::")))?;
-            let period = overridden.unwrap_or_else(|| sim.cycle.as_ref().and_then(Value::as_int));
-            return Ok(Target::Constrained { name: sim.name.clone(), loc, period });
-        }
-        if let Some(ctrl) = self.inline_machine(path) {
-            if ctrl.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
-                return Ok(Target::Design { name, loc: ctrl, inner: path.last().cloned() });
-            }
-        }
-        let loc = resolve_item(self.db, self.ws, self.file, path, |k| {
-            matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine)
-        })
-        .into_iter()
-        .next()
-        .ok_or_else(|| {
-            let csp = std::iter::once(self.read)
-                .chain(self.others.iter().map(|(_, r)| r))
-                .any(|r| path.last().is_some_and(|n| r.csp_block(n).is_some()));
-            if csp {
-                format!("`{name}` is defined in a `csp` block: raw CSPm is not verifiable natively (check it with FDR)")
-            } else if self.inline_machine(path).is_some() {
-                format!(
-                    "`{name}` is a RoboSim state machine declared inside its controller: the native checker \
-                     takes top-level RoboSim machines, controllers and modules only so far (check the controller)"
-                )
-            } else {
-                format!("`{name}` is not a simulation, module, controller or machine")
-            }
-        })?;
-        if loc.file.kind(self.db) != robosim_hir::FileKind::RoboSim {
-            return Ok(Target::Design { name, loc, inner: None });
-        }
-        let period = match overridden {
-            Some(p) => p,
-            None => self.element_period(&name, loc)?,
-        };
-        Ok(Target::Simulation { name, loc, period })
-    }
-
-    /// The period of the RoboSim element `loc` (hir's one choice: the
-    /// least that its cycleDef and its components' allow), with the
-    /// assertion's constants bound; `None` when nothing declares one.
-    fn element_period(&self, name: &str, loc: ItemLoc) -> Result<Option<i64>, String> {
-        let Some(def) = loc.def(self.db) else { return Ok(None) };
-        let bound: Vec<(String, i64)> =
-            self.constants().unwrap_or_default().into_iter().map(|c| (c.name, c.value)).collect();
-        match robosim_hir::cycle::simulation_period(self.db, self.ws, loc.file, def, &bound) {
-            None => Ok(None),
-            Some(Feasibility::Feasible(p)) => Ok(i64::try_from(p).ok()),
-            Some(Feasibility::Infeasible) => Err(format!(
-                "no positive period satisfies the cycleDef of `{name}` together with those of its components \
-                 (RS:M2/RS:C2): give them a common period"
+        let scope = Scope { db: self.db, ws: self.ws, file: self.file, read: self.read, others: self.others };
+        match robosim_hir::target::subject(scope, self.a, path)? {
+            Target::Simulation { name, inner: Some(_), .. } => Err(format!(
+                "`{name}` is a RoboSim state machine declared inside its controller: the native checker \
+                 takes top-level RoboSim machines, controllers and modules only so far (check the controller)"
             )),
-            Some(Feasibility::Unknown) => Err(format!(
-                "the period of `{name}` could not be decided from its cycleDefs: give one with `cycleDef cycle == N`"
-            )),
+            target => Ok(target),
         }
-    }
-
-    /// The controller `C` when `path` is `C::M` and `C` declares the
-    /// machine `M` in its own body.
-    fn inline_machine(&self, path: &[String]) -> Option<ItemLoc> {
-        let (last, prefix) = path.split_last()?;
-        let controller = resolve_item(self.db, self.ws, self.file, prefix, |k| k == DefKind::Controller);
-        controller.into_iter().find(|loc| {
-            let Some(id) = loc.def(self.db) else { return false };
-            robosim_hir::defs::file_defs(self.db, loc.file)
-                .children(Some(id))
-                .any(|(_, d)| d.kind == DefKind::StateMachine && d.name == *last)
-        })
     }
 
     /// The constant values the assertion gives.
     fn constants(&self) -> Result<Vec<ConstValue>, String> {
-        let mut consts = Vec::new();
-        for o in &self.a.overrides {
-            if let Override::Constant { name, of, value, .. } = o {
-                let v = match value {
-                    Value::Int(v) => *v,
-                    Value::Bool(b) => *b as Val,
-                    Value::Other(_) => {
-                        return Err(format!("the value of constant `{name}` is not an integer or boolean literal"))
-                    }
-                };
-                consts.push(ConstValue { name: name.clone(), of: of.clone(), value: v });
-            }
-        }
-        Ok(consts)
+        Ok(robosim_hir::target::bindings(self.a)?
+            .into_iter()
+            .map(|b| ConstValue { name: b.name, of: b.of, value: b.value as Val })
+            .collect())
     }
 
     /// The bounded types, from `nametype core_X = {a..b}` lines.
@@ -390,7 +312,7 @@ impl Cx<'_> {
     /// The compiled element of `target` and its period.
     fn compile(&self, target: &Target, consts: &[ConstValue]) -> Result<(Design, u32), String> {
         let (name, loc, period) = match target {
-            Target::Constrained { name, loc, period } | Target::Simulation { name, loc, period } => {
+            Target::Constrained { name, loc, period, .. } | Target::Simulation { name, loc, period, .. } => {
                 (name, *loc, *period)
             }
             // A design on its own has no period.
@@ -669,6 +591,30 @@ fn refinement(
     }
 }
 
+/// Why time cannot pass at `state`, a stable state without `tock`: what
+/// it offers (which the environment may refuse), or that it has ended.
+fn timelock_reason(lts: &Side<'_>, state: &Packed) -> String {
+    let mut succ = Vec::new();
+    lts.successors(state, &mut succ);
+    let mut offered: Vec<String> = Vec::new();
+    for (label, _) in &succ {
+        let e = lts.event_name(label.event);
+        if !offered.contains(&e) {
+            offered.push(e);
+        }
+    }
+    match offered.as_slice() {
+        [] => "nothing can happen here, not even time passing".into(),
+        [only] if only == "✓" => {
+            "it has terminated: time cannot pass (RT-10 counts termination as a timelock)".into()
+        }
+        _ => format!(
+            "time cannot pass until one of {{{}}} happens, and the environment may refuse them (RT-10)",
+            offered.join(", ")
+        ),
+    }
+}
+
 /// Whether a property holds, its witness (kind, path, what happens at its
 /// end), and the verdict in words.
 type Outcome = (bool, Option<(&'static str, Path<Packed>, String)>, String);
@@ -707,16 +653,46 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                 }
             }
             AssertionKind::TimelockFree => {
+                // RT-10: the environment may refuse every event, so a
+                // stable state without `tock` stops time.
+                let (r, stats) = find_timelock(&lts, &opts.budget, progress);
+                report.stats = stats;
+                match r {
+                    TimelockResult::Free => Ok((true, None, format!("time can always pass in {name}"))),
+                    TimelockResult::Timelock(path) => {
+                        let why = timelock_reason(&lts, path.last());
+                        Ok((false, Some(("timelock", path, why)), format!("{name} reaches a timelock")))
+                    }
+                    TimelockResult::Inconclusive(stop) => Err(stop),
+                }
+            }
+            AssertionKind::Terminates => {
+                // RT-10: ✓ is reachable, and the process deadlocks only
+                // after ✓ (a state reached by ✓ is not a deadlock).
                 let (r, stats) = find_deadlock(&lts, &opts.budget, progress);
                 report.stats = stats;
                 match r {
-                    DeadlockResult::Free => Ok((true, None, format!("time can always pass in {name}"))),
                     DeadlockResult::Deadlock(path) => Ok((
                         false,
-                        Some(("timelock", path, "nothing can happen here, not even time passing".into())),
-                        format!("{name} reaches a timelock"),
+                        Some(("deadlock", path, "nothing can happen here, and it has not terminated".into())),
+                        format!("{name} can deadlock before it terminates"),
                     )),
                     DeadlockResult::Inconclusive(stop) => Err(stop),
+                    DeadlockResult::Free => {
+                        let (r, stats) = find_event(&lts, TICK, &opts.budget, progress);
+                        report.stats.states += stats.states;
+                        report.stats.transitions += stats.transitions;
+                        report.stats.seconds += stats.seconds;
+                        match r {
+                            EventResult::Reached(path) => Ok((
+                                true,
+                                Some(("termination", path, "it terminates here".into())),
+                                format!("{name} terminates, and deadlocks only after it has"),
+                            )),
+                            EventResult::Unreachable => Ok((false, None, format!("{name} never terminates"))),
+                            EventResult::Inconclusive(stop) => Err(stop),
+                        }
+                    }
                 }
             }
             AssertionKind::DivergenceFree => {

@@ -39,6 +39,13 @@ fn the_running_examples_design() {
     let c = d4.counterexample.as_ref().expect("a witness");
     assert_eq!(c.kind, "nondeterminism");
     assert!(trace_text(&c.steps).contains("stopCall"), "{}", trace_text(&c.steps));
+    // D3 (`is not timelock-free`, RT-10): the witness ends where the
+    // design must call the platform, which may refuse the call.
+    let d3 = &reports[2];
+    let c = d3.counterexample.as_ref().expect("a witness");
+    assert_eq!(c.kind, "timelock");
+    assert_eq!(trace_text(&c.steps), "");
+    assert!(c.explanation.iter().any(|e| e.contains("moveCall") && e.contains("RT-10")), "{:?}", c.explanation);
     // D5: the shortest way into Turning.
     let d5 = &reports[4];
     assert_eq!(
@@ -73,7 +80,8 @@ fn failing_properties() {
             ("B", Verdict::Fail, Some("divergence")),
             ("C", Verdict::Fail, Some("nondeterminism")),
             ("D", Verdict::Pass, Some("reachability")),
-            ("E", Verdict::Pass, None),
+            // RT-10: the platform may refuse the urgent call `op()`.
+            ("E", Verdict::Fail, Some("timelock")),
             ("F", Verdict::Fail, Some("timelock")),
         ],
         "{reports:#?}"
@@ -154,4 +162,39 @@ fn tick_tock_refinement_of_designs() {
     let c = reports[3].counterexample.as_ref().expect("a witness");
     assert_eq!(trace_text(&c.steps), "tock");
     assert!(c.explanation[0].ends_with("one of {tock, a.in}"), "{:?}", c.explanation);
+}
+
+/// `terminates` (RT-10): ✓ is reachable, and the process deadlocks only
+/// after ✓.
+#[test]
+fn termination() {
+    let rct = "interface I { event e }
+        stm Ends { initial i final f transition t { from i to f } }
+        stm Waits { initial i state S { } transition t { from i to S } }
+        stm Late { initial i state S { entry (wait(2) <{1}) } final f
+          transition t { from i to S } transition u { from S to f } }
+        stm Maybe { uses I initial i state S { } final f
+          transition t { from i to S } transition u { from S to f trigger e } }";
+    let asserts = "assertion A : Ends terminates
+        assertion B : Waits terminates
+        assertion C : Late terminates
+        assertion D : Maybe terminates
+        assertion E : Waits does not terminate";
+    let reports = run(&[("m.rct", rct.to_string()), ("a.assertions", asserts.to_string())]);
+    assert_eq!(
+        verdicts(&reports),
+        vec![
+            ("A", Verdict::Pass, Some("termination")),
+            // Only time passes: no deadlock, but no ✓ either.
+            ("B", Verdict::Fail, None),
+            // The deadline cannot be met: nothing can happen before ✓.
+            ("C", Verdict::Fail, Some("deadlock")),
+            // After e it terminates; meanwhile time passes.
+            ("D", Verdict::Pass, Some("termination")),
+            ("E", Verdict::Pass, None),
+        ],
+        "{reports:#?}"
+    );
+    let d = reports[3].counterexample.as_ref().expect("a witness");
+    assert_eq!(trace_text(&d.steps), "e.in ✓");
 }

@@ -72,11 +72,11 @@ fn running_example_schedulability() {
         let r = find(&v, "design.assertions", name);
         assert_eq!(r["verdict"], "pass", "{r:#}");
     }
-    // Clock initialisation is not checked natively yet: unsupported, with
-    // the reason.
+    // Clock initialisation has no semantics in RoboTool 3 (RT-10):
+    // unsupported, with the reason.
     let d6 = find(&v, "design.assertions", "D6");
     assert_eq!(d6["verdict"], "unsupported");
-    assert!(d6["reason"].as_str().unwrap().contains("clock-initialised"), "{d6:#}");
+    assert!(d6["reason"].as_str().unwrap().contains("not supported by RoboTool 3's semantics"), "{d6:#}");
     // No failure, some unsupported: exit 3.
     assert_eq!(code, Some(3));
 }

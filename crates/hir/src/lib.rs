@@ -22,6 +22,7 @@ pub mod nav;
 pub mod profile;
 pub mod resolve;
 mod robosim;
+pub mod target;
 pub mod types;
 mod walk;
 

@@ -9,6 +9,7 @@ use robosim_hir::assertions::{
     AssertionDecl, AssertionFile, AssertionKind, CspLineKind, Override, SemanticModelName, Value,
 };
 use robosim_hir::defs::DefKind;
+use robosim_hir::target::{self, Scope};
 use robosim_hir::File;
 use robosim_syntax::TextRange;
 
@@ -135,7 +136,7 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
     // Assertions.
     for a in &read.assertions {
         out.push(Decl::Comment(a.text.clone()));
-        match assertion(ex, file, a, &sims, &raw_names) {
+        match assertion(ex, file, read, a, &sims, &raw_names) {
             Ok(asserts) => out.extend(asserts.into_iter().map(Decl::Assert)),
             Err(m) => {
                 ex.warn(file, a.range, format!("assertion {} is not exported: {m}", a.name));
@@ -147,10 +148,15 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
     out
 }
 
-/// The subject named `path` in an assertion of `file`.
+/// The subject named `path` in assertion `a` of `file`: a simulation of
+/// the file or a `csp` block by name, else the element hir's one reading
+/// of assertions resolves (`robosim_hir::target`, as the native checker).
+#[allow(clippy::too_many_arguments)]
 fn subject(
     ex: &mut Exporter<'_>,
     file: File,
+    read: &AssertionFile,
+    a: &AssertionDecl,
     path: &[String],
     sims: &HashMap<String, Subject>,
     raw: &[String],
@@ -163,14 +169,29 @@ fn subject(
             return Ok(Subject { module: path[0].clone(), elem: None, simulation: false, period: None, names: vec![] });
         }
     }
-    let accept: fn(DefKind) -> bool = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
-    let Some((f, node)) = util::resolve(ex.db, ex.ws, file, path, accept) else {
+    // The export writes one script per assertion file: simulations of the
+    // other files are not in it.
+    let scope = Scope { db: ex.db, ws: ex.ws, file, read, others: &[] };
+    let (loc, inner, period) = match robosim_hir::target::subject(scope, a, path)? {
+        target::Subject::Constrained { name, .. } => {
+            return Err(format!("simulation `{name}` is not exported"));
+        }
+        target::Subject::Simulation { loc, inner, period, .. } => (loc, inner, period),
+        target::Subject::Design { loc, inner, .. } => (loc, inner, None),
+    };
+    let Some(mut node) = util::node_of(ex.db, loc) else {
         return Err(format!("`{}` could not be resolved", path.join("::")));
     };
-    let Some(elem) = crate::compose::element(ex, f, &node) else {
+    if let Some(inner) = inner {
+        let machine = node
+            .children()
+            .find(|c| c.kind() == robosim_syntax::SyntaxKind::STATE_MACHINE && util::name_of(c) == inner);
+        node = machine.ok_or_else(|| format!("`{}` could not be resolved", path.join("::")))?;
+    }
+    let Some(elem) = crate::compose::element(ex, loc.file, &node) else {
         return Err(format!("`{}` is not exported", path.join("::")));
     };
-    let period = elem.robosim.then_some(elem.period);
+    let period = elem.robosim.then(|| period.unwrap_or(elem.period));
     Ok(Subject {
         module: elem.module.clone(),
         elem: Some(elem.clone()),
@@ -253,11 +274,12 @@ fn tau_priority() -> Option<Expr> {
 fn assertion(
     ex: &mut Exporter<'_>,
     file: File,
+    read: &AssertionFile,
     a: &AssertionDecl,
     sims: &HashMap<String, Subject>,
     raw: &[String],
 ) -> Result<Vec<Assert>, String> {
-    if a.timed == Some(false) {
+    if !target::timing(a).timed {
         return Err("untimed assertions need RoboTool's untimed semantics, which the export does not generate".into());
     }
     if let Some(p) = a.problems.first() {
@@ -266,7 +288,7 @@ fn assertion(
     let one = |kind| Ok(vec![Assert { negated: a.negated, kind, tau_priority: None }]);
     match &a.kind {
         AssertionKind::Schedulable => {
-            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             if !s.simulation {
                 return Err(format!("`{}` is not a simulation: only simulations are (not) schedulable", a.subject.join("::")));
             }
@@ -274,7 +296,7 @@ fn assertion(
             Ok(vec![Assert { negated: a.negated, kind: AssertKind::DeadlockFree(p, Model::Failures), tau_priority: tau_priority() }])
         }
         AssertionKind::DeadlockFree => {
-            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let p = process(ex, file, a, &s, "D__")?;
             // Timed deadlock (semantics.md §7.4): a state from which only
             // time passes, forever.
@@ -296,36 +318,52 @@ fn assertion(
             one(AssertKind::DivergenceFree(hide(prio, Expr::Set(vec![name("tock")])), Model::FailuresDivergences))
         }
         AssertionKind::DivergenceFree => {
-            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let p = process(ex, file, a, &s, "D__")?;
             one(AssertKind::DivergenceFree(p, Model::FailuresDivergences))
         }
         AssertionKind::Deterministic => {
-            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let p = process(ex, file, a, &s, "D__")?;
             one(AssertKind::Deterministic(p, Model::FailuresDivergences))
         }
         AssertionKind::TimelockFree => {
-            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let p = process(ex, file, a, &s, "D__")?;
-            // Time can always pass eventually: with everything but `tock`
-            // hidden, `tock` is never refused (and no Zeno divergence).
-            let tocks = call("RUN", vec![Expr::Set(vec![name("tock")])]);
-            let p = hide(
-                crate::cspm::seq(vec![p, tocks.clone()]),
-                call("diff", vec![name("Events"), Expr::Set(vec![name("tock")])]),
-            );
-            one(AssertKind::Refines(Model::FailuresDivergences, tocks, p))
+            // RT-10, as the native checker reads it: after any trace, with
+            // every other event refusable (urgent ones included), `tock` is
+            // never refused; termination counts as a timelock.
+            let others = call("diff", vec![name("Events"), Expr::Set(vec![name("tock")])]);
+            one(AssertKind::Refines(Model::Failures, call("TimelockFree__", vec![others]), p))
         }
         AssertionKind::Terminates => {
-            let s = subject(ex, file, &a.subject, sims, raw)?;
+            let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let p = process(ex, file, a, &s, "D__")?;
-            one(AssertKind::Refines(Model::FailuresDivergences, Expr::Skip, hide(p, name("Events"))))
+            // RT-10, as the native checker reads it: ✓ is reachable (P
+            // has a trace outside CHAOS(Events), whose traces never end in
+            // ✓), and P deadlocks only after ✓ (followed by endless
+            // `terminated__`, it never deadlocks).
+            if a.negated {
+                return Err("`does not terminate` is a disjunction of two checks, which FDR cannot assert at once".into());
+            }
+            let after = call("RUN", vec![Expr::Set(vec![name("terminated__")])]);
+            Ok(vec![
+                Assert {
+                    negated: true,
+                    kind: AssertKind::Refines(Model::Traces, call("CHAOS", vec![name("Events")]), p.clone()),
+                    tau_priority: None,
+                },
+                Assert {
+                    negated: false,
+                    kind: AssertKind::DeadlockFree(crate::cspm::seq(vec![p, after]), Model::Failures),
+                    tau_priority: None,
+                },
+            ])
         }
         AssertionKind::Refines { other, model: m, .. } | AssertionKind::Equals { other, model: m, .. } => {
             let m = model(*m)?;
-            let x = subject(ex, file, &a.subject, sims, raw)?;
-            let y = subject(ex, file, other, sims, raw)?;
+            let x = subject(ex, file, read, a, &a.subject, sims, raw)?;
+            let y = subject(ex, file, read, a, other, sims, raw)?;
             let px = process(ex, file, a, &x, "D__")?;
             let py = process(ex, file, a, &y, "D__")?;
             let timed = [&x, &y].iter().any(|s| s.simulation || s.elem.as_ref().is_some_and(|e| e.robosim));
@@ -340,7 +378,7 @@ fn assertion(
             Ok(v)
         }
         AssertionKind::Reachable { state, machine, .. } => {
-            let s = subject(ex, file, machine, sims, raw)?;
+            let s = subject(ex, file, read, a, machine, sims, raw)?;
             let Some(elem) = s.elem.clone() else { return Err("reachability needs a state machine".into()) };
             if elem.kind != crate::export::ElemKind::Machine {
                 return Err("reachability in controllers and modules is not exported yet (only in state machines)".into());

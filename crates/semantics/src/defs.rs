@@ -13,6 +13,7 @@ pub const SHARED_PROCESSES: &[&str] = &[
     "WaitInterval",
     "EDeadline",
     "Delayable",
+    "TimelockFree__",
     "EndBy",
     "EndByTimer__",
     "Plus",
@@ -56,6 +57,8 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         ),
         Decl::Channel(vec!["terminate".into(), "timelock".into()], vec![]),
         Decl::Channel(vec!["deadline_done__".into()], vec![]),
+        Decl::Comment("`terminated__` follows termination in `terminates` checks (robotool-facts RT-10).".into()),
+        Decl::Channel(vec!["terminated__".into()], vec![]),
         Decl::Comment("Directions of RoboChart events.".into()),
         Decl::Datatype("InOut".into(), vec![("in".into(), vec![]), ("out".into(), vec![])]),
         Decl::Transparent(vec!["sbisim".into()]),
@@ -130,6 +133,27 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         "Delayable",
         &["e"],
         ext(vec![prefix("e", vec![], Expr::Skip), prefix("tock", vec![], call("Delayable", vec![n("e")]))]),
+    ));
+    d.push(Decl::Comment(
+        "timelock-free (robotool-facts RT-10): the environment may refuse any event of E, never tock.".into(),
+    ));
+    d.push(def(
+        "TimelockFree__",
+        &["E"],
+        ext(vec![
+            prefix("tock", vec![], call("TimelockFree__", vec![n("E")])),
+            crate::cspm::nary(
+                crate::cspm::ProcOp::IntChoice,
+                vec![
+                    Expr::Stop,
+                    Expr::Repl(
+                        ReplOp::ExtChoice,
+                        vec![("e".into(), n("E"))],
+                        Box::new(prefix("e", vec![], call("TimelockFree__", vec![n("E")]))),
+                    ),
+                ],
+            ),
+        ]),
     ));
     d.push(Decl::Comment("P must terminate within d time units (the statement deadline `P <{d}`).".into()));
     d.push(def(

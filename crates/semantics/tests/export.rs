@@ -120,3 +120,27 @@ fn periods_are_the_least_the_cycle_defs_admit() {
         assert!(asserts.contains(&format!("Mod::D__(0, {period},")), "{spec}: {asserts}");
     }
 }
+
+/// `terminates` and `timelock-free` as the native checker reads RT-10:
+/// termination is two checks (✓ reachable; no deadlock before ✓), and
+/// timelock freedom a refinement of a specification that may refuse every
+/// event but `tock`.
+#[test]
+fn terminates_and_timelock_free_follow_rt10() {
+    let model = "stm M { initial i final f transition t { from i to f } }";
+    let asserts = "assertion T : M terminates\nassertion L : M is timelock-free\nassertion N : M does not terminate";
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(
+        &db,
+        [("m.rct".to_string(), model.to_string()), ("a.assertions".to_string(), asserts.to_string())],
+        robosim_hir::RuleSet::Paper,
+    );
+    let e = export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 });
+    let text = e.files.iter().find(|f| f.name == "a_assertions.csp").expect("the assertions file").text();
+    assert!(text.contains("assert not CHAOS(Events) [T= M::D__(0)"), "{text}");
+    assert!(text.contains("assert (M::D__(0) ; RUN({terminated__})) :[deadlock free [F]]"), "{text}");
+    assert!(text.contains("assert TimelockFree__(diff(Events, {tock})) [F= M::D__(0)"), "{text}");
+    assert!(text.contains("NOT EXPORTED: `does not terminate` is a disjunction"), "{text}");
+    let problems = lint::check(&e.files);
+    assert!(problems.is_empty(), "{problems:#?}");
+}

@@ -26,11 +26,13 @@ pub mod divergence;
 pub mod explicit;
 pub mod refine;
 pub mod timed;
+pub mod timelock;
 
 pub use deadlock::{find_deadlock, DeadlockResult};
 pub use divergence::{find_divergence, DivergenceResult};
 pub use refine::{check_determinism, refines, DeterminismResult, RefinementCex, RefinementResult, SemanticModel};
 pub use timed::{find_timed_deadlock, TimedDeadlockResult};
+pub use timelock::{find_event, find_timelock, EventResult, TimelockResult};
 
 /// An execution of an LTS: the initial state and the steps taken from it.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -1,0 +1,685 @@
+//! Assembly: the memory, the behaviour and (RoboSim) the cycle put together as the machine's module.
+
+use super::*;
+
+impl<'e, 'a> Gen<'e, 'a> {
+    pub(super) fn memory(&mut self) -> Decl {
+        let params = self.memory_params();
+        let mut alts = Vec::new();
+        let same: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
+        let with = |i: usize, v: Expr| {
+            let mut a = same.clone();
+            a[i] = v;
+            a
+        };
+        for (i, v) in self.vars.iter().filter(|v| !v.shared).enumerate() {
+            alts.push(prefix(
+                format!("get_{}", v.csp),
+                vec![Field::Out(name(v.csp.clone()))],
+                self.memory_call(same.clone()),
+            ));
+            alts.push(prefix(
+                format!("set_{}", v.csp),
+                vec![Field::In("v__".into())],
+                self.memory_call(with(i, name("v__"))),
+            ));
+        }
+        let nv = self.vars.iter().filter(|v| !v.shared).count();
+        let mut ticked = same.clone();
+        for (k, c) in self.clocks.iter().enumerate() {
+            let i = nv + k;
+            if c.read {
+                alts.push(prefix(
+                    format!("get_{}", c.csp),
+                    vec![Field::Out(name(c.csp.clone()))],
+                    self.memory_call(same.clone()),
+                ));
+            }
+            alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
+            ticked[i] = call("ClockTick", vec![name(c.csp.clone()), name(format!("ClockMax__{}", c.csp))]);
+        }
+        alts.push(prefix("tock", vec![], self.memory_call(ticked)));
+        // RoboSim: the cycle's reads update the inputs (Rule 5).
+        let mut pos = nv + self.clocks.len();
+        for e in self.events.iter().filter(|e| self.is_input(e)) {
+            let ctor = self.ex.in_reg(&e.name);
+            let mut fields = vec![Field::Dot(name(ctor)), Field::In("b__".into())];
+            let mut args = same.clone();
+            args[pos] = name("b__");
+            if let Some(t) = &e.ty {
+                let (f, v) = t.input_fields("x__");
+                fields.extend(f);
+                args[pos + 1] = v;
+                pos += 1;
+            }
+            pos += 1;
+            alts.push(prefix("registerRead", fields, self.memory_call(args)));
+        }
+        for g in &self.gates {
+            alts.push(self.gate(g));
+        }
+        if self.robosim {
+            if self.uses_exec_stmt {
+                alts.push(prefix("endexec", vec![Field::Dot(name("TID_exec"))], self.memory_call(same.clone())));
+            }
+            alts.push(prefix("endexec", vec![Field::Dot(name("TID_final"))], self.memory_call(same.clone())));
+            alts.push(prefix("terminate", vec![], Expr::Skip));
+        } else {
+            alts.push(prefix("end__", vec![], Expr::Skip));
+        }
+        Decl::Def("Memory__".into(), params, ext(alts))
+    }
+
+    pub(super) fn assemble(&mut self, module: &str) -> Vec<Decl> {
+        let mut private = Vec::new();
+        let mut exports = Vec::new();
+        // Identifiers.
+        let mut tids: Vec<(String, Vec<Expr>)> = self.trans.iter().map(|t| (t.tid.clone(), vec![])).collect();
+        if self.robosim {
+            if self.uses_exec_stmt {
+                tids.push(("TID_exec".into(), vec![]));
+            }
+            tids.push(("TID_final".into(), vec![]));
+        }
+        if tids.is_empty() {
+            tids.push(("TID_none".into(), vec![]));
+        }
+        let mut sids: Vec<(String, Vec<Expr>)> = self
+            .nodes
+            .iter()
+            .filter(|n| n.kind == NodeKind::State)
+            .map(|n| (format!("SID_{}", n.tag), vec![]))
+            .collect();
+        if sids.is_empty() {
+            sids.push(("SID_none".into(), vec![]));
+        }
+        private.push(Decl::Comment("Transition identifiers.".into()));
+        private.push(Decl::Datatype("TIDS".into(), tids));
+        private.push(Decl::Channel(vec!["internal__".into()], vec![name("TIDS")]));
+        let mut hidden = vec![name("internal__")];
+        let mut sync = vec![name("internal__"), name("tock")];
+        for e in &self.events {
+            if e.trig {
+                let mut f = vec![name("TIDS"), name("InOut")];
+                f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
+                private.push(Decl::Channel(vec![format!("{}__", e.csp)], f));
+                sync.push(name(format!("{}__", e.csp)));
+            }
+        }
+        if !self.vars.is_empty() || !self.clocks.is_empty() {
+            private.push(Decl::Comment("Memory: variables and clocks.".into()));
+        }
+        for v in self.vars.iter().filter(|v| !v.shared) {
+            private.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
+            for c in [format!("get_{}", v.csp), format!("set_{}", v.csp)] {
+                hidden.push(name(c.clone()));
+                sync.push(name(c));
+            }
+        }
+        for c in &self.clocks {
+            private.push(Decl::Channel(vec![format!("reset_{}", c.csp)], vec![]));
+            hidden.push(name(format!("reset_{}", c.csp)));
+            sync.push(name(format!("reset_{}", c.csp)));
+            if c.read {
+                private.push(Decl::Channel(vec![format!("get_{}", c.csp)], vec![name("core_clock_type")]));
+                hidden.push(name(format!("get_{}", c.csp)));
+                sync.push(name(format!("get_{}", c.csp)));
+            }
+        }
+        if self.robosim {
+            private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
+            private.push(Decl::Channel(vec!["startexec".into()], vec![]));
+            private.push(Decl::Channel(vec!["endexec".into()], vec![name("TIDS")]));
+            if self.profile == Profile::Paper2019 && !self.output_regs().is_empty() {
+                private.push(Decl::Comment("The outputs buffer (Rule 12).".into()));
+                private.push(Decl::Channel(vec!["stmout".into()], vec![name("OutputRegister")]));
+                private.push(Decl::Datatype(
+                    "BufOut__".into(),
+                    vec![("noOut__".into(), vec![]), ("out__".into(), vec![name("OutputRegister")])],
+                ));
+                private.push(Decl::Channel(vec!["cyclein".into()], vec![name("BufOut__")]));
+            }
+        } else {
+            private.push(Decl::Channel(vec!["end__".into()], vec![]));
+            hidden.push(name("end__"));
+            sync.push(name("end__"));
+        }
+        if !self.activities.is_empty() {
+            private.push(Decl::Comment(
+                "Start and end of the activities of states (during actions of composite states, deadlines\n\
+                 of transitions)."
+                    .into(),
+            ));
+            private.push(Decl::Channel(vec!["activate__".into(), "deactivate__".into()], vec![name("SIDS")]));
+            hidden.extend([name("activate__"), name("deactivate__")]);
+        }
+        // Exported interface.
+        exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
+        exports.push(Decl::Datatype("SIDS".into(), sids));
+        exports.push(Decl::Channel(vec!["entered__".into()], vec![name("SIDS")]));
+        let shared: Vec<&VarI> = self.vars.iter().filter(|v| v.shared).collect();
+        if !shared.is_empty() {
+            exports.push(Decl::Comment("The caller's variables, in the caller's memory.".into()));
+        }
+        for v in shared {
+            exports.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
+        }
+        if !self.robosim {
+            for e in &self.events {
+                let mut f = vec![name("InOut")];
+                f.extend(e.ty.iter().flat_map(|t| t.field_sets()));
+                exports.push(Decl::Channel(vec![e.csp.clone()], f));
+            }
+            for o in self.ops.iter().filter(|o| !o.defined) {
+                let f: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
+                exports.push(Decl::Channel(vec![format!("{}Call", ident(&o.name))], f));
+                if self.profile == Profile::Paper2019 {
+                    exports.push(Decl::Channel(vec![format!("{}Ret", ident(&o.name))], vec![]));
+                }
+            }
+        } else {
+            // Registers of the machine.
+            let inputs: Vec<(String, Vec<Expr>)> = self
+                .events
+                .iter()
+                .filter(|e| self.is_input(e))
+                .map(|e| (self.ex.in_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()))
+                .collect();
+            for (c, v) in inputs {
+                if let Err(m) = self.ex.register(true, &c, &v) {
+                    self.problem(util::name_range(&self.node), m);
+                }
+            }
+            for (c, v) in self.output_regs() {
+                if let Err(m) = self.ex.register(false, &c, &v) {
+                    self.problem(util::name_range(&self.node), m);
+                }
+            }
+        }
+
+        // The let of P__.
+        let mut lets = Vec::new();
+        for c in &self.clocks {
+            let mut bound = Expr::Int(0);
+            for b in &c.bounds {
+                bound = call("Max__", vec![bound, b.clone()]);
+            }
+            let bound = if c.unbounded || c.read {
+                name("core_clock_max")
+            } else {
+                call("Min__", vec![bound, name("core_clock_max")])
+            };
+            lets.push(Decl::Def(format!("ClockMax__{}", c.csp), vec![], bin(BinOp::Add, bound, Expr::Int(1))));
+        }
+        let start_node = self.nodes.iter().position(|n| n.parent.is_none() && n.kind == NodeKind::Initial);
+        let Some(start_node) = start_node else {
+            self.problem(util::name_range(&self.node), "the machine has no initial junction");
+            return Vec::new();
+        };
+        let start = self.enter(start_node);
+        if self.robosim {
+            lets.push(Decl::Def(
+                "StartExec__".into(),
+                vec![],
+                ext(vec![prefix("startexec", vec![], Expr::Skip), prefix("tock", vec![], name("StartExec__"))]),
+            ));
+            lets.push(Decl::Def("Behaviour__".into(), vec![], seq(vec![name("StartExec__"), start.clone()])));
+        } else {
+            lets.push(Decl::Def("Behaviour__".into(), vec![], start.clone()));
+        }
+        lets.append(&mut self.defs);
+        lets.extend(std::mem::take(&mut self.op_calls).into_iter().map(|(_, d)| d));
+        if self.robosim {
+            // Rule 13: a finished machine keeps ending its cycles until all agree to terminate.
+            lets.push(Decl::Def(
+                "Ending__".into(),
+                vec![],
+                prefix("endexec", vec![Field::Dot(name("TID_final"))], name("EndWait__")),
+            ));
+            lets.push(Decl::Def(
+                "EndWait__".into(),
+                vec![],
+                ext(vec![
+                    prefix("startexec", vec![], name("Ending__")),
+                    prefix("terminate", vec![], Expr::Skip),
+                    prefix("tock", vec![], name("EndWait__")),
+                ]),
+            ));
+        }
+        lets.push(self.memory());
+        let init: Vec<Expr> = self
+            .vars
+            .iter()
+            .filter(|v| !v.shared)
+            .map(|v| v.init.clone())
+            .chain(self.clocks.iter().map(|_| Expr::Int(0)))
+            .chain(
+                self.events
+                    .iter()
+                    .filter(|e| self.is_input(e))
+                    .flat_map(|e| {
+                        let mut v = vec![Expr::Bool(false)];
+                        if let Some(t) = &e.ty {
+                            v.push(t.default_value());
+                        }
+                        v
+                    })
+                    .collect::<Vec<_>>(),
+            )
+            .collect();
+        let memory = self.memory_call(init);
+
+        let mut params = vec!["id__".to_string()];
+        if self.robosim {
+            params.push("cycle".into());
+        }
+        params.extend(self.op_params.iter().cloned());
+        params.extend(self.consts.iter().map(|c| c.local.clone()));
+        let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
+
+        let body = if self.robosim {
+            let (cycle_defs, has_in, has_out) = self.cycle();
+            lets.extend(cycle_defs);
+            let mut inner_sync = vec![name("endexec"), name("tock"), name("terminate")];
+            if has_in {
+                inner_sync.push(name("registerRead"));
+            }
+            let inner = par(memory, Expr::Events(inner_sync), name("Cycle__"));
+            let mut outer_sync = sync.clone();
+            outer_sync.extend([name("endexec"), name("startexec"), name("terminate")]);
+            hidden.extend([name("endexec"), name("startexec")]);
+            let inner = match (self.profile, has_out) {
+                (Profile::RoboTool3, true) => {
+                    outer_sync.push(name("registerWrite"));
+                    inner
+                }
+                // Rule 3: the outputs go through the buffer to the cycle.
+                (Profile::Paper2019, true) => {
+                    outer_sync.push(name("stmout"));
+                    hidden.extend([name("stmout"), name("cyclein")]);
+                    par(name("Buffer__"), Expr::Events(vec![name("cyclein")]), inner)
+                }
+                (_, false) => inner,
+            };
+            let comp = par(name("Behaviour__"), Expr::Events(outer_sync), inner);
+            call("TimedPriority", vec![hide(comp, Expr::Events(hidden))])
+        } else {
+            let mut beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
+            if !self.activities.is_empty() {
+                let acts = self
+                    .activities
+                    .iter()
+                    .rev()
+                    .map(|a| name(a.clone()))
+                    .reduce(|acc, a| par(a, Expr::Events(vec![name("tock"), name("end__")]), acc))
+                    .expect("an activity");
+                let with = Expr::Events(vec![name("activate__"), name("deactivate__"), name("tock"), name("end__")]);
+                beh = par(beh, with, acts);
+            }
+            let comp = hide(par(beh, Expr::Events(sync), memory), Expr::Events(hidden));
+            // Tagged triggers become the machine's events.
+            let mut comp = comp;
+            for e in self.events.iter().filter(|e| e.trig) {
+                let mut from = vec![name(format!("{}__", e.csp)), name("t__"), name("d__")];
+                let mut to = vec![name(e.csp.clone()), name("d__")];
+                let mut gens = vec![("t__".to_string(), name("TIDS")), ("d__".to_string(), name("InOut"))];
+                let sets: Vec<Expr> = e.ty.iter().flat_map(|t| t.field_sets()).collect();
+                for (k, set) in sets.iter().cloned().enumerate() {
+                    let v = if sets.len() == 1 { "v__".to_string() } else { format!("v{k}__") };
+                    from.push(name(v.clone()));
+                    to.push(name(v.clone()));
+                    gens.push((v, set));
+                }
+                comp = Expr::Rename(Box::new(comp), vec![(dot(from), dot(to))], gens);
+            }
+            call("TimedPriority", vec![comp])
+        };
+        let p_def = Decl::Def("P__".into(), params.clone(), Expr::Let(lets, Box::new(body)));
+        let entered = Expr::Events(vec![name("entered__")]);
+        let d_body = if self.robosim {
+            call(
+                "TimedPriority",
+                vec![hide(
+                    Expr::Exception(
+                        Box::new(hide(call("P__", args.clone()), entered.clone())),
+                        Box::new(Expr::Set(vec![name("terminate")])),
+                        Box::new(Expr::Skip),
+                    ),
+                    Expr::Set(vec![name("terminate")]),
+                )],
+            )
+        } else {
+            call("TimedPriority", vec![hide(call("P__", args.clone()), entered)])
+        };
+        let vs_body = if self.robosim {
+            call(
+                "TimedPriority",
+                vec![hide(
+                    Expr::Exception(
+                        Box::new(call("P__", args.clone())),
+                        Box::new(Expr::Set(vec![name("terminate")])),
+                        Box::new(Expr::Skip),
+                    ),
+                    Expr::Set(vec![name("terminate")]),
+                )],
+            )
+        } else {
+            call("P__", args.clone())
+        };
+        let mut doc = vec![Decl::Comment(format!(
+            "{} (parameters: {}).",
+            if self.robosim {
+                "P__: the machine with `terminate` visible (for composition); D__: its semantics;\n\
+                 VS__: with `entered__` visible (reachability); O__: D__ compressed"
+            } else if self.is_operation {
+                "D__: the operation's semantics, terminating at its final state (callers rename its\n\
+                 channels to theirs); VS__: with `entered__` visible; O__: D__ compressed"
+            } else {
+                "D__: the machine's semantics; VS__: with `entered__` visible (reachability);\n\
+                 O__: D__ compressed"
+            },
+            params.join(", ")
+        ))];
+        if self.robosim {
+            doc.push(p_def);
+        } else {
+            private.push(p_def);
+        }
+        doc.push(Decl::Def("D__".into(), params.clone(), d_body));
+        doc.push(Decl::Def("VS__".into(), params.clone(), vs_body));
+        doc.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
+        exports.extend(doc);
+        let kind = if self.robosim { "RoboSim" } else { "RoboChart" };
+        let mut path = self.ex.path_of_node(self.file, &self.node);
+        let what = if self.is_operation {
+            path.push(name_of(&self.node));
+            "operation"
+        } else {
+            "state machine"
+        };
+        vec![
+            Decl::Comment(format!("{kind} {what} {}", path.join("::"))),
+            Decl::Module(module.to_string(), private, exports),
+            Decl::Blank,
+        ]
+    }
+
+    pub(super) fn output_regs(&self) -> Vec<(String, Vec<Expr>)> {
+        let mut out = Vec::new();
+        for e in self.events.iter().filter(|e| !self.is_input(e)) {
+            if e.io == Some(robosim_hir::defs::Io::Output) || e.io.is_none() {
+                out.push((self.ex.out_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()));
+            }
+        }
+        for o in &self.ops {
+            out.push((self.ex.out_reg(&o.name), o.params.iter().map(|t| t.set()).collect()));
+        }
+        out
+    }
+
+    /// Rule 4 as the paper states it (paper2019): read every input
+    /// register, `startexec`, `endexec`, then write the buffered outputs in
+    /// order (`registerWrite.o.true.args`) and the others as absent
+    /// (`registerWrite.o.false.args`, any arguments), then terminate or
+    /// let `cycle` time units pass; the buffer of Rule 12.
+    pub(super) fn cycle_paper(&mut self, reads: Expr, has_in: bool) -> (Vec<Decl>, bool, bool) {
+        let outs = self.output_regs();
+        let mut d = Vec::new();
+        let end = ext(vec![
+            prefix("terminate", vec![], Expr::Skip),
+            seq(vec![call("Wait", vec![name("cycle")]), name("Cycle__")]),
+        ]);
+        if outs.is_empty() {
+            d.push(Decl::Def(
+                "Cycle__".into(),
+                vec![],
+                seq(vec![reads, prefix("startexec", vec![], prefix("endexec", vec![Field::In("t__".into())], end))]),
+            ));
+            return (d, has_in, false);
+        }
+        let flags: Vec<String> = outs.iter().map(|(c, _)| format!("w_{c}")).collect();
+        let all = |v: bool| -> Vec<Expr> { flags.iter().map(|_| Expr::Bool(v)).collect() };
+        d.push(Decl::Def(
+            "Cycle__".into(),
+            vec![],
+            seq(vec![
+                reads,
+                prefix(
+                    "startexec",
+                    vec![],
+                    prefix("endexec", vec![Field::In("t__".into())], seq(vec![call("Collect__", all(true)), end])),
+                ),
+            ]),
+        ));
+        // CollectOutputs: the buffered outputs in order, then NoOther.
+        let mut alts = vec![prefix(
+            "cyclein",
+            vec![Field::Dot(name("noOut__"))],
+            call("NoOther__", flags.iter().map(|f| name(f.clone())).collect()),
+        )];
+        let mut others = Vec::new();
+        for (k, (c, vals)) in outs.iter().enumerate() {
+            let vars: Vec<String> = (0..vals.len()).map(|i| format!("x{i}__")).collect();
+            let mut next: Vec<Expr> = flags.iter().map(|f| name(f.clone())).collect();
+            next[k] = Expr::Bool(false);
+            let mut inf = vec![Field::Dot(name("out__")), Field::Dot(name(c.clone())), Field::In("b__".into())];
+            inf.extend(vars.iter().map(|v| Field::In(v.clone())));
+            let mut outf = vec![Field::Dot(name(c.clone())), Field::Dot(name("b__"))];
+            outf.extend(vars.iter().map(|v| Field::Dot(name(v.clone()))));
+            alts.push(guard(
+                name(flags[k].clone()),
+                prefix("cyclein", inf, prefix("registerWrite", outf, call("Collect__", next))),
+            ));
+            let mut falsef = vec![Field::Dot(name(c.clone())), Field::Dot(Expr::Bool(false))];
+            falsef.extend(vars.iter().map(|v| Field::In(v.clone())));
+            others.push(Expr::If(
+                Box::new(name(flags[k].clone())),
+                Box::new(prefix("registerWrite", falsef, Expr::Skip)),
+                Box::new(Expr::Skip),
+            ));
+        }
+        d.push(Decl::Def("Collect__".into(), flags.clone(), ext(alts)));
+        d.push(Decl::Def("NoOther__".into(), flags.clone(), nary(ProcOp::Interleave, others)));
+        // Rule 12: the buffer, of capacity the number of outputs.
+        let n = outs.len() as i64;
+        d.push(Decl::Def(
+            "Buffer__".into(),
+            vec![],
+            ext(vec![
+                prefix(
+                    "stmout",
+                    vec![Field::In("o__".into())],
+                    call("BufferF__", vec![Expr::SeqLit(vec![name("o__")])]),
+                ),
+                prefix("cyclein", vec![Field::Dot(name("noOut__"))], name("Buffer__")),
+            ]),
+        ));
+        d.push(Decl::Def(
+            "BufferF__".into(),
+            vec!["s__".into()],
+            ext(vec![
+                guard(
+                    bin(BinOp::Lt, call("length", vec![name("s__")]), Expr::Int(n)),
+                    prefix(
+                        "stmout",
+                        vec![Field::In("o__".into())],
+                        call("BufferF__", vec![bin(BinOp::Cat, name("s__"), Expr::SeqLit(vec![name("o__")]))]),
+                    ),
+                ),
+                call("Flush__", vec![name("s__")]),
+            ]),
+        ));
+        d.push(Decl::Def(
+            "Flush__".into(),
+            vec!["s__".into()],
+            Expr::If(
+                Box::new(call("null", vec![name("s__")])),
+                Box::new(name("Buffer__")),
+                Box::new(prefix(
+                    "cyclein",
+                    vec![Field::Dot(name("out__")), Field::Dot(call("head", vec![name("s__")]))],
+                    call("Flush__", vec![call("tail", vec![name("s__")])]),
+                )),
+            ),
+        ));
+        (d, has_in, true)
+    }
+
+    /// Rule 4 (robotool3): read every input register (in any order, no
+    /// time passing), `startexec`, accept each output register at most
+    /// once until `endexec`, then terminate or let `cycle` time units pass.
+    pub(super) fn cycle(&mut self) -> (Vec<Decl>, bool, bool) {
+        let mut d = Vec::new();
+        let reads: Vec<Expr> = self
+            .events
+            .iter()
+            .filter(|e| self.is_input(e))
+            .map(|e| {
+                let mut f = vec![Field::Dot(name(self.ex.in_reg(&e.name))), Field::In("b__".into())];
+                if let Some(t) = &e.ty {
+                    f.extend(t.input_fields("x__").0);
+                }
+                prefix("registerRead", f, Expr::Skip)
+            })
+            .collect();
+        let has_in = !reads.is_empty();
+        if self.profile == Profile::Paper2019 {
+            return self.cycle_paper(nary(ProcOp::Interleave, reads), has_in);
+        }
+        let outs = self.output_regs();
+        let has_out = !outs.is_empty();
+        let flags: Vec<String> = outs.iter().map(|(c, _)| format!("w_{c}")).collect();
+        let mut alts = Vec::new();
+        for (k, (c, _)) in outs.iter().enumerate() {
+            let mut next: Vec<Expr> = flags.iter().map(|f| name(f.clone())).collect();
+            next[k] = Expr::Bool(false);
+            alts.push(guard(
+                name(flags[k].clone()),
+                Expr::Repl(
+                    crate::cspm::ReplOp::ExtChoice,
+                    vec![("w__".into(), Expr::Events(vec![dot(vec![name("registerWrite"), name(c.clone())])]))],
+                    Box::new(prefix("w__", vec![], call("Collect__", next))),
+                ),
+            ));
+        }
+        alts.push(prefix("endexec", vec![Field::In("t__".into())], name("CycleEnd__")));
+        d.push(Decl::Def(
+            "Cycle__".into(),
+            vec![],
+            seq(vec![
+                nary(ProcOp::Interleave, reads),
+                prefix(
+                    "startexec",
+                    vec![],
+                    if flags.is_empty() {
+                        call("Collect__", vec![])
+                    } else {
+                        call("Collect__", flags.iter().map(|_| Expr::Bool(true)).collect())
+                    },
+                ),
+            ]),
+        ));
+        let collect = ext(alts);
+        if flags.is_empty() {
+            d.push(Decl::Def("Collect__".into(), vec![], collect));
+        } else {
+            d.push(Decl::Def("Collect__".into(), flags, collect));
+        }
+        d.push(Decl::Def(
+            "CycleEnd__".into(),
+            vec![],
+            ext(vec![
+                prefix("terminate", vec![], Expr::Skip),
+                prefix(
+                    "tock",
+                    vec![],
+                    seq(vec![call("Wait", vec![bin(BinOp::Sub, name("cycle"), Expr::Int(1))]), name("Cycle__")]),
+                ),
+            ]),
+        ));
+        // A machine without outputs: `Collect__` is a plain name.
+        if outs.is_empty() {
+            for x in d.iter_mut() {
+                replace_call(x, "Collect__");
+            }
+        }
+        (d, has_in, has_out)
+    }
+
+    /// The machine's interface for its users.
+    pub(super) fn interface(&self, module: String, path: Vec<String>) -> Elem {
+        let mut chans = Vec::new();
+        let mut inputs = Vec::new();
+        let mut outputs = Vec::new();
+        if self.robosim {
+            for e in self.events.iter().filter(|e| self.is_input(e)) {
+                inputs.push(Reg {
+                    ctor: self.ex.in_reg(&e.name),
+                    model: e.name.clone(),
+                    values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
+                });
+            }
+            for e in self.events.iter().filter(|e| !self.is_input(e)) {
+                outputs.push(Reg {
+                    ctor: self.ex.out_reg(&e.name),
+                    model: e.name.clone(),
+                    values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
+                });
+            }
+            for o in &self.ops {
+                outputs.push(Reg {
+                    ctor: self.ex.out_reg(&o.name),
+                    model: o.name.clone(),
+                    values: o.params.iter().map(|t| t.set()).collect(),
+                });
+            }
+        } else {
+            for e in &self.events {
+                let values: Vec<Expr> = e.ty.iter().flat_map(|t| t.field_sets()).collect();
+                let mut fields = vec![name("InOut")];
+                fields.extend(values.iter().cloned());
+                chans.push(Chan {
+                    csp: e.csp.clone(),
+                    model: e.name.clone(),
+                    kind: ChanKind::Event,
+                    fields,
+                    dir: if e.received { Dir::In } else { Dir::Out },
+                    values,
+                });
+            }
+            for o in self.ops.iter().filter(|o| !o.defined) {
+                let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
+                chans.push(Chan {
+                    csp: format!("{}Call", ident(&o.name)),
+                    model: o.name.clone(),
+                    kind: ChanKind::Call,
+                    fields: values.clone(),
+                    dir: Dir::Out,
+                    values,
+                });
+                if self.profile == Profile::Paper2019 {
+                    chans.push(Chan {
+                        csp: format!("{}Ret", ident(&o.name)),
+                        model: o.name.clone(),
+                        kind: ChanKind::Ret,
+                        fields: vec![],
+                        dir: Dir::In,
+                        values: vec![],
+                    });
+                }
+            }
+        }
+        Elem {
+            kind: ElemKind::Machine,
+            robosim: self.robosim,
+            module,
+            path,
+            consts: self.consts.clone(),
+            chans,
+            inputs,
+            outputs,
+            period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, &self.node).unwrap_or(1),
+            required: self.required.clone(),
+        }
+    }
+}

@@ -1,0 +1,426 @@
+//! The behaviour: one process per state, junction and final node, offering the transitions.
+
+use super::*;
+
+impl<'e, 'a> Gen<'e, 'a> {
+    pub(super) fn enter(&self, n: usize) -> Expr {
+        let node = &self.nodes[n];
+        match node.kind {
+            NodeKind::State => name(format!("Enter__{}", node.tag)),
+            NodeKind::Junction | NodeKind::Initial => name(format!("Junction__{}", node.tag)),
+            NodeKind::Final if node.parent.is_some() => name(format!("Rest__{}", node.tag)),
+            NodeKind::Final if self.robosim => name("Ending__"),
+            NodeKind::Final => Expr::Skip,
+        }
+    }
+
+    pub(super) fn action_of(&mut self, n: &SyntaxNode, kind: robosim_syntax::SyntaxKind) -> Option<Option<Expr>> {
+        match child(n, kind) {
+            Some(a) => match stmt_child(&a) {
+                Some(s) => Some(Some(self.stmt(&s)?)),
+                None => Some(None),
+            },
+            None => Some(None),
+        }
+    }
+
+    /// The process taking transition `t` from the leaf `leaf` (or from
+    /// its source when `leaf` is `None`, for junctions and hovers).
+    pub(super) fn transition(&mut self, t: usize, leaf: Option<usize>) -> Option<Expr> {
+        let syn = self.trans[t].syn.clone();
+        let mut rest = Vec::new();
+        // The activities of the states it leaves stop at once, innermost
+        // first (RoboChart: the trigger interrupts the during actions).
+        let mut cur = Some(leaf.unwrap_or(self.trans[t].source));
+        while let Some(c) = cur {
+            if self.active.get(c).copied().unwrap_or(false) {
+                let sid = format!("SID_{}", self.nodes[c].tag);
+                rest.push(prefix("deactivate__", vec![Field::Dot(name(sid))], Expr::Skip));
+            }
+            if c == self.trans[t].source {
+                break;
+            }
+            cur = self.nodes[c].parent;
+        }
+        // Exit actions from the leaf up to the source.
+        if let Some(l) = leaf {
+            let mut cur = Some(l);
+            while let Some(c) = cur {
+                if self.nodes[c].kind == NodeKind::State {
+                    let s = self.nodes[c].syn.clone();
+                    if let Some(a) = self.action_of(&s, EXIT_ACTION)? {
+                        rest.push(a);
+                    }
+                }
+                if c == self.trans[t].source {
+                    break;
+                }
+                cur = self.nodes[c].parent;
+            }
+        }
+        for c in children(&syn, CLOCK_RESET) {
+            let n = ref_of(&c).unwrap_or_default();
+            match self.names.get(&n) {
+                Some(Nm::Clock(k)) => rest.push(prefix(format!("reset_{}", self.clocks[*k].csp), vec![], Expr::Skip)),
+                _ => {
+                    self.problem(c.text_range(), format!("`{n}` is not a clock"));
+                    return None;
+                }
+            }
+        }
+        if let Some(a) = self.action_of(&syn, TRANSITION_ACTION)? {
+            rest.push(a);
+        }
+        rest.push(self.enter(self.trans[t].target));
+        let then = fold_seq(rest);
+        let tid = self.trans[t].tid.clone();
+        if let Some(d) = child(&syn, DEADLINE) {
+            // Its timer is part of the source's activity.
+            if self.nodes[self.trans[t].source].kind != NodeKind::State {
+                self.problem(
+                    d.text_range(),
+                    "deadlines on transitions from junctions are not supported by the export yet \
+                     (a junction is left at once or waits for a guard)",
+                );
+                return None;
+            }
+        }
+        if let Some(p) = child(&syn, PROBABILITY) {
+            self.problem(p.text_range(), "probabilistic transitions have no meaning in the tock-CSP semantics");
+            return None;
+        }
+        if let Some(x) = child(&syn, EXEC_TRIGGER) {
+            if !self.robosim {
+                self.problem(x.text_range(), "`exec` belongs to RoboSim machines");
+                return None;
+            }
+            self.record_term(x.text_range(), TermKind::Exec, || {
+                prefix("endexec", vec![Field::Dot(name(tid.clone()))], prefix("startexec", vec![], Expr::Skip))
+            });
+            return Some(prefix("endexec", vec![Field::Dot(name(tid))], fold_seq(vec![name("StartExec__"), then])));
+        }
+        match child(&syn, TRIGGER).and_then(|tr| child(&tr, COMMUNICATION)) {
+            Some(comm) => self.communication(&comm, Some((&tid, then))),
+            None => Some(prefix("internal__", vec![Field::Dot(name(tid))], then)),
+        }
+    }
+
+    pub(super) fn generate(&mut self, module: &str) -> Vec<Decl> {
+        // Guards: the memory enables each transition's trigger.
+        for t in 0..self.trans.len() {
+            if let Some(g) = self.guard_of(t) {
+                self.gates.push(g);
+            }
+        }
+        // States with an activity: a composite state's during action, the
+        // deadlines of the transitions from a state.
+        self.active = (0..self.nodes.len())
+            .map(|n| {
+                let node = &self.nodes[n];
+                node.kind == NodeKind::State
+                    && ((self.nodes.iter().any(|c| c.parent == Some(n)) && child(&node.syn, DURING_ACTION).is_some())
+                        || self.trans.iter().any(|t| t.source == n && child(&t.syn, DEADLINE).is_some()))
+            })
+            .collect();
+        // States, junctions and finals.
+        for n in 0..self.nodes.len() {
+            self.node_process(n);
+        }
+        // Hover terms of the transitions, with triggers as the machine's events.
+        if self.record {
+            for t in 0..self.trans.len() {
+                self.display = true;
+                let saved_defs = self.defs.len();
+                let saved_counter = self.counter;
+                if let Some(e) = self.transition(t, None) {
+                    let syn = self.trans[t].syn.clone();
+                    // On its name, and on its trigger.
+                    let mut ranges = vec![util::name_range(&syn)];
+                    ranges.extend(child(&syn, TRIGGER).map(|t| t.text_range()));
+                    let guard =
+                        self.gates.iter().find(|g| g.t == t).map(|g| g.cond.clone()).filter(|c| *c != Expr::Bool(true));
+                    for range in ranges {
+                        self.terms.push(Term {
+                            range,
+                            kind: TermKind::Transition,
+                            expr: e.clone(),
+                            guard: guard.clone(),
+                        });
+                    }
+                }
+                self.defs.truncate(saved_defs);
+                self.counter = saved_counter;
+                self.display = false;
+            }
+        }
+        if !self.problems.is_empty() {
+            return Vec::new();
+        }
+        self.assemble(module)
+    }
+
+    /// Translates the guard of transition `t` (evaluated by the memory).
+    pub(super) fn guard_of(&mut self, t: usize) -> Option<GateI> {
+        let syn = self.trans[t].syn.clone();
+        self.binds.clear();
+        let cond = match child(&syn, CONDITION) {
+            Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => self.else_condition(t)?,
+            Some(c) => match expr_child(&c) {
+                Some(e) => self.expr(&e, ECtx::Memory, None)?.e,
+                None => Expr::Bool(true),
+            },
+            None => Expr::Bool(true),
+        };
+        let trigger = if child(&syn, EXEC_TRIGGER).is_some() {
+            GateTrigger::Exec
+        } else {
+            match child(&syn, TRIGGER).and_then(|tr| child(&tr, COMMUNICATION)) {
+                Some(comm) => {
+                    let ev = ref_of(&comm).unwrap_or_default();
+                    let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
+                        let what = self.what();
+                        self.problem(
+                            comm.text_range(),
+                            format!("`{ev}` is not an event of the {what} (declared or used through an interface)"),
+                        );
+                        return None;
+                    };
+                    GateTrigger::Event(i)
+                }
+                None => GateTrigger::Internal,
+            }
+        };
+        Some(GateI { t, cond, binds: std::mem::take(&mut self.binds), trigger })
+    }
+
+    /// `condition else` of transition `t`: none of the guards of the other
+    /// transitions from its source holds (an unguarded one always holds).
+    pub(super) fn else_condition(&mut self, t: usize) -> Option<Expr> {
+        let saved = std::mem::take(&mut self.binds);
+        let mut others = Vec::new();
+        for u in 0..self.trans.len() {
+            if u == t || self.trans[u].source != self.trans[t].source {
+                continue;
+            }
+            let syn = self.trans[u].syn.clone();
+            match child(&syn, CONDITION) {
+                Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => {}
+                Some(c) => match expr_child(&c) {
+                    Some(e) => others.push(self.expr(&e, ECtx::Memory, None)?.e),
+                    None => others.push(Expr::Bool(true)),
+                },
+                None => others.push(Expr::Bool(true)),
+            }
+        }
+        // Inputs the other guards read (`$e?x`) bind nothing here.
+        self.binds = saved;
+        if others.contains(&Expr::Bool(true)) {
+            return Some(Expr::Bool(false));
+        }
+        Some(match others.into_iter().reduce(|a, b| bin(BinOp::Or, a, b)) {
+            Some(e) => Expr::Not(Box::new(e)),
+            None => Expr::Bool(true),
+        })
+    }
+
+    /// The memory's alternative enabling transition `g.t` when its guard holds.
+    pub(super) fn gate(&self, g: &GateI) -> Expr {
+        let tid = self.trans[g.t].tid.clone();
+        let mut args: Vec<Expr> = self.memory_params().into_iter().map(name).collect();
+        for &(v, i) in &g.binds {
+            args[v] = name(format!("{}_value", self.events[i].csp));
+        }
+        let next = self.memory_call(args);
+        let ev = match g.trigger {
+            GateTrigger::Exec => prefix("endexec", vec![Field::Dot(name(tid))], next),
+            GateTrigger::Internal => prefix("internal__", vec![Field::Dot(name(tid))], next),
+            GateTrigger::Event(i) => {
+                let chan = format!("{}__", self.events[i].csp);
+                Expr::Repl(
+                    crate::cspm::ReplOp::ExtChoice,
+                    vec![("ev__".into(), Expr::Events(vec![dot(vec![name(chan), name(tid)])]))],
+                    Box::new(prefix("ev__", vec![], next)),
+                )
+            }
+        };
+        guard(g.cond.clone(), ev)
+    }
+
+    pub(super) fn memory_params(&self) -> Vec<String> {
+        let mut p: Vec<String> = self.vars.iter().filter(|v| !v.shared).map(|v| v.csp.clone()).collect();
+        p.extend(self.clocks.iter().map(|c| c.csp.clone()));
+        for e in self.events.iter().filter(|e| self.is_input(e)) {
+            p.push(e.csp.clone());
+            if e.ty.is_some() {
+                p.push(format!("{}_value", e.csp));
+            }
+        }
+        p
+    }
+
+    pub(super) fn is_input(&self, e: &EvI) -> bool {
+        self.robosim && (e.io == Some(robosim_hir::defs::Io::Input) || (e.io.is_none() && e.received))
+    }
+
+    pub(super) fn memory_call(&self, args: Vec<Expr>) -> Expr {
+        if args.is_empty() {
+            name("Memory__")
+        } else {
+            call("Memory__", args)
+        }
+    }
+
+    pub(super) fn node_process(&mut self, n: usize) {
+        let node_syn = self.nodes[n].syn.clone();
+        let tag = self.nodes[n].tag.clone();
+        match self.nodes[n].kind {
+            NodeKind::State => {
+                let mut parts = vec![];
+                if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
+                    parts.push(prefix(format!("reset_{}", c.csp), vec![], Expr::Skip));
+                }
+                let Some(entry) = self.action_of(&node_syn, ENTRY_ACTION) else { return };
+                parts.extend(entry);
+                let composite = self.nodes.iter().any(|c| c.parent == Some(n));
+                if self.active[n] {
+                    if !self.activity(n, composite) {
+                        return;
+                    }
+                    parts.push(prefix("activate__", vec![Field::Dot(name(format!("SID_{tag}")))], Expr::Skip));
+                }
+                if composite {
+                    let Some(init) = self.nodes.iter().position(|c| c.parent == Some(n) && c.kind == NodeKind::Initial)
+                    else {
+                        self.problem(util::name_range(&node_syn), "a composite state without an initial junction");
+                        return;
+                    };
+                    parts.push(self.enter(init));
+                } else {
+                    parts.push(name(format!("Rest__{tag}")));
+                    self.rest(n);
+                }
+                let body = prefix("entered__", vec![Field::Dot(name(format!("SID_{tag}")))], fold_seq(parts));
+                self.defs.push(Decl::Def(format!("Enter__{tag}"), vec![], body));
+            }
+            NodeKind::Final if self.nodes[n].parent.is_some() => self.rest(n),
+            NodeKind::Final => {}
+            NodeKind::Junction | NodeKind::Initial => {
+                let mut alts = Vec::new();
+                for t in 0..self.trans.len() {
+                    if self.trans[t].source == n {
+                        if let Some(p) = self.transition(t, None) {
+                            alts.push(p);
+                        }
+                    }
+                }
+                let me = format!("Junction__{tag}");
+                // RoboChart: time passes until a guard holds; RoboSim: the
+                // cycle forbids it, so a dead end is stuck.
+                alts.push(prefix("tock", vec![], name(me.clone())));
+                self.defs.push(Decl::Def(me, vec![], ext(alts)));
+            }
+        }
+    }
+
+    /// `Activity__S`: what state `S` does alongside its substates and
+    /// transitions, from the end of its entry action until a transition
+    /// leaves it (`activate__.SID_S` … `deactivate__.SID_S`): the during
+    /// action of a composite state (RoboChart: it runs in parallel with the
+    /// substates and is interrupted by the exit), and one timer per
+    /// transition from `S` with a deadline `<{d}`, which refuses time after
+    /// `d` time units (the transition must be taken by then). Returns false
+    /// when something is not exported.
+    pub(super) fn activity(&mut self, n: usize, composite: bool) -> bool {
+        let syn = self.nodes[n].syn.clone();
+        let tag = self.nodes[n].tag.clone();
+        let mut parts = Vec::new();
+        if self.robosim {
+            // RoboSim has no transition deadlines: only a composite's during action gets here.
+            self.problem(
+                util::name_range(&syn),
+                "during actions of composite RoboSim states are not exported: how they share the \
+                 cycle with the substates (`exec`) is not pinned down",
+            );
+            return false;
+        }
+        if composite && child(&syn, DURING_ACTION).is_some() {
+            match self.action_of(&syn, DURING_ACTION) {
+                Some(Some(d)) => parts.push(seq(vec![d, name("TStop")])),
+                Some(None) => {}
+                None => return false,
+            }
+        }
+        for t in 0..self.trans.len() {
+            if self.trans[t].source != n {
+                continue;
+            }
+            let Some(limit) = child(&self.trans[t].syn, DEADLINE).and_then(|d| expr_child(&d)) else { continue };
+            let Some((d, reads)) = self.bexpr(&limit, None) else { return false };
+            let p = self.with_reads(&reads, call("Timer__", vec![d]));
+            parts.push(p);
+            if !self.defs.iter().any(|x| matches!(x, Decl::Def(f, _, _) if f == "Timer__")) {
+                // Time passes d times, then no more.
+                let body = guard(
+                    bin(BinOp::Gt, name("d__"), Expr::Int(0)),
+                    prefix("tock", vec![], call("Timer__", vec![bin(BinOp::Sub, name("d__"), Expr::Int(1))])),
+                );
+                self.defs.push(Decl::Def("Timer__".into(), vec!["d__".into()], body));
+            }
+        }
+        let run = parts
+            .into_iter()
+            .rev()
+            .reduce(|acc, p| par(p, Expr::Set(vec![name("tock")]), acc))
+            .unwrap_or_else(|| name("TStop"));
+        let me = format!("Activity__{tag}");
+        let sid = Field::Dot(name(format!("SID_{tag}")));
+        let body = ext(vec![
+            prefix(
+                "activate__",
+                vec![sid.clone()],
+                nary(ProcOp::Interrupt, vec![run, prefix("deactivate__", vec![sid], name(me.clone()))]),
+            ),
+            prefix("tock", vec![], name(me.clone())),
+            prefix("end__", vec![], Expr::Skip),
+        ]);
+        self.defs.push(Decl::Def(me.clone(), vec![], body));
+        self.activities.push(me);
+        true
+    }
+
+    /// `Rest__L`: the leaf `L` offers its transitions and those of its
+    /// ancestors; time passes meanwhile; its during action runs until a
+    /// transition interrupts it.
+    pub(super) fn rest(&mut self, leaf: usize) {
+        let mut alts = Vec::new();
+        let mut cur = Some(leaf);
+        while let Some(c) = cur {
+            for t in 0..self.trans.len() {
+                if self.trans[t].source == c {
+                    if let Some(p) = self.transition(t, Some(leaf)) {
+                        alts.push(p);
+                    }
+                }
+            }
+            cur = self.nodes[c].parent;
+        }
+        let syn = self.nodes[leaf].syn.clone();
+        let me = format!("Rest__{}", self.nodes[leaf].tag);
+        let during = if self.nodes[leaf].kind == NodeKind::State {
+            match self.action_of(&syn, DURING_ACTION) {
+                Some(d) => d,
+                None => return,
+            }
+        } else {
+            None
+        };
+        let body = match during {
+            Some(d) => nary(ProcOp::Interrupt, vec![seq(vec![d, name("TStop")]), ext(alts)]),
+            None => {
+                alts.push(prefix("tock", vec![], name(me.clone())));
+                ext(alts)
+            }
+        };
+        self.defs.push(Decl::Def(me, vec![], body));
+    }
+}

@@ -1,0 +1,887 @@
+//! The tock-CSP semantics of one state machine, RoboChart or RoboSim, as
+//! a CSPm module.
+//!
+//! The shape follows RoboTool and the paper (§5.2, Rules 3–7 and 13): the
+//! machine is the parallel composition of its *behaviour* (one process per
+//! state, junction and final state, offering the transitions) and of its
+//! *memory* (variables, clocks, and the guards, which enable or disable
+//! each transition's trigger; Rule 5). A RoboSim machine also has its
+//! *cycle* (Rule 4): read the input registers, `startexec`, run until an
+//! `exec` (`endexec`), then let `cycle` time units pass.
+//!
+//! Time is explicit tock-CSP (no `Timed` sections): a process that may
+//! wait offers `tock`; platform operation calls and RoboSim register writes
+//! are urgent (`EDeadline(e, 0)`); internal events have priority over
+//! `tock` (`TimedPriority`). Triggers are tagged with their transition
+//! (`obstacle__.TID_t1.in`) so that the memory can check the right guard,
+//! and renamed back to the machine's events (`obstacle.in`) at the end.
+
+use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
+
+use robosim_hir::defs::DefKind;
+use robosim_hir::File;
+use robosim_syntax::{ast, SyntaxKind::*, SyntaxNode, TextRange};
+
+use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
+use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
+use crate::util::{
+    self, child, children, expr_child, ident, ident_text, name_of, path_of, ref_of, stmt_child, type_child,
+};
+
+mod assembly;
+mod behaviour;
+mod expr;
+mod stmt;
+
+/// What a term is about, for hovers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TermKind {
+    /// A transition (the process taking it from its source).
+    Transition,
+    /// An `exec` trigger or statement (RoboSim).
+    Exec,
+    /// A RoboSim output (`$op(…)`, `$e!v`).
+    Output,
+    /// A call of a platform operation (RoboChart).
+    Call,
+    /// A communication statement or trigger.
+    Event,
+}
+
+/// A CSP term of a piece of the model, for hovers.
+#[derive(Debug, Clone)]
+pub struct Term {
+    /// The piece's range (a transition's name, the `exec` keyword, the
+    /// statement).
+    pub range: TextRange,
+    /// What it is.
+    pub kind: TermKind,
+    /// The term, with triggers shown as the machine's events.
+    pub expr: Expr,
+    /// For transitions: the guard the memory checks, if any.
+    pub guard: Option<Expr>,
+}
+
+/// The result of translating a machine.
+pub(crate) struct MachineOut {
+    pub elem: Elem,
+    pub decls: Vec<Decl>,
+    pub terms: Vec<Term>,
+}
+
+/// Something the export does not support: where and why.
+pub(crate) type Problem = (File, TextRange, String);
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum NodeKind {
+    State,
+    Junction,
+    Initial,
+    Final,
+}
+
+struct NodeI {
+    name: String,
+    kind: NodeKind,
+    parent: Option<usize>,
+    syn: SyntaxNode,
+    /// Suffix of its process names (path of names joined by `_`).
+    tag: String,
+}
+
+struct TransI {
+    tid: String,
+    source: usize,
+    target: usize,
+    syn: SyntaxNode,
+}
+
+#[derive(Debug, Clone)]
+enum Nm {
+    Var(usize),
+    Const(usize),
+    Clock(usize),
+    Event(usize),
+    Op(usize),
+    /// A parameter of the function being exported: its CSPm name and type.
+    Param(String, Ty),
+}
+
+struct VarI {
+    csp: String,
+    ty: Ty,
+    init: Expr,
+    /// An operation's variable of its caller (required through an
+    /// interface): read and written through the caller's memory.
+    shared: bool,
+}
+
+struct ClockI {
+    csp: String,
+    /// Expressions (over constants) it is compared with.
+    bounds: Vec<Expr>,
+    /// Compared with something that is not constant.
+    unbounded: bool,
+    /// Read by an action (`since(C)` outside guards).
+    read: bool,
+    /// The state whose `sinceEntry` it is.
+    state: Option<usize>,
+}
+
+struct EvI {
+    name: String,
+    csp: String,
+    ty: Option<Ty>,
+    io: Option<robosim_hir::defs::Io>,
+    received: bool,
+    /// Tagged trigger channel in use.
+    trig: bool,
+}
+
+struct OpI {
+    name: String,
+    params: Vec<Ty>,
+    /// Defined in the model (an `operation` with its own body): calls run
+    /// it (`CALL__op`) instead of calling the platform.
+    defined: bool,
+}
+
+struct GateI {
+    t: usize,
+    cond: Expr,
+    /// `$e?x` in the guard: (variable, input event).
+    binds: Vec<(usize, usize)>,
+    trigger: GateTrigger,
+}
+
+#[derive(Clone, Copy)]
+enum GateTrigger {
+    Internal,
+    Exec,
+    Event(usize),
+}
+
+/// How an expression is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ECtx {
+    /// In the behaviour: variables and clocks are read from the memory.
+    Behaviour,
+    /// In the memory (guards): variables and clocks are its parameters.
+    Memory,
+    /// Constants only (initial values, bounds).
+    Const,
+}
+
+struct EOut {
+    e: Expr,
+    ty: Ty,
+    /// Only constants and literals.
+    pure: bool,
+}
+
+pub(crate) struct Gen<'e, 'a> {
+    ex: &'e mut Exporter<'a>,
+    file: File,
+    node: SyntaxNode,
+    robosim: bool,
+    profile: Profile,
+    names: HashMap<String, Nm>,
+    locals: HashSet<String>,
+    vars: Vec<VarI>,
+    consts: Vec<ConstParam>,
+    const_ty: Vec<Ty>,
+    clocks: Vec<ClockI>,
+    events: Vec<EvI>,
+    ops: Vec<OpI>,
+    nodes: Vec<NodeI>,
+    trans: Vec<TransI>,
+    problems: Vec<Problem>,
+    /// Local definitions of the machine's `let`.
+    defs: Vec<Decl>,
+    /// The guards of the transitions, evaluated by the memory.
+    gates: Vec<GateI>,
+    /// Reads of the expression being translated (behaviour).
+    reads: Vec<String>,
+    /// `$e?x` bindings of the guard being translated: (variable, input).
+    binds: Vec<(usize, usize)>,
+    uses_exec_stmt: bool,
+    record: bool,
+    terms: Vec<Term>,
+    /// Whether a trigger is being rendered for display (hovers).
+    display: bool,
+    counter: usize,
+    /// Depth of the statements and expressions being translated.
+    nesting: usize,
+    /// Per node: whether it is a state with an activity (see
+    /// [`Gen::activity`]), started when it is entered and stopped by every
+    /// transition that leaves it.
+    active: Vec<bool>,
+    /// The activity processes (`Activity__S`).
+    activities: Vec<String>,
+    /// Translating an `operation` of the model (its parameters are those
+    /// of `D__`, after `id__`).
+    is_operation: bool,
+    op_params: Vec<String>,
+    /// `CALL__op` of the operations of the model called (their names).
+    op_calls: Vec<(String, Decl)>,
+    /// The variables the machine requires through interfaces (kept in its
+    /// own memory: its container must not share them).
+    required: Vec<String>,
+}
+
+/// Statements and expressions nested deeper are not exported (the
+/// translation, printing and checking recurse on them).
+const MAX_NESTING: usize = 64;
+
+const GENERATED: &[&str] = &["P__", "D__", "O__", "VS__", "Memory__", "Behaviour__", "Cycle__", "id__", "cycle"];
+
+impl<'e, 'a> Gen<'e, 'a> {
+    pub(crate) fn new(ex: &'e mut Exporter<'a>, file: File, node: &SyntaxNode, record: bool) -> Self {
+        let robosim = file.kind(ex.db) == robosim_syntax::FileKind::RoboSim;
+        let profile = ex.profile;
+        Gen {
+            ex,
+            file,
+            node: node.clone(),
+            robosim,
+            profile,
+            names: HashMap::new(),
+            locals: HashSet::new(),
+            vars: Vec::new(),
+            consts: Vec::new(),
+            const_ty: Vec::new(),
+            clocks: Vec::new(),
+            events: Vec::new(),
+            ops: Vec::new(),
+            nodes: Vec::new(),
+            trans: Vec::new(),
+            problems: Vec::new(),
+            defs: Vec::new(),
+            gates: Vec::new(),
+            reads: Vec::new(),
+            binds: Vec::new(),
+            uses_exec_stmt: false,
+            record,
+            terms: Vec::new(),
+            display: false,
+            counter: 0,
+            nesting: 0,
+            active: Vec::new(),
+            activities: Vec::new(),
+            is_operation: false,
+            op_params: Vec::new(),
+            op_calls: Vec::new(),
+            required: Vec::new(),
+        }
+    }
+
+    /// What is being translated, for messages.
+    fn what(&self) -> &'static str {
+        if self.is_operation {
+            "operation"
+        } else {
+            "machine"
+        }
+    }
+
+    fn problem(&mut self, range: TextRange, msg: impl Into<String>) {
+        self.problems.push((self.file, range, msg.into()));
+    }
+
+    /// A local name for the model name `n`, unique among the machine's.
+    fn local(&mut self, n: &str) -> String {
+        let mut s = ident(n);
+        while s.contains("__")
+            || GENERATED.contains(&s.as_str())
+            || crate::defs::SHARED_PROCESSES.contains(&s.as_str())
+            || s.starts_with("core_")
+            || self.locals.contains(&s)
+        {
+            s.push('_');
+            if s.len() > 200 {
+                break;
+            }
+        }
+        self.locals.insert(s.clone());
+        s
+    }
+
+    /// Translates the machine: its CSPm module and its interface.
+    pub(crate) fn run(mut self, module: String, path: Vec<String>) -> Result<MachineOut, Vec<Problem>> {
+        let node = self.node.clone();
+        self.declarations(&node);
+        self.collect_nodes(&node, None);
+        self.collect_transitions();
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        let decls = self.generate(&module);
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        let elem = self.interface(module, path);
+        Ok(MachineOut { elem, decls, terms: self.terms })
+    }
+
+    /// Translates an operation of the model: its CSPm module and its
+    /// channels and constants.
+    fn run_operation(mut self, module: String, path: Vec<String>) -> Result<(Vec<Decl>, OperationOut), Vec<Problem>> {
+        let node = self.node.clone();
+        self.declarations(&node);
+        self.collect_nodes(&node, None);
+        self.collect_transitions();
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        if !self.nodes.iter().any(|n| n.parent.is_none() && n.kind == NodeKind::Initial) {
+            self.problem(
+                util::name_range(&node),
+                "the operation has no body (initial junction): only operations defined by a state machine are exported",
+            );
+            return Err(self.problems);
+        }
+        let decls = self.generate(&module);
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        let _ = path;
+        let mut chans = Vec::new();
+        for e in &self.events {
+            chans.push(OpChan {
+                csp: e.csp.clone(),
+                model: e.name.clone(),
+                kind: OpChanKind::Event,
+                dir: if e.received { Dir::In } else { Dir::Out },
+                ty: e.ty.clone(),
+                params: Vec::new(),
+            });
+        }
+        let names: HashMap<String, usize> = self
+            .names
+            .iter()
+            .filter_map(|(k, v)| if let Nm::Var(i) = v { Some((k.clone(), *i)) } else { None })
+            .collect();
+        let mut shared: Vec<(&String, &usize)> = names.iter().filter(|(_, i)| self.vars[**i].shared).collect();
+        shared.sort_by_key(|(_, i)| **i);
+        for (model, i) in shared {
+            chans.push(OpChan {
+                csp: self.vars[*i].csp.clone(),
+                model: model.clone(),
+                kind: OpChanKind::Var,
+                dir: Dir::Out,
+                ty: Some(self.vars[*i].ty.clone()),
+                params: Vec::new(),
+            });
+        }
+        for o in self.ops.iter().filter(|o| !o.defined) {
+            let mut kinds = vec![OpChanKind::Call];
+            if self.profile == Profile::Paper2019 {
+                kinds.push(OpChanKind::Ret);
+            }
+            for kind in kinds {
+                let suffix = if kind == OpChanKind::Call { "Call" } else { "Ret" };
+                chans.push(OpChan {
+                    csp: format!("{}{suffix}", ident(&o.name)),
+                    model: o.name.clone(),
+                    kind,
+                    dir: Dir::Out,
+                    ty: None,
+                    params: o.params.clone(),
+                });
+            }
+        }
+        let consts = self.consts.iter().cloned().zip(self.const_ty.iter().cloned()).collect();
+        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans }))
+    }
+
+    // ------------------------------------------------------ declarations
+
+    fn declarations(&mut self, node: &SyntaxNode) {
+        let file = self.file;
+        let mut sources: Vec<(File, SyntaxNode, Option<robosim_hir::defs::Io>)> = vec![(file, node.clone(), None)];
+        let contexts: Vec<SyntaxNode> =
+            node.children().filter(|c| matches!(c.kind(), INPUT_CONTEXT | OUTPUT_CONTEXT)).collect();
+        for c in &contexts {
+            let io =
+                if c.kind() == INPUT_CONTEXT { robosim_hir::defs::Io::Input } else { robosim_hir::defs::Io::Output };
+            sources.push((file, c.clone(), Some(io)));
+        }
+        let mut uses: Vec<(SyntaxNode, Option<robosim_hir::defs::Io>)> =
+            children(node, INTERFACE_USE).map(|u| (u, None)).collect();
+        for c in &contexts {
+            let io =
+                if c.kind() == INPUT_CONTEXT { robosim_hir::defs::Io::Input } else { robosim_hir::defs::Io::Output };
+            uses.extend(children(c, INTERFACE_USE).map(|u| (u, Some(io))));
+        }
+        for (u, io) in uses {
+            let p = path_of(&u);
+            match util::resolve(self.ex.db, self.ex.ws, file, &p, |k| k == DefKind::Interface) {
+                Some((f, n)) => sources.push((f, n, io)),
+                None => self.problem(u.text_range(), format!("the interface `{}` could not be resolved", p.join("::"))),
+            }
+        }
+        for (f, n, io) in sources {
+            for c in n.children() {
+                match c.kind() {
+                    VARIABLE_LIST => {
+                        let is_const = c.children_with_tokens().any(|t| t.kind() == CONST_KW);
+                        let shared = self.is_operation && !is_const && n != *node;
+                        for v in children(&c, VARIABLE) {
+                            if !is_const && !self.is_operation && io.is_none() && n != *node {
+                                self.required.push(name_of(&v));
+                            }
+                            self.variable(f, &v, is_const, io, shared);
+                        }
+                    }
+                    CLOCK => {
+                        let n = name_of(&c);
+                        let csp = self.local(&n);
+                        self.clocks.push(ClockI {
+                            csp,
+                            bounds: Vec::new(),
+                            unbounded: false,
+                            read: false,
+                            state: None,
+                        });
+                        self.names.insert(n, Nm::Clock(self.clocks.len() - 1));
+                    }
+                    EVENT => {
+                        let n = name_of(&c);
+                        if self.names.contains_key(&n) {
+                            continue;
+                        }
+                        let ty = match type_child(&c) {
+                            Some(t) => match self.ex.ty(f, Some(&t)) {
+                                Ok(t) => Some(t),
+                                Err(m) => {
+                                    self.problems.push((f, c.text_range(), format!("event `{n}`: {m}")));
+                                    None
+                                }
+                            },
+                            None => None,
+                        };
+                        let csp = self.local(&n);
+                        self.events.push(EvI { name: n.clone(), csp, ty, io, received: false, trig: false });
+                        self.names.insert(n, Nm::Event(self.events.len() - 1));
+                    }
+                    OPERATION_SIG => {
+                        let n = name_of(&c);
+                        if self.names.contains_key(&n) {
+                            continue;
+                        }
+                        let mut params = Vec::new();
+                        if let Some(pl) = child(&c, PARAM_LIST) {
+                            for p in children(&pl, PARAM) {
+                                match self.ex.ty(f, type_child(&p).as_ref()) {
+                                    Ok(t) => params.push(t),
+                                    Err(m) => self.problems.push((f, p.text_range(), format!("operation `{n}`: {m}"))),
+                                }
+                            }
+                        }
+                        // An operation of the model with this name and a body (RoboTool
+                        // matches a required operation and its definition by name); one
+                        // with a contract only (`terminates`) stays a call event.
+                        let defined = !self.robosim
+                            && util::resolve(self.ex.db, self.ex.ws, file, std::slice::from_ref(&n), |k| {
+                                k == DefKind::Operation
+                            })
+                            .is_some_and(|(_, d)| child(&d, INITIAL).is_some());
+                        self.ops.push(OpI { name: n.clone(), params, defined });
+                        self.names.insert(n, Nm::Op(self.ops.len() - 1));
+                    }
+                    OPERATION_DEF | OPERATION_REF | FUNCTION => self.problem(
+                        c.text_range(),
+                        "operations and functions defined in a machine are not supported by the export yet",
+                    ),
+                    _ => {}
+                }
+            }
+        }
+    }
+
+    fn variable(&mut self, f: File, v: &SyntaxNode, is_const: bool, io: Option<robosim_hir::defs::Io>, shared: bool) {
+        let n = name_of(v);
+        if self.names.contains_key(&n) {
+            return;
+        }
+        let ty = match self.ex.ty(f, type_child(v).as_ref()) {
+            Ok(t) => t,
+            Err(m) => {
+                self.problems.push((f, v.text_range(), format!("`{n}`: {m}")));
+                return;
+            }
+        };
+        if io.is_some() && !is_const {
+            self.problems.push((
+                f,
+                v.text_range(),
+                format!("`{n}` is an input or output variable: platform variables are not supported by the export yet"),
+            ));
+            return;
+        }
+        let init = expr_child(v);
+        if is_const {
+            let local = self.local(&n);
+            let mut owner = self.ex.path_of_node(self.file, &self.node);
+            if self.is_operation {
+                owner.push(name_of(&self.node));
+            }
+            let global = ident(&format!("const_{}_{}", util::qualified(&owner), n));
+            let default = match &init {
+                Some(e) if f == self.file => match self.expr(e, ECtx::Const, Some(&ty)) {
+                    Some(o) => (o.e, String::new()),
+                    None => {
+                        self.problems.pop();
+                        (self.const_default(&ty), format!("{n}: the model's value could not be exported"))
+                    }
+                },
+                _ => (
+                    self.const_default(&ty),
+                    format!(
+                        "{}::{n} has no value in the model: set it here, or with `with constant {n} of {} set to …`",
+                        owner.join("::"),
+                        owner.last().cloned().unwrap_or_default()
+                    ),
+                ),
+            };
+            self.ex.constant_default(&global, default.0, default.1);
+            owner.shrink_to_fit();
+            self.consts.push(ConstParam { global, local, owner, name: n.clone() });
+            self.const_ty.push(ty);
+            self.names.insert(n, Nm::Const(self.consts.len() - 1));
+        } else {
+            let csp = self.local(&n);
+            let init = match &init {
+                Some(e) => match self.expr(e, ECtx::Const, Some(&ty)) {
+                    Some(o) => o.e,
+                    None => return,
+                },
+                None => ty.default_value(),
+            };
+            self.vars.push(VarI { csp, ty, init, shared });
+            self.names.insert(n, Nm::Var(self.vars.len() - 1));
+        }
+    }
+
+    fn const_default(&self, ty: &Ty) -> Expr {
+        match ty {
+            // 1 rather than 0: constants are often divisors (PI / av).
+            Ty::Nat | Ty::Int | Ty::Real => Expr::Int(1),
+            t => t.default_value(),
+        }
+    }
+
+    fn collect_nodes(&mut self, region: &SyntaxNode, parent: Option<usize>) {
+        for c in region.children() {
+            let kind = match c.kind() {
+                STATE => NodeKind::State,
+                JUNCTION => NodeKind::Junction,
+                INITIAL => NodeKind::Initial,
+                FINAL => NodeKind::Final,
+                PROBABILISTIC_JUNCTION => {
+                    self.problem(
+                        c.text_range(),
+                        "probabilistic junctions have no meaning in the tock-CSP semantics and are not exported",
+                    );
+                    continue;
+                }
+                _ => continue,
+            };
+            let name = name_of(&c);
+            let tag = match parent {
+                Some(p) => format!("{}_{}", self.nodes[p].tag, ident(&name)),
+                None => ident(&name),
+            };
+            self.nodes.push(NodeI { name, kind, parent, syn: c.clone(), tag });
+            if kind == NodeKind::State {
+                let id = self.nodes.len() - 1;
+                self.collect_nodes(&c, Some(id));
+            }
+        }
+    }
+
+    fn sibling(&self, parent: Option<usize>, name: &str) -> Option<usize> {
+        self.nodes.iter().position(|n| n.parent == parent && n.name == name)
+    }
+
+    fn collect_transitions(&mut self) {
+        let mut regions = vec![(self.node.clone(), None)];
+        for (i, n) in self.nodes.iter().enumerate() {
+            if n.kind == NodeKind::State {
+                regions.push((n.syn.clone(), Some(i)));
+            }
+        }
+        let mut used_tids = HashSet::new();
+        for (region, parent) in regions {
+            for t in children(&region, TRANSITION) {
+                let name = name_of(&t);
+                let end = |k| child(&t, k).and_then(|c| ref_of(&c));
+                let (Some(src), Some(dst)) = (end(TRANSITION_SOURCE), end(TRANSITION_TARGET)) else {
+                    self.problem(t.text_range(), format!("transition `{name}` lacks a source or a target"));
+                    continue;
+                };
+                let (Some(source), Some(target)) = (self.sibling(parent, &src), self.sibling(parent, &dst)) else {
+                    self.problem(t.text_range(), format!("transition `{name}`: its ends are not nodes of its region"));
+                    continue;
+                };
+                let base = match parent {
+                    Some(p) => format!("TID_{}_{}", self.nodes[p].tag, ident(&name)),
+                    None => format!("TID_{}", ident(&name)),
+                };
+                let mut tid = base.clone();
+                let mut k = 2;
+                while !used_tids.insert(tid.clone()) {
+                    tid = format!("{base}_{k}");
+                    k += 1;
+                }
+                self.trans.push(TransI { tid, source, target, syn: t });
+            }
+        }
+    }
+}
+
+/// An operation of the model exported as its own CSPm module.
+#[derive(Debug, Clone)]
+pub(crate) struct OperationOut {
+    /// Its module's name.
+    pub module: String,
+    /// The types of its parameters.
+    pub params: Vec<Ty>,
+    /// Its constants (parameters of its processes, after its parameters).
+    pub consts: Vec<(ConstParam, Ty)>,
+    /// Its channels: events, platform calls (and returns, paper2019).
+    pub chans: Vec<OpChan>,
+}
+
+/// What a channel of an exported operation is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum OpChanKind {
+    Event,
+    Call,
+    Ret,
+    /// `get_x` and `set_x` of a variable of the caller.
+    Var,
+}
+
+/// A channel of an exported operation.
+#[derive(Debug, Clone)]
+pub(crate) struct OpChan {
+    /// Its name in the operation's module (a variable's name for `Var`).
+    pub csp: String,
+    /// The model's event, operation or variable name.
+    pub model: String,
+    pub kind: OpChanKind,
+    /// For events: whether the operation receives it.
+    pub dir: Dir,
+    /// For events and variables: the type carried.
+    pub ty: Option<Ty>,
+    /// For calls: the parameters' types.
+    pub params: Vec<Ty>,
+}
+
+/// The CSPm module of the operation at `node` in `file` (RoboChart), made
+/// on first use; the reason when it cannot be exported.
+pub(crate) fn operation(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<OperationOut>, String> {
+    let key = (file, node.text_range());
+    let oname = name_of(node);
+    match ex.operations.get(&key) {
+        Some(Some(r)) => return r.clone(),
+        Some(None) => return Err(format!("the operation `{oname}` calls itself: not supported by the export yet")),
+        None => {}
+    }
+    ex.operations.insert(key, None);
+    let mut path = ex.path_of_node(file, node);
+    path.push(oname.clone());
+    let module = ex.module_name(&path);
+    let mut g = Gen::new(ex, file, node, false);
+    g.is_operation = true;
+    let mut params = Vec::new();
+    let mut problems = Vec::new();
+    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
+        let pn = name_of(&p);
+        match g.ex.ty(file, type_child(&p).as_ref()) {
+            Ok(t) => {
+                let local = g.local(&pn);
+                g.names.insert(pn, Nm::Param(local.clone(), t.clone()));
+                g.op_params.push(local);
+                params.push(t);
+            }
+            Err(m) => problems.push((file, p.text_range(), format!("parameter `{pn}`: {m}"))),
+        }
+    }
+    let result = if problems.is_empty() { g.run_operation(module.clone(), path.clone()) } else { Err(problems) };
+    let r = match result {
+        Ok((decls, out)) => {
+            ex.emit(file, decls);
+            Ok(Rc::new(OperationOut { module, params, ..out }))
+        }
+        Err(problems) => {
+            let mut lines = vec![format!("NOT EXPORTED: operation {}", path.join("::"))];
+            for (f, r, m) in &problems {
+                lines.push(format!("  {}: {m}", ex.loc(*f, *r)));
+                ex.warn(*f, *r, format!("operation {} is not exported: {m}", path.join("::")));
+            }
+            ex.emit(file, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
+            let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+            Err(format!("the operation `{oname}` is not exported: {why}"))
+        }
+    };
+    ex.operations.insert(key, Some(r.clone()));
+    r
+}
+
+/// A function of the model exported as a CSPm function.
+#[derive(Debug, Clone)]
+pub(crate) struct FunctionOut {
+    /// Its CSPm name.
+    pub csp: String,
+    /// The types of its parameters.
+    pub params: Vec<Ty>,
+    /// The type of its result.
+    pub result: Ty,
+}
+
+/// The CSPm function of the model's function at `node` in `file`, made on
+/// first use: only explicit definitions (`postcondition result == e`)
+/// are exported.
+pub(crate) fn function(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
+    let key = (file, node.text_range());
+    let fname = name_of(node);
+    match ex.functions.get(&key) {
+        Some(Some(f)) => return Ok(f.clone()),
+        Some(None) => return Err(format!("the function `{fname}` is recursive: not supported by the export yet")),
+        None => {}
+    }
+    ex.functions.insert(key, None);
+    let r = function_inner(ex, file, node);
+    match &r {
+        Ok(f) => {
+            ex.functions.insert(key, Some(f.clone()));
+        }
+        Err(_) => {
+            ex.functions.remove(&key);
+        }
+    }
+    r
+}
+
+fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
+    let fname = name_of(node);
+    let mut params = Vec::new();
+    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
+        let t = ex.ty(file, type_child(&p).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+        params.push((name_of(&p), t));
+    }
+    let result = ex.ty(file, type_child(node).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+    // The one postcondition `result == e` (or `result iff e`) defines it.
+    let defining: Vec<SyntaxNode> = children(node, POSTCONDITION)
+        .filter_map(|pc| expr_child(&pc))
+        .filter(|x| {
+            x.kind() == BIN_EXPR
+                && matches!(ast::binary_operator(x), Some(EQ2 | IFF_KW))
+                && ast::operand_exprs(x).first().is_some_and(|l| l.kind() == RESULT_EXPR)
+        })
+        .collect();
+    let [def] = defining.as_slice() else {
+        return Err(format!(
+            "the function `{fname}` has no explicit definition (`postcondition result == …`): calls of it are not exported"
+        ));
+    };
+    let body = ast::operand_exprs(def)
+        .get(1)
+        .cloned()
+        .ok_or_else(|| format!("function `{fname}`: an incomplete postcondition"))?;
+    let mut path = ex.package(file);
+    path.push(fname.clone());
+    let csp = ex.module_name(&path);
+    let mut g = Gen::new(ex, file, node, false);
+    let mut names = Vec::new();
+    for (n, t) in &params {
+        let local = g.local(n);
+        g.names.insert(n.clone(), Nm::Param(local.clone(), t.clone()));
+        names.push(local);
+    }
+    let out = g.expr(&body, ECtx::Const, Some(&result));
+    let problems = std::mem::take(&mut g.problems);
+    let Some(out) = out else {
+        let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+        return Err(format!("function `{fname}` is not exported: {why}"));
+    };
+    ex.emit(
+        file,
+        vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
+    );
+    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
+}
+
+/// The range of a statement up to its arguments or value (`$move` of
+/// `$move(lv, 0)`), where a hover shows the statement's term.
+fn head_range(s: &SyntaxNode) -> TextRange {
+    let start = s.text_range().start();
+    let end = s
+        .children()
+        .find(|c| c.kind() == ARG_LIST || ast::is_expr_kind(c.kind()))
+        .map(|c| c.text_range().start())
+        .unwrap_or_else(|| s.text_range().end());
+    TextRange::new(start, end.max(start))
+}
+
+/// `a -> SKIP ; P` becomes `a -> P`; `SKIP`s disappear.
+pub(crate) fn fold_seq(parts: Vec<Expr>) -> Expr {
+    let mut parts: Vec<Expr> = parts.into_iter().filter(|p| *p != Expr::Skip).collect();
+    if parts.is_empty() {
+        return Expr::Skip;
+    }
+    let mut acc = parts.pop().expect("a part");
+    while let Some(p) = parts.pop() {
+        acc = match p {
+            // (a -> B) ; C = a -> (B ; C), while the result stays shallow:
+            // long statement sequences stay flat `;` chains.
+            Expr::Prefix(c, f, body) if depth(&acc) < 16 && depth(&body) < 16 => {
+                Expr::Prefix(c, f, Box::new(fold_seq(vec![*body, acc])))
+            }
+            p => seq(vec![p, acc]),
+        };
+    }
+    acc
+}
+
+/// How deep prefixes and sequences nest along the right of `e` (up to 16).
+fn depth(e: &Expr) -> usize {
+    let mut d = 0;
+    let mut cur = e;
+    while d < 16 {
+        cur = match cur {
+            Expr::Prefix(_, _, b) => b,
+            Expr::Nary(_, v) if !v.is_empty() => {
+                if v.len() > 8 {
+                    return 16;
+                }
+                &v[v.len() - 1]
+            }
+            _ => return d,
+        };
+        d += 1;
+    }
+    d
+}
+
+fn replace_call(d: &mut Decl, f: &str) {
+    fn go(e: &mut Expr, f: &str) {
+        match e {
+            Expr::Call(n, args) if n == f && args.is_empty() => *e = name(f),
+            Expr::Prefix(_, _, b) | Expr::Guard(_, b) => go(b, f),
+            Expr::Nary(_, ps) => ps.iter_mut().for_each(|p| go(p, f)),
+            Expr::Repl(_, _, b) => go(b, f),
+            _ => {}
+        }
+    }
+    if let Decl::Def(_, _, e) = d {
+        go(e, f);
+    }
+}
+
+fn kind_words(k: robosim_syntax::SyntaxKind) -> String {
+    format!("{k:?}").to_lowercase().replace('_', " ")
+}

@@ -1,0 +1,545 @@
+//! Statements: actions, operation calls and communications as CSPm processes.
+
+use super::*;
+
+impl<'e, 'a> Gen<'e, 'a> {
+    pub(super) fn stmt(&mut self, s: &SyntaxNode) -> Option<Expr> {
+        if self.nesting >= MAX_NESTING {
+            self.problem(s.text_range(), "this statement is nested too deeply for the export");
+            return None;
+        }
+        self.nesting += 1;
+        let out = self.stmt_inner(s);
+        self.nesting -= 1;
+        out
+    }
+
+    pub(super) fn stmt_inner(&mut self, s: &SyntaxNode) -> Option<Expr> {
+        let r = s.text_range();
+        match s.kind() {
+            SEQ_STMT => {
+                let mut parts = Vec::new();
+                for c in s.children().filter(|c| ast::is_stmt_kind(c.kind())) {
+                    parts.push(self.stmt(&c)?);
+                }
+                Some(fold_seq(parts))
+            }
+            SKIP_STMT => Some(Expr::Skip),
+            ASSIGN_STMT => {
+                let assignable = child(s, ASSIGNABLE);
+                let target = assignable.as_ref().map(|a| path_of(a).join("::")).unwrap_or_default();
+                let Some(Nm::Var(v)) = self.names.get(&target).cloned() else {
+                    self.problem(r, format!("`{target}` is not a variable the export can assign"));
+                    return None;
+                };
+                // `r.f.g = e`: the record fields on the way to the assigned one.
+                let mut path: Vec<(Rc<RecordTy>, String)> = Vec::new();
+                let mut ty = self.vars[v].ty.clone();
+                for a in assignable.iter().flat_map(|a| a.children()) {
+                    match a.kind() {
+                        FIELD_ACCESS => {
+                            let f = ref_of(&a).unwrap_or_default();
+                            let Ty::Record(rec) = ty.clone() else {
+                                self.problem(a.text_range(), "only fields of records can be assigned");
+                                return None;
+                            };
+                            let Some((_, t)) = rec.fields.iter().find(|(n, _)| *n == f) else {
+                                self.problem(a.text_range(), format!("`{f}` is not a field of the record"));
+                                return None;
+                            };
+                            ty = t.clone();
+                            path.push((rec, f));
+                        }
+                        INDEX_ACCESS => {
+                            self.problem(
+                                a.text_range(),
+                                "assignments to indexed elements are not supported by the export yet",
+                            );
+                            return None;
+                        }
+                        _ => {}
+                    }
+                }
+                let e = expr_child(s)?;
+                let (mut val, mut reads) = self.bexpr(&e, Some(&ty))?;
+                if !path.is_empty() {
+                    // r.f.g = e is r = set_f(r, set_g(get_f(r), e)).
+                    let csp = self.vars[v].csp.clone();
+                    if !reads.contains(&csp) {
+                        reads.push(csp.clone());
+                    }
+                    let mut olds = vec![name(csp)];
+                    for (rec, f) in &path[..path.len() - 1] {
+                        let prev = olds.last().cloned().expect("a value");
+                        olds.push(call(rec.getter(f), vec![prev]));
+                    }
+                    for ((rec, f), old) in path.iter().zip(olds).rev() {
+                        val = call(rec.setter(f), vec![old, val]);
+                    }
+                }
+                let set = prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(val)], Expr::Skip);
+                Some(self.with_reads(&reads, set))
+            }
+            CLOCK_RESET_STMT => {
+                let n = ref_of(s).unwrap_or_default();
+                match self.names.get(&n) {
+                    Some(Nm::Clock(c)) => Some(prefix(format!("reset_{}", self.clocks[*c].csp), vec![], Expr::Skip)),
+                    _ => {
+                        self.problem(r, format!("`{n}` is not a clock"));
+                        None
+                    }
+                }
+            }
+            IF_STMT => {
+                let c = expr_child(s)?;
+                let (cond, reads) = self.bexpr(&c, None)?;
+                let branches: Vec<SyntaxNode> = s.children().filter(|c| ast::is_stmt_kind(c.kind())).collect();
+                let a = match branches.first() {
+                    Some(b) => self.stmt(b)?,
+                    None => Expr::Skip,
+                };
+                let b = match branches.get(1) {
+                    Some(b) => self.stmt(b)?,
+                    None => Expr::Skip,
+                };
+                Some(self.with_reads(&reads, Expr::If(Box::new(cond), Box::new(a), Box::new(b))))
+            }
+            COMM_STMT => {
+                let comm = child(s, COMMUNICATION)?;
+                let term = self.communication(&comm, None)?;
+                let head = child(&comm, NAME_REF).map(|n| n.text_range()).unwrap_or(r);
+                self.record_term(head, TermKind::Event, || term.clone());
+                Some(term)
+            }
+            CALL_STMT => {
+                let n = path_of(s).join("::");
+                let Some(Nm::Op(o)) = self.names.get(&n).cloned() else {
+                    self.problem(
+                        r,
+                        format!("`{n}` is not an operation of the platform: calls of operations defined in the model are not supported by the export yet"),
+                    );
+                    return None;
+                };
+                if self.robosim {
+                    self.problem(r, format!("`{n}(…)` in a RoboSim machine must be an output: `${n}(…)`"));
+                    return None;
+                }
+                if self.ops[o].defined {
+                    return self.call_operation(s, o);
+                }
+                let (args, reads) = self.arguments(s, o)?;
+                let op = &self.ops[o];
+                let mut fields = vec![name(format!("{}Call", ident(&op.name)))];
+                fields.extend(args);
+                let mut p = call("EDeadline", vec![dot(fields), Expr::Int(0)]);
+                if self.profile == Profile::Paper2019 {
+                    p = seq(vec![p, call("EDeadline", vec![name(format!("{}Ret", ident(&op.name))), Expr::Int(0)])]);
+                }
+                let p = self.with_reads(&reads, p);
+                self.record_term(head_range(s), TermKind::Call, || p.clone());
+                Some(p)
+            }
+            WAIT_STMT => {
+                let e = expr_child(s)?;
+                if e.kind() == INTERVAL_EXPR {
+                    let bounds = ast::operand_exprs(&e);
+                    let [lo, hi] = bounds.as_slice() else {
+                        self.problem(e.text_range(), "an interval needs two bounds");
+                        return None;
+                    };
+                    let open_lo = e.first_token().is_some_and(|t| t.kind() == L_PAREN);
+                    let open_hi = e.last_token().is_some_and(|t| t.kind() == R_PAREN);
+                    let (mut lo, mut r1) = self.bexpr(lo, None)?;
+                    let (mut hi, r2) = self.bexpr(hi, None)?;
+                    if open_lo {
+                        lo = bin(BinOp::Add, lo, Expr::Int(1));
+                    }
+                    if open_hi {
+                        hi = bin(BinOp::Sub, hi, Expr::Int(1));
+                    }
+                    for x in r2 {
+                        if !r1.contains(&x) {
+                            r1.push(x);
+                        }
+                    }
+                    let p = call("WaitInterval", vec![Expr::Range(Box::new(lo), Box::new(hi))]);
+                    Some(self.with_reads(&r1, p))
+                } else {
+                    let (n, reads) = self.bexpr(&e, None)?;
+                    Some(self.with_reads(&reads, call("Wait", vec![n])))
+                }
+            }
+            TIMED_STMT => {
+                let body = stmt_child(s)?;
+                let limit = child(s, DEADLINE).and_then(|d| expr_child(&d))?;
+                let (d, reads) = self.bexpr(&limit, None)?;
+                let b = self.stmt(&body)?;
+                Some(self.with_reads(&reads, call("EndBy", vec![b, d])))
+            }
+            PAR_STMT => {
+                let inner: Vec<SyntaxNode> = s.children().filter(|c| ast::is_stmt_kind(c.kind())).collect();
+                match inner.as_slice() {
+                    [one] => self.stmt(one),
+                    _ => {
+                        self.problem(r, "parallel statements are not supported by the export yet");
+                        None
+                    }
+                }
+            }
+            SIM_CALL_STMT => {
+                let n = path_of(s).join("::");
+                let Some(Nm::Op(o)) = self.names.get(&n).cloned() else {
+                    self.problem(r, format!("`${n}` is not an output operation of the machine"));
+                    return None;
+                };
+                let (args, reads) = self.arguments(s, o)?;
+                let model = self.ops[o].name.clone();
+                let p = self.output(&model, args, r)?;
+                let p = self.with_reads(&reads, p);
+                self.record_term(head_range(s), TermKind::Output, || p.clone());
+                Some(p)
+            }
+            OUTPUT_COMM_STMT => {
+                let n = path_of(s).join("::");
+                let Some(Nm::Event(i)) = self.names.get(&n).cloned() else {
+                    self.problem(r, format!("`${n}` is not an output event of the machine"));
+                    return None;
+                };
+                let ty = self.events[i].ty.clone();
+                let value = expr_child(s);
+                let (args, reads) = match (&ty, value) {
+                    (Some(t), Some(v)) => {
+                        let (e, reads) = self.bexpr(&v, Some(t))?;
+                        (self.fields_of(t, e), reads)
+                    }
+                    (None, None) => (Vec::new(), Vec::new()),
+                    _ => {
+                        self.problem(r, format!("`${n}` needs exactly its declared value"));
+                        return None;
+                    }
+                };
+                let model = self.events[i].name.clone();
+                let p = self.output(&model, args, r)?;
+                let p = self.with_reads(&reads, p);
+                self.record_term(head_range(s), TermKind::Output, || p.clone());
+                Some(p)
+            }
+            EXEC_STMT => {
+                if !self.robosim {
+                    self.problem(r, "`exec` belongs to RoboSim machines");
+                    return None;
+                }
+                self.uses_exec_stmt = true;
+                let p = prefix("endexec", vec![Field::Dot(name("TID_exec"))], name("StartExec__"));
+                self.record_term(r, TermKind::Exec, || {
+                    prefix("endexec", vec![Field::Dot(name("TID_exec"))], prefix("startexec", vec![], Expr::Skip))
+                });
+                Some(p)
+            }
+            k => {
+                self.problem(r, format!("this statement ({}) is not supported by the export yet", kind_words(k)));
+                None
+            }
+        }
+    }
+
+    /// A call of an operation defined in the model: its process
+    /// (`Op::D__(id__, args, constants)`, its events renamed to the
+    /// caller's), through `CALL__op(args)` as RoboTool names it. The
+    /// operation's events and platform calls become the caller's.
+    pub(super) fn call_operation(&mut self, s: &SyntaxNode, o: usize) -> Option<Expr> {
+        let r = s.text_range();
+        let n = self.ops[o].name.clone();
+        let callee = |k| k == DefKind::Operation;
+        let (of, onode) = util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&n), callee)?;
+        let op = match operation(self.ex, of, &onode) {
+            Ok(op) => op,
+            Err(m) => {
+                self.problem(r, m);
+                return None;
+            }
+        };
+        if op.params != self.ops[o].params {
+            self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
+            return None;
+        }
+        let helper = format!("CALL__{}", ident(&n));
+        if !self.op_calls.iter().any(|(h, _)| *h == helper) {
+            let def = self.operation_helper(&op, &helper, r)?;
+            self.op_calls.push((helper.clone(), def));
+        }
+        let (args, reads) = self.arguments(s, o)?;
+        let p = if args.is_empty() { name(helper) } else { call(helper, args) };
+        let p = self.with_reads(&reads, p);
+        self.record_term(head_range(s), TermKind::Call, || p.clone());
+        Some(p)
+    }
+
+    /// `CALL__op(x…) = Op::D__(id__, x…, constants) [[ Op::e <- e, … ]]`:
+    /// the operation's constants become the caller's, its channels the
+    /// caller's channels of the same name.
+    pub(super) fn operation_helper(&mut self, op: &OperationOut, helper: &str, r: TextRange) -> Option<Decl> {
+        let params: Vec<String> = (0..op.params.len()).map(|k| format!("x{k}__")).collect();
+        let mut args = vec![name("id__")];
+        args.extend(params.iter().map(|p| name(p.clone())));
+        for (c, t) in &op.consts {
+            let local = match self.consts.iter().find(|x| x.global == c.global) {
+                Some(x) => x.local.clone(),
+                None => {
+                    let local = self.local(&format!("{}_{}", c.owner.last().cloned().unwrap_or_default(), c.name));
+                    self.consts.push(ConstParam { local: local.clone(), ..c.clone() });
+                    self.const_ty.push(t.clone());
+                    local
+                }
+            };
+            args.push(name(local));
+        }
+        let mut renames = Vec::new();
+        for ch in &op.chans {
+            let mine = match ch.kind {
+                OpChanKind::Var => {
+                    let mine = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Var(i)) if Some(&self.vars[i].ty) == ch.ty.as_ref() => self.vars[i].csp.clone(),
+                        _ => {
+                            self.problem(
+                                r,
+                                format!(
+                                    "the operation uses the variable `{}`, which the caller lacks (or of another type)",
+                                    ch.model
+                                ),
+                            );
+                            return None;
+                        }
+                    };
+                    for g in ["get_", "set_"] {
+                        renames.push((name(format!("{}::{g}{}", op.module, ch.csp)), name(format!("{g}{mine}"))));
+                    }
+                    continue;
+                }
+                OpChanKind::Event => {
+                    let ty = ch.ty.clone();
+                    let i = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Event(i)) => i,
+                        None => {
+                            let csp = self.local(&ch.model);
+                            self.events.push(EvI {
+                                name: ch.model.clone(),
+                                csp,
+                                ty: ty.clone(),
+                                io: None,
+                                received: false,
+                                trig: false,
+                            });
+                            self.names.insert(ch.model.clone(), Nm::Event(self.events.len() - 1));
+                            self.events.len() - 1
+                        }
+                        Some(_) => {
+                            self.problem(r, format!("`{}` of the operation is not an event of the caller", ch.model));
+                            return None;
+                        }
+                    };
+                    if self.events[i].ty != ty {
+                        self.problem(r, format!("the event `{}` has another type in the operation", ch.model));
+                        return None;
+                    }
+                    if ch.dir == Dir::In {
+                        self.events[i].received = true;
+                    }
+                    self.events[i].csp.clone()
+                }
+                OpChanKind::Call | OpChanKind::Ret => {
+                    let i = match self.names.get(&ch.model).cloned() {
+                        Some(Nm::Op(i)) => i,
+                        None => {
+                            let params = ch.params.clone();
+                            self.ops.push(OpI { name: ch.model.clone(), params, defined: false });
+                            self.names.insert(ch.model.clone(), Nm::Op(self.ops.len() - 1));
+                            self.ops.len() - 1
+                        }
+                        Some(_) => {
+                            self.problem(
+                                r,
+                                format!("`{}` of the operation is not an operation of the caller", ch.model),
+                            );
+                            return None;
+                        }
+                    };
+                    if self.ops[i].params != ch.params || self.ops[i].defined {
+                        self.problem(r, format!("the operation `{}` has another signature in the callee", ch.model));
+                        return None;
+                    }
+                    let suffix = if ch.kind == OpChanKind::Call { "Call" } else { "Ret" };
+                    format!("{}{suffix}", ident(&ch.model))
+                }
+            };
+            renames.push((name(format!("{}::{}", op.module, ch.csp)), name(mine)));
+        }
+        let mut body = call(format!("{}::D__", op.module), args);
+        if !renames.is_empty() {
+            body = Expr::Rename(Box::new(body), renames, vec![]);
+        }
+        Some(Decl::Def(helper.to_string(), params, body))
+    }
+
+    /// A RoboSim output: the register write, urgent (robotool3), or its
+    /// record in the machine's buffer (paper2019, Rule 7).
+    pub(super) fn output(&mut self, model: &str, args: Vec<Expr>, _r: TextRange) -> Option<Expr> {
+        let ctor = self.ex.out_reg(model);
+        if self.profile == Profile::Paper2019 {
+            let mut f = vec![Field::Dot(name(ctor)), Field::Dot(Expr::Bool(true))];
+            f.extend(args.into_iter().map(Field::Dot));
+            return Some(prefix("stmout", f, Expr::Skip));
+        }
+        let mut f = vec![name("registerWrite"), name(ctor)];
+        f.extend(args);
+        Some(call("EDeadline", vec![dot(f), Expr::Int(0)]))
+    }
+
+    pub(super) fn arguments(&mut self, s: &SyntaxNode, o: usize) -> Option<(Vec<Expr>, Vec<String>)> {
+        let args: Vec<SyntaxNode> = child(s, ARG_LIST)
+            .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
+            .unwrap_or_default();
+        let params = self.ops[o].params.clone();
+        if args.len() != params.len() {
+            self.problem(s.text_range(), format!("`{}` takes {} arguments", self.ops[o].name, params.len()));
+            return None;
+        }
+        let mut out = Vec::new();
+        let mut reads = Vec::new();
+        for (a, t) in args.iter().zip(&params) {
+            let (e, r) = self.bexpr(a, Some(t))?;
+            for x in r {
+                if !reads.contains(&x) {
+                    reads.push(x);
+                }
+            }
+            out.push(e);
+        }
+        Some((out, reads))
+    }
+
+    /// A communication `e`, `e!v`, `e.v` or `e?x`: as a statement
+    /// (`trigger = None`: delayable) or as the trigger of a transition
+    /// (tagged with its identifier), followed by `then`.
+    pub(super) fn communication(&mut self, comm: &SyntaxNode, trigger: Option<(&str, Expr)>) -> Option<Expr> {
+        let r = comm.text_range();
+        let ev = ref_of(comm).unwrap_or_default();
+        let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
+            let what = self.what();
+            self.problem(r, format!("`{ev}` is not an event of the {what} (declared or used through an interface)"));
+            return None;
+        };
+        if self.robosim {
+            self.problem(r, "RoboSim machines communicate through `$` inputs and outputs only");
+            return None;
+        }
+        let ty = self.events[i].ty.clone();
+        let mut dir = if trigger.is_some() { "in" } else { "out" };
+        let mut value: Option<Vec<Expr>> = None;
+        let mut bind: Option<usize> = None;
+        let mut reads = Vec::new();
+        for p in comm.children() {
+            match p.kind() {
+                COMM_SYNC | COMM_OUTPUT => {
+                    let Some(t) = ty.clone() else {
+                        self.problem(r, format!("`{ev}` carries no value"));
+                        return None;
+                    };
+                    let e = expr_child(&p)?;
+                    let (v, rd) = self.bexpr(&e, Some(&t))?;
+                    reads = rd;
+                    value = Some(self.fields_of(&t, v));
+                    dir = if p.kind() == COMM_SYNC { "in" } else { "out" };
+                }
+                COMM_INPUT => {
+                    if p.children().any(|n| ast::is_expr_kind(n.kind()) || n.kind() == COMM_GUARD) {
+                        self.problem(p.text_range(), "guarded inputs `e[|g|]?x` are not supported by the export yet");
+                        return None;
+                    }
+                    let var = path_of(&p).join("::");
+                    match self.names.get(&var) {
+                        Some(Nm::Var(v)) if ty.is_some() => bind = Some(*v),
+                        _ => {
+                            self.problem(p.text_range(), format!("`{var}` cannot receive a value of `{ev}`"));
+                            return None;
+                        }
+                    }
+                    dir = "in";
+                }
+                _ => {}
+            }
+        }
+        if dir == "in" {
+            self.events[i].received = true;
+        }
+        let csp = self.events[i].csp.clone();
+        let mut fields = vec![Field::Dot(name(dir))];
+        // The input fields (one per component of a product) and the value
+        // they make, stored in the variable.
+        let bound = match (bind, &ty) {
+            (Some(v), Some(t)) => {
+                let base = if self.display { self.vars[v].csp.clone() } else { format!("{}__in", self.vars[v].csp) };
+                Some(t.input_fields(&base))
+            }
+            _ => None,
+        };
+        if let Some(v) = &value {
+            fields.extend(v.iter().cloned().map(Field::Dot));
+        } else if let Some((f, _)) = &bound {
+            fields.extend(f.iter().cloned());
+        }
+        let store = |then: Expr| match (bind, &bound) {
+            (Some(v), Some((_, val))) => {
+                prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(val.clone())], then)
+            }
+            _ => then,
+        };
+        match trigger {
+            Some((tid, then)) => {
+                let chan = if self.display {
+                    csp.clone()
+                } else {
+                    self.events[i].trig = true;
+                    fields.insert(0, Field::Dot(name(tid)));
+                    format!("{csp}__")
+                };
+                let p = prefix(chan, fields, store(then));
+                Some(self.with_reads(&reads, p))
+            }
+            None => {
+                let p = match (bind, &bound) {
+                    (Some(_), Some(_)) => {
+                        // An input: wait for it, then store it.
+                        self.counter += 1;
+                        let n = format!("Input__{}", self.counter);
+                        let body = ext(vec![
+                            prefix(csp.clone(), fields, store(Expr::Skip)),
+                            prefix("tock", vec![], name(n.clone())),
+                        ]);
+                        self.defs.push(Decl::Def(n.clone(), vec![], body));
+                        name(n)
+                    }
+                    _ => {
+                        let mut f = vec![name(csp.clone())];
+                        for x in fields {
+                            if let Field::Dot(e) = x {
+                                f.push(e);
+                            }
+                        }
+                        call("Delayable", vec![dot(f)])
+                    }
+                };
+                Some(self.with_reads(&reads, p))
+            }
+        }
+    }
+
+    /// The channel fields carrying value `v` of type `t`: its components
+    /// when `t` is a product (see [`Ty::field_sets`]).
+    pub(super) fn fields_of(&mut self, t: &Ty, v: Expr) -> Vec<Expr> {
+        match t {
+            Ty::Product(ts) => self.ex.components(ts.len(), v),
+            _ => vec![v],
+        }
+    }
+}
