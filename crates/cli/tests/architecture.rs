@@ -37,6 +37,7 @@ fn dependencies() -> BTreeMap<String, Vec<String>> {
 const ALLOWED: &[(&str, &[&str])] = &[
     ("syntax", &[]),
     ("stdlib", &[]),
+    ("cspm", &[]),
     ("fmt", &["robosim-syntax"]),
     ("hir", &["robosim-syntax", "robosim-stdlib"]),
     ("check", &["robosim-syntax", "robosim-hir"]),
