@@ -506,7 +506,14 @@ fn comma_list(items: &[Expr]) -> Doc {
     cat(parts)
 }
 
+/// Whether `e` prints starting with `-`: after `{` that would open an FDR
+/// block comment `{- … -}`, so a space must separate them.
+fn starts_with_minus(e: &Expr) -> bool {
+    matches!(e, Expr::Int(n) if *n < 0) || matches!(e, Expr::Neg(_))
+}
+
 fn bracketed(open: &str, items: &[Expr], close: &str) -> Doc {
+    let open = if open == "{" && items.first().is_some_and(starts_with_minus) { "{ " } else { open };
     group(cat(vec![
         text(open),
         nest(open.len(), cat(vec![Doc::SoftLine, comma_list(items)])),
@@ -562,7 +569,10 @@ fn expr_doc(e: &Expr) -> Doc {
             cat(parts)
         }
         Expr::Set(items) => bracketed("{", items, "}"),
-        Expr::Range(a, b) => cat(vec![text("{"), expr_doc(a), text(".."), expr_doc(b), text("}")]),
+        Expr::Range(a, b) => {
+            let open = if starts_with_minus(a) { "{ " } else { "{" };
+            cat(vec![text(open), expr_doc(a), text(".."), expr_doc(b), text("}")])
+        }
         Expr::SetComp(e, gens) => {
             let mut g = Vec::new();
             for (i, (x, s)) in gens.iter().enumerate() {
@@ -690,6 +700,15 @@ fn body_doc(e: &Expr) -> Doc {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_negative_first_element_does_not_open_an_fdr_comment() {
+        use super::*;
+        let range = Expr::Range(Box::new(Expr::Int(-2)), Box::new(Expr::Int(3)));
+        assert_eq!(print_expr(&range, 100), "{ -2..3}");
+        assert_eq!(print_expr(&Expr::Set(vec![Expr::Int(-1), Expr::Int(2)]), 100), "{ -1, 2}");
+        assert_eq!(print_expr(&Expr::Range(Box::new(Expr::Int(0)), Box::new(Expr::Int(3))), 100), "{0..3}");
+    }
+
     use super::*;
 
     #[test]
