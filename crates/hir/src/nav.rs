@@ -3,7 +3,7 @@
 //! to a target across the workspace, and a description of a declaration
 //! (its signature and the `//` comment above it) for hovers.
 
-use robosim_syntax::{SyntaxKind::*, TextRange, TextSize};
+use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 
 use crate::body::{body_refs_at, body_resolution};
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, Io, TypeRef};
@@ -137,7 +137,11 @@ pub struct Description {
 pub fn describe(db: &dyn Db, decl: DeclLoc) -> Description {
     let defs = file_defs(db, decl.file);
     let d = defs.def(decl.def);
-    let signature = signature(d);
+    let signature = match d.kind {
+        // The whole behaviour, which a diagram shortens (issue 21).
+        DefKind::State | DefKind::Transition => behaviour_text(db, decl.file, d).unwrap_or_else(|| signature(d)),
+        _ => signature(d),
+    };
     let container = d.parent.map(|p| {
         let pd = defs.def(p);
         format!("in {} `{}`", pd.kind.describe(), pd.name)
@@ -239,6 +243,33 @@ fn signature(d: &Def) -> String {
             format!("{kw} {}", d.name)
         }
     }
+}
+
+/// A state with its entry, during and exit actions (not its substates),
+/// or a whole transition, each clause on a line of its own with its
+/// whitespace collapsed.
+fn behaviour_text(db: &dyn Db, file: File, d: &Def) -> Option<String> {
+    let root = parse(db, file).syntax_node();
+    let node = match root.covering_element(d.range) {
+        rowan::NodeOrToken::Node(n) => n,
+        rowan::NodeOrToken::Token(t) => t.parent()?,
+    };
+    let node = node.ancestors().find(|n| n.text_range() == d.range)?;
+    let one_line = |n: &SyntaxNode| n.text().to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+    if d.kind == DefKind::State {
+        let actions: Vec<String> = node
+            .children()
+            .filter(|c| matches!(c.kind(), ENTRY_ACTION | DURING_ACTION | EXIT_ACTION))
+            .map(|c| format!("    {}", one_line(&c)))
+            .collect();
+        return Some(if actions.is_empty() {
+            format!("state {}", d.name)
+        } else {
+            format!("state {} {{\n{}\n}}", d.name, actions.join("\n"))
+        });
+    }
+    let text = one_line(&node);
+    Some(text)
 }
 
 /// The comment block directly above a declaration (no blank line between).
