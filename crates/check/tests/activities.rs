@@ -6,38 +6,10 @@
 //! without it (refinement both ways), and by the exact counterexample of a
 //! machine that differs from it.
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{verify_texts, Options, Verdict};
 
-const INTERFACE: &str = "interface I { event e event f event o event v : nat op() }";
-
-fn run(machines: &str, assertions: &str) -> Vec<Report> {
-    verify_texts(
-        [("m.rct".to_string(), format!("{INTERFACE}\n{machines}")), ("a.assertions".to_string(), assertions.into())],
-        &Options::default(),
-    )
-}
-
-/// Each report's name and verdict, with the counterexample's kind and trace.
-fn outcomes(reports: &[Report]) -> Vec<(String, Verdict, String)> {
-    reports
-        .iter()
-        .map(|r| {
-            let cex = r.counterexample.as_ref().map(|c| format!("{}: {}", c.kind, trace_text(&c.steps)));
-            let reason = r.reason.clone().filter(|_| r.verdict == Verdict::Unsupported);
-            (r.name.clone(), r.verdict, cex.or(reason).unwrap_or_default())
-        })
-        .collect()
-}
-
-fn expect(reports: &[Report], expected: &[(&str, Verdict, &str)]) {
-    let got = outcomes(reports);
-    for g in &got {
-        println!("{g:?}");
-    }
-    let want: Vec<(String, Verdict, String)> =
-        expected.iter().map(|(n, v, c)| (n.to_string(), *v, c.to_string())).collect();
-    assert_eq!(got, want, "{reports:#?}");
-}
+mod support;
+use support::machines::{expect, outcomes, run};
 
 /// A transition deadline `<{d}` on a trigger is the statement deadline on
 /// the same communication: it must happen within `d` time units of the

@@ -4,35 +4,10 @@
 //! receivers synchronise all at once, and a machine checked on its own
 //! calls its controller's operations as visible, urgent events.
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::Verdict;
 
-const INTERFACE: &str = "interface I { event e event f event o event v : nat op() }";
-
-fn run(model: &str, assertions: &str) -> Vec<Report> {
-    verify_texts(
-        [("m.rct".to_string(), format!("{INTERFACE}\n{model}")), ("a.assertions".to_string(), assertions.into())],
-        &Options::default(),
-    )
-}
-
-/// Each report's name and verdict, with the counterexample's kind and
-/// trace (or the reason it was not checked).
-fn outcomes(reports: &[Report]) -> Vec<(String, Verdict, String)> {
-    reports
-        .iter()
-        .map(|r| {
-            let cex = r.counterexample.as_ref().map(|c| format!("{}: {}", c.kind, trace_text(&c.steps)));
-            let reason = r.reason.clone().filter(|_| r.verdict == Verdict::Unsupported);
-            (r.name.clone(), r.verdict, cex.or(reason).unwrap_or_default())
-        })
-        .collect()
-}
-
-fn expect(reports: &[Report], expected: &[(&str, Verdict, &str)]) {
-    let want: Vec<(String, Verdict, String)> =
-        expected.iter().map(|(n, v, c)| (n.to_string(), *v, c.to_string())).collect();
-    assert_eq!(outcomes(reports), want, "{reports:#?}");
-}
+mod support;
+use support::machines::{expect, run};
 
 /// RT-15: a machine's events connected to nothing are hidden inside the
 /// controller, not refused: the input `v?x` happens on its own with any
