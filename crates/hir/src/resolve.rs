@@ -7,6 +7,7 @@
 use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
+mod assertions;
 mod prob;
 
 use crate::index::{file_summary, import_matches, resolve_in_scope, resolve_item, ItemLoc};
@@ -318,6 +319,7 @@ pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution
     r.definitions();
     if file.kind(db).is_assertions() {
         r.probabilistic(&root);
+        r.assertion_names(&root);
     }
     r.out.refs.sort_by_key(|x| x.range.start());
     r.out
