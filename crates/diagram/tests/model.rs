@@ -10,7 +10,6 @@
 //!   its header), and no two texts (state names, actions, labels) overlap.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
 
 use expect_test::expect_file;
 use robosim_diagram::layout::{layout, Edge, Laid, Rect, Shape};
@@ -20,27 +19,8 @@ use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::{load_workspace, RootDatabase, RuleSet};
 use robosim_syntax::FileKind;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// The model files directly in `dir`, as (path relative to `base`, text).
-fn files_in(dir: &Path, base: &Path) -> Vec<(String, String)> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.is_file() && matches!(FileKind::from_path(p), Some(FileKind::RoboChart | FileKind::RoboSim)))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|p| {
-            let rel = p.strip_prefix(base).unwrap().to_string_lossy().replace('\\', "/");
-            (rel, String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned())
-        })
-        .collect()
-}
+mod support;
+use support::{files_in, root};
 
 fn count_region(r: &Region) -> (usize, usize) {
     let mut nodes = r.nodes.len();

@@ -26,14 +26,13 @@ use robosim_diagram::metrics::{measure, measure_plain, reference_dot, Metrics};
 use robosim_hir::{load_workspace, RootDatabase, RuleSet};
 use robosim_syntax::FileKind;
 
+mod support;
+use support::{files_in, root};
+
 /// Bounds of issue 21.
 const MAX_ASPECT: f64 = 3.0;
 const MAX_AREA_RATIO: f64 = 1.5;
 const MAX_LABEL_DISTANCE: f64 = 40.0;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 /// Every folder under `base` with model files, each a workspace.
 fn workspaces(base: &Path) -> BTreeSet<PathBuf> {
@@ -50,23 +49,6 @@ fn workspaces(base: &Path) -> BTreeSet<PathBuf> {
         }
     }
     dirs
-}
-
-fn files_in(dir: &Path, base: &Path) -> Vec<(String, String)> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.is_file() && matches!(FileKind::from_path(p), Some(FileKind::RoboChart | FileKind::RoboSim)))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|p| {
-            let rel = p.strip_prefix(base).unwrap().to_string_lossy().replace('\\', "/");
-            (rel, String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned())
-        })
-        .collect()
 }
 
 /// One measured diagram.
