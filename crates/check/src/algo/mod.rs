@@ -23,6 +23,7 @@ use crate::lts::{Event, Label, Lts, Rows, TAU};
 
 pub mod deadlock;
 pub mod divergence;
+pub mod event;
 pub mod explicit;
 pub mod refine;
 pub mod timed;
@@ -30,9 +31,10 @@ pub mod timelock;
 
 pub use deadlock::{find_deadlock, DeadlockResult};
 pub use divergence::{find_divergence, DivergenceResult};
+pub use event::{find_event, EventResult};
 pub use refine::{check_determinism, refines, DeterminismResult, RefinementCex, RefinementResult, SemanticModel};
 pub use timed::{find_timed_deadlock, TimedDeadlockResult};
-pub use timelock::{find_event, find_timelock, EventResult, TimelockResult};
+pub use timelock::{find_timelock, TimelockResult};
 
 /// An execution of an LTS: the initial state and the steps taken from it.
 #[derive(Debug, Clone, PartialEq, Eq)]
