@@ -417,8 +417,9 @@ fn mentions(text: &str, word: &str) -> bool {
 fn check_named<S>(ids: &Names, cex: &RefinementCex<S>) -> Outcome {
     let (path, extra): (_, Vec<Event>) = match cex {
         RefinementCex::Trace { path, .. } | RefinementCex::Divergence { path, .. } => (path, Vec::new()),
-        RefinementCex::Refusal { path, offered, .. } | RefinementCex::TockRefusal { path, offered, .. } => {
-            (path, offered.clone())
+        RefinementCex::Refusal { path, offered, acceptances }
+        | RefinementCex::TockRefusal { path, offered, acceptances } => {
+            (path, offered.iter().chain(acceptances.iter().flatten()).copied().collect())
         }
     };
     let unnamed = path.steps.iter().map(|(l, _)| l.event).chain(extra).find(|&e| ids.unnamed(e));
