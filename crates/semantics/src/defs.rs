@@ -51,7 +51,14 @@ fn n(s: &str) -> Expr {
 }
 
 fn sticky(op: BinOp) -> Expr {
-    let r = bin(op, n("e1"), n("e2"));
+    // RoboTool wraps every divisor so that `x / 0` is `x / 1` (RT-6).
+    let divisor = match op {
+        BinOp::Div => {
+            Expr::If(Box::new(bin(BinOp::Eq, n("e2"), Expr::Int(0))), Box::new(Expr::Int(1)), Box::new(n("e2")))
+        }
+        _ => n("e2"),
+    };
+    let r = bin(op, n("e1"), divisor);
     Expr::If(Box::new(call("member", vec![r.clone(), n("T")])), Box::new(r), Box::new(n("e1")))
 }
 

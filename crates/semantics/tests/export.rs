@@ -245,7 +245,7 @@ fn corpus_export_is_valid_cspm() {
 /// The tock-CSP operators a user's `csp` block may use (RoboTool's
 /// library) are in the export and mean what FDR's timed sections make of
 /// them: `StartBy(P, d)` must start within d time units, `Deadline(P, d)`
-/// end within d, `CRUN(S)` is `RUN(S)` (the processes written, as users
+/// end within d, `CRUN(S)` is `RUN(S)`, `Div(x, 0, T)` is x (RT-6) (the processes written, as users
 /// write them, inside a `Timed(OneStep)` section, under `timed_priority`
 /// so that termination is urgent).
 #[test]
@@ -254,7 +254,7 @@ fn the_blocks_library_means_what_robotool_means() {
     let defs = e.files.iter().find(|f| f.name == "robosim_defs.csp").expect("the shared definitions file");
     let inst = e.files.iter().find(|f| f.name == "instantiations.csp").map(|f| f.text()).unwrap_or_default();
     let text = format!(
-        "{inst}\n{}\nchannel a, b\nTimed(OneStep) {{\nS = timed_priority(StartBy(a -> SKIP, 2))\nD = timed_priority(Deadline(a -> b -> SKIP, 1))\n}}\nC = CRUN({{a}})\n",
+        "{inst}\n{}\nchannel a, b\nTimed(OneStep) {{\nS = timed_priority(StartBy(a -> SKIP, 2))\nD = timed_priority(Deadline(a -> b -> SKIP, 1))\n}}\nC = CRUN({{a}})\nQ = Div(5, 0, {{0..9}})\n",
         defs.text()
     );
     let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
@@ -269,4 +269,6 @@ fn the_blocks_library_means_what_robotool_means() {
     assert!(!d.has_trace(&["tock", "tock"]) && !d.has_trace(&["a", "tock", "tock"]));
     let c = ev.lts("C").unwrap();
     assert!(c.has_trace(&["a", "a", "a"]) && !c.has_trace(&["tock"]));
+    // RT-6: `x / 0` is `x / 1`.
+    assert_eq!(ev.value("Q").unwrap().to_string(), "5");
 }
