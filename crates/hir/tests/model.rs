@@ -1,0 +1,148 @@
+//! Snapshots of the lowered model (`robosim_hir::model`): a fixture with
+//! every construct the back ends translate, and the examples. Refresh with
+//! `UPDATE_EXPECT=1 cargo test -p robosim-hir --test model`.
+
+use expect_test::{expect, expect_file};
+use robosim_hir::model::{file_model, render};
+use robosim_hir::{load_workspace, RootDatabase, RuleSet};
+
+/// The model of each non-library file of `files`, rendered.
+fn models(files: Vec<(String, String)>) -> String {
+    let db = RootDatabase::default();
+    let ws = load_workspace(&db, files, RuleSet::Paper);
+    let mut out = String::new();
+    for &f in ws.files(&db) {
+        if f.is_library(&db) || f.kind(&db).is_assertions() {
+            continue;
+        }
+        out += &format!("# {}\n", f.path(&db));
+        out += &render(&db, file_model(&db, ws, f));
+    }
+    out
+}
+
+fn example(dir: &str) -> String {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/");
+    let mut paths: Vec<_> = std::fs::read_dir(format!("{root}{dir}"))
+        .expect("example directory")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "rct" || x == "rst"))
+        .collect();
+    paths.sort();
+    let files = paths
+        .iter()
+        .map(|p| {
+            let name = p.strip_prefix(root).expect("under examples").display().to_string();
+            (name, std::fs::read_to_string(p).expect("readable"))
+        })
+        .collect();
+    models(files)
+}
+
+#[test]
+fn fixture_with_every_construct() {
+    let text = r#"
+enumeration Colour { red green }
+datatype Pos { x : nat y : nat }
+interface I { var shared : int event ping : nat }
+interface Ops { moveOp(speed : nat) }
+robotic platform RP { provides Ops uses I }
+stm M {
+  requires Ops uses I
+  const k : nat = 2
+  var x : nat = k + 1, c : Colour = Colour::red, p : nat * nat, s : Set(nat)
+  clock C
+  event go : boolean
+  initial i
+  state S {
+    entry x = 1 ; go!true
+    during wait([1, 2))
+    exit #C
+    initial j
+    state T {}
+    transition u { from j to T }
+  }
+  junction J
+  final F
+  transition t0 { from i to S }
+  transition t1 { from S to J trigger ping?x #C condition since(C) >= k /\ x in {1, 2} action if x > 0 then moveOp(x) else skip end <{3} }
+  transition t2 { from J to F condition else action (p[1] = 2 ; s = union(s, {x})) }
+}
+operation Op(n : nat) {
+  var y : int
+  initial i
+  final f
+  transition t { from i to f action y = -n ; wait(n) }
+}
+controller C {
+  uses I
+  sref m = M
+  opref op = Op
+  connection m on ping to C on ping (_async)
+}
+module Mod {
+  rref rp = RP
+  cref c = C
+  connection rp on ping to c on ping [mult]
+}
+"#;
+    expect![[r#"
+        # m.rct
+        enumeration Colour {red, green}
+        datatype Pos {x: nat, y: nat}
+        interface I @67..116
+          var shared: int
+          event ping: nat
+        interface Ops @117..154
+          operation moveOp(speed: nat)
+        platform RP @155..198
+          provides Ops -> m.rct#3
+          uses I -> m.rct#2
+        stm M @199..789
+          requires Ops -> m.rct#3
+          uses I -> m.rct#2
+          const k: nat = 2
+          var x: nat = (k Add 1)
+          var c: Colour = Colour::red
+          var p: nat*nat
+          var s: Set(nat)
+          clock C
+          event go: bool
+          literals 2 1 1 1 2 1 2 0 3 1 2
+          initial i @367..368
+          state S @377..378
+            entry x = 1; go!true
+            during wait([1, 2))
+            exit #C
+            initial j @455..456
+            state T @467..468
+            transition u @487..488: j -> T
+          junction J @520..521
+          final F @530..531
+          transition t0 @545..547: i -> S
+          transition t1 @577..579: S -> J trigger ping?x #C [((since(C) Ge k) And (x In {1, 2}))] / (if (x Gt 0) then moveOp(x) else skip end) <{3}
+          transition t2 @716..718: J -> F [else] / (p[1] = 2; s = union?(s, {x}))
+        operation Op(n: nat) @790..906
+          var y: int
+          initial i @838..839
+          final f @848..849
+          transition t @863..864: i -> f / y = (Neg n); wait(n)
+        controller C @907..1006
+          uses I -> m.rct#2
+          sref m = M -> m.rct#5
+          opref op = Op -> m.rct#6
+          connection m.ping -> C.ping async @962..1004
+        module Mod @1007..1093
+          rref rp = RP -> m.rct#4
+          cref c = C -> m.rct#7
+          connection rp.ping -> c.ping mult @1050..1091
+    "#]]
+    .assert_eq(&models(vec![("m.rct".into(), text.into())]));
+}
+
+#[test]
+fn examples() {
+    for dir in ["paper", "square", "lawnmower"] {
+        expect_file![format!("model/{dir}.txt")].assert_eq(&example(dir));
+    }
+}
