@@ -513,9 +513,9 @@ impl Cx<'_> {
 
 impl Expr {
     /// Calls `f` on this expression and every subexpression, parents first.
-    pub fn walk(&self, f: &mut impl FnMut(&Expr)) {
+    pub fn walk<'a>(&'a self, f: &mut impl FnMut(&'a Expr)) {
         f(self);
-        let mut go = |e: &Expr| e.walk(f);
+        let mut go = |e: &'a Expr| e.walk(f);
         match &self.kind {
             ExprKind::SimRef { sync: Some(x), .. } | ExprKind::Unary(_, x) | ExprKind::Field(x, _) => go(x),
             ExprKind::Binary(_, a, b) | ExprKind::Interval { lo: a, hi: b, .. } => {
@@ -542,7 +542,7 @@ impl Expr {
 
 impl Stmt {
     /// Calls `f` on this statement and every statement inside, parents first.
-    pub fn walk(&self, f: &mut impl FnMut(&Stmt)) {
+    pub fn walk<'a>(&'a self, f: &mut impl FnMut(&'a Stmt)) {
         f(self);
         match &self.kind {
             StmtKind::Seq(ss) | StmtKind::Par(ss) => ss.iter().for_each(|s| s.walk(f)),

@@ -6,7 +6,7 @@ use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
 use rustc_hash::FxHashMap;
 
 use super::*;
-use crate::defs::{file_defs, lower_type, DefKind};
+use crate::defs::{file_defs, lower_type, DefKind, Io};
 use crate::index::resolve_item;
 use crate::resolve::Target;
 use crate::{parse, Db, File, Workspace};
@@ -211,9 +211,14 @@ impl Cx<'_> {
 
     /// A state machine or an operation definition.
     fn behaviour(&mut self, n: &SyntaxNode) -> Behaviour {
-        let contexts = |k| n.children().filter(move |c| c.kind() == k);
-        let inputs = contexts(INPUT_CONTEXT).map(|c| self.decls(&c)).collect();
-        let outputs = contexts(OUTPUT_CONTEXT).map(|c| self.decls(&c)).collect();
+        let contexts = n
+            .children()
+            .filter_map(|c| match c.kind() {
+                INPUT_CONTEXT => Some((Io::Input, self.decls(&c))),
+                OUTPUT_CONTEXT => Some((Io::Output, self.decls(&c))),
+                _ => None,
+            })
+            .collect();
         let literals = n
             .descendants_with_tokens()
             .filter_map(|e| e.into_token())
@@ -225,8 +230,7 @@ impl Cx<'_> {
             range: n.text_range(),
             params: self.params(n),
             decls: self.decls(n),
-            inputs,
-            outputs,
+            contexts,
             region: self.region(n),
             literals,
         }

@@ -24,7 +24,7 @@ pub use expr::{BinOp, Comm, CommPart, Expr, ExprKind, Selector, Stmt, StmtKind, 
 pub use lower::{enum_literals, file_model, item, resolve};
 pub use print::render;
 
-use crate::defs::{DefId, UseKind};
+use crate::defs::{DefId, Io, UseKind};
 use crate::index::ItemLoc;
 use crate::types::Ty;
 use crate::TextRange;
@@ -264,15 +264,50 @@ pub struct Behaviour {
     pub params: Vec<Param>,
     /// Declarations and interfaces.
     pub decls: Decls,
-    /// RoboSim input contexts.
-    pub inputs: Vec<Decls>,
-    /// RoboSim output contexts.
-    pub outputs: Vec<Decls>,
+    /// RoboSim input and output contexts, in the order written.
+    pub contexts: Vec<(Io, Decls)>,
     /// Nodes and transitions.
     pub region: Region,
     /// Every integer literal written in it (RoboTool widens the numeric
     /// types with them).
     pub literals: Vec<i64>,
+}
+
+impl Behaviour {
+    /// Every communication of its behaviour (triggers and communication
+    /// statements, in nodes, actions and transitions), with whether it is
+    /// a trigger.
+    pub fn communications(&self) -> Vec<(&Comm, bool)> {
+        let mut out = Vec::new();
+        self.region.communications(&mut out);
+        out
+    }
+}
+
+impl Region {
+    fn communications<'a>(&'a self, out: &mut Vec<(&'a Comm, bool)>) {
+        fn action<'a>(a: &'a Option<Action>, out: &mut Vec<(&'a Comm, bool)>) {
+            if let Some(s) = a.as_ref().and_then(|a| a.stmt.as_ref()) {
+                s.walk(&mut |s| {
+                    if let StmtKind::Comm(c) = &s.kind {
+                        out.push((c, false));
+                    }
+                });
+            }
+        }
+        for n in &self.nodes {
+            action(&n.entry, out);
+            action(&n.during, out);
+            action(&n.exit, out);
+            n.region.communications(out);
+        }
+        for t in &self.transitions {
+            if let Some(c) = &t.trigger {
+                out.push((c, true));
+            }
+            action(&t.action, out);
+        }
+    }
 }
 
 /// An element declared inline or referenced by name.

@@ -152,11 +152,9 @@ impl Printer<'_> {
         self.line(format!("{what} {}{ps} {}", b.name, at(b.range)));
         self.nested(|p| {
             p.decls(&b.decls);
-            for (which, list) in [("input", &b.inputs), ("output", &b.outputs)] {
-                for d in list {
-                    p.line(format!("{which} context"));
-                    p.nested(|p| p.decls(d));
-                }
+            for (io, d) in &b.contexts {
+                p.line(format!("{} context", if *io == crate::defs::Io::Input { "input" } else { "output" }));
+                p.nested(|p| p.decls(d));
             }
             if !b.literals.is_empty() {
                 let ls: Vec<String> = b.literals.iter().map(|l| l.to_string()).collect();
