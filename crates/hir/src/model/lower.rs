@@ -54,6 +54,16 @@ fn find_node(root: &SyntaxNode, range: TextRange, kind: robosim_syntax::SyntaxKi
     node.ancestors().find(|n| n.kind() == kind && n.text_range() == range)
 }
 
+/// What the assertion file `file` says (empty for a model file): the
+/// assertions and the instantiation blocks, read once per text.
+#[salsa::tracked(returns(ref))]
+pub fn assertion_file(db: &dyn Db, file: File) -> crate::assertions::AssertionFile {
+    if !file.kind(db).is_assertions() {
+        return Default::default();
+    }
+    crate::assertions::read_assertions(&parse(db, file).syntax_node())
+}
+
 /// The model of the top-level element `loc`.
 pub fn item(db: &dyn Db, ws: Workspace, loc: ItemLoc) -> Option<&Item> {
     let id = loc.def(db)?;

@@ -21,7 +21,7 @@ mod lower;
 mod print;
 
 pub use expr::{BinOp, Comm, CommPart, Expr, ExprKind, Selector, Stmt, StmtKind, UnOp};
-pub use lower::{enum_literals, file_model, item, resolve};
+pub use lower::{assertion_file, enum_literals, file_model, item, resolve};
 pub use print::render;
 
 use crate::defs::{DefId, Io, UseKind};
