@@ -146,3 +146,102 @@ fn examples() {
         expect_file![format!("model/{dir}.txt")].assert_eq(&example(dir));
     }
 }
+
+/// Every expression of the guards and actions of `text`'s machines, with
+/// the type the type checker gives it.
+fn typed_expressions(text: &str) -> String {
+    use robosim_hir::model::{Expr, Item};
+    let db = RootDatabase::default();
+    let ws = load_workspace(&db, vec![("m.rct".to_string(), text.to_string())], RuleSet::Paper);
+    let file = *ws.files(&db).iter().find(|f| !f.is_library(&db)).expect("the model");
+    let mut out = String::new();
+    let mut show = |e: &Expr| {
+        let ty = e.ty.as_ref().map_or("-".to_string(), |t| t.to_string());
+        out += &format!("{:?} : {ty}\n", &text[e.range]);
+    };
+    for (_, item) in &file_model(&db, ws, file).items {
+        let Item::Machine(m) = item else { continue };
+        for t in &m.region.transitions {
+            if let Some(g) = t.condition.as_ref().and_then(|c| c.expr.as_ref()) {
+                g.walk(&mut show);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn expression_types_come_from_the_type_checker() {
+    let text = r#"
+enumeration Colour { red green }
+stm M {
+  var x : nat, c : Colour, b : boolean, r : real
+  initial i
+  state S {}
+  transition t0 { from i to S condition x + 1 > 2 /\ c == Colour::green \/ not b /\ r * 2.0 < x }
+}
+"#;
+    expect![[r#"
+        "x + 1 > 2 /\\ c == Colour::green \\/ not b /\\ r * 2.0 < x" : boolean
+        "x + 1 > 2 /\\ c == Colour::green" : boolean
+        "x + 1 > 2" : boolean
+        "x + 1" : nat
+        "x" : nat
+        "1" : nat
+        "2" : nat
+        "c == Colour::green" : boolean
+        "c" : Colour
+        "Colour::green" : Colour
+        "not b /\\ r * 2.0 < x" : boolean
+        "not b" : boolean
+        "b" : boolean
+        "r * 2.0 < x" : boolean
+        "r * 2.0" : real
+        "r" : real
+        "2.0" : real
+        "x" : nat
+    "#]]
+    .assert_eq(&typed_expressions(text));
+}
+
+#[test]
+fn robosim_machines_and_malformed_input() {
+    let text = r#"
+interface Ins { event obstacle : boolean }
+interface Outs { move(v : nat) }
+stm SimM {
+  cycleDef cycle == 1
+  input context { uses Ins }
+  output context { requires Outs }
+  var seen : boolean
+  initial i
+  state S { entry $move(1) ; exec }
+  junction j
+  transition t0 { from i to S }
+  transition t1 { from S to j exec condition $obstacle?seen /\ seen }
+  transition t2 { from j to S condition
+"#;
+    expect![[r#"
+        # m.rst
+        interface Ins @1..43
+          event obstacle: bool
+        interface Outs @44..76
+          operation move(v: nat)
+        stm SimM @77..397
+          cycle Feasible(1)
+          var seen: bool
+          input context
+            uses Ins -> m.rst#0
+          output context
+            requires Outs -> m.rst#1
+          literals 1 1
+          initial i @205..206
+          state S @215..216
+            entry $move(1); exec
+          junction j @254..255
+          transition t0 @269..271: i -> S
+          transition t1 @301..303: S -> j exec [($obstacle?seen And seen)]
+          transition t2 @371..373: j -> S []
+    "#]]
+    .assert_eq(&models(vec![("m.rst".into(), text.into())]));
+}

@@ -7,12 +7,16 @@ use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 use super::lower::Cx;
 use crate::index::ItemLoc;
 use crate::resolve::Target;
+use crate::types::Ty;
 
 /// An expression with its range.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Expr {
     /// What it is.
     pub kind: ExprKind,
+    /// Its type, as the type checker found it (none where it types no
+    /// expression, as in a malformed one).
+    pub ty: Option<Ty>,
     /// Its range.
     pub range: TextRange,
 }
@@ -290,7 +294,7 @@ impl Cx<'_> {
     pub(super) fn opt_expr(&mut self, e: Option<SyntaxNode>, at: TextRange) -> Expr {
         match e {
             Some(e) => self.expr(&e),
-            None => Expr { kind: ExprKind::Missing, range: at },
+            None => Expr { kind: ExprKind::Missing, ty: None, range: at },
         }
     }
 
@@ -420,7 +424,7 @@ impl Cx<'_> {
             }
             k => ExprKind::Other(kind_words(k)),
         };
-        Expr { kind, range }
+        Expr { kind, ty: self.types.get(&range).cloned(), range }
     }
 
     /// The arguments of a call (`ARG_LIST` child of `n`).

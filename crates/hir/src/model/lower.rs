@@ -6,7 +6,8 @@ use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
 use rustc_hash::FxHashMap;
 
 use super::*;
-use crate::defs::{file_defs, lower_type, DefKind, Io};
+use crate::cycle::CycleInfo;
+use crate::defs::{file_defs, lower_type, DefId, DefKind, Io};
 use crate::index::resolve_item;
 use crate::resolve::Target;
 use crate::{parse, Db, File, Workspace};
@@ -18,6 +19,12 @@ pub(super) struct Cx<'a> {
     pub(super) file: File,
     /// What each name in behaviour resolves to, by range.
     refs: FxHashMap<TextRange, Target>,
+    /// The type of each expression, by range.
+    pub(super) types: &'a FxHashMap<TextRange, crate::types::Ty>,
+    /// The machines, operations, controllers and modules of the file, by
+    /// range, and what their cycle definitions allow (RoboSim).
+    elements: FxHashMap<TextRange, DefId>,
+    cycles: FxHashMap<DefId, CycleInfo>,
 }
 
 /// The model of `file`: every top-level element, lowered.
@@ -29,8 +36,20 @@ pub fn file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
     let structural = &crate::resolve::file_resolution(db, ws, file).refs;
     let behaviour = &crate::body::body_resolution(db, ws, file).refs;
     let refs = structural.iter().chain(behaviour).filter_map(|r| Some((r.range, r.target?))).collect();
-    let mut cx = Cx { db, ws, file, refs };
     let defs = file_defs(db, file);
+    let elements = defs
+        .iter()
+        .filter(|(_, d)| {
+            matches!(d.kind, DefKind::StateMachine | DefKind::Operation | DefKind::Controller | DefKind::Module)
+        })
+        .map(|(id, d)| (d.range, id))
+        .collect();
+    let cycles = match file.kind(db) {
+        crate::FileKind::RoboSim => crate::cycle::cycle_checks(db, ws, file).1.iter().copied().collect(),
+        _ => FxHashMap::default(),
+    };
+    let types = crate::types::expr_types(db, ws, file);
+    let mut cx = Cx { db, ws, file, refs, types, elements, cycles };
     let root = parse(db, file).syntax_node();
     let mut items = Vec::new();
     for (id, def) in defs.children(None) {
@@ -243,6 +262,8 @@ impl Cx<'_> {
             contexts,
             region: self.region(n),
             literals,
+            def: self.def_of(n),
+            cycle: self.cycle_of(n),
         }
     }
 
@@ -373,7 +394,17 @@ impl Cx<'_> {
             machines,
             operations,
             connections: self.connections(n),
+            def: self.def_of(n),
+            cycle: self.cycle_of(n),
         }
+    }
+
+    fn def_of(&self, n: &SyntaxNode) -> Option<DefId> {
+        self.elements.get(&n.text_range()).copied()
+    }
+
+    fn cycle_of(&self, n: &SyntaxNode) -> Option<CycleInfo> {
+        self.cycles.get(&self.def_of(n)?).copied()
     }
 
     fn platform(&mut self, n: &SyntaxNode) -> Platform {
@@ -399,6 +430,14 @@ impl Cx<'_> {
                 _ => {}
             }
         }
-        Module { name: name_of(n), range: n.text_range(), platforms, controllers, connections: self.connections(n) }
+        Module {
+            name: name_of(n),
+            range: n.text_range(),
+            platforms,
+            controllers,
+            connections: self.connections(n),
+            def: self.def_of(n),
+            cycle: self.cycle_of(n),
+        }
     }
 }

@@ -24,6 +24,7 @@ pub use expr::{BinOp, Comm, CommPart, Expr, ExprKind, Selector, Stmt, StmtKind, 
 pub use lower::{assertion_file, enum_literals, file_model, item, resolve};
 pub use print::render;
 
+use crate::cycle::CycleInfo;
 use crate::defs::{DefId, Io, UseKind};
 use crate::index::ItemLoc;
 use crate::types::Ty;
@@ -271,6 +272,10 @@ pub struct Behaviour {
     /// Every integer literal written in it (RoboTool widens the numeric
     /// types with them).
     pub literals: Vec<i64>,
+    /// Its definition in its file (for [`crate::cycle::simulation_period`]).
+    pub def: Option<DefId>,
+    /// RoboSim: what its `cycleDef`s allow (none without any).
+    pub cycle: Option<CycleInfo>,
 }
 
 impl Behaviour {
@@ -371,6 +376,10 @@ pub struct Controller {
     pub operations: Vec<Instance<Behaviour>>,
     /// Its connections.
     pub connections: Vec<Connection>,
+    /// Its definition in its file (for [`crate::cycle::simulation_period`]).
+    pub def: Option<DefId>,
+    /// RoboSim: what its and its machines' `cycleDef`s allow.
+    pub cycle: Option<CycleInfo>,
 }
 
 /// A robotic platform.
@@ -397,6 +406,10 @@ pub struct Module {
     pub controllers: Vec<Instance<Controller>>,
     /// Its connections.
     pub connections: Vec<Connection>,
+    /// Its definition in its file (for [`crate::cycle::simulation_period`]).
+    pub def: Option<DefId>,
+    /// RoboSim: what its and its controllers' `cycleDef`s allow.
+    pub cycle: Option<CycleInfo>,
 }
 
 /// A record type's field.

@@ -58,6 +58,7 @@ impl Printer<'_> {
             Item::Module(m) => {
                 self.line(format!("module {} {}", m.name, at(m.range)));
                 self.nested(|p| {
+                    p.cycle(&m.cycle);
                     for pl in &m.platforms {
                         match &pl.def {
                             Definition::Inline(x) => p.platform("platform", x),
@@ -89,6 +90,15 @@ impl Printer<'_> {
         }
     }
 
+    fn cycle(&mut self, c: &Option<crate::cycle::CycleInfo>) {
+        if let Some(c) = c {
+            match c.joint {
+                Some(j) => self.line(format!("cycle {:?}, with its parts {j:?}", c.own)),
+                None => self.line(format!("cycle {:?}", c.own)),
+            }
+        }
+    }
+
     fn connections(&mut self, cs: &[Connection]) {
         for c in cs {
             let flags = format!("{}{}", if c.is_async { " async" } else { "" }, if c.is_mult { " mult" } else { "" });
@@ -99,6 +109,7 @@ impl Printer<'_> {
     fn controller(&mut self, c: &Controller) {
         self.line(format!("controller {} {}", c.name, at(c.range)));
         self.nested(|p| {
+            p.cycle(&c.cycle);
             p.decls(&c.decls);
             for (what, list) in [("sref", &c.machines), ("opref", &c.operations)] {
                 for m in list {
@@ -151,6 +162,7 @@ impl Printer<'_> {
         let ps = if ps.is_empty() { String::new() } else { format!("({})", ps.join(", ")) };
         self.line(format!("{what} {}{ps} {}", b.name, at(b.range)));
         self.nested(|p| {
+            p.cycle(&b.cycle);
             p.decls(&b.decls);
             for (io, d) in &b.contexts {
                 p.line(format!("{} context", if *io == crate::defs::Io::Input { "input" } else { "output" }));
