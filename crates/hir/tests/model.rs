@@ -85,6 +85,11 @@ module Mod {
   cref c = C
   connection rp on ping to c on ping [mult]
 }
+function twice(n : nat) : nat {
+  precondition n < 10
+  postcondition result == 2 * n
+}
+stm Ranges { var r : Set(nat) = {1 to 3} initial i final f transition t { from i to f } }
 "#;
     expect![[r#"
         # m.rct
@@ -136,6 +141,15 @@ module Mod {
           rref rp = RP -> m.rct#4
           cref c = C -> m.rct#7
           connection rp.ping -> c.ping mult @1050..1091
+        function twice(n: nat): nat @1094..1181
+          precondition (n Lt 10)
+          postcondition (result Eq (2 Mul n))
+        stm Ranges @1182..1271
+          var r: Set(nat) = {1 to 3}
+          literals 1 3
+          initial i @1231..1232
+          final f @1239..1240
+          transition t @1252..1253: i -> f
     "#]]
     .assert_eq(&models(vec![("m.rct".into(), text.into())]));
 }

@@ -246,6 +246,8 @@ impl MachineCx<'_, '_> {
                     ExprKind::Seq(_) => "seq expr",
                     ExprKind::Record(_) => "record literal",
                     ExprKind::Interval { .. } => "interval expr",
+                    ExprKind::SetRange(..) => "set range expr",
+                    ExprKind::Result => "result expr",
                     ExprKind::Other(k) => k,
                     _ => "expression",
                 };

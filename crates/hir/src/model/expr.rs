@@ -154,6 +154,10 @@ pub enum ExprKind {
     Seq(Vec<Expr>),
     /// `(| f = v, … |)`.
     Record(Vec<(String, Expr)>),
+    /// `{a to b}`.
+    SetRange(Box<Expr>, Box<Expr>),
+    /// `result` (in a function's postcondition).
+    Result,
     /// `[lo, hi]` and its open ends.
     Interval {
         /// Lower bound.
@@ -408,6 +412,12 @@ impl Cx<'_> {
                     .map(|f| (name_ref_text(&f), self.opt_expr(exprs_of(&f).next(), f.text_range())))
                     .collect(),
             ),
+            SET_RANGE_EXPR => {
+                let mut parts = exprs_of(e);
+                let (lo, hi) = (parts.next(), parts.next());
+                ExprKind::SetRange(self.boxed(lo, range), self.boxed(hi, range))
+            }
+            RESULT_EXPR => ExprKind::Result,
             INTERVAL_EXPR => {
                 let mut parts = exprs_of(e);
                 let (lo, hi) = (parts.next(), parts.next());
@@ -522,7 +532,7 @@ impl Expr {
         let mut go = |e: &'a Expr| e.walk(f);
         match &self.kind {
             ExprKind::SimRef { sync: Some(x), .. } | ExprKind::Unary(_, x) | ExprKind::Field(x, _) => go(x),
-            ExprKind::Binary(_, a, b) | ExprKind::Interval { lo: a, hi: b, .. } => {
+            ExprKind::Binary(_, a, b) | ExprKind::Interval { lo: a, hi: b, .. } | ExprKind::SetRange(a, b) => {
                 go(a);
                 go(b);
             }

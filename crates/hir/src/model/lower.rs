@@ -165,6 +165,24 @@ impl Cx<'_> {
                     .collect(),
             ),
             PRIMITIVE_TYPE_DECL => Item::PrimitiveType(name_of(n)),
+            FUNCTION => {
+                let mut conditions = |k| {
+                    n.descendants()
+                        .filter(|c| c.kind() == k)
+                        .filter_map(|c| c.children().find(|e| ast::is_expr_kind(e.kind())))
+                        .map(|e| self.expr(&e))
+                        .collect::<Vec<_>>()
+                };
+                let (preconditions, postconditions) = (conditions(PRECONDITION), conditions(POSTCONDITION));
+                Item::Function(Function {
+                    name: name_of(n),
+                    range: n.text_range(),
+                    params: self.params(n),
+                    result: self.ty(type_child(n)),
+                    preconditions,
+                    postconditions,
+                })
+            }
             _ => Item::Other,
         }
     }

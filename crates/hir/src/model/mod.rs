@@ -423,6 +423,23 @@ pub struct Field {
     pub range: TextRange,
 }
 
+/// A function: its signature and its specification.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Function {
+    /// Its name.
+    pub name: String,
+    /// Its range.
+    pub range: TextRange,
+    /// Its parameters.
+    pub params: Vec<Param>,
+    /// Its result type.
+    pub result: Option<TyRef>,
+    /// `precondition e`, in order.
+    pub preconditions: Vec<Expr>,
+    /// `postcondition e`, in order (`result == e` defines it).
+    pub postconditions: Vec<Expr>,
+}
+
 /// A top-level element of a file.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Item {
@@ -444,6 +461,8 @@ pub enum Item {
     Record(String, Vec<Field>),
     /// `type T` (a primitive type).
     PrimitiveType(String),
+    /// `function f(…) : T { … }`.
+    Function(Function),
     /// Anything the model does not describe (functions, assertions, …).
     Other,
 }

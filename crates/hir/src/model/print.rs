@@ -86,6 +86,18 @@ impl Printer<'_> {
                 self.line(format!("datatype {n} {{{}}}", fs.join(", ")))
             }
             Item::PrimitiveType(n) => self.line(format!("type {n}")),
+            Item::Function(f) => {
+                let ps: Vec<String> = f.params.iter().map(|p| format!("{}: {}", p.name, self.ty(&p.ty))).collect();
+                self.line(format!("function {}({}): {} {}", f.name, ps.join(", "), self.ty(&f.result), at(f.range)));
+                self.nested(|p| {
+                    for e in &f.preconditions {
+                        p.line(format!("precondition {}", expr_text(e)));
+                    }
+                    for e in &f.postconditions {
+                        p.line(format!("postcondition {}", expr_text(e)));
+                    }
+                });
+            }
             Item::Other => self.line("other"),
         }
     }
@@ -285,6 +297,8 @@ pub(super) fn expr_text(e: &Expr) -> String {
             expr_text(hi),
             if *open_hi { ")" } else { "]" }
         ),
+        ExprKind::SetRange(a, b) => format!("{{{} to {}}}", expr_text(a), expr_text(b)),
+        ExprKind::Result => "result".into(),
         ExprKind::Missing => "<missing>".into(),
         ExprKind::Other(k) => format!("<{k}>"),
     }
