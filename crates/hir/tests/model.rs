@@ -259,3 +259,56 @@ stm SimM {
     "#]]
     .assert_eq(&models(vec![("m.rst".into(), text.into())]));
 }
+
+/// Every model of `../shared/corpus` (one workspace per folder of model
+/// files) lowers without a panic, each top-level element into its model.
+#[test]
+fn every_corpus_model_lowers() {
+    use robosim_hir::defs::file_defs;
+    use robosim_hir::model::Item;
+    use std::path::{Path, PathBuf};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
+    let is_model = |p: &Path| p.extension().is_some_and(|x| x == "rct" || x == "rst");
+    let mut dirs = std::collections::BTreeSet::new();
+    let mut stack = vec![root.clone()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("the corpus").flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if is_model(&p) {
+                dirs.insert(d.clone());
+            }
+        }
+    }
+    let (mut machines, mut controllers, mut modules) = (0, 0, 0);
+    for dir in dirs {
+        let mut files: Vec<PathBuf> =
+            std::fs::read_dir(&dir).expect("a folder").flatten().map(|e| e.path()).filter(|p| is_model(p)).collect();
+        files.sort();
+        let texts: Vec<(String, String)> = files
+            .iter()
+            .map(|p| {
+                (p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).expect("readable")).into_owned())
+            })
+            .collect();
+        let db = RootDatabase::default();
+        let ws = load_workspace(&db, texts, RuleSet::Paper);
+        for &f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
+            let model = file_model(&db, ws, f);
+            let named = file_defs(&db, f).children(None).count();
+            assert_eq!(model.items.len(), named, "{}", f.path(&db));
+            for (_, item) in &model.items {
+                match item {
+                    Item::Machine(_) => machines += 1,
+                    Item::Controller(_) => controllers += 1,
+                    Item::Module(_) => modules += 1,
+                    _ => {}
+                }
+            }
+            render(&db, model);
+        }
+    }
+    // The top-level elements of the corpus (machines inside controllers not counted).
+    assert_eq!((machines, controllers, modules), (24, 16, 10));
+}
