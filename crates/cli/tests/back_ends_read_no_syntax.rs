@@ -41,7 +41,7 @@ fn the_back_ends_read_the_model_not_syntax() {
         for file in files {
             let text = std::fs::read_to_string(&file).expect("readable");
             for (n, line) in text.lines().enumerate() {
-                for word in FORBIDDEN.iter().filter(|w| line.contains(**w)) {
+                if let Some(word) = FORBIDDEN.iter().find(|w| line.contains(**w)) {
                     panic!(
                         "{}:{}: `{word}` — crates/{name} must read the hir model, not syntax",
                         file.display(),
