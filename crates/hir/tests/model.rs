@@ -136,11 +136,11 @@ stm Ranges { var r : Set(nat) = {1 to 3} initial i final f transition t { from i
           uses I -> m.rct#2
           sref m = M -> m.rct#5
           opref op = Op -> m.rct#6
-          connection m.ping -> C.ping async @962..1004
+          connection m.ping (machine 0) -> C.ping (this) async @962..1004
         module Mod @1007..1093
           rref rp = RP -> m.rct#4
           cref c = C -> m.rct#7
-          connection rp.ping -> c.ping mult @1050..1091
+          connection rp.ping (platform 0) -> c.ping (controller 0) mult @1050..1091
         function twice(n: nat): nat @1094..1181
           precondition (n Lt 10)
           postcondition (result Eq (2 Mul n))

@@ -287,17 +287,13 @@ impl Cx<'_> {
 
     fn region(&mut self, n: &SyntaxNode) -> Region {
         let mut region = Region::default();
-        for c in n.children() {
+        for c in n.children().filter(|c| c.kind() != TRANSITION) {
             let kind = match c.kind() {
                 STATE => NodeKind::State,
                 JUNCTION => NodeKind::Junction,
                 INITIAL => NodeKind::Initial,
                 FINAL => NodeKind::Final,
                 PROBABILISTIC_JUNCTION => NodeKind::Probabilistic,
-                TRANSITION => {
-                    region.transitions.push(self.transition(&c));
-                    continue;
-                }
                 _ => continue,
             };
             let action = |cx: &mut Self, k| c.children().find(|a| a.kind() == k).map(|a| cx.action(&a));
@@ -311,6 +307,13 @@ impl Cx<'_> {
                 exit: action(self, EXIT_ACTION),
                 region: if kind == NodeKind::State { self.region(&c) } else { Region::default() },
             });
+        }
+        // Transitions name nodes of their own region.
+        for t in n.children().filter(|c| c.kind() == TRANSITION) {
+            let mut t = self.transition(&t);
+            let index = |name: &Option<String>| region.nodes.iter().position(|x| Some(&x.name) == name.as_ref());
+            (t.source_node, t.target_node) = (index(&t.source), index(&t.target));
+            region.transitions.push(t);
         }
         region
     }
@@ -346,6 +349,8 @@ impl Cx<'_> {
             range: t.text_range(),
             source: end(TRANSITION_SOURCE),
             target: end(TRANSITION_TARGET),
+            source_node: None,
+            target_node: None,
             trigger,
             exec: child(EXEC_TRIGGER).is_some(),
             probability: child(PROBABILITY).map(|p| p.text_range()),
@@ -362,7 +367,8 @@ impl Cx<'_> {
         Instance { name: name_of(c), range: c.text_range(), def: Definition::Ref { path, target } }
     }
 
-    fn connections(&self, n: &SyntaxNode) -> Vec<Connection> {
+    /// The connections of `n`, their ends found by `end`.
+    fn connections(&self, n: &SyntaxNode, end: impl Fn(&str) -> End) -> Vec<Connection> {
         n.children()
             .filter(|c| c.kind() == CONNECTION)
             .map(|c| {
@@ -375,6 +381,8 @@ impl Cx<'_> {
                     eto: get(3),
                     is_async: c.children().any(|n| n.kind() == ASYNC_FLAG),
                     is_mult: c.children().any(|n| n.kind() == MULT_FLAG),
+                    from_end: end(&get(0)),
+                    to_end: end(&get(2)),
                     range: c.text_range(),
                 }
             })
@@ -405,13 +413,20 @@ impl Cx<'_> {
         // Its operations are described as instances, not declarations.
         let mut decls = self.decls(n);
         decls.decls.retain(|d| !matches!(d, Decl::Nested { .. }));
+        let name = name_of(n);
         Controller {
-            name: name_of(n),
+            name: name.clone(),
             range: n.text_range(),
             decls,
-            machines,
             operations,
-            connections: self.connections(n),
+            connections: self.connections(n, |e| {
+                if e == name {
+                    End::This
+                } else {
+                    machines.iter().position(|m: &Instance<Behaviour>| m.name == e).map_or(End::Unknown, End::Machine)
+                }
+            }),
+            machines,
             def: self.def_of(n),
             cycle: self.cycle_of(n),
         }
@@ -448,12 +463,24 @@ impl Cx<'_> {
                 _ => {}
             }
         }
+        let name = name_of(n);
+        let connections = self.connections(n, |e| {
+            if let Some(i) = platforms.iter().position(|p| p.name == e) {
+                End::Platform(i)
+            } else if let Some(i) = controllers.iter().position(|c| c.name == e) {
+                End::Controller(i)
+            } else if e == name {
+                End::This
+            } else {
+                End::Unknown
+            }
+        });
         Module {
-            name: name_of(n),
+            name,
             range: n.text_range(),
             platforms,
             controllers,
-            connections: self.connections(n),
+            connections,
             def: self.def_of(n),
             cycle: self.cycle_of(n),
         }

@@ -238,6 +238,10 @@ pub struct Transition {
     pub source: Option<String>,
     /// The target node's name.
     pub target: Option<String>,
+    /// The source node: its index in the region's nodes.
+    pub source_node: Option<usize>,
+    /// The target node: its index in the region's nodes.
+    pub target_node: Option<usize>,
     /// The trigger's communication.
     pub trigger: Option<Comm>,
     /// `exec` (RoboSim).
@@ -357,8 +361,27 @@ pub struct Connection {
     pub is_async: bool,
     /// `[mult]`: both ways.
     pub is_mult: bool,
+    /// What the source node is, in the enclosing controller or module.
+    pub from_end: End,
+    /// What the target node is.
+    pub to_end: End,
     /// Its range.
     pub range: TextRange,
+}
+
+/// What a connection's node names, in its controller or module.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum End {
+    /// The enclosing controller (or module) itself.
+    This,
+    /// A platform of the module (index into its platforms).
+    Platform(usize),
+    /// A controller of the module (index into its controllers).
+    Controller(usize),
+    /// A machine of the controller (index into its machines).
+    Machine(usize),
+    /// Nothing of that name.
+    Unknown,
 }
 
 /// A controller.

@@ -114,7 +114,23 @@ impl Printer<'_> {
     fn connections(&mut self, cs: &[Connection]) {
         for c in cs {
             let flags = format!("{}{}", if c.is_async { " async" } else { "" }, if c.is_mult { " mult" } else { "" });
-            self.line(format!("connection {}.{} -> {}.{}{flags} {}", c.from, c.efrom, c.to, c.eto, at(c.range)));
+            let end = |e: End| match e {
+                End::This => "this".to_string(),
+                End::Platform(i) => format!("platform {i}"),
+                End::Controller(i) => format!("controller {i}"),
+                End::Machine(i) => format!("machine {i}"),
+                End::Unknown => "?".into(),
+            };
+            self.line(format!(
+                "connection {}.{} ({}) -> {}.{} ({}){flags} {}",
+                c.from,
+                c.efrom,
+                end(c.from_end),
+                c.to,
+                c.eto,
+                end(c.to_end),
+                at(c.range)
+            ));
         }
     }
 
@@ -201,12 +217,15 @@ impl Printer<'_> {
             });
         }
         for t in &r.transitions {
+            let node = |n: &Option<String>, i: Option<usize>| {
+                format!("{}{}", n.as_deref().unwrap_or(""), if i.is_some() { "" } else { "?" })
+            };
             let mut s = format!(
                 "transition {} {}: {} -> {}",
                 t.name,
                 at(t.name_range),
-                t.source.as_deref().unwrap_or("?"),
-                t.target.as_deref().unwrap_or("?")
+                node(&t.source, t.source_node),
+                node(&t.target, t.target_node)
             );
             if let Some(c) = &t.trigger {
                 let _ = write!(s, " trigger {}", comm_text(c));
