@@ -677,6 +677,11 @@ impl<'b> MachineCx<'_, 'b> {
         ty: Option<Dom>,
     ) -> Result<(Option<Expr>, Option<(u16, Dom)>, Option<Expr>), Unsupported> {
         let ev = &comm.event;
+        if let Some(g) = comm.guard {
+            // The guard restricts which communications can happen: ignoring
+            // it would explore behaviour the model does not have.
+            return Err(self.err(g, format!("guarded communications `{ev}[| … |]` are not supported yet")));
+        }
         let mut value = None;
         let mut bind = None;
         let mut out = None;
