@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use robosim_check::verify::{verify_workspace, Options, Verdict};
+use robosim_check::verify::{verify_workspace, Options, Semantics, Verdict};
 
 #[path = "../../syntax/tests/support/inputs.rs"]
 mod inputs;
@@ -36,9 +36,10 @@ fn corpus_assertions_are_answered() {
         for r in verify_workspace(&db, ws, &opts, None) {
             total += 1;
             println!(
-                "{} {}: {} ({} states) {}",
+                "{} {} [{}]: {} ({} states) {}",
                 r.file,
                 r.name,
+                r.semantics.name(),
                 r.verdict.name(),
                 r.stats.states,
                 r.reason.clone().unwrap_or_default()
@@ -64,6 +65,8 @@ fn alpha_algorithm(opts: &Options, names: &[&str]) -> Vec<(String, Verdict, u64)
     let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
     verify_workspace(&db, ws, opts, None)
         .into_iter()
+        // The timed analysis (both: `untimed.rs`).
+        .filter(|r| r.semantics == Semantics::Timed)
         .filter(|r| r.file.ends_with("model.assertions") && names.contains(&r.name.as_str()))
         .map(|r| (r.name, r.verdict, r.stats.states))
         .collect()

@@ -3,7 +3,11 @@
 
 use std::time::Duration;
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 const DESIGN: &str = "interface I { event i op() }
     stm M { uses I requires I const k : nat initial i0 state S { entry op(); wait(1) }
