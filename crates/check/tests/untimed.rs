@@ -249,6 +249,33 @@ fn rt8_timed_only_properties() {
     );
 }
 
+/// RT-8: a RoboSim assertion file (.rsa) has a timed script only, even
+/// about a RoboChart element.
+#[test]
+fn rt8_rsa_files_are_timed() {
+    let model =
+        "stm M { uses I initial i state S { } transition t { from i to S } transition u { from S to S trigger e } }";
+    let reports = verify_texts(
+        [
+            ("m.rct".to_string(), format!("{INTERFACE}\n{model}")),
+            ("a.rsa".to_string(), "assertion A : M is deadlock-free\nuntimed assertion B : M is deadlock-free".into()),
+        ],
+        &Options::default(),
+    );
+    expect(
+        &reports,
+        &[
+            ("A", "timed", Verdict::Pass, ""),
+            (
+                "B",
+                "untimed",
+                Verdict::Unsupported,
+                "the assertions of a RoboSim assertion file (.rsa) are checked in the timed semantics only",
+            ),
+        ],
+    );
+}
+
 /// The reports on the Alpha Algorithm's `model.assertions` named in
 /// `names`: (name, semantics, verdict, states).
 fn alpha_algorithm(names: &[&str]) -> Vec<(String, &'static str, Verdict, u64)> {

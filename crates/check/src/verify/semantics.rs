@@ -6,12 +6,17 @@ use crate::algo::find_divergence;
 use crate::untimed::untime;
 
 /// Whether the assertion means something in the untimed semantics: `Ok`
-/// for properties of RoboChart elements and refinements between them; the
-/// reason otherwise (RoboSim and `simulation … of …` elements are timed
+/// for properties of RoboChart elements and refinements between them, in a
+/// RoboChart assertion file (.assertions); the reason otherwise (RoboSim and `simulation … of …` elements are timed
 /// only, as RoboTool generates no untimed script for them; schedulability
 /// is about cycles; timelock freedom about time passing).
 pub(super) fn has_untimed_reading(cx: &Cx<'_>) -> Result<(), String> {
     let a = cx.a;
+    if cx.file.kind(cx.db) == robosim_syntax::FileKind::SimAssertions {
+        // RoboTool's RoboSim generator writes a timed script only (the
+        // reference's `csp-gen/sim/` has no untimed library).
+        return Err("the assertions of a RoboSim assertion file (.rsa) are checked in the timed semantics only".into());
+    }
     match &a.kind {
         AssertionKind::DeadlockFree
         | AssertionKind::DivergenceFree
