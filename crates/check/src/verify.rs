@@ -297,7 +297,8 @@ impl Cx<'_> {
 
     /// The constant values the assertion gives.
     fn constants(&self) -> Result<Vec<ConstValue>, String> {
-        Ok(robosim_hir::target::bindings(self.a)?
+        let scope = Scope { db: self.db, ws: self.ws, file: self.file, read: self.read, others: self.others };
+        Ok(robosim_hir::target::bindings_in(scope, self.a)?
             .into_iter()
             .map(|b| ConstValue { name: b.name, of: b.of, value: b.value as Val })
             .collect())

@@ -113,6 +113,78 @@ pub fn bindings(a: &AssertionDecl) -> Result<Vec<Binding>, String> {
     Ok(out)
 }
 
+/// The constants `a` binds, read in `scope`: as [`bindings`], and an
+/// enumeration literal (`set to IType::L2`, RT-11) as its index in its
+/// enumeration, the order RoboTool's constructors and the checker's values
+/// follow. Every constant of that name in the workspace must be of that
+/// enumeration (a value of another type is refused, not converted).
+pub fn bindings_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>, String> {
+    let mut out = Vec::new();
+    for o in &a.overrides {
+        if let Override::Constant { name, of, value, .. } = o {
+            let value = match value {
+                Value::Int(v) => *v,
+                Value::Bool(b) => i64::from(*b),
+                Value::Other(text) => enum_literal(scope, name, text)?,
+            };
+            out.push(Binding { name: name.clone(), of: of.clone(), value });
+        }
+    }
+    Ok(out)
+}
+
+/// The index of the literal `text` (`E::L`, `P::E::L`) in its enumeration,
+/// when every constant named `constant` is of that enumeration.
+fn enum_literal(scope: Scope<'_>, constant: &str, text: &str) -> Result<i64, String> {
+    let not_literal =
+        || format!("the value of constant `{constant}` is not an integer, boolean or enumeration literal");
+    let path: Vec<String> = text.split("::").map(|p| p.trim().to_string()).collect();
+    let ident = |p: &String| !p.is_empty() && p.chars().all(|c| c.is_alphanumeric() || c == '_');
+    if path.len() < 2 || !path.iter().all(ident) {
+        return Err(not_literal());
+    }
+    let (literal, enumeration) = path.split_last().ok_or_else(not_literal)?;
+    let Scope { db, ws, file, .. } = scope;
+    let loc = resolve_item(db, ws, file, enumeration, |k| k == DefKind::Enumeration)
+        .into_iter()
+        .next()
+        .ok_or_else(|| format!("`{}` is not an enumeration", enumeration.join("::")))?;
+    let id = loc.def(db).ok_or_else(not_literal)?;
+    let defs = file_defs(db, loc.file);
+    let enum_name = defs.def(id).name.clone();
+    let literals: Vec<&crate::defs::Def> =
+        defs.children(Some(id)).map(|(_, d)| d).filter(|d| d.kind == DefKind::EnumLiteral).collect();
+    let index = literals
+        .iter()
+        .position(|d| d.name == *literal)
+        .ok_or_else(|| format!("`{literal}` is not a literal of the enumeration `{enum_name}`"))?;
+    if matches!(&literals[index].data, crate::defs::DefData::Literal { args } if !args.is_empty()) {
+        return Err(format!("`{text}` takes arguments: literals with arguments are not supported as values"));
+    }
+    // The constant's type, wherever it is declared.
+    let mut found = false;
+    for &f in ws.files(db) {
+        if f.is_library(db) {
+            continue;
+        }
+        for (_, d) in file_defs(db, f).iter().filter(|(_, d)| d.kind == DefKind::Constant && d.name == constant) {
+            found = true;
+            let of_enum = matches!(&d.data, crate::defs::DefData::Typed { ty: Some(crate::defs::TypeRef::Named(p, _)), .. }
+                if p.last() == Some(&enum_name));
+            if !of_enum {
+                return Err(format!(
+                    "a constant `{constant}` of the workspace is not of the enumeration `{enum_name}`: \
+                     `{text}` cannot be its value"
+                ));
+            }
+        }
+    }
+    if !found {
+        return Err(format!("no constant `{constant}` is declared"));
+    }
+    Ok(index as i64)
+}
+
 /// Everything an assertion's sides are read in: the workspace, the
 /// assertion file (`read`, the file `file`) and the workspace's other
 /// assertion files (their simulations are visible too).
@@ -152,7 +224,7 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
         let period = overridden.unwrap_or_else(|| sim.cycle.as_ref().and_then(Value::as_int));
         return Ok(Subject::Constrained { name: sim.name.clone(), sim_file, loc, period });
     }
-    let bound = bindings(a).unwrap_or_default();
+    let bound = bindings_in(scope, a).unwrap_or_default();
     if let Some((ctrl, machine)) = inline_machine(db, ws, file, path) {
         let inner = path.last().cloned();
         if ctrl.file.kind(db) != FileKind::RoboSim {

@@ -12,7 +12,7 @@ use crate::untimed::untime;
 /// is about cycles; timelock freedom about time passing).
 pub(super) fn has_untimed_reading(cx: &Cx<'_>) -> Result<(), String> {
     let a = cx.a;
-    if cx.file.kind(cx.db) == robosim_syntax::FileKind::SimAssertions {
+    if cx.file.kind(cx.db) == robosim_hir::FileKind::SimAssertions {
         // RoboTool's RoboSim generator writes a timed script only (the
         // reference's `csp-gen/sim/` has no untimed library).
         return Err("the assertions of a RoboSim assertion file (.rsa) are checked in the timed semantics only".into());
