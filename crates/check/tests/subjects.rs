@@ -1,7 +1,8 @@
-//! What an assertion's `with` clause may give (robotool-facts RT-11):
-//! enumeration literals as constants' values (`set to IType::L2`).
+//! What an assertion may name and give (robotool-facts RT-11): instance
+//! paths as subjects, enumeration literals as constants' values (`set to
+//! IType::L2`).
 
-use robosim_check::verify::{verify_texts, Options, Report, Semantics, Verdict};
+use robosim_check::verify::{trace_text, verify_texts, Options, Report, Semantics, Verdict};
 
 const MODEL: &str = "enumeration Mode { Slow Fast }
 enumeration Colour { Red }
@@ -62,5 +63,68 @@ fn rt11_values_of_another_type_are_refused() {
             ("C", Verdict::Unsupported, "`Size` is not an enumeration"),
             ("D", Verdict::Unsupported, "the value of constant `k` is not an integer, boolean or enumeration literal"),
         ]
+    );
+}
+
+/// RT-11: instance paths. `C::s` (a machine reference of a controller) is
+/// the machine it references on its own, `Mod::c` (a controller reference
+/// of a module) the controller: the same verdicts and state counts as
+/// naming them directly. An operation as subject, and a machine of a
+/// controller with operations (RT-19: inlined or visible?), are refused
+/// with the reason.
+#[test]
+fn rt11_instance_paths() {
+    let model = "interface I { event e op() }
+stm M { uses I initial i state S { } state T { }
+  transition t { from i to S } transition u { from S to T trigger e } }
+controller C { uses I sref s = M connection C on e to s on e }
+operation Op() { initial i final F transition t { from i to F } }
+controller D { uses I sref s = M opref o = Op connection D on e to s on e }
+module Mod { robotic platform P { uses I } cref c = C connection P on e to c on e }";
+    let reports: Vec<Report> = verify_texts(
+        [
+            ("m.rct".to_string(), model.to_string()),
+            (
+                "a.assertions".to_string(),
+                "timed assertion A : C::s is deadlock-free
+                 timed assertion B : M is deadlock-free
+                 timed assertion G : Mod::c is deadlock-free
+                 timed assertion H : C is deadlock-free
+                 timed assertion J : Mod::c::s is deadlock-free
+                 timed assertion K : D::s is deadlock-free
+                 timed assertion L : D::o is deadlock-free"
+                    .to_string(),
+            ),
+        ],
+        &Options::default(),
+    );
+    let got: Vec<(&str, Verdict, u64)> = reports.iter().map(|r| (r.name.as_str(), r.verdict, r.stats.states)).collect();
+    // T is a timed deadlock (only time passes there), reached the same way.
+    assert_eq!(
+        got[..5],
+        [
+            ("A", Verdict::Fail, 2),
+            ("B", Verdict::Fail, 2),
+            ("G", Verdict::Fail, 2),
+            ("H", Verdict::Fail, 2),
+            ("J", Verdict::Fail, 2)
+        ],
+        "{reports:#?}"
+    );
+    let trace = |k: usize| reports[k].counterexample.as_ref().map(|c| trace_text(&c.steps));
+    assert_eq!(trace(0), trace(1));
+    assert_eq!(trace(2), trace(3));
+    assert_eq!(got[5].1, Verdict::Unsupported);
+    assert!(reports[5]
+        .reason
+        .as_deref()
+        .unwrap()
+        .starts_with("`D::s` is a machine of a controller that defines operations"));
+    assert_eq!(
+        reports[6].reason.as_deref(),
+        Some(
+            "`D::o` is an operation: operations as subjects (RT-11, checked as their own process with their \
+             parameters) are not supported by the native checker yet"
+        )
     );
 }

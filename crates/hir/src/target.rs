@@ -9,7 +9,7 @@
 
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
 use crate::cycle::{simulation_period, Feasibility};
-use crate::defs::{file_defs, DefId, DefKind};
+use crate::defs::{file_defs, DefData, DefId, DefKind};
 use crate::index::{resolve_item, ItemLoc};
 use crate::{Db, File, FileKind, Workspace};
 
@@ -236,6 +236,9 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
         };
         return Ok(Subject::Simulation { name, loc: ctrl, inner, period });
     }
+    if let Some(found) = instance(db, ws, file, path) {
+        return Ok(Subject::Design { name, loc: found?, inner: None });
+    }
     let loc = resolve_item(db, ws, file, path, element).into_iter().next().ok_or_else(|| {
         let csp = std::iter::once(read)
             .chain(others.iter().map(|(_, r)| r))
@@ -280,6 +283,55 @@ fn robosim_period(
             "the period of `{name}` could not be decided from its cycleDefs: give one with `cycleDef cycle == N`"
         )),
     }
+}
+
+/// RT-11: the RoboChart element an instance path names, checked on its
+/// own: `C::s` for the machine reference `s` of controller `C`, `M::c`
+/// for the controller reference `c` of module `M`, and longer paths
+/// (`M::c::s`). `None` when `path` is no such path (inline elements and
+/// qualified names are found otherwise).
+fn instance(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<Result<ItemLoc, String>> {
+    let container = |k| matches!(k, DefKind::Module | DefKind::Controller);
+    let (start, mut loc) = (1..path.len())
+        .rev()
+        .find_map(|k| resolve_item(db, ws, file, &path[..k], container).into_iter().next().map(|l| (k, l)))?;
+    if loc.file.kind(db) == FileKind::RoboSim {
+        return None;
+    }
+    let name = path.join("::");
+    for seg in &path[start..] {
+        let defs = file_defs(db, loc.file);
+        let id = loc.def(db)?;
+        let (_, child) = defs.children(Some(id)).find(|(_, d)| d.name == *seg)?;
+        match (child.kind, &child.data) {
+            (DefKind::ControllerRef, DefData::Reference { path: target, .. }) => {
+                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Controller).into_iter().next()?;
+            }
+            (DefKind::MachineRef, DefData::Reference { path: target, .. }) => {
+                // RT-19: inside its controller a machine's calls of the
+                // controller's operations are inlined, on its own they are
+                // visible events; which one an instance path means is not
+                // established.
+                if defs.children(Some(id)).any(|(_, d)| matches!(d.kind, DefKind::Operation | DefKind::OperationRef)) {
+                    return Some(Err(format!(
+                        "`{name}` is a machine of a controller that defines operations: whether RoboTool inlines \
+                         them for an instance path or leaves them as visible calls is not established (check the \
+                         controller, or the machine `{}` on its own)",
+                        target.join("::")
+                    )));
+                }
+                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::StateMachine).into_iter().next()?;
+            }
+            (DefKind::Operation | DefKind::OperationRef, _) => {
+                return Some(Err(format!(
+                    "`{name}` is an operation: operations as subjects (RT-11, checked as their own process with \
+                     their parameters) are not supported by the native checker yet"
+                )))
+            }
+            _ => return None,
+        }
+    }
+    Some(Ok(loc))
 }
 
 /// The controller `C` and its machine `M` when `path` is `C::M` and `C`
