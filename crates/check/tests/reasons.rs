@@ -41,7 +41,7 @@ fn undecided_assertions_say_why() {
         ("A", "no cycle period from 1 to 1000"),
         ("B", "no cycle period from 1 to 1000"),
         ("C", "is not a RoboChart module, controller or machine"),
-        ("D", "is not an integer or boolean literal"),
+        ("D", "is not an integer, boolean or enumeration literal"),
         ("F", "is not a simulation, module, controller or machine"),
     ] {
         let r = by(name);

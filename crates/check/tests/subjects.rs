@@ -128,3 +128,51 @@ module Mod { robotic platform P { uses I } cref c = C connection P on e to c on 
         )
     );
 }
+
+/// RT-11: `with constant z of X` where `X` is the machine, the controller
+/// that requires `z`, or the module whose platform provides it: the value
+/// reaches the machine either way (`T` is reachable only when `z == 1`).
+/// A constant `X` does not lead to is refused, never left at its default.
+#[test]
+fn rt11_constants_through_the_hierarchy() {
+    let model = "interface I { event e }
+interface K { const z : nat }
+stm M { uses I requires K initial i state S { } state T { }
+  transition t { from i to S } transition u { from S to T condition z == 1 } transition w { from T to S trigger e } }
+controller C { uses I requires K sref s = M connection C on e to s on e }
+module Mod { robotic platform P { uses I provides K } cref c = C connection P on e to c on e }";
+    let reports: Vec<Report> = verify_texts(
+        [
+            ("m.rct".to_string(), model.to_string()),
+            (
+                "a.assertions".to_string(),
+                "timed assertion A : M::T is reachable in M with constant z of M set to 1
+                 timed assertion B : M::T is reachable in Mod with constant z of Mod set to 1
+                 timed assertion C : M::T is reachable in Mod with constant z of C set to 1
+                 timed assertion D : M::T is reachable in Mod with constant z of M set to 1
+                 timed assertion E : M::T is reachable in Mod
+                 timed assertion F : M::T is reachable in Mod with constant y of M set to 1
+                 timed assertion G : M::T is reachable in Mod with constant y of Mod set to 1
+                 timed assertion H : M::T is reachable in Mod with constant y of C set to 1"
+                    .to_string(),
+            ),
+        ],
+        &Options::default(),
+    );
+    let got: Vec<(&str, Verdict, &str)> =
+        reports.iter().map(|r| (r.name.as_str(), r.verdict, r.reason.as_deref().unwrap_or(""))).collect();
+    assert_eq!(
+        got,
+        [
+            ("A", Verdict::Pass, "M::T is reachable in M"),
+            ("B", Verdict::Pass, "M::T is reachable in Mod"),
+            ("C", Verdict::Pass, "M::T is reachable in Mod"),
+            ("D", Verdict::Pass, "M::T is reachable in Mod"),
+            // RT-1: z is 0 by default.
+            ("E", Verdict::Fail, "M::T is not reachable in Mod"),
+            ("F", Verdict::Unsupported, "the state machine `M` has no constant `y`"),
+            ("G", Verdict::Unsupported, "no state machine of the module `Mod` requires a constant `y`"),
+            ("H", Verdict::Unsupported, "no state machine of the controller `C` requires a constant `y`"),
+        ]
+    );
+}

@@ -9,7 +9,7 @@
 
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
 use crate::cycle::{simulation_period, Feasibility};
-use crate::defs::{file_defs, DefData, DefId, DefKind};
+use crate::defs::{file_defs, DefData, DefId, DefKind, UseKind};
 use crate::index::{resolve_item, ItemLoc};
 use crate::{Db, File, FileKind, Workspace};
 
@@ -127,10 +127,139 @@ pub fn bindings_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>, 
                 Value::Bool(b) => i64::from(*b),
                 Value::Other(text) => enum_literal(scope, name, text)?,
             };
-            out.push(Binding { name: name.clone(), of: of.clone(), value });
+            out.extend(spread(scope, Binding { name: name.clone(), of: of.clone(), value })?);
         }
     }
     Ok(out)
+}
+
+/// RT-11: in `with constant z of X`, `X` may be the machine, the
+/// controller that requires `z`, or the module whose platform provides it.
+/// The binding as the checker reads it: one per machine that has `z` from
+/// `X`, named by its declaration. A RoboChart `X` through which no machine
+/// has `z` is an error (never silently a default); other `X` (RoboSim,
+/// unresolved) are left as written.
+fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
+    let Scope { db, ws, file, .. } = scope;
+    let element = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
+    let Some(loc) = resolve_item(db, ws, file, &b.of, element).into_iter().next() else { return Ok(vec![b]) };
+    let Some(id) = loc.def(db) else { return Ok(vec![b]) };
+    if loc.file.kind(db) != FileKind::RoboChart {
+        return Ok(vec![b]);
+    }
+    let of = b.of.join("::");
+    let defs = file_defs(db, loc.file);
+    let at = |b: &Binding, m: &str| Binding { name: b.name.clone(), of: vec![m.to_string()], value: b.value };
+    match defs.def(id).kind {
+        DefKind::StateMachine => {
+            let own = defs.children(Some(id)).any(|(_, d)| d.kind == DefKind::Constant && d.name == b.name);
+            if own || interface_constant(db, ws, loc.file, id, &b.name, None) {
+                Ok(vec![b])
+            } else {
+                Err(format!("the state machine `{of}` has no constant `{}`", b.name))
+            }
+        }
+        DefKind::Controller => {
+            let machines = machines_of(db, ws, loc.file, id);
+            let mut out = Vec::new();
+            for (mf, m) in &machines {
+                if !interface_constant(db, ws, *mf, *m, &b.name, Some(UseKind::Requires)) {
+                    continue;
+                }
+                let name = file_defs(db, *mf).def(*m).name.clone();
+                // The checker matches a machine by its declaration: one
+                // used by another controller too would receive the value
+                // there as well.
+                if referenced_elsewhere(db, ws, &name, loc.file, id) {
+                    return Err(format!(
+                        "`{name}`, which has `{}` from `{of}`, is used by another controller too: give the value \
+                         of the machine (`with constant {} of {name}`) or of the module",
+                        b.name, b.name
+                    ));
+                }
+                out.push(at(&b, &name));
+            }
+            if out.is_empty() {
+                return Err(format!("no state machine of the controller `{of}` requires a constant `{}`", b.name));
+            }
+            Ok(out)
+        }
+        _ => {
+            let mut out = Vec::new();
+            for (cf, c) in controllers_of(db, ws, loc.file, id) {
+                for (mf, m) in machines_of(db, ws, cf, c) {
+                    if interface_constant(db, ws, mf, m, &b.name, Some(UseKind::Requires)) {
+                        out.push(at(&b, &file_defs(db, mf).def(m).name));
+                    }
+                }
+            }
+            if out.is_empty() {
+                return Err(format!("no state machine of the module `{of}` requires a constant `{}`", b.name));
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// Whether the context `owner` of `file` has a constant `name` through an
+/// interface it uses, provides or requires (only `kind`, if given).
+fn interface_constant(db: &dyn Db, ws: Workspace, file: File, owner: DefId, name: &str, kind: Option<UseKind>) -> bool {
+    let defs = file_defs(db, file);
+    defs.uses_of(owner).filter(|u| kind.is_none_or(|k| u.kind == k)).any(|u| {
+        resolve_item(db, ws, file, &u.path, |k| k == DefKind::Interface).into_iter().next().is_some_and(|i| {
+            let Some(iid) = i.def(db) else { return false };
+            file_defs(db, i.file).children(Some(iid)).any(|(_, d)| d.kind == DefKind::Constant && d.name == name)
+        })
+    })
+}
+
+/// The machines of a controller: referenced and declared inside.
+fn machines_of(db: &dyn Db, ws: Workspace, file: File, ctrl: DefId) -> Vec<(File, DefId)> {
+    children_of(db, ws, file, ctrl, DefKind::MachineRef, DefKind::StateMachine)
+}
+
+/// The controllers of a module: referenced and declared inside.
+fn controllers_of(db: &dyn Db, ws: Workspace, file: File, module: DefId) -> Vec<(File, DefId)> {
+    children_of(db, ws, file, module, DefKind::ControllerRef, DefKind::Controller)
+}
+
+/// The children of `parent` of kind `kind`, and the targets of its
+/// references of kind `reference`.
+fn children_of(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    parent: DefId,
+    reference: DefKind,
+    kind: DefKind,
+) -> Vec<(File, DefId)> {
+    let defs = file_defs(db, file);
+    let mut out = Vec::new();
+    for (cid, d) in defs.children(Some(parent)) {
+        if d.kind == kind {
+            out.push((file, cid));
+        } else if let (true, DefData::Reference { path, .. }) = (d.kind == reference, &d.data) {
+            let found = match kind {
+                DefKind::Controller => resolve_item(db, ws, file, path, |k| k == DefKind::Controller),
+                _ => resolve_item(db, ws, file, path, |k| k == DefKind::StateMachine),
+            };
+            out.extend(found.into_iter().next().and_then(|l| Some((l.file, l.def(db)?))));
+        }
+    }
+    out
+}
+
+/// Whether a controller other than `ctrl` (of `file`) references a machine
+/// named `name`.
+fn referenced_elsewhere(db: &dyn Db, ws: Workspace, name: &str, file: File, ctrl: DefId) -> bool {
+    ws.files(db).iter().filter(|f| !f.is_library(db)).any(|&f| {
+        let defs = file_defs(db, f);
+        defs.iter().any(|(id, d)| {
+            d.kind == DefKind::Controller
+                && !(f == file && id == ctrl)
+                && machines_of(db, ws, f, id).iter().any(|&(mf, m)| file_defs(db, mf).def(m).name == name)
+        })
+    })
 }
 
 /// The index of the literal `text` (`E::L`, `P::E::L`) in its enumeration,
