@@ -101,7 +101,8 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 /// Draws each counterexample on the diagrams of the machines it passes
-/// through: `DIR/ASSERTION.ELEMENT.svg`, the states and transitions of its
+/// through: `DIR/ASSERTION.ELEMENT.svg` (`ASSERTION.untimed.ELEMENT.svg`
+/// for the untimed analysis), the states and transitions of its
 /// steps highlighted with their cycles. Returns how many files were written.
 fn draw_counterexamples(ws: &Workspace, reports: &[Report], dir: &std::path::Path) -> std::io::Result<usize> {
     std::fs::create_dir_all(dir)?;
@@ -113,7 +114,9 @@ fn draw_counterexamples(ws: &Workspace, reports: &[Report], dir: &std::path::Pat
                 if d.region.is_none() {
                     continue;
                 }
-                let name = format!("{}.{}.svg", r.name, d.qualified_name.replace("::", "."));
+                // RT-8: the untimed analysis's witness beside the timed one's.
+                let semantics = if r.semantics == Semantics::Untimed { ".untimed" } else { "" };
+                let name = format!("{}{semantics}.{}.svg", r.name, d.qualified_name.replace("::", "."));
                 if let Some(marked) = render_marked(d, std::slice::from_ref(c)) {
                     std::fs::write(dir.join(name), marked.svg)?;
                     written += 1;
