@@ -276,6 +276,28 @@ fn rt8_rsa_files_are_timed() {
     );
 }
 
+/// RT-8: assertions on `csp` blocks have no untimed analysis yet: a plain
+/// one is reported timed only, an `untimed` one says why.
+#[test]
+fn rt8_csp_blocks_are_timed_only_so_far() {
+    let model = "stm M { uses I initial i state S { } transition t { from i to S } }";
+    let reports = run(
+        model,
+        "csp Spec csp-begin
+Spec = STOP
+csp-end
+assertion A : M refines Spec
+untimed assertion B : M refines Spec",
+    );
+    let got: Vec<(&str, &str)> = reports.iter().map(|r| (r.name.as_str(), r.semantics.name())).collect();
+    assert_eq!(got, [("A", "timed"), ("B", "untimed")]);
+    assert_eq!(reports[1].verdict, Verdict::Unsupported);
+    assert_eq!(
+        reports[1].reason.as_deref(),
+        Some("`Spec` is a `csp` block: assertions on `csp` blocks are checked in the timed semantics only so far")
+    );
+}
+
 /// The reports on the Alpha Algorithm's `model.assertions` named in
 /// `names`: (name, semantics, verdict, states).
 fn alpha_algorithm(names: &[&str]) -> Vec<(String, &'static str, Verdict, u64)> {
