@@ -658,6 +658,9 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
         };
         report.notes.push(domains_note(&design));
         let name = subject.join("::");
+        if cx.semantics == Semantics::Untimed && a.kind == AssertionKind::Terminates {
+            semantics::terminates_without_divergence(&lts, &name, opts)?;
+        }
         // (holds, counterexample kind, path, explanation) or a stop.
         let outcome: Result<Outcome, crate::budget::Stop> = match &a.kind {
             AssertionKind::DeadlockFree if cx.semantics == Semantics::Untimed => {

@@ -213,6 +213,25 @@ fn rt9_deadlock_freedom_in_the_failures_divergences_model() {
     );
 }
 
+/// RT-10 without `tock`: `terminates` of a process that can diverge is
+/// not decided (the encoding's reading of divergence is not established).
+#[test]
+fn rt10_terminates_with_divergence_is_not_decided() {
+    let model = "stm Spin { uses I var n : nat initial i junction J final F
+           transition t { from i to J } transition a { from J to J action n = 1 } transition b { from J to F } }";
+    let reports = run(model, "untimed assertion A : Spin terminates");
+    expect(
+        &reports,
+        &[(
+            "A",
+            "untimed",
+            Verdict::Unsupported,
+            "Spin can diverge: whether RoboTool's untimed encoding of termination counts a divergence against it \
+             is not established, so it is not decided",
+        )],
+    );
+}
+
 /// RT-8: what has only a timed meaning gets no untimed analysis when the
 /// assertion is plain, and an `untimed assertion` of it says why:
 /// timelock freedom (time passing), the tick-tock model (`tock`).

@@ -147,3 +147,19 @@ pub(super) fn deadlock_free(
         DivergenceResult::Inconclusive(stop) => Err(stop),
     }
 }
+
+/// `terminates` in the untimed semantics is decided only for processes
+/// that cannot diverge: RT-10 reads it as "✓ is reachable and the process
+/// deadlocks only after ✓", and whether a divergence counts against it (as
+/// it would in the older generators' failures-divergences encoding) is
+/// not established.
+pub(super) fn terminates_without_divergence(lts: &Side<'_>, name: &str, opts: &Options) -> Result<(), String> {
+    match find_divergence(lts, &opts.budget, None).0 {
+        DivergenceResult::Free => Ok(()),
+        DivergenceResult::Divergent { .. } => Err(format!(
+            "{name} can diverge: whether RoboTool's untimed encoding of termination counts a divergence \
+             against it is not established, so it is not decided"
+        )),
+        DivergenceResult::Inconclusive(stop) => Err(stop.reason(&opts.budget)),
+    }
+}
