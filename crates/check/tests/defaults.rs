@@ -3,7 +3,11 @@
 //! the first literal, `true`), an uninitialised boolean starts `true`, and
 //! a verdict that rests on a default says so in its notes.
 
-use robosim_check::verify::{verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 fn run(rct: &str, assertions: &str) -> Vec<Report> {
     verify_texts(
