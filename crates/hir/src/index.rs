@@ -77,7 +77,7 @@ pub fn file_summary(db: &dyn Db, file: File) -> FileSummary {
             defs.children(Some(id)).filter(|(_, m)| !m.name.is_empty()).map(|(_, m)| member_summary(m)).collect();
         let uses = defs.uses_of(id).map(|u| (u.kind, u.path.clone(), u.io)).collect();
         let params = match &d.data {
-            DefData::Signature { params, .. } => params.clone(),
+            DefData::Signature { params, .. } => strip_params(params),
             _ => Vec::new(),
         };
         out.items.push(ItemSummary { name: d.name.clone(), kind: d.kind, members, uses, params });
@@ -91,7 +91,7 @@ fn member_summary(m: &crate::defs::Def) -> MemberSummary {
         _ => (None, false),
     };
     let params = match &m.data {
-        DefData::Signature { params, .. } => params.clone(),
+        DefData::Signature { params, .. } => strip_params(params),
         // Constructor argument types of an enumeration literal.
         DefData::Literal { args } => args.iter().map(|t| (String::new(), strip_ranges(Some(t.clone())))).collect(),
         _ => Vec::new(),
@@ -101,6 +101,11 @@ fn member_summary(m: &crate::defs::Def) -> MemberSummary {
         _ => Vec::new(),
     };
     MemberSummary { name: m.name.clone(), kind: m.kind, ty: strip_ranges(ty), io: m.io, params, target, broadcast }
+}
+
+/// Parameters without the ranges of their types.
+fn strip_params(params: &[(String, Option<TypeRef>)]) -> Vec<(String, Option<TypeRef>)> {
+    params.iter().map(|(n, t)| (n.clone(), strip_ranges(t.clone()))).collect()
 }
 
 /// Type references keep their ranges in definitions, but summaries must

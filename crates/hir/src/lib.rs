@@ -16,6 +16,7 @@ pub mod cycle;
 mod db;
 pub mod defs;
 mod diagnostics;
+pub mod element;
 pub mod index;
 mod more_checks;
 pub mod nav;

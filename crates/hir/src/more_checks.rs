@@ -99,9 +99,13 @@ fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) 
 
 /// RC-TYPE-02/03/04: vector and matrix sizes are literals or constants.
 fn sizes(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
-    let refs = &crate::body::body_resolution(db, ws, file).refs;
     let root = parse(db, file).syntax_node();
-    for t in crate::walk::file_nodes(db, file).nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false) {
+    let sized = crate::walk::file_nodes(db, file).nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false);
+    // The names in behaviour are resolved for the file only when it has
+    // sizes to check (the per-element diagnostics do not need them).
+    let refs: &[crate::resolve::ResolvedRef] =
+        if sized.is_empty() { &[] } else { &crate::body::body_resolution(db, ws, file).refs };
+    for t in sized {
         let code = if t.kind() == VECTOR_TYPE { "RC-TYPE-02" } else { "RC-TYPE-03" };
         for size in t.children().filter(|c| robosim_syntax::ast::is_expr_kind(c.kind())) {
             let inner = match size.kind() {
