@@ -54,8 +54,6 @@ fn toggle_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) 
     lap("file_summary");
     let _ = index::workspace_index(db, ws);
     lap("workspace_index");
-    let _ = resolve::file_members(db, ws, file);
-    lap("file_members");
     let _ = cycle::cycle_checks(db, ws, file);
     lap("cycle_checks");
     prefetch_rules(db, ws, file);

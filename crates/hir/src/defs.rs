@@ -426,7 +426,19 @@ impl FileDefs {
 /// Lowers a file's tree to its declarations.
 #[salsa::tracked(returns(ref))]
 pub fn file_defs(db: &dyn Db, file: File) -> FileDefs {
-    let root = parse(db, file).syntax_node();
+    // Put together from the elements' (`crate::element`): a keystroke
+    // lowers the edited element only.
+    let mut out = lower_header(&parse(db, file).syntax_node());
+    for (e, at) in crate::element::file_elements(db, file) {
+        crate::defs_shift::append(&mut out, crate::element::element_lowered(db, *e), (*at).into());
+    }
+    out.build_indexes();
+    out
+}
+
+/// The definitions of a whole tree, lowered in one pass: what
+/// [`file_defs`] puts together from the elements (tests compare the two).
+pub fn lower_file(root: &SyntaxNode) -> FileDefs {
     let mut l = Lower { out: FileDefs::default() };
     for child in root.children() {
         match child.kind() {

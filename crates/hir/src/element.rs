@@ -111,7 +111,7 @@ fn file_header(db: &dyn Db, file: File) -> FileDefs {
 /// The definitions of `element` numbered from 0, positions relative to
 /// its start.
 #[salsa::tracked(returns(ref))]
-fn element_lowered<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
+pub(crate) fn element_lowered<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
     lower_element(&SyntaxNode::new_root(element.green(db).0.clone()))
 }
 
@@ -175,6 +175,22 @@ pub struct ElementProblems {
     pub types: Vec<ResolveProblem>,
 }
 
+/// Statement deadlines (RoboSim has none: RS-STMT-02) of `element`,
+/// relative to its start, and whether it writes vector or matrix types
+/// (whose sizes the file-level rules check).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_marks<'db>(db: &'db dyn Db, element: Element<'db>) -> (Vec<robosim_syntax::TextRange>, bool) {
+    let root = SyntaxNode::new_root(element.green(db).0.clone());
+    let table = element_nodes(db, element);
+    let deadlines = table
+        .nodes(&root, &[TIMED_STMT], false)
+        .iter()
+        .filter_map(|n| n.children().find(|c| c.kind() == DEADLINE))
+        .map(|d| d.text_range())
+        .collect();
+    (deadlines, !table.nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false).is_empty())
+}
+
 /// The resolution and typing problems of `element`.
 #[salsa::tracked(returns(ref))]
 pub fn element_problems<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>) -> ElementProblems {
@@ -183,6 +199,14 @@ pub fn element_problems<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'d
     let body = crate::body::resolve_body(db, ws, &unit);
     let types = crate::types::type_unit(db, ws, &unit, &resolution.refs, &body.refs);
     ElementProblems { resolution: resolution.problems, body: body.problems, types }
+}
+
+/// The element of `file` that declares `id`.
+pub(crate) fn element_of(db: &dyn Db, file: File, id: DefId) -> Option<Element<'_>> {
+    let bases = def_bases(db, file);
+    let i = bases.partition_point(|(b, _)| *b <= id.0).checked_sub(1)?;
+    let e = bases[i].1;
+    element_defs(db, e).holds(id).then_some(e)
 }
 
 /// What resolution and typing work on: a whole file, or one element of it
@@ -233,11 +257,9 @@ impl<'a> Unit<'a> {
         if self.defs.holds(id) {
             return self.defs;
         }
-        let bases = def_bases(db, file);
-        let i = bases.partition_point(|(b, _)| *b <= id.0);
-        match i.checked_sub(1).map(|i| bases[i].1) {
-            Some(e) if element_defs(db, e).holds(id) => element_defs(db, e),
-            _ => file_defs(db, file),
+        match element_of(db, file, id) {
+            Some(e) => element_defs(db, e),
+            None => file_defs(db, file),
         }
     }
 

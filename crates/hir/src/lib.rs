@@ -15,6 +15,7 @@ pub mod csp_fn;
 pub mod cycle;
 mod db;
 pub mod defs;
+mod defs_shift;
 mod diagnostics;
 pub mod element;
 pub mod index;

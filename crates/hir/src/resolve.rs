@@ -144,6 +144,13 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::borrow::Cow<'_,
     // so that editing their bodies does not invalidate this file's results.
     // Borrowed when memoised: checks ask for the same lists many times.
     if let Ctx::Local(file, def) = ctx {
+        // From the element that declares it: its members do not change
+        // when text before it moves, the file's do.
+        if let Some(e) = crate::element::element_of(db, file, def) {
+            if let Some(m) = crate::element::element_members(db, ws, e).get(&def) {
+                return std::borrow::Cow::Borrowed(m);
+            }
+        }
         if let Some(m) = file_members(db, ws, file).get(&def) {
             return std::borrow::Cow::Borrowed(m);
         }
@@ -349,7 +356,8 @@ pub(crate) fn import_problems(db: &dyn Db, ws: Workspace, file: File) -> Vec<Res
         file,
         defs,
         root: parse(db, file).syntax_node(),
-        nodes: crate::walk::file_nodes(db, file),
+        // The imports need no node of the tree.
+        nodes: &crate::walk::NodeTable::default(),
         element: None,
     };
     let mut r = Resolver {

@@ -87,6 +87,29 @@ fn an_edit_inside_one_machine_reruns_that_element_only() {
     assert_eq!(defs, after, "{ran:?}");
 }
 
+/// The definitions put together from the elements' are those of a
+/// lowering of the whole file.
+#[test]
+fn elements_put_together_are_the_file() {
+    let broken = "package p\nimport q::*\nstm A { var x : nat initial i state S { entry x = 1 } transition t { from i to S } }\n\
+                  stm A { clock C transition u { from a to b #C condition since(C) > 1 } }\n\
+                  stm ( }\ncontroller K { sref m = A connection K on e to m on e ( _async ) }\n\
+                  interface I { event e : Seq(nat) op(a : nat, b : vector(real, 2)) }\n\
+                  enumeration E { L(nat) M }\nfunction f(n : nat) : nat { precondition n > 0 }\n";
+    for (path, text) in [
+        ("gen.rst", generated::generated_robosim(3)),
+        ("gen.rct", generated::generated_model(300)),
+        ("broken.rct", broken.to_string()),
+    ] {
+        let db = RootDatabase::default();
+        let ws = load_workspace(&db, [(path.to_string(), text)], RuleSet::Paper);
+        for &f in ws.files(&db) {
+            let whole = robosim_hir::defs::lower_file(&parse(&db, f).syntax_node());
+            assert_eq!(robosim_hir::defs::file_defs(&db, f), &whole, "{}", f.path(&db));
+        }
+    }
+}
+
 /// A small deterministic generator (xorshift), so that failures replay.
 struct Rng(u64);
 
@@ -176,6 +199,8 @@ fn random_edits_give_what_a_fresh_check_gives() {
         text.replace_range(at..end, insert);
         edit(&mut db, file, text.clone());
         let incremental = rendered(&db, file_diagnostics(&db, ws, file));
+        let whole = robosim_hir::defs::lower_file(&parse(&db, file).syntax_node());
+        assert_eq!(robosim_hir::defs::file_defs(&db, file), &whole, "edit {k}");
         // From scratch: a new database.
         let fresh_db = RootDatabase::default();
         let fws = load_workspace(&fresh_db, [("gen.rst".to_string(), text.clone())], RuleSet::Paper);
