@@ -104,7 +104,7 @@ pub fn element_list(db: &dyn Db, file: File) -> Vec<Element<'_>> {
 
 /// The package and imports of `file` (as in [`file_defs`]).
 #[salsa::tracked(returns(ref))]
-fn file_header(db: &dyn Db, file: File) -> FileDefs {
+pub(crate) fn file_header(db: &dyn Db, file: File) -> FileDefs {
     lower_header(&parse(db, file).syntax_node())
 }
 
@@ -113,6 +113,12 @@ fn file_header(db: &dyn Db, file: File) -> FileDefs {
 #[salsa::tracked(returns(ref))]
 pub(crate) fn element_lowered<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
     lower_element(&SyntaxNode::new_root(element.green(db).0.clone()))
+}
+
+/// The summaries of the items `element` declares (one, or none).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_summary<'db>(db: &'db dyn Db, element: Element<'db>) -> Vec<crate::index::ItemSummary> {
+    crate::index::summarize(element_lowered(db, element))
 }
 
 /// The id of the first definition of each element of `file`, in order:

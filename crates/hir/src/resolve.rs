@@ -155,7 +155,17 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::borrow::Cow<'_,
             return std::borrow::Cow::Borrowed(m);
         }
     }
+    if let Ctx::Item(loc) = ctx {
+        return std::borrow::Cow::Borrowed(item_members(db, ws, loc.file, loc.index));
+    }
     std::borrow::Cow::Owned(compute_members(db, ws, ctx))
+}
+
+/// The members of the item `index` of `file`'s summary: position-free,
+/// and asked for by every reference to the item.
+#[salsa::tracked(returns(ref))]
+fn item_members(db: &dyn Db, ws: Workspace, file: File, index: u32) -> Vec<Member> {
+    compute_members(db, ws, Ctx::Item(ItemLoc { file, index }))
 }
 
 /// The members of every context definition of a file, computed once per
