@@ -172,7 +172,7 @@ fn rendered(db: &RootDatabase, diags: &[Diagnostic]) -> Vec<String> {
 #[test]
 fn random_edits_give_what_a_fresh_check_gives() {
     let edits: usize = std::env::var("ROBOSIM_RANDOM_EDITS").ok().and_then(|n| n.parse().ok()).unwrap_or(10_000);
-    let start = generated::generated_robosim(2);
+    let start = generated::generated_robosim(1);
     let mut db = RootDatabase::default();
     let ws = load_workspace(&db, [("gen.rst".to_string(), start.clone())], RuleSet::Paper);
     let file = user_file(&db, ws);
@@ -182,7 +182,7 @@ fn random_edits_give_what_a_fresh_check_gives() {
         // Restart from the clean model now and then, so that the text does
         // not drift into noise.
         if k % 200 == 0 && k > 0 {
-            text = generated::generated_robosim(2);
+            text = generated::generated_robosim(1);
         }
         let at = {
             let mut at = rng.below(text.len() + 1);
