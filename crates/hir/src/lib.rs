@@ -19,6 +19,7 @@ mod defs_shift;
 mod diagnostics;
 pub mod element;
 pub mod index;
+pub mod model;
 mod more_checks;
 pub mod nav;
 pub mod profile;
