@@ -353,11 +353,13 @@ pub fn expr_types(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<TextRange
     }
     let (decl, body) = (&file_resolution(db, ws, file).refs, &body_resolution(db, ws, file).refs);
     let targets = decl.iter().chain(body).filter_map(|r| Some((r.range, r.target?))).collect();
+    let unit = Unit::of_file(db, file);
     let mut t = Typer {
         db,
         ws,
         file,
-        defs: file_defs(db, file),
+        unit: &unit,
+        defs: unit.defs,
         rs: file.kind(db) == FileKind::RoboSim,
         targets,
         type_cache: Default::default(),
@@ -367,7 +369,7 @@ pub fn expr_types(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<TextRange
         result: None,
         recorded: Some(FxHashMap::default()),
     };
-    t.walk(&parse(db, file).syntax_node());
+    t.walk(&unit.root);
     t.recorded.unwrap_or_default()
 }
 
