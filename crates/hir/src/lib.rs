@@ -12,6 +12,7 @@ pub mod body;
 mod checks;
 pub mod codes;
 pub mod csp_fn;
+pub mod csp_names;
 pub mod cycle;
 mod db;
 pub mod defs;
