@@ -14,6 +14,7 @@ pub mod codes;
 pub mod csp_blocks;
 pub mod csp_fn;
 pub mod csp_library;
+pub mod csp_names;
 pub mod cycle;
 mod db;
 pub mod defs;
