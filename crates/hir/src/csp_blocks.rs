@@ -16,9 +16,10 @@ use std::rc::Rc;
 
 use robosim_cspm::{self as cspm, ExternalName, NameLookup};
 use robosim_syntax::{SyntaxKind, TextRange, TextSize};
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashMap;
 
 use crate::csp_library::{self, CspLibKind};
+use crate::csp_names::{CspKind, CspName, CspNames};
 use crate::{parse, Db, File, FileKind, Workspace};
 
 /// The csp blocks of one file.
@@ -150,7 +151,7 @@ pub fn csp_blocks(db: &dyn Db, ws: Workspace, file: File) -> CspBlocks {
         .iter()
         .map(|p| p.as_ref().map(|(b, p)| top_level_defs(&p.syntax_node(), b.start())).unwrap_or_default())
         .collect();
-    let model = model_names(db, ws);
+    let model = crate::csp_names::csp_names(db, ws);
     let mut blocks = Vec::new();
     for (i, raw) in raws.into_iter().enumerate() {
         let mut problems = Vec::new();
@@ -284,53 +285,23 @@ pub fn name_text(node: &cspm::SyntaxNode) -> String {
         .collect()
 }
 
-/// The generated CSPm names of the workspace's types, enumeration
-/// literals and functions (`T`, `pkg_T`, `T_L`, `pkg_T_L`, `pkg_f`).
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct ModelNames {
-    names: FxHashSet<String>,
-    /// Of those, the ones patterns match (enumeration literals).
-    literals: FxHashSet<String>,
+/// Whether `name`, absent from the table of the model's names, may still
+/// be one RoboTool generates: the cycle constants of RoboSim (`cycle_…`),
+/// and a module's `M::opCall` channels of the operations its platform
+/// provides (RoboTool declares them at the module level; the table lists
+/// required operations only). Returns whether patterns match it.
+fn untabled_model_name(table: &CspNames, name: &str) -> Option<bool> {
+    if name.starts_with("cycle_") {
+        return Some(false);
+    }
+    let (module, last) = name.rsplit_once("::")?;
+    let is_module = table.element(module).is_some_and(|e| e.kind == crate::defs::DefKind::Module);
+    (is_module && last.len() > "Call".len() && last.ends_with("Call")).then_some(true)
 }
 
-/// The model's generated names of the workspace (see [`ModelNames`]).
-#[salsa::tracked(returns(ref))]
-pub fn model_names(db: &dyn Db, ws: Workspace) -> ModelNames {
-    use crate::defs::DefKind;
-    let mut out = ModelNames::default();
-    for (path, locs) in &crate::index::workspace_index(db, ws).items {
-        let Some((name, package)) = path.split_last() else { continue };
-        let prefixes = [String::new(), package.iter().map(|p| format!("{p}_")).collect::<String>()];
-        for loc in locs {
-            let item = loc.summary(db);
-            if !(item.kind.is_type() || item.kind == DefKind::Function) {
-                continue;
-            }
-            for p in &prefixes {
-                out.names.insert(format!("{p}{name}"));
-                for m in item.members.iter().filter(|m| m.kind == DefKind::EnumLiteral) {
-                    let lit = format!("{p}{name}_{}", m.name);
-                    out.literals.insert(lit.clone());
-                    out.names.insert(lit);
-                }
-            }
-        }
-    }
-    out
-}
-
-impl ModelNames {
-    /// Whether `name` may be one of RoboTool's names for the model.
-    pub fn may_be_model_name(&self, name: &str) -> bool {
-        name.contains("::")
-            || ["const_", "cycle_", "core_"].iter().any(|p| name.starts_with(p))
-            || self.names.contains(name)
-    }
-
-    /// Whether patterns match `name` (a channel or an enumeration literal).
-    fn is_constructor(&self, name: &str) -> bool {
-        name.contains("::") || self.literals.contains(name)
-    }
+/// Whether patterns match the model's name `n` rather than bind it.
+fn model_constructor(n: &CspName) -> bool {
+    matches!(n.kind, CspKind::Channel { .. } | CspKind::Literal { .. } | CspKind::Register { .. })
 }
 
 /// The names a block sees beyond its own. Used only to resolve names:
@@ -339,7 +310,7 @@ impl ModelNames {
 struct BlockNames<'a> {
     /// The other blocks' top-level names (`true`: a channel or constructor).
     others: FxHashMap<String, bool>,
-    model: &'a ModelNames,
+    model: &'a CspNames,
 }
 
 impl NameLookup for BlockNames<'_> {
@@ -348,10 +319,10 @@ impl NameLookup for BlockNames<'_> {
             c
         } else if let Some(l) = csp_library::lookup(name) {
             matches!(l.kind, CspLibKind::Channel | CspLibKind::Constructor)
-        } else if self.model.may_be_model_name(name) {
-            self.model.is_constructor(name)
+        } else if let Some(n) = self.model.get(name) {
+            model_constructor(n)
         } else {
-            return None;
+            untabled_model_name(self.model, name)?
         };
         Some(if ctor {
             ExternalName::Channel(Vec::new())

@@ -131,13 +131,16 @@ fn reference_alpha_algorithm_is_error_free() {
         }
         assert!(errors.is_empty(), "{rules:?}: errors on the reference RoboTool accepted:\n{}", errors.join("\n"));
         // The csp blocks of `b1` and `b2` use RoboTool 1's names, which
-        // RoboTool 3 no longer generates: FDR rejects them too.
+        // RoboTool 3 no longer generates (the type is now `main_Position`,
+        // the events `main::AggregationSoftware::receive`): FDR rejects
+        // them too.
         let expected: &[&str] = match rules {
             RuleSet::Paper => &[
                 "AggregationSoftware_O",
                 "AggregationSoftware_broadcast",
                 "AggregationSoftware_obstacle",
                 "AggregationSoftware_receive",
+                "Position",
                 "moveCall",
                 "moveRet",
             ],

@@ -73,22 +73,24 @@ fn a_block_sees_the_other_blocks_the_library_and_the_model() {
     let text = "\
 csp Instantiations csp-begin
 nametype core_nat = {0..2}
-const_M_k = 1
+const_pkg_M_k = 1
 channel go
 csp-end
 csp Spec csp-begin
 Timed(OneStep) {
-  Spec = StartBy(M::e.in?x:core_nat -> go -> SKIP, const_M_k) ; TCHAOS({tock})
-  Colours = {pkg_Colour_Red, Colour_Green, M::terminate}
-  W = EndBy(wait(2), 3) [] USTOP [] CRUN({|go|})
+  Spec = StartBy(pkg::M::e.in?x:core_nat -> go -> SKIP, const_pkg_M_k) ; TCHAOS({tock})
+  Colours = {pkg_Colour_Red, pkg_Colour_Green}
+  W = EndBy(wait(2), 3) [] USTOP [] CRUN({|go, pkg::M::terminate|}) [] pkg::M::O__(0, 1)
   Q(go) = SKIP
 }
 csp-end
 ";
     assert_eq!(csp_diags(text, RuleSet::Paper), vec![]);
-    // A name that is none of those is reported.
-    let got = csp_diags("csp P csp-begin\nP = pkg_Colour_Blue -> STOP\ncsp-end\n", RuleSet::Paper);
-    assert_eq!(got, vec![e("CSP-N01", "pkg_Colour_Blue")]);
+    // Names RoboTool does not generate are reported: the package prefix
+    // is part of every name of an element or type of a package.
+    let text = "csp P csp-begin\nP = M::e.in.1 -> pkg_Colour_Blue -> Colour_Red -> STOP\ncsp-end\n";
+    let got = csp_diags(text, RuleSet::Paper);
+    assert_eq!(got, vec![e("CSP-N01", "M::e"), e("CSP-N01", "pkg_Colour_Blue"), e("CSP-N01", "Colour_Red")]);
 }
 
 #[test]
