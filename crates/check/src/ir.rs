@@ -120,7 +120,8 @@ pub enum SetOp {
 /// Why an evaluation failed (reported, never a panic).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum EvalError {
-    /// Division or modulus by zero.
+    /// Modulus by zero (division by zero divides by one, RT-6), or a
+    /// quotient out of range.
     DivByZero,
     /// A tuple component or set element outside its type (it has no
     /// encoding: the check cannot go on).
@@ -152,7 +153,10 @@ impl Expr {
                     ArOp::Sub => x - y,
                     ArOp::Mul => x.saturating_mul(y),
                     // CSPm division and modulus truncate towards zero.
-                    ArOp::Div => x.checked_div(y).ok_or(EvalError::DivByZero)?,
+                    // RoboTool wraps every divisor so that `x / 0` is
+                    // `x / 1` (robotool-facts RT-6); the modulus is not
+                    // wrapped, so `x % 0` stays an error.
+                    ArOp::Div => x.checked_div(if y == 0 { 1 } else { y }).ok_or(EvalError::DivByZero)?,
                     ArOp::Mod => x.checked_rem(y).ok_or(EvalError::DivByZero)?,
                 };
                 if d.contains(r) {

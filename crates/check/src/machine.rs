@@ -72,7 +72,7 @@ pub struct Move {
     pub act: Act,
 }
 
-/// A step failed (division by zero, a model error found at run time).
+/// A step failed (modulus by zero, a model error found at run time).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct StepError(pub String);
 
@@ -382,7 +382,7 @@ impl Machine {
 
     fn eval_error(&self, e: EvalError) -> StepError {
         match e {
-            EvalError::DivByZero => StepError(format!("division by zero in machine `{}`", self.name)),
+            EvalError::DivByZero => StepError(format!("modulus by zero in machine `{}`", self.name)),
             EvalError::OutOfType => {
                 StepError(format!("a tuple component or set element outside its type in machine `{}`", self.name))
             }

@@ -60,3 +60,23 @@ fn given_values_are_not_defaults() {
     assert!(!notes.contains("constant M::k"), "{notes}");
     assert!(!notes.contains("flag"), "{notes}");
 }
+
+/// RT-6: division never fails — RoboTool wraps every divisor so that
+/// `x / 0` is `x / 1` — so a division by zero is neither an error nor
+/// inconclusive, and the machine goes on with `x`.
+#[test]
+fn division_by_zero_divides_by_one() {
+    let model = "interface I { event five event other }
+        stm M { uses I var x : nat = 5 var y : nat = 0
+          initial i state S { } state Five { } state Other { }
+          transition t { from i to S action x = x / y }
+          transition a { from S to Five condition x == 5 action five }
+          transition b { from S to Other condition x != 5 action other } }";
+    let reports = run(
+        model,
+        "assertion F : M::Five is reachable in M
+         assertion O : M::Other is reachable in M",
+    );
+    let got: Vec<(&str, Verdict)> = reports.iter().map(|r| (r.name.as_str(), r.verdict)).collect();
+    assert_eq!(got, [("F", Verdict::Pass), ("O", Verdict::Fail)], "{reports:#?}");
+}

@@ -564,3 +564,37 @@ fn async_buffer_setting() {
     server.shutdown();
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// The server reads a workspace folder holding two RoboTool projects (a
+/// `.project` each) as RoboTool does: names resolve within a project, so
+/// `Controller` in project B's assertions means project B's machine, and
+/// verifying it gives project B's verdict.
+#[test]
+fn names_resolve_within_each_project() {
+    let root = lsp_support::temp_dir("projects");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/projects");
+    for p in ["ProjectA", "ProjectB"] {
+        std::fs::create_dir_all(root.join(p)).unwrap();
+        for f in [".project", "robot.rct", "robot.assertions"] {
+            std::fs::copy(data.join(p).join(f), root.join(p).join(f)).unwrap();
+        }
+    }
+    let mut server = start(&root, full_caps(), json!({}), 4);
+    let uri = file_uri(&root, "ProjectB/robot.assertions");
+    let text = std::fs::read_to_string(root.join("ProjectB/robot.assertions")).unwrap();
+    let (line, character) = position(&text, "Controller is");
+    let res = server.call(
+        "textDocument/definition",
+        json!({"textDocument": {"uri": uri}, "position": {"line": line, "character": character + 1}}),
+    );
+    let target = res["result"].to_string();
+    assert!(target.contains("ProjectB/robot.rct"), "{res}");
+    assert!(!target.contains("ProjectA"), "{res}");
+    let lens = lenses(&mut server, &uri);
+    let (_, _, arg) = lens.iter().find(|(_, title, _)| title.contains("Verify")).expect("a verify lens").clone();
+    verify(&mut server, &uri, arg[1].clone());
+    let token = created_token(&mut server);
+    progress(&mut server, &token, "end");
+    let title = title_at(&mut server, &uri, &arg[1]);
+    assert!(title.contains("pass"), "{title}");
+}

@@ -241,3 +241,23 @@ fn asynchronous_connections_under_an_assumed_buffer() {
         assert!(String::from_utf8_lossy(&out.stderr).contains("--async-buffer"), "{bad}");
     }
 }
+
+/// RoboTool resolves names per Eclipse project (robotool-facts, issue 17
+/// item 6): two projects declare the same `robot::Controller`, each
+/// assertion file checks its own project's machine, and neither is a
+/// duplicate of the other.
+#[test]
+fn each_project_checks_its_own_machine() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/projects");
+    let out = robosim().arg("check").arg(&dir).output().unwrap();
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("checked 4 files: 0 errors, 0 warnings"), "{stdout}");
+    let (_, v) = json(&[], &dir);
+    let a1 = find(&v, "ProjectA/robot.assertions", "A1");
+    assert_eq!(a1["verdict"], "fail", "{a1:#}");
+    let steps = a1["counterexample"]["steps"].as_array().unwrap();
+    assert!(steps.iter().any(|s| s.to_string().contains("ProjectA/robot.rct")), "{a1:#}");
+    let b1 = find(&v, "ProjectB/robot.assertions", "B1");
+    assert_eq!(b1["verdict"], "pass", "{b1:#}");
+}

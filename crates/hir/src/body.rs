@@ -233,7 +233,7 @@ impl<'a> Body<'a> {
             return Some(Target::Item(*l));
         }
         // Bare enumeration literals of any visible enumeration.
-        let index = crate::index::workspace_index(self.db, self.ws);
+        let index = crate::index::index_for(self.db, self.ws, self.file);
         let here = crate::index::file_summary(self.db, self.file);
         for (full, locs) in &index.items {
             let pkg = &full[..full.len() - 1];
@@ -330,7 +330,7 @@ impl<'a> Body<'a> {
         self.defs
             .imports
             .iter()
-            .find(|i| !crate::index::import_matches(self.db, self.ws, &i.path, i.wildcard))
+            .find(|i| !crate::index::import_matches(self.db, self.ws, self.file, &i.path, i.wildcard))
             .map(|i| i.path.join("::"))
     }
 

@@ -4,7 +4,8 @@
 //! the workspace index maps qualified names to items; `resolve_item` finds
 //! the item a (qualified) name means from a given file, with RoboTool's
 //! visibility: the file's package, files without a package, imports
-//! (wildcard imports also qualify relative names) and the library.
+//! (wildcard imports also qualify relative names) and the library — all
+//! within the file's project (RoboTool resolves names per Eclipse project).
 
 use std::collections::HashMap;
 
@@ -161,8 +162,12 @@ pub struct Index {
 /// The index over every file of the workspace.
 #[salsa::tracked(returns(ref))]
 pub fn workspace_index(db: &dyn Db, ws: Workspace) -> Index {
+    index_of(db, ws.files(db).iter().copied())
+}
+
+fn index_of(db: &dyn Db, files: impl Iterator<Item = File>) -> Index {
     let mut index = Index::default();
-    for &file in ws.files(db) {
+    for file in files {
         let s = file_summary(db, file);
         for i in 0..s.package.len() {
             index.packages.insert(s.package[..=i].to_vec());
@@ -176,6 +181,62 @@ pub fn workspace_index(db: &dyn Db, ws: Workspace) -> Index {
     index
 }
 
+/// The project a file belongs to: the innermost of the workspace's
+/// project roots that holds it (`None` for the library and for files
+/// outside every project).
+pub fn project_of(db: &dyn Db, ws: Workspace, file: File) -> Option<u32> {
+    if file.is_library(db) {
+        return None;
+    }
+    let path = file.path(db);
+    ws.projects(db)
+        .iter()
+        .enumerate()
+        .filter(|(_, root)| is_under(path, root))
+        .max_by_key(|(_, root)| root.len())
+        .map(|(i, _)| i as u32)
+}
+
+/// Whether `path` lies in the folder `root` (either separator).
+fn is_under(path: &str, root: &str) -> bool {
+    let root = root.trim_end_matches(['/', '\\']);
+    root.is_empty() || path.strip_prefix(root).is_some_and(|rest| rest.starts_with(['/', '\\']))
+}
+
+/// The index of the names `from` can see: its project's files and the
+/// library (files outside every project see the others outside every
+/// project). Without projects, the whole workspace's index.
+pub fn index_for(db: &dyn Db, ws: Workspace, from: File) -> &Index {
+    if ws.projects(db).is_empty() {
+        return workspace_index(db, ws);
+    }
+    project_index(db, ws, project_of(db, ws, from))
+}
+
+/// The root of a project that declares the package or item `path`, for
+/// messages when another project cannot see it.
+pub fn project_declaring(db: &dyn Db, ws: Workspace, path: &[String]) -> Option<String> {
+    if ws.projects(db).is_empty() {
+        return None;
+    }
+    ws.files(db).iter().find_map(|&f| {
+        let p = project_of(db, ws, f)?;
+        let s = file_summary(db, f);
+        let declares = s.package.starts_with(path)
+            || s.items.iter().any(|i| {
+                s.package.len() + 1 == path.len() && path.starts_with(&s.package) && i.name == path[path.len() - 1]
+            });
+        declares.then(|| ws.projects(db)[p as usize].clone())
+    })
+}
+
+/// The index over one project's files and the library.
+#[salsa::tracked(returns(ref))]
+fn project_index(db: &dyn Db, ws: Workspace, project: Option<u32>) -> Index {
+    let files = ws.files(db).iter().copied().filter(|&f| f.is_library(db) || project_of(db, ws, f) == project);
+    index_of(db, files)
+}
+
 /// Which items a reference may denote.
 pub type KindFilter = fn(DefKind) -> bool;
 
@@ -187,7 +248,7 @@ pub fn resolve_item(db: &dyn Db, ws: Workspace, from: File, path: &[String], acc
     }
     let found = resolve_in_scope(db, ws, from, path, accept);
     if found.is_empty() && path.len() == 1 && from.kind(db) == robosim_syntax::FileKind::RoboSim {
-        return unique_copy(db, ws, &path[0], accept).into_iter().collect();
+        return unique_copy(db, ws, from, &path[0], accept).into_iter().collect();
     }
     found
 }
@@ -200,8 +261,8 @@ pub fn resolve_item(db: &dyn Db, ws: Workspace, from: File, path: &[String], acc
 /// in the workspace is the same (a copy, compared like [`type_copies`]),
 /// so the choice cannot matter; [`resolve_in_scope`] tells the resolver to
 /// warn (LNK-02).
-pub fn unique_copy(db: &dyn Db, ws: Workspace, name: &str, accept: KindFilter) -> Option<ItemLoc> {
-    let index = workspace_index(db, ws);
+pub fn unique_copy(db: &dyn Db, ws: Workspace, from: File, name: &str, accept: KindFilter) -> Option<ItemLoc> {
+    let index = index_for(db, ws, from);
     let mut all: Vec<ItemLoc> = index
         .items
         .iter()
@@ -244,7 +305,7 @@ pub fn resolve_in_scope(db: &dyn Db, ws: Workspace, from: File, path: &[String],
         }
         return Vec::new();
     }
-    let index = workspace_index(db, ws);
+    let index = index_for(db, ws, from);
     let here = file_summary(db, from);
     let lookup = |full: &[String]| -> Vec<ItemLoc> {
         index
@@ -293,7 +354,7 @@ pub fn file_scope(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<String, V
         /// Exactly the item `import P::x` names.
         Item(&'a [String]),
     }
-    let index = workspace_index(db, ws);
+    let index = index_for(db, ws, file);
     let here = file_summary(db, file);
     let mut levels: Vec<Level<'_>> = vec![Level::Package(&here.package)];
     if !here.package.is_empty() {
@@ -323,9 +384,10 @@ pub fn file_scope(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<String, V
     out
 }
 
-/// Whether an import names an existing package or item.
-pub fn import_matches(db: &dyn Db, ws: Workspace, path: &[String], wildcard: bool) -> bool {
-    let index = workspace_index(db, ws);
+/// Whether an import, written in `from`, names an existing package or
+/// item of its project.
+pub fn import_matches(db: &dyn Db, ws: Workspace, from: File, path: &[String], wildcard: bool) -> bool {
+    let index = index_for(db, ws, from);
     if wildcard {
         // `import P::*` names a package, or an item whose members it opens.
         index.packages.contains(path) || index.items.contains_key(path)
@@ -345,15 +407,16 @@ pub fn import_matches(db: &dyn Db, ws: Workspace, path: &[String], wildcard: boo
 #[salsa::tracked(returns(ref))]
 pub fn type_copies(db: &dyn Db, ws: Workspace) -> FxHashMap<ItemLoc, ItemLoc> {
     let index = workspace_index(db, ws);
-    // (name, kind, members) → the declarations with them, and their paths.
-    type Shape<'a> = (&'a str, DefKind, &'a [MemberSummary]);
+    // (project, name, kind, members) → the declarations with them, and
+    // their paths: copies are one type within a project only.
+    type Shape<'a> = (Option<u32>, &'a str, DefKind, &'a [MemberSummary]);
     let mut groups: HashMap<Shape<'_>, Vec<(&str, ItemLoc)>> = HashMap::new();
     for locs in index.items.values() {
         for &loc in locs {
             let s = loc.summary(db);
             if s.kind.is_type() {
                 groups
-                    .entry((s.name.as_str(), s.kind, s.members.as_slice()))
+                    .entry((project_of(db, ws, loc.file), s.name.as_str(), s.kind, s.members.as_slice()))
                     .or_default()
                     .push((loc.file.path(db), loc));
             }

@@ -76,6 +76,14 @@ pub struct Workspace {
     /// Which rule set decides severities.
     #[returns(copy)]
     pub rules: RuleSet,
+    /// The root folders of the RoboTool (Eclipse) projects in the
+    /// workspace, written as the files' paths are: folders holding a
+    /// `.project`. RoboTool resolves names within a project, so a file
+    /// under a root sees only that project's files and the library; with
+    /// no roots every file sees every other (see [`index::project_of`]).
+    #[default]
+    #[returns(ref)]
+    pub projects: Vec<String>,
 }
 
 /// The two rule sets of the well-formedness catalogue (§4.4).

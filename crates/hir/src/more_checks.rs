@@ -12,7 +12,7 @@ use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::checks::Problem;
 use crate::defs::{file_defs, DefData, DefId, DefKind, TypeRef, UseKind};
-use crate::index::{resolve_item, workspace_index, ItemLoc};
+use crate::index::{index_for, resolve_item, ItemLoc};
 use crate::resolve::{ctx_members, node_ctx, Ctx, Member};
 use crate::types::{compatible, lower};
 use crate::{parse, Db, File, Workspace};
@@ -66,7 +66,7 @@ pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
 
 /// RC-PKG-01: fully qualified names are unique across the workspace.
 fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
-    let index = workspace_index(db, ws);
+    let index = index_for(db, ws, file);
     let defs = file_defs(db, file);
     for (path, locs) in &index.items {
         if locs.len() < 2 || !locs.iter().any(|l| l.file == file) {

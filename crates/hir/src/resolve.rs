@@ -383,7 +383,7 @@ impl Resolver<'_> {
                     .defs
                     .imports
                     .iter()
-                    .find(|i| !import_matches(self.db, self.ws, &i.path, i.wildcard))
+                    .find(|i| !import_matches(self.db, self.ws, self.file, &i.path, i.wildcard))
                 {
                     // A package the workspace does not hold (a physical
                     // model's) may declare it: it cannot be checked.
@@ -405,13 +405,16 @@ impl Resolver<'_> {
 
     fn imports(&mut self) {
         for imp in &self.defs.imports {
-            if !import_matches(self.db, self.ws, &imp.path, imp.wildcard) {
+            if !import_matches(self.db, self.ws, self.file, &imp.path, imp.wildcard) {
                 let text = imp.path.join("::");
-                self.problem(
-                    "RC-PKG-02",
-                    imp.range,
-                    format!("`import {text}` matches no package or element of the workspace"),
-                );
+                let written = if imp.wildcard { format!("{text}::*") } else { text.clone() };
+                let message = match crate::index::project_declaring(self.db, self.ws, &imp.path) {
+                    Some(root) => format!(
+                        "`import {written}` matches no package or element of this file's project: `{text}` is in the project at `{root}`, and RoboTool resolves names within a project"
+                    ),
+                    None => format!("`import {written}` matches no package or element of the workspace"),
+                };
+                self.problem("RC-PKG-02", imp.range, message);
             }
         }
     }

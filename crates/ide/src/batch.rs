@@ -62,6 +62,7 @@ pub fn load_paths(paths: &[PathBuf], rules: RuleSet) -> Result<LoadedWorkspace, 
         let id = host.set_file(&path, text, Some(kind), Durability::MEDIUM);
         files.push(LoadedFile { path, id, invalid_utf8 });
     }
+    host.set_projects(workspace_files::project_roots(files.iter().map(|f| Path::new(&f.path))));
     Ok(LoadedWorkspace { host, files })
 }
 

@@ -21,7 +21,7 @@
 //!   (file, machine, state, transition, …) in the file's language.
 
 use robosim_hir::defs::{file_defs, DefId, DefKind, Io, UseKind};
-use robosim_hir::index::{file_summary, resolve_item, workspace_index};
+use robosim_hir::index::{file_summary, index_for, resolve_item};
 use robosim_hir::nav::type_ref_text;
 use robosim_hir::resolve::{ctx_members, enclosing, node_ctx, Ctx, Member, MEMBER_CONTEXTS};
 use robosim_hir::{Db, File, Workspace};
@@ -479,7 +479,7 @@ impl Cx<'_> {
     /// The items of the workspace visible from this file whose kind passes
     /// `accept`.
     fn items(&self, acc: &mut Acc, accept: fn(DefKind) -> bool) {
-        let index = workspace_index(self.db, self.ws);
+        let index = index_for(self.db, self.ws, self.file);
         let here = file_summary(self.db, self.file);
         for (full, locs) in &index.items {
             let Some((name, pkg)) = full.split_last() else { continue };

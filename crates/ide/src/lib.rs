@@ -185,6 +185,22 @@ impl AnalysisHost {
         }
     }
 
+    /// Sets the RoboTool project roots (folders holding a `.project`,
+    /// written as the files' paths are): names resolve within a project.
+    /// A no-op when they are unchanged.
+    pub fn set_projects(&mut self, mut roots: Vec<String>) {
+        roots.sort();
+        roots.dedup();
+        if *self.workspace.projects(&self.db) != roots {
+            self.workspace.set_projects(&mut self.db).with_durability(Durability::MEDIUM).to(roots);
+        }
+    }
+
+    /// The project roots in force (see [`AnalysisHost::set_projects`]).
+    pub fn projects(&self) -> Vec<String> {
+        self.workspace.projects(&self.db).clone()
+    }
+
     /// The rule set in force.
     pub fn rules(&self) -> RuleSet {
         self.workspace.rules(&self.db)

@@ -2,7 +2,7 @@
 //! workspace, or a refusal that says why.
 
 use robosim_hir::defs::{file_defs, DefKind};
-use robosim_hir::index::workspace_index;
+use robosim_hir::index::index_for;
 use robosim_hir::nav::{DeclLoc, Symbol};
 use robosim_hir::resolve::{ctx_members, Ctx};
 use robosim_hir::{Db, File, Workspace};
@@ -150,7 +150,7 @@ pub(crate) fn rename(
     if d.parent.is_none() && d.kind.is_item() {
         let mut path = defs.package.clone();
         path.push(new_name.to_string());
-        if let Some(other) = workspace_index(db, ws).items.get(&path).and_then(|v| v.first()) {
+        if let Some(other) = index_for(db, ws, decl.file).items.get(&path).and_then(|v| v.first()) {
             let pkg = if defs.package.is_empty() {
                 "the default package".to_string()
             } else {

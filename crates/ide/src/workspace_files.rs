@@ -63,6 +63,23 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>, errors: &mut Vec<(PathBuf, std::io::
     }
 }
 
+/// The RoboTool (Eclipse) project a model file belongs to: the nearest
+/// folder above it that holds a `.project` file. RoboTool resolves names
+/// per project.
+pub fn project_root(path: &Path) -> Option<PathBuf> {
+    path.ancestors().skip(1).find(|dir| dir.join(".project").is_file()).map(Path::to_path_buf)
+}
+
+/// The distinct project roots of `paths` (see [`project_root`]), as
+/// strings in the form the paths are written, sorted.
+pub fn project_roots<'a>(paths: impl IntoIterator<Item = &'a Path>) -> Vec<String> {
+    let mut roots: Vec<String> =
+        paths.into_iter().filter_map(project_root).map(|r| r.to_string_lossy().into_owned()).collect();
+    roots.sort();
+    roots.dedup();
+    roots
+}
+
 /// Reads a model file as text. Invalid UTF-8 is replaced (U+FFFD); the
 /// offset of the first invalid byte is returned so that it can be reported.
 pub fn read_model_file(path: &Path) -> std::io::Result<(String, Option<usize>)> {

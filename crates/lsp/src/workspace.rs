@@ -63,6 +63,13 @@ pub(crate) async fn load_roots(shared: Arc<Shared>, roots: Vec<PathBuf>) {
         let n = files.len();
         {
             let mut st = worker.lock();
+            // RoboTool resolves names per project (a folder with a
+            // `.project`): the roots found join those already known.
+            let mut projects = st.host.projects();
+            projects.extend(robosim_ide::workspace_files::project_roots(
+                files.iter().map(|(p, _)| std::path::Path::new(p.as_str())),
+            ));
+            st.host.set_projects(projects);
             for (path, text) in files {
                 st.set_disk_file(&path, text);
             }

@@ -191,6 +191,9 @@ pub enum Decl {
     /// Text copied verbatim (a user's `csp` block), and the process it
     /// is named after.
     Raw(String, String),
+    /// `Timed(f) { … }`: a timed section (FDR inserts `tock`; the
+    /// declarations are in the enclosing scope).
+    Timed(String, Vec<Decl>),
 }
 
 // ---------------------------------------------------------------- helpers
@@ -362,6 +365,16 @@ fn decl_doc(d: &Decl) -> Doc {
             cat(parts.into_iter().map(indent_decl).collect())
         }
         Decl::Transparent(names) => text(format!("transparent {}", names.join(", "))),
+        Decl::Timed(f, decls) => {
+            let mut parts = vec![text(format!("Timed({f}) {{"))];
+            for d in decls {
+                parts.push(hard());
+                parts.push(nest(2, decl_doc(d)));
+            }
+            parts.push(hard());
+            parts.push(text("}"));
+            cat(parts.into_iter().map(indent_decl).collect())
+        }
         Decl::Assert(a) => assert_doc(a),
         Decl::Raw(s, _) => {
             let mut parts = Vec::new();

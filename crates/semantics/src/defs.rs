@@ -31,6 +31,15 @@ pub const SHARED_PROCESSES: &[&str] = &[
     "Last",
     "Front",
     "Reverse",
+    "OneStep",
+    "USTOP",
+    "CRUN",
+    "TCHAOS",
+    "SKIP_ANYTIME",
+    "wait",
+    "StartBy",
+    "Deadline",
+    "WAIT_INTERVAL",
 ];
 
 fn def(n: &str, params: &[&str], body: Expr) -> Decl {
@@ -42,7 +51,14 @@ fn n(s: &str) -> Expr {
 }
 
 fn sticky(op: BinOp) -> Expr {
-    let r = bin(op, n("e1"), n("e2"));
+    // RoboTool wraps every divisor so that `x / 0` is `x / 1` (RT-6).
+    let divisor = match op {
+        BinOp::Div => {
+            Expr::If(Box::new(bin(BinOp::Eq, n("e2"), Expr::Int(0))), Box::new(Expr::Int(1)), Box::new(n("e2")))
+        }
+        _ => n("e2"),
+    };
+    let r = bin(op, n("e1"), divisor);
     Expr::If(Box::new(call("member", vec![r.clone(), n("T")])), Box::new(r), Box::new(n("e1")))
 }
 
@@ -179,6 +195,7 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             ),
         ]),
     ));
+    d.extend(tock_csp_library());
     d.push(Decl::Blank);
     d.push(Decl::Comment(
         "RoboTool's arithmetic on the bounded types: a result outside the type T keeps the left operand.".into(),
@@ -403,4 +420,70 @@ pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
         title: "Instantiations: bounded types and constant values".into(),
         decls: d,
     }
+}
+
+/// The tock-CSP operators RoboTool's library gives the `csp` blocks of
+/// assertion files (`StartBy`, `CRUN`, … in the corpus's specifications),
+/// with the meaning robotool-facts and FDR's timed sections give them, so
+/// that a user's blocks load beside the export.
+fn tock_csp_library() -> Vec<Decl> {
+    let wait = |d: Expr| call("WAIT", vec![d]);
+    vec![
+        Decl::Blank,
+        Decl::Comment("The tock-CSP library of RoboTool's `csp` blocks.".into()),
+        Decl::Comment("A timed section whose untimed events take no time.".into()),
+        def("OneStep", &["_"], Expr::Int(0)),
+        Decl::Comment("Timelock: neither events nor time.".into()),
+        def("USTOP", &[], Expr::Stop),
+        def("CRUN", &["S"], call("RUN", vec![n("S")])),
+        Decl::Comment("CHAOS over S that may also let time pass, timelock or deadlock.".into()),
+        def(
+            "TCHAOS",
+            &["S"],
+            crate::cspm::nary(
+                crate::cspm::ProcOp::Interrupt,
+                vec![
+                    call("CHAOS", vec![n("S")]),
+                    crate::cspm::nary(
+                        crate::cspm::ProcOp::IntChoice,
+                        vec![n("USTOP"), prefix("tock", vec![], call("TCHAOS", vec![n("S")]))],
+                    ),
+                ],
+            ),
+        ),
+        Decl::Comment("Terminates after any number of time units.".into()),
+        def(
+            "SKIP_ANYTIME",
+            &[],
+            crate::cspm::nary(
+                crate::cspm::ProcOp::IntChoice,
+                vec![Expr::Skip, prefix("tock", vec![], n("SKIP_ANYTIME"))],
+            ),
+        ),
+        Decl::Comment("n time units, outside timed sections.".into()),
+        def(
+            "wait",
+            &["n"],
+            Expr::If(
+                Box::new(bin(BinOp::Gt, n("n"), Expr::Int(0))),
+                Box::new(prefix("tock", vec![], call("wait", vec![bin(BinOp::Sub, n("n"), Expr::Int(1))]))),
+                Box::new(Expr::Skip),
+            ),
+        ),
+        Decl::Timed(
+            "OneStep".into(),
+            vec![
+                Decl::Comment("P must start (do an event) within d time units.".into()),
+                def("StartBy", &["P", "d"], ext(vec![n("P"), seq(vec![wait(n("d")), n("USTOP")])])),
+                Decl::Comment("P must terminate within d time units.".into()),
+                def("Deadline", &["P", "d"], call("EndBy", vec![n("P"), n("d")])),
+                Decl::Comment("A wait of a duration in S, chosen at once.".into()),
+                def(
+                    "WAIT_INTERVAL",
+                    &["S"],
+                    Expr::Repl(ReplOp::IntChoice, vec![("x".into(), n("S"))], Box::new(wait(n("x")))),
+                ),
+            ],
+        ),
+    ]
 }

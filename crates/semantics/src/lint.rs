@@ -40,6 +40,8 @@ const BUILTINS: &[&str] = &[
     "length",
     "null",
     "prioritise",
+    "timed_priority",
+    "WAIT",
     "sbisim",
     "Char",
     "Set",
@@ -333,6 +335,11 @@ impl Checker {
                 }
                 self.exports.insert(n.clone(), names);
             }
+            Decl::Timed(_, decls) => {
+                for d in decls {
+                    self.declare(file, d, module);
+                }
+            }
             Decl::Raw(t, block) => {
                 if !block.is_empty() {
                     self.define(file, module, block, Kind::Raw);
@@ -403,6 +410,12 @@ impl Checker {
             Decl::Module(n, private, exports) => {
                 for d in private.iter().chain(exports) {
                     self.check_decl(file, d, Some(n), bound);
+                }
+            }
+            Decl::Timed(f, decls) => {
+                self.check_expr(file, &Expr::Name(f.clone()), module, bound);
+                for d in decls {
+                    self.check_decl(file, d, module, bound);
                 }
             }
             Decl::Assert(a) => {

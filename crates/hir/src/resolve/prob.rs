@@ -120,7 +120,7 @@ impl Resolver<'_> {
 fn enum_literal(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<Target> {
     let (lit, enum_path) = path.split_last()?;
     let candidates = if enum_path.is_empty() {
-        let index = crate::index::workspace_index(db, ws);
+        let index = crate::index::index_for(db, ws, file);
         let mut all: Vec<_> = index.items.values().flatten().copied().collect();
         all.sort_by(|a, b| (a.file.path(db), a.index).cmp(&(b.file.path(db), b.index)));
         all
