@@ -257,20 +257,20 @@ pub fn verify_assertion(
 }
 
 /// Everything an assertion's check needs from the workspace.
-struct Cx<'a> {
-    db: &'a dyn Db,
-    ws: Workspace,
-    file: File,
-    read: &'a AssertionFile,
+pub(crate) struct Cx<'a> {
+    pub(crate) db: &'a dyn Db,
+    pub(crate) ws: Workspace,
+    pub(crate) file: File,
+    pub(crate) read: &'a AssertionFile,
     others: &'a [(File, AssertionFile)],
-    a: &'a AssertionDecl,
+    pub(crate) a: &'a AssertionDecl,
     /// The buffer assumed for asynchronous connections, if any.
     async_buffer: Option<AsyncBuffer>,
 }
 
 impl Cx<'_> {
     /// What `path`, a side of the assertion, denotes (hir's one reading).
-    fn target(&self, path: &[String]) -> Result<Target, String> {
+    pub(crate) fn target(&self, path: &[String]) -> Result<Target, String> {
         let scope = Scope { db: self.db, ws: self.ws, file: self.file, read: self.read, others: self.others };
         match robosim_hir::target::subject(scope, self.a, path)? {
             Target::Simulation { name, inner: Some(_), .. } => Err(format!(
@@ -282,7 +282,7 @@ impl Cx<'_> {
     }
 
     /// The constant values the assertion gives.
-    fn constants(&self) -> Result<Vec<ConstValue>, String> {
+    pub(crate) fn constants(&self) -> Result<Vec<ConstValue>, String> {
         Ok(robosim_hir::target::bindings(self.a)?
             .into_iter()
             .map(|b| ConstValue { name: b.name, of: b.of, value: b.value as Val })
@@ -313,7 +313,7 @@ impl Cx<'_> {
     }
 
     /// The compiled element of `target` and its period.
-    fn compile(&self, target: &Target, consts: &[ConstValue]) -> Result<(Design, u32), String> {
+    pub(crate) fn compile(&self, target: &Target, consts: &[ConstValue]) -> Result<(Design, u32), String> {
         let (name, loc, period) = match target {
             Target::Constrained { name, loc, period, .. } | Target::Simulation { name, loc, period, .. } => {
                 (name, *loc, *period)
@@ -514,13 +514,17 @@ fn refinement(
     report: &mut Report,
 ) {
     let a = cx.a;
+    let model = match model {
+        SemanticModelName::Traces => SemanticModel::Traces,
+        SemanticModelName::Failures => SemanticModel::Failures,
+        SemanticModelName::FailuresDivergences | SemanticModelName::Default => SemanticModel::FailuresDivergences,
+        SemanticModelName::TickTock => SemanticModel::TickTock,
+    };
+    // A side defined in a `csp` block of this file: the CSPm bridge.
+    if crate::csp::is_block(cx, other) || crate::csp::is_block(cx, &a.subject) {
+        return crate::csp::refinement(cx, other, model, both_ways, opts, progress, report);
+    }
     let mut run = || -> Result<(), String> {
-        let model = match model {
-            SemanticModelName::Traces => SemanticModel::Traces,
-            SemanticModelName::Failures => SemanticModel::Failures,
-            SemanticModelName::FailuresDivergences | SemanticModelName::Default => SemanticModel::FailuresDivergences,
-            SemanticModelName::TickTock => SemanticModel::TickTock,
-        };
         let consts = cx.constants()?;
         let imp_t = cx.target(&a.subject)?;
         let spec_t = cx.target(other)?;
@@ -961,7 +965,7 @@ fn unsupported_reason(db: &dyn Db, ws: Workspace, u: &Unsupported) -> String {
     format!("{} ({path}:{}:{})", u.message, at.line + 1, at.col + 1)
 }
 
-fn domains_note(design: &Design) -> String {
+pub(crate) fn domains_note(design: &Design) -> String {
     let doms: Vec<String> = design.domains.iter().map(|(n, d)| format!("{n} = {{{}..{}}}", d.lo, d.hi)).collect();
     let mut s = format!("domains: {}", doms.join(", "));
     if !design.constants.is_empty() {
@@ -983,7 +987,12 @@ fn path_steps(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Vec
 }
 
 /// Which machine moved between `prev` and `next`, and what it did.
-fn describe_move(design: &Design, prev: &[i32], next: &[i32], _label: &Label) -> (Option<String>, Option<Location>) {
+pub(crate) fn describe_move(
+    design: &Design,
+    prev: &[i32],
+    next: &[i32],
+    _label: &Label,
+) -> (Option<String>, Option<Location>) {
     for m in &design.machines {
         // The machine's control slots (leaf, pc, wait, transition, deadline,
         // and its activities' and timers'): two transitions can lead to the

@@ -332,21 +332,23 @@ impl Builder<'_> {
         let mut constants = Vec::new();
         let mut registers = Vec::new();
         // A module's events are its platform's.
-        let mut contexts = vec![Ctx::Local(file, id)];
+        // (context, whether it is a robotic platform: the operations it
+        // provides are the module's calls).
+        let mut contexts = vec![(Ctx::Local(file, id), false)];
         if kind == DefKind::Module {
             for (rid, r) in defs.children(Some(id)) {
                 match (r.kind, &r.data) {
-                    (DefKind::Platform, _) => contexts.push(Ctx::Local(file, rid)),
+                    (DefKind::Platform, _) => contexts.push((Ctx::Local(file, rid), true)),
                     (DefKind::PlatformRef, DefData::Reference { path, .. }) => {
                         if let Some(loc) = resolve_item(db, self.ws, file, path, |k| k == DefKind::Platform).first() {
-                            contexts.push(Ctx::Item(*loc));
+                            contexts.push((Ctx::Item(*loc), true));
                         }
                     }
                     _ => {}
                 }
             }
         }
-        for ctx in contexts {
+        for (ctx, platform) in contexts {
             for m in ctx_members(db, self.ws, ctx).iter() {
                 let Some((mfile, mdecl)) = target_decl(db, m.target) else { continue };
                 let ty = m.ty.as_ref().map(|t| self.ty(mfile, t));
@@ -377,7 +379,7 @@ impl Builder<'_> {
                         self.push(name.clone(), CspKind::Constant { ty, init }, Some(mdecl));
                         constants.push(name);
                     }
-                    DefKind::OperationSig if m.via != Some(crate::defs::UseKind::Provides) => {
+                    DefKind::OperationSig if platform || m.via != Some(crate::defs::UseKind::Provides) => {
                         let name = format!("{module}::{}Call", m.name);
                         let fields = sig_params(db, m.target).iter().map(|t| self.ty(mfile, t)).collect();
                         if !channels.contains(&name) {
@@ -465,10 +467,10 @@ impl Builder<'_> {
 
     /// The CSPm type of `t`, written in `file`.
     fn ty(&self, file: File, t: &TypeRef) -> CspType {
-        self.of(&crate::types::lower(self.db, self.ws, file, t), t)
+        self.of(&crate::types::lower(self.db, self.ws, file, t))
     }
 
-    fn of(&self, t: &Ty, written: &TypeRef) -> CspType {
+    fn of(&self, t: &Ty) -> CspType {
         match t {
             Ty::Nat => CspType::Nat,
             Ty::Int => CspType::Int,
@@ -482,9 +484,9 @@ impl Builder<'_> {
                 }
                 CspType::Named(joined(&pkg, name, "_"))
             }
-            Ty::Product(ts) => CspType::Tuple(ts.iter().map(|t| self.of(t, written)).collect()),
-            Ty::Set(a) => CspType::Set(Box::new(self.of(a, written))),
-            Ty::Seq(a) => CspType::Seq(Box::new(self.of(a, written))),
+            Ty::Product(ts) => CspType::Tuple(ts.iter().map(|t| self.of(t)).collect()),
+            Ty::Set(a) => CspType::Set(Box::new(self.of(a))),
+            Ty::Seq(a) => CspType::Seq(Box::new(self.of(a))),
             other => CspType::Other(other.to_string()),
         }
     }
