@@ -287,16 +287,9 @@ pub fn name_text(node: &cspm::SyntaxNode) -> String {
 
 /// Whether `name`, absent from the table of the model's names, may still
 /// be one RoboTool generates: the cycle constants of RoboSim (`cycle_…`),
-/// and a module's `M::opCall` channels of the operations its platform
-/// provides (RoboTool declares them at the module level; the table lists
-/// required operations only). Returns whether patterns match it.
-fn untabled_model_name(table: &CspNames, name: &str) -> Option<bool> {
-    if name.starts_with("cycle_") {
-        return Some(false);
-    }
-    let (module, last) = name.rsplit_once("::")?;
-    let is_module = table.element(module).is_some_and(|e| e.kind == crate::defs::DefKind::Module);
-    (is_module && last.len() > "Call".len() && last.ends_with("Call")).then_some(true)
+/// which the table does not list. Returns whether patterns match it.
+fn untabled_model_name(name: &str) -> Option<bool> {
+    name.starts_with("cycle_").then_some(false)
 }
 
 /// Whether patterns match the model's name `n` rather than bind it.
@@ -322,7 +315,7 @@ impl NameLookup for BlockNames<'_> {
         } else if let Some(n) = self.model.get(name) {
             model_constructor(n)
         } else {
-            untabled_model_name(self.model, name)?
+            untabled_model_name(name)?
         };
         Some(if ctor {
             ExternalName::Channel(Vec::new())
