@@ -5,14 +5,15 @@
 
 use std::time::Instant;
 
-use robosim_hir::{parse, Db, File, TextRange, Workspace};
+use robosim_hir::model::assertion_file;
+use robosim_hir::{Db, File, TextRange, Workspace};
 
 use crate::algo::{
     check_determinism, find_deadlock, find_divergence, find_event, find_timed_deadlock, find_timelock, refines,
     DeadlockResult, DeterminismResult, DivergenceResult, EventResult, Path, RefinementCex, RefinementResult,
     SemanticModel, TimedDeadlockResult, TimelockResult,
 };
-use crate::assertions::{read_assertions, AssertionDecl, AssertionFile, AssertionKind, SemanticModelName, Value};
+use crate::assertions::{AssertionDecl, AssertionFile, AssertionKind, SemanticModelName, Value};
 use crate::budget::{Budget, ProgressFn, Stats};
 use crate::design::{shared_events, DesignLts, Reach};
 use crate::ir::{Design, Instr, Val};
@@ -159,7 +160,7 @@ fn all_assertion_files(db: &dyn Db, ws: Workspace) -> Vec<(File, AssertionFile)>
     ws.files(db)
         .iter()
         .filter(|f| !f.is_library(db) && f.kind(db).is_assertions())
-        .map(|&f| (f, read_assertions(&parse(db, f).syntax_node())))
+        .map(|&f| (f, assertion_file(db, f).clone()))
         .collect()
 }
 
@@ -171,7 +172,7 @@ pub fn verify_file(
     opts: &Options,
     progress: Option<ProgressFn>,
 ) -> Vec<Report> {
-    let read = read_assertions(&parse(db, file).syntax_node());
+    let read = assertion_file(db, file).clone();
     let others = all_assertion_files(db, ws);
     read.assertions.iter().map(|a| verify_assertion(db, ws, file, &read, &others, a, opts, progress)).collect()
 }

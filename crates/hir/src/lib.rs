@@ -20,6 +20,7 @@ mod db;
 pub mod defs;
 mod diagnostics;
 pub mod index;
+pub mod model;
 mod more_checks;
 pub mod nav;
 pub mod profile;

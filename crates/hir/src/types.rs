@@ -320,10 +320,38 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
         env: Vec::new(),
         out: Vec::new(),
         result: None,
+        recorded: None,
     };
     let root = parse(db, file).syntax_node();
     t.walk(&root);
     t.out
+}
+
+/// The type of every expression of `file` that the type checker types,
+/// by the expression's range (for the lowered model, [`crate::model`]).
+#[salsa::tracked(returns(ref))]
+pub fn expr_types(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<TextRange, Ty> {
+    if file.kind(db).is_assertions() {
+        return FxHashMap::default();
+    }
+    let (decl, body) = (&file_resolution(db, ws, file).refs, &body_resolution(db, ws, file).refs);
+    let targets = decl.iter().chain(body).filter_map(|r| Some((r.range, r.target?))).collect();
+    let mut t = Typer {
+        db,
+        ws,
+        file,
+        defs: file_defs(db, file),
+        rs: file.kind(db) == FileKind::RoboSim,
+        targets,
+        type_cache: Default::default(),
+        named_cache: Default::default(),
+        env: Vec::new(),
+        out: Vec::new(),
+        result: None,
+        recorded: Some(FxHashMap::default()),
+    };
+    t.walk(&parse(db, file).syntax_node());
+    t.recorded.unwrap_or_default()
 }
 
 struct Typer<'a> {
@@ -344,6 +372,9 @@ struct Typer<'a> {
     out: Vec<ResolveProblem>,
     /// The result type inside a function's postcondition.
     result: Option<Ty>,
+    /// The types of the expressions typed so far, when asked for
+    /// ([`expr_types`]).
+    recorded: Option<FxHashMap<TextRange, Ty>>,
 }
 
 fn op_text(k: SyntaxKind) -> &'static str {
@@ -620,6 +651,14 @@ impl Typer<'_> {
 
     /// The type of an expression; reports the innermost ill-typed part.
     fn expr(&mut self, n: &SyntaxNode) -> Ty {
+        let t = self.expr_type(n);
+        if let Some(r) = &mut self.recorded {
+            r.insert(n.text_range(), t.clone());
+        }
+        t
+    }
+
+    fn expr_type(&mut self, n: &SyntaxNode) -> Ty {
         match n.kind() {
             LITERAL => match n.first_token().map(|t| t.kind()) {
                 Some(INT_NUMBER) => Ty::Nat,

@@ -1,0 +1,498 @@
+//! The lowered, typed model of a workspace: what the back ends (the
+//! verification engine, the CSPm export) translate from, without reading
+//! syntax.
+//!
+//! In the style of rust-analyzer's `hir-def`: a salsa query per file
+//! ([`file_model`]) lowers every top-level element once into plain data —
+//! machines and operations with their declarations, nodes in nested
+//! regions, transitions with their trigger, guard and action; controllers
+//! and modules with their instances and connections; platforms,
+//! interfaces, enumerations and records. Expressions and statements are
+//! trees ([`Expr`], [`Stmt`]) whose names carry what they resolve to and
+//! whose types come from [`crate::types`]. Each element keeps its source
+//! range (and [`ItemLoc`]s point at files), so that counterexamples and
+//! diagrams still point into the text.
+//!
+//! The model records what the text says, in order; what it *means* for a
+//! semantics (defaults, domains, the composition rules) is the back end's.
+
+mod expr;
+mod lower;
+mod print;
+
+pub use expr::{BinOp, Comm, CommPart, Expr, ExprKind, Selector, Stmt, StmtKind, UnOp};
+pub use lower::{assertion_file, enum_literals, file_model, item, resolve};
+pub use print::render;
+
+use crate::cycle::CycleInfo;
+use crate::defs::{DefId, Io, UseKind};
+use crate::index::ItemLoc;
+use crate::types::Ty;
+use crate::TextRange;
+
+/// A type as written (its text and range, for messages) and what it
+/// denotes (from [`crate::types::lower`]).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct TyRef {
+    /// The type.
+    pub ty: Ty,
+    /// Its text as written (whitespace as in the source).
+    pub text: String,
+    /// Its range.
+    pub range: TextRange,
+}
+
+/// One variable of a `var`/`const` list.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct VarDecl {
+    /// Its name.
+    pub name: String,
+    /// Its declared type (none when omitted).
+    pub ty: Option<TyRef>,
+    /// Its initial value.
+    pub init: Option<Expr>,
+    /// The declaration's range.
+    pub range: TextRange,
+}
+
+/// A parameter of an operation (signature or definition).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Param {
+    /// Its name.
+    pub name: String,
+    /// Its type.
+    pub ty: Option<TyRef>,
+    /// The parameter's range.
+    pub range: TextRange,
+}
+
+/// A declaration of a machine, operation, controller, interface or
+/// platform, in the order written.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Decl {
+    /// `var …` or `const …`.
+    Vars {
+        /// Whether the list is of constants.
+        is_const: bool,
+        /// Its variables.
+        vars: Vec<VarDecl>,
+        /// The list's range.
+        range: TextRange,
+    },
+    /// `clock C`.
+    Clock {
+        /// Its name.
+        name: String,
+        /// The declaration's range.
+        range: TextRange,
+    },
+    /// `event e : T`.
+    Event {
+        /// Its name.
+        name: String,
+        /// The type of its values, if it carries any.
+        ty: Option<TyRef>,
+        /// Whether it is a broadcast event.
+        broadcast: bool,
+        /// The declaration's range.
+        range: TextRange,
+    },
+    /// An operation signature `op(x : T)`.
+    OperationSig {
+        /// Its name.
+        name: String,
+        /// Its parameters.
+        params: Vec<Param>,
+        /// The declaration's range.
+        range: TextRange,
+    },
+    /// An operation defined, or referenced, inside a machine or
+    /// interface, or a function: elements a declaration block may hold
+    /// that the block itself does not describe further here.
+    Nested {
+        /// What it is.
+        kind: NestedKind,
+        /// Its name.
+        name: String,
+        /// Its range.
+        range: TextRange,
+    },
+}
+
+/// What a [`Decl::Nested`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NestedKind {
+    /// `operation O(…) { … }`.
+    OperationDef,
+    /// `opref o = O`.
+    OperationRef,
+    /// `function f(…) : T { … }`.
+    Function,
+}
+
+/// `uses`, `provides` or `requires I`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct InterfaceUse {
+    /// Which keyword.
+    pub kind: UseKind,
+    /// The interface's name as written.
+    pub path: Vec<String>,
+    /// The interface it resolves to.
+    pub target: Option<ItemLoc>,
+    /// The whole clause's range.
+    pub range: TextRange,
+}
+
+/// Declarations and the interfaces used, provided or required, in the
+/// order written.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct Decls {
+    /// The declarations.
+    pub decls: Vec<Decl>,
+    /// The interface clauses.
+    pub uses: Vec<InterfaceUse>,
+}
+
+/// What kind of node of a state machine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NodeKind {
+    /// A (simple or composite) state.
+    State,
+    /// A junction.
+    Junction,
+    /// The initial junction of a region.
+    Initial,
+    /// A final state.
+    Final,
+    /// A probabilistic junction.
+    Probabilistic,
+}
+
+/// An entry, during, exit or transition action.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Action {
+    /// Its statement (none when incomplete).
+    pub stmt: Option<Stmt>,
+    /// The whole clause's range.
+    pub range: TextRange,
+}
+
+/// A node of a region.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Node {
+    /// What it is.
+    pub kind: NodeKind,
+    /// Its name.
+    pub name: String,
+    /// The name's range (the node's when it has none).
+    pub name_range: TextRange,
+    /// The whole node's range.
+    pub range: TextRange,
+    /// `entry` action.
+    pub entry: Option<Action>,
+    /// `during` action.
+    pub during: Option<Action>,
+    /// `exit` action.
+    pub exit: Option<Action>,
+    /// The region inside a state (empty for a simple state).
+    pub region: Region,
+}
+
+/// The nodes and transitions of a machine, an operation or a state.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct Region {
+    /// The nodes, in order.
+    pub nodes: Vec<Node>,
+    /// The transitions, in order.
+    pub transitions: Vec<Transition>,
+}
+
+impl Region {
+    /// Whether the region has no nodes (a simple state's).
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+}
+
+/// A transition's condition.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Condition {
+    /// `condition else`.
+    pub is_else: bool,
+    /// The guard expression.
+    pub expr: Option<Expr>,
+    /// The clause's range.
+    pub range: TextRange,
+}
+
+/// A transition.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Transition {
+    /// Its name.
+    pub name: String,
+    /// The name's range (the transition's when it has none).
+    pub name_range: TextRange,
+    /// The whole transition's range.
+    pub range: TextRange,
+    /// The source node's name (in the same region).
+    pub source: Option<String>,
+    /// The target node's name.
+    pub target: Option<String>,
+    /// The source node: its index in the region's nodes.
+    pub source_node: Option<usize>,
+    /// The target node: its index in the region's nodes.
+    pub target_node: Option<usize>,
+    /// The trigger's communication.
+    pub trigger: Option<Comm>,
+    /// `exec` (RoboSim).
+    pub exec: bool,
+    /// `probability p`: its range.
+    pub probability: Option<TextRange>,
+    /// Clocks reset (`#C`): name and the clause's range.
+    pub resets: Vec<(String, TextRange)>,
+    /// `condition g`.
+    pub condition: Option<Condition>,
+    /// `<{d}`: the clause's range and the limit.
+    pub deadline: Option<(TextRange, Option<Expr>)>,
+    /// `action a`.
+    pub action: Option<Action>,
+}
+
+/// A state machine or an operation definition: its behaviour.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Behaviour {
+    /// Its name.
+    pub name: String,
+    /// Its range.
+    pub range: TextRange,
+    /// Parameters (operations).
+    pub params: Vec<Param>,
+    /// Declarations and interfaces.
+    pub decls: Decls,
+    /// RoboSim input and output contexts, in the order written.
+    pub contexts: Vec<(Io, Decls)>,
+    /// Nodes and transitions.
+    pub region: Region,
+    /// Every integer literal written in it (RoboTool widens the numeric
+    /// types with them).
+    pub literals: Vec<i64>,
+    /// Its definition in its file (for [`crate::cycle::simulation_period`]).
+    pub def: Option<DefId>,
+    /// RoboSim: what its `cycleDef`s allow (none without any).
+    pub cycle: Option<CycleInfo>,
+}
+
+impl Behaviour {
+    /// Every communication of its behaviour (triggers and communication
+    /// statements, in nodes, actions and transitions), with whether it is
+    /// a trigger.
+    pub fn communications(&self) -> Vec<(&Comm, bool)> {
+        let mut out = Vec::new();
+        self.region.communications(&mut out);
+        out
+    }
+}
+
+impl Region {
+    fn communications<'a>(&'a self, out: &mut Vec<(&'a Comm, bool)>) {
+        fn action<'a>(a: &'a Option<Action>, out: &mut Vec<(&'a Comm, bool)>) {
+            if let Some(s) = a.as_ref().and_then(|a| a.stmt.as_ref()) {
+                s.walk(&mut |s| {
+                    if let StmtKind::Comm(c) = &s.kind {
+                        out.push((c, false));
+                    }
+                });
+            }
+        }
+        for n in &self.nodes {
+            action(&n.entry, out);
+            action(&n.during, out);
+            action(&n.exit, out);
+            n.region.communications(out);
+        }
+        for t in &self.transitions {
+            if let Some(c) = &t.trigger {
+                out.push((c, true));
+            }
+            action(&t.action, out);
+        }
+    }
+}
+
+/// An element declared inline or referenced by name.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Definition<T> {
+    /// Declared here.
+    Inline(Box<T>),
+    /// `sref`/`cref`/`rref`/`opref n = Path`: the path and what it
+    /// resolves to.
+    Ref {
+        /// The path as written.
+        path: Vec<String>,
+        /// The element.
+        target: Option<ItemLoc>,
+    },
+}
+
+/// An instance of a machine, operation, controller or platform inside a
+/// controller or module.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Instance<T> {
+    /// The instance's name (the reference's, or the inline element's).
+    pub name: String,
+    /// Its range.
+    pub range: TextRange,
+    /// The element.
+    pub def: Definition<T>,
+}
+
+/// A connection `connection N on e to M on f (_async) [mult]`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Connection {
+    /// Source node (instance name, or the enclosing element's).
+    pub from: String,
+    /// Source event.
+    pub efrom: String,
+    /// Target node.
+    pub to: String,
+    /// Target event.
+    pub eto: String,
+    /// `(_async)`.
+    pub is_async: bool,
+    /// `[mult]`: both ways.
+    pub is_mult: bool,
+    /// What the source node is, in the enclosing controller or module.
+    pub from_end: End,
+    /// What the target node is.
+    pub to_end: End,
+    /// Its range.
+    pub range: TextRange,
+}
+
+/// What a connection's node names, in its controller or module.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum End {
+    /// The enclosing controller (or module) itself.
+    This,
+    /// A platform of the module (index into its platforms).
+    Platform(usize),
+    /// A controller of the module (index into its controllers).
+    Controller(usize),
+    /// A machine of the controller (index into its machines).
+    Machine(usize),
+    /// Nothing of that name.
+    Unknown,
+}
+
+/// A controller.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Controller {
+    /// Its name.
+    pub name: String,
+    /// Its range.
+    pub range: TextRange,
+    /// Its own declarations (events, interfaces).
+    pub decls: Decls,
+    /// Its machines, in order.
+    pub machines: Vec<Instance<Behaviour>>,
+    /// Its operations (defined or referenced), in order.
+    pub operations: Vec<Instance<Behaviour>>,
+    /// Its connections.
+    pub connections: Vec<Connection>,
+    /// Its definition in its file (for [`crate::cycle::simulation_period`]).
+    pub def: Option<DefId>,
+    /// RoboSim: what its and its machines' `cycleDef`s allow.
+    pub cycle: Option<CycleInfo>,
+}
+
+/// A robotic platform.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Platform {
+    /// Its name.
+    pub name: String,
+    /// Its range.
+    pub range: TextRange,
+    /// What it declares, provides and uses.
+    pub decls: Decls,
+}
+
+/// A module.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Module {
+    /// Its name.
+    pub name: String,
+    /// Its range.
+    pub range: TextRange,
+    /// Its platforms (normally one).
+    pub platforms: Vec<Instance<Platform>>,
+    /// Its controllers, in order.
+    pub controllers: Vec<Instance<Controller>>,
+    /// Its connections.
+    pub connections: Vec<Connection>,
+    /// Its definition in its file (for [`crate::cycle::simulation_period`]).
+    pub def: Option<DefId>,
+    /// RoboSim: what its and its controllers' `cycleDef`s allow.
+    pub cycle: Option<CycleInfo>,
+}
+
+/// A record type's field.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Field {
+    /// Its name.
+    pub name: String,
+    /// Its type.
+    pub ty: Option<TyRef>,
+    /// Its range.
+    pub range: TextRange,
+}
+
+/// A function: its signature and its specification.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Function {
+    /// Its name.
+    pub name: String,
+    /// Its range.
+    pub range: TextRange,
+    /// Its parameters.
+    pub params: Vec<Param>,
+    /// Its result type.
+    pub result: Option<TyRef>,
+    /// `precondition e`, in order.
+    pub preconditions: Vec<Expr>,
+    /// `postcondition e`, in order (`result == e` defines it).
+    pub postconditions: Vec<Expr>,
+}
+
+/// A top-level element of a file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Item {
+    /// `stm`.
+    Machine(Behaviour),
+    /// `operation`.
+    Operation(Behaviour),
+    /// `controller`.
+    Controller(Controller),
+    /// `module`.
+    Module(Module),
+    /// `robotic platform`.
+    Platform(Platform),
+    /// `interface`.
+    Interface(Platform),
+    /// `enumeration`: its literals.
+    Enumeration(String, Vec<String>),
+    /// `datatype`: its fields.
+    Record(String, Vec<Field>),
+    /// `type T` (a primitive type).
+    PrimitiveType(String),
+    /// `function f(…) : T { … }`.
+    Function(Function),
+    /// Anything the model does not describe (functions, assertions, …).
+    Other,
+}
+
+/// The model of one file: its top-level elements with their definitions.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
+pub struct FileModel {
+    /// The elements, in order, each with its definition in the file.
+    pub items: Vec<(DefId, Item)>,
+}
