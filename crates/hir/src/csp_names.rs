@@ -535,7 +535,8 @@ fn sig_params(db: &dyn Db, t: Target) -> Vec<TypeRef> {
     }
 }
 
-/// An item's location, for callers that start from the index.
+/// The CSPm module path of a top-level item (`A_B::M`, `M` in the default
+/// package), for callers that start from the index.
 pub fn item_module(db: &dyn Db, loc: ItemLoc) -> String {
     let pkg = package_prefix(&file_summary(db, loc.file).package);
     joined(&pkg, &loc.summary(db).name, "::")

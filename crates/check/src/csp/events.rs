@@ -37,6 +37,11 @@ pub(crate) struct Names {
 pub(crate) type OwnChannels = FxHashMap<String, Vec<BTreeSet<Value>>>;
 
 impl Names {
+    /// A table with no model events (both sides are CSPm).
+    pub fn empty() -> Names {
+        Names { first_extra: FIRST_VISIBLE, ..Names::default() }
+    }
+
     /// The name of `e` on either side.
     pub fn name(&self, e: Event) -> String {
         match e {
@@ -142,18 +147,19 @@ pub(crate) fn design_names(
     table: &EventTable,
     module: &str,
     names: &CspNames,
-) -> Result<(Names, OwnChannels), String> {
+) -> Result<(Names, OwnChannels, Vec<Option<Value>>), String> {
     let end = table.next_event();
     if (end - FIRST_VISIBLE) as u64 > MAX_EVENTS {
         return Err(format!("the model has more than {MAX_EVENTS} events: too many to name for the CSPm bridge"));
     }
     let mut out = Names { first_extra: end, ..Names::default() };
     let mut own = OwnChannels::default();
+    let mut values = Vec::new();
     // Channels by their native name.
     let by_native: FxHashMap<String, &crate::ir::Channel> =
         design.channels.iter().filter(|c| !c.internal).map(|c| (channel_name(c), c)).rev().collect();
     for e in FIRST_VISIBLE..end {
-        let name = table.decode(e).and_then(|(g, args)| {
+        let value = table.decode(e).and_then(|(g, args)| {
             let group = table.group(g);
             let c = by_native.get(&group.name)?;
             let chan = csp_channel(module, c);
@@ -175,13 +181,14 @@ pub(crate) fn design_names(
             for (set, v) in own.iter_mut().zip(&parts[1..]) {
                 set.insert(v.clone());
             }
-            let v = if parts.len() == 1 { parts.remove(0) } else { Value::Dot(parts.into()) };
-            Some(v.to_string())
+            Some(if parts.len() == 1 { parts.remove(0) } else { Value::Dot(parts.into()) })
         });
+        let name = value.as_ref().map(|v| v.to_string());
         if let Some(n) = &name {
             out.by_name.insert(n.clone(), e);
         }
         out.native.push(name);
+        values.push(value);
     }
     // An event `e` has both directions in CSPm, whichever the model uses.
     for (chan, fields) in own.iter_mut() {
@@ -194,5 +201,5 @@ pub(crate) fn design_names(
             }
         }
     }
-    Ok((out, own))
+    Ok((out, own, values))
 }

@@ -23,6 +23,32 @@ pub(crate) struct Host<'a> {
     pub own: FxHashMap<String, Vec<Vec<Value>>>,
     /// `core_nat`, `core_int`, `core_real`: the element's domains.
     pub domains: FxHashMap<String, Dom>,
+    /// Generated processes the bridge gives (see [`super::native::processes`]):
+    /// arity and LTS.
+    pub processes: FxHashMap<String, (usize, robosim_cspm::BuildLts)>,
+    /// Only resolving names: every generated process of a RoboChart
+    /// element is known (with a placeholder LTS).
+    pub resolve_only: bool,
+}
+
+impl<'a> Host<'a> {
+    /// The lookup for resolving names only.
+    pub(crate) fn resolving(names: &'a CspNames) -> Host<'a> {
+        Host {
+            names,
+            own: FxHashMap::default(),
+            domains: FxHashMap::default(),
+            processes: FxHashMap::default(),
+            resolve_only: true,
+        }
+    }
+}
+
+/// Whether the bridge can give the generated process `name`: `M::D__`
+/// and `M::O__` of a RoboChart element.
+fn givable(names: &CspNames, name: &str) -> bool {
+    let Some((module, p)) = name.rsplit_once("::") else { return false };
+    matches!(p, "D__" | "O__") && names.element(module).is_some_and(|e| !e.robosim)
 }
 
 fn ints(d: Dom) -> Vec<Value> {
@@ -123,7 +149,11 @@ impl Host<'_> {
         }
         let entry = self.names.get(name)?;
         let what = match &entry.kind {
-            CspKind::Process { .. } => "a process RoboTool generates for a model element",
+            CspKind::Process { .. } if givable(self.names, name) => return None,
+            CspKind::Process { .. } => {
+                "a process RoboTool generates for a model element (the bridge gives `M::D__` and `M::O__` of \
+                 RoboChart elements)"
+            }
             CspKind::EventSet => "the set of an element's visible events (`sem__events`)",
             CspKind::Register { .. } => "a RoboSim register",
             CspKind::Module => "a CSPm module of the model",
@@ -189,7 +219,16 @@ impl NameLookup for Host<'_> {
             CspKind::Constant { ty, init } => self.constant(ty, init.as_deref()).map(ExternalName::Value),
             CspKind::Type(_) => Some(ExternalName::Value(set(self.type_values(name)?))),
             CspKind::Literal { .. } => Some(ExternalName::Value(Value::Ctor(name.into()))),
-            CspKind::Module | CspKind::Register { .. } | CspKind::Process { .. } | CspKind::EventSet => None,
+            CspKind::Process { params } => {
+                if let Some((arity, build)) = self.processes.get(name) {
+                    return Some(ExternalName::Process { arity: *arity, build: build.clone() });
+                }
+                (self.resolve_only && givable(self.names, name)).then(|| ExternalName::Process {
+                    arity: params.len(),
+                    build: Rc::new(|_: &[Value]| Err("not compiled".to_string())),
+                })
+            }
+            CspKind::Module | CspKind::Register { .. } | CspKind::EventSet => None,
         }
     }
 }

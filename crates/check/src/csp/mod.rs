@@ -22,17 +22,16 @@
 mod events;
 mod host;
 mod lts;
+mod native;
 mod script;
 
 use robosim_cspm::{Code, Evaluator, Label as CspLabel, Limits, Module, Severity};
 use robosim_hir::csp_names::csp_names;
-use robosim_hir::defs::DefKind;
-use robosim_hir::target::Subject as Target;
 use robosim_hir::TextRange;
 
 use crate::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
 use crate::budget::ProgressFn;
-use crate::design::{shared_events, DesignLts};
+use crate::design::DesignLts;
 use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
 use crate::pack::VectorLts;
 use crate::verify::{Counterexample, Cx, Options, Report, Step, Verdict};
@@ -67,6 +66,12 @@ pub(crate) fn refinement(
 
 type Outcome = Result<(), (Verdict, String)>;
 
+/// The most events `Events` may hold.
+const MAX_EVENTS: usize = 20_000;
+
+/// An explicit LTS's transitions, state by state, in the shared numbering.
+type Transitions = Vec<Vec<(Label, u32)>>;
+
 fn unsupported(msg: impl Into<String>) -> (Verdict, String) {
     (Verdict::Unsupported, msg.into())
 }
@@ -86,49 +91,49 @@ fn run(
     // The blocks first: FDR rejects a script with an unknown name whichever
     // assertion uses it.
     let script = Script::of(cx);
-    check_script(cx, &script, &Host { names, own: Default::default(), domains: Default::default() })?;
-    if is_block(cx, &a.subject) {
-        return Err(unsupported(format!(
-            "`{}` is a `csp` block: CSPm on the implementation side (wrapping a generated process such as \
-             `M::O__`) is not supported by the native CSPm bridge yet",
-            a.subject.join("::")
-        )));
-    }
+    let resolving = Host::resolving(names);
+    let checked = check_script(cx, &script, &resolving)?;
     if model == SemanticModel::TickTock {
         return Err(unsupported("the tick-tock model with a CSPm specification is not supported yet"));
     }
-    let spec_name = other.join("::");
-    let target = cx.target(&a.subject).map_err(unsupported)?;
-    let Target::Design { loc, inner, .. } = &target else {
-        return Err(unsupported(format!(
-            "`{}` is a RoboSim element or a simulation: the CSPm bridge checks RoboChart modules, controllers \
-             and machines so far",
-            a.subject.join("::")
-        )));
-    };
-    // The element, found by its declaration.
-    let decl_range = loc.def(cx.db).map(|d| robosim_hir::defs::file_defs(cx.db, loc.file).def(d).name_range);
-    let outer = names.elements().iter().find(|e| e.decl.file == loc.file && Some(e.decl.range) == decl_range);
-    let element = match (outer, inner) {
-        (Some(o), Some(m)) => {
-            let mut path = o.path.clone();
-            path.push(m.clone());
-            names.element_by_path(&path)
-        }
-        (o, None) => o,
-        _ => None,
+    let (imp_block, spec_block) = (is_block(cx, &a.subject), is_block(cx, other));
+    let bindings = cx.constants().map_err(unsupported)?;
+    if imp_block && !bindings.is_empty() {
+        return Err(unsupported(
+            "`with constant` on an assertion whose implementation is a `csp` block is not supported by the CSPm \
+             bridge yet",
+        ));
     }
-    .ok_or_else(|| unsupported(format!("`{}` has no name in RoboTool's CSPm", a.subject.join("::"))))?;
-    let (design, _) = cx.compile(&target, &cx.constants().map_err(unsupported)?).map_err(unsupported)?;
-    let table = shared_events(&[&design]).map_err(unsupported)?;
-    let (mut ids, own) = events::design_names(&design, &table, &element.module, names).map_err(unsupported)?;
+    // The side that is a model element, if any.
+    let native_path: Option<&[String]> = match (imp_block, spec_block) {
+        (false, _) => Some(&a.subject),
+        (true, false) => Some(other),
+        (true, true) => None,
+    };
+    let mut compiled =
+        native_path.map(|p| native::compile(cx, names, p, &bindings)).transpose().map_err(unsupported)?;
+    let limits = Limits {
+        max_states: usize::try_from(opts.budget.max_states).unwrap_or(usize::MAX).min(Limits::default().max_states),
+        time: opts.budget.timeout.unwrap_or(Limits::default().time),
+        cancel: opts.budget.cancel.clone(),
+        ..Limits::default()
+    };
+    // Generated processes the blocks apply, with the constants' values as
+    // the script has them.
+    let procs = {
+        let ev = std::cell::RefCell::new(Evaluator::new(&checked, &resolving, limits.clone()));
+        let constant = |k: &str| ev.borrow_mut().value(k).ok();
+        native::processes(cx, names, &script.text, &constant, limits.max_states).map_err(unsupported)?
+    };
+    let own = compiled.as_ref().map(|c| c.own.clone()).unwrap_or_default();
+    let domains = compiled.as_ref().map(|c| c.design.domains.iter().cloned().collect()).unwrap_or_default();
     let host = Host {
         names,
         own: own.into_iter().map(|(k, v)| (k, v.into_iter().map(|s| s.into_iter().collect()).collect())).collect(),
-        domains: design.domains.iter().cloned().collect(),
+        domains,
+        processes: procs,
+        resolve_only: false,
     };
-
-    // The specification.
     let module = check_script(cx, &script, &host)?;
     let uses_events = module.defined_names().iter().all(|n| n != "Events") && mentions(&script.text, "Events");
     if uses_events && model != SemanticModel::Traces {
@@ -137,12 +142,6 @@ fn run(
              CSPm (internal ones too); refusals of it can only be checked with FDR, or in the traces model",
         ));
     }
-    let limits = Limits {
-        max_states: usize::try_from(opts.budget.max_states).unwrap_or(usize::MAX).min(Limits::default().max_states),
-        time: opts.budget.timeout.unwrap_or(Limits::default().time),
-        cancel: opts.budget.cancel.clone(),
-        ..Limits::default()
-    };
     let mut ev = Evaluator::new(&module, &host, limits);
     if uses_events {
         // `Events` holds the channels met so far: every model channel first
@@ -153,63 +152,139 @@ fn run(
                 let _ = ev.value(&n.name);
             }
         }
+        // Processes over a large `Events` cost the evaluator dearly.
+        if let Ok(robosim_cspm::Value::Set(all)) = ev.value("Events") {
+            if all.len() > MAX_EVENTS {
+                return Err(unsupported(format!(
+                    "`Events` holds {} events here (every channel of every element of the model, over its \
+                     types): more than the {MAX_EVENTS} the CSPm bridge takes",
+                    all.len()
+                )));
+            }
+        }
     }
-    let spec = ev.lts(&spec_name).map_err(|d| {
-        let verdict = match d.code {
-            Code::Limit | Code::Cancelled | Code::Runtime => Verdict::Inconclusive,
-            _ => Verdict::Unsupported,
-        };
-        (verdict, format!("the specification `{spec_name}` could not be compiled: {}", d.message))
-    })?;
-    let def_at = definition(&script.text, &spec_name).map(|r| script.locate(cx, r)).unwrap_or_default();
-
-    // Every value of a model channel must be one of the model's (FDR
-    // rejects an event outside its channel's type).
-    for v in &spec.event_values {
-        host.check_event(v).map_err(unsupported)?;
+    let mut ids = compiled.as_mut().map(|c| std::mem::take(&mut c.ids)).unwrap_or_else(Names::empty);
+    let terminate =
+        compiled.as_ref().filter(|c| c.shows_terminate()).map(|c| format!("{}::terminate", c.element.module));
+    let terminate = terminate.map(|t| ids.id(&t));
+    // The blocks' sides, compiled by the CSPm evaluator.
+    let mut block = |name: &str| -> Result<(Transitions, String), (Verdict, String)> {
+        let lts = ev.lts(name).map_err(|d| {
+            // A generated process the bridge cannot give is unsupported,
+            // not a run-time error of the script.
+            let verdict = match d.code {
+                _ if d.message.contains("the CSPm bridge") => Verdict::Unsupported,
+                Code::Limit | Code::Cancelled | Code::Runtime => Verdict::Inconclusive,
+                _ => Verdict::Unsupported,
+            };
+            (verdict, format!("`{name}` could not be compiled: {}", d.message))
+        })?;
+        // Every value of a model channel must be one of the model's (FDR
+        // rejects an event outside its channel's type).
+        for v in &lts.event_values {
+            host.check_event(v).map_err(unsupported)?;
+        }
+        let at = definition(&script.text, name).map(|r| script.locate(cx, r)).unwrap_or_default();
+        let map: Vec<Event> = lts.events.iter().map(|n| ids.id(n)).collect();
+        let trans = lts
+            .transitions
+            .iter()
+            .map(|ts| {
+                ts.iter()
+                    .map(|(l, t)| {
+                        let e = match l {
+                            CspLabel::Tau => TAU,
+                            CspLabel::Tick => TICK,
+                            CspLabel::Event(i) => map[*i as usize],
+                        };
+                        (Label::plain(e), *t)
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok((trans, at))
+    };
+    let spec_name = other.join("::");
+    let imp_name = a.subject.join("::");
+    let spec_side = spec_block.then(|| block(&spec_name)).transpose()?;
+    let imp_side = imp_block.then(|| block(&imp_name)).transpose()?;
+    for (side, name) in [(&spec_side, &spec_name), (&imp_side, &imp_name)] {
+        if let Some((trans, at)) = side {
+            report.notes.push(format!("`{name}` {at}: {} states", trans.len()));
+        }
     }
+    let holds = match (compiled, spec_side, imp_side) {
+        // A model element refines a block.
+        (Some(c), Some((trans, at)), None) => {
+            let spec = SpecLts { trans, names: &ids };
+            let native = DesignLts::new(&c.design).map_err(unsupported)?;
+            let imp = Imp { inner: &native, terminate, names: &ids };
+            report.notes.push(crate::verify::domains_note(&c.design));
+            let explain =
+                |cex: &RefinementCex<_>| counterexample(&imp, &spec, &c.design, cex, &native, &spec_name, &at);
+            let holds = decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?;
+            if let Some(err) = native.error() {
+                return Err((Verdict::Inconclusive, format!("the model met a run-time error: {err}")));
+            }
+            holds
+        }
+        // A block refines a model element.
+        (Some(c), None, Some((trans, at))) => {
+            let imp = SpecLts { trans, names: &ids };
+            let native = DesignLts::new(&c.design).map_err(unsupported)?;
+            let spec = Imp { inner: &native, terminate, names: &ids };
+            report.notes.push(crate::verify::domains_note(&c.design));
+            let explain = |cex: &RefinementCex<u32>| explicit_counterexample(&imp, cex, &spec_name, &at);
+            let holds = decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?;
+            if let Some(err) = native.error() {
+                return Err((Verdict::Inconclusive, format!("the model met a run-time error: {err}")));
+            }
+            holds
+        }
+        // Two blocks.
+        (None, Some((strans, at)), Some((itrans, _))) => {
+            let spec = SpecLts { trans: strans, names: &ids };
+            let imp = SpecLts { trans: itrans, names: &ids };
+            let explain = |cex: &RefinementCex<u32>| explicit_counterexample(&imp, cex, &spec_name, &at);
+            decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?
+        }
+        _ => return Err(unsupported("neither side of the assertion is a `csp` block")),
+    };
+    if holds {
+        report.reason = Some(format!("{imp_name} {} {spec_name}", if both_ways { "equals" } else { "refines" }));
+    }
+    report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
+    Ok(())
+}
 
-    // One numbering: the specification's events onto the model's.
-    let terminate = matches!(element.kind, DefKind::Controller | DefKind::StateMachine)
-        .then(|| ids.id(&format!("{}::terminate", element.module)));
-    let spec_ids: Vec<Event> = spec.events.iter().map(|n| ids.id(n)).collect();
-    let trans = spec
-        .transitions
-        .iter()
-        .map(|ts| {
-            ts.iter()
-                .map(|(l, t)| {
-                    let e = match l {
-                        CspLabel::Tau => TAU,
-                        CspLabel::Tick => TICK,
-                        CspLabel::Event(i) => spec_ids[*i as usize],
-                    };
-                    (Label::plain(e), *t)
-                })
-                .collect()
-        })
-        .collect();
-    let spec_lts = SpecLts { trans, names: &ids };
-    let native = DesignLts::new(&design).map_err(unsupported)?;
-    let imp = Imp { inner: &native, terminate, names: &ids };
-    report.notes.push(crate::verify::domains_note(&design));
-    report.notes.push(format!("specification `{spec_name}` {def_at}: {} states", spec.states()));
-
-    let mut holds = true;
+/// Runs `spec ⊑ imp` (and the converse for `equals`); a failure's
+/// counterexample is made by `explain`. Whether it holds.
+#[allow(clippy::too_many_arguments)]
+fn decide<Sp: Lts, Im: Lts>(
+    spec: &Sp,
+    imp: &Im,
+    model: SemanticModel,
+    both_ways: bool,
+    opts: &Options,
+    progress: Option<ProgressFn>,
+    report: &mut Report,
+    ids: &Names,
+    explain: &dyn Fn(&RefinementCex<Im::State>) -> Counterexample,
+    script: &Script,
+) -> Result<bool, (Verdict, String)> {
     let add = |report: &mut Report, stats: crate::budget::Stats| {
         report.stats.states += stats.states;
         report.stats.transitions += stats.transitions;
         report.stats.seconds += stats.seconds;
     };
-    let (result, stats) = refines(&spec_lts, &imp, model, &opts.budget, progress);
+    let (result, stats) = refines(spec, imp, model, &opts.budget, progress);
     add(report, stats);
     match result {
         RefinementResult::Holds => {}
         RefinementResult::Inconclusive(stop) => return Err((Verdict::Inconclusive, stop.reason(&opts.budget))),
         RefinementResult::Fails(cex) => {
-            check_named(&ids, &cex)?;
-            holds = false;
-            let mut c = counterexample(&imp, &spec_lts, &design, &cex, &native, &spec_name, &def_at);
+            check_named(ids, &cex)?;
+            let mut c = explain(&cex);
             let untimed = !mentions(&script.text, "tock") && !mentions(&script.text, "Timed");
             if untimed && matches!(&cex, RefinementCex::Trace { event, .. } if event.event == TOCK) {
                 c.explanation.push(
@@ -221,32 +296,62 @@ fn run(
             }
             report.reason = Some(format!("refinement fails: {}", c.explanation[0]));
             report.counterexample = Some(c);
+            return Ok(false);
         }
     }
-    if holds && both_ways {
-        let (result, stats) = refines(&imp, &spec_lts, model, &opts.budget, progress);
+    if both_ways {
+        let (result, stats) = refines(imp, spec, model, &opts.budget, progress);
         add(report, stats);
         match result {
             RefinementResult::Holds => {}
             RefinementResult::Inconclusive(stop) => return Err((Verdict::Inconclusive, stop.reason(&opts.budget))),
             RefinementResult::Fails(cex) => {
-                holds = false;
-                report.reason = Some(format!(
-                    "refinement (converse) fails: the specification `{spec_name}` can {}",
-                    describe(&spec_lts, &cex)
-                ));
+                check_named(ids, &cex)?;
+                report.reason =
+                    Some(format!("refinement (converse) fails: the specification can {}", describe(spec, &cex)));
+                return Ok(false);
             }
         }
     }
-    if let Some(err) = native.error() {
-        return Err((Verdict::Inconclusive, format!("the model met a run-time error: {err}")));
+    Ok(true)
+}
+
+/// The counterexample of an implementation given in CSPm: its trace.
+fn explicit_counterexample(
+    imp: &SpecLts<'_>,
+    cex: &RefinementCex<u32>,
+    spec_name: &str,
+    def_at: &str,
+) -> Counterexample {
+    let (kind, path) = cex_path(cex);
+    let mut steps = Vec::new();
+    let mut time = 0;
+    for (label, _) in &path.steps {
+        let event = if label.event == TAU { "τ".into() } else { imp.event_name(label.event) };
+        steps.push(Step { event, visible: label.event != TAU, cycle: time, time, description: None, location: None });
+        if label.event == TOCK {
+            time += 1;
+        }
     }
-    if holds {
-        report.reason =
-            Some(format!("{} {} {spec_name}", a.subject.join("::"), if both_ways { "equals" } else { "refines" }));
+    let trace: Vec<String> = path.trace().iter().map(|e| imp.event_name(*e)).collect();
+    let explanation = vec![
+        format!("the implementation can {}", describe(imp, cex)),
+        format!(
+            "the specification `{spec_name}` ({}) after ⟨{}⟩ does not allow it",
+            def_at.trim_start_matches("in "),
+            trace.join(", ")
+        ),
+    ];
+    Counterexample { kind, steps, explanation, stuck_at: Vec::new(), specification: Vec::new() }
+}
+
+fn cex_path<S>(cex: &RefinementCex<S>) -> (&'static str, &crate::algo::Path<S>) {
+    match cex {
+        RefinementCex::Trace { path, .. } => ("trace", path),
+        RefinementCex::Refusal { path, .. } => ("refusal", path),
+        RefinementCex::TockRefusal { path, .. } => ("tock-refusal", path),
+        RefinementCex::Divergence { path, .. } => ("divergence", path),
     }
-    report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
-    Ok(())
 }
 
 /// The range of the top-level definition of `name` (`name = …` or
@@ -312,8 +417,9 @@ fn mentions(text: &str, word: &str) -> bool {
 fn check_named<S>(ids: &Names, cex: &RefinementCex<S>) -> Outcome {
     let (path, extra): (_, Vec<Event>) = match cex {
         RefinementCex::Trace { path, .. } | RefinementCex::Divergence { path, .. } => (path, Vec::new()),
-        RefinementCex::Refusal { path, offered, .. } | RefinementCex::TockRefusal { path, offered, .. } => {
-            (path, offered.clone())
+        RefinementCex::Refusal { path, offered, acceptances }
+        | RefinementCex::TockRefusal { path, offered, acceptances } => {
+            (path, offered.iter().chain(acceptances.iter().flatten()).copied().collect())
         }
     };
     let unnamed = path.steps.iter().map(|(l, _)| l.event).chain(extra).find(|&e| ids.unnamed(e));
