@@ -20,4 +20,5 @@ pub mod machine;
 pub mod pack;
 pub mod sched;
 pub mod sim;
+pub mod untimed;
 pub mod verify;
