@@ -15,6 +15,7 @@
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { cspmRules } from './cspm.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const KINDS_RS = path.join(HERE, '..', 'crates', 'syntax', 'src', 'kinds.rs');
@@ -316,14 +317,17 @@ function buildGrammar(langKey, tables, scopeOf) {
   };
 
   if (lang.assertion) {
+    const cspm = cspmRules(path.join(HERE, '..'), (s) => `${s}.cspm`);
     repo['csp-block'] = {
-      comment: 'One opaque token: from `csp-begin` to the first `csp-end`, wherever it is (even inside a CSP comment).',
+      comment: 'One token: from `csp-begin` to the first `csp-end`, wherever it is (even inside a CSP comment); its text is CSPm (cspm.mjs).',
       name: 'meta.embedded.block.csp',
       begin: `${START}csp-begin${END}`,
       end: 'csp-end',
       beginCaptures: { 0: { name: sc('keyword.other.csp-begin') } },
       endCaptures: { 0: { name: sc('keyword.other.csp-end') } },
+      patterns: cspm.body,
     };
+    Object.assign(repo, cspm.repo);
   }
 
   const escapes = {

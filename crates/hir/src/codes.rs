@@ -156,6 +156,13 @@ rules! {
     "RS-IO-09" E W "A controller provides the variables its machines read and write through I/O contexts.";
     "RS-STMT-02" E W "RoboSim has no statement deadlines.";
     "RS-IO-02" E E "Interfaces used in an input context declare only events.";
+    "CSP-L01" E W "The CSPm of a `csp` block is made of CSPm tokens; comments and literals are closed.";
+    "CSP-P01" E W "The CSPm of a `csp` block parses with FDR's grammar.";
+    "CSP-U01" W W "A `csp` block uses CSPm this tool does not check (FDR may accept it).";
+    "CSP-N01" E W "Every name a `csp` block uses is defined: by the block, another block of its file, the model (as RoboTool names it), RoboTool's library or FDR.";
+    "CSP-N02" E W "A name is defined at most once in the same scope of a `csp` block.";
+    "CSP-N03" E W "The left-hand side of a `csp` block definition is a name, a pattern or a function with patterns.";
+    "CSP-T01" E W "The CSPm of a `csp` block is well typed.";
 }
 
 /// The rule with `code`.

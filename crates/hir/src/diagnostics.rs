@@ -140,6 +140,9 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
                 p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();
             out.push(make(p.code, p.range, p.message.clone(), related));
         }
+        for b in &crate::csp_blocks::csp_blocks(db, workspace, file).blocks {
+            out.extend(b.problems.iter().map(|p| make(p.code, p.range, p.message.clone(), Vec::new())));
+        }
     }
     out.sort_by(|a, b| (a.range.start(), a.range.end(), &a.code).cmp(&(b.range.start(), b.range.end(), &b.code)));
     out.dedup_by(|a, b| a.range == b.range && a.code == b.code && a.message == b.message);

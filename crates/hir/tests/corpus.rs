@@ -98,7 +98,8 @@ fn corpus_under_paper_rules() {
 /// model, RoboTool's RoboChart-to-RoboSim output (`rc2rs/robochart`,
 /// `rc2rs/robosim`, which redeclare `type ID` and name interfaces no import
 /// reaches) and every assertion file. RoboTool generated CSPm from all of
-/// it, so neither rule set finds an error.
+/// it, so neither rule set finds an error, except the names RoboTool 1
+/// generated that the csp blocks of `b1` and `b2` still use.
 #[test]
 fn reference_alpha_algorithm_is_error_free() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/alpha-algorithm");
@@ -118,11 +119,33 @@ fn reference_alpha_algorithm_is_error_free() {
         let db = RootDatabase::default();
         let ws = load_workspace(&db, texts.clone(), rules);
         let mut errors = Vec::new();
+        let mut unresolved = BTreeSet::new();
         for f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
             for d in file_diagnostics(&db, ws, *f).iter().filter(|d| d.severity == Severity::Error) {
+                if d.code == "CSP-N01" && f.path(&db) == "model.assertions" {
+                    unresolved.insert(f.text(&db)[d.range].to_owned());
+                    continue;
+                }
                 errors.push(format!("{} {}: {}", f.path(&db), d.code, d.message));
             }
         }
         assert!(errors.is_empty(), "{rules:?}: errors on the reference RoboTool accepted:\n{}", errors.join("\n"));
+        // The csp blocks of `b1` and `b2` use RoboTool 1's names, which
+        // RoboTool 3 no longer generates (the type is now `main_Position`,
+        // the events `main::AggregationSoftware::receive`): FDR rejects
+        // them too.
+        let expected: &[&str] = match rules {
+            RuleSet::Paper => &[
+                "AggregationSoftware_O",
+                "AggregationSoftware_broadcast",
+                "AggregationSoftware_obstacle",
+                "AggregationSoftware_receive",
+                "Position",
+                "moveCall",
+                "moveRet",
+            ],
+            RuleSet::RoboTool => &[],
+        };
+        assert_eq!(unresolved.iter().map(String::as_str).collect::<Vec<_>>(), expected, "{rules:?}");
     }
 }

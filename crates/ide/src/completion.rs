@@ -116,6 +116,9 @@ impl Acc {
 }
 
 pub(crate) fn completions(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Vec<CompletionItem> {
+    if let Some(items) = crate::csp_block::completions(db, ws, file, offset) {
+        return items;
+    }
     let text = file.text(db);
     let mut offset = usize::from(offset).min(text.len());
     while !text.is_char_boundary(offset) {

@@ -1,5 +1,6 @@
 //! Foldable regions: bodies in braces, block comments, runs of line
-//! comments, runs of imports, CSP blocks and multi-line assertions. Only
+//! comments, runs of imports, CSP blocks (and inside them `Timed` sections,
+//! definitions and `{- -}` comments) and multi-line assertions. Only
 //! regions that span more than one line are reported.
 
 use robosim_hir::{Db, File};
@@ -95,6 +96,7 @@ pub(crate) fn folding_ranges(db: &dyn Db, file: File) -> Vec<Fold> {
     if let Some(run) = imports {
         push(&mut folds, run, FoldKind::Imports);
     }
+    crate::csp_block::folds(db, file, &mut folds);
     folds.sort_by_key(|f| (f.range.start(), std::cmp::Reverse(f.range.end())));
     folds
 }

@@ -66,6 +66,11 @@ pub(crate) fn hover(
         range.get_or_insert(cycle_range);
     }
 
+    if let Some((block_range, s)) = crate::csp_block::hover(db, ws, file, offset) {
+        sections.push(s);
+        range.get_or_insert(block_range);
+    }
+
     if let Some((csp_range, s)) = crate::csp_hover::csp_section(db, ws, file, offset) {
         sections.push(s);
         range.get_or_insert(csp_range);

@@ -14,6 +14,7 @@
 
 pub mod batch;
 mod completion;
+mod csp_block;
 mod csp_hover;
 mod diagnostics;
 pub mod diagram;

@@ -135,6 +135,9 @@ pub(crate) fn goto_definition(
     file: File,
     offset: TextSize,
 ) -> Option<(TextRange, Vec<NavigationTarget>)> {
+    if let Some(found) = crate::csp_block::goto_definition(db, ws, file, offset) {
+        return Some(found);
+    }
     let (sym, decl) = decl_at(db, ws, file, offset)?;
     let origin = trimmed(file.text(db), symbol_range(&sym));
     Some((origin, decl.map(|d| target(db, d)).into_iter().collect()))
@@ -176,6 +179,9 @@ pub(crate) fn find_references(
     offset: TextSize,
     include_declaration: bool,
 ) -> Option<Vec<ReferenceLoc>> {
+    if let Some(found) = crate::csp_block::find_references(db, ws, file, offset, include_declaration) {
+        return found;
+    }
     let (_, decl) = decl_at(db, ws, file, offset)?;
     Some(references_of(db, ws, decl?, include_declaration))
 }

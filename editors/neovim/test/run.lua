@@ -256,6 +256,45 @@ local function main()
   vim.wait(200)
   check('…and no robosim client attaches to it', #robosim_clients(notes) == 0)
 
+  -- A csp block of an assertion file: the CSPm engine's diagnostic at its
+  -- exact place in the file, and the hover of a library process.
+  copy(testdata .. '/lsp/csp.assertions', workspace .. '/csp.assertions')
+  local csp = edit(workspace .. '/csp.assertions')
+  check('csp.assertions is robochart-assertions', vim.bo[csp].filetype == 'robochart-assertions', vim.bo[csp].filetype)
+  local unresolved
+  vim.wait(TIMEOUT, function()
+    for _, d in ipairs(vim.diagnostic.get(csp)) do
+      if code_of(d) == 'CSP-N01' then
+        unresolved = d
+        return true
+      end
+    end
+    return false
+  end, 20)
+  if check('CSP-N01 is published for the csp block', unresolved ~= nil, inspect(vim.diagnostic.get(csp))) then
+    check(
+      'CSP-N01 is on `Undefined`: line 4, columns 34-43 (0-based)',
+      unresolved.lnum == 4 and unresolved.col == 34 and unresolved.end_lnum == 4 and unresolved.end_col == 43,
+      inspect({ unresolved.lnum, unresolved.col, unresolved.end_lnum, unresolved.end_col })
+    )
+    check('…and it is the only diagnostic', #vim.diagnostic.get(csp) == 1, inspect(vim.diagnostic.get(csp)))
+  end
+  local csp_line = vim.api.nvim_buf_get_lines(csp, 4, 5, false)[1]
+  local start_by = csp_line:find('StartBy', 1, true)
+  local csp_hover = vim.lsp.buf_request_sync(csp, 'textDocument/hover', {
+    textDocument = { uri = vim.uri_from_bufnr(csp) },
+    position = { line = 4, character = start_by + 1 },
+  }, TIMEOUT) or {}
+  local csp_contents
+  for _, r in pairs(csp_hover) do
+    csp_contents = csp_contents or (r.result and r.result.contents)
+  end
+  check(
+    'hover on StartBy explains the library process',
+    csp_contents ~= nil and inspect(csp_contents):find('must perform its first event within', 1, true) ~= nil,
+    inspect(csp_contents)
+  )
+
   -- Shut down.
   client:stop()
   local stopped = vim.wait(TIMEOUT, function()

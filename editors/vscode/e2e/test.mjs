@@ -298,6 +298,36 @@ try {
     console.log(`vscode-e2e:   hover: ${oneLine(text)}`);
   });
 
+  // A csp block of an assertion file: the hover of a library process, then
+  // a name nothing defines, typed into the block, gets its squiggle and the
+  // CSPm engine's diagnostic as the text changes (the file is reverted).
+  await step("csp block: library hover, squiggle and its hover", async () => {
+    await openFile("csp.assertions");
+    await until("RoboChart Assertions is the language mode", async () => (await languageMode()) === "RoboChart Assertions");
+    const [line, column] = find("csp.assertions", "StartBy(");
+    await goTo(line, column + 2);
+    const hover = await hoverAtCursor("must perform its first event within");
+    console.log(`vscode-e2e:   hover: ${oneLine(hover)}`);
+    const [l2, c2] = find("csp.assertions", "; Spec", 2);
+    await goTo(l2, c2);
+    await page.keyboard.press("Escape");
+    await page.keyboard.press("Shift+End");
+    await page.keyboard.type("Undefined");
+    const squiggle = await until(`an error squiggle on line ${l2}`, () => squiggleOnLine(l2), 20000);
+    const text = await until("the squiggle's hover shows CSP-N01 and its message", async () => {
+      const b = await squiggle.boundingBox();
+      await page.mouse.move(b.x + b.width / 2 - 3, b.y + b.height / 2 - 2);
+      await page.mouse.move(b.x + b.width / 2, b.y + b.height / 2);
+      await page.waitForTimeout(800);
+      const t = await hoverText();
+      return t.includes("CSP-N01") && t.includes("`Undefined` is not defined") ? t : false;
+    }, 20000);
+    console.log(`vscode-e2e:   squiggle hover: ${oneLine(text)}`);
+    await shot("csp-block-squiggle");
+    await command("File: Revert File");
+    await until("the squiggle goes away with the revert", async () => !(await squiggleOnLine(l2)));
+  }, 60);
+
   // From a RoboSim file to the interface it imports from another file.
   await step("go to definition across files", async () => {
     await openFile("paper/simulation_alt.rst");
