@@ -244,8 +244,12 @@ pub struct Transition {
     pub target_node: Option<usize>,
     /// The trigger's communication.
     pub trigger: Option<Comm>,
+    /// The `trigger` clause's range.
+    pub trigger_range: Option<TextRange>,
     /// `exec` (RoboSim).
     pub exec: bool,
+    /// The `exec` trigger's range.
+    pub exec_range: Option<TextRange>,
     /// `probability p`: its range.
     pub probability: Option<TextRange>,
     /// Clocks reset (`#C`): name and the clause's range.

@@ -20,14 +20,13 @@ use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
 use robosim_hir::defs::DefKind;
+use robosim_hir::model as m;
 use robosim_hir::File;
-use robosim_syntax::{ast, SyntaxKind::*, SyntaxNode, TextRange};
+use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
-use crate::util::{
-    self, child, children, expr_child, ident, ident_text, name_of, path_of, ref_of, stmt_child, type_child,
-};
+use crate::util::{self, child, children, ident, name_of, path_of, type_child};
 
 mod assembly;
 mod behaviour;
@@ -85,7 +84,8 @@ struct NodeI {
     name: String,
     kind: NodeKind,
     parent: Option<usize>,
-    syn: SyntaxNode,
+    /// The node in the model.
+    m: m::Node,
     /// Suffix of its process names (path of names joined by `_`).
     tag: String,
 }
@@ -94,7 +94,8 @@ struct TransI {
     tid: String,
     source: usize,
     target: usize,
-    syn: SyntaxNode,
+    /// The transition in the model.
+    m: m::Transition,
 }
 
 #[derive(Debug, Clone)]
@@ -183,6 +184,11 @@ pub(crate) struct Gen<'e, 'a> {
     ex: &'e mut Exporter<'a>,
     file: File,
     node: SyntaxNode,
+    /// The machine or operation in the model (none for a function).
+    model: Option<Rc<m::Behaviour>>,
+    /// The initial values of the variables and constants declared, by
+    /// file and declaration range.
+    inits: HashMap<(File, TextRange), Option<m::Expr>>,
     robosim: bool,
     profile: Profile,
     names: HashMap<String, Nm>,
@@ -242,10 +248,13 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(crate) fn new(ex: &'e mut Exporter<'a>, file: File, node: &SyntaxNode, record: bool) -> Self {
         let robosim = file.kind(ex.db) == robosim_syntax::FileKind::RoboSim;
         let profile = ex.profile;
+        let model = util::model_behaviour(ex.db, ex.ws, file, node.text_range()).map(Rc::new);
         Gen {
             ex,
             file,
             node: node.clone(),
+            model,
+            inits: HashMap::new(),
             robosim,
             profile,
             names: HashMap::new(),
@@ -314,8 +323,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(crate) fn run(mut self, module: String, path: Vec<String>) -> Result<MachineOut, Vec<Problem>> {
         let node = self.node.clone();
         self.declarations(&node);
-        self.collect_nodes(&node, None);
-        self.collect_transitions();
+        self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
         }
@@ -332,8 +340,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     fn run_operation(mut self, module: String, path: Vec<String>) -> Result<(Vec<Decl>, OperationOut), Vec<Problem>> {
         let node = self.node.clone();
         self.declarations(&node);
-        self.collect_nodes(&node, None);
-        self.collect_transitions();
+        self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
         }
@@ -422,6 +429,29 @@ impl<'e, 'a> Gen<'e, 'a> {
             match util::resolve(self.ex.db, self.ex.ws, file, &p, |k| k == DefKind::Interface) {
                 Some((f, n)) => sources.push((f, n, io)),
                 None => self.problem(u.text_range(), format!("the interface `{}` could not be resolved", p.join("::"))),
+            }
+        }
+        for (f, n, _) in &sources {
+            let decls: Vec<&m::Decls> = if n == node {
+                let beh = self.model.as_deref();
+                beh.map(|b| &b.decls)
+                    .into_iter()
+                    .chain(beh.iter().flat_map(|b| b.contexts.iter().map(|(_, d)| d)))
+                    .collect()
+            } else {
+                match util::model_item(self.ex.db, self.ex.ws, *f, n.text_range()) {
+                    Some(m::Item::Interface(p) | m::Item::Platform(p)) => vec![&p.decls],
+                    _ => Vec::new(),
+                }
+            };
+            for d in decls {
+                for d in &d.decls {
+                    if let m::Decl::Vars { vars, .. } = d {
+                        for v in vars {
+                            self.inits.insert((*f, v.range), v.init.clone());
+                        }
+                    }
+                }
             }
         }
         for (f, n, io) in sources {
@@ -523,7 +553,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             ));
             return;
         }
-        let init = expr_child(v);
+        let init = self.inits.get(&(f, v.text_range())).cloned().flatten();
         if is_const {
             let local = self.local(&n);
             let mut owner = self.ex.path_of_node(self.file, &self.node);
@@ -575,31 +605,41 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    fn collect_nodes(&mut self, region: &SyntaxNode, parent: Option<usize>) {
-        for c in region.children() {
-            let kind = match c.kind() {
-                STATE => NodeKind::State,
-                JUNCTION => NodeKind::Junction,
-                INITIAL => NodeKind::Initial,
-                FINAL => NodeKind::Final,
-                PROBABILISTIC_JUNCTION => {
+    /// The nodes and transitions of the machine, from the model.
+    fn collect_structure(&mut self) {
+        let Some(beh) = self.model.clone() else {
+            let what = self.what();
+            self.problem(util::name_range(&self.node), format!("the model of this {what} is not available"));
+            return;
+        };
+        self.collect_nodes(&beh.region, None);
+        self.collect_transitions(&beh.region);
+    }
+
+    fn collect_nodes(&mut self, region: &m::Region, parent: Option<usize>) {
+        for c in &region.nodes {
+            let kind = match c.kind {
+                m::NodeKind::State => NodeKind::State,
+                m::NodeKind::Junction => NodeKind::Junction,
+                m::NodeKind::Initial => NodeKind::Initial,
+                m::NodeKind::Final => NodeKind::Final,
+                m::NodeKind::Probabilistic => {
                     self.problem(
-                        c.text_range(),
+                        c.range,
                         "probabilistic junctions have no meaning in the tock-CSP semantics and are not exported",
                     );
                     continue;
                 }
-                _ => continue,
             };
-            let name = name_of(&c);
+            let name = c.name.clone();
             let tag = match parent {
                 Some(p) => format!("{}_{}", self.nodes[p].tag, ident(&name)),
                 None => ident(&name),
             };
-            self.nodes.push(NodeI { name, kind, parent, syn: c.clone(), tag });
+            self.nodes.push(NodeI { name, kind, parent, m: c.clone(), tag });
             if kind == NodeKind::State {
                 let id = self.nodes.len() - 1;
-                self.collect_nodes(&c, Some(id));
+                self.collect_nodes(&c.region, Some(id));
             }
         }
     }
@@ -608,24 +648,23 @@ impl<'e, 'a> Gen<'e, 'a> {
         self.nodes.iter().position(|n| n.parent == parent && n.name == name)
     }
 
-    fn collect_transitions(&mut self) {
-        let mut regions = vec![(self.node.clone(), None)];
+    fn collect_transitions(&mut self, root: &m::Region) {
+        let mut regions = vec![(root.clone(), None)];
         for (i, n) in self.nodes.iter().enumerate() {
             if n.kind == NodeKind::State {
-                regions.push((n.syn.clone(), Some(i)));
+                regions.push((n.m.region.clone(), Some(i)));
             }
         }
         let mut used_tids = HashSet::new();
         for (region, parent) in regions {
-            for t in children(&region, TRANSITION) {
-                let name = name_of(&t);
-                let end = |k| child(&t, k).and_then(|c| ref_of(&c));
-                let (Some(src), Some(dst)) = (end(TRANSITION_SOURCE), end(TRANSITION_TARGET)) else {
-                    self.problem(t.text_range(), format!("transition `{name}` lacks a source or a target"));
+            for t in &region.transitions {
+                let name = t.name.clone();
+                let (Some(src), Some(dst)) = (&t.source, &t.target) else {
+                    self.problem(t.range, format!("transition `{name}` lacks a source or a target"));
                     continue;
                 };
-                let (Some(source), Some(target)) = (self.sibling(parent, &src), self.sibling(parent, &dst)) else {
-                    self.problem(t.text_range(), format!("transition `{name}`: its ends are not nodes of its region"));
+                let (Some(source), Some(target)) = (self.sibling(parent, src), self.sibling(parent, dst)) else {
+                    self.problem(t.range, format!("transition `{name}`: its ends are not nodes of its region"));
                     continue;
                 };
                 let base = match parent {
@@ -638,7 +677,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     tid = format!("{base}_{k}");
                     k += 1;
                 }
-                self.trans.push(TransI { tid, source, target, syn: t });
+                self.trans.push(TransI { tid, source, target, m: t.clone() });
             }
         }
     }
@@ -778,23 +817,26 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Resul
     }
     let result = ex.ty(file, type_child(node).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
     // The one postcondition `result == e` (or `result iff e`) defines it.
-    let defining: Vec<SyntaxNode> = children(node, POSTCONDITION)
-        .filter_map(|pc| expr_child(&pc))
-        .filter(|x| {
-            x.kind() == BIN_EXPR
-                && matches!(ast::binary_operator(x), Some(EQ2 | IFF_KW))
-                && ast::operand_exprs(x).first().is_some_and(|l| l.kind() == RESULT_EXPR)
+    let model = match util::model_item(ex.db, ex.ws, file, node.text_range()) {
+        Some(m::Item::Function(f)) => f.clone(),
+        _ => return Err(format!("the function `{fname}` is not in the model")),
+    };
+    let defining: Vec<&m::Expr> = model
+        .postconditions
+        .iter()
+        .filter_map(|x| match &x.kind {
+            m::ExprKind::Binary(m::BinOp::Eq | m::BinOp::Iff, l, r) if l.kind == m::ExprKind::Result => Some(&**r),
+            _ => None,
         })
         .collect();
-    let [def] = defining.as_slice() else {
+    let [body] = defining.as_slice() else {
         return Err(format!(
             "the function `{fname}` has no explicit definition (`postcondition result == …`): calls of it are not exported"
         ));
     };
-    let body = ast::operand_exprs(def)
-        .get(1)
-        .cloned()
-        .ok_or_else(|| format!("function `{fname}`: an incomplete postcondition"))?;
+    if body.kind == m::ExprKind::Missing {
+        return Err(format!("function `{fname}`: an incomplete postcondition"));
+    }
     let mut path = ex.package(file);
     path.push(fname.clone());
     let csp = ex.module_name(&path);
@@ -805,7 +847,7 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Resul
         g.names.insert(n.clone(), Nm::Param(local.clone(), t.clone()));
         names.push(local);
     }
-    let out = g.expr(&body, ECtx::Const, Some(&result));
+    let out = g.expr(body, ECtx::Const, Some(&result));
     let problems = std::mem::take(&mut g.problems);
     let Some(out) = out else {
         let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
@@ -816,18 +858,6 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Resul
         vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
     );
     Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
-}
-
-/// The range of a statement up to its arguments or value (`$move` of
-/// `$move(lv, 0)`), where a hover shows the statement's term.
-fn head_range(s: &SyntaxNode) -> TextRange {
-    let start = s.text_range().start();
-    let end = s
-        .children()
-        .find(|c| c.kind() == ARG_LIST || ast::is_expr_kind(c.kind()))
-        .map(|c| c.text_range().start())
-        .unwrap_or_else(|| s.text_range().end());
-    TextRange::new(start, end.max(start))
 }
 
 /// `a -> SKIP ; P` becomes `a -> P`; `SKIP`s disappear.
@@ -883,8 +913,4 @@ fn replace_call(d: &mut Decl, f: &str) {
     if let Decl::Def(_, _, e) = d {
         go(e, f);
     }
-}
-
-fn kind_words(k: robosim_syntax::SyntaxKind) -> String {
-    format!("{k:?}").to_lowercase().replace('_', " ")
 }
