@@ -1,6 +1,6 @@
 //! Small helpers over the syntax tree and names.
 
-use robosim_hir::defs::{file_defs, DefKind};
+use robosim_hir::defs::{file_defs, DefId, DefKind};
 use robosim_hir::index::{resolve_item, ItemLoc};
 use robosim_hir::{model, parse, Db, File, Workspace};
 use robosim_syntax::ast;
@@ -45,6 +45,16 @@ pub(crate) fn node_of(db: &dyn Db, loc: ItemLoc) -> Option<SyntaxNode> {
         robosim_syntax::SyntaxElement::Token(t) => t.parent()?,
     };
     node.ancestors().find(|n| n.kind() == def.syntax && n.text_range() == def.range)
+}
+
+/// The top-level element `id` of the model of `file`.
+pub(crate) fn model_item_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<&model::Item> {
+    model::file_model(db, ws, file).items.iter().find(|(d, _)| *d == id).map(|(_, i)| i)
+}
+
+/// The top-level definition of `file` declared at `range`.
+pub(crate) fn def_at(db: &dyn Db, file: File, range: TextRange) -> Option<DefId> {
+    file_defs(db, file).iter().find(|(_, d)| d.range == range && d.parent.is_none()).map(|(id, _)| id)
 }
 
 /// The top-level element of the model of `file` at `range`.

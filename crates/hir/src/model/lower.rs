@@ -189,8 +189,9 @@ impl Cx<'_> {
 
     fn ty(&self, t: Option<SyntaxNode>) -> Option<TyRef> {
         let t = t?;
-        let ty = crate::types::lower(self.db, self.ws, self.file, &lower_type(&t));
-        Some(TyRef { ty, text: t.text().to_string(), range: t.text_range() })
+        let written = lower_type(&t);
+        let ty = crate::types::lower(self.db, self.ws, self.file, &written);
+        Some(TyRef { ty, written, text: t.text().to_string(), range: t.text_range() })
     }
 
     fn params(&self, n: &SyntaxNode) -> Vec<Param> {

@@ -36,6 +36,10 @@ use crate::TextRange;
 pub struct TyRef {
     /// The type.
     pub ty: Ty,
+    /// The type as written, its names unresolved (a back end that resolves
+    /// them from the declaring file, rather than to the canonical copy of
+    /// a type declared in several files, reads this).
+    pub written: crate::defs::TypeRef,
     /// Its text as written (whitespace as in the source).
     pub text: String,
     /// Its range.

@@ -73,13 +73,13 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             }
             m::ExprKind::EnumLiteral { path: en, literal: lit, .. } => {
-                let Some((ef, enode)) =
-                    util::resolve(self.ex.db, self.ex.ws, self.file, en, |k| k == DefKind::Enumeration)
-                else {
+                let found = m::resolve(self.ex.db, self.ex.ws, self.file, en, DefKind::Enumeration)
+                    .and_then(|loc| Some((loc.file, loc.def(self.ex.db)?)));
+                let Some((ef, eid)) = found else {
                     self.problem(r, "the enumeration could not be resolved");
                     return None;
                 };
-                let (dt, lits) = self.ex.enumeration(ef, &enode);
+                let (dt, lits) = self.ex.enumeration(ef, eid);
                 match lits.iter().find(|(l, _)| l == lit) {
                     Some((_, c)) => {
                         let first = name(lits[0].1.clone());
@@ -292,17 +292,19 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             m::ExprKind::Record(values) => {
                 // The record, from the type the checker gave the literal.
-                let found = match &e.ty {
-                    Some(robosim_hir::types::Ty::Named(loc, n, DefKind::Record)) => {
-                        util::node_of(self.ex.db, *loc).map(|node| (n.clone(), loc.file, node))
-                    }
-                    _ => None,
+                // (by its name from this file, as written, rather than the
+                // canonical copy of a record declared in several files).
+                let rn = match &e.ty {
+                    Some(robosim_hir::types::Ty::Named(_, n, DefKind::Record)) => n.clone(),
+                    _ => String::new(),
                 };
+                let found = m::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&rn), DefKind::Record)
+                    .and_then(|loc| Some((rn.clone(), loc.file, loc.def(self.ex.db)?)));
                 let Some((rn, rf, rnode)) = found else {
                     self.problem(r, "this record literal's record is not one the export can resolve");
                     return None;
                 };
-                let rec = match self.ex.record(rf, &rnode) {
+                let rec = match self.ex.record(rf, rnode) {
                     Ok(x) => x,
                     Err(m) => {
                         self.problem(r, m);

@@ -19,14 +19,14 @@
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
-use robosim_hir::defs::DefKind;
+use robosim_hir::defs::{DefKind, Io};
 use robosim_hir::model as m;
 use robosim_hir::File;
-use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange};
+use robosim_syntax::{SyntaxNode, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
-use crate::util::{self, child, children, ident, name_of, path_of, type_child};
+use crate::util::{self, ident, name_of};
 
 mod assembly;
 mod behaviour;
@@ -186,9 +186,6 @@ pub(crate) struct Gen<'e, 'a> {
     node: SyntaxNode,
     /// The machine or operation in the model (none for a function).
     model: Option<Rc<m::Behaviour>>,
-    /// The initial values of the variables and constants declared, by
-    /// file and declaration range.
-    inits: HashMap<(File, TextRange), Option<m::Expr>>,
     robosim: bool,
     profile: Profile,
     names: HashMap<String, Nm>,
@@ -254,7 +251,6 @@ impl<'e, 'a> Gen<'e, 'a> {
             file,
             node: node.clone(),
             model,
-            inits: HashMap::new(),
             robosim,
             profile,
             names: HashMap::new(),
@@ -321,8 +317,7 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     /// Translates the machine: its CSPm module and its interface.
     pub(crate) fn run(mut self, module: String, path: Vec<String>) -> Result<MachineOut, Vec<Problem>> {
-        let node = self.node.clone();
-        self.declarations(&node);
+        self.declarations();
         self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
@@ -338,15 +333,14 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// Translates an operation of the model: its CSPm module and its
     /// channels and constants.
     fn run_operation(mut self, module: String, path: Vec<String>) -> Result<(Vec<Decl>, OperationOut), Vec<Problem>> {
-        let node = self.node.clone();
-        self.declarations(&node);
+        self.declarations();
         self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
         }
         if !self.nodes.iter().any(|n| n.parent.is_none() && n.kind == NodeKind::Initial) {
             self.problem(
-                util::name_range(&node),
+                util::name_range(&self.node),
                 "the operation has no body (initial junction): only operations defined by a state machine are exported",
             );
             return Err(self.problems);
@@ -407,69 +401,44 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     // ------------------------------------------------------ declarations
 
-    fn declarations(&mut self, node: &SyntaxNode) {
+    fn declarations(&mut self) {
+        let Some(beh) = self.model.clone() else { return };
         let file = self.file;
-        let mut sources: Vec<(File, SyntaxNode, Option<robosim_hir::defs::Io>)> = vec![(file, node.clone(), None)];
-        let contexts: Vec<SyntaxNode> =
-            node.children().filter(|c| matches!(c.kind(), INPUT_CONTEXT | OUTPUT_CONTEXT)).collect();
-        for c in &contexts {
-            let io =
-                if c.kind() == INPUT_CONTEXT { robosim_hir::defs::Io::Input } else { robosim_hir::defs::Io::Output };
-            sources.push((file, c.clone(), Some(io)));
+        // The machine's own declarations, its RoboSim contexts', then those
+        // of the interfaces they use.
+        let mut sources: Vec<(File, &m::Decls, Option<Io>, bool)> = vec![(file, &beh.decls, None, true)];
+        for (io, d) in &beh.contexts {
+            sources.push((file, d, Some(*io), false));
         }
-        let mut uses: Vec<(SyntaxNode, Option<robosim_hir::defs::Io>)> =
-            children(node, INTERFACE_USE).map(|u| (u, None)).collect();
-        for c in &contexts {
-            let io =
-                if c.kind() == INPUT_CONTEXT { robosim_hir::defs::Io::Input } else { robosim_hir::defs::Io::Output };
-            uses.extend(children(c, INTERFACE_USE).map(|u| (u, Some(io))));
+        let mut uses: Vec<(&m::InterfaceUse, Option<Io>)> = beh.decls.uses.iter().map(|u| (u, None)).collect();
+        for (io, d) in &beh.contexts {
+            uses.extend(d.uses.iter().map(|u| (u, Some(*io))));
         }
+        let db = self.ex.db;
+        let ws = self.ex.ws;
         for (u, io) in uses {
-            let p = path_of(&u);
-            match util::resolve(self.ex.db, self.ex.ws, file, &p, |k| k == DefKind::Interface) {
-                Some((f, n)) => sources.push((f, n, io)),
-                None => self.problem(u.text_range(), format!("the interface `{}` could not be resolved", p.join("::"))),
+            let found = m::resolve(db, ws, file, &u.path, DefKind::Interface)
+                .and_then(|loc| Some((loc.file, m::item(db, ws, loc)?)));
+            match found {
+                Some((f, m::Item::Interface(p) | m::Item::Platform(p))) => sources.push((f, &p.decls, io, false)),
+                _ => self.problem(u.range, format!("the interface `{}` could not be resolved", u.path.join("::"))),
             }
         }
-        for (f, n, _) in &sources {
-            let decls: Vec<&m::Decls> = if n == node {
-                let beh = self.model.as_deref();
-                beh.map(|b| &b.decls)
-                    .into_iter()
-                    .chain(beh.iter().flat_map(|b| b.contexts.iter().map(|(_, d)| d)))
-                    .collect()
-            } else {
-                match util::model_item(self.ex.db, self.ex.ws, *f, n.text_range()) {
-                    Some(m::Item::Interface(p) | m::Item::Platform(p)) => vec![&p.decls],
-                    _ => Vec::new(),
-                }
-            };
-            for d in decls {
-                for d in &d.decls {
-                    if let m::Decl::Vars { vars, .. } = d {
+        for (f, decls, io, own) in sources {
+            for c in &decls.decls {
+                match c {
+                    m::Decl::Vars { is_const, vars, .. } => {
+                        let is_const = *is_const;
+                        let shared = self.is_operation && !is_const && !own;
                         for v in vars {
-                            self.inits.insert((*f, v.range), v.init.clone());
-                        }
-                    }
-                }
-            }
-        }
-        for (f, n, io) in sources {
-            for c in n.children() {
-                match c.kind() {
-                    VARIABLE_LIST => {
-                        let is_const = c.children_with_tokens().any(|t| t.kind() == CONST_KW);
-                        let shared = self.is_operation && !is_const && n != *node;
-                        for v in children(&c, VARIABLE) {
-                            if !is_const && !self.is_operation && io.is_none() && n != *node {
-                                self.required.push(name_of(&v));
+                            if !is_const && !self.is_operation && io.is_none() && !own {
+                                self.required.push(v.name.clone());
                             }
-                            self.variable(f, &v, is_const, io, shared);
+                            self.variable(f, v, is_const, io, shared);
                         }
                     }
-                    CLOCK => {
-                        let n = name_of(&c);
-                        let csp = self.local(&n);
+                    m::Decl::Clock { name: n, .. } => {
+                        let csp = self.local(n);
                         self.clocks.push(ClockI {
                             csp,
                             bounds: Vec::new(),
@@ -477,83 +446,82 @@ impl<'e, 'a> Gen<'e, 'a> {
                             read: false,
                             state: None,
                         });
-                        self.names.insert(n, Nm::Clock(self.clocks.len() - 1));
+                        self.names.insert(n.clone(), Nm::Clock(self.clocks.len() - 1));
                     }
-                    EVENT => {
-                        let n = name_of(&c);
-                        if self.names.contains_key(&n) {
+                    m::Decl::Event { name: n, ty, range, .. } => {
+                        if self.names.contains_key(n) {
                             continue;
                         }
-                        let ty = match type_child(&c) {
-                            Some(t) => match self.ex.ty(f, Some(&t)) {
+                        let ty = match ty {
+                            Some(t) => match self.ex.ty_ref(f, Some(t)) {
                                 Ok(t) => Some(t),
                                 Err(m) => {
-                                    self.problems.push((f, c.text_range(), format!("event `{n}`: {m}")));
+                                    self.problems.push((f, *range, format!("event `{n}`: {m}")));
                                     None
                                 }
                             },
                             None => None,
                         };
-                        let csp = self.local(&n);
+                        let csp = self.local(n);
                         self.events.push(EvI { name: n.clone(), csp, ty, io, received: false, trig: false });
-                        self.names.insert(n, Nm::Event(self.events.len() - 1));
+                        self.names.insert(n.clone(), Nm::Event(self.events.len() - 1));
                     }
-                    OPERATION_SIG => {
-                        let n = name_of(&c);
-                        if self.op_names.contains_key(&n) {
+                    m::Decl::OperationSig { name: n, params: ps, .. } => {
+                        if self.op_names.contains_key(n) {
                             continue;
                         }
                         let mut params = Vec::new();
-                        if let Some(pl) = child(&c, PARAM_LIST) {
-                            for p in children(&pl, PARAM) {
-                                match self.ex.ty(f, type_child(&p).as_ref()) {
-                                    Ok(t) => params.push(t),
-                                    Err(m) => self.problems.push((f, p.text_range(), format!("operation `{n}`: {m}"))),
-                                }
+                        for p in ps {
+                            match self.ex.ty_ref(f, p.ty.as_ref()) {
+                                Ok(t) => params.push(t),
+                                Err(m) => self.problems.push((f, p.range, format!("operation `{n}`: {m}"))),
                             }
                         }
                         // An operation of the model with this name and a body (RoboTool
                         // matches a required operation and its definition by name); one
                         // with a contract only (`terminates`) stays a call event.
                         let defined = !self.robosim
-                            && util::resolve(self.ex.db, self.ex.ws, file, std::slice::from_ref(&n), |k| {
-                                k == DefKind::Operation
-                            })
-                            .is_some_and(|(_, d)| child(&d, INITIAL).is_some());
+                            && m::resolve(db, ws, file, std::slice::from_ref(n), DefKind::Operation)
+                                .and_then(|loc| m::item(db, ws, loc))
+                                .is_some_and(|i| match i {
+                                    m::Item::Operation(b) => {
+                                        b.region.nodes.iter().any(|x| x.kind == m::NodeKind::Initial)
+                                    }
+                                    _ => false,
+                                });
                         self.ops.push(OpI { name: n.clone(), params, defined });
-                        self.op_names.insert(n, self.ops.len() - 1);
+                        self.op_names.insert(n.clone(), self.ops.len() - 1);
                     }
-                    OPERATION_DEF | OPERATION_REF | FUNCTION => self.problem(
-                        c.text_range(),
+                    m::Decl::Nested { range, .. } => self.problem(
+                        *range,
                         "operations and functions defined in a machine are not supported by the export yet",
                     ),
-                    _ => {}
                 }
             }
         }
     }
 
-    fn variable(&mut self, f: File, v: &SyntaxNode, is_const: bool, io: Option<robosim_hir::defs::Io>, shared: bool) {
-        let n = name_of(v);
+    fn variable(&mut self, f: File, v: &m::VarDecl, is_const: bool, io: Option<Io>, shared: bool) {
+        let n = v.name.clone();
         if self.names.contains_key(&n) {
             return;
         }
-        let ty = match self.ex.ty(f, type_child(v).as_ref()) {
+        let ty = match self.ex.ty_ref(f, v.ty.as_ref()) {
             Ok(t) => t,
             Err(m) => {
-                self.problems.push((f, v.text_range(), format!("`{n}`: {m}")));
+                self.problems.push((f, v.range, format!("`{n}`: {m}")));
                 return;
             }
         };
         if io.is_some() && !is_const {
             self.problems.push((
                 f,
-                v.text_range(),
+                v.range,
                 format!("`{n}` is an input or output variable: platform variables are not supported by the export yet"),
             ));
             return;
         }
-        let init = self.inits.get(&(f, v.text_range())).cloned().flatten();
+        let init = v.init.as_ref();
         if is_const {
             let local = self.local(&n);
             let mut owner = self.ex.path_of_node(self.file, &self.node);
@@ -561,7 +529,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 owner.push(name_of(&self.node));
             }
             let global = ident(&format!("const_{}_{}", util::qualified(&owner), n));
-            let default = match &init {
+            let default = match init {
                 Some(e) if f == self.file => match self.expr(e, ECtx::Const, Some(&ty)) {
                     Some(o) => (o.e, String::new()),
                     None => {
@@ -585,7 +553,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.names.insert(n, Nm::Const(self.consts.len() - 1));
         } else {
             let csp = self.local(&n);
-            let init = match &init {
+            let init = match init {
                 Some(e) => match self.expr(e, ECtx::Const, Some(&ty)) {
                     Some(o) => o.e,
                     None => return,
@@ -740,16 +708,17 @@ pub(crate) fn operation(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) ->
     g.is_operation = true;
     let mut params = Vec::new();
     let mut problems = Vec::new();
-    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
-        let pn = name_of(&p);
-        match g.ex.ty(file, type_child(&p).as_ref()) {
+    let model_params = g.model.as_ref().map(|b| b.params.clone()).unwrap_or_default();
+    for p in &model_params {
+        let pn = p.name.clone();
+        match g.ex.ty_ref(file, p.ty.as_ref()) {
             Ok(t) => {
                 let local = g.local(&pn);
                 g.names.insert(pn, Nm::Param(local.clone(), t.clone()));
                 g.op_params.push(local);
                 params.push(t);
             }
-            Err(m) => problems.push((file, p.text_range(), format!("parameter `{pn}`: {m}"))),
+            Err(m) => problems.push((file, p.range, format!("parameter `{pn}`: {m}"))),
         }
     }
     let result = if problems.is_empty() { g.run_operation(module.clone(), path.clone()) } else { Err(problems) };
@@ -810,17 +779,17 @@ pub(crate) fn function(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> 
 
 fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
     let fname = name_of(node);
-    let mut params = Vec::new();
-    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
-        let t = ex.ty(file, type_child(&p).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
-        params.push((name_of(&p), t));
-    }
-    let result = ex.ty(file, type_child(node).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
-    // The one postcondition `result == e` (or `result iff e`) defines it.
     let model = match util::model_item(ex.db, ex.ws, file, node.text_range()) {
         Some(m::Item::Function(f)) => f.clone(),
         _ => return Err(format!("the function `{fname}` is not in the model")),
     };
+    let mut params = Vec::new();
+    for p in &model.params {
+        let t = ex.ty_ref(file, p.ty.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+        params.push((p.name.clone(), t));
+    }
+    let result = ex.ty_ref(file, model.result.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+    // The one postcondition `result == e` (or `result iff e`) defines it.
     let defining: Vec<&m::Expr> = model
         .postconditions
         .iter()
