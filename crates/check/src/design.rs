@@ -21,6 +21,8 @@ pub struct DesignLts<'a> {
     len: usize,
     /// Packing, run-time errors, event names.
     enc: Encoding,
+    /// RT-9: no `tock` (RoboChart's untimed semantics, see `untimed.rs`).
+    untimed: bool,
 }
 
 /// The printed name of a design channel's events.
@@ -79,7 +81,14 @@ impl<'a> DesignLts<'a> {
         let ended = design.slots as usize;
         let mut bounds = design.slot_bounds();
         bounds.push((0, 1));
-        Ok(DesignLts { design, group, ended, len: ended + 1, enc: Encoding::new(&bounds, events) })
+        Ok(DesignLts { design, group, ended, len: ended + 1, enc: Encoding::new(&bounds, events), untimed: false })
+    }
+
+    /// The same LTS without `tock`: time never passes (RT-9). For a design
+    /// made untimed by [`crate::untimed::untime`], whose waits are gone.
+    pub fn without_time(mut self) -> Self {
+        self.untimed = true;
+        self
     }
 
     /// The first run-time error met during exploration, if any.
@@ -163,7 +172,7 @@ impl<'a> DesignLts<'a> {
         }
         // Maximal progress: time passes only when nothing internal can happen.
         let tau = out.labels()[start..].iter().any(|l| l.event == TAU);
-        if can_tock && !tau {
+        if can_tock && !tau && !self.untimed {
             let n = out.push_copy(st);
             self.design.advance_time(n)?;
             out.set_label(Label::TOCK);

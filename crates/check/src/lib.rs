@@ -8,6 +8,7 @@ pub mod algo;
 /// Assertion files, read (the reader lives with the semantic model).
 pub use robosim_hir::assertions;
 pub mod budget;
+mod csp;
 pub mod design;
 mod eager;
 pub mod events;
@@ -19,4 +20,5 @@ pub mod machine;
 pub mod pack;
 pub mod sched;
 pub mod sim;
+pub mod untimed;
 pub mod verify;

@@ -27,6 +27,9 @@ use robosim_hir::target::{Scope, Subject as Target};
 
 pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
+pub use crate::untimed::Semantics;
+
+mod semantics;
 
 /// How to run checks.
 #[derive(Debug, Clone, Default)]
@@ -132,6 +135,9 @@ pub struct Report {
     pub counterexample: Option<Counterexample>,
     /// Notes (domains used, saturated arithmetic …).
     pub notes: Vec<String>,
+    /// The semantics it was checked in (RT-8: a plain assertion has a
+    /// report for each).
+    pub semantics: Semantics,
 }
 
 /// Runs every assertion of the workspace made of `files` (path, text) and
@@ -174,10 +180,14 @@ pub fn verify_file(
 ) -> Vec<Report> {
     let read = assertion_file(db, file).clone();
     let others = all_assertion_files(db, ws);
-    read.assertions.iter().map(|a| verify_assertion(db, ws, file, &read, &others, a, opts, progress)).collect()
+    read.assertions.iter().flat_map(|a| verify_assertion(db, ws, file, &read, &others, a, opts, progress)).collect()
 }
 
-/// Runs one assertion of `file` (read as `read`).
+/// Runs one assertion of `file` (read as `read`): a report for each
+/// semantics it is checked in (RT-8), the timed one first. A plain
+/// assertion about a RoboChart element is checked in both; one that only
+/// has a timed meaning (RoboSim, simulations, schedulability,
+/// timelock-freedom) in the timed semantics only.
 #[allow(clippy::too_many_arguments)]
 pub fn verify_assertion(
     db: &dyn Db,
@@ -188,7 +198,22 @@ pub fn verify_assertion(
     a: &AssertionDecl,
     opts: &Options,
     progress: Option<ProgressFn>,
-) -> Report {
+) -> Vec<Report> {
+    let cx = |semantics| Cx { db, ws, file, read, others, a, async_buffer: opts.async_buffer, semantics };
+    let timing = robosim_hir::target::timing(a);
+    let mut out = Vec::new();
+    if timing.timed {
+        out.push(verify_in(&cx(Semantics::Timed), opts, progress));
+    }
+    if timing.untimed && (!timing.timed || semantics::has_untimed_reading(&cx(Semantics::Untimed)).is_ok()) {
+        out.push(verify_in(&cx(Semantics::Untimed), opts, progress));
+    }
+    out
+}
+
+/// Runs one assertion in one semantics.
+fn verify_in(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>) -> Report {
+    let (db, file, a) = (cx.db, cx.file, cx.a);
     let started = Instant::now();
     let mut report = Report {
         file: file.path(db).clone(),
@@ -201,33 +226,28 @@ pub fn verify_assertion(
         reason: None,
         counterexample: None,
         notes: Vec::new(),
+        semantics: cx.semantics,
     };
     if let Some(p) = a.problems.first() {
         report.reason = Some(format!("the assertion is incomplete: {}", p.message));
         return report;
     }
-    let timing = robosim_hir::target::timing(a);
-    if !timing.timed {
-        report.reason = Some(
-            "`untimed` assertions are checked in RoboTool's untimed semantics (RT-9: `wait` is SKIP, clock \
-             guards hold, no `tock`), which the native checker does not implement yet"
-                .into(),
-        );
+    if let Err(why) = semantics::check_untimed_reading(cx) {
+        report.reason = Some(why);
         return report;
     }
-    let cx = Cx { db, ws, file, read, others, a, async_buffer: opts.async_buffer };
     match &a.kind {
-        AssertionKind::Schedulable => schedulable(&cx, opts, progress, &mut report),
+        AssertionKind::Schedulable => schedulable(cx, opts, progress, &mut report),
         AssertionKind::Refines { other, model, .. } => {
-            refinement(&cx, other, *model, false, opts, progress, &mut report)
+            refinement(cx, other, *model, false, opts, progress, &mut report)
         }
-        AssertionKind::Equals { other, model, .. } => refinement(&cx, other, *model, true, opts, progress, &mut report),
+        AssertionKind::Equals { other, model, .. } => refinement(cx, other, *model, true, opts, progress, &mut report),
         AssertionKind::DeadlockFree
         | AssertionKind::TimelockFree
         | AssertionKind::DivergenceFree
         | AssertionKind::Deterministic
         | AssertionKind::Terminates
-        | AssertionKind::Reachable { .. } => property(&cx, opts, progress, &mut report),
+        | AssertionKind::Reachable { .. } => property(cx, opts, progress, &mut report),
         AssertionKind::Probabilistic { .. } => {
             report.reason = Some("probabilistic properties are checked with PRISM".into());
         }
@@ -246,32 +266,26 @@ pub fn verify_assertion(
     if report.stats.seconds == 0.0 {
         report.stats.seconds = started.elapsed().as_secs_f64();
     }
-    if timing.untimed && matches!(report.verdict, Verdict::Pass | Verdict::Fail) {
-        // RT-8: RoboTool reports a plain assertion in both semantics.
-        report.notes.push(
-            "checked in the timed semantics; RoboTool also reports this assertion in the untimed semantics \
-             (RT-8), which the native checker does not run yet"
-                .into(),
-        );
-    }
     report
 }
 
 /// Everything an assertion's check needs from the workspace.
-struct Cx<'a> {
-    db: &'a dyn Db,
-    ws: Workspace,
-    file: File,
-    read: &'a AssertionFile,
+pub(crate) struct Cx<'a> {
+    pub(crate) db: &'a dyn Db,
+    pub(crate) ws: Workspace,
+    pub(crate) file: File,
+    pub(crate) read: &'a AssertionFile,
     others: &'a [(File, AssertionFile)],
-    a: &'a AssertionDecl,
+    pub(crate) a: &'a AssertionDecl,
     /// The buffer assumed for asynchronous connections, if any.
     async_buffer: Option<AsyncBuffer>,
+    /// The semantics checked in.
+    semantics: Semantics,
 }
 
 impl Cx<'_> {
     /// What `path`, a side of the assertion, denotes (hir's one reading).
-    fn target(&self, path: &[String]) -> Result<Target, String> {
+    pub(crate) fn target(&self, path: &[String]) -> Result<Target, String> {
         let scope = Scope { db: self.db, ws: self.ws, file: self.file, read: self.read, others: self.others };
         match robosim_hir::target::subject(scope, self.a, path)? {
             Target::Simulation { name, inner: Some(_), .. } => Err(format!(
@@ -283,8 +297,9 @@ impl Cx<'_> {
     }
 
     /// The constant values the assertion gives.
-    fn constants(&self) -> Result<Vec<ConstValue>, String> {
-        Ok(robosim_hir::target::bindings(self.a)?
+    pub(crate) fn constants(&self) -> Result<Vec<ConstValue>, String> {
+        let scope = Scope { db: self.db, ws: self.ws, file: self.file, read: self.read, others: self.others };
+        Ok(robosim_hir::target::bindings_in(scope, self.a)?
             .into_iter()
             .map(|b| ConstValue { name: b.name, of: b.of, value: b.value as Val })
             .collect())
@@ -314,7 +329,7 @@ impl Cx<'_> {
     }
 
     /// The compiled element of `target` and its period.
-    fn compile(&self, target: &Target, consts: &[ConstValue]) -> Result<(Design, u32), String> {
+    pub(crate) fn compile(&self, target: &Target, consts: &[ConstValue]) -> Result<(Design, u32), String> {
         let (name, loc, period) = match target {
             Target::Constrained { name, loc, period, .. } | Target::Simulation { name, loc, period, .. } => {
                 (name, *loc, *period)
@@ -515,25 +530,30 @@ fn refinement(
     report: &mut Report,
 ) {
     let a = cx.a;
+    let model = match model {
+        SemanticModelName::Traces => SemanticModel::Traces,
+        SemanticModelName::Failures => SemanticModel::Failures,
+        SemanticModelName::FailuresDivergences | SemanticModelName::Default => SemanticModel::FailuresDivergences,
+        SemanticModelName::TickTock => SemanticModel::TickTock,
+    };
+    // A side defined in a `csp` block of this file: the CSPm bridge.
+    if crate::csp::is_block(cx, other) || crate::csp::is_block(cx, &a.subject) {
+        return crate::csp::refinement(cx, other, model, both_ways, opts, progress, report);
+    }
     let mut run = || -> Result<(), String> {
-        let model = match model {
-            SemanticModelName::Traces => SemanticModel::Traces,
-            SemanticModelName::Failures => SemanticModel::Failures,
-            SemanticModelName::FailuresDivergences | SemanticModelName::Default => SemanticModel::FailuresDivergences,
-            SemanticModelName::TickTock => SemanticModel::TickTock,
-        };
         let consts = cx.constants()?;
         let imp_t = cx.target(&a.subject)?;
         let spec_t = cx.target(other)?;
         let (imp_d, imp_p) = cx.compile(&imp_t, &consts)?;
         let (spec_d, spec_p) = cx.compile(&spec_t, &consts)?;
+        let (imp_d, spec_d) = (cx.in_semantics(imp_d)?, cx.in_semantics(spec_d)?);
         let (imp, spec) = match (&imp_t, &spec_t) {
             // Two RoboChart designs: their own events, matched by name.
             (Target::Design { .. }, Target::Design { .. }) => {
                 let events = shared_events(&[&spec_d, &imp_d])?;
                 (
-                    Side::Plain(DesignLts::with_events(&imp_d, &events)?),
-                    Side::Plain(DesignLts::with_events(&spec_d, &events)?),
+                    Side::Plain(cx.plain(DesignLts::with_events(&imp_d, &events)?)),
+                    Side::Plain(cx.plain(DesignLts::with_events(&spec_d, &events)?)),
                 )
             }
             _ => {
@@ -636,11 +656,21 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
         };
         let target = cx.target(&subject)?;
         let (design, period) = cx.compile(&target, &cx.constants()?)?;
-        let lts = single(&target, &design, period, opts.profile)?;
+        let design = cx.in_semantics(design)?;
+        let lts = match cx.semantics {
+            Semantics::Timed => single(&target, &design, period, opts.profile)?,
+            Semantics::Untimed => Side::Plain(DesignLts::new(&design)?.without_time()),
+        };
         report.notes.push(domains_note(&design));
         let name = subject.join("::");
+        if cx.semantics == Semantics::Untimed && a.kind == AssertionKind::Terminates {
+            semantics::terminates_without_divergence(&lts, &name, opts)?;
+        }
         // (holds, counterexample kind, path, explanation) or a stop.
         let outcome: Result<Outcome, crate::budget::Stop> = match &a.kind {
+            AssertionKind::DeadlockFree if cx.semantics == Semantics::Untimed => {
+                semantics::deadlock_free(&lts, &name, opts, progress, report)
+            }
             AssertionKind::DeadlockFree => {
                 let (r, stats) = find_timed_deadlock(&lts, &opts.budget, progress);
                 report.stats = stats;
@@ -704,7 +734,8 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                 report.stats = stats;
                 match r {
                     DivergenceResult::Free => {
-                        Ok((true, None, format!("{name} never computes forever without time passing")))
+                        let without = if cx.semantics == Semantics::Timed { " without time passing" } else { "" };
+                        Ok((true, None, format!("{name} never computes forever{without}")))
                     }
                     DivergenceResult::Divergent { path, .. } => Ok((
                         false,
@@ -962,7 +993,7 @@ fn unsupported_reason(db: &dyn Db, ws: Workspace, u: &Unsupported) -> String {
     format!("{} ({path}:{}:{})", u.message, at.line + 1, at.col + 1)
 }
 
-fn domains_note(design: &Design) -> String {
+pub(crate) fn domains_note(design: &Design) -> String {
     let doms: Vec<String> = design.domains.iter().map(|(n, d)| format!("{n} = {{{}..{}}}", d.lo, d.hi)).collect();
     let mut s = format!("domains: {}", doms.join(", "));
     if !design.constants.is_empty() {
@@ -984,7 +1015,12 @@ fn path_steps(lts: &Constrained<'_>, design: &Design, path: &Path<State>) -> Vec
 }
 
 /// Which machine moved between `prev` and `next`, and what it did.
-fn describe_move(design: &Design, prev: &[i32], next: &[i32], _label: &Label) -> (Option<String>, Option<Location>) {
+pub(crate) fn describe_move(
+    design: &Design,
+    prev: &[i32],
+    next: &[i32],
+    _label: &Label,
+) -> (Option<String>, Option<Location>) {
     for m in &design.machines {
         // The machine's control slots (leaf, pc, wait, transition, deadline,
         // and its activities' and timers'): two transitions can lead to the

@@ -3,7 +3,11 @@
 //! that overwrites (robotool-facts.md RT-12) or the buffer the user
 //! assumes instead, and platform events connected both ways (`[ mult ]`).
 
-use robosim_check::verify::{trace_text, verify_texts, AsyncBuffer, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, AsyncBuffer, Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 fn verify(files: &[(&str, &str)], async_buffer: Option<AsyncBuffer>) -> Vec<Report> {
     let opts = Options { async_buffer, ..Options::default() };

@@ -3,7 +3,11 @@
 //! the first literal, `true`), an uninitialised boolean starts `true`, and
 //! a verdict that rests on a default says so in its notes.
 
-use robosim_check::verify::{verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 fn run(rct: &str, assertions: &str) -> Vec<Report> {
     verify_texts(
@@ -79,4 +83,27 @@ fn division_by_zero_divides_by_one() {
     );
     let got: Vec<(&str, Verdict)> = reports.iter().map(|r| (r.name.as_str(), r.verdict)).collect();
     assert_eq!(got, [("F", Verdict::Pass), ("O", Verdict::Fail)], "{reports:#?}");
+}
+
+/// RT-3: a primitive type the model declares (`type ID`) ranges over
+/// {0, 1} when no assertion file gives it a range, and the notes say so:
+/// an input of type ID offers 0 and 1, and nothing else.
+#[test]
+fn primitive_types_range_over_zero_and_one() {
+    let model = "type ID
+        interface I { event pick : ID event one event two }
+        stm M { uses I var who : ID
+          initial i state S { } state P { } state One { } state Two { }
+          transition t { from i to S }
+          transition p { from S to P trigger pick?who }
+          transition a { from P to One condition who == 1 action one }
+          transition b { from P to Two condition who == 2 action two } }";
+    let reports = run(
+        model,
+        "assertion O : M::One is reachable in M
+         assertion T : M::Two is reachable in M",
+    );
+    let got: Vec<(&str, Verdict)> = reports.iter().map(|r| (r.name.as_str(), r.verdict)).collect();
+    assert_eq!(got, [("O", Verdict::Pass), ("T", Verdict::Fail)], "{reports:#?}");
+    assert!(reports[0].notes.join("\n").contains("type ID = {0, 1} (RT-3)"), "{:?}", reports[0].notes);
 }

@@ -2,7 +2,11 @@
 //! an instantiation block of an assertion file (as RoboTool users do for
 //! FDR): inlined at each call.
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 const MODEL: &str = "enumeration Level { Low Mid High }
     interface I { event alarm event level : Level }

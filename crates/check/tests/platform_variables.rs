@@ -9,7 +9,11 @@
 //! one required in the input context is read from its register at the start
 //! of every cycle (`registerRead.i_x.v`, no presence flag).
 
-use robosim_check::verify::{trace_text, verify_workspace, Counterexample, Options, Profile, Report, Verdict};
+use robosim_check::verify::{trace_text, Counterexample, Options, Profile, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_workspace;
 
 fn verify(files: &[(&str, &str)], profile: Profile) -> Vec<Report> {
     let db = robosim_hir::RootDatabase::default();

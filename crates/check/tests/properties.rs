@@ -2,7 +2,11 @@
 //! Figure 1) and RoboSim modules — deadlock, timelock and divergence
 //! freedom, determinism, reachability of a state.
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 fn example(name: &str) -> String {
     std::fs::read_to_string(format!("{}/../../examples/paper/{name}", env!("CARGO_MANIFEST_DIR")))

@@ -3,7 +3,11 @@
 
 use std::time::Duration;
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 const DESIGN: &str = "interface I { event i op() }
     stm M { uses I requires I const k : nat initial i0 state S { entry op(); wait(1) }
@@ -37,7 +41,7 @@ fn undecided_assertions_say_why() {
         ("A", "no cycle period from 1 to 1000"),
         ("B", "no cycle period from 1 to 1000"),
         ("C", "is not a RoboChart module, controller or machine"),
-        ("D", "is not an integer or boolean literal"),
+        ("D", "is not an integer, boolean or enumeration literal"),
         ("F", "is not a simulation, module, controller or machine"),
     ] {
         let r = by(name);

@@ -4,7 +4,11 @@
 
 use std::path::Path;
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, Options, Report, Verdict};
+
+#[path = "support/timed.rs"]
+mod timed;
+use timed::verify_texts;
 
 fn run(files: &[(&str, String)]) -> Vec<Report> {
     verify_texts(files.iter().map(|(p, t)| (p.to_string(), t.clone())), &Options::default())

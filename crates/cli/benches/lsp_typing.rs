@@ -16,6 +16,15 @@
 //! semantic diagnostics moved along with the edits; the complete check for
 //! the version follows as a second publish, measured in a second pass with
 //! pauses long enough for it to finish.
+//!
+//! Then the RoboSim case of issue 22: a generated 11,641-line RoboSim model
+//! (120 copies of a small module) in which one guard is toggled between
+//! `not $obstacle` and `not obstacle` (an RS:SM6 violation); the latency
+//! that counts is that of the complete publish, the one with RS:SM6 after
+//! the bad edit and without it after the fix. The same toggles, replayed
+//! in-process on a database with salsa's event log, give the number of
+//! queries each keystroke re-executes. `LSP_TYPING=robosim` runs this part
+//! only.
 
 #[path = "../tests/lsp_support/framing.rs"]
 mod framing;
@@ -29,6 +38,9 @@ use std::sync::mpsc::{channel, Receiver};
 use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
+
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 const KEYSTROKES: usize = 200;
 const REQUESTS: usize = 50;
@@ -120,7 +132,131 @@ fn main() {
         json!({"capabilities": {"textDocument": {"documentSymbol": {"hierarchicalDocumentSymbolSupport": true}}}}),
     );
     c.send(&json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
+    if std::env::var("LSP_TYPING").as_deref() != Ok("robosim") {
+        robochart(&mut c, &bin);
+    }
+    robosim_toggle(&mut c);
+    robosim_queries();
 
+    c.request("shutdown", Value::Null);
+    c.send(&json!({"jsonrpc": "2.0", "method": "exit"}));
+    let _ = child.wait();
+}
+
+/// Whether a `publishDiagnostics` message has an RS:SM6 diagnostic.
+fn has_sm6(msg: &Value) -> bool {
+    msg["params"]["diagnostics"].as_array().is_some_and(|a| a.iter().any(|d| d["code"] == "RS:SM6"))
+}
+
+/// The issue-22 measurement: toggling `$` in the middle copy's guard of
+/// the generated RoboSim model, each edit waited for until its complete
+/// publish (present after the bad edit, absent after the fix).
+fn robosim_toggle(c: &mut Client) {
+    let text = generated::generated_robosim(120);
+    let lines: Vec<&str> = text.lines().collect();
+    println!("RoboSim model: {} lines, {:.1} KB", lines.len(), text.len() as f64 / 1024.0);
+    let uri = "file:///robosim-bench/generated.rst";
+    c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": uri, "languageId": "robosim", "version": 1, "text": text}}}));
+    let published = |version: i64| {
+        move |m: &Value| {
+            m["method"] == "textDocument/publishDiagnostics"
+                && m["params"]["uri"] == uri
+                && m["params"]["version"] == version
+        }
+    };
+    let (_, first) = c.wait(published(1));
+    let (_, open) = c.wait(published(1));
+    assert!(!has_sm6(&first) && !has_sm6(&open), "the generated model has no RS:SM6");
+    let middle = text.find("SimSMovement60 {").expect("copy 60");
+    let at = middle + text[middle..].find("condition not $obstacle").unwrap() + "condition not ".len();
+    let line = text[..at].matches('\n').count();
+    let col = (at - text[..at].rfind('\n').map_or(0, |i| i + 1)) as u32;
+    let pos = json!({"line": line, "character": col});
+    let mut version = 1;
+    let (mut first_pub, mut complete) = (Vec::new(), Vec::new());
+    const WARM: usize = 6;
+    for k in 0..WARM + TOGGLES {
+        version += 1;
+        let bad = k % 2 == 0;
+        let change = if bad {
+            json!({"range": {"start": pos, "end": {"line": line, "character": col + 1}}, "text": ""})
+        } else {
+            json!({"range": {"start": pos, "end": pos}, "text": "$"})
+        };
+        let sent = Instant::now();
+        c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
+            "textDocument": {"uri": uri, "version": version}, "contentChanges": [change]}}));
+        let (fast_at, _) = c.wait(published(version));
+        // The second publish of the version is the complete check's.
+        let (at, msg) = c.wait(published(version));
+        assert_eq!(has_sm6(&msg), bad, "the complete publish after edit {k} (bad: {bad})");
+        if k >= WARM {
+            first_pub.push(fast_at - sent);
+            complete.push(at - sent);
+        }
+        std::thread::sleep(Duration::from_millis(40));
+    }
+    report("RoboSim toggle → first publish", first_pub);
+    report("RoboSim toggle → complete publish", complete);
+}
+
+/// Edits of the toggle benchmark.
+const TOGGLES: usize = 60;
+
+/// The same toggles in-process, on a database that logs salsa's events:
+/// the queries each keystroke re-executes, and the complete check's time
+/// without the server around it.
+fn robosim_queries() {
+    use robosim_hir::{file_diagnostics, load_workspace, parse, Prior, RootDatabase, RuleSet};
+    use salsa::Setter;
+    use std::sync::{Arc, Mutex};
+    let log: Arc<Mutex<Vec<String>>> = Arc::default();
+    let sink = log.clone();
+    let mut db = RootDatabase::with_event_log(move |e| {
+        if let salsa::EventKind::WillExecute { database_key } = e.kind {
+            let key = format!("{database_key:?}");
+            sink.lock().unwrap().push(key.split('(').next().unwrap_or("").to_string());
+        }
+    });
+    let good = generated::generated_robosim(120);
+    let middle = good.find("SimSMovement60 {").unwrap();
+    let at = middle + good[middle..].find("not $obstacle").unwrap();
+    let bad = format!("{}not obstacle{}", &good[..at], &good[at + "not $obstacle".len()..]);
+    let ws = load_workspace(&db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
+    let file = *ws.files(&db).iter().find(|f| !f.is_library(&db)).unwrap();
+    file_diagnostics(&db, ws, file);
+    let (mut counts, mut times) = (Vec::new(), Vec::new());
+    let mut last = Vec::new();
+    for k in 0..TOGGLES {
+        let text = if k % 2 == 0 { &bad } else { &good };
+        log.lock().unwrap().clear();
+        let start = Instant::now();
+        let prior = Prior { text: file.text(&db).as_str().into(), parse: parse(&db, file).clone() };
+        file.set_prior(&mut db).to(Some(prior));
+        file.set_text(&mut db).to(text.clone());
+        let n = file_diagnostics(&db, ws, file).iter().filter(|d| d.code == "RS:SM6").count();
+        times.push(start.elapsed());
+        assert_eq!(n, usize::from(k % 2 == 0));
+        last = std::mem::take(&mut *log.lock().unwrap());
+        counts.push(last.len());
+    }
+    counts.sort();
+    report("RoboSim toggle, in-process complete check", times);
+    println!(
+        "queries re-executed per keystroke: median {}, max {}",
+        counts[counts.len() / 2],
+        counts[counts.len() - 1]
+    );
+    let mut by_name: std::collections::BTreeMap<&str, usize> = Default::default();
+    for q in &last {
+        *by_name.entry(q.as_str()).or_default() += 1;
+    }
+    println!("  last keystroke: {by_name:?}");
+}
+
+/// The RoboChart part: typing in the generated 10,000-line model.
+fn robochart(c: &mut Client, bin: &str) {
     let text = generated::generated_model(10_000);
     let lines: Vec<&str> = text.lines().collect();
     println!("model: {} lines, {:.1} KB; server: {bin}", lines.len(), text.len() as f64 / 1024.0);
@@ -167,7 +303,7 @@ fn main() {
     for k in 0..KEYSTROKES + 10 {
         version += 1;
         let sent = Instant::now();
-        keystroke(&mut c, k, version);
+        keystroke(c, k, version);
         let (at, _) = c.wait(published(version));
         // The first keystrokes warm caches up; they are not counted.
         if k >= 10 {
@@ -183,7 +319,7 @@ fn main() {
     for k in 0..REQUESTS {
         version += 1;
         let sent = Instant::now();
-        keystroke(&mut c, KEYSTROKES + 10 + k, version);
+        keystroke(c, KEYSTROKES + 10 + k, version);
         c.wait(published(version));
         let (at, _) = c.wait(published(version));
         complete.push(at - sent);
@@ -237,7 +373,7 @@ fn main() {
         let mut samples = Vec::new();
         for i in 0..REQUESTS {
             version += 1;
-            edit(&mut c, i, version);
+            edit(c, i, version);
             c.wait(published(version));
             c.wait(published(version));
             samples.push(c.request(method, at_name.clone()));
@@ -247,7 +383,7 @@ fn main() {
         let mut samples = Vec::new();
         for i in 0..REQUESTS {
             version += 1;
-            edit(&mut c, i, version);
+            edit(c, i, version);
             samples.push(c.request(method, at_name.clone()));
             std::thread::sleep(Duration::from_millis(300));
         }
@@ -260,8 +396,4 @@ fn main() {
         samples.push(c.request("textDocument/selectionRange", json!({"textDocument": {"uri": uri}, "positions": [p]})));
     }
     report("textDocument/selectionRange", samples);
-
-    c.request("shutdown", Value::Null);
-    c.send(&json!({"jsonrpc": "2.0", "method": "exit"}));
-    let _ = child.wait();
 }

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use robosim_ide::diagram::render_marked;
 use robosim_ide::verify::{
-    counterexample_table, Budget, Counterexample, Location, Options, Profile, Report, Stats, Step, Verdict,
+    counterexample_table, Budget, Counterexample, Location, Options, Profile, Report, Semantics, Stats, Step, Verdict,
 };
 use serde_json::{json, Value};
 
@@ -101,7 +101,8 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 /// Draws each counterexample on the diagrams of the machines it passes
-/// through: `DIR/ASSERTION.ELEMENT.svg`, the states and transitions of its
+/// through: `DIR/ASSERTION.ELEMENT.svg` (`ASSERTION.untimed.ELEMENT.svg`
+/// for the untimed analysis), the states and transitions of its
 /// steps highlighted with their cycles. Returns how many files were written.
 fn draw_counterexamples(ws: &Workspace, reports: &[Report], dir: &std::path::Path) -> std::io::Result<usize> {
     std::fs::create_dir_all(dir)?;
@@ -113,7 +114,9 @@ fn draw_counterexamples(ws: &Workspace, reports: &[Report], dir: &std::path::Pat
                 if d.region.is_none() {
                     continue;
                 }
-                let name = format!("{}.{}.svg", r.name, d.qualified_name.replace("::", "."));
+                // RT-8: the untimed analysis's witness beside the timed one's.
+                let semantics = if r.semantics == Semantics::Untimed { ".untimed" } else { "" };
+                let name = format!("{}{semantics}.{}.svg", r.name, d.qualified_name.replace("::", "."));
                 if let Some(marked) = render_marked(d, std::slice::from_ref(c)) {
                     std::fs::write(dir.join(name), marked.svg)?;
                     written += 1;
@@ -176,7 +179,9 @@ fn json_counterexample(ws: &Workspace, c: &Counterexample) -> Value {
     })
 }
 
-/// `{"assertions": [...]}`.
+/// `{"assertions": [...]}`: one entry per assertion and semantics it is
+/// checked in (`"semantics"`: `timed` or `untimed`, RT-8), so a plain
+/// assertion about a RoboChart element has two, timed first.
 pub fn to_json(ws: &Workspace, reports: &[Report]) -> Value {
     let list: Vec<Value> = reports
         .iter()
@@ -187,6 +192,7 @@ pub fn to_json(ws: &Workspace, reports: &[Report]) -> Value {
                 "name": r.name,
                 "text": r.text,
                 "range": json_location(ws, &at)["range"].clone(),
+                "semantics": r.semantics.name(),
                 "verdict": r.verdict.name(),
                 "states": r.stats.states,
                 "transitions": r.stats.transitions,
@@ -231,7 +237,13 @@ pub fn render_human(ws: &Workspace, reports: &[Report], profile: Profile) -> Str
         } else {
             String::new()
         };
-        s.push_str(&format!("  {:<13} {}: {}{stats}\n", r.verdict.name(), r.name, headline(&r.text)));
+        s.push_str(&format!(
+            "  {:<13} {}{}: {}{stats}\n",
+            r.verdict.name(),
+            r.name,
+            semantics_tag(reports, r),
+            headline(&r.text)
+        ));
         if r.verdict != Verdict::Pass {
             if let Some(reason) = &r.reason {
                 s.push_str(&format!("                {reason}\n"));
@@ -244,9 +256,18 @@ pub fn render_human(ws: &Workspace, reports: &[Report], profile: Profile) -> Str
         }
     }
     let count = |v: Verdict| reports.iter().filter(|r| r.verdict == v).count();
+    // RT-8: an assertion checked in both semantics counts once, its
+    // verdicts once per semantics.
+    let mut names: Vec<(&str, &str)> = reports.iter().map(|r| (r.file.as_str(), r.name.as_str())).collect();
+    names.dedup();
+    let analyses = if names.len() == reports.len() {
+        String::new()
+    } else {
+        format!("; {} analyses, timed and untimed", reports.len())
+    };
     s.push_str(&format!(
-        "verified {} assertions ({}): {} pass, {} fail, {} inconclusive, {} unsupported\n",
-        reports.len(),
+        "verified {} assertions ({}{analyses}): {} pass, {} fail, {} inconclusive, {} unsupported\n",
+        names.len(),
         profile.name(),
         count(Verdict::Pass),
         count(Verdict::Fail),
@@ -254,6 +275,18 @@ pub fn render_human(ws: &Workspace, reports: &[Report], profile: Profile) -> Str
         count(Verdict::Unsupported)
     ));
     s
+}
+
+/// ` [untimed]`, ` [timed]` after an assertion's name when it is checked in
+/// the untimed semantics (RT-8: a plain assertion in both, side by side);
+/// nothing for an assertion checked timed only.
+fn semantics_tag(reports: &[Report], r: &Report) -> String {
+    let both = reports.iter().any(|o| o.file == r.file && o.name == r.name && o.semantics != r.semantics);
+    if both || r.semantics == Semantics::Untimed {
+        format!(" [{}]", r.semantics.name())
+    } else {
+        String::new()
+    }
 }
 
 /// A counterexample grouped by cycle, indented under its assertion.

@@ -40,7 +40,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("cspm", &[]),
     ("fmt", &["robosim-syntax"]),
     ("hir", &["robosim-syntax", "robosim-stdlib"]),
-    ("check", &["robosim-syntax", "robosim-hir"]),
+    ("check", &["robosim-syntax", "robosim-hir", "robosim-cspm"]),
     ("semantics", &["robosim-syntax", "robosim-hir"]),
     ("diagram", &["robosim-syntax", "robosim-hir"]),
     ("ide", &["robosim-syntax", "robosim-hir", "robosim-fmt", "robosim-check", "robosim-semantics", "robosim-diagram"]),

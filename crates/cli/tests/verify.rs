@@ -114,14 +114,30 @@ fn square_schedulability_in_both_profiles() {
 #[test]
 fn lawnmower_example_verifies() {
     let (code, v) = json(&[], &examples().join("lawnmower"));
-    let got: Vec<(&str, &str)> = v["assertions"]
+    let got: Vec<(&str, &str, &str)> = v["assertions"]
         .as_array()
         .unwrap()
         .iter()
-        .map(|a| (a["name"].as_str().unwrap(), a["verdict"].as_str().unwrap()))
+        .map(|a| (a["name"].as_str().unwrap(), a["semantics"].as_str().unwrap(), a["verdict"].as_str().unwrap()))
         .collect();
-    let mut expected: Vec<(&str, &str)> = ["L1", "L2", "L3", "L4", "L5"].into_iter().map(|n| (n, "pass")).collect();
-    expected.extend([("L6", "unsupported"), ("L7", "pass"), ("S1", "pass"), ("R1", "pass"), ("D1", "pass")]);
+    // RT-8: the plain assertions about the design in both semantics, the
+    // `timed` ones and those about the simulation in the timed one.
+    let expected = [
+        ("L1", "timed", "pass"),
+        ("L1", "untimed", "pass"),
+        ("L2", "timed", "pass"),
+        ("L2", "untimed", "pass"),
+        ("L3", "timed", "pass"),
+        ("L4", "timed", "pass"),
+        ("L4", "untimed", "pass"),
+        ("L5", "timed", "pass"),
+        ("L5", "untimed", "pass"),
+        ("L6", "timed", "unsupported"),
+        ("L7", "timed", "pass"),
+        ("S1", "timed", "pass"),
+        ("R1", "timed", "pass"),
+        ("D1", "timed", "pass"),
+    ];
     assert_eq!(got, expected, "{v:#}");
     assert_eq!(code, Some(3));
 }
@@ -240,6 +256,38 @@ fn asynchronous_connections_under_an_assumed_buffer() {
         assert_eq!(out.status.code(), Some(2), "{bad}");
         assert!(String::from_utf8_lossy(&out.stderr).contains("--async-buffer"), "{bad}");
     }
+}
+
+/// RT-8: a plain assertion about a RoboChart element is reported in each
+/// semantics, side by side (JSON `semantics`, `[timed]` and `[untimed]` in
+/// the table); a `timed assertion` in the timed one only. RT-9: untimed,
+/// `wait(2)` is SKIP, so `Fast` has `Slow`'s traces.
+#[test]
+fn plain_assertions_in_both_semantics() {
+    let dir = data().join("untimed");
+    let (code, v) = json(&[], &dir);
+    assert_eq!(code, Some(1), "{v:#}");
+    let got: Vec<(&str, &str, &str)> = v["assertions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| (a["name"].as_str().unwrap(), a["semantics"].as_str().unwrap(), a["verdict"].as_str().unwrap()))
+        .collect();
+    assert_eq!(got, [("W", "timed", "fail"), ("W", "untimed", "pass"), ("T", "timed", "pass")]);
+    let out = robosim().arg("verify").arg(&dir).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("  pass") || l.starts_with("  fail")).collect();
+    assert_eq!(lines.len(), 3, "{text}");
+    assert!(lines[0].starts_with("  fail          W [timed]: Fast refines Slow in the traces model"), "{text}");
+    assert!(lines[1].starts_with("  pass          W [untimed]: Fast refines Slow in the traces model"), "{text}");
+    assert!(lines[2].starts_with("  pass          T: Slow terminates"), "{text}");
+    assert!(
+        text.ends_with(
+            "verified 2 assertions (robotool3; 3 analyses, timed and untimed): 2 pass, 1 fail, 0 inconclusive, \
+             0 unsupported\n"
+        ),
+        "{text}"
+    );
 }
 
 /// RoboTool resolves names per Eclipse project (robotool-facts, issue 17

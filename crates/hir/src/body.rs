@@ -11,6 +11,7 @@ use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 use rowan::Language as _;
 
 use crate::defs::{file_defs, DefKind, FileDefs, Io, UseKind};
+use crate::element::Unit;
 use crate::index::resolve_item;
 use crate::resolve::{ctx_members, enclosing, Ctx, Member, RefKind, ResolveProblem, ResolvedRef, Target};
 use crate::{parse, Db, File, Workspace};
@@ -27,24 +28,20 @@ pub struct BodyResolution {
 /// Resolves the names used in the behaviour of `file`.
 #[salsa::tracked(returns(ref))]
 pub fn body_resolution(db: &dyn Db, ws: Workspace, file: File) -> BodyResolution {
-    let mut r = Body::new(db, ws, file);
     if file.kind(db).is_assertions() {
-        return r.out;
+        return BodyResolution::default();
     }
     let root = parse(db, file).syntax_node();
-    // Only the nodes `visit` resolves, from the file's node table: a
-    // cursor for every node of a large file cost more than resolving the
-    // names.
-    // Names outside binding expressions (nearly all) need no cursor: their
-    // green node says everything `name_expr` reads.
-    let green_ok = |k, bound: bool| k == REF_EXPR && !bound;
-    for found in crate::walk::file_nodes(db, file).found(&root, VISITED, false, green_ok) {
-        match found {
-            crate::walk::Found::Node(n) => r.visit(&n),
-            crate::walk::Found::Green(g, range) => r.name_expr_green(&g, range.start()),
-        }
+    let r = Body::new(db, ws, file, file_defs(db, file), None);
+    r.resolve(&root, crate::walk::file_nodes(db, file))
+}
+
+/// [`body_resolution`] of one element.
+pub(crate) fn resolve_body(db: &dyn Db, ws: Workspace, unit: &Unit<'_>) -> BodyResolution {
+    if unit.file.kind(db).is_assertions() {
+        return BodyResolution::default();
     }
-    r.out
+    Body::new(db, ws, unit.file, unit.defs, Some(unit)).resolve(&unit.root, unit.nodes)
 }
 
 /// The kinds of node [`Body::visit`] resolves names of.
@@ -69,7 +66,7 @@ pub fn body_refs_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) ->
     if file.kind(db).is_assertions() {
         return Vec::new();
     }
-    let mut r = Body::new(db, ws, file);
+    let mut r = Body::new(db, ws, file, file_defs(db, file), None);
     // One name needs the members of one context, not those of the file.
     r.one_context = true;
     let root = parse(db, file).syntax_node();
@@ -106,6 +103,8 @@ struct Body<'a> {
     /// Whether to compute members for the contexts asked for only, rather
     /// than read them from the whole file's (memoised) members.
     one_context: bool,
+    /// The element resolved, if only one: members come from its own.
+    unit: Option<&'a Unit<'a>>,
 }
 
 fn qualified(n: &SyntaxNode) -> Option<(Vec<String>, TextRange)> {
@@ -151,17 +150,34 @@ fn bound_names(node: &SyntaxNode) -> Vec<String> {
 }
 
 impl<'a> Body<'a> {
-    fn new(db: &'a dyn Db, ws: Workspace, file: File) -> Body<'a> {
+    fn new(db: &'a dyn Db, ws: Workspace, file: File, defs: &'a FileDefs, unit: Option<&'a Unit<'a>>) -> Body<'a> {
         Body {
             db,
             ws,
             file,
-            defs: file_defs(db, file),
+            defs,
             rs: file.kind(db) == FileKind::RoboSim,
             out: BodyResolution::default(),
             members_cache: Default::default(),
             one_context: false,
+            unit,
         }
+    }
+
+    /// Resolves the names of the nodes below `root` that `table` records.
+    fn resolve(mut self, root: &SyntaxNode, table: &crate::walk::NodeTable) -> BodyResolution {
+        // Only the nodes `visit` resolves, from the node table: a cursor
+        // for every node of a large file cost more than resolving the
+        // names. Names outside binding expressions (nearly all) need no
+        // cursor: their green node says everything `name_expr` reads.
+        let green_ok = |k, bound: bool| k == REF_EXPR && !bound;
+        for found in table.found(root, VISITED, false, green_ok) {
+            match found {
+                crate::walk::Found::Node(n) => self.visit(&n),
+                crate::walk::Found::Green(g, range) => self.name_expr_green(&g, range.start()),
+            }
+        }
+        self.out
     }
 
     /// Resolves the names `n` itself introduces (not those of its children);
@@ -203,6 +219,8 @@ impl<'a> Body<'a> {
         let ctx_def = Ctx::Local(self.file, ctx);
         let mut m = if self.one_context {
             crate::resolve::compute_members(self.db, self.ws, ctx_def)
+        } else if let Some(unit) = self.unit {
+            unit.members(self.db, self.ws, ctx).into_owned()
         } else {
             ctx_members(self.db, self.ws, ctx_def).into_owned()
         };

@@ -313,28 +313,37 @@ pub struct FileDefs {
     child_index: Vec<Vec<DefId>>,
     /// Definitions sorted by start offset, for `innermost`.
     by_start: Vec<DefId>,
+    /// The id of `defs[0]`: 0 for a file; for one element's definitions
+    /// (`crate::element`), the number of definitions before it in the file,
+    /// so that ids are the file's.
+    base: u32,
 }
 
 impl FileDefs {
     /// The definition `id`.
     pub fn def(&self, id: DefId) -> &Def {
-        &self.defs[id.0 as usize]
+        &self.defs[(id.0 - self.base) as usize]
+    }
+
+    /// Whether `id` is one of these definitions.
+    pub(crate) fn holds(&self, id: DefId) -> bool {
+        id.0 >= self.base && ((id.0 - self.base) as usize) < self.defs.len()
     }
 
     /// The container facts of `id`.
     pub fn facts(&self, id: DefId) -> &ContainerFacts {
-        &self.facts[id.0 as usize]
+        &self.facts[(id.0 - self.base) as usize]
     }
 
     /// All definitions with their ids.
     pub fn iter(&self) -> impl Iterator<Item = (DefId, &Def)> {
-        self.defs.iter().enumerate().map(|(i, d)| (DefId(i as u32), d))
+        self.defs.iter().enumerate().map(|(i, d)| (DefId(self.base + i as u32), d))
     }
 
     /// The direct children of `parent` (`None`: top-level items).
     pub fn children(&self, parent: Option<DefId>) -> impl Iterator<Item = (DefId, &Def)> {
         let slot = match parent {
-            Some(p) => p.0 as usize,
+            Some(p) => (p.0 - self.base) as usize,
             None => self.defs.len(),
         };
         self.child_index.get(slot).into_iter().flatten().map(move |id| (*id, self.def(*id)))
@@ -377,38 +386,97 @@ impl FileDefs {
 
     fn build_indexes(&mut self) {
         self.child_index = vec![Vec::new(); self.defs.len() + 1];
+        let base = self.base;
         for (i, d) in self.defs.iter().enumerate() {
-            let slot = d.parent.map_or(self.defs.len(), |p| p.0 as usize);
-            self.child_index[slot].push(DefId(i as u32));
+            let slot = d.parent.map_or(self.defs.len(), |p| (p.0 - base) as usize);
+            self.child_index[slot].push(DefId(base + i as u32));
         }
-        self.by_start = (0..self.defs.len() as u32).map(DefId).collect();
+        self.by_start = (0..self.defs.len() as u32).map(|i| DefId(base + i)).collect();
         // Stable: among equal starts, parents (pushed first) stay first.
-        self.by_start.sort_by_key(|id| self.defs[id.0 as usize].range.start());
+        self.by_start.sort_by_key(|id| self.defs[(id.0 - base) as usize].range.start());
+    }
+
+    /// These definitions with ids from `base` on (they are lowered from
+    /// 0), under the package and imports of `header`.
+    pub(crate) fn rebased(&self, base: u32, header: &FileDefs) -> FileDefs {
+        let mut out = FileDefs {
+            package: header.package.clone(),
+            package_range: header.package_range,
+            imports: header.imports.clone(),
+            defs: self.defs.clone(),
+            uses: self.uses.clone(),
+            facts: self.facts.clone(),
+            child_index: Vec::new(),
+            by_start: Vec::new(),
+            base,
+        };
+        for d in &mut out.defs {
+            if let Some(p) = &mut d.parent {
+                p.0 += base;
+            }
+        }
+        for u in &mut out.uses {
+            u.owner.0 += base;
+        }
+        out.build_indexes();
+        out
     }
 }
 
 /// Lowers a file's tree to its declarations.
 #[salsa::tracked(returns(ref))]
 pub fn file_defs(db: &dyn Db, file: File) -> FileDefs {
-    let root = parse(db, file).syntax_node();
+    // Put together from the elements' (`crate::element`): a keystroke
+    // lowers the edited element only.
+    let mut out = lower_header(&parse(db, file).syntax_node());
+    for (e, at) in crate::element::file_elements(db, file) {
+        crate::defs_shift::append(&mut out, crate::element::element_lowered(db, *e), (*at).into());
+    }
+    out.build_indexes();
+    out
+}
+
+/// The definitions of a whole tree, lowered in one pass: what
+/// [`file_defs`] puts together from the elements (tests compare the two).
+pub fn lower_file(root: &SyntaxNode) -> FileDefs {
     let mut l = Lower { out: FileDefs::default() };
     for child in root.children() {
         match child.kind() {
-            PACKAGE_DECL => {
-                if let Some(q) = child.children().find_map(ast_qualified) {
-                    l.out.package = q.segments();
-                    l.out.package_range = Some(q.syntax().text_range());
-                }
-            }
-            IMPORT => {
-                if let Some(q) = child.children().find_map(ast_qualified) {
-                    let wildcard = child.children_with_tokens().any(|t| t.kind() == COLON2_STAR);
-                    l.out.imports.push(ImportDecl { path: q.segments(), wildcard, range: q.syntax().text_range() });
-                }
-            }
+            PACKAGE_DECL | IMPORT => header(&mut l.out, &child),
             _ => l.item(&child, None, None),
         }
     }
+    l.out.build_indexes();
+    l.out
+}
+
+/// Records the package or import `child` (a child of the root) in `out`.
+fn header(out: &mut FileDefs, child: &SyntaxNode) {
+    let Some(q) = child.children().find_map(ast_qualified) else { return };
+    if child.kind() == PACKAGE_DECL {
+        out.package = q.segments();
+        out.package_range = Some(q.syntax().text_range());
+    } else {
+        let wildcard = child.children_with_tokens().any(|t| t.kind() == COLON2_STAR);
+        out.imports.push(ImportDecl { path: q.segments(), wildcard, range: q.syntax().text_range() });
+    }
+}
+
+/// The package and imports of a file's tree, alone.
+pub(crate) fn lower_header(root: &SyntaxNode) -> FileDefs {
+    let mut out = FileDefs::default();
+    for child in root.children().filter(|c| matches!(c.kind(), PACKAGE_DECL | IMPORT)) {
+        header(&mut out, &child);
+    }
+    out
+}
+
+/// The definitions of one top-level element (`node`: a child of the root
+/// that is not a package or an import), with ids from 0: what
+/// [`file_defs`] lowers from it.
+pub(crate) fn lower_element(node: &SyntaxNode) -> FileDefs {
+    let mut l = Lower { out: FileDefs::default() };
+    l.item(node, None, None);
     l.out.build_indexes();
     l.out
 }

@@ -1,7 +1,7 @@
 //! Diagnostics as returned values: syntax errors first, then the semantic
 //! rules.
 
-use robosim_syntax::TextRange;
+use robosim_syntax::{TextRange, TextSize};
 
 use crate::{parse, Db, File, Workspace};
 
@@ -67,7 +67,6 @@ pub fn prefetch_rules(db: &dyn Db, workspace: Workspace, file: File) {
     }
     // Behaviour resolution and typing come first in `file_diagnostics`;
     // these come last, so the two threads start on different work.
-    crate::resolve::file_resolution(db, workspace, file);
     crate::checks::file_checks(db, workspace, file);
     crate::more_checks::more_checks(db, workspace, file);
     crate::robosim::robosim_checks(db, workspace, file);
@@ -102,10 +101,32 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
             message,
             related,
         };
-        let body = &crate::body::body_resolution(db, workspace, file).problems;
-        let typing = crate::types::type_checks(db, workspace, file);
-        for p in crate::resolve::file_resolution(db, workspace, file).problems.iter().chain(body).chain(typing) {
-            out.push(make(p.code, p.range, p.message.clone(), Vec::new()));
+        if file.kind(db).is_assertions() {
+            let body = &crate::body::body_resolution(db, workspace, file).problems;
+            let typing = crate::types::type_checks(db, workspace, file);
+            for p in crate::resolve::file_resolution(db, workspace, file).problems.iter().chain(body).chain(typing) {
+                out.push(make(p.code, p.range, p.message.clone(), Vec::new()));
+            }
+        } else {
+            // Per element, positions relative to its start: an edit inside
+            // one element re-runs that element's resolution and typing
+            // only. Each list in the order the file-level queries give.
+            let elements: Vec<_> = crate::element::file_elements(db, file)
+                .iter()
+                .map(|(e, at)| (crate::element::element_problems(db, workspace, *e), *at))
+                .collect();
+            for p in crate::resolve::import_problems(db, workspace, file) {
+                out.push(make(p.code, p.range, p.message, Vec::new()));
+            }
+            let lists: [fn(&crate::element::ElementProblems) -> &Vec<_>; 3] =
+                [|e| &e.resolution, |e| &e.body, |e| &e.types];
+            for list in lists {
+                for (e, at) in &elements {
+                    for p in list(e) {
+                        out.push(make(p.code, p.range + TextSize::from(*at), p.message.clone(), Vec::new()));
+                    }
+                }
+            }
         }
         for p in &crate::cycle::cycle_checks(db, workspace, file).0 {
             let related =

@@ -64,12 +64,22 @@ pub struct FileSummary {
 /// The position-free summary of a file.
 #[salsa::tracked(returns(ref))]
 pub fn file_summary(db: &dyn Db, file: File) -> FileSummary {
-    let defs = file_defs(db, file);
-    let mut out = FileSummary {
-        package: defs.package.clone(),
-        imports: defs.imports.iter().map(|i| (i.path.clone(), i.wildcard)).collect(),
-        items: Vec::new(),
-    };
+    // Put together from the elements' summaries, which an edit elsewhere
+    // does not recompute.
+    let header = crate::element::file_header(db, file);
+    FileSummary {
+        package: header.package.clone(),
+        imports: header.imports.iter().map(|i| (i.path.clone(), i.wildcard)).collect(),
+        items: crate::element::element_list(db, file)
+            .iter()
+            .flat_map(|e| crate::element::element_summary(db, *e).iter().cloned())
+            .collect(),
+    }
+}
+
+/// The summaries of the top-level items of `defs`.
+pub(crate) fn summarize(defs: &crate::defs::FileDefs) -> Vec<ItemSummary> {
+    let mut out = Vec::new();
     for (id, d) in defs.children(None) {
         if d.name.is_empty() {
             continue;
@@ -78,10 +88,10 @@ pub fn file_summary(db: &dyn Db, file: File) -> FileSummary {
             defs.children(Some(id)).filter(|(_, m)| !m.name.is_empty()).map(|(_, m)| member_summary(m)).collect();
         let uses = defs.uses_of(id).map(|u| (u.kind, u.path.clone(), u.io)).collect();
         let params = match &d.data {
-            DefData::Signature { params, .. } => params.clone(),
+            DefData::Signature { params, .. } => strip_params(params),
             _ => Vec::new(),
         };
-        out.items.push(ItemSummary { name: d.name.clone(), kind: d.kind, members, uses, params });
+        out.push(ItemSummary { name: d.name.clone(), kind: d.kind, members, uses, params });
     }
     out
 }
@@ -92,7 +102,7 @@ fn member_summary(m: &crate::defs::Def) -> MemberSummary {
         _ => (None, false),
     };
     let params = match &m.data {
-        DefData::Signature { params, .. } => params.clone(),
+        DefData::Signature { params, .. } => strip_params(params),
         // Constructor argument types of an enumeration literal.
         DefData::Literal { args } => args.iter().map(|t| (String::new(), strip_ranges(Some(t.clone())))).collect(),
         _ => Vec::new(),
@@ -102,6 +112,11 @@ fn member_summary(m: &crate::defs::Def) -> MemberSummary {
         _ => Vec::new(),
     };
     MemberSummary { name: m.name.clone(), kind: m.kind, ty: strip_ranges(ty), io: m.io, params, target, broadcast }
+}
+
+/// Parameters without the ranges of their types.
+fn strip_params(params: &[(String, Option<TypeRef>)]) -> Vec<(String, Option<TypeRef>)> {
+    params.iter().map(|(n, t)| (n.clone(), strip_ranges(t.clone()))).collect()
 }
 
 /// Type references keep their ranges in definitions, but summaries must
@@ -140,14 +155,17 @@ impl ItemLoc {
         &file_summary(db, self.file).items[self.index as usize]
     }
 
-    /// The item's definition in its file (reads the file's positions).
+    /// The item's definition in its file.
     pub fn def(self, db: &dyn Db) -> Option<DefId> {
-        file_defs(db, self.file)
-            .children(None)
-            .filter(|(_, d)| !d.name.is_empty())
-            .nth(self.index as usize)
-            .map(|(id, _)| id)
+        item_defs(db, self.file).get(self.index as usize).copied()
     }
+}
+
+/// The definitions of the summarised items of `file`, in order: ids only,
+/// so that readers do not depend on the file's positions.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn item_defs(db: &dyn Db, file: File) -> Vec<DefId> {
+    file_defs(db, file).children(None).filter(|(_, d)| !d.name.is_empty()).map(|(id, _)| id).collect()
 }
 
 /// Qualified names of the whole workspace.

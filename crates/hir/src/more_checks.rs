@@ -50,12 +50,12 @@ pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
     }
     recursion(db, ws, file, &mut out);
     if rs {
-        let root = parse(db, file).syntax_node();
-        for n in crate::walk::file_nodes(db, file).nodes(&root, &[TIMED_STMT], false) {
-            if let Some(d) = n.children().find(|c| c.kind() == DEADLINE) {
+        // Found per element: a keystroke looks at the edited element only.
+        for (e, at) in crate::element::file_elements(db, file) {
+            for d in &crate::element::element_marks(db, *e).0 {
                 out.push(Problem::new(
                     "RS-STMT-02",
-                    d.text_range(),
+                    *d + robosim_syntax::TextSize::from(*at),
                     "statement deadlines are not part of RoboSim: count cycles with a clock instead",
                 ));
             }
@@ -99,9 +99,17 @@ fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) 
 
 /// RC-TYPE-02/03/04: vector and matrix sizes are literals or constants.
 fn sizes(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
-    let refs = &crate::body::body_resolution(db, ws, file).refs;
+    // Most files write no vector type: no walk of the whole file then.
+    if !crate::element::file_elements(db, file).iter().any(|(e, _)| crate::element::element_marks(db, *e).1) {
+        return;
+    }
     let root = parse(db, file).syntax_node();
-    for t in crate::walk::file_nodes(db, file).nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false) {
+    let sized = crate::walk::file_nodes(db, file).nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false);
+    // The names in behaviour are resolved for the file only when it has
+    // sizes to check (the per-element diagnostics do not need them).
+    let refs: &[crate::resolve::ResolvedRef] =
+        if sized.is_empty() { &[] } else { &crate::body::body_resolution(db, ws, file).refs };
+    for t in sized {
         let code = if t.kind() == VECTOR_TYPE { "RC-TYPE-02" } else { "RC-TYPE-03" };
         for size in t.children().filter(|c| robosim_syntax::ast::is_expr_kind(c.kind())) {
             let inner = match size.kind() {

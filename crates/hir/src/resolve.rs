@@ -10,6 +10,7 @@ use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind
 mod assertions;
 mod prob;
 
+use crate::element::Unit;
 use crate::index::{file_summary, import_matches, resolve_in_scope, resolve_item, ItemLoc};
 use crate::{parse, Db, File, Workspace};
 
@@ -143,11 +144,28 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::borrow::Cow<'_,
     // so that editing their bodies does not invalidate this file's results.
     // Borrowed when memoised: checks ask for the same lists many times.
     if let Ctx::Local(file, def) = ctx {
+        // From the element that declares it: its members do not change
+        // when text before it moves, the file's do.
+        if let Some(e) = crate::element::element_of(db, file, def) {
+            if let Some(m) = crate::element::element_members(db, ws, e).get(&def) {
+                return std::borrow::Cow::Borrowed(m);
+            }
+        }
         if let Some(m) = file_members(db, ws, file).get(&def) {
             return std::borrow::Cow::Borrowed(m);
         }
     }
+    if let Ctx::Item(loc) = ctx {
+        return std::borrow::Cow::Borrowed(item_members(db, ws, loc.file, loc.index));
+    }
     std::borrow::Cow::Owned(compute_members(db, ws, ctx))
+}
+
+/// The members of the item `index` of `file`'s summary: position-free,
+/// and asked for by every reference to the item.
+#[salsa::tracked(returns(ref))]
+fn item_members(db: &dyn Db, ws: Workspace, file: File, index: u32) -> Vec<Member> {
+    compute_members(db, ws, Ctx::Item(ItemLoc { file, index }))
 }
 
 /// The members of every context definition of a file, computed once per
@@ -157,29 +175,48 @@ pub fn ctx_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::borrow::Cow<'_,
 pub fn file_members(db: &dyn Db, ws: Workspace, file: File) -> rustc_hash::FxHashMap<DefId, Vec<Member>> {
     file_defs(db, file)
         .iter()
-        .filter(|(_, d)| {
-            matches!(
-                d.kind,
-                DefKind::Interface
-                    | DefKind::Platform
-                    | DefKind::Controller
-                    | DefKind::StateMachine
-                    | DefKind::Operation
-                    | DefKind::Function
-                    | DefKind::Module
-            )
-        })
+        .filter(|(_, d)| is_context_kind(d.kind))
         .map(|(id, _)| (id, compute_members(db, ws, Ctx::Local(file, id))))
         .collect()
+}
+
+/// The kinds of definition [`file_members`] lists the members of.
+pub(crate) fn is_context_kind(k: DefKind) -> bool {
+    matches!(
+        k,
+        DefKind::Interface
+            | DefKind::Platform
+            | DefKind::Controller
+            | DefKind::StateMachine
+            | DefKind::Operation
+            | DefKind::Function
+            | DefKind::Module
+    )
 }
 
 /// The members of `ctx`, computed afresh ([`ctx_members`] reads them from
 /// the file's memoised members when it can).
 pub(crate) fn compute_members(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Member> {
+    match ctx {
+        Ctx::Local(file, id) => members_in(db, ws, file, file_defs(db, file), id),
+        Ctx::Item(_) => members_with(db, ws, ctx, None),
+    }
+}
+
+/// The members of the definition `id` of `file`, read from `defs` (the
+/// file's, or those of the element that holds `id`).
+pub(crate) fn members_in(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs, id: DefId) -> Vec<Member> {
+    members_with(db, ws, Ctx::Local(file, id), Some(defs))
+}
+
+fn members_with(db: &dyn Db, ws: Workspace, ctx: Ctx, local: Option<&FileDefs>) -> Vec<Member> {
     let mut out = Vec::new();
     let (file, uses): (File, Vec<UseSummary>) = match ctx {
         Ctx::Local(file, id) => {
-            let defs = file_defs(db, file);
+            let defs = match local {
+                Some(d) => d,
+                None => file_defs(db, file),
+            };
             for (mid, m) in defs.children(Some(id)) {
                 if is_member_kind(m.kind) && !m.name.is_empty() {
                     out.push(Member {
@@ -255,7 +292,11 @@ fn typed(d: &Def) -> Option<crate::defs::TypeRef> {
 /// The context a (connection/reference) node denotes: an inline definition,
 /// or the definition a `cref/sref/rref` names.
 pub fn node_ctx(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Ctx> {
-    let defs = file_defs(db, file);
+    node_ctx_in(db, ws, file, file_defs(db, file), id)
+}
+
+/// [`node_ctx`], the definition read from `defs` (which hold `id`).
+pub(crate) fn node_ctx_in(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs, id: DefId) -> Option<Ctx> {
     let d = defs.def(id);
     match (&d.kind, &d.data) {
         (
@@ -305,22 +346,48 @@ pub fn enclosing(defs: &FileDefs, mut id: DefId, kinds: &[DefKind]) -> Option<De
 /// Resolves every declaration-level reference of `file`.
 #[salsa::tracked(returns(ref))]
 pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution {
-    // One walk finds the nodes both `types` and `clocks` need.
-    let root = parse(db, file).syntax_node();
-    let (named_types, clocks) = crate::walk::file_nodes(db, file)
-        .nodes(&root, &[NAMED_TYPE, CLOCK_RESET, CLOCK_RESET_STMT, SINCE_EXPR], false)
-        .into_iter()
-        .partition(|n| n.kind() == NAMED_TYPE);
-    let mut r =
-        Resolver { db, ws, file, defs: file_defs(db, file), named_types, clocks, out: FileResolution::default() };
+    let unit = Unit::of_file(db, file);
+    let mut r = Resolver::new(db, ws, &unit);
     r.imports();
-    r.uses();
-    r.types();
-    r.definitions();
+    r.resolve();
     if file.kind(db).is_assertions() {
-        r.probabilistic(&root);
-        r.assertion_names(&root);
+        r.probabilistic(&unit.root);
+        r.assertion_names(&unit.root);
     }
+    r.out.refs.sort_by_key(|x| x.range.start());
+    r.out
+}
+
+/// The problems of the imports of `file` (the part of [`file_resolution`]
+/// that belongs to no element).
+pub(crate) fn import_problems(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem> {
+    let defs = file_defs(db, file);
+    let unit = Unit {
+        file,
+        defs,
+        root: parse(db, file).syntax_node(),
+        // The imports need no node of the tree.
+        nodes: &crate::walk::NodeTable::default(),
+        element: None,
+    };
+    let mut r = Resolver {
+        db,
+        ws,
+        file,
+        unit: &unit,
+        defs,
+        named_types: Vec::new(),
+        clocks: Vec::new(),
+        out: FileResolution::default(),
+    };
+    r.imports();
+    r.out.problems
+}
+
+/// [`file_resolution`] of one element (no imports, no assertion names).
+pub(crate) fn resolve_unit(db: &dyn Db, ws: Workspace, unit: &Unit<'_>) -> FileResolution {
+    let mut r = Resolver::new(db, ws, unit);
+    r.resolve();
     r.out.refs.sort_by_key(|x| x.range.start());
     r.out
 }
@@ -329,6 +396,7 @@ struct Resolver<'a> {
     db: &'a dyn Db,
     ws: Workspace,
     file: File,
+    unit: &'a Unit<'a>,
     defs: &'a FileDefs,
     /// The `NAMED_TYPE` nodes of the file, in order.
     named_types: Vec<SyntaxNode>,
@@ -337,7 +405,24 @@ struct Resolver<'a> {
     out: FileResolution,
 }
 
-impl Resolver<'_> {
+impl<'a> Resolver<'a> {
+    fn new(db: &'a dyn Db, ws: Workspace, unit: &'a Unit<'a>) -> Resolver<'a> {
+        // One walk finds the nodes both `types` and `clocks` need.
+        let (named_types, clocks) = unit
+            .nodes
+            .nodes(&unit.root, &[NAMED_TYPE, CLOCK_RESET, CLOCK_RESET_STMT, SINCE_EXPR], false)
+            .into_iter()
+            .partition(|n| n.kind() == NAMED_TYPE);
+        Resolver { db, ws, file: unit.file, unit, defs: unit.defs, named_types, clocks, out: FileResolution::default() }
+    }
+
+    /// Everything but the imports.
+    fn resolve(&mut self) {
+        self.uses();
+        self.types();
+        self.definitions();
+    }
+
     fn push(&mut self, range: TextRange, text: String, kind: RefKind, target: Option<Target>) {
         self.out.refs.push(ResolvedRef { range, text, kind, target });
     }
@@ -511,7 +596,7 @@ impl Resolver<'_> {
             let owner =
                 enclosing(self.defs, container, &[DefKind::StateMachine, DefKind::Operation, DefKind::Controller]);
             if let Some(owner) = owner {
-                let members = ctx_members(self.db, self.ws, Ctx::Local(self.file, owner));
+                let members = self.unit.members(self.db, self.ws, owner);
                 let found = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev).map(|m| m.target);
                 self.push(*range, ev.clone(), RefKind::TriggerEvent, found);
                 if found.is_none() {
@@ -578,10 +663,13 @@ impl Resolver<'_> {
             let ctx = if nid == owner {
                 Some(Ctx::Local(self.file, owner))
             } else {
-                node_ctx(self.db, self.ws, self.file, nid)
+                self.unit.node_ctx(self.db, self.ws, nid)
             };
             let Some(ctx) = ctx else { continue };
-            let members = ctx_members(self.db, self.ws, ctx);
+            let members = match ctx {
+                Ctx::Local(f, id) if f == self.file && self.defs.holds(id) => self.unit.members(self.db, self.ws, id),
+                _ => ctx_members(self.db, self.ws, ctx),
+            };
             let mut m = members.iter().find(|m| m.kind == DefKind::Event && &m.name == ev).cloned();
             if m.is_none() {
                 m = machine_event(self.db, self.ws, ctx, ev);
@@ -602,7 +690,7 @@ impl Resolver<'_> {
             let Some(owner) = enclosing(self.defs, inner, &[DefKind::StateMachine, DefKind::Operation]) else {
                 continue;
             };
-            let members = ctx_members(self.db, self.ws, Ctx::Local(self.file, owner));
+            let members = self.unit.members(self.db, self.ws, owner);
             let found = members
                 .iter()
                 .find(|m| m.kind == DefKind::Clock && m.name == name && m.via != Some(UseKind::Provides))

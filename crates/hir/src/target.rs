@@ -9,7 +9,7 @@
 
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
 use crate::cycle::{simulation_period, Feasibility};
-use crate::defs::{file_defs, DefId, DefKind};
+use crate::defs::{file_defs, DefData, DefId, DefKind, UseKind};
 use crate::index::{resolve_item, ItemLoc};
 use crate::{Db, File, FileKind, Workspace};
 
@@ -113,6 +113,207 @@ pub fn bindings(a: &AssertionDecl) -> Result<Vec<Binding>, String> {
     Ok(out)
 }
 
+/// The constants `a` binds, read in `scope`: as [`bindings`], and an
+/// enumeration literal (`set to IType::L2`, RT-11) as its index in its
+/// enumeration, the order RoboTool's constructors and the checker's values
+/// follow. Every constant of that name in the workspace must be of that
+/// enumeration (a value of another type is refused, not converted).
+pub fn bindings_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>, String> {
+    let mut out = Vec::new();
+    for o in &a.overrides {
+        if let Override::Constant { name, of, value, .. } = o {
+            let value = match value {
+                Value::Int(v) => *v,
+                Value::Bool(b) => i64::from(*b),
+                Value::Other(text) => enum_literal(scope, name, text)?,
+            };
+            out.extend(spread(scope, Binding { name: name.clone(), of: of.clone(), value })?);
+        }
+    }
+    Ok(out)
+}
+
+/// RT-11: in `with constant z of X`, `X` may be the machine, the
+/// controller that requires `z`, or the module whose platform provides it.
+/// The binding as the checker reads it: one per machine that has `z` from
+/// `X`, named by its declaration. A RoboChart `X` through which no machine
+/// has `z` is an error (never silently a default); other `X` (RoboSim,
+/// unresolved) are left as written.
+fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
+    let Scope { db, ws, file, .. } = scope;
+    let element = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
+    let Some(loc) = resolve_item(db, ws, file, &b.of, element).into_iter().next() else { return Ok(vec![b]) };
+    let Some(id) = loc.def(db) else { return Ok(vec![b]) };
+    if loc.file.kind(db) != FileKind::RoboChart {
+        return Ok(vec![b]);
+    }
+    let of = b.of.join("::");
+    let defs = file_defs(db, loc.file);
+    let at = |b: &Binding, m: &str| Binding { name: b.name.clone(), of: vec![m.to_string()], value: b.value };
+    match defs.def(id).kind {
+        DefKind::StateMachine => {
+            let own = defs.children(Some(id)).any(|(_, d)| d.kind == DefKind::Constant && d.name == b.name);
+            if own || interface_constant(db, ws, loc.file, id, &b.name, None) {
+                Ok(vec![b])
+            } else {
+                Err(format!("the state machine `{of}` has no constant `{}`", b.name))
+            }
+        }
+        DefKind::Controller => {
+            let machines = machines_of(db, ws, loc.file, id);
+            let mut out = Vec::new();
+            for (mf, m) in &machines {
+                if !interface_constant(db, ws, *mf, *m, &b.name, Some(UseKind::Requires)) {
+                    continue;
+                }
+                let name = file_defs(db, *mf).def(*m).name.clone();
+                // The checker matches a machine by its declaration: one
+                // used by another controller too would receive the value
+                // there as well.
+                if referenced_elsewhere(db, ws, &name, loc.file, id) {
+                    return Err(format!(
+                        "`{name}`, which has `{}` from `{of}`, is used by another controller too: give the value \
+                         of the machine (`with constant {} of {name}`) or of the module",
+                        b.name, b.name
+                    ));
+                }
+                out.push(at(&b, &name));
+            }
+            if out.is_empty() {
+                return Err(format!("no state machine of the controller `{of}` requires a constant `{}`", b.name));
+            }
+            Ok(out)
+        }
+        _ => {
+            let mut out = Vec::new();
+            for (cf, c) in controllers_of(db, ws, loc.file, id) {
+                for (mf, m) in machines_of(db, ws, cf, c) {
+                    if interface_constant(db, ws, mf, m, &b.name, Some(UseKind::Requires)) {
+                        out.push(at(&b, &file_defs(db, mf).def(m).name));
+                    }
+                }
+            }
+            if out.is_empty() {
+                return Err(format!("no state machine of the module `{of}` requires a constant `{}`", b.name));
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// Whether the context `owner` of `file` has a constant `name` through an
+/// interface it uses, provides or requires (only `kind`, if given).
+fn interface_constant(db: &dyn Db, ws: Workspace, file: File, owner: DefId, name: &str, kind: Option<UseKind>) -> bool {
+    let defs = file_defs(db, file);
+    defs.uses_of(owner).filter(|u| kind.is_none_or(|k| u.kind == k)).any(|u| {
+        resolve_item(db, ws, file, &u.path, |k| k == DefKind::Interface).into_iter().next().is_some_and(|i| {
+            let Some(iid) = i.def(db) else { return false };
+            file_defs(db, i.file).children(Some(iid)).any(|(_, d)| d.kind == DefKind::Constant && d.name == name)
+        })
+    })
+}
+
+/// The machines of a controller: referenced and declared inside.
+fn machines_of(db: &dyn Db, ws: Workspace, file: File, ctrl: DefId) -> Vec<(File, DefId)> {
+    children_of(db, ws, file, ctrl, DefKind::MachineRef, DefKind::StateMachine)
+}
+
+/// The controllers of a module: referenced and declared inside.
+fn controllers_of(db: &dyn Db, ws: Workspace, file: File, module: DefId) -> Vec<(File, DefId)> {
+    children_of(db, ws, file, module, DefKind::ControllerRef, DefKind::Controller)
+}
+
+/// The children of `parent` of kind `kind`, and the targets of its
+/// references of kind `reference`.
+fn children_of(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    parent: DefId,
+    reference: DefKind,
+    kind: DefKind,
+) -> Vec<(File, DefId)> {
+    let defs = file_defs(db, file);
+    let mut out = Vec::new();
+    for (cid, d) in defs.children(Some(parent)) {
+        if d.kind == kind {
+            out.push((file, cid));
+        } else if let (true, DefData::Reference { path, .. }) = (d.kind == reference, &d.data) {
+            let found = match kind {
+                DefKind::Controller => resolve_item(db, ws, file, path, |k| k == DefKind::Controller),
+                _ => resolve_item(db, ws, file, path, |k| k == DefKind::StateMachine),
+            };
+            out.extend(found.into_iter().next().and_then(|l| Some((l.file, l.def(db)?))));
+        }
+    }
+    out
+}
+
+/// Whether a controller other than `ctrl` (of `file`) references a machine
+/// named `name`.
+fn referenced_elsewhere(db: &dyn Db, ws: Workspace, name: &str, file: File, ctrl: DefId) -> bool {
+    ws.files(db).iter().filter(|f| !f.is_library(db)).any(|&f| {
+        let defs = file_defs(db, f);
+        defs.iter().any(|(id, d)| {
+            d.kind == DefKind::Controller
+                && !(f == file && id == ctrl)
+                && machines_of(db, ws, f, id).iter().any(|&(mf, m)| file_defs(db, mf).def(m).name == name)
+        })
+    })
+}
+
+/// The index of the literal `text` (`E::L`, `P::E::L`) in its enumeration,
+/// when every constant named `constant` is of that enumeration.
+fn enum_literal(scope: Scope<'_>, constant: &str, text: &str) -> Result<i64, String> {
+    let not_literal =
+        || format!("the value of constant `{constant}` is not an integer, boolean or enumeration literal");
+    let path: Vec<String> = text.split("::").map(|p| p.trim().to_string()).collect();
+    let ident = |p: &String| !p.is_empty() && p.chars().all(|c| c.is_alphanumeric() || c == '_');
+    if path.len() < 2 || !path.iter().all(ident) {
+        return Err(not_literal());
+    }
+    let (literal, enumeration) = path.split_last().ok_or_else(not_literal)?;
+    let Scope { db, ws, file, .. } = scope;
+    let loc = resolve_item(db, ws, file, enumeration, |k| k == DefKind::Enumeration)
+        .into_iter()
+        .next()
+        .ok_or_else(|| format!("`{}` is not an enumeration", enumeration.join("::")))?;
+    let id = loc.def(db).ok_or_else(not_literal)?;
+    let defs = file_defs(db, loc.file);
+    let enum_name = defs.def(id).name.clone();
+    let literals: Vec<&crate::defs::Def> =
+        defs.children(Some(id)).map(|(_, d)| d).filter(|d| d.kind == DefKind::EnumLiteral).collect();
+    let index = literals
+        .iter()
+        .position(|d| d.name == *literal)
+        .ok_or_else(|| format!("`{literal}` is not a literal of the enumeration `{enum_name}`"))?;
+    if matches!(&literals[index].data, crate::defs::DefData::Literal { args } if !args.is_empty()) {
+        return Err(format!("`{text}` takes arguments: literals with arguments are not supported as values"));
+    }
+    // The constant's type, wherever it is declared.
+    let mut found = false;
+    for &f in ws.files(db) {
+        if f.is_library(db) {
+            continue;
+        }
+        for (_, d) in file_defs(db, f).iter().filter(|(_, d)| d.kind == DefKind::Constant && d.name == constant) {
+            found = true;
+            let of_enum = matches!(&d.data, crate::defs::DefData::Typed { ty: Some(crate::defs::TypeRef::Named(p, _)), .. }
+                if p.last() == Some(&enum_name));
+            if !of_enum {
+                return Err(format!(
+                    "a constant `{constant}` of the workspace is not of the enumeration `{enum_name}`: \
+                     `{text}` cannot be its value"
+                ));
+            }
+        }
+    }
+    if !found {
+        return Err(format!("no constant `{constant}` is declared"));
+    }
+    Ok(index as i64)
+}
+
 /// Everything an assertion's sides are read in: the workspace, the
 /// assertion file (`read`, the file `file`) and the workspace's other
 /// assertion files (their simulations are visible too).
@@ -152,7 +353,7 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
         let period = overridden.unwrap_or_else(|| sim.cycle.as_ref().and_then(Value::as_int));
         return Ok(Subject::Constrained { name: sim.name.clone(), sim_file, loc, period });
     }
-    let bound = bindings(a).unwrap_or_default();
+    let bound = bindings_in(scope, a).unwrap_or_default();
     if let Some((ctrl, machine)) = inline_machine(db, ws, file, path) {
         let inner = path.last().cloned();
         if ctrl.file.kind(db) != FileKind::RoboSim {
@@ -163,6 +364,9 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
             None => robosim_period(db, ws, &name, ctrl.file, machine, &bound)?,
         };
         return Ok(Subject::Simulation { name, loc: ctrl, inner, period });
+    }
+    if let Some(found) = instance(db, ws, file, path) {
+        return Ok(Subject::Design { name, loc: found?, inner: None });
     }
     let loc = resolve_item(db, ws, file, path, element).into_iter().next().ok_or_else(|| {
         let csp = std::iter::once(read)
@@ -208,6 +412,55 @@ fn robosim_period(
             "the period of `{name}` could not be decided from its cycleDefs: give one with `cycleDef cycle == N`"
         )),
     }
+}
+
+/// RT-11: the RoboChart element an instance path names, checked on its
+/// own: `C::s` for the machine reference `s` of controller `C`, `M::c`
+/// for the controller reference `c` of module `M`, and longer paths
+/// (`M::c::s`). `None` when `path` is no such path (inline elements and
+/// qualified names are found otherwise).
+fn instance(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<Result<ItemLoc, String>> {
+    let container = |k| matches!(k, DefKind::Module | DefKind::Controller);
+    let (start, mut loc) = (1..path.len())
+        .rev()
+        .find_map(|k| resolve_item(db, ws, file, &path[..k], container).into_iter().next().map(|l| (k, l)))?;
+    if loc.file.kind(db) == FileKind::RoboSim {
+        return None;
+    }
+    let name = path.join("::");
+    for seg in &path[start..] {
+        let defs = file_defs(db, loc.file);
+        let id = loc.def(db)?;
+        let (_, child) = defs.children(Some(id)).find(|(_, d)| d.name == *seg)?;
+        match (child.kind, &child.data) {
+            (DefKind::ControllerRef, DefData::Reference { path: target, .. }) => {
+                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Controller).into_iter().next()?;
+            }
+            (DefKind::MachineRef, DefData::Reference { path: target, .. }) => {
+                // RT-19: inside its controller a machine's calls of the
+                // controller's operations are inlined, on its own they are
+                // visible events; which one an instance path means is not
+                // established.
+                if defs.children(Some(id)).any(|(_, d)| matches!(d.kind, DefKind::Operation | DefKind::OperationRef)) {
+                    return Some(Err(format!(
+                        "`{name}` is a machine of a controller that defines operations: whether RoboTool inlines \
+                         them for an instance path or leaves them as visible calls is not established (check the \
+                         controller, or the machine `{}` on its own)",
+                        target.join("::")
+                    )));
+                }
+                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::StateMachine).into_iter().next()?;
+            }
+            (DefKind::Operation | DefKind::OperationRef, _) => {
+                return Some(Err(format!(
+                    "`{name}` is an operation: operations as subjects (RT-11, checked as their own process with \
+                     their parameters) are not supported by the native checker yet"
+                )))
+            }
+            _ => return None,
+        }
+    }
+    Some(Ok(loc))
 }
 
 /// The controller `C` and its machine `M` when `path` is `C::M` and `C`

@@ -14,9 +14,10 @@ use robosim_syntax::{ast, FileKind, SyntaxKind, SyntaxKind::*, SyntaxNode, TextR
 
 use crate::body::body_resolution;
 use crate::defs::{file_defs, lower_type, DefData, DefKind, FileDefs, TypeRef};
+use crate::element::Unit;
 use crate::index::{canonical_type, file_summary, resolve_item, ItemLoc};
 use crate::resolve::{file_resolution, ResolveProblem, Target};
-use crate::{parse, Db, File, Workspace};
+use crate::{Db, File, Workspace};
 
 /// A semantic type.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -301,6 +302,22 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
         return Vec::new();
     }
     let (decl, body) = (&file_resolution(db, ws, file).refs, &body_resolution(db, ws, file).refs);
+    type_unit(db, ws, &Unit::of_file(db, file), decl, body)
+}
+
+/// [`type_checks`] of a unit (a file or one element), with its resolved
+/// names.
+pub(crate) fn type_unit(
+    db: &dyn Db,
+    ws: Workspace,
+    unit: &Unit<'_>,
+    decl: &[crate::resolve::ResolvedRef],
+    body: &[crate::resolve::ResolvedRef],
+) -> Vec<ResolveProblem> {
+    let file = unit.file;
+    if file.kind(db).is_assertions() {
+        return Vec::new();
+    }
     let mut targets: FxHashMap<TextRange, Target> =
         FxHashMap::with_capacity_and_hasher(decl.len() + body.len(), Default::default());
     for r in decl.iter().chain(body) {
@@ -312,7 +329,8 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
         db,
         ws,
         file,
-        defs: file_defs(db, file),
+        unit,
+        defs: unit.defs,
         rs: file.kind(db) == FileKind::RoboSim,
         targets,
         type_cache: Default::default(),
@@ -322,8 +340,7 @@ pub fn type_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem
         result: None,
         recorded: None,
     };
-    let root = parse(db, file).syntax_node();
-    t.walk(&root);
+    t.walk(&unit.root);
     t.out
 }
 
@@ -336,11 +353,13 @@ pub fn expr_types(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<TextRange
     }
     let (decl, body) = (&file_resolution(db, ws, file).refs, &body_resolution(db, ws, file).refs);
     let targets = decl.iter().chain(body).filter_map(|r| Some((r.range, r.target?))).collect();
+    let unit = Unit::of_file(db, file);
     let mut t = Typer {
         db,
         ws,
         file,
-        defs: file_defs(db, file),
+        unit: &unit,
+        defs: unit.defs,
         rs: file.kind(db) == FileKind::RoboSim,
         targets,
         type_cache: Default::default(),
@@ -350,7 +369,7 @@ pub fn expr_types(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<TextRange
         result: None,
         recorded: Some(FxHashMap::default()),
     };
-    t.walk(&parse(db, file).syntax_node());
+    t.walk(&unit.root);
     t.recorded.unwrap_or_default()
 }
 
@@ -358,6 +377,8 @@ struct Typer<'a> {
     db: &'a dyn Db,
     ws: Workspace,
     file: File,
+    /// The file or element typed.
+    unit: &'a Unit<'a>,
     defs: &'a FileDefs,
     rs: bool,
     /// Every resolved name of the file by range (tens of thousands in a
@@ -451,7 +472,7 @@ impl Typer<'_> {
 
     /// Walks the tree; typed positions are checked where they occur.
     fn walk(&mut self, root: &SyntaxNode) {
-        let table = crate::walk::file_nodes(self.db, self.file);
+        let table = self.unit.nodes;
         // No typed position lies inside an expression or a type, and `expr`
         // walks the expressions it types itself.
         let positions = table.nodes(root, TYPED_POSITIONS, true);
@@ -555,8 +576,7 @@ impl Typer<'_> {
     fn lower_target_type(&self, t: Target) -> Ty {
         match t {
             Target::Def(f, id) => {
-                let defs = file_defs(self.db, f);
-                let d = defs.def(id);
+                let d = self.unit.defs_of(self.db, f, id).def(id);
                 match (&d.kind, &d.data) {
                     (
                         DefKind::Variable | DefKind::Constant | DefKind::Parameter | DefKind::Field | DefKind::Event,
@@ -1034,7 +1054,9 @@ impl Typer<'_> {
                     return Ty::Bool;
                 }
                 match self.targets.get(&q.text_range()) {
-                    Some(Target::Def(f, id)) if file_defs(self.db, *f).def(*id).kind == DefKind::Event => Ty::Bool,
+                    Some(Target::Def(f, id)) if self.unit.defs_of(self.db, *f, *id).def(*id).kind == DefKind::Event => {
+                        Ty::Bool
+                    }
                     Some(Target::Member(loc, i))
                         if loc.summary(self.db).members[*i as usize].kind == DefKind::Event =>
                     {
@@ -1382,7 +1404,7 @@ impl Typer<'_> {
         let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
         let args = self.typed_args(n);
         let params: Vec<Ty> = match self.targets.get(&q.text_range()) {
-            Some(Target::Def(f, id)) => match &file_defs(self.db, *f).def(*id).data {
+            Some(Target::Def(f, id)) => match &self.unit.defs_of(self.db, *f, *id).def(*id).data {
                 DefData::Signature { params, .. } => {
                     params.iter().map(|(_, t)| t.as_ref().map(|t| self.lower(*f, t)).unwrap_or(Ty::Error)).collect()
                 }
@@ -1433,7 +1455,7 @@ impl Typer<'_> {
     fn event_type(&self, r: &SyntaxNode) -> Option<Option<Ty>> {
         let t = self.targets.get(&r.text_range())?;
         Some(match t {
-            Target::Def(f, id) => match &file_defs(self.db, *f).def(*id).data {
+            Target::Def(f, id) => match &self.unit.defs_of(self.db, *f, *id).def(*id).data {
                 DefData::Typed { ty, .. } => ty.as_ref().map(|t| self.lower(*f, t)),
                 _ => None,
             },

@@ -114,7 +114,7 @@ pub(crate) fn file_nodes(db: &dyn Db, file: File) -> NodeTable {
 }
 
 /// Scans the tree below `root` for the [`recorded`] kinds.
-fn node_table(root: &SyntaxNode) -> NodeTable {
+pub(crate) fn node_table(root: &SyntaxNode) -> NodeTable {
     let mut scan = TableScan { path: Vec::new(), placed: Vec::new(), nested: 0, bound: 0, out: NodeTable::default() };
     scan.collect(root.green(), root.text_range().start());
     scan.out

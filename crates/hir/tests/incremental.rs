@@ -59,11 +59,16 @@ fn editing_a_machine_body_reuses_other_files() {
     assert_eq!(count(&after, "parse"), 1, "{after:?}");
     assert_eq!(count(&after, "file_defs"), 1, "{after:?}");
     assert_eq!(count(&after, "file_diagnostics"), 1, "{after:?}");
-    // …its summary is recomputed but equal, so the other files' checks are
-    // reused: one execution each of the per-file queries, not three.
-    assert_eq!(count(&after, "file_summary"), 1, "{after:?}");
+    // …the machine's summary is recomputed but equal (so the file's is not
+    // even recomputed), and the other files' checks are reused: one
+    // execution each of the per-file queries, not three.
+    assert_eq!(count(&after, "element_summary"), 1, "{after:?}");
+    assert_eq!(count(&after, "file_summary"), 0, "{after:?}");
     assert_eq!(count(&after, "file_checks"), 1, "{after:?}");
-    assert_eq!(count(&after, "body_resolution"), 1, "{after:?}");
+    // Resolution and typing run per element: the machine's only, and the
+    // whole file's behaviour is not resolved at all.
+    assert_eq!(count(&after, "element_problems"), 1, "{after:?}");
+    assert_eq!(count(&after, "body_resolution"), 0, "{after:?}");
     assert_eq!(count(&after, "workspace_index"), 0, "{after:?}");
 
     // Adding a declaration changes the summary: dependants re-run.

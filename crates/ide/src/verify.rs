@@ -17,7 +17,7 @@ use robosim_check::assertions::{
 pub use robosim_check::budget::{Budget, ProgressFn, Stats};
 use robosim_check::verify::verify_assertion;
 pub use robosim_check::verify::{
-    counterexample_table, AsyncBuffer, Counterexample, Location, Options, Profile, Report, Step, Verdict,
+    counterexample_table, AsyncBuffer, Counterexample, Location, Options, Profile, Report, Semantics, Step, Verdict,
 };
 use robosim_hir::defs::{file_defs, DefKind};
 use robosim_hir::index::resolve_item;
@@ -225,7 +225,7 @@ pub(crate) fn run(
                 .iter()
                 .find(|a| a.name == *name)
                 .ok_or_else(|| format!("`{path}` has no assertion `{name}`"))?;
-            Ok(vec![verify_assertion(db, ws, file, &read, &others, a, opts, progress)])
+            Ok(verify_assertion(db, ws, file, &read, &others, a, opts, progress))
         }
         VerifyTarget::Simulation { name, path } => {
             let sim = read.simulation(name).ok_or_else(|| format!("`{path}` declares no simulation `{name}`"))?;
@@ -233,13 +233,13 @@ pub(crate) fn run(
             for (f, r) in &others {
                 for a in &r.assertions {
                     if names_simulation(*f, r, a, file, sim, &others) {
-                        reports.push(verify_assertion(db, ws, *f, r, &others, a, opts, progress));
+                        reports.extend(verify_assertion(db, ws, *f, r, &others, a, opts, progress));
                     }
                 }
             }
             if reports.is_empty() {
                 let a = ad_hoc_schedulable(sim);
-                reports.push(verify_assertion(db, ws, file, &read, &others, &a, opts, progress));
+                reports.extend(verify_assertion(db, ws, file, &read, &others, &a, opts, progress));
             }
             Ok(reports)
         }
@@ -346,13 +346,32 @@ pub fn lens_title(lens: &VerifyLens, reports: &[&Report], running: bool) -> Stri
         let r = reports.iter().find(|r| r.verdict == v).and_then(|r| r.reason.as_deref()).unwrap_or("");
         shorten(r, 60)
     };
+    // RT-8: an assertion checked in both semantics shows both verdicts
+    // when they differ, and says so when they agree.
+    let both = reports.iter().any(|r| r.semantics == Semantics::Timed)
+        && reports.iter().any(|r| r.semantics == Semantics::Untimed);
+    if both && matches!(lens.target, VerifyTarget::Assertion { .. }) {
+        let of = |s: Semantics| overall_verdict(reports.iter().copied().filter(|r| r.semantics == s));
+        let (timed, untimed) = (of(Semantics::Timed), of(Semantics::Untimed));
+        if timed != untimed {
+            let mark = |v: Option<Verdict>| match v {
+                Some(Verdict::Pass) => "✔ pass",
+                Some(Verdict::Fail) => "✘ fail",
+                Some(Verdict::Inconclusive) => "⚠ inconclusive",
+                Some(Verdict::Unsupported) => "unsupported",
+                None => "-",
+            };
+            return format!("timed {} · untimed {} — re-run", mark(timed), mark(untimed));
+        }
+    }
+    let semantics = if both { ", timed and untimed" } else { "" };
     match verdict {
         Verdict::Pass => {
             let states: u64 = reports.iter().map(|r| r.stats.states).sum();
             let seconds: f64 = reports.iter().map(|r| r.stats.seconds).sum();
-            format!("✔ pass · {states} states · {}", format_seconds(seconds))
+            format!("✔ pass{semantics} · {states} states · {}", format_seconds(seconds))
         }
-        Verdict::Fail => "✘ fail — re-run".to_string(),
+        Verdict::Fail => format!("✘ fail{semantics} — re-run"),
         Verdict::Inconclusive => format!("⚠ inconclusive: {}", first_reason(Verdict::Inconclusive)),
         Verdict::Unsupported => format!("unsupported: {}", first_reason(Verdict::Unsupported)),
     }
@@ -379,6 +398,12 @@ pub(crate) fn diagnostics(db: &dyn Db, ws: Workspace, file: File, verified: &[Ve
         let message = match r.reason.as_deref().map(|m| m.lines().next().unwrap_or("").trim()) {
             Some(m) if !m.is_empty() => m.to_string(),
             _ => format!("{}: {}", r.name, r.verdict.name()),
+        };
+        // RT-8: which of an assertion's analyses this is.
+        let message = if checked_both(verified, r) || r.semantics == Semantics::Untimed {
+            format!("{} semantics: {message}", r.semantics.name())
+        } else {
+            message
         };
         let mut related = Vec::new();
         if r.verdict == Verdict::Fail {
@@ -426,8 +451,30 @@ pub(crate) fn hover_section(
 ) -> Option<(TextRange, String)> {
     let path = file.path(db);
     let v = verified.iter().rev().find(|v| v.report.file == *path && v.report.name_range.contains_inclusive(offset))?;
+    // RT-8: the assertion's reports in each semantics, side by side
+    // (timed first).
+    let mut mine: Vec<&Verified> =
+        verified.iter().filter(|o| o.report.file == *path && o.report.name_range == v.report.name_range).collect();
+    mine.sort_by_key(|o| o.report.semantics == Semantics::Untimed);
+    let sections: Vec<String> = mine.iter().map(|o| hover_report(db, ws, path, o, mine.len() > 1)).collect();
+    Some((v.report.name_range, sections.join("\n\n---\n\n")))
+}
+
+/// Whether the assertion of `r` has reports in both semantics.
+fn checked_both(verified: &[Verified], r: &Report) -> bool {
+    verified
+        .iter()
+        .any(|o| o.report.file == r.file && o.report.name_range == r.name_range && o.report.semantics != r.semantics)
+}
+
+/// One report in a hover; `tagged`: says which semantics it is about.
+fn hover_report(db: &dyn Db, ws: Workspace, path: &str, v: &Verified, tagged: bool) -> String {
     let r = &v.report;
-    let mut s = format!("**Last verification:** {}", r.verdict.name());
+    let mut s = if tagged || r.semantics == Semantics::Untimed {
+        format!("**Last verification ({} semantics):** {}", r.semantics.name(), r.verdict.name())
+    } else {
+        format!("**Last verification:** {}", r.verdict.name())
+    };
     if r.stats.states > 0 || r.stats.transitions > 0 {
         let _ = write!(
             s,
@@ -452,7 +499,7 @@ pub(crate) fn hover_section(
             robosim_check::verify::counterexample_table(c, &|l| short_location(db, ws, path, l))
         );
     }
-    Some((r.name_range, s))
+    s
 }
 
 /// `path:line:col` of a location, the path relative to the directory of

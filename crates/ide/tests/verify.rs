@@ -2,7 +2,7 @@
 //! snapshot, and the results as titles, diagnostics and hovers, on the
 //! paper's GT-3 design (`crates/cli/tests/data/verify/gt3`).
 
-use robosim_ide::verify::{format_seconds, lens_title, shorten, Budget, Options, Profile, Report, Verdict};
+use robosim_ide::verify::{format_seconds, lens_title, shorten, Budget, Options, Profile, Report, Semantics, Verdict};
 use robosim_ide::{AnalysisHost, Durability, FileId, Severity, TextSize, Verified, VerifyTarget};
 
 const DESIGN: &str = include_str!("../../cli/tests/data/verify/gt3/design.rct");
@@ -206,4 +206,52 @@ fn setting_the_same_text_does_not_wait_for_snapshots() {
     assert!(!host.would_change("/w/design.rct", DESIGN, None));
     assert!(host.would_change("/w/design.rct", "", None));
     assert!(host.would_change("/w/new.rct", "", None));
+}
+
+/// RT-8: a plain assertion about a RoboChart element has a report in each
+/// semantics: the lens shows both verdicts when they differ, each
+/// diagnostic says which semantics it is about, the hover shows both.
+/// RT-9: untimed, `wait(2)` is SKIP, so `Fast` has `Slow`'s traces.
+#[test]
+fn both_semantics_side_by_side() {
+    const MODEL: &str = include_str!("../../cli/tests/data/verify/untimed/model.rct");
+    const ASSERTIONS: &str = include_str!("../../cli/tests/data/verify/untimed/checks.assertions");
+    let host = host(&[("/w/m.rct", MODEL), ("/w/a.assertions", ASSERTIONS)]);
+    let target = VerifyTarget::Assertion { path: "/w/a.assertions".into(), name: "W".into() };
+    let reports = run(&host, &target);
+    let got: Vec<(Semantics, Verdict)> = reports.iter().map(|r| (r.semantics, r.verdict)).collect();
+    assert_eq!(got, [(Semantics::Timed, Verdict::Fail), (Semantics::Untimed, Verdict::Pass)]);
+    let a = host.analysis();
+    let checks = file(&host, "/w/a.assertions");
+    let lens = a.verify_lenses(checks).unwrap().remove(0);
+    let refs: Vec<&Report> = reports.iter().collect();
+    assert_eq!(lens_title(&lens, &refs, false), "timed ✘ fail · untimed ✔ pass — re-run");
+    let verified: Vec<Verified> =
+        reports.iter().map(|r| Verified { report: r.clone(), profile: Profile::RoboTool3 }).collect();
+    let diags = a.verify_diagnostics(checks, &verified).unwrap();
+    let messages: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
+    assert_eq!(
+        messages,
+        ["timed semantics: refinement fails: the implementation can perform o.out where the specification cannot"]
+    );
+    let at = offset_of(ASSERTIONS, "W :");
+    let h = a.hover_with_verification(checks, at, None, &verified).unwrap().unwrap();
+    let timed = h.markdown.find("**Last verification (timed semantics):** fail").expect(&h.markdown);
+    let untimed = h.markdown.find("**Last verification (untimed semantics):** pass").expect(&h.markdown);
+    assert!(timed < untimed, "{}", h.markdown);
+    // Both pass: one title saying so.
+    let pass: Vec<Report> = reports
+        .iter()
+        .cloned()
+        .map(|mut r| {
+            r.verdict = Verdict::Pass;
+            r
+        })
+        .collect();
+    let refs: Vec<&Report> = pass.iter().collect();
+    assert!(
+        lens_title(&lens, &refs, false).starts_with("✔ pass, timed and untimed · "),
+        "{}",
+        lens_title(&lens, &refs, false)
+    );
 }

@@ -207,10 +207,11 @@ impl Verification {
         runs.sort_by_key(|r| r.id);
         let mut out: Vec<Verified> = Vec::new();
         for run in runs {
-            for r in run.reports.iter().filter(|r| r.file == key) {
-                out.retain(|v| v.report.name_range != r.name_range);
-                out.push(Verified { report: r.clone(), profile: run.profile });
-            }
+            // A run replaces every earlier report on the assertions it
+            // checked (RT-8: one per semantics, so several per assertion).
+            let mine: Vec<&Report> = run.reports.iter().filter(|r| r.file == key).collect();
+            out.retain(|v| !mine.iter().any(|r| r.name_range == v.report.name_range));
+            out.extend(mine.into_iter().map(|r| Verified { report: r.clone(), profile: run.profile }));
         }
         out
     }
@@ -315,7 +316,12 @@ fn summary(reports: &[Report]) -> String {
     let states: u64 = reports.iter().map(|r| r.stats.states).sum();
     let seconds: f64 = reports.iter().map(|r| r.stats.seconds).sum();
     let mut s = format!("{verdict} · {states} states · {}", format_seconds(seconds));
-    if reports.len() > 1 {
+    // RT-8: a plain assertion has a report per semantics.
+    let mut assertions: Vec<(&str, _)> = reports.iter().map(|r| (r.file.as_str(), r.name_range.start())).collect();
+    assertions.dedup();
+    if assertions.len() < reports.len() {
+        s.push_str(&format!(" ({} assertions, {} analyses)", assertions.len(), reports.len()));
+    } else if reports.len() > 1 {
         s.push_str(&format!(" ({} assertions)", reports.len()));
     }
     s

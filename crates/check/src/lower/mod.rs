@@ -145,8 +145,11 @@ pub fn lower_element(
         machine_count: 0,
         lone: false,
         bidirectional: BTreeSet::new(),
+        primitive_defaults: Default::default(),
     };
-    cx.lower(loc, inner)
+    let mut design = cx.lower(loc, inner)?;
+    design.defaults.extend(cx.primitive_defaults.into_inner());
+    Ok(design)
 }
 
 struct Cx<'a> {
@@ -172,6 +175,9 @@ struct Cx<'a> {
     lone: bool,
     /// The platform's events connected both ways (`[ mult ]`).
     bidirectional: BTreeSet<String>,
+    /// RT-3: the primitive types given no range, which range over {0, 1}
+    /// (noted when a type is laid out, which only reads the context).
+    primitive_defaults: std::cell::RefCell<BTreeSet<String>>,
 }
 
 /// An operation a controller defines or references: its name there, the

@@ -149,16 +149,16 @@ impl MachineCx<'_, '_> {
             Ty::Int => Ok(Layout::Num(d.int)),
             Ty::Real => Ok(Layout::Num(d.real)),
             // A primitive type the model declares (`type ID`) takes the range
-            // an instantiation gives it (`nametype ID = {0..1}`).
+            // an instantiation gives it (`nametype ID = {0..1}`), else
+            // RoboTool's {0, 1} (RT-3).
             Ty::Named(_, name, DefKind::PrimitiveType) => {
                 let core = format!("core_{name}");
                 match d.types.iter().rev().find(|(n, _)| n == name || *n == core) {
                     Some((_, dom)) => Ok(Layout::Num(*dom)),
-                    None => Err(self.cx.unsupported(
-                        file,
-                        range,
-                        format!("the type `{name}` has no range: give it one with `nametype {name} = {{a..b}}` in a `csp` block of an assertion file"),
-                    )),
+                    None => {
+                        self.cx.primitive_defaults.borrow_mut().insert(format!("type {name} = {{0, 1}} (RT-3)"));
+                        Ok(Layout::Num(Dom { lo: 0, hi: 1 }))
+                    }
                 }
             }
             Ty::Named(loc, _, DefKind::Enumeration) => {

@@ -4,17 +4,20 @@
 
 #![allow(dead_code)] // Each test binary uses a different part.
 
-use robosim_check::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_check::verify::{trace_text, verify_texts, Options, Report, Semantics, Verdict};
 
 /// The events and operation every machine of these tests may use.
 pub const INTERFACE: &str = "interface I { event e event f event o event v : nat op() }";
 
-/// Checks `assertions` on `model` (machines and controllers using `I`).
+/// Checks `assertions` on `model` (machines and controllers using `I`):
+/// the timed analysis, which these constructs are about (the untimed one
+/// of a plain assertion, RT-8, is tested in `untimed.rs`).
 pub fn run(model: &str, assertions: &str) -> Vec<Report> {
-    verify_texts(
+    let reports = verify_texts(
         [("m.rct".to_string(), format!("{INTERFACE}\n{model}")), ("a.assertions".to_string(), assertions.into())],
         &Options::default(),
-    )
+    );
+    reports.into_iter().filter(|r| r.semantics == Semantics::Timed).collect()
 }
 
 /// Each report's name and verdict, with the counterexample's kind and

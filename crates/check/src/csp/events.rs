@@ -1,0 +1,205 @@
+//! One event table for both sides of a check: the native model's events
+//! named as RoboTool's CSPm names them (`M::e.in.3`, `M::opCall.1.0`,
+//! `M::e.out.(1, 2)`, `M::e.in.pkg_T_L`), and the specification's events
+//! mapped onto the same ids (events only the specification knows get ids
+//! of their own after the model's).
+
+use std::collections::BTreeSet;
+
+use robosim_cspm::Value;
+use robosim_hir::csp_names::{CspKind, CspNames, CspType, TypeDef};
+use rustc_hash::FxHashMap;
+
+use crate::design::channel_name;
+use crate::events::{tuple_values, EventTable, Param};
+use crate::ir::{Design, Val};
+use crate::lts::{Event, FIRST_VISIBLE, TAU, TICK, TOCK};
+
+/// The most native events the bridge names.
+const MAX_EVENTS: u64 = 1_000_000;
+
+/// The events of both sides, by id.
+#[derive(Debug, Default)]
+pub(crate) struct Names {
+    /// The CSPm name of each native event from [`FIRST_VISIBLE`] on (`None`:
+    /// an event RoboTool's CSPm has no name for, e.g. a hidden one).
+    native: Vec<Option<String>>,
+    /// Native events by CSPm name.
+    by_name: FxHashMap<String, Event>,
+    /// Events of the specification the model does not have, from
+    /// `first_extra` on.
+    extra: Vec<String>,
+    first_extra: Event,
+}
+
+/// The value sets of the fields of the element's channels, by CSPm
+/// channel name.
+pub(crate) type OwnChannels = FxHashMap<String, Vec<BTreeSet<Value>>>;
+
+impl Names {
+    /// A table with no model events (both sides are CSPm).
+    pub fn empty() -> Names {
+        Names { first_extra: FIRST_VISIBLE, ..Names::default() }
+    }
+
+    /// The name of `e` on either side.
+    pub fn name(&self, e: Event) -> String {
+        match e {
+            TAU => "τ".into(),
+            TICK => "✓".into(),
+            TOCK => "tock".into(),
+            e if e >= self.first_extra => {
+                self.extra.get((e - self.first_extra) as usize).cloned().unwrap_or_else(|| format!("e{e}"))
+            }
+            e => self.native.get((e - FIRST_VISIBLE) as usize).cloned().flatten().unwrap_or_else(|| format!("e{e}")),
+        }
+    }
+
+    /// Whether the native event `e` has no CSPm name.
+    pub fn unnamed(&self, e: Event) -> bool {
+        e >= FIRST_VISIBLE
+            && e < self.first_extra
+            && self.native.get((e - FIRST_VISIBLE) as usize).is_some_and(|n| n.is_none())
+    }
+
+    /// The id of the event printed `name` (`tock`, a model event, or a new
+    /// id for an event only the specification has).
+    pub fn id(&mut self, name: &str) -> Event {
+        if name == "tock" {
+            return TOCK;
+        }
+        if let Some(&e) = self.by_name.get(name) {
+            return e;
+        }
+        let e = self.first_extra + self.extra.len() as Event;
+        self.extra.push(name.to_string());
+        self.by_name.insert(name.to_string(), e);
+        e
+    }
+}
+
+/// The CSPm channel of a design channel, in element module `module`.
+fn csp_channel(module: &str, c: &crate::ir::Channel) -> String {
+    if c.is_call {
+        format!("{module}::{}Call", c.name)
+    } else if c.var {
+        format!("{module}::set_{}", c.name)
+    } else {
+        format!("{module}::{}", c.name)
+    }
+}
+
+/// The CSPm value of native value `v` of shape `p`, typed `t` in the table.
+fn value(names: &CspNames, p: &Param, t: &CspType, v: Val) -> Option<Value> {
+    let literals = |t: &CspType| match t {
+        CspType::Named(n) => match &names.get(n)?.kind {
+            CspKind::Type(TypeDef::Enumeration(lits)) => Some(lits.clone()),
+            _ => None,
+        },
+        _ => None,
+    };
+    let scalar = |t: &CspType, v: Val| -> Option<Value> {
+        match t {
+            CspType::Bool => Some(Value::Bool(v != 0)),
+            CspType::Named(n) if n == "core_boolean" => Some(Value::Bool(v != 0)),
+            CspType::Nat | CspType::Int | CspType::Real | CspType::Clock => Some(Value::Int(v)),
+            CspType::Named(_) => match literals(t) {
+                Some(lits) => Some(Value::Ctor(lits.get(usize::try_from(v).ok()?)?.as_str().into())),
+                None => Some(Value::Int(v)), // A primitive type: numbers.
+            },
+            _ => None,
+        }
+    };
+    match p {
+        Param::Bool => matches!(t, CspType::Bool).then_some(Value::Bool(v != 0)).or_else(|| scalar(t, v)),
+        Param::Named(native) => {
+            let lits = literals(t)?;
+            // The native names are RoboTool's without the package prefix.
+            let n = native.get(usize::try_from(v).ok()?)?;
+            let l = lits.get(usize::try_from(v).ok()?)?;
+            (l == n || l.ends_with(&format!("_{n}"))).then(|| Value::Ctor(l.as_str().into()))
+        }
+        Param::Num(_) => scalar(t, v),
+        Param::Tuple(ds) => {
+            let comps: Vec<CspType> = match t {
+                CspType::Tuple(ts) => ts.clone(),
+                CspType::Named(n) => match &names.get(n)?.kind {
+                    CspKind::Type(TypeDef::Record(fs)) => fs.clone(),
+                    _ => return None,
+                },
+                _ => return None,
+            };
+            let vs = tuple_values(ds, v);
+            if vs.len() != comps.len() {
+                return None;
+            }
+            let vals = vs.iter().zip(&comps).map(|(&x, t)| scalar(t, x)).collect::<Option<Vec<_>>>()?;
+            Some(Value::Tuple(vals.into()))
+        }
+    }
+}
+
+/// The CSPm names of the events of `table`, the design's own (see
+/// [`crate::design::shared_events`]), for the element whose CSPm module is
+/// `module`.
+pub(crate) fn design_names(
+    design: &Design,
+    table: &EventTable,
+    module: &str,
+    names: &CspNames,
+) -> Result<(Names, OwnChannels, Vec<Option<Value>>), String> {
+    let end = table.next_event();
+    if (end - FIRST_VISIBLE) as u64 > MAX_EVENTS {
+        return Err(format!("the model has more than {MAX_EVENTS} events: too many to name for the CSPm bridge"));
+    }
+    let mut out = Names { first_extra: end, ..Names::default() };
+    let mut own = OwnChannels::default();
+    let mut values = Vec::new();
+    // Channels by their native name.
+    let by_native: FxHashMap<String, &crate::ir::Channel> =
+        design.channels.iter().filter(|c| !c.internal).map(|c| (channel_name(c), c)).rev().collect();
+    for e in FIRST_VISIBLE..end {
+        let value = table.decode(e).and_then(|(g, args)| {
+            let group = table.group(g);
+            let c = by_native.get(&group.name)?;
+            let chan = csp_channel(module, c);
+            let CspKind::Channel { fields } = &names.get(&chan)?.kind else { return None };
+            let mut parts = vec![Value::Ctor(chan.as_str().into())];
+            let typed = if c.is_call || c.var {
+                fields.as_slice()
+            } else {
+                parts.push(Value::Ctor(if c.dir == crate::ir::Dir::In { "in" } else { "out" }.into()));
+                fields.get(1..)?
+            };
+            if typed.len() != args.len() || group.params.len() != args.len() {
+                return None;
+            }
+            for ((p, t), &v) in group.params.iter().zip(typed).zip(&args) {
+                parts.push(value(names, p, t, v)?);
+            }
+            let own = own.entry(chan.clone()).or_insert_with(|| vec![BTreeSet::new(); parts.len() - 1]);
+            for (set, v) in own.iter_mut().zip(&parts[1..]) {
+                set.insert(v.clone());
+            }
+            Some(if parts.len() == 1 { parts.remove(0) } else { Value::Dot(parts.into()) })
+        });
+        let name = value.as_ref().map(|v| v.to_string());
+        if let Some(n) = &name {
+            out.by_name.insert(n.clone(), e);
+        }
+        out.native.push(name);
+        values.push(value);
+    }
+    // An event `e` has both directions in CSPm, whichever the model uses.
+    for (chan, fields) in own.iter_mut() {
+        if let Some(CspKind::Channel { fields: ts }) = names.get(chan).map(|n| &n.kind) {
+            if ts.first() == Some(&CspType::InOut) && !chan.ends_with("Call") {
+                if let Some(first) = fields.first_mut() {
+                    first.insert(Value::Ctor("in".into()));
+                    first.insert(Value::Ctor("out".into()));
+                }
+            }
+        }
+    }
+    Ok((out, own, values))
+}

@@ -1,0 +1,234 @@
+//! The model's names as a CSPm [`NameLookup`]: what a `csp` block sees
+//! besides its own file's blocks (RT-7). Channels of the element under
+//! check take the values of its compiled domains (so that the two sides
+//! agree on every event); other names take RoboTool's defaults.
+
+use std::collections::BTreeSet;
+use std::rc::Rc;
+
+use robosim_cspm::{ExternalName, NameLookup, Value};
+use robosim_hir::csp_names::{CspKind, CspNames, CspType, TypeDef};
+use rustc_hash::FxHashMap;
+
+use crate::ir::Dom;
+
+/// The most values a field's set may have.
+const MAX_VALUES: usize = 100_000;
+
+/// The lookup over the names table.
+pub(crate) struct Host<'a> {
+    /// The table.
+    pub names: &'a CspNames,
+    /// Channels whose field values the element under check fixes.
+    pub own: FxHashMap<String, Vec<Vec<Value>>>,
+    /// `core_nat`, `core_int`, `core_real`: the element's domains.
+    pub domains: FxHashMap<String, Dom>,
+    /// Generated processes the bridge gives (see [`super::native::processes`]):
+    /// arity and LTS.
+    pub processes: FxHashMap<String, (usize, robosim_cspm::BuildLts)>,
+    /// Only resolving names: every generated process of a RoboChart
+    /// element is known (with a placeholder LTS).
+    pub resolve_only: bool,
+}
+
+impl<'a> Host<'a> {
+    /// The lookup for resolving names only.
+    pub(crate) fn resolving(names: &'a CspNames) -> Host<'a> {
+        Host {
+            names,
+            own: FxHashMap::default(),
+            domains: FxHashMap::default(),
+            processes: FxHashMap::default(),
+            resolve_only: true,
+        }
+    }
+}
+
+/// Whether the bridge can give the generated process `name`: `M::D__`
+/// and `M::O__` of a RoboChart element.
+fn givable(names: &CspNames, name: &str) -> bool {
+    let Some((module, p)) = name.rsplit_once("::") else { return false };
+    matches!(p, "D__" | "O__") && names.element(module).is_some_and(|e| !e.robosim)
+}
+
+fn ints(d: Dom) -> Vec<Value> {
+    (d.lo..=d.hi).map(Value::Int).collect()
+}
+
+fn set(vs: Vec<Value>) -> Value {
+    Value::Set(Rc::new(vs.into_iter().collect::<BTreeSet<_>>()))
+}
+
+/// Every tuple of one value of each of `parts`.
+pub(crate) fn product(parts: &[Vec<Value>]) -> Option<Vec<Value>> {
+    let mut out: Vec<Vec<Value>> = vec![Vec::new()];
+    for p in parts {
+        if out.len().checked_mul(p.len())? > MAX_VALUES {
+            return None;
+        }
+        out = out.iter().flat_map(|prefix| p.iter().map(move |v| [prefix.clone(), vec![v.clone()]].concat())).collect();
+    }
+    Some(out.into_iter().map(|vs| Value::Tuple(vs.into())).collect())
+}
+
+impl Host<'_> {
+    /// The default bounds of a number type (RT-5), or the element's.
+    fn dom(&self, core: &str) -> Dom {
+        if let Some(d) = self.domains.get(core) {
+            return *d;
+        }
+        match core {
+            "core_nat" => Dom { lo: 0, hi: 2 },
+            "core_clock_type" => Dom { lo: 0, hi: 10 },
+            _ => Dom { lo: -2, hi: 2 },
+        }
+    }
+
+    /// The values of `t`, if this bridge can enumerate them.
+    pub(crate) fn values(&self, t: &CspType) -> Option<Vec<Value>> {
+        Some(match t {
+            CspType::Nat => ints(self.dom("core_nat")),
+            CspType::Int => ints(self.dom("core_int")),
+            CspType::Real => ints(self.dom("core_real")),
+            CspType::Clock => ints(self.dom("core_clock_type")),
+            CspType::Bool => vec![Value::Bool(false), Value::Bool(true)],
+            CspType::InOut => vec![Value::Ctor("in".into()), Value::Ctor("out".into())],
+            CspType::Tuple(ts) => product(&ts.iter().map(|t| self.values(t)).collect::<Option<Vec<_>>>()?)?,
+            CspType::Named(n) => self.type_values(n)?,
+            CspType::Str | CspType::Set(_) | CspType::Seq(_) | CspType::Other(_) => return None,
+        })
+    }
+
+    fn type_values(&self, name: &str) -> Option<Vec<Value>> {
+        match &self.names.get(name)?.kind {
+            CspKind::Type(TypeDef::Core) => match name {
+                "core_boolean" => self.values(&CspType::Bool),
+                "core_string" => None,
+                n => Some(ints(self.dom(n))),
+            },
+            // RT-3.
+            CspKind::Type(TypeDef::Primitive) => Some(ints(Dom { lo: 0, hi: 1 })),
+            CspKind::Type(TypeDef::Enumeration(lits)) => {
+                Some(lits.iter().map(|l| Value::Ctor(l.as_str().into())).collect())
+            }
+            CspKind::Type(TypeDef::Record(fields)) => {
+                product(&fields.iter().map(|t| self.values(t)).collect::<Option<Vec<_>>>()?)
+            }
+            _ => None,
+        }
+    }
+
+    /// A constant's value: its initialiser when it is a literal, else its
+    /// type's default (RT-1: 0, the first literal, `true`).
+    fn constant(&self, ty: &CspType, init: Option<&str>) -> Option<Value> {
+        if let Some(init) = init {
+            return match init {
+                "true" => Some(Value::Bool(true)),
+                "false" => Some(Value::Bool(false)),
+                s => s.parse::<i64>().ok().map(Value::Int),
+            };
+        }
+        match ty {
+            CspType::Bool => Some(Value::Bool(true)),
+            CspType::Named(n) => match &self.names.get(n)?.kind {
+                CspKind::Type(TypeDef::Enumeration(lits)) => lits.first().map(|l| Value::Ctor(l.as_str().into())),
+                CspKind::Type(TypeDef::Primitive) => Some(Value::Int(0)),
+                CspKind::Type(TypeDef::Core) if n == "core_boolean" => Some(Value::Bool(true)),
+                CspKind::Type(TypeDef::Core) => Some(Value::Int(0)),
+                _ => None,
+            },
+            CspType::Nat | CspType::Int | CspType::Real | CspType::Clock => Some(Value::Int(0)),
+            _ => None,
+        }
+    }
+
+    /// Why a name the table knows cannot be given to a block, if so.
+    pub(crate) fn unsupported(&self, name: &str) -> Option<String> {
+        if self.own.contains_key(name) {
+            return None;
+        }
+        let entry = self.names.get(name)?;
+        let what = match &entry.kind {
+            CspKind::Process { .. } if givable(self.names, name) => return None,
+            CspKind::Process { .. } => {
+                "a process RoboTool generates for a model element (the bridge gives `M::D__` and `M::O__` of \
+                 RoboChart elements)"
+            }
+            CspKind::EventSet => "the set of an element's visible events (`sem__events`)",
+            CspKind::Register { .. } => "a RoboSim register",
+            CspKind::Module => "a CSPm module of the model",
+            CspKind::Channel { .. } | CspKind::Constant { .. } | CspKind::Type(_) | CspKind::Literal { .. } => {
+                if self.lookup(name).is_some() {
+                    return None;
+                }
+                "a name whose values the native checker cannot enumerate (strings, sets, sequences, functions)"
+            }
+        };
+        Some(format!("`{name}` is {what}: the CSPm bridge does not support it here yet"))
+    }
+}
+
+impl Host<'_> {
+    /// Whether the event `v` of a specification is one of its channel's
+    /// (the evaluator builds dotted values without checking them against
+    /// the channel's fields, as FDR's type checker would).
+    pub(crate) fn check_event(&self, v: &Value) -> Result<(), String> {
+        let (chan, args) = match v {
+            Value::Dot(parts) => match parts.first() {
+                Some(Value::Ctor(c)) => (c.to_string(), &parts[1..]),
+                _ => return Ok(()),
+            },
+            _ => return Ok(()),
+        };
+        let Some(ExternalName::Channel(fields)) = self.lookup(&chan) else { return Ok(()) };
+        let bad = || format!("the specification's event `{v}` is not an event of `{chan}`");
+        if fields.len() != args.len() {
+            return Err(bad());
+        }
+        for (set, a) in fields.iter().zip(args) {
+            if !set.contains(a) {
+                let shown: Vec<String> = set.iter().take(12).map(|x| x.to_string()).collect();
+                let more = if set.len() > 12 { ", …" } else { "" };
+                return Err(format!(
+                    "{}: `{a}` is outside the model's values {{{}{more}}} (a value outside the model's domain)",
+                    bad(),
+                    shown.join(", ")
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl NameLookup for Host<'_> {
+    fn lookup(&self, name: &str) -> Option<ExternalName> {
+        match name {
+            "tock" => return Some(ExternalName::Channel(Vec::new())),
+            "in" | "out" => return Some(ExternalName::Value(Value::Ctor(name.into()))),
+            "InOut" => return Some(ExternalName::Value(set(self.values(&CspType::InOut)?))),
+            _ => {}
+        }
+        if let Some(fields) = self.own.get(name) {
+            return Some(ExternalName::Channel(fields.clone()));
+        }
+        match &self.names.get(name)?.kind {
+            CspKind::Channel { fields } => {
+                let fields = fields.iter().map(|t| self.values(t)).collect::<Option<Vec<_>>>()?;
+                Some(ExternalName::Channel(fields))
+            }
+            CspKind::Constant { ty, init } => self.constant(ty, init.as_deref()).map(ExternalName::Value),
+            CspKind::Type(_) => Some(ExternalName::Value(set(self.type_values(name)?))),
+            CspKind::Literal { .. } => Some(ExternalName::Value(Value::Ctor(name.into()))),
+            CspKind::Process { params } => {
+                if let Some((arity, build)) = self.processes.get(name) {
+                    return Some(ExternalName::Process { arity: *arity, build: build.clone() });
+                }
+                (self.resolve_only && givable(self.names, name)).then(|| ExternalName::Process {
+                    arity: params.len(),
+                    build: Rc::new(|_: &[Value]| Err("not compiled".to_string())),
+                })
+            }
+            CspKind::Module | CspKind::Register { .. } | CspKind::EventSet => None,
+        }
+    }
+}

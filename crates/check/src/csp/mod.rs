@@ -1,0 +1,512 @@
+//! The bridge between the CSPm of assertion files' `csp` blocks and the
+//! native engine: `M refines Spec` (and `equals`) where `Spec` is defined
+//! in a `csp` block of the assertion's own file, in the traces, failures
+//! and failures-divergences models.
+//!
+//! - The block sees the model's names as RoboTool's generated CSPm spells
+//!   them ([`robosim_hir::csp_names`], through [`host::Host`]) and its own
+//!   file's other blocks, concatenated as RoboTool's generated script does
+//!   (RT-7), and nothing else.
+//! - The specification is compiled to an explicit LTS by the CSPm
+//!   evaluator, with the constants' instantiation (or default) values: an
+//!   assertion's `with constant` binds only inside the model (issue 18).
+//! - The implementation is the element's native LTS (with the `with`
+//!   bindings); both sides number their events in one table
+//!   ([`events::Names`]); a model event with no CSPm name, or a value of the
+//!   model's events outside the block's view, is an error, never a silent
+//!   drop.
+//! - A counterexample lists the model's steps with the events in CSPm
+//!   names and says where the specification is defined (block and line)
+//!   and what it offered instead.
+
+mod events;
+mod host;
+mod lts;
+mod native;
+mod script;
+
+use robosim_cspm::{Code, Evaluator, Label as CspLabel, Limits, Module, Severity};
+use robosim_hir::csp_names::csp_names;
+use robosim_hir::TextRange;
+
+use crate::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
+use crate::budget::ProgressFn;
+use crate::design::DesignLts;
+use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use crate::pack::VectorLts;
+use crate::verify::{Counterexample, Cx, Options, Report, Step, Verdict};
+
+use self::events::Names;
+use self::host::Host;
+use self::lts::{Imp, SpecLts};
+use self::script::Script;
+
+/// Whether `path`, a side of the assertion, is a `csp` block of the
+/// assertion's own file rather than a model element.
+pub(crate) fn is_block(cx: &Cx<'_>, path: &[String]) -> bool {
+    matches!(path, [name] if cx.read.csp_block(name).is_some()) && cx.target(path).is_err()
+}
+
+/// `subject refines other` / `equals` with a `csp` block on one side.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn refinement(
+    cx: &Cx<'_>,
+    other: &[String],
+    model: SemanticModel,
+    both_ways: bool,
+    opts: &Options,
+    progress: Option<ProgressFn>,
+    report: &mut Report,
+) {
+    if let Err(e) = run(cx, other, model, both_ways, opts, progress, report) {
+        report.verdict = e.0;
+        report.reason = Some(e.1);
+    }
+}
+
+type Outcome = Result<(), (Verdict, String)>;
+
+/// The most events `Events` may hold.
+const MAX_EVENTS: usize = 20_000;
+
+/// An explicit LTS's transitions, state by state, in the shared numbering.
+type Transitions = Vec<Vec<(Label, u32)>>;
+
+fn unsupported(msg: impl Into<String>) -> (Verdict, String) {
+    (Verdict::Unsupported, msg.into())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run(
+    cx: &Cx<'_>,
+    other: &[String],
+    model: SemanticModel,
+    both_ways: bool,
+    opts: &Options,
+    progress: Option<ProgressFn>,
+    report: &mut Report,
+) -> Outcome {
+    let a = cx.a;
+    let names = csp_names(cx.db, cx.ws);
+    // The blocks first: FDR rejects a script with an unknown name whichever
+    // assertion uses it.
+    let script = Script::of(cx);
+    let resolving = Host::resolving(names);
+    let checked = check_script(cx, &script, &resolving)?;
+    if model == SemanticModel::TickTock {
+        return Err(unsupported("the tick-tock model with a CSPm specification is not supported yet"));
+    }
+    let (imp_block, spec_block) = (is_block(cx, &a.subject), is_block(cx, other));
+    let bindings = cx.constants().map_err(unsupported)?;
+    if imp_block && !bindings.is_empty() {
+        return Err(unsupported(
+            "`with constant` on an assertion whose implementation is a `csp` block is not supported by the CSPm \
+             bridge yet",
+        ));
+    }
+    // The side that is a model element, if any.
+    let native_path: Option<&[String]> = match (imp_block, spec_block) {
+        (false, _) => Some(&a.subject),
+        (true, false) => Some(other),
+        (true, true) => None,
+    };
+    let mut compiled =
+        native_path.map(|p| native::compile(cx, names, p, &bindings)).transpose().map_err(unsupported)?;
+    let limits = Limits {
+        max_states: usize::try_from(opts.budget.max_states).unwrap_or(usize::MAX).min(Limits::default().max_states),
+        time: opts.budget.timeout.unwrap_or(Limits::default().time),
+        cancel: opts.budget.cancel.clone(),
+        ..Limits::default()
+    };
+    // Generated processes the blocks apply, with the constants' values as
+    // the script has them.
+    let procs = {
+        let ev = std::cell::RefCell::new(Evaluator::new(&checked, &resolving, limits.clone()));
+        let constant = |k: &str| ev.borrow_mut().value(k).ok();
+        native::processes(cx, names, &script.text, &constant, limits.max_states).map_err(unsupported)?
+    };
+    let own = compiled.as_ref().map(|c| c.own.clone()).unwrap_or_default();
+    let domains = compiled.as_ref().map(|c| c.design.domains.iter().cloned().collect()).unwrap_or_default();
+    let host = Host {
+        names,
+        own: own.into_iter().map(|(k, v)| (k, v.into_iter().map(|s| s.into_iter().collect()).collect())).collect(),
+        domains,
+        processes: procs,
+        resolve_only: false,
+    };
+    let module = check_script(cx, &script, &host)?;
+    let uses_events = module.defined_names().iter().all(|n| n != "Events") && mentions(&script.text, "Events");
+    if uses_events && model != SemanticModel::Traces {
+        return Err(unsupported(
+            "the specification uses `Events`, which in RoboTool's script holds every channel of the generated \
+             CSPm (internal ones too); refusals of it can only be checked with FDR, or in the traces model",
+        ));
+    }
+    let mut ev = Evaluator::new(&module, &host, limits);
+    if uses_events {
+        // `Events` holds the channels met so far: every model channel first
+        // (and `tock`, which RoboTool's script declares).
+        let _ = ev.value("tock");
+        for n in names.iter() {
+            if matches!(n.kind, robosim_hir::csp_names::CspKind::Channel { .. }) {
+                let _ = ev.value(&n.name);
+            }
+        }
+        // Processes over a large `Events` cost the evaluator dearly.
+        if let Ok(robosim_cspm::Value::Set(all)) = ev.value("Events") {
+            if all.len() > MAX_EVENTS {
+                return Err(unsupported(format!(
+                    "`Events` holds {} events here (every channel of every element of the model, over its \
+                     types): more than the {MAX_EVENTS} the CSPm bridge takes",
+                    all.len()
+                )));
+            }
+        }
+    }
+    let mut ids = compiled.as_mut().map(|c| std::mem::take(&mut c.ids)).unwrap_or_else(Names::empty);
+    let terminate =
+        compiled.as_ref().filter(|c| c.shows_terminate()).map(|c| format!("{}::terminate", c.element.module));
+    let terminate = terminate.map(|t| ids.id(&t));
+    // The blocks' sides, compiled by the CSPm evaluator.
+    let mut block = |name: &str| -> Result<(Transitions, String), (Verdict, String)> {
+        let lts = ev.lts(name).map_err(|d| {
+            // A generated process the bridge cannot give is unsupported,
+            // not a run-time error of the script.
+            let verdict = match d.code {
+                _ if d.message.contains("the CSPm bridge") => Verdict::Unsupported,
+                Code::Limit | Code::Cancelled | Code::Runtime => Verdict::Inconclusive,
+                _ => Verdict::Unsupported,
+            };
+            (verdict, format!("`{name}` could not be compiled: {}", d.message))
+        })?;
+        // Every value of a model channel must be one of the model's (FDR
+        // rejects an event outside its channel's type).
+        for v in &lts.event_values {
+            host.check_event(v).map_err(unsupported)?;
+        }
+        let at = definition(&script.text, name).map(|r| script.locate(cx, r)).unwrap_or_default();
+        let map: Vec<Event> = lts.events.iter().map(|n| ids.id(n)).collect();
+        let trans = lts
+            .transitions
+            .iter()
+            .map(|ts| {
+                ts.iter()
+                    .map(|(l, t)| {
+                        let e = match l {
+                            CspLabel::Tau => TAU,
+                            CspLabel::Tick => TICK,
+                            CspLabel::Event(i) => map[*i as usize],
+                        };
+                        (Label::plain(e), *t)
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok((trans, at))
+    };
+    let spec_name = other.join("::");
+    let imp_name = a.subject.join("::");
+    let spec_side = spec_block.then(|| block(&spec_name)).transpose()?;
+    let imp_side = imp_block.then(|| block(&imp_name)).transpose()?;
+    for (side, name) in [(&spec_side, &spec_name), (&imp_side, &imp_name)] {
+        if let Some((trans, at)) = side {
+            report.notes.push(format!("`{name}` {at}: {} states", trans.len()));
+        }
+    }
+    let holds = match (compiled, spec_side, imp_side) {
+        // A model element refines a block.
+        (Some(c), Some((trans, at)), None) => {
+            let spec = SpecLts { trans, names: &ids };
+            let native = DesignLts::new(&c.design).map_err(unsupported)?;
+            let imp = Imp { inner: &native, terminate, names: &ids };
+            report.notes.push(crate::verify::domains_note(&c.design));
+            let explain =
+                |cex: &RefinementCex<_>| counterexample(&imp, &spec, &c.design, cex, &native, &spec_name, &at);
+            let holds = decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?;
+            if let Some(err) = native.error() {
+                return Err((Verdict::Inconclusive, format!("the model met a run-time error: {err}")));
+            }
+            holds
+        }
+        // A block refines a model element.
+        (Some(c), None, Some((trans, at))) => {
+            let imp = SpecLts { trans, names: &ids };
+            let native = DesignLts::new(&c.design).map_err(unsupported)?;
+            let spec = Imp { inner: &native, terminate, names: &ids };
+            report.notes.push(crate::verify::domains_note(&c.design));
+            let explain = |cex: &RefinementCex<u32>| explicit_counterexample(&imp, cex, &spec_name, &at);
+            let holds = decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?;
+            if let Some(err) = native.error() {
+                return Err((Verdict::Inconclusive, format!("the model met a run-time error: {err}")));
+            }
+            holds
+        }
+        // Two blocks.
+        (None, Some((strans, at)), Some((itrans, _))) => {
+            let spec = SpecLts { trans: strans, names: &ids };
+            let imp = SpecLts { trans: itrans, names: &ids };
+            let explain = |cex: &RefinementCex<u32>| explicit_counterexample(&imp, cex, &spec_name, &at);
+            decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?
+        }
+        _ => return Err(unsupported("neither side of the assertion is a `csp` block")),
+    };
+    if holds {
+        report.reason = Some(format!("{imp_name} {} {spec_name}", if both_ways { "equals" } else { "refines" }));
+    }
+    report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
+    Ok(())
+}
+
+/// Runs `spec ⊑ imp` (and the converse for `equals`); a failure's
+/// counterexample is made by `explain`. Whether it holds.
+#[allow(clippy::too_many_arguments)]
+fn decide<Sp: Lts, Im: Lts>(
+    spec: &Sp,
+    imp: &Im,
+    model: SemanticModel,
+    both_ways: bool,
+    opts: &Options,
+    progress: Option<ProgressFn>,
+    report: &mut Report,
+    ids: &Names,
+    explain: &dyn Fn(&RefinementCex<Im::State>) -> Counterexample,
+    script: &Script,
+) -> Result<bool, (Verdict, String)> {
+    let add = |report: &mut Report, stats: crate::budget::Stats| {
+        report.stats.states += stats.states;
+        report.stats.transitions += stats.transitions;
+        report.stats.seconds += stats.seconds;
+    };
+    let (result, stats) = refines(spec, imp, model, &opts.budget, progress);
+    add(report, stats);
+    match result {
+        RefinementResult::Holds => {}
+        RefinementResult::Inconclusive(stop) => return Err((Verdict::Inconclusive, stop.reason(&opts.budget))),
+        RefinementResult::Fails(cex) => {
+            check_named(ids, &cex)?;
+            let mut c = explain(&cex);
+            let untimed = !mentions(&script.text, "tock") && !mentions(&script.text, "Timed");
+            if untimed && matches!(&cex, RefinementCex::Trace { event, .. } if event.event == TOCK) {
+                c.explanation.push(
+                    "the specification never lets time pass: it is untimed, and this check runs in the timed \
+                     semantics (RT-8), where the model lets time pass; RoboTool's untimed check of this assertion \
+                     is not run natively yet"
+                        .into(),
+                );
+            }
+            report.reason = Some(format!("refinement fails: {}", c.explanation[0]));
+            report.counterexample = Some(c);
+            return Ok(false);
+        }
+    }
+    if both_ways {
+        let (result, stats) = refines(imp, spec, model, &opts.budget, progress);
+        add(report, stats);
+        match result {
+            RefinementResult::Holds => {}
+            RefinementResult::Inconclusive(stop) => return Err((Verdict::Inconclusive, stop.reason(&opts.budget))),
+            RefinementResult::Fails(cex) => {
+                check_named(ids, &cex)?;
+                report.reason =
+                    Some(format!("refinement (converse) fails: the specification can {}", describe(spec, &cex)));
+                return Ok(false);
+            }
+        }
+    }
+    Ok(true)
+}
+
+/// The counterexample of an implementation given in CSPm: its trace.
+fn explicit_counterexample(
+    imp: &SpecLts<'_>,
+    cex: &RefinementCex<u32>,
+    spec_name: &str,
+    def_at: &str,
+) -> Counterexample {
+    let (kind, path) = cex_path(cex);
+    let mut steps = Vec::new();
+    let mut time = 0;
+    for (label, _) in &path.steps {
+        let event = if label.event == TAU { "τ".into() } else { imp.event_name(label.event) };
+        steps.push(Step { event, visible: label.event != TAU, cycle: time, time, description: None, location: None });
+        if label.event == TOCK {
+            time += 1;
+        }
+    }
+    let trace: Vec<String> = path.trace().iter().map(|e| imp.event_name(*e)).collect();
+    let explanation = vec![
+        format!("the implementation can {}", describe(imp, cex)),
+        format!(
+            "the specification `{spec_name}` ({}) after ⟨{}⟩ does not allow it",
+            def_at.trim_start_matches("in "),
+            trace.join(", ")
+        ),
+    ];
+    Counterexample { kind, steps, explanation, stuck_at: Vec::new(), specification: Vec::new() }
+}
+
+fn cex_path<S>(cex: &RefinementCex<S>) -> (&'static str, &crate::algo::Path<S>) {
+    match cex {
+        RefinementCex::Trace { path, .. } => ("trace", path),
+        RefinementCex::Refusal { path, .. } => ("refusal", path),
+        RefinementCex::TockRefusal { path, .. } => ("tock-refusal", path),
+        RefinementCex::Divergence { path, .. } => ("divergence", path),
+    }
+}
+
+/// The range of the top-level definition of `name` (`name = …` or
+/// `name(…) = …` at the start of a line).
+fn definition(text: &str, name: &str) -> Option<TextRange> {
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        let indent = line.len() - trimmed.len();
+        if let Some(rest) = trimmed.strip_prefix(name) {
+            if rest.trim_start().starts_with('=') || rest.starts_with('(') {
+                let start = u32::try_from(offset + indent).ok()?;
+                return Some(TextRange::at(start.into(), u32::try_from(name.len()).ok()?.into()));
+            }
+        }
+        offset += line.len();
+    }
+    None
+}
+
+/// The file's blocks read with the model's names, or why they cannot be
+/// (an unknown name, a type error: FDR would not load the script either).
+fn check_script(cx: &Cx<'_>, script: &Script, host: &Host<'_>) -> Result<Module, (Verdict, String)> {
+    let module = Module::check(&script.text, host);
+    if let Some(d) = module.diagnostics().iter().find(|d| d.severity == Severity::Error) {
+        let text = script.text.get(std::ops::Range::<usize>::from(d.range)).unwrap_or("");
+        if let Some(why) = (d.code == Code::Unresolved).then(|| host.unsupported(text)).flatten() {
+            return Err(unsupported(why));
+        }
+        if d.code == Code::Unresolved && script::TOCK_LIBRARY.contains(&text) {
+            return Err(unsupported(format!(
+                "`{text}` ({}) belongs to RoboTool's tock-CSP library, which the CSPm bridge does not define yet",
+                script.locate(cx, d.range).trim_start_matches("in ")
+            )));
+        }
+        let what = match d.code {
+            Code::Unresolved => "an unresolved name (FDR would reject the script too)",
+            Code::Unsupported => "a construct the CSPm engine does not support",
+            _ => "an error (FDR would reject the script too)",
+        };
+        return Err(unsupported(format!(
+            "the CSPm of this file's `csp` blocks has {what} {} ({}): {}",
+            script.locate(cx, d.range),
+            d.code.as_str(),
+            d.message
+        )));
+    }
+    Ok(module)
+}
+
+/// Whether `word` occurs in `text` as a whole identifier.
+fn mentions(text: &str, word: &str) -> bool {
+    text.match_indices(word).any(|(i, _)| {
+        let before = text[..i].chars().next_back();
+        let after = text[i + word.len()..].chars().next();
+        let ident = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '\'');
+        !ident(before) && !ident(after)
+    })
+}
+
+/// A failure that involves a model event with no CSPm name cannot be
+/// trusted: the specification could not have named it.
+fn check_named<S>(ids: &Names, cex: &RefinementCex<S>) -> Outcome {
+    let (path, extra): (_, Vec<Event>) = match cex {
+        RefinementCex::Trace { path, .. } | RefinementCex::Divergence { path, .. } => (path, Vec::new()),
+        RefinementCex::Refusal { path, offered, acceptances }
+        | RefinementCex::TockRefusal { path, offered, acceptances } => {
+            (path, offered.iter().chain(acceptances.iter().flatten()).copied().collect())
+        }
+    };
+    let unnamed = path.steps.iter().map(|(l, _)| l.event).chain(extra).find(|&e| ids.unnamed(e));
+    match unnamed {
+        Some(e) => Err(unsupported(format!(
+            "the model's event `{}` has no name in RoboTool's CSPm, so the specification cannot refer to it",
+            ids.name(e)
+        ))),
+        None => Ok(()),
+    }
+}
+
+fn event_set<L: Lts>(lts: &L, events: &[Event]) -> String {
+    format!("{{{}}}", events.iter().map(|e| lts.event_name(*e)).collect::<Vec<_>>().join(", "))
+}
+
+/// What the implementation does that the specification does not allow.
+fn describe<L: Lts, S>(imp: &L, cex: &RefinementCex<S>) -> String {
+    match cex {
+        RefinementCex::Trace { event, .. } => {
+            format!("perform `{}` where the specification cannot", imp.event_name(event.event))
+        }
+        RefinementCex::Refusal { offered, acceptances, .. } => {
+            let sets: Vec<String> = acceptances.iter().map(|acc| event_set(imp, acc)).collect();
+            format!(
+                "offer only {}, where the specification, after the same trace, offers all of {}",
+                event_set(imp, offered),
+                if sets.is_empty() {
+                    "its events".to_string()
+                } else {
+                    sets.join(" (or all of ") + &")".repeat(sets.len() - 1)
+                }
+            )
+        }
+        RefinementCex::TockRefusal { offered, .. } => {
+            format!("let time pass offering only {}", event_set(imp, offered))
+        }
+        RefinementCex::Divergence { .. } => "diverge (compute forever)".into(),
+    }
+}
+
+/// The counterexample: the model's steps, events in CSPm names, and where
+/// the specification is and what it allowed.
+fn counterexample<L: Lts<State = crate::pack::Packed>>(
+    imp: &Imp<'_, L>,
+    spec: &SpecLts<'_>,
+    design: &crate::ir::Design,
+    cex: &RefinementCex<lts::ImpState<crate::pack::Packed>>,
+    native: &DesignLts<'_>,
+    spec_name: &str,
+    def_at: &str,
+) -> Counterexample {
+    let (kind, path) = match cex {
+        RefinementCex::Trace { path, .. } => ("trace", path),
+        RefinementCex::Refusal { path, .. } => ("refusal", path),
+        RefinementCex::TockRefusal { path, .. } => ("tock-refusal", path),
+        RefinementCex::Divergence { path, .. } => ("divergence", path),
+    };
+    let mut steps = Vec::new();
+    let mut prev = native.values(&path.initial.inner);
+    let mut time = 0;
+    for (label, st) in &path.steps {
+        let next = native.values(&st.inner);
+        let event = if label.event == TAU {
+            if label.note != 0 {
+                format!("({})", native.event_name(label.note))
+            } else {
+                "τ".into()
+            }
+        } else {
+            imp.event_name(label.event)
+        };
+        let (description, location) = crate::verify::describe_move(design, &prev, &next, label);
+        steps.push(Step { event, visible: label.event != TAU, cycle: time, time, description, location });
+        if label.event == TOCK {
+            time += 1;
+        }
+        prev = next;
+    }
+    let trace: Vec<String> = path.trace().iter().map(|e| spec.event_name(*e)).collect();
+    let explanation = vec![
+        format!("the model can {}", describe(imp, cex)),
+        format!(
+            "the specification `{spec_name}` ({}) after ⟨{}⟩ does not allow it",
+            def_at.trim_start_matches("in "),
+            trace.join(", ")
+        ),
+    ];
+    Counterexample { kind, steps, explanation, stuck_at: Vec::new(), specification: Vec::new() }
+}

@@ -1,0 +1,287 @@
+//! Per-element results, independent of where the element sits in its file.
+//!
+//! A keystroke inside one machine should cost the work of that machine,
+//! not of the file. The top-level elements of a file (interfaces,
+//! machines, controllers, modules, …) are salsa tracked structs
+//! ([`Element`]) whose identity is their kind, name and rank among
+//! same-named elements of that kind, as rust-analyzer's `AstId`s are: an
+//! edit elsewhere in the file leaves them, and their syntax, unchanged.
+//! Name resolution, resolution in behaviour and typing run per element on
+//! the element's own tree, re-rooted so that its positions start at 0
+//! ([`element_problems`]); [`crate::file_diagnostics`] adds each
+//! element's start back. Definition ids stay the file's (an element's
+//! definitions are numbered from the count of those before it), so that
+//! results name definitions as the file-level queries do.
+
+use std::borrow::Cow;
+
+use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode};
+use rustc_hash::FxHashMap;
+
+use crate::defs::{file_defs, lower_element, lower_header, DefId, FileDefs};
+use crate::resolve::{Ctx, Member, ResolveProblem};
+use crate::walk::NodeTable;
+use crate::{parse, Db, File, Workspace};
+
+/// A top-level element's syntax, compared by identity first: the trees of
+/// elements an edit did not touch are the very same nodes after an
+/// incremental reparse.
+#[derive(Debug, Clone)]
+pub struct Green(pub rowan::GreenNode);
+
+impl PartialEq for Green {
+    fn eq(&self, other: &Green) -> bool {
+        std::ptr::eq::<rowan::GreenNodeData>(&*self.0, &*other.0) || self.0 == other.0
+    }
+}
+
+impl Eq for Green {}
+
+impl std::hash::Hash for Green {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        // Cheap: equal trees have equal kinds and lengths.
+        self.0.kind().hash(state);
+        self.0.text_len().hash(state);
+    }
+}
+
+/// A top-level element of a file (any child of the root but the package
+/// and the imports), identified by its kind, its name and its rank among
+/// the elements of the file with the same kind and name.
+#[salsa::tracked(debug)]
+pub struct Element<'db> {
+    /// The file.
+    #[returns(copy)]
+    pub file: File,
+    /// The node kind.
+    #[returns(copy)]
+    pub kind: SyntaxKind,
+    /// The name ("" when it has none).
+    #[returns(ref)]
+    pub name: String,
+    /// How many elements with the same kind and name come before it.
+    #[returns(copy)]
+    pub nth: u32,
+    /// Its syntax.
+    #[tracked]
+    #[returns(ref)]
+    pub green: Green,
+}
+
+/// The elements of `file` with their start offsets (this changes with
+/// every edit before them; [`element_list`] does not).
+#[salsa::tracked(returns(ref))]
+pub fn file_elements(db: &dyn Db, file: File) -> Vec<(Element<'_>, u32)> {
+    let root = parse(db, file).syntax_node();
+    let mut seen: FxHashMap<(SyntaxKind, String), u32> = FxHashMap::default();
+    let mut out = Vec::new();
+    let mut offset = root.text_range().start();
+    for child in root.green().children() {
+        let len = child.text_len();
+        if let rowan::NodeOrToken::Node(node) = child {
+            let kind = <robosim_syntax::RoboLang as rowan::Language>::kind_from_raw(node.kind());
+            if !matches!(kind, PACKAGE_DECL | IMPORT) {
+                let name = node
+                    .children()
+                    .find_map(|c| c.into_node().filter(|n| n.kind() == rowan::SyntaxKind(NAME as u16)))
+                    .map(crate::defs::green_name_text)
+                    .unwrap_or_default();
+                let nth = seen.entry((kind, name.clone())).or_insert(0);
+                out.push((Element::new(db, file, kind, name, *nth, Green(node.to_owned())), offset.into()));
+                *nth += 1;
+            }
+        }
+        offset += len;
+    }
+    out
+}
+
+/// The elements of `file`, in order, without positions.
+#[salsa::tracked(returns(ref))]
+pub fn element_list(db: &dyn Db, file: File) -> Vec<Element<'_>> {
+    file_elements(db, file).iter().map(|(e, _)| *e).collect()
+}
+
+/// The package and imports of `file` (as in [`file_defs`]).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn file_header(db: &dyn Db, file: File) -> FileDefs {
+    lower_header(&parse(db, file).syntax_node())
+}
+
+/// The definitions of `element` numbered from 0, positions relative to
+/// its start.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_lowered<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
+    lower_element(&SyntaxNode::new_root(element.green(db).0.clone()))
+}
+
+/// The summaries of the items `element` declares (one, or none).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_summary<'db>(db: &'db dyn Db, element: Element<'db>) -> Vec<crate::index::ItemSummary> {
+    crate::index::summarize(element_lowered(db, element))
+}
+
+/// The id of the first definition of each element of `file`, in order:
+/// changes only when an element gains or loses definitions.
+#[salsa::tracked(returns(ref))]
+fn def_bases(db: &dyn Db, file: File) -> Vec<(u32, Element<'_>)> {
+    let mut base = 0;
+    let mut out = Vec::new();
+    for e in element_list(db, file) {
+        out.push((base, *e));
+        base += element_lowered(db, *e).defs.len() as u32;
+    }
+    out
+}
+
+#[salsa::tracked(returns(copy))]
+fn element_base<'db>(db: &'db dyn Db, element: Element<'db>) -> u32 {
+    let bases = def_bases(db, element.file(db));
+    bases.iter().find(|(_, e)| *e == element).map_or(0, |(b, _)| *b)
+}
+
+/// The definitions of `element`, with the file's ids and positions
+/// relative to the element's start.
+#[salsa::tracked(returns(ref))]
+pub fn element_defs<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
+    element_lowered(db, element).rebased(element_base(db, element), file_header(db, element.file(db)))
+}
+
+/// Where the nodes the rules look for are in `element`'s tree.
+#[salsa::tracked(returns(ref), no_eq)]
+pub(crate) fn element_nodes<'db>(db: &'db dyn Db, element: Element<'db>) -> NodeTable {
+    crate::walk::node_table(&SyntaxNode::new_root(element.green(db).0.clone()))
+}
+
+/// The members of every context definition of `element` (as
+/// [`crate::resolve::file_members`] for a file).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_members<'db>(
+    db: &'db dyn Db,
+    ws: Workspace,
+    element: Element<'db>,
+) -> FxHashMap<DefId, Vec<Member>> {
+    let defs = element_defs(db, element);
+    defs.iter()
+        .filter(|(_, d)| crate::resolve::is_context_kind(d.kind))
+        .map(|(id, _)| (id, crate::resolve::members_in(db, ws, element.file(db), defs, id)))
+        .collect()
+}
+
+/// The problems of `element` found by name resolution, resolution in
+/// behaviour and typing, each list in the order the file-level queries
+/// give them, positions relative to the element's start.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ElementProblems {
+    /// Declaration-level resolution ([`crate::resolve::file_resolution`]).
+    pub resolution: Vec<ResolveProblem>,
+    /// Resolution in behaviour ([`crate::body::body_resolution`]).
+    pub body: Vec<ResolveProblem>,
+    /// Typing ([`crate::types::type_checks`]).
+    pub types: Vec<ResolveProblem>,
+}
+
+/// Statement deadlines (RoboSim has none: RS-STMT-02) of `element`,
+/// relative to its start, and whether it writes vector or matrix types
+/// (whose sizes the file-level rules check).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_marks<'db>(db: &'db dyn Db, element: Element<'db>) -> (Vec<robosim_syntax::TextRange>, bool) {
+    let root = SyntaxNode::new_root(element.green(db).0.clone());
+    let table = element_nodes(db, element);
+    let deadlines = table
+        .nodes(&root, &[TIMED_STMT], false)
+        .iter()
+        .filter_map(|n| n.children().find(|c| c.kind() == DEADLINE))
+        .map(|d| d.text_range())
+        .collect();
+    (deadlines, !table.nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false).is_empty())
+}
+
+/// The resolution and typing problems of `element`.
+#[salsa::tracked(returns(ref))]
+pub fn element_problems<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>) -> ElementProblems {
+    let unit = Unit::of_element(db, element);
+    let resolution = crate::resolve::resolve_unit(db, ws, &unit);
+    let body = crate::body::resolve_body(db, ws, &unit);
+    let types = crate::types::type_unit(db, ws, &unit, &resolution.refs, &body.refs);
+    ElementProblems { resolution: resolution.problems, body: body.problems, types }
+}
+
+/// The element of `file` that declares `id`.
+pub(crate) fn element_of(db: &dyn Db, file: File, id: DefId) -> Option<Element<'_>> {
+    let bases = def_bases(db, file);
+    let i = bases.partition_point(|(b, _)| *b <= id.0).checked_sub(1)?;
+    let e = bases[i].1;
+    element_defs(db, e).holds(id).then_some(e)
+}
+
+/// What resolution and typing work on: a whole file, or one element of it
+/// re-rooted (positions relative to its start, the file's definition ids).
+pub(crate) struct Unit<'a> {
+    /// The file.
+    pub file: File,
+    /// Its definitions (an element's only, for an element).
+    pub defs: &'a FileDefs,
+    /// The root of the tree.
+    pub root: SyntaxNode,
+    /// The nodes the queries look for.
+    pub nodes: &'a NodeTable,
+    /// The element, for an element.
+    pub element: Option<Element<'a>>,
+}
+
+impl<'a> Unit<'a> {
+    /// The whole of `file`.
+    pub fn of_file(db: &'a dyn Db, file: File) -> Unit<'a> {
+        Unit {
+            file,
+            defs: file_defs(db, file),
+            root: parse(db, file).syntax_node(),
+            nodes: crate::walk::file_nodes(db, file),
+            element: None,
+        }
+    }
+
+    /// One element.
+    pub fn of_element(db: &'a dyn Db, element: Element<'a>) -> Unit<'a> {
+        Unit {
+            file: element.file(db),
+            defs: element_defs(db, element),
+            root: SyntaxNode::new_root(element.green(db).0.clone()),
+            nodes: element_nodes(db, element),
+            element: Some(element),
+        }
+    }
+
+    /// The definitions that hold `id` of `file`: this unit's when it holds
+    /// it, another element's of the same file (read without the file's
+    /// positions), or those of another file.
+    pub fn defs_of(&self, db: &'a dyn Db, file: File, id: DefId) -> &'a FileDefs {
+        if file != self.file || self.element.is_none() {
+            return file_defs(db, file);
+        }
+        if self.defs.holds(id) {
+            return self.defs;
+        }
+        match element_of(db, file, id) {
+            Some(e) => element_defs(db, e),
+            None => file_defs(db, file),
+        }
+    }
+
+    /// The members of the context `id` of this unit.
+    pub fn members(&self, db: &'a dyn Db, ws: Workspace, id: DefId) -> Cow<'a, [Member]> {
+        match self.element {
+            Some(e) if self.defs.holds(id) => match element_members(db, ws, e).get(&id) {
+                Some(m) => Cow::Borrowed(m),
+                None => Cow::Owned(crate::resolve::members_in(db, ws, self.file, self.defs, id)),
+            },
+            _ => crate::resolve::ctx_members(db, ws, Ctx::Local(self.file, id)),
+        }
+    }
+
+    /// [`crate::resolve::node_ctx`] for a definition of this unit.
+    pub fn node_ctx(&self, db: &'a dyn Db, ws: Workspace, id: DefId) -> Option<Ctx> {
+        crate::resolve::node_ctx_in(db, ws, self.file, self.defs_of(db, self.file, id), id)
+    }
+}
