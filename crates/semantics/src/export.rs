@@ -7,8 +7,8 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt;
 use std::rc::Rc;
 
-use robosim_hir::defs::DefKind;
-use robosim_hir::{parse, Db, File, Workspace};
+use robosim_hir::defs::{file_defs, DefId, DefKind, TypeRef};
+use robosim_hir::{model, parse, Db, File, Workspace};
 use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
 
 use crate::cspm::{call, dot, name, Decl, Expr, Field};
@@ -481,6 +481,62 @@ impl<'a> Exporter<'a> {
         }
     }
 
+    /// The bounded type of a declaration's type in the model, written in
+    /// `file`: its names resolved from `file`, as written.
+    pub(crate) fn ty_ref(&mut self, file: File, t: Option<&robosim_hir::model::TyRef>) -> Result<Ty, String> {
+        let Some(t) = t else { return Err("an untyped declaration".into()) };
+        self.written_ty(file, &t.written, Some(t.text.trim()))
+    }
+
+    /// The bounded type of the written type `t` (`text`: its text, when
+    /// known; the names' otherwise).
+    fn written_ty(&mut self, file: File, t: &TypeRef, text: Option<&str>) -> Result<Ty, String> {
+        match t {
+            TypeRef::Product(parts) => {
+                let mut ts = Vec::new();
+                for c in parts {
+                    ts.push(self.written_ty(file, c, None)?);
+                }
+                return Ok(Ty::Product(ts));
+            }
+            TypeRef::Set(a) => return Ok(Ty::Set(Box::new(self.written_ty(file, a, None)?))),
+            TypeRef::Seq(a) => {
+                self.uses_seq = true;
+                return Ok(Ty::Seq(Box::new(self.written_ty(file, a, None)?)));
+            }
+            _ => {}
+        }
+        let path: &[String] = if let TypeRef::Named(path, _) = t { path } else { &[] };
+        match path.last().map(String::as_str).unwrap_or("") {
+            "boolean" => return Ok(Ty::Bool),
+            "nat" => return Ok(Ty::Nat),
+            "int" => return Ok(Ty::Int),
+            "real" => return Ok(Ty::Real),
+            "string" => {
+                // RoboTool's strings: sequences of characters (semantics.md §3).
+                self.uses_seq = true;
+                self.uses_string = true;
+                return Ok(Ty::Named("core_string".into(), Expr::SeqLit(vec![])));
+            }
+            _ => {}
+        }
+        if !path.is_empty() {
+            if let Some(r) = self.named_ty(file, path) {
+                return r;
+            }
+        }
+        let text = match (text, t) {
+            (Some(x), _) => x.to_string(),
+            (None, TypeRef::Named(_, r)) => {
+                file.text(self.db).get(usize::from(r.start())..usize::from(r.end())).unwrap_or("").trim().to_string()
+            }
+            (None, t) => format!("{t:?}"),
+        };
+        Err(format!(
+            "the type `{text}` is not supported by the export yet (booleans, numbers, enumerations, primitive types, records, products, sets and sequences are)"
+        ))
+    }
+
     /// The bounded type of a type node written in `file`.
     pub(crate) fn ty(&mut self, file: File, node: Option<&SyntaxNode>) -> Result<Ty, String> {
         let Some(node) = node else { return Err("an untyped declaration".into()) };
@@ -519,23 +575,8 @@ impl<'a> Exporter<'a> {
             _ => {}
         }
         if !path.is_empty() {
-            if let Some((ef, en)) = util::resolve(self.db, self.ws, file, &path, |k| k == DefKind::Enumeration) {
-                let (dt, lits) = self.enumeration(ef, &en);
-                let first = lits.first().map(|(_, c)| name(c.clone()));
-                return match first {
-                    Some(v) => Ok(Ty::Named(dt, v)),
-                    None => Err(format!("the enumeration `{}` has no literals", path.join("::"))),
-                };
-            }
-            if let Some((rf, rn)) = util::resolve(self.db, self.ws, file, &path, |k| k == DefKind::Record) {
-                return self.record(rf, &rn).map(Ty::Record);
-            }
-            if let Some((pf, pn)) = util::resolve(self.db, self.ws, file, &path, |k| k == DefKind::PrimitiveType) {
-                if pf.is_library(self.db) {
-                    return Err(format!("the type `{}` is not supported by the export yet", path.join("::")));
-                }
-                let n = self.abstract_type(pf, &pn);
-                return Ok(Ty::Named(n.clone(), call("head", vec![call("seq", vec![name(n)])])));
+            if let Some(r) = self.named_ty(file, &path) {
+                return r;
             }
         }
         Err(format!(
@@ -544,19 +585,52 @@ impl<'a> Exporter<'a> {
         ))
     }
 
-    /// The datatype of an enumeration declared at `node` in `file`, made on
-    /// first use: its name and (literal, constructor) pairs.
-    pub(crate) fn enumeration(&mut self, file: File, node: &SyntaxNode) -> (String, Vec<(String, String)>) {
-        let key = (file, node.text_range());
+    /// The type a name written in `file` denotes (an enumeration, record
+    /// or primitive type of the model), if any.
+    fn named_ty(&mut self, file: File, path: &[String]) -> Option<Result<Ty, String>> {
+        let found = |kind| {
+            let loc = model::resolve(self.db, self.ws, file, path, kind)?;
+            Some((loc.file, loc.def(self.db)?))
+        };
+        if let Some((ef, en)) = found(DefKind::Enumeration) {
+            let (dt, lits) = self.enumeration(ef, en);
+            let first = lits.first().map(|(_, c)| name(c.clone()));
+            return Some(match first {
+                Some(v) => Ok(Ty::Named(dt, v)),
+                None => Err(format!("the enumeration `{}` has no literals", path.join("::"))),
+            });
+        }
+        if let Some((rf, rn)) = found(DefKind::Record) {
+            return Some(self.record(rf, rn).map(Ty::Record));
+        }
+        if let Some((pf, pn)) = found(DefKind::PrimitiveType) {
+            if pf.is_library(self.db) {
+                return Some(Err(format!("the type `{}` is not supported by the export yet", path.join("::"))));
+            }
+            let n = self.abstract_type(pf, pn);
+            return Some(Ok(Ty::Named(n.clone(), call("head", vec![call("seq", vec![name(n)])]))));
+        }
+        None
+    }
+
+    /// The datatype of the enumeration `id` of `file`, made on first use:
+    /// its name and (literal, constructor) pairs.
+    pub(crate) fn enumeration(&mut self, file: File, id: DefId) -> (String, Vec<(String, String)>) {
+        let def = file_defs(self.db, file).def(id);
+        let key = (file, def.range);
         if let Some(e) = self.enums.get(&key) {
             return e.clone();
         }
         let mut path = self.package(file);
-        path.push(name_of(node));
+        path.push(def.name.clone());
         let dt = self.module_name(&path);
-        let lits: Vec<(String, String)> = util::children(node, ENUM_LITERAL)
-            .map(|l| {
-                let n = name_of(&l);
+        let names = match util::model_item_of(self.db, self.ws, file, id) {
+            Some(model::Item::Enumeration(_, lits)) => lits.clone(),
+            _ => Vec::new(),
+        };
+        let lits: Vec<(String, String)> = names
+            .into_iter()
+            .map(|n| {
                 let c = ident(&format!("{dt}_{n}"));
                 (n, c)
             })
@@ -579,27 +653,32 @@ impl<'a> Exporter<'a> {
     /// The datatype of a record declared at `node` in `file`, made on first
     /// use: `datatype R = R_rec.T1.T2…` with a reading function
     /// `R_get_f` and an updating function `R_set_f` per field.
-    pub(crate) fn record(&mut self, file: File, node: &SyntaxNode) -> Result<Rc<RecordTy>, String> {
-        let key = (file, node.text_range());
+    pub(crate) fn record(&mut self, file: File, id: DefId) -> Result<Rc<RecordTy>, String> {
+        let def = file_defs(self.db, file).def(id);
+        let (key, rname) = ((file, def.range), def.name.clone());
         match self.records.get(&key) {
             Some(Some(r)) => return Ok(r.clone()),
-            Some(None) => return Err(format!("the record `{}` contains itself", name_of(node))),
+            Some(None) => return Err(format!("the record `{rname}` contains itself")),
             None => {}
         }
         self.records.insert(key, None);
+        let model_fields = match util::model_item_of(self.db, self.ws, file, id) {
+            Some(model::Item::Record(_, fields)) => fields.clone(),
+            _ => Vec::new(),
+        };
         let mut fields = Vec::new();
-        for f in util::children(node, FIELD) {
-            let n = name_of(&f);
-            match self.ty(file, util::type_child(&f).as_ref()) {
+        for f in &model_fields {
+            let n = f.name.clone();
+            match self.ty_ref(file, f.ty.as_ref()) {
                 Ok(t) => fields.push((n, t)),
                 Err(m) => {
                     self.records.remove(&key);
-                    return Err(format!("record `{}`, field `{n}`: {m}", name_of(node)));
+                    return Err(format!("record `{rname}`, field `{n}`: {m}"));
                 }
             }
         }
         let mut path = self.package(file);
-        path.push(name_of(node));
+        path.push(rname);
         let dt = self.module_name(&path);
         let r = Rc::new(RecordTy { ctor: ident(&format!("{dt}_rec")), dt, fields });
         let xs: Vec<String> = (1..=r.fields.len()).map(|i| format!("x{i}__")).collect();
@@ -637,13 +716,14 @@ impl<'a> Exporter<'a> {
         }
     }
 
-    fn abstract_type(&mut self, file: File, node: &SyntaxNode) -> String {
-        let key = (file, node.text_range());
+    fn abstract_type(&mut self, file: File, id: DefId) -> String {
+        let def = file_defs(self.db, file).def(id);
+        let key = (file, def.range);
         if let Some(n) = self.abstract_types.get(&key) {
             return n.clone();
         }
         let mut path = self.package(file);
-        path.push(name_of(node));
+        path.push(def.name.clone());
         let n = self.module_name(&path);
         self.abstract_types.insert(key, n.clone());
         n
@@ -725,7 +805,9 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
                     crate::compose::element(&mut ex, f, &item);
                 }
                 ENUM_DECL => {
-                    ex.enumeration(f, &item);
+                    if let Some(id) = util::def_at(db, f, item.text_range()) {
+                        ex.enumeration(f, id);
+                    }
                 }
                 FUNCTION => {
                     // Unused functions without a definition are no loss:
@@ -740,7 +822,8 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
                     let _ = crate::machine::operation(&mut ex, f, &item);
                 }
                 RECORD_DECL => {
-                    if let Err(m) = ex.record(f, &item) {
+                    let Some(id) = util::def_at(db, f, item.text_range()) else { continue };
+                    if let Err(m) = ex.record(f, id) {
                         ex.warn(f, util::name_range(&item), format!("{m}; the record is not exported"));
                         ex.emit(f, vec![Decl::Comment(format!("NOT EXPORTED: {m}")), Decl::Blank]);
                     }

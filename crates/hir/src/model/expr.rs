@@ -203,6 +203,8 @@ pub struct Comm {
     pub event: String,
     /// What the event name resolves to.
     pub res: Option<Target>,
+    /// The event name's range.
+    pub event_range: TextRange,
     /// `[| g |]`: its range.
     pub guard: Option<TextRange>,
     /// The value part.
@@ -218,6 +220,9 @@ pub struct Stmt {
     pub kind: StmtKind,
     /// Its range.
     pub range: TextRange,
+    /// Its range up to its arguments or value (`$move` of `$move(lv, 0)`),
+    /// where a hover shows its term.
+    pub head: TextRange,
 }
 
 /// The kinds of statement.
@@ -457,7 +462,8 @@ impl Cx<'_> {
             COMM_INPUT => Some(CommPart::Input(qualified_path(&p), p.text_range())),
             _ => None,
         });
-        Comm { event, res, guard, part, range: comm.text_range() }
+        let event_range = event_node.as_ref().map_or(comm.text_range(), |n| n.text_range());
+        Comm { event, res, event_range, guard, part, range: comm.text_range() }
     }
 
     /// The statement of an action clause (its first statement child).
@@ -496,7 +502,8 @@ impl Cx<'_> {
             IF_STMT => {
                 let cond = self.opt_expr(exprs_of(s).next(), range);
                 let mut branches = stmts_of(s);
-                let then = branches.next().map(|t| self.stmt(&t)).unwrap_or(Stmt { kind: StmtKind::Skip, range });
+                let then =
+                    branches.next().map(|t| self.stmt(&t)).unwrap_or(Stmt { kind: StmtKind::Skip, range, head: range });
                 let els = branches.next().map(|e| Box::new(self.stmt(&e)));
                 StmtKind::If(cond, Box::new(then), els)
             }
@@ -521,7 +528,11 @@ impl Cx<'_> {
             PAR_STMT => StmtKind::Par(stmts_of(s).map(|c| self.stmt(&c)).collect()),
             k => StmtKind::Other(kind_words(k)),
         };
-        Stmt { kind, range }
+        let end = s
+            .children()
+            .find(|c| c.kind() == ARG_LIST || ast::is_expr_kind(c.kind()))
+            .map_or(range.end(), |c| c.text_range().start());
+        Stmt { kind, range, head: TextRange::new(range.start(), end.max(range.start())) }
     }
 }
 

@@ -189,8 +189,9 @@ impl Cx<'_> {
 
     fn ty(&self, t: Option<SyntaxNode>) -> Option<TyRef> {
         let t = t?;
-        let ty = crate::types::lower(self.db, self.ws, self.file, &lower_type(&t));
-        Some(TyRef { ty, text: t.text().to_string(), range: t.text_range() })
+        let written = lower_type(&t);
+        let ty = crate::types::lower(self.db, self.ws, self.file, &written);
+        Some(TyRef { ty, written, text: t.text().to_string(), range: t.text_range() })
     }
 
     fn params(&self, n: &SyntaxNode) -> Vec<Param> {
@@ -352,7 +353,9 @@ impl Cx<'_> {
             source_node: None,
             target_node: None,
             trigger,
+            trigger_range: child(TRIGGER).map(|c| c.text_range()),
             exec: child(EXEC_TRIGGER).is_some(),
+            exec_range: child(EXEC_TRIGGER).map(|c| c.text_range()),
             probability: child(PROBABILITY).map(|p| p.text_range()),
             resets,
             condition,

@@ -36,6 +36,10 @@ use crate::TextRange;
 pub struct TyRef {
     /// The type.
     pub ty: Ty,
+    /// The type as written, its names unresolved (a back end that resolves
+    /// them from the declaring file, rather than to the canonical copy of
+    /// a type declared in several files, reads this).
+    pub written: crate::defs::TypeRef,
     /// Its text as written (whitespace as in the source).
     pub text: String,
     /// Its range.
@@ -244,8 +248,12 @@ pub struct Transition {
     pub target_node: Option<usize>,
     /// The trigger's communication.
     pub trigger: Option<Comm>,
+    /// The `trigger` clause's range.
+    pub trigger_range: Option<TextRange>,
     /// `exec` (RoboSim).
     pub exec: bool,
+    /// The `exec` trigger's range.
+    pub exec_range: Option<TextRange>,
     /// `probability p`: its range.
     pub probability: Option<TextRange>,
     /// Clocks reset (`#C`): name and the clause's range.

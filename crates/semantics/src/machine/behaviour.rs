@@ -14,12 +14,11 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    pub(super) fn action_of(&mut self, n: &SyntaxNode, kind: robosim_syntax::SyntaxKind) -> Option<Option<Expr>> {
-        match child(n, kind) {
-            Some(a) => match stmt_child(&a) {
-                Some(s) => Some(Some(self.stmt(&s)?)),
-                None => Some(None),
-            },
+    /// The process of an action clause (none when absent or empty);
+    /// `None` when it is not exported.
+    pub(super) fn action_of(&mut self, a: Option<&m::Action>) -> Option<Option<Expr>> {
+        match a.and_then(|a| a.stmt.as_ref()) {
+            Some(s) => Some(Some(self.stmt(s)?)),
             None => Some(None),
         }
     }
@@ -27,7 +26,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// The process taking transition `t` from the leaf `leaf` (or from
     /// its source when `leaf` is `None`, for junctions and hovers).
     pub(super) fn transition(&mut self, t: usize, leaf: Option<usize>) -> Option<Expr> {
-        let syn = self.trans[t].syn.clone();
+        let syn = self.trans[t].m.clone();
         let mut rest = Vec::new();
         // The activities of the states it leaves stop at once, innermost
         // first (RoboChart: the trigger interrupts the during actions).
@@ -47,8 +46,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             let mut cur = Some(l);
             while let Some(c) = cur {
                 if self.nodes[c].kind == NodeKind::State {
-                    let s = self.nodes[c].syn.clone();
-                    if let Some(a) = self.action_of(&s, EXIT_ACTION)? {
+                    let s = self.nodes[c].m.exit.clone();
+                    if let Some(a) = self.action_of(s.as_ref())? {
                         rest.push(a);
                     }
                 }
@@ -58,49 +57,48 @@ impl<'e, 'a> Gen<'e, 'a> {
                 cur = self.nodes[c].parent;
             }
         }
-        for c in children(&syn, CLOCK_RESET) {
-            let n = ref_of(&c).unwrap_or_default();
-            match self.names.get(&n) {
+        for (n, cr) in &syn.resets {
+            match self.names.get(n) {
                 Some(Nm::Clock(k)) => rest.push(prefix(format!("reset_{}", self.clocks[*k].csp), vec![], Expr::Skip)),
                 _ => {
-                    self.problem(c.text_range(), format!("`{n}` is not a clock"));
+                    self.problem(*cr, format!("`{n}` is not a clock"));
                     return None;
                 }
             }
         }
-        if let Some(a) = self.action_of(&syn, TRANSITION_ACTION)? {
+        if let Some(a) = self.action_of(syn.action.as_ref())? {
             rest.push(a);
         }
         rest.push(self.enter(self.trans[t].target));
         let then = fold_seq(rest);
         let tid = self.trans[t].tid.clone();
-        if let Some(d) = child(&syn, DEADLINE) {
+        if let Some((d, _)) = &syn.deadline {
             // Its timer is part of the source's activity.
             if self.nodes[self.trans[t].source].kind != NodeKind::State {
                 self.problem(
-                    d.text_range(),
+                    *d,
                     "deadlines on transitions from junctions are not supported by the export yet \
                      (a junction is left at once or waits for a guard)",
                 );
                 return None;
             }
         }
-        if let Some(p) = child(&syn, PROBABILITY) {
-            self.problem(p.text_range(), "probabilistic transitions have no meaning in the tock-CSP semantics");
+        if let Some(p) = syn.probability {
+            self.problem(p, "probabilistic transitions have no meaning in the tock-CSP semantics");
             return None;
         }
-        if let Some(x) = child(&syn, EXEC_TRIGGER) {
+        if let Some(x) = syn.exec_range {
             if !self.robosim {
-                self.problem(x.text_range(), "`exec` belongs to RoboSim machines");
+                self.problem(x, "`exec` belongs to RoboSim machines");
                 return None;
             }
-            self.record_term(x.text_range(), TermKind::Exec, || {
+            self.record_term(x, TermKind::Exec, || {
                 prefix("endexec", vec![Field::Dot(name(tid.clone()))], prefix("startexec", vec![], Expr::Skip))
             });
             return Some(prefix("endexec", vec![Field::Dot(name(tid))], fold_seq(vec![name("StartExec__"), then])));
         }
-        match child(&syn, TRIGGER).and_then(|tr| child(&tr, COMMUNICATION)) {
-            Some(comm) => self.communication(&comm, Some((&tid, then))),
+        match &syn.trigger {
+            Some(comm) => self.communication(comm, Some((&tid, then))),
             None => Some(prefix("internal__", vec![Field::Dot(name(tid))], then)),
         }
     }
@@ -118,8 +116,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             .map(|n| {
                 let node = &self.nodes[n];
                 node.kind == NodeKind::State
-                    && ((self.nodes.iter().any(|c| c.parent == Some(n)) && child(&node.syn, DURING_ACTION).is_some())
-                        || self.trans.iter().any(|t| t.source == n && child(&t.syn, DEADLINE).is_some()))
+                    && ((self.nodes.iter().any(|c| c.parent == Some(n)) && node.m.during.is_some())
+                        || self.trans.iter().any(|t| t.source == n && t.m.deadline.is_some()))
             })
             .collect();
         // States, junctions and finals.
@@ -133,10 +131,10 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let saved_defs = self.defs.len();
                 let saved_counter = self.counter;
                 if let Some(e) = self.transition(t, None) {
-                    let syn = self.trans[t].syn.clone();
+                    let syn = &self.trans[t].m;
                     // On its name, and on its trigger.
-                    let mut ranges = vec![util::name_range(&syn)];
-                    ranges.extend(child(&syn, TRIGGER).map(|t| t.text_range()));
+                    let mut ranges = vec![syn.name_range];
+                    ranges.extend(syn.trigger_range);
                     let guard =
                         self.gates.iter().find(|g| g.t == t).map(|g| g.cond.clone()).filter(|c| *c != Expr::Bool(true));
                     for range in ranges {
@@ -161,26 +159,26 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     /// Translates the guard of transition `t` (evaluated by the memory).
     pub(super) fn guard_of(&mut self, t: usize) -> Option<GateI> {
-        let syn = self.trans[t].syn.clone();
+        let syn = self.trans[t].m.clone();
         self.binds.clear();
-        let cond = match child(&syn, CONDITION) {
-            Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => self.else_condition(t)?,
-            Some(c) => match expr_child(&c) {
-                Some(e) => self.expr(&e, ECtx::Memory, None)?.e,
+        let cond = match &syn.condition {
+            Some(c) if c.is_else => self.else_condition(t)?,
+            Some(c) => match &c.expr {
+                Some(e) => self.expr(e, ECtx::Memory, None)?.e,
                 None => Expr::Bool(true),
             },
             None => Expr::Bool(true),
         };
-        let trigger = if child(&syn, EXEC_TRIGGER).is_some() {
+        let trigger = if syn.exec {
             GateTrigger::Exec
         } else {
-            match child(&syn, TRIGGER).and_then(|tr| child(&tr, COMMUNICATION)) {
+            match &syn.trigger {
                 Some(comm) => {
-                    let ev = ref_of(&comm).unwrap_or_default();
+                    let ev = comm.event.clone();
                     let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
                         let what = self.what();
                         self.problem(
-                            comm.text_range(),
+                            comm.range,
                             format!("`{ev}` is not an event of the {what} (declared or used through an interface)"),
                         );
                         return None;
@@ -202,11 +200,11 @@ impl<'e, 'a> Gen<'e, 'a> {
             if u == t || self.trans[u].source != self.trans[t].source {
                 continue;
             }
-            let syn = self.trans[u].syn.clone();
-            match child(&syn, CONDITION) {
-                Some(c) if c.children().any(|n| n.kind() == ELSE_CONDITION) => {}
-                Some(c) => match expr_child(&c) {
-                    Some(e) => others.push(self.expr(&e, ECtx::Memory, None)?.e),
+            let syn = self.trans[u].m.clone();
+            match &syn.condition {
+                Some(c) if c.is_else => {}
+                Some(c) => match &c.expr {
+                    Some(e) => others.push(self.expr(e, ECtx::Memory, None)?.e),
                     None => others.push(Expr::Bool(true)),
                 },
                 None => others.push(Expr::Bool(true)),
@@ -271,7 +269,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     pub(super) fn node_process(&mut self, n: usize) {
-        let node_syn = self.nodes[n].syn.clone();
+        let node_syn = self.nodes[n].m.clone();
         let tag = self.nodes[n].tag.clone();
         match self.nodes[n].kind {
             NodeKind::State => {
@@ -279,7 +277,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
                     parts.push(prefix(format!("reset_{}", c.csp), vec![], Expr::Skip));
                 }
-                let Some(entry) = self.action_of(&node_syn, ENTRY_ACTION) else { return };
+                let Some(entry) = self.action_of(node_syn.entry.as_ref()) else { return };
                 parts.extend(entry);
                 let composite = self.nodes.iter().any(|c| c.parent == Some(n));
                 if self.active[n] {
@@ -291,7 +289,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 if composite {
                     let Some(init) = self.nodes.iter().position(|c| c.parent == Some(n) && c.kind == NodeKind::Initial)
                     else {
-                        self.problem(util::name_range(&node_syn), "a composite state without an initial junction");
+                        self.problem(node_syn.name_range, "a composite state without an initial junction");
                         return;
                     };
                     parts.push(self.enter(init));
@@ -331,20 +329,20 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// `d` time units (the transition must be taken by then). Returns false
     /// when something is not exported.
     pub(super) fn activity(&mut self, n: usize, composite: bool) -> bool {
-        let syn = self.nodes[n].syn.clone();
+        let syn = self.nodes[n].m.clone();
         let tag = self.nodes[n].tag.clone();
         let mut parts = Vec::new();
         if self.robosim {
             // RoboSim has no transition deadlines: only a composite's during action gets here.
             self.problem(
-                util::name_range(&syn),
+                syn.name_range,
                 "during actions of composite RoboSim states are not exported: how they share the \
                  cycle with the substates (`exec`) is not pinned down",
             );
             return false;
         }
-        if composite && child(&syn, DURING_ACTION).is_some() {
-            match self.action_of(&syn, DURING_ACTION) {
+        if composite && syn.during.is_some() {
+            match self.action_of(syn.during.as_ref()) {
                 Some(Some(d)) => parts.push(seq(vec![d, name("TStop")])),
                 Some(None) => {}
                 None => return false,
@@ -354,7 +352,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             if self.trans[t].source != n {
                 continue;
             }
-            let Some(limit) = child(&self.trans[t].syn, DEADLINE).and_then(|d| expr_child(&d)) else { continue };
+            let Some(limit) = self.trans[t].m.deadline.as_ref().and_then(|(_, d)| d.clone()) else { continue };
             let Some((d, reads)) = self.bexpr(&limit, None) else { return false };
             let p = self.with_reads(&reads, call("Timer__", vec![d]));
             parts.push(p);
@@ -404,10 +402,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             cur = self.nodes[c].parent;
         }
-        let syn = self.nodes[leaf].syn.clone();
+        let syn = self.nodes[leaf].m.clone();
         let me = format!("Rest__{}", self.nodes[leaf].tag);
         let during = if self.nodes[leaf].kind == NodeKind::State {
-            match self.action_of(&syn, DURING_ACTION) {
+            match self.action_of(syn.during.as_ref()) {
                 Some(d) => d,
                 None => return,
             }

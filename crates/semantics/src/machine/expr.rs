@@ -3,9 +3,9 @@
 use super::*;
 
 impl<'e, 'a> Gen<'e, 'a> {
-    pub(super) fn expr(&mut self, e: &SyntaxNode, cx: ECtx, want: Option<&Ty>) -> Option<EOut> {
+    pub(super) fn expr(&mut self, e: &m::Expr, cx: ECtx, want: Option<&Ty>) -> Option<EOut> {
         if self.nesting >= MAX_NESTING {
-            self.problem(e.text_range(), "this expression is nested too deeply for the export");
+            self.problem(e.range, "this expression is nested too deeply for the export");
             return None;
         }
         self.nesting += 1;
@@ -14,42 +14,26 @@ impl<'e, 'a> Gen<'e, 'a> {
         out
     }
 
-    pub(super) fn expr_inner(&mut self, e: &SyntaxNode, cx: ECtx, want: Option<&Ty>) -> Option<EOut> {
-        let r = e.text_range();
-        match e.kind() {
-            PAREN_EXPR => {
-                let inner = expr_child(e)?;
-                self.expr(&inner, cx, want)
+    pub(super) fn expr_inner(&mut self, e: &m::Expr, cx: ECtx, want: Option<&Ty>) -> Option<EOut> {
+        let r = e.range;
+        match &e.kind {
+            m::ExprKind::Int(Some(v)) => Some(EOut { e: Expr::Int(*v), ty: Ty::Nat, pure: true }),
+            m::ExprKind::Int(None) => {
+                self.problem(r, "this number is too large");
+                None
             }
-            LITERAL => {
-                let tok = e.first_token()?;
-                match tok.kind() {
-                    INT_NUMBER => match tok.text().parse::<i64>() {
-                        Ok(v) => Some(EOut { e: Expr::Int(v), ty: Ty::Nat, pure: true }),
-                        Err(_) => {
-                            self.problem(r, "this number is too large");
-                            None
-                        }
-                    },
-                    TRUE_KW => Some(EOut { e: Expr::Bool(true), ty: Ty::Bool, pure: true }),
-                    FALSE_KW => Some(EOut { e: Expr::Bool(false), ty: Ty::Bool, pure: true }),
-                    FLOAT_NUMBER => {
-                        let v: f64 = tok.text().parse().unwrap_or(f64::NAN);
-                        if v.fract() == 0.0 && v.abs() < 1e15 {
-                            Some(EOut { e: Expr::Int(v as i64), ty: Ty::Real, pure: true })
-                        } else {
-                            self.problem(r, "real numbers with a fractional part are not supported (reals are bounded integers, as in RoboTool)");
-                            None
-                        }
-                    }
-                    _ => {
-                        self.problem(r, "this literal is not supported by the export yet");
-                        None
-                    }
+            m::ExprKind::Bool(b) => Some(EOut { e: Expr::Bool(*b), ty: Ty::Bool, pure: true }),
+            m::ExprKind::Real(text) => {
+                let v: f64 = text.parse().unwrap_or(f64::NAN);
+                if v.fract() == 0.0 && v.abs() < 1e15 {
+                    Some(EOut { e: Expr::Int(v as i64), ty: Ty::Real, pure: true })
+                } else {
+                    self.problem(r, "real numbers with a fractional part are not supported (reals are bounded integers, as in RoboTool)");
+                    None
                 }
             }
-            REF_EXPR => {
-                let n = ident_text(e);
+            m::ExprKind::Name { name: n, .. } => {
+                let n = n.clone();
                 match self.names.get(&n).cloned() {
                     Some(Nm::Const(i)) => {
                         let e = match cx {
@@ -88,19 +72,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                     }
                 }
             }
-            ENUM_LITERAL_EXPR => {
-                let parts: Vec<String> = children(e, NAME_REF).map(|c| ident_text(&c)).collect();
-                let Some((lit, en)) = parts.split_last() else {
-                    self.problem(r, "an empty literal");
-                    return None;
-                };
-                let Some((ef, enode)) =
-                    util::resolve(self.ex.db, self.ex.ws, self.file, en, |k| k == DefKind::Enumeration)
-                else {
+            m::ExprKind::EnumLiteral { path: en, literal: lit, .. } => {
+                let found = m::resolve(self.ex.db, self.ex.ws, self.file, en, DefKind::Enumeration)
+                    .and_then(|loc| Some((loc.file, loc.def(self.ex.db)?)));
+                let Some((ef, eid)) = found else {
                     self.problem(r, "the enumeration could not be resolved");
                     return None;
                 };
-                let (dt, lits) = self.ex.enumeration(ef, &enode);
+                let (dt, lits) = self.ex.enumeration(ef, eid);
                 match lits.iter().find(|(l, _)| l == lit) {
                     Some((_, c)) => {
                         let first = name(lits[0].1.clone());
@@ -112,25 +91,25 @@ impl<'e, 'a> Gen<'e, 'a> {
                     }
                 }
             }
-            SINCE_EXPR | SINCE_ENTRY_EXPR => {
-                let i = if e.kind() == SINCE_EXPR {
-                    let n = ref_of(e).unwrap_or_default();
-                    match self.names.get(&n) {
+            m::ExprKind::Since(_) | m::ExprKind::SinceEntry(_) => {
+                let i = match &e.kind {
+                    m::ExprKind::Since(n) => match self.names.get(n) {
                         Some(Nm::Clock(i)) => *i,
                         _ => {
                             self.problem(r, format!("`{n}` is not a clock"));
                             return None;
                         }
+                    },
+                    m::ExprKind::SinceEntry(p) => {
+                        let n = p.last().cloned().unwrap_or_default();
+                        let Some(s) = self.nodes.iter().position(|x| x.name == n && x.kind == NodeKind::State) else {
+                            let what = self.what();
+                            self.problem(r, format!("`{n}` is not a state of the {what}"));
+                            return None;
+                        };
+                        self.since_entry_clock(s)
                     }
-                } else {
-                    let p = path_of(e);
-                    let n = p.last().cloned().unwrap_or_default();
-                    let Some(s) = self.nodes.iter().position(|x| x.name == n && x.kind == NodeKind::State) else {
-                        let what = self.what();
-                        self.problem(r, format!("`{n}` is not a state of the {what}"));
-                        return None;
-                    };
-                    self.since_entry_clock(s)
+                    _ => return None,
                 };
                 match cx {
                     ECtx::Const => {
@@ -148,8 +127,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 Some(EOut { e: name(self.clocks[i].csp.clone()), ty: Ty::Nat, pure: false })
             }
-            SIM_REF_EXPR => {
-                let n = path_of(e).join("::");
+            m::ExprKind::SimRef { path, input, sync } => {
+                let n = path.join("::");
                 let Some(Nm::Event(i)) = self.names.get(&n).cloned() else {
                     self.problem(
                         r,
@@ -162,56 +141,58 @@ impl<'e, 'a> Gen<'e, 'a> {
                     return None;
                 }
                 self.events[i].received = true;
-                if let Some(suffix) = child(e, SIM_INPUT_SUFFIX) {
-                    let var = path_of(&suffix).join("::");
+                if let Some((var, vr)) = input {
+                    let var = var.join("::");
                     match self.names.get(&var) {
                         Some(Nm::Var(v)) if self.events[i].ty.is_some() => self.binds.push((*v, i)),
                         _ => {
-                            self.problem(suffix.text_range(), format!("`{var}` cannot receive the value of `${n}`"));
+                            self.problem(*vr, format!("`{var}` cannot receive the value of `${n}`"));
                             return None;
                         }
                     }
                 }
-                if child(e, SIM_SYNC_SUFFIX).is_some() {
+                if sync.is_some() {
                     self.problem(r, "`$e.v` in guards is not supported by the export yet");
                     return None;
                 }
                 Some(EOut { e: name(self.events[i].csp.clone()), ty: Ty::Bool, pure: false })
             }
-            PREFIX_EXPR => {
-                let op = e.first_token().map(|t| t.kind());
-                let inner = expr_child(e)?;
-                let x = self.expr(&inner, cx, want)?;
+            m::ExprKind::Unary(op, inner) => {
+                if matches!(inner.kind, m::ExprKind::Missing) {
+                    return None;
+                }
+                let x = self.expr(inner, cx, want)?;
                 match op {
-                    Some(NOT_KW) => Some(EOut { e: Expr::Not(Box::new(x.e)), ty: Ty::Bool, pure: x.pure }),
-                    Some(MINUS) => match x.e {
+                    m::UnOp::Not => Some(EOut { e: Expr::Not(Box::new(x.e)), ty: Ty::Bool, pure: x.pure }),
+                    m::UnOp::Neg => match x.e {
                         Expr::Int(v) => Some(EOut { e: Expr::Int(-v), ty: Ty::Int, pure: true }),
                         ex => {
                             let t = if x.ty == Ty::Nat { Ty::Int } else { x.ty.clone() };
                             Some(EOut { e: call("Neg", vec![ex, t.set()]), ty: t, pure: x.pure })
                         }
                     },
-                    _ => {
+                    m::UnOp::Other => {
                         self.problem(r, "this operator is not supported by the export yet");
                         None
                     }
                 }
             }
-            BIN_EXPR => {
-                let ops = ast::operand_exprs(e);
-                let [a, b] = ops.as_slice() else {
+            m::ExprKind::Binary(op, a, b) => {
+                if matches!(a.kind, m::ExprKind::Missing) || matches!(b.kind, m::ExprKind::Missing) {
                     self.problem(r, "an incomplete expression");
                     return None;
-                };
-                let op = ast::binary_operator(e);
-                if matches!(op, Some(IN_KW | CAT_KW | CARET)) {
+                }
+                let op = *op;
+                // `BinOp::Other` is `^`, the one binary operator the model
+                // does not name.
+                if matches!(op, m::BinOp::In | m::BinOp::Cat | m::BinOp::Other) {
                     return self.collection_op(op, a, b, cx, want);
                 }
-                let arith = matches!(op, Some(PLUS | MINUS | STAR | SLASH | PERCENT));
+                let arith = matches!(op, m::BinOp::Add | m::BinOp::Sub | m::BinOp::Mul | m::BinOp::Div | m::BinOp::Mod);
                 let x = self.expr(a, cx, if arith { want } else { None })?;
                 let y = self.expr(b, cx, if arith { want } else { None })?;
                 let pure = x.pure && y.pure;
-                if matches!(op, Some(EQ2 | NEQ | LT | LTEQ | GT | GTEQ)) {
+                if op.is_comparison() {
                     self.clock_bound(a, &y);
                     self.clock_bound(b, &x);
                 }
@@ -227,43 +208,38 @@ impl<'e, 'a> Gen<'e, 'a> {
                     Some(EOut { e: call(f, vec![x.e.clone(), y.e.clone(), t.set()]), ty: t, pure })
                 };
                 match op {
-                    Some(PLUS) => sticky("Plus", false),
-                    Some(MINUS) => sticky("Minus", true),
-                    Some(STAR) => sticky("Mult", false),
-                    Some(SLASH) => sticky("Div", false),
-                    Some(PERCENT) => sticky("Modulus", false),
-                    Some(EQ2) => cmp(BinOp::Eq),
-                    Some(NEQ) => cmp(BinOp::Ne),
-                    Some(LT) => cmp(BinOp::Lt),
-                    Some(LTEQ) => cmp(BinOp::Le),
-                    Some(GT) => cmp(BinOp::Gt),
-                    Some(GTEQ) => cmp(BinOp::Ge),
-                    Some(AND) => cmp(BinOp::And),
-                    Some(OR) => cmp(BinOp::Or),
-                    Some(IMPLIES) => {
+                    m::BinOp::Add => sticky("Plus", false),
+                    m::BinOp::Sub => sticky("Minus", true),
+                    m::BinOp::Mul => sticky("Mult", false),
+                    m::BinOp::Div => sticky("Div", false),
+                    m::BinOp::Mod => sticky("Modulus", false),
+                    m::BinOp::Eq => cmp(BinOp::Eq),
+                    m::BinOp::Ne => cmp(BinOp::Ne),
+                    m::BinOp::Lt => cmp(BinOp::Lt),
+                    m::BinOp::Le => cmp(BinOp::Le),
+                    m::BinOp::Gt => cmp(BinOp::Gt),
+                    m::BinOp::Ge => cmp(BinOp::Ge),
+                    m::BinOp::And => cmp(BinOp::And),
+                    m::BinOp::Or => cmp(BinOp::Or),
+                    m::BinOp::Implies => {
                         Some(EOut { e: bin(BinOp::Or, Expr::Not(Box::new(x.e)), y.e), ty: Ty::Bool, pure })
                     }
-                    Some(IFF_KW) => cmp(BinOp::Eq),
-                    _ => {
-                        self.problem(r, "this operator is not supported by the export yet");
-                        None
-                    }
+                    m::BinOp::Iff => cmp(BinOp::Eq),
+                    m::BinOp::In | m::BinOp::Cat | m::BinOp::Other => None,
                 }
             }
-            IF_EXPR => {
-                let parts = ast::operand_exprs(e);
-                let [c, a, b] = parts.as_slice() else {
+            m::ExprKind::If(c, a, b) => {
+                if [c, a, b].iter().any(|x| matches!(x.kind, m::ExprKind::Missing)) {
                     self.problem(r, "an incomplete conditional");
                     return None;
-                };
+                }
                 let c = self.expr(c, cx, None)?;
                 let a = self.expr(a, cx, want)?;
                 let b = self.expr(b, cx, want)?;
                 let pure = c.pure && a.pure && b.pure;
                 Some(EOut { e: Expr::If(Box::new(c.e), Box::new(a.e), Box::new(b.e)), ty: a.ty, pure })
             }
-            SET_EXPR | SEQ_EXPR => {
-                let items = ast::operand_exprs(e);
+            m::ExprKind::Set(items) | m::ExprKind::Seq(items) => {
                 let elem_want = match want {
                     Some(Ty::Set(t)) | Some(Ty::Seq(t)) => Some((**t).clone()),
                     _ => None,
@@ -271,7 +247,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let mut es = Vec::new();
                 let mut elem = elem_want.clone();
                 let mut pure = true;
-                for x in &items {
+                for x in items {
                     let o = self.expr(x, cx, elem_want.as_ref())?;
                     pure &= o.pure;
                     es.push(o.e);
@@ -280,27 +256,25 @@ impl<'e, 'a> Gen<'e, 'a> {
                 // Unknown element type (an empty literal without context):
                 // it only matters for arithmetic and projections.
                 let elem = Box::new(elem.unwrap_or(Ty::Nat));
-                if e.kind() == SET_EXPR {
+                if matches!(e.kind, m::ExprKind::Set(_)) {
                     Some(EOut { e: Expr::Set(es), ty: Ty::Set(elem), pure })
                 } else {
                     self.ex.seq_literal_max = self.ex.seq_literal_max.max(es.len() as i64);
                     Some(EOut { e: Expr::SeqLit(es), ty: Ty::Seq(elem), pure })
                 }
             }
-            SET_RANGE_EXPR => {
-                let parts = ast::operand_exprs(e);
-                let [lo, hi] = parts.as_slice() else {
+            m::ExprKind::SetRange(lo, hi) => {
+                if matches!(lo.kind, m::ExprKind::Missing) || matches!(hi.kind, m::ExprKind::Missing) {
                     self.problem(r, "a range needs two bounds");
                     return None;
-                };
+                }
                 let lo = self.expr(lo, cx, None)?;
                 let hi = self.expr(hi, cx, None)?;
                 let ty = Ty::Set(Box::new(Ty::join(&lo.ty, &hi.ty)));
                 Some(EOut { e: Expr::Range(Box::new(lo.e), Box::new(hi.e)), ty, pure: lo.pure && hi.pure })
             }
-            CALL_EXPR => self.call_expr(e, cx),
-            TUPLE_EXPR => {
-                let items = ast::operand_exprs(e);
+            m::ExprKind::Call { function, args, .. } => self.call_expr(function, args, cx, r),
+            m::ExprKind::Tuple(items) => {
                 let wants: Vec<Option<Ty>> = match want {
                     Some(Ty::Product(ts)) if ts.len() == items.len() => ts.iter().cloned().map(Some).collect(),
                     _ => vec![None; items.len()],
@@ -316,37 +290,41 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 Some(EOut { e: Expr::Tuple(es), ty: Ty::Product(tys), pure })
             }
-            RECORD_LITERAL => {
-                let rn = ref_of(e).unwrap_or_default();
-                let Some((rf, rnode)) =
-                    util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&rn), |k| {
-                        k == DefKind::Record
-                    })
-                else {
-                    self.problem(r, format!("`{rn}` is not a record the export can resolve"));
+            m::ExprKind::Record(values) => {
+                // The record, from the type the checker gave the literal.
+                // (by its name from this file, as written, rather than the
+                // canonical copy of a record declared in several files).
+                let rn = match &e.ty {
+                    Some(robosim_hir::types::Ty::Named(_, n, DefKind::Record)) => n.clone(),
+                    _ => String::new(),
+                };
+                let found = m::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&rn), DefKind::Record)
+                    .and_then(|loc| Some((rn.clone(), loc.file, loc.def(self.ex.db)?)));
+                let Some((rn, rf, rnode)) = found else {
+                    self.problem(r, "this record literal's record is not one the export can resolve");
                     return None;
                 };
-                let rec = match self.ex.record(rf, &rnode) {
+                let rec = match self.ex.record(rf, rnode) {
                     Ok(x) => x,
                     Err(m) => {
                         self.problem(r, m);
                         return None;
                     }
                 };
-                let mut given: HashMap<String, SyntaxNode> = HashMap::new();
-                for fv in children(e, FIELD_VALUE) {
-                    if let (Some(f), Some(x)) = (ref_of(&fv), expr_child(&fv)) {
+                let mut given: HashMap<&str, &m::Expr> = HashMap::new();
+                for (f, x) in values {
+                    if !matches!(x.kind, m::ExprKind::Missing) && !f.is_empty() {
                         given.insert(f, x);
                     }
                 }
                 let mut parts = vec![name(rec.ctor.clone())];
                 let mut pure = true;
                 for (f, t) in &rec.fields {
-                    let Some(x) = given.remove(f) else {
+                    let Some(x) = given.remove(f.as_str()) else {
                         self.problem(r, format!("the record literal gives no value to the field `{f}`"));
                         return None;
                     };
-                    let o = self.expr(&x, cx, Some(t))?;
+                    let o = self.expr(x, cx, Some(t))?;
                     pure &= o.pure;
                     parts.push(o.e);
                 }
@@ -356,13 +334,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 Some(EOut { e: dot(parts), ty: Ty::Record(rec), pure })
             }
-            SELECT_EXPR => {
-                let inner = expr_child(e)?;
-                let f = ref_of(e).unwrap_or_default();
-                let x = self.expr(&inner, cx, None)?;
+            m::ExprKind::Field(inner, f) => {
+                if matches!(inner.kind, m::ExprKind::Missing) {
+                    return None;
+                }
+                let x = self.expr(inner, cx, None)?;
                 match &x.ty {
-                    Ty::Record(rec) => match rec.fields.iter().find(|(n, _)| *n == f) {
-                        Some((_, t)) => Some(EOut { e: call(rec.getter(&f), vec![x.e]), ty: t.clone(), pure: x.pure }),
+                    Ty::Record(rec) => match rec.fields.iter().find(|(n, _)| n == f) {
+                        Some((_, t)) => Some(EOut { e: call(rec.getter(f), vec![x.e]), ty: t.clone(), pure: x.pure }),
                         None => {
                             self.problem(r, format!("`{f}` is not a field of the record"));
                             None
@@ -374,9 +353,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                     }
                 }
             }
-            INDEX_EXPR => {
-                let parts = ast::operand_exprs(e);
-                let [inner, index] = parts.as_slice() else {
+            m::ExprKind::Index(inner, indices) => {
+                let [index] = indices.as_slice() else {
                     self.problem(r, "only one index is supported by the export");
                     return None;
                 };
@@ -384,16 +362,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                 match x.ty.clone() {
                     // Components of tuples are numbered from 1.
                     Ty::Product(ts) => {
-                        let k = index
-                            .text()
-                            .to_string()
-                            .trim()
-                            .parse::<usize>()
-                            .ok()
-                            .filter(|k| (1..=ts.len()).contains(k));
+                        let k = match index.kind {
+                            m::ExprKind::Int(Some(k)) => usize::try_from(k).ok(),
+                            _ => None,
+                        }
+                        .filter(|k| (1..=ts.len()).contains(k));
                         let Some(k) = k else {
                             self.problem(
-                                index.text_range(),
+                                index.range,
                                 format!(
                                     "a tuple of {} components is indexed by a number from 1 to {}",
                                     ts.len(),
@@ -411,8 +387,18 @@ impl<'e, 'a> Gen<'e, 'a> {
                     }
                 }
             }
-            k => {
-                self.problem(r, format!("this expression ({}) is not supported by the export yet", kind_words(k)));
+            m::ExprKind::Missing => {
+                self.problem(r, "an incomplete expression");
+                None
+            }
+            other => {
+                let words = match other {
+                    m::ExprKind::Other(w) => w.clone(),
+                    m::ExprKind::Result => "result expr".into(),
+                    m::ExprKind::Interval { .. } => "interval expr".into(),
+                    _ => "expression".into(),
+                };
+                self.problem(r, format!("this expression ({words}) is not supported by the export yet"));
                 None
             }
         }
@@ -421,13 +407,13 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// `x in s`, `s ^ t`, `s cat t`.
     pub(super) fn collection_op(
         &mut self,
-        op: Option<robosim_syntax::SyntaxKind>,
-        a: &SyntaxNode,
-        b: &SyntaxNode,
+        op: m::BinOp,
+        a: &m::Expr,
+        b: &m::Expr,
         cx: ECtx,
         want: Option<&Ty>,
     ) -> Option<EOut> {
-        if op == Some(IN_KW) {
+        if op == m::BinOp::In {
             let y = self.expr(b, cx, None)?;
             let elem = match &y.ty {
                 Ty::Set(t) | Ty::Seq(t) => Some((**t).clone()),
@@ -452,19 +438,12 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     /// A call of a function: a toolkit function mapped to CSPm's
     /// built-ins, or a function of the model with an explicit definition.
-    pub(super) fn call_expr(&mut self, e: &SyntaxNode, cx: ECtx) -> Option<EOut> {
-        let r = e.text_range();
-        let callee = e.children().find(|c| ast::is_expr_kind(c.kind()));
-        let args: Vec<SyntaxNode> = child(e, ARG_LIST)
-            .map(|a| a.children().filter(|x| ast::is_expr_kind(x.kind())).collect())
-            .unwrap_or_default();
-        let fname = match &callee {
-            Some(c) if c.kind() == REF_EXPR => ident_text(c),
-            _ => {
-                self.problem(r, "only calls of named functions are supported by the export");
-                return None;
-            }
-        };
+    pub(super) fn call_expr(&mut self, fname: &str, args: &[m::Expr], cx: ECtx, r: TextRange) -> Option<EOut> {
+        if fname.is_empty() {
+            self.problem(r, "only calls of named functions are supported by the export");
+            return None;
+        }
+        let fname = fname.to_string();
         let Some((ff, fnode)) =
             util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&fname), |k| k == DefKind::Function)
         else {
@@ -472,7 +451,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             return None;
         };
         if ff.is_library(self.ex.db) {
-            return self.toolkit(&fname, &args, cx, r);
+            return self.toolkit(&fname, args, cx, r);
         }
         let f = match crate::machine::function(self.ex, ff, &fnode) {
             Ok(f) => f,
@@ -496,7 +475,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// The toolkit functions with a CSPm counterpart.
-    pub(super) fn toolkit(&mut self, f: &str, args: &[SyntaxNode], cx: ECtx, r: TextRange) -> Option<EOut> {
+    pub(super) fn toolkit(&mut self, f: &str, args: &[m::Expr], cx: ECtx, r: TextRange) -> Option<EOut> {
         let mut outs = Vec::new();
         for a in args {
             outs.push(self.expr(a, cx, None)?);
@@ -556,21 +535,14 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// Records that the clock read by `side` (if any) is compared with `other`.
-    pub(super) fn clock_bound(&mut self, side: &SyntaxNode, other: &EOut) {
-        let mut s = side.clone();
-        while s.kind() == PAREN_EXPR {
-            match expr_child(&s) {
-                Some(i) => s = i,
-                None => return,
-            }
-        }
-        let i = match s.kind() {
-            SINCE_EXPR => match ref_of(&s).and_then(|n| self.names.get(&n).cloned()) {
+    pub(super) fn clock_bound(&mut self, side: &m::Expr, other: &EOut) {
+        let i = match &side.kind {
+            m::ExprKind::Since(n) => match self.names.get(n).cloned() {
                 Some(Nm::Clock(i)) => i,
                 _ => return,
             },
-            SINCE_ENTRY_EXPR => {
-                let n = path_of(&s).last().cloned().unwrap_or_default();
+            m::ExprKind::SinceEntry(p) => {
+                let n = p.last().cloned().unwrap_or_default();
                 match self.nodes.iter().position(|x| x.name == n && x.kind == NodeKind::State) {
                     Some(st) => self.since_entry_clock(st),
                     None => return,
@@ -614,7 +586,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// Translates `e` in the behaviour, returning the reads it needs.
-    pub(super) fn bexpr(&mut self, e: &SyntaxNode, want: Option<&Ty>) -> Option<(Expr, Vec<String>)> {
+    pub(super) fn bexpr(&mut self, e: &m::Expr, want: Option<&Ty>) -> Option<(Expr, Vec<String>)> {
         let saved = std::mem::take(&mut self.reads);
         let out = self.expr(e, ECtx::Behaviour, want);
         let reads = std::mem::replace(&mut self.reads, saved);

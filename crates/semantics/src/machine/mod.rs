@@ -19,15 +19,14 @@
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
-use robosim_hir::defs::DefKind;
+use robosim_hir::defs::{DefKind, Io};
+use robosim_hir::model as m;
 use robosim_hir::File;
-use robosim_syntax::{ast, SyntaxKind::*, SyntaxNode, TextRange};
+use robosim_syntax::{SyntaxNode, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
-use crate::util::{
-    self, child, children, expr_child, ident, ident_text, name_of, path_of, ref_of, stmt_child, type_child,
-};
+use crate::util::{self, ident, name_of};
 
 mod assembly;
 mod behaviour;
@@ -85,7 +84,8 @@ struct NodeI {
     name: String,
     kind: NodeKind,
     parent: Option<usize>,
-    syn: SyntaxNode,
+    /// The node in the model.
+    m: m::Node,
     /// Suffix of its process names (path of names joined by `_`).
     tag: String,
 }
@@ -94,7 +94,8 @@ struct TransI {
     tid: String,
     source: usize,
     target: usize,
-    syn: SyntaxNode,
+    /// The transition in the model.
+    m: m::Transition,
 }
 
 #[derive(Debug, Clone)]
@@ -183,6 +184,8 @@ pub(crate) struct Gen<'e, 'a> {
     ex: &'e mut Exporter<'a>,
     file: File,
     node: SyntaxNode,
+    /// The machine or operation in the model (none for a function).
+    model: Option<Rc<m::Behaviour>>,
     robosim: bool,
     profile: Profile,
     names: HashMap<String, Nm>,
@@ -242,10 +245,12 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(crate) fn new(ex: &'e mut Exporter<'a>, file: File, node: &SyntaxNode, record: bool) -> Self {
         let robosim = file.kind(ex.db) == robosim_syntax::FileKind::RoboSim;
         let profile = ex.profile;
+        let model = util::model_behaviour(ex.db, ex.ws, file, node.text_range()).map(Rc::new);
         Gen {
             ex,
             file,
             node: node.clone(),
+            model,
             robosim,
             profile,
             names: HashMap::new(),
@@ -312,10 +317,8 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     /// Translates the machine: its CSPm module and its interface.
     pub(crate) fn run(mut self, module: String, path: Vec<String>) -> Result<MachineOut, Vec<Problem>> {
-        let node = self.node.clone();
-        self.declarations(&node);
-        self.collect_nodes(&node, None);
-        self.collect_transitions();
+        self.declarations();
+        self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
         }
@@ -330,16 +333,14 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// Translates an operation of the model: its CSPm module and its
     /// channels and constants.
     fn run_operation(mut self, module: String, path: Vec<String>) -> Result<(Vec<Decl>, OperationOut), Vec<Problem>> {
-        let node = self.node.clone();
-        self.declarations(&node);
-        self.collect_nodes(&node, None);
-        self.collect_transitions();
+        self.declarations();
+        self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
         }
         if !self.nodes.iter().any(|n| n.parent.is_none() && n.kind == NodeKind::Initial) {
             self.problem(
-                util::name_range(&node),
+                util::name_range(&self.node),
                 "the operation has no body (initial junction): only operations defined by a state machine are exported",
             );
             return Err(self.problems);
@@ -400,46 +401,44 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     // ------------------------------------------------------ declarations
 
-    fn declarations(&mut self, node: &SyntaxNode) {
+    fn declarations(&mut self) {
+        let Some(beh) = self.model.clone() else { return };
         let file = self.file;
-        let mut sources: Vec<(File, SyntaxNode, Option<robosim_hir::defs::Io>)> = vec![(file, node.clone(), None)];
-        let contexts: Vec<SyntaxNode> =
-            node.children().filter(|c| matches!(c.kind(), INPUT_CONTEXT | OUTPUT_CONTEXT)).collect();
-        for c in &contexts {
-            let io =
-                if c.kind() == INPUT_CONTEXT { robosim_hir::defs::Io::Input } else { robosim_hir::defs::Io::Output };
-            sources.push((file, c.clone(), Some(io)));
+        // The machine's own declarations, its RoboSim contexts', then those
+        // of the interfaces they use.
+        let mut sources: Vec<(File, &m::Decls, Option<Io>, bool)> = vec![(file, &beh.decls, None, true)];
+        for (io, d) in &beh.contexts {
+            sources.push((file, d, Some(*io), false));
         }
-        let mut uses: Vec<(SyntaxNode, Option<robosim_hir::defs::Io>)> =
-            children(node, INTERFACE_USE).map(|u| (u, None)).collect();
-        for c in &contexts {
-            let io =
-                if c.kind() == INPUT_CONTEXT { robosim_hir::defs::Io::Input } else { robosim_hir::defs::Io::Output };
-            uses.extend(children(c, INTERFACE_USE).map(|u| (u, Some(io))));
+        let mut uses: Vec<(&m::InterfaceUse, Option<Io>)> = beh.decls.uses.iter().map(|u| (u, None)).collect();
+        for (io, d) in &beh.contexts {
+            uses.extend(d.uses.iter().map(|u| (u, Some(*io))));
         }
+        let db = self.ex.db;
+        let ws = self.ex.ws;
         for (u, io) in uses {
-            let p = path_of(&u);
-            match util::resolve(self.ex.db, self.ex.ws, file, &p, |k| k == DefKind::Interface) {
-                Some((f, n)) => sources.push((f, n, io)),
-                None => self.problem(u.text_range(), format!("the interface `{}` could not be resolved", p.join("::"))),
+            let found = m::resolve(db, ws, file, &u.path, DefKind::Interface)
+                .and_then(|loc| Some((loc.file, m::item(db, ws, loc)?)));
+            match found {
+                Some((f, m::Item::Interface(p) | m::Item::Platform(p))) => sources.push((f, &p.decls, io, false)),
+                _ => self.problem(u.range, format!("the interface `{}` could not be resolved", u.path.join("::"))),
             }
         }
-        for (f, n, io) in sources {
-            for c in n.children() {
-                match c.kind() {
-                    VARIABLE_LIST => {
-                        let is_const = c.children_with_tokens().any(|t| t.kind() == CONST_KW);
-                        let shared = self.is_operation && !is_const && n != *node;
-                        for v in children(&c, VARIABLE) {
-                            if !is_const && !self.is_operation && io.is_none() && n != *node {
-                                self.required.push(name_of(&v));
+        for (f, decls, io, own) in sources {
+            for c in &decls.decls {
+                match c {
+                    m::Decl::Vars { is_const, vars, .. } => {
+                        let is_const = *is_const;
+                        let shared = self.is_operation && !is_const && !own;
+                        for v in vars {
+                            if !is_const && !self.is_operation && io.is_none() && !own {
+                                self.required.push(v.name.clone());
                             }
-                            self.variable(f, &v, is_const, io, shared);
+                            self.variable(f, v, is_const, io, shared);
                         }
                     }
-                    CLOCK => {
-                        let n = name_of(&c);
-                        let csp = self.local(&n);
+                    m::Decl::Clock { name: n, .. } => {
+                        let csp = self.local(n);
                         self.clocks.push(ClockI {
                             csp,
                             bounds: Vec::new(),
@@ -447,83 +446,82 @@ impl<'e, 'a> Gen<'e, 'a> {
                             read: false,
                             state: None,
                         });
-                        self.names.insert(n, Nm::Clock(self.clocks.len() - 1));
+                        self.names.insert(n.clone(), Nm::Clock(self.clocks.len() - 1));
                     }
-                    EVENT => {
-                        let n = name_of(&c);
-                        if self.names.contains_key(&n) {
+                    m::Decl::Event { name: n, ty, range, .. } => {
+                        if self.names.contains_key(n) {
                             continue;
                         }
-                        let ty = match type_child(&c) {
-                            Some(t) => match self.ex.ty(f, Some(&t)) {
+                        let ty = match ty {
+                            Some(t) => match self.ex.ty_ref(f, Some(t)) {
                                 Ok(t) => Some(t),
                                 Err(m) => {
-                                    self.problems.push((f, c.text_range(), format!("event `{n}`: {m}")));
+                                    self.problems.push((f, *range, format!("event `{n}`: {m}")));
                                     None
                                 }
                             },
                             None => None,
                         };
-                        let csp = self.local(&n);
+                        let csp = self.local(n);
                         self.events.push(EvI { name: n.clone(), csp, ty, io, received: false, trig: false });
-                        self.names.insert(n, Nm::Event(self.events.len() - 1));
+                        self.names.insert(n.clone(), Nm::Event(self.events.len() - 1));
                     }
-                    OPERATION_SIG => {
-                        let n = name_of(&c);
-                        if self.op_names.contains_key(&n) {
+                    m::Decl::OperationSig { name: n, params: ps, .. } => {
+                        if self.op_names.contains_key(n) {
                             continue;
                         }
                         let mut params = Vec::new();
-                        if let Some(pl) = child(&c, PARAM_LIST) {
-                            for p in children(&pl, PARAM) {
-                                match self.ex.ty(f, type_child(&p).as_ref()) {
-                                    Ok(t) => params.push(t),
-                                    Err(m) => self.problems.push((f, p.text_range(), format!("operation `{n}`: {m}"))),
-                                }
+                        for p in ps {
+                            match self.ex.ty_ref(f, p.ty.as_ref()) {
+                                Ok(t) => params.push(t),
+                                Err(m) => self.problems.push((f, p.range, format!("operation `{n}`: {m}"))),
                             }
                         }
                         // An operation of the model with this name and a body (RoboTool
                         // matches a required operation and its definition by name); one
                         // with a contract only (`terminates`) stays a call event.
                         let defined = !self.robosim
-                            && util::resolve(self.ex.db, self.ex.ws, file, std::slice::from_ref(&n), |k| {
-                                k == DefKind::Operation
-                            })
-                            .is_some_and(|(_, d)| child(&d, INITIAL).is_some());
+                            && m::resolve(db, ws, file, std::slice::from_ref(n), DefKind::Operation)
+                                .and_then(|loc| m::item(db, ws, loc))
+                                .is_some_and(|i| match i {
+                                    m::Item::Operation(b) => {
+                                        b.region.nodes.iter().any(|x| x.kind == m::NodeKind::Initial)
+                                    }
+                                    _ => false,
+                                });
                         self.ops.push(OpI { name: n.clone(), params, defined });
-                        self.op_names.insert(n, self.ops.len() - 1);
+                        self.op_names.insert(n.clone(), self.ops.len() - 1);
                     }
-                    OPERATION_DEF | OPERATION_REF | FUNCTION => self.problem(
-                        c.text_range(),
+                    m::Decl::Nested { range, .. } => self.problem(
+                        *range,
                         "operations and functions defined in a machine are not supported by the export yet",
                     ),
-                    _ => {}
                 }
             }
         }
     }
 
-    fn variable(&mut self, f: File, v: &SyntaxNode, is_const: bool, io: Option<robosim_hir::defs::Io>, shared: bool) {
-        let n = name_of(v);
+    fn variable(&mut self, f: File, v: &m::VarDecl, is_const: bool, io: Option<Io>, shared: bool) {
+        let n = v.name.clone();
         if self.names.contains_key(&n) {
             return;
         }
-        let ty = match self.ex.ty(f, type_child(v).as_ref()) {
+        let ty = match self.ex.ty_ref(f, v.ty.as_ref()) {
             Ok(t) => t,
             Err(m) => {
-                self.problems.push((f, v.text_range(), format!("`{n}`: {m}")));
+                self.problems.push((f, v.range, format!("`{n}`: {m}")));
                 return;
             }
         };
         if io.is_some() && !is_const {
             self.problems.push((
                 f,
-                v.text_range(),
+                v.range,
                 format!("`{n}` is an input or output variable: platform variables are not supported by the export yet"),
             ));
             return;
         }
-        let init = expr_child(v);
+        let init = v.init.as_ref();
         if is_const {
             let local = self.local(&n);
             let mut owner = self.ex.path_of_node(self.file, &self.node);
@@ -531,7 +529,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 owner.push(name_of(&self.node));
             }
             let global = ident(&format!("const_{}_{}", util::qualified(&owner), n));
-            let default = match &init {
+            let default = match init {
                 Some(e) if f == self.file => match self.expr(e, ECtx::Const, Some(&ty)) {
                     Some(o) => (o.e, String::new()),
                     None => {
@@ -555,7 +553,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.names.insert(n, Nm::Const(self.consts.len() - 1));
         } else {
             let csp = self.local(&n);
-            let init = match &init {
+            let init = match init {
                 Some(e) => match self.expr(e, ECtx::Const, Some(&ty)) {
                     Some(o) => o.e,
                     None => return,
@@ -575,31 +573,41 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    fn collect_nodes(&mut self, region: &SyntaxNode, parent: Option<usize>) {
-        for c in region.children() {
-            let kind = match c.kind() {
-                STATE => NodeKind::State,
-                JUNCTION => NodeKind::Junction,
-                INITIAL => NodeKind::Initial,
-                FINAL => NodeKind::Final,
-                PROBABILISTIC_JUNCTION => {
+    /// The nodes and transitions of the machine, from the model.
+    fn collect_structure(&mut self) {
+        let Some(beh) = self.model.clone() else {
+            let what = self.what();
+            self.problem(util::name_range(&self.node), format!("the model of this {what} is not available"));
+            return;
+        };
+        self.collect_nodes(&beh.region, None);
+        self.collect_transitions(&beh.region);
+    }
+
+    fn collect_nodes(&mut self, region: &m::Region, parent: Option<usize>) {
+        for c in &region.nodes {
+            let kind = match c.kind {
+                m::NodeKind::State => NodeKind::State,
+                m::NodeKind::Junction => NodeKind::Junction,
+                m::NodeKind::Initial => NodeKind::Initial,
+                m::NodeKind::Final => NodeKind::Final,
+                m::NodeKind::Probabilistic => {
                     self.problem(
-                        c.text_range(),
+                        c.range,
                         "probabilistic junctions have no meaning in the tock-CSP semantics and are not exported",
                     );
                     continue;
                 }
-                _ => continue,
             };
-            let name = name_of(&c);
+            let name = c.name.clone();
             let tag = match parent {
                 Some(p) => format!("{}_{}", self.nodes[p].tag, ident(&name)),
                 None => ident(&name),
             };
-            self.nodes.push(NodeI { name, kind, parent, syn: c.clone(), tag });
+            self.nodes.push(NodeI { name, kind, parent, m: c.clone(), tag });
             if kind == NodeKind::State {
                 let id = self.nodes.len() - 1;
-                self.collect_nodes(&c, Some(id));
+                self.collect_nodes(&c.region, Some(id));
             }
         }
     }
@@ -608,24 +616,23 @@ impl<'e, 'a> Gen<'e, 'a> {
         self.nodes.iter().position(|n| n.parent == parent && n.name == name)
     }
 
-    fn collect_transitions(&mut self) {
-        let mut regions = vec![(self.node.clone(), None)];
+    fn collect_transitions(&mut self, root: &m::Region) {
+        let mut regions = vec![(root.clone(), None)];
         for (i, n) in self.nodes.iter().enumerate() {
             if n.kind == NodeKind::State {
-                regions.push((n.syn.clone(), Some(i)));
+                regions.push((n.m.region.clone(), Some(i)));
             }
         }
         let mut used_tids = HashSet::new();
         for (region, parent) in regions {
-            for t in children(&region, TRANSITION) {
-                let name = name_of(&t);
-                let end = |k| child(&t, k).and_then(|c| ref_of(&c));
-                let (Some(src), Some(dst)) = (end(TRANSITION_SOURCE), end(TRANSITION_TARGET)) else {
-                    self.problem(t.text_range(), format!("transition `{name}` lacks a source or a target"));
+            for t in &region.transitions {
+                let name = t.name.clone();
+                let (Some(src), Some(dst)) = (&t.source, &t.target) else {
+                    self.problem(t.range, format!("transition `{name}` lacks a source or a target"));
                     continue;
                 };
-                let (Some(source), Some(target)) = (self.sibling(parent, &src), self.sibling(parent, &dst)) else {
-                    self.problem(t.text_range(), format!("transition `{name}`: its ends are not nodes of its region"));
+                let (Some(source), Some(target)) = (self.sibling(parent, src), self.sibling(parent, dst)) else {
+                    self.problem(t.range, format!("transition `{name}`: its ends are not nodes of its region"));
                     continue;
                 };
                 let base = match parent {
@@ -638,7 +645,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     tid = format!("{base}_{k}");
                     k += 1;
                 }
-                self.trans.push(TransI { tid, source, target, syn: t });
+                self.trans.push(TransI { tid, source, target, m: t.clone() });
             }
         }
     }
@@ -701,16 +708,17 @@ pub(crate) fn operation(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) ->
     g.is_operation = true;
     let mut params = Vec::new();
     let mut problems = Vec::new();
-    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
-        let pn = name_of(&p);
-        match g.ex.ty(file, type_child(&p).as_ref()) {
+    let model_params = g.model.as_ref().map(|b| b.params.clone()).unwrap_or_default();
+    for p in &model_params {
+        let pn = p.name.clone();
+        match g.ex.ty_ref(file, p.ty.as_ref()) {
             Ok(t) => {
                 let local = g.local(&pn);
                 g.names.insert(pn, Nm::Param(local.clone(), t.clone()));
                 g.op_params.push(local);
                 params.push(t);
             }
-            Err(m) => problems.push((file, p.text_range(), format!("parameter `{pn}`: {m}"))),
+            Err(m) => problems.push((file, p.range, format!("parameter `{pn}`: {m}"))),
         }
     }
     let result = if problems.is_empty() { g.run_operation(module.clone(), path.clone()) } else { Err(problems) };
@@ -771,30 +779,33 @@ pub(crate) fn function(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> 
 
 fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
     let fname = name_of(node);
+    let model = match util::model_item(ex.db, ex.ws, file, node.text_range()) {
+        Some(m::Item::Function(f)) => f.clone(),
+        _ => return Err(format!("the function `{fname}` is not in the model")),
+    };
     let mut params = Vec::new();
-    for p in child(node, PARAM_LIST).iter().flat_map(|pl| children(pl, PARAM)) {
-        let t = ex.ty(file, type_child(&p).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
-        params.push((name_of(&p), t));
+    for p in &model.params {
+        let t = ex.ty_ref(file, p.ty.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+        params.push((p.name.clone(), t));
     }
-    let result = ex.ty(file, type_child(node).as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+    let result = ex.ty_ref(file, model.result.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
     // The one postcondition `result == e` (or `result iff e`) defines it.
-    let defining: Vec<SyntaxNode> = children(node, POSTCONDITION)
-        .filter_map(|pc| expr_child(&pc))
-        .filter(|x| {
-            x.kind() == BIN_EXPR
-                && matches!(ast::binary_operator(x), Some(EQ2 | IFF_KW))
-                && ast::operand_exprs(x).first().is_some_and(|l| l.kind() == RESULT_EXPR)
+    let defining: Vec<&m::Expr> = model
+        .postconditions
+        .iter()
+        .filter_map(|x| match &x.kind {
+            m::ExprKind::Binary(m::BinOp::Eq | m::BinOp::Iff, l, r) if l.kind == m::ExprKind::Result => Some(&**r),
+            _ => None,
         })
         .collect();
-    let [def] = defining.as_slice() else {
+    let [body] = defining.as_slice() else {
         return Err(format!(
             "the function `{fname}` has no explicit definition (`postcondition result == …`): calls of it are not exported"
         ));
     };
-    let body = ast::operand_exprs(def)
-        .get(1)
-        .cloned()
-        .ok_or_else(|| format!("function `{fname}`: an incomplete postcondition"))?;
+    if body.kind == m::ExprKind::Missing {
+        return Err(format!("function `{fname}`: an incomplete postcondition"));
+    }
     let mut path = ex.package(file);
     path.push(fname.clone());
     let csp = ex.module_name(&path);
@@ -805,7 +816,7 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Resul
         g.names.insert(n.clone(), Nm::Param(local.clone(), t.clone()));
         names.push(local);
     }
-    let out = g.expr(&body, ECtx::Const, Some(&result));
+    let out = g.expr(body, ECtx::Const, Some(&result));
     let problems = std::mem::take(&mut g.problems);
     let Some(out) = out else {
         let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
@@ -816,18 +827,6 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Resul
         vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
     );
     Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
-}
-
-/// The range of a statement up to its arguments or value (`$move` of
-/// `$move(lv, 0)`), where a hover shows the statement's term.
-fn head_range(s: &SyntaxNode) -> TextRange {
-    let start = s.text_range().start();
-    let end = s
-        .children()
-        .find(|c| c.kind() == ARG_LIST || ast::is_expr_kind(c.kind()))
-        .map(|c| c.text_range().start())
-        .unwrap_or_else(|| s.text_range().end());
-    TextRange::new(start, end.max(start))
 }
 
 /// `a -> SKIP ; P` becomes `a -> P`; `SKIP`s disappear.
@@ -883,8 +882,4 @@ fn replace_call(d: &mut Decl, f: &str) {
     if let Decl::Def(_, _, e) = d {
         go(e, f);
     }
-}
-
-fn kind_words(k: robosim_syntax::SyntaxKind) -> String {
-    format!("{k:?}").to_lowercase().replace('_', " ")
 }

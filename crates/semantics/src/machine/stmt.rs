@@ -3,9 +3,9 @@
 use super::*;
 
 impl<'e, 'a> Gen<'e, 'a> {
-    pub(super) fn stmt(&mut self, s: &SyntaxNode) -> Option<Expr> {
+    pub(super) fn stmt(&mut self, s: &m::Stmt) -> Option<Expr> {
         if self.nesting >= MAX_NESTING {
-            self.problem(s.text_range(), "this statement is nested too deeply for the export");
+            self.problem(s.range, "this statement is nested too deeply for the export");
             return None;
         }
         self.nesting += 1;
@@ -14,20 +14,19 @@ impl<'e, 'a> Gen<'e, 'a> {
         out
     }
 
-    pub(super) fn stmt_inner(&mut self, s: &SyntaxNode) -> Option<Expr> {
-        let r = s.text_range();
-        match s.kind() {
-            SEQ_STMT => {
+    pub(super) fn stmt_inner(&mut self, s: &m::Stmt) -> Option<Expr> {
+        let r = s.range;
+        match &s.kind {
+            m::StmtKind::Seq(stmts) => {
                 let mut parts = Vec::new();
-                for c in s.children().filter(|c| ast::is_stmt_kind(c.kind())) {
-                    parts.push(self.stmt(&c)?);
+                for c in stmts {
+                    parts.push(self.stmt(c)?);
                 }
                 Some(fold_seq(parts))
             }
-            SKIP_STMT => Some(Expr::Skip),
-            ASSIGN_STMT => {
-                let assignable = child(s, ASSIGNABLE);
-                let target = assignable.as_ref().map(|a| path_of(a).join("::")).unwrap_or_default();
+            m::StmtKind::Skip => Some(Expr::Skip),
+            m::StmtKind::Assign { target, selectors, value, .. } => {
+                let target = target.join("::");
                 let Some(Nm::Var(v)) = self.names.get(&target).cloned() else {
                     self.problem(r, format!("`{target}` is not a variable the export can assign"));
                     return None;
@@ -35,33 +34,30 @@ impl<'e, 'a> Gen<'e, 'a> {
                 // `r.f.g = e`: the record fields on the way to the assigned one.
                 let mut path: Vec<(Rc<RecordTy>, String)> = Vec::new();
                 let mut ty = self.vars[v].ty.clone();
-                for a in assignable.iter().flat_map(|a| a.children()) {
-                    match a.kind() {
-                        FIELD_ACCESS => {
-                            let f = ref_of(&a).unwrap_or_default();
+                for a in selectors {
+                    match a {
+                        m::Selector::Field(f, ar) => {
                             let Ty::Record(rec) = ty.clone() else {
-                                self.problem(a.text_range(), "only fields of records can be assigned");
+                                self.problem(*ar, "only fields of records can be assigned");
                                 return None;
                             };
-                            let Some((_, t)) = rec.fields.iter().find(|(n, _)| *n == f) else {
-                                self.problem(a.text_range(), format!("`{f}` is not a field of the record"));
+                            let Some((_, t)) = rec.fields.iter().find(|(n, _)| n == f) else {
+                                self.problem(*ar, format!("`{f}` is not a field of the record"));
                                 return None;
                             };
                             ty = t.clone();
-                            path.push((rec, f));
+                            path.push((rec, f.clone()));
                         }
-                        INDEX_ACCESS => {
-                            self.problem(
-                                a.text_range(),
-                                "assignments to indexed elements are not supported by the export yet",
-                            );
+                        m::Selector::Index(_, ar) => {
+                            self.problem(*ar, "assignments to indexed elements are not supported by the export yet");
                             return None;
                         }
-                        _ => {}
                     }
                 }
-                let e = expr_child(s)?;
-                let (mut val, mut reads) = self.bexpr(&e, Some(&ty))?;
+                if matches!(value.kind, m::ExprKind::Missing) {
+                    return None;
+                }
+                let (mut val, mut reads) = self.bexpr(value, Some(&ty))?;
                 if !path.is_empty() {
                     // r.f.g = e is r = set_f(r, set_g(get_f(r), e)).
                     let csp = self.vars[v].csp.clone();
@@ -80,39 +76,32 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let set = prefix(format!("set_{}", self.vars[v].csp), vec![Field::Out(val)], Expr::Skip);
                 Some(self.with_reads(&reads, set))
             }
-            CLOCK_RESET_STMT => {
-                let n = ref_of(s).unwrap_or_default();
-                match self.names.get(&n) {
-                    Some(Nm::Clock(c)) => Some(prefix(format!("reset_{}", self.clocks[*c].csp), vec![], Expr::Skip)),
-                    _ => {
-                        self.problem(r, format!("`{n}` is not a clock"));
-                        None
-                    }
+            m::StmtKind::ClockReset(n) => match self.names.get(n) {
+                Some(Nm::Clock(c)) => Some(prefix(format!("reset_{}", self.clocks[*c].csp), vec![], Expr::Skip)),
+                _ => {
+                    self.problem(r, format!("`{n}` is not a clock"));
+                    None
                 }
-            }
-            IF_STMT => {
-                let c = expr_child(s)?;
-                let (cond, reads) = self.bexpr(&c, None)?;
-                let branches: Vec<SyntaxNode> = s.children().filter(|c| ast::is_stmt_kind(c.kind())).collect();
-                let a = match branches.first() {
-                    Some(b) => self.stmt(b)?,
-                    None => Expr::Skip,
-                };
-                let b = match branches.get(1) {
+            },
+            m::StmtKind::If(c, then, els) => {
+                if matches!(c.kind, m::ExprKind::Missing) {
+                    return None;
+                }
+                let (cond, reads) = self.bexpr(c, None)?;
+                let a = self.stmt(then)?;
+                let b = match els {
                     Some(b) => self.stmt(b)?,
                     None => Expr::Skip,
                 };
                 Some(self.with_reads(&reads, Expr::If(Box::new(cond), Box::new(a), Box::new(b))))
             }
-            COMM_STMT => {
-                let comm = child(s, COMMUNICATION)?;
-                let term = self.communication(&comm, None)?;
-                let head = child(&comm, NAME_REF).map(|n| n.text_range()).unwrap_or(r);
-                self.record_term(head, TermKind::Event, || term.clone());
+            m::StmtKind::Comm(comm) => {
+                let term = self.communication(comm, None)?;
+                self.record_term(comm.event_range, TermKind::Event, || term.clone());
                 Some(term)
             }
-            CALL_STMT => {
-                let n = path_of(s).join("::");
+            m::StmtKind::Call { name: path, args } => {
+                let n = path.join("::");
                 let Some(o) = self.op_names.get(&n).copied() else {
                     self.problem(
                         r,
@@ -125,9 +114,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                     return None;
                 }
                 if self.ops[o].defined {
-                    return self.call_operation(s, o);
+                    return self.call_operation(s, args, o);
                 }
-                let (args, reads) = self.arguments(s, o)?;
+                let (args, reads) = self.arguments(args, r, o)?;
                 let op = &self.ops[o];
                 let mut fields = vec![name(format!("{}Call", ident(&op.name)))];
                 fields.extend(args);
@@ -136,25 +125,22 @@ impl<'e, 'a> Gen<'e, 'a> {
                     p = seq(vec![p, call("EDeadline", vec![name(format!("{}Ret", ident(&op.name))), Expr::Int(0)])]);
                 }
                 let p = self.with_reads(&reads, p);
-                self.record_term(head_range(s), TermKind::Call, || p.clone());
+                self.record_term(s.head, TermKind::Call, || p.clone());
                 Some(p)
             }
-            WAIT_STMT => {
-                let e = expr_child(s)?;
-                if e.kind() == INTERVAL_EXPR {
-                    let bounds = ast::operand_exprs(&e);
-                    let [lo, hi] = bounds.as_slice() else {
-                        self.problem(e.text_range(), "an interval needs two bounds");
+            m::StmtKind::Wait(e) => match &e.kind {
+                m::ExprKind::Missing => None,
+                m::ExprKind::Interval { lo, hi, open_lo, open_hi } => {
+                    if matches!(lo.kind, m::ExprKind::Missing) || matches!(hi.kind, m::ExprKind::Missing) {
+                        self.problem(e.range, "an interval needs two bounds");
                         return None;
-                    };
-                    let open_lo = e.first_token().is_some_and(|t| t.kind() == L_PAREN);
-                    let open_hi = e.last_token().is_some_and(|t| t.kind() == R_PAREN);
+                    }
                     let (mut lo, mut r1) = self.bexpr(lo, None)?;
                     let (mut hi, r2) = self.bexpr(hi, None)?;
-                    if open_lo {
+                    if *open_lo {
                         lo = bin(BinOp::Add, lo, Expr::Int(1));
                     }
-                    if open_hi {
+                    if *open_hi {
                         hi = bin(BinOp::Sub, hi, Expr::Int(1));
                     }
                     for x in r2 {
@@ -164,52 +150,49 @@ impl<'e, 'a> Gen<'e, 'a> {
                     }
                     let p = call("WaitInterval", vec![Expr::Range(Box::new(lo), Box::new(hi))]);
                     Some(self.with_reads(&r1, p))
-                } else {
-                    let (n, reads) = self.bexpr(&e, None)?;
+                }
+                _ => {
+                    let (n, reads) = self.bexpr(e, None)?;
                     Some(self.with_reads(&reads, call("Wait", vec![n])))
                 }
-            }
-            TIMED_STMT => {
-                let body = stmt_child(s)?;
-                let limit = child(s, DEADLINE).and_then(|d| expr_child(&d))?;
-                let (d, reads) = self.bexpr(&limit, None)?;
-                let b = self.stmt(&body)?;
+            },
+            m::StmtKind::Timed(body, limit) => {
+                let body = body.as_ref()?;
+                let limit = limit.as_ref()?;
+                let (d, reads) = self.bexpr(limit, None)?;
+                let b = self.stmt(body)?;
                 Some(self.with_reads(&reads, call("EndBy", vec![b, d])))
             }
-            PAR_STMT => {
-                let inner: Vec<SyntaxNode> = s.children().filter(|c| ast::is_stmt_kind(c.kind())).collect();
-                match inner.as_slice() {
-                    [one] => self.stmt(one),
-                    _ => {
-                        self.problem(r, "parallel statements are not supported by the export yet");
-                        None
-                    }
+            m::StmtKind::Par(inner) => match inner.as_slice() {
+                [one] => self.stmt(one),
+                _ => {
+                    self.problem(r, "parallel statements are not supported by the export yet");
+                    None
                 }
-            }
-            SIM_CALL_STMT => {
-                let n = path_of(s).join("::");
+            },
+            m::StmtKind::SimCall { name: path, args } => {
+                let n = path.join("::");
                 let Some(o) = self.op_names.get(&n).copied() else {
                     self.problem(r, format!("`${n}` is not an output operation of the machine"));
                     return None;
                 };
-                let (args, reads) = self.arguments(s, o)?;
+                let (args, reads) = self.arguments(args, r, o)?;
                 let model = self.ops[o].name.clone();
                 let p = self.output(&model, args, r)?;
                 let p = self.with_reads(&reads, p);
-                self.record_term(head_range(s), TermKind::Output, || p.clone());
+                self.record_term(s.head, TermKind::Output, || p.clone());
                 Some(p)
             }
-            OUTPUT_COMM_STMT => {
-                let n = path_of(s).join("::");
+            m::StmtKind::Output(path, value) => {
+                let n = path.join("::");
                 let Some(Nm::Event(i)) = self.names.get(&n).cloned() else {
                     self.problem(r, format!("`${n}` is not an output event of the machine"));
                     return None;
                 };
                 let ty = self.events[i].ty.clone();
-                let value = expr_child(s);
                 let (args, reads) = match (&ty, value) {
                     (Some(t), Some(v)) => {
-                        let (e, reads) = self.bexpr(&v, Some(t))?;
+                        let (e, reads) = self.bexpr(v, Some(t))?;
                         (self.fields_of(t, e), reads)
                     }
                     (None, None) => (Vec::new(), Vec::new()),
@@ -221,10 +204,10 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let model = self.events[i].name.clone();
                 let p = self.output(&model, args, r)?;
                 let p = self.with_reads(&reads, p);
-                self.record_term(head_range(s), TermKind::Output, || p.clone());
+                self.record_term(s.head, TermKind::Output, || p.clone());
                 Some(p)
             }
-            EXEC_STMT => {
+            m::StmtKind::Exec => {
                 if !self.robosim {
                     self.problem(r, "`exec` belongs to RoboSim machines");
                     return None;
@@ -236,8 +219,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                 });
                 Some(p)
             }
-            k => {
-                self.problem(r, format!("this statement ({}) is not supported by the export yet", kind_words(k)));
+            m::StmtKind::Other(words) => {
+                self.problem(r, format!("this statement ({words}) is not supported by the export yet"));
                 None
             }
         }
@@ -247,8 +230,8 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// (`Op::D__(id__, args, constants)`, its events renamed to the
     /// caller's), through `CALL__op(args)` as RoboTool names it. The
     /// operation's events and platform calls become the caller's.
-    pub(super) fn call_operation(&mut self, s: &SyntaxNode, o: usize) -> Option<Expr> {
-        let r = s.text_range();
+    pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
+        let r = s.range;
         let n = self.ops[o].name.clone();
         let callee = |k| k == DefKind::Operation;
         let (of, onode) = util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&n), callee)?;
@@ -268,10 +251,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             let def = self.operation_helper(&op, &helper, r)?;
             self.op_calls.push((helper.clone(), def));
         }
-        let (args, reads) = self.arguments(s, o)?;
+        let (args, reads) = self.arguments(args, r, o)?;
         let p = if args.is_empty() { name(helper) } else { call(helper, args) };
         let p = self.with_reads(&reads, p);
-        self.record_term(head_range(s), TermKind::Call, || p.clone());
+        self.record_term(s.head, TermKind::Call, || p.clone());
         Some(p)
     }
 
@@ -388,13 +371,10 @@ impl<'e, 'a> Gen<'e, 'a> {
         Some(call("EDeadline", vec![dot(f), Expr::Int(0)]))
     }
 
-    pub(super) fn arguments(&mut self, s: &SyntaxNode, o: usize) -> Option<(Vec<Expr>, Vec<String>)> {
-        let args: Vec<SyntaxNode> = child(s, ARG_LIST)
-            .map(|a| a.children().filter(|e| ast::is_expr_kind(e.kind())).collect())
-            .unwrap_or_default();
+    pub(super) fn arguments(&mut self, args: &[m::Expr], r: TextRange, o: usize) -> Option<(Vec<Expr>, Vec<String>)> {
         let params = self.ops[o].params.clone();
         if args.len() != params.len() {
-            self.problem(s.text_range(), format!("`{}` takes {} arguments", self.ops[o].name, params.len()));
+            self.problem(r, format!("`{}` takes {} arguments", self.ops[o].name, params.len()));
             return None;
         }
         let mut out = Vec::new();
@@ -414,9 +394,9 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// A communication `e`, `e!v`, `e.v` or `e?x`: as a statement
     /// (`trigger = None`: delayable) or as the trigger of a transition
     /// (tagged with its identifier), followed by `then`.
-    pub(super) fn communication(&mut self, comm: &SyntaxNode, trigger: Option<(&str, Expr)>) -> Option<Expr> {
-        let r = comm.text_range();
-        let ev = ref_of(comm).unwrap_or_default();
+    pub(super) fn communication(&mut self, comm: &m::Comm, trigger: Option<(&str, Expr)>) -> Option<Expr> {
+        let r = comm.range;
+        let ev = comm.event.clone();
         let Some(Nm::Event(i)) = self.names.get(&ev).cloned() else {
             let what = self.what();
             self.problem(r, format!("`{ev}` is not an event of the {what} (declared or used through an interface)"));
@@ -431,36 +411,34 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut value: Option<Vec<Expr>> = None;
         let mut bind: Option<usize> = None;
         let mut reads = Vec::new();
-        for p in comm.children() {
-            match p.kind() {
-                COMM_SYNC | COMM_OUTPUT => {
-                    let Some(t) = ty.clone() else {
-                        self.problem(r, format!("`{ev}` carries no value"));
-                        return None;
-                    };
-                    let e = expr_child(&p)?;
-                    let (v, rd) = self.bexpr(&e, Some(&t))?;
-                    reads = rd;
-                    value = Some(self.fields_of(&t, v));
-                    dir = if p.kind() == COMM_SYNC { "in" } else { "out" };
-                }
-                COMM_INPUT => {
-                    if p.children().any(|n| ast::is_expr_kind(n.kind()) || n.kind() == COMM_GUARD) {
-                        self.problem(p.text_range(), "guarded inputs `e[|g|]?x` are not supported by the export yet");
-                        return None;
-                    }
-                    let var = path_of(&p).join("::");
-                    match self.names.get(&var) {
-                        Some(Nm::Var(v)) if ty.is_some() => bind = Some(*v),
-                        _ => {
-                            self.problem(p.text_range(), format!("`{var}` cannot receive a value of `{ev}`"));
-                            return None;
-                        }
-                    }
-                    dir = "in";
-                }
-                _ => {}
+        match &comm.part {
+            Some(p @ (m::CommPart::Sync(e) | m::CommPart::Output(e))) => {
+                let Some(t) = ty.clone() else {
+                    self.problem(r, format!("`{ev}` carries no value"));
+                    return None;
+                };
+                let e = e.as_ref()?;
+                let (v, rd) = self.bexpr(e, Some(&t))?;
+                reads = rd;
+                value = Some(self.fields_of(&t, v));
+                dir = if matches!(p, m::CommPart::Sync(_)) { "in" } else { "out" };
             }
+            Some(m::CommPart::Input(var, pr)) => {
+                if comm.guard.is_some() {
+                    self.problem(*pr, "guarded inputs `e[|g|]?x` are not supported by the export yet");
+                    return None;
+                }
+                let var = var.join("::");
+                match self.names.get(&var) {
+                    Some(Nm::Var(v)) if ty.is_some() => bind = Some(*v),
+                    _ => {
+                        self.problem(*pr, format!("`{var}` cannot receive a value of `{ev}`"));
+                        return None;
+                    }
+                }
+                dir = "in";
+            }
+            None => {}
         }
         if dir == "in" {
             self.events[i].received = true;
