@@ -11,6 +11,19 @@ use robosim_check::verify::{verify_workspace, Options, Semantics, Verdict};
 mod inputs;
 use inputs::model_files;
 
+/// One corpus project as its own workspace.
+fn load_project(project: &Path) -> (robosim_hir::RootDatabase, robosim_hir::Workspace) {
+    let mut paths = Vec::new();
+    model_files(project, &mut paths);
+    let files: Vec<(String, String)> = paths
+        .iter()
+        .filter_map(|p| Some((p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).ok()?).into_owned())))
+        .collect();
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    (db, ws)
+}
+
 #[test]
 fn corpus_assertions_are_answered() {
     let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
@@ -23,16 +36,7 @@ fn corpus_assertions_are_answered() {
     opts.budget.timeout = Some(Duration::from_secs(5));
     let mut total = 0;
     for project in projects {
-        let mut paths = Vec::new();
-        model_files(&project, &mut paths);
-        let files: Vec<(String, String)> = paths
-            .iter()
-            .filter_map(|p| {
-                Some((p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).ok()?).into_owned()))
-            })
-            .collect();
-        let db = robosim_hir::RootDatabase::default();
-        let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+        let (db, ws) = load_project(&project);
         for r in verify_workspace(&db, ws, &opts, None) {
             total += 1;
             println!(
@@ -132,16 +136,7 @@ fn csp_assertions_are_decided_or_explained() {
     let (mut csp, mut decided) = (0, 0);
     let mut alpha = Vec::new();
     for project in projects {
-        let mut paths = Vec::new();
-        model_files(&project, &mut paths);
-        let files: Vec<(String, String)> = paths
-            .iter()
-            .filter_map(|p| {
-                Some((p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).ok()?).into_owned()))
-            })
-            .collect();
-        let db = robosim_hir::RootDatabase::default();
-        let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+        let (db, ws) = load_project(&project);
         for &f in ws.files(&db) {
             if f.is_library(&db) || !f.kind(&db).is_assertions() {
                 continue;

@@ -334,14 +334,8 @@ fn explicit_counterexample(
         }
     }
     let trace: Vec<String> = path.trace().iter().map(|e| imp.event_name(*e)).collect();
-    let explanation = vec![
-        format!("the implementation can {}", describe(imp, cex)),
-        format!(
-            "the specification `{spec_name}` ({}) after ⟨{}⟩ does not allow it",
-            def_at.trim_start_matches("in "),
-            trace.join(", ")
-        ),
-    ];
+    let explanation =
+        refused_by_spec(format!("the implementation can {}", describe(imp, cex)), spec_name, def_at, &trace);
     Counterexample { kind, steps, explanation, stuck_at: Vec::new(), specification: Vec::new() }
 }
 
@@ -500,13 +494,19 @@ fn counterexample<L: Lts<State = crate::pack::Packed>>(
         prev = next;
     }
     let trace: Vec<String> = path.trace().iter().map(|e| spec.event_name(*e)).collect();
-    let explanation = vec![
-        format!("the model can {}", describe(imp, cex)),
+    let explanation = refused_by_spec(format!("the model can {}", describe(imp, cex)), spec_name, def_at, &trace);
+    Counterexample { kind, steps, explanation, stuck_at: Vec::new(), specification: Vec::new() }
+}
+
+/// The explanation of a refinement counterexample: what the other side can
+/// do, and where the specification (its block and line) refuses it.
+fn refused_by_spec(can: String, spec_name: &str, def_at: &str, trace: &[String]) -> Vec<String> {
+    vec![
+        can,
         format!(
             "the specification `{spec_name}` ({}) after ⟨{}⟩ does not allow it",
             def_at.trim_start_matches("in "),
             trace.join(", ")
         ),
-    ];
-    Counterexample { kind, steps, explanation, stuck_at: Vec::new(), specification: Vec::new() }
+    ]
 }
