@@ -19,7 +19,7 @@ echo "$(ls "$out" | wc -l) seeds in fuzz/$out"
 # fuzz/corpus/verify: models whose first byte selects .rct (even) or .rst
 # (odd), checked against the fixed assertions of fuzz_targets/verify.rs
 # (which name `Mod`, `M` and `Sim`): our examples and every .rct/.rst of the
-# check crate's tests are starting points.
+# engine crate's tests are starting points.
 out=corpus/verify
 mkdir -p "$out"
 find ../examples ../../shared/corpus -type f \( -name '*.rct' -o -name '*.rst' \) | while read -r f; do

@@ -8,7 +8,7 @@
 use std::time::Duration;
 
 use libfuzzer_sys::fuzz_target;
-use robosim_check::verify::{verify_workspace, AsyncBuffer, Options};
+use robosim_engine::verify::{verify_workspace, AsyncBuffer, Options};
 use robosim_hir::{load_workspace, RootDatabase, RuleSet};
 
 const ASSERTIONS: &str = "simulation S of Mod { cycleDef cycle == 1 }

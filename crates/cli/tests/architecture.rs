@@ -40,7 +40,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("cspm", &[]),
     ("fmt", &["robosim-syntax"]),
     ("hir", &["robosim-syntax", "robosim-stdlib", "robosim-cspm"]),
-    ("check", &["robosim-syntax", "robosim-hir", "robosim-cspm"]),
+    ("engine", &["robosim-syntax", "robosim-hir", "robosim-cspm"]),
     ("semantics", &["robosim-syntax", "robosim-hir"]),
     ("diagram", &["robosim-syntax", "robosim-hir"]),
     (
@@ -50,7 +50,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "robosim-hir",
             "robosim-cspm",
             "robosim-fmt",
-            "robosim-check",
+            "robosim-engine",
             "robosim-semantics",
             "robosim-diagram",
         ],

@@ -30,7 +30,7 @@ fn gt3_workspace(name: &str, extra: &[(&str, &str)]) -> PathBuf {
 
 fn big_workspace(name: &str) -> PathBuf {
     let root = lsp_support::temp_dir(name);
-    std::fs::write(root.join("design.rct"), robosim_check::generate::design(8, 6)).unwrap();
+    std::fs::write(root.join("design.rct"), robosim_engine::generate::design(8, 6)).unwrap();
     std::fs::write(
         root.join("checks.rsa"),
         "simulation S of Mod { cycleDef cycle == 1 }\nassertion A : S is schedulable\n",

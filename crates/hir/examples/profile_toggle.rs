@@ -57,7 +57,7 @@ fn toggle_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) 
     let _ = cycle::cycle_checks(db, ws, file);
     lap("cycle_checks");
     prefetch_rules(db, ws, file);
-    lap("file_checks, more_checks, robosim_checks");
+    lap("file_checks, more_checks, robosim_engines");
     let n = file_diagnostics(db, ws, file).len();
     lap("rest of file_diagnostics");
     let total = start.elapsed();

@@ -69,7 +69,7 @@ pub fn prefetch_rules(db: &dyn Db, workspace: Workspace, file: File) {
     // these come last, so the two threads start on different work.
     crate::checks::file_checks(db, workspace, file);
     crate::more_checks::more_checks(db, workspace, file);
-    crate::robosim::robosim_checks(db, workspace, file);
+    crate::robosim::robosim_engines(db, workspace, file);
     crate::cycle::cycle_checks(db, workspace, file);
 }
 
@@ -135,7 +135,7 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
         }
         let checks = crate::checks::file_checks(db, workspace, file);
         let more = crate::more_checks::more_checks(db, workspace, file);
-        for p in checks.iter().chain(crate::robosim::robosim_checks(db, workspace, file)).chain(more) {
+        for p in checks.iter().chain(crate::robosim::robosim_engines(db, workspace, file)).chain(more) {
             let related =
                 p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();
             out.push(make(p.code, p.range, p.message.clone(), related));

@@ -40,7 +40,7 @@ fn machines(db: &dyn Db, ws: Workspace, file: File, controller: DefId) -> Vec<(D
 
 /// RS rules of `file`.
 #[salsa::tracked(returns(ref))]
-pub fn robosim_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
+pub fn robosim_engines(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
     let mut out = Vec::new();
     if file.kind(db) != FileKind::RoboSim {
         return out;

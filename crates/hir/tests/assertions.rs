@@ -3,7 +3,7 @@
 //! - Data-driven: each fixture `test_data/assertions/NAME.rsa|NAME.assertions`
 //!   is read and rendered, and the rendering must match the snapshot next to
 //!   it (`NAME.rsa.txt`, …). After an intended change, refresh them with
-//!   `UPDATE_EXPECT=1 cargo test -p robosim-check --test assertions` and
+//!   `UPDATE_EXPECT=1 cargo test -p robosim-engine --test assertions` and
 //!   review the diff.
 //! - Every assertion file of `../shared/corpus` and of `examples/` is read:
 //!   one declaration per ASSERTION node, none of kind `Other`, no problems.

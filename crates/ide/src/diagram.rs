@@ -127,7 +127,7 @@ pub fn render(diagram: Diagram) -> RenderedDiagram {
 /// Draws `diagram` with the steps of `counterexamples` that fall in it
 /// marked (states and transitions highlighted, labelled with their
 /// cycles); plainly when none does.
-pub fn render_with(diagram: Diagram, counterexamples: &[robosim_check::verify::Counterexample]) -> RenderedDiagram {
+pub fn render_with(diagram: Diagram, counterexamples: &[robosim_engine::verify::Counterexample]) -> RenderedDiagram {
     match render_marked(diagram.clone(), counterexamples) {
         Some(marked) => marked,
         None => render(diagram),
@@ -138,7 +138,7 @@ pub fn render_with(diagram: Diagram, counterexamples: &[robosim_check::verify::C
 /// marked; `None` when none does.
 pub fn render_marked(
     diagram: Diagram,
-    counterexamples: &[robosim_check::verify::Counterexample],
+    counterexamples: &[robosim_engine::verify::Counterexample],
 ) -> Option<RenderedDiagram> {
     let mut steps = Vec::new();
     for c in counterexamples {

@@ -462,7 +462,7 @@ impl Analysis {
         opts: &verify::Options,
         progress: Option<verify::ProgressFn>,
     ) -> Cancellable<Vec<verify::Report>> {
-        self.with_db(|db| robosim_check::verify::verify_workspace(db, self.workspace, opts, progress))
+        self.with_db(|db| robosim_engine::verify::verify_workspace(db, self.workspace, opts, progress))
     }
 
     /// Whether `target` names an assertion or a simulation of an assertion

@@ -1,7 +1,7 @@
 //! Verification in the editor, independent of any protocol: what can be
 //! checked from where (code lenses on assertions, simulations and the
 //! modules they simulate), running a check on a snapshot with the native
-//! engine (`robosim-check`), and presenting its results as lens titles,
+//! engine (`robosim-engine`), and presenting its results as lens titles,
 //! diagnostics and hovers.
 //!
 //! Results are not kept here: the caller runs checks (in the background,
@@ -11,12 +11,12 @@
 
 use std::fmt::Write;
 
-use robosim_check::assertions::{
+use robosim_engine::assertions::{
     read_assertions, AssertionDecl, AssertionFile, AssertionKind, SemanticModelName, SimulationDecl,
 };
-pub use robosim_check::budget::{Budget, ProgressFn, Stats};
-use robosim_check::verify::verify_assertion;
-pub use robosim_check::verify::{
+pub use robosim_engine::budget::{Budget, ProgressFn, Stats};
+use robosim_engine::verify::verify_assertion;
+pub use robosim_engine::verify::{
     counterexample_table, AsyncBuffer, Counterexample, Location, Options, Profile, Report, Semantics, Step, Verdict,
 };
 use robosim_hir::defs::{file_defs, DefKind};
@@ -496,7 +496,7 @@ fn hover_report(db: &dyn Db, ws: Workspace, path: &str, v: &Verified, tagged: bo
             s,
             "\n\n{} reached by:\n\n```text\n{}```",
             c.kind,
-            robosim_check::verify::counterexample_table(c, &|l| short_location(db, ws, path, l))
+            robosim_engine::verify::counterexample_table(c, &|l| short_location(db, ws, path, l))
         );
     }
     s

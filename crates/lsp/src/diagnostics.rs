@@ -35,7 +35,7 @@ use crate::state::{Phase, Shared};
 /// `others`, for every other file whose diagnostics may depend on it.
 pub(crate) fn schedule(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
     let job = shared.clone();
-    crate::background::spawn(shared, "robosim-check", move || run(&job, primary, others));
+    crate::background::spawn(shared, "robosim-engine", move || run(&job, primary, others));
     // Results of verification dropped by the change: titles to update.
     crate::verify::refresh_lenses(shared);
 }
@@ -168,7 +168,7 @@ fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) 
             // Its own snapshot, dropped when done or cancelled by an edit;
             // the results land in the shared memo tables.
             let helper = analysis.clone();
-            crate::background::spawn(shared, "robosim-check-rules", move || {
+            crate::background::spawn(shared, "robosim-engine-rules", move || {
                 let _ = helper.prefetch_diagnostics(file);
             });
         }
