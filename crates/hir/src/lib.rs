@@ -13,6 +13,7 @@ mod checks;
 pub mod codes;
 pub mod csp_blocks;
 pub mod csp_fn;
+pub mod csp_defs;
 pub mod csp_library;
 pub mod csp_names;
 pub mod cycle;
