@@ -62,41 +62,41 @@ pub const DEFINITIONS: &[CspDef] = &[
     CspDef { names: &["OneStep"], script: Timed, text: "OneStep(_) = 0\n" },
     // A timelock: neither events nor time (STOP outside a timed section).
     CspDef { names: &["USTOP"], script: Timed, text: "USTOP = STOP\n" },
-    CspDef { names: &["TSKIP"], script: Timed, text: "Timed(OneStep) {\n  TSKIP = SKIP\n}\n" },
+    CspDef { names: &["TSKIP"], script: Timed, text: "Timed(OneStep) {\nTSKIP = SKIP\n}\n" },
     CspDef {
         names: &["WAIT_INTERVAL"],
         script: Timed,
-        text: "Timed(OneStep) {\n  WAIT_INTERVAL(S__) = |~| x__ : S__ @ WAIT(x__)\n}\n",
+        text: "Timed(OneStep) {\nWAIT_INTERVAL(S__) = |~| x__ : S__ @ WAIT(x__)\n}\n",
     },
     // P must perform its first event within d time units.
     CspDef {
         names: &["StartBy"],
         script: Timed,
-        text: "Timed(OneStep) {\n  StartBy(P__, d__) = P__ [] (WAIT(d__); USTOP)\n}\n",
+        text: "Timed(OneStep) {\nStartBy(P__, d__) = P__ [] (WAIT(d__); USTOP)\n}\n",
     },
     // P must terminate within d time units.
     CspDef {
         names: &["EndBy"],
         script: Timed,
-        text: "Timed(OneStep) {\n  EndBy(P__, d__) = P__ /\\ (WAIT(d__); USTOP)\n}\n",
+        text: "Timed(OneStep) {\nEndBy(P__, d__) = P__ /\\ (WAIT(d__); USTOP)\n}\n",
     },
-    CspDef { names: &["Deadline"], script: Timed, text: "Timed(OneStep) {\n  Deadline(P__, d__) = EndBy(P__, d__)\n}\n" },
+    CspDef { names: &["Deadline"], script: Timed, text: "Timed(OneStep) {\nDeadline(P__, d__) = EndBy(P__, d__)\n}\n" },
     // The event e within d time units, then termination.
     CspDef {
         names: &["EDeadline"],
         script: Timed,
-        text: "Timed(OneStep) {\n  EDeadline(e__, d__) = e__ -> SKIP [] (WAIT(d__); USTOP)\n}\n",
+        text: "Timed(OneStep) {\nEDeadline(e__, d__) = e__ -> SKIP [] (WAIT(d__); USTOP)\n}\n",
     },
     // P for exactly d time units (internal actions first), then termination.
     CspDef {
         names: &["TimedInterrupt"],
         script: Timed,
-        text: "Timed(OneStep) {\n  TimedInterrupt(P__, d__) = timed_priority(P__ /+ Events +\\ RT__(d__))\n}\n",
+        text: "Timed(OneStep) {\nTimedInterrupt(P__, d__) = timed_priority(P__ /+ Events +\\ RT__(d__))\n}\n",
     },
     CspDef {
         names: &["TimeOut"],
         script: Timed,
-        text: "Timed(OneStep) {\n  TimeOut(P__, d__, Q__) =\n    (P__ /+ Events +\\ ((TimedInterrupt(Some__, d__); STOP); RUN(Events)))\n    [] (WAIT(d__); Q__)\n}\n",
+        text: "Timed(OneStep) {\nTimeOut(P__, d__, Q__) =\n  (P__ /+ Events +\\ ((TimedInterrupt(Some__, d__); STOP); RUN(Events)))\n  [] (WAIT(d__); Q__)\n}\n",
     },
     // `TimeOut(P, 1, Q)` and `TimedInterrupt(P, 1)` for a P without an
     // initial deadline (usable in recursion).
@@ -156,7 +156,7 @@ pub const DEFINITIONS: &[CspDef] = &[
     CspDef {
         names: &["share__choice"],
         script: Timed,
-        text: "Timed(OneStep) {\n  share__choice(x__) = x__ [] share__ -> share__choice(x__)\n}\n",
+        text: "Timed(OneStep) {\nshare__choice(x__) = x__ [] share__ -> share__choice(x__)\n}\n",
     },
     CspDef {
         names: &["share__choice"],
