@@ -209,9 +209,36 @@ pub fn defines(name: &str, timed: bool) -> bool {
     definitions(timed).any(|d| d.names.contains(&name))
 }
 
-/// The whole library of the timed (`true`) or untimed script, as CSPm.
+/// The opening of RoboTool's timed sections.
+const TIMED_OPEN: &str = "Timed(OneStep) {\n";
+
+/// The whole library of the timed (`true`) or untimed script, as CSPm
+/// (consecutive timed definitions in one `Timed(OneStep)` section).
 pub fn text(timed: bool) -> String {
-    definitions(timed).map(|d| d.text).collect()
+    let mut out = String::new();
+    let mut open = false;
+    for d in definitions(timed) {
+        match d.text.strip_prefix(TIMED_OPEN).and_then(|t| t.strip_suffix("}\n")) {
+            Some(inner) => {
+                if !open {
+                    out.push_str(TIMED_OPEN);
+                    open = true;
+                }
+                out.push_str(inner);
+            }
+            None => {
+                if open {
+                    out.push_str("}\n");
+                    open = false;
+                }
+                out.push_str(d.text);
+            }
+        }
+    }
+    if open {
+        out.push_str("}\n");
+    }
+    out
 }
 
 #[cfg(test)]
@@ -232,7 +259,8 @@ mod tests {
     }
 
     /// The library is valid CSPm for the language crate (with `tock`
-    /// declared, as its users do).
+    /// declared, as its users do), and its timed definitions are gathered
+    /// in sections.
     #[test]
     fn the_library_is_valid_cspm() {
         for timed in [true, false] {
@@ -242,5 +270,7 @@ mod tests {
                 m.diagnostics().iter().filter(|d| d.severity == robosim_cspm::Severity::Error).collect();
             assert!(errors.is_empty(), "timed: {timed}: {errors:?}");
         }
+        assert_eq!(super::text(true).matches("Timed(OneStep)").count(), 2);
+        assert_eq!(super::text(false).matches("Timed(OneStep)").count(), 0);
     }
 }

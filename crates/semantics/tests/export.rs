@@ -189,15 +189,10 @@ fn cspm_errors(e: &robosim_semantics::Export) -> Vec<String> {
 fn examples_export_is_valid_cspm() {
     for example in ["paper", "square", "lawnmower"] {
         for profile in [Profile::RoboTool3, Profile::Paper2019] {
-            let mut errors = cspm_errors(&export_dir(&examples().join(example), profile));
             // The lawnmower's own `csp` block names the machine's events
-            // as RoboTool's generator does (`lawnmower::Mower::lowBattery`);
-            // the export names its modules by package (`lawnmower_Mower`),
-            // so those names, and only those, are unresolved until the
-            // export adopts RoboTool's names (issue 18).
-            errors.retain(|e| {
-                !(example == "lawnmower" && e.contains("`lawnmower::Mower::") && e.contains("is not defined"))
-            });
+            // as RoboTool's generator does (`lawnmower::Mower::lowBattery`),
+            // and so does the export.
+            let errors = cspm_errors(&export_dir(&examples().join(example), profile));
             assert!(errors.is_empty(), "{example} {profile:?}: {errors:#?}");
         }
     }
