@@ -425,6 +425,8 @@ fn check_script(cx: &Cx<'_>, script: &Script, host: &Host<'_>) -> Result<Module,
         if let Some(why) = (d.code == Code::Unresolved).then(|| host.unsupported(text)).flatten() {
             return Err(unsupported(why));
         }
+        // A `Timed` section needs `tock` too.
+        let text = if d.message.contains("channel `tock`") { "tock" } else { text };
         if d.code == Code::Unresolved
             && cx.semantics == Semantics::Untimed
             && (text == "tock" || robosim_hir::csp_defs::defines(text, true))
