@@ -7,9 +7,7 @@ use std::time::Duration;
 
 use robosim_engine::verify::{trace_text, verify_texts, verify_workspace, Options, Report, Semantics, Verdict};
 
-#[path = "../../syntax/tests/support/inputs.rs"]
-mod inputs;
-use inputs::model_files;
+use robosim_test_support::inputs::model_files;
 
 /// `Fast` answers `go` with `done` at once; `Slow` one time unit later
 /// (and rests one more); `M` with `speed!k` and `done` at once; `Prompt`
