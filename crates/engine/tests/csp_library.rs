@@ -239,7 +239,11 @@ assertion U2 : Fast refines TB in the traces model
     let cases = [
         ("Deadline0 = p::Fast::go.in -> EDeadline(p::Fast::done.out, 0); Deadline0", "Deadline0", "EDeadline"),
         ("Deadline0 = tock -> Deadline0 [] p::Fast::go.in -> Deadline0", "Deadline0", "tock"),
-        ("et(_) = 0\nTimed(et) {\nDeadline0 = p::Fast::go.in -> p::Fast::done.out -> Deadline0\n}", "Deadline0", "tock"),
+        (
+            "et(_) = 0\nTimed(et) {\nDeadline0 = p::Fast::go.in -> p::Fast::done.out -> Deadline0\n}",
+            "Deadline0",
+            "tock",
+        ),
     ];
     for (block, name, missing) in cases {
         let reports = run(&format!(

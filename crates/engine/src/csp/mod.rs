@@ -1,8 +1,16 @@
 //! The bridge between the CSPm of assertion files' `csp` blocks and the
 //! native engine: `M refines Spec` (and `equals`) where `Spec` is defined
 //! in a `csp` block of the assertion's own file, in the traces, failures
-//! and failures-divergences models.
+//! and failures-divergences models, in the timed semantics and (RT-8) the
+//! untimed one, each with its own RoboTool script ([`script::Script`]).
 //!
+//! - The script holds RoboTool's library ([`robosim_hir::csp_defs`], the
+//!   text the CSPm export writes too): in the timed script its tock-CSP
+//!   operators (`StartBy`, `EDeadline`, …); the untimed script has neither
+//!   them nor `tock` nor the `timed csp` blocks, so a block that needs time
+//!   makes it unloadable, as in FDR.
+//! - The bounded types a block defines (`nametype core_real = …`) are
+//!   evaluated by the CSPm engine and the model is compiled over them.
 //! - The block sees the model's names as RoboTool's generated CSPm spells
 //!   them ([`robosim_hir::csp_names`], through [`host::Host`]) and its own
 //!   file's other blocks, concatenated as RoboTool's generated script does

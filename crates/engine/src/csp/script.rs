@@ -74,7 +74,13 @@ impl Script {
         }
         let shift = text.len();
         text.push_str(&blocks);
-        Script { text, timed, blocks_at: shift, library, parts: parts.into_iter().map(|(s, f, n)| (s + shift, f, n)).collect() }
+        Script {
+            text,
+            timed,
+            blocks_at: shift,
+            library,
+            parts: parts.into_iter().map(|(s, f, n)| (s + shift, f, n)).collect(),
+        }
     }
 
     /// Whether the blocks, or a library definition they use (directly or
