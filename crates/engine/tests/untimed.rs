@@ -310,10 +310,7 @@ untimed assertion B : M refines Spec",
     );
     let got: Vec<(&str, &str, Verdict)> =
         reports.iter().map(|r| (r.name.as_str(), r.semantics.name(), r.verdict)).collect();
-    assert_eq!(
-        got,
-        [("A", "timed", Verdict::Fail), ("A", "untimed", Verdict::Pass), ("B", "untimed", Verdict::Pass)]
-    );
+    assert_eq!(got, [("A", "timed", Verdict::Fail), ("A", "untimed", Verdict::Pass), ("B", "untimed", Verdict::Pass)]);
     assert_eq!(reports[2].reason.as_deref(), Some("M refines Spec"));
 }
 

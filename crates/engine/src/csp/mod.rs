@@ -384,15 +384,14 @@ fn definition(text: &str, name: &str) -> Option<TextRange> {
     None
 }
 
+/// A bounded type's name and least and greatest values.
+type BoundedType = (String, crate::ir::Val, crate::ir::Val);
+
 /// The bounded types (`core_nat`, `core_int`, `core_real`,
 /// `core_clock_type`) the file's blocks define, as the CSPm engine
 /// evaluates them (`union({-2..2}, TemperatureRange)` too): the model is
 /// compiled over exactly these values, as RoboTool's script has it.
-fn bounded_types(
-    module: &Module,
-    host: &Host<'_>,
-    limits: &Limits,
-) -> Result<Vec<(String, crate::ir::Val, crate::ir::Val)>, (Verdict, String)> {
+fn bounded_types(module: &Module, host: &Host<'_>, limits: &Limits) -> Result<Vec<BoundedType>, (Verdict, String)> {
     let defined = module.defined_names();
     let mut ev = Evaluator::new(module, host, limits.clone());
     let mut out = Vec::new();
