@@ -581,7 +581,11 @@ fn refinement(
             }
         };
         report.notes.push(domains_note(&spec_d));
-        report.notes.push(domains_note(&imp_d));
+        // Both sides usually share domains and constants: one note then.
+        let imp_note = domains_note(&imp_d);
+        if !report.notes.contains(&imp_note) {
+            report.notes.push(imp_note);
+        }
         let mut directions = vec![(&spec, &imp, &spec_d, &imp_d, "")];
         if both_ways {
             directions.push((&imp, &spec, &imp_d, &spec_d, " (converse)"));
