@@ -71,7 +71,8 @@ fn expectations(files: &[(String, String)]) -> BTreeMap<String, Expected> {
         for (i, line) in text.lines().enumerate() {
             let Some(rest) = line.trim_start().strip_prefix("// expect ") else { continue };
             let at = format!("{name}:{}", i + 1);
-            let (assertion, verdicts) = rest.split_once(':').unwrap_or_else(|| panic!("{at}: `// expect NAME: VERDICT`"));
+            let (assertion, verdicts) =
+                rest.split_once(':').unwrap_or_else(|| panic!("{at}: `// expect NAME: VERDICT`"));
             // The reason may follow the verdicts after ` — `.
             let verdicts = verdicts.split(" — ").next().unwrap_or_default().trim();
             let mut e = Expected { timed: None, untimed: None, at: at.clone() };
@@ -87,7 +88,10 @@ fn expectations(files: &[(String, String)]) -> BTreeMap<String, Expected> {
                     Some(_) => panic!("{at}: `{part}`: write `VERDICT` or `timed VERDICT, untimed VERDICT`"),
                 }
             }
-            assert!(out.insert(assertion.trim().to_string(), e).is_none(), "{at}: a second expectation for {assertion}");
+            assert!(
+                out.insert(assertion.trim().to_string(), e).is_none(),
+                "{at}: a second expectation for {assertion}"
+            );
         }
     }
     out
@@ -183,7 +187,13 @@ fn check_fixture(dir: &Path) -> Vec<String> {
                 v.name(),
                 r.reason.as_deref().map(|x| format!(" — {x}")).unwrap_or_default()
             )),
-            None => problems.push(format!("{} ({}): {} has no expectation for {:?}", dir.display(), e.at, r.name, r.semantics)),
+            None => problems.push(format!(
+                "{} ({}): {} has no expectation for {:?}",
+                dir.display(),
+                e.at,
+                r.name,
+                r.semantics
+            )),
         }
     }
     for (name, e) in &expected {
