@@ -99,8 +99,8 @@ fn paper_example_assertions() {
         "include \"design.csp\"",
         "assert PConstrained::TLF(0, 1, 45, 1, 15) :[deadlock free [F]] :[tau priority]: {tock}",
         "assert not PConstrained2::TLF(0, 2, 45, 1, 15) :[deadlock free [F]] :[tau priority]: {tock}",
-        "assert PConstrained::D__(0, 1, 45, 1, 15)\n  [FD= paper_sim_SimCFootBot::D__(0, 1, 45, 1, 15) :[tau priority]: {tock}",
-        "paper_sim_alt_SimCFootBot::D__(0, 1, 45, 1, 15) [[ tock <- tock, tock <- tock' ]]",
+        "assert PConstrained::D__(0, 1, 45, 1, 15)\n  [FD= paper_sim::SimCFootBot::D__(0, 1, 45, 1, 15) :[tau priority]: {tock}",
+        "paper_sim_alt::SimCFootBot::D__(0, 1, 45, 1, 15) [[ tock <- tock, tock <- tock' ]]",
     ] {
         assert!(a.contains(needle), "missing `{needle}` in\n{a}");
     }
@@ -215,8 +215,9 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
     let csp = std::fs::read_to_string(dir.join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
     assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");
-    // The machine that is supported is exported.
-    assert!(csp.contains("module unsupported_Fine"), "{csp}");
+    // The machine that is supported is exported, in its package's module
+    // (RoboTool's `unsupported::Fine`).
+    assert!(csp.contains("module unsupported\n") && csp.contains("  module Fine\n"), "{csp}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
