@@ -233,7 +233,10 @@ impl<'a> Cx<'a> {
             match &o.def {
                 Definition::Inline(b) => ops.push((o.name.clone(), file, b)),
                 Definition::Ref { target, .. } => match (target, self.item(*target)) {
-                    (Some(t), Some(Item::Operation(b))) => ops.push((o.name.clone(), t.file, b)),
+                    // A machine calls the operation by its own name (the
+                    // signature its required interface declares), not by the
+                    // reference's: `opref op_ref0 = Move` serves `Move()`.
+                    (Some(t), Some(Item::Operation(b))) => ops.push((b.name.clone(), t.file, b)),
                     _ => return Err(self.unsupported(file, o.range, "the referenced operation could not be resolved")),
                 },
             }
