@@ -29,6 +29,7 @@ pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
 pub use crate::untimed::Semantics;
 
+mod robosim;
 mod semantics;
 
 /// How to run checks.
@@ -558,18 +559,9 @@ fn refinement(
             }
             _ => {
                 let regs = Registers::new(&[&spec_d, &imp_d], opts.profile)?;
-                let (imp, spec) = (
-                    side(&imp_t, &imp_d, imp_p, &regs, opts.profile)?,
-                    side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?,
-                );
-                // RT-21 shows `endexec` of a RoboSim machine or controller;
-                // the cycle-constrained design it is compared with has none,
-                // so the comparison is at the module's alphabet.
-                match (imp, spec) {
-                    (Side::Sim(s), d @ Side::Design(_)) => (Side::Sim(s.hiding_end()), d),
-                    (d @ Side::Design(_), Side::Sim(s)) => (d, Side::Sim(s.hiding_end())),
-                    pair => pair,
-                }
+                let imp = side(&imp_t, &imp_d, imp_p, &regs, opts.profile)?;
+                let spec = side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?;
+                robosim::constrained_alphabet((imp, &imp_d), (spec, &spec_d), report)
             }
         };
         report.notes.push(domains_note(&spec_d));

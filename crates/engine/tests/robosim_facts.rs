@@ -202,6 +202,28 @@ fn uses_of_an_interface_with_variables_declares_locals() {
     );
 }
 
+/// RT-21 against a cycle-constrained design (which has no `endexec`): the
+/// machine on its own is compared at a module's alphabet, and the report
+/// says so.
+#[test]
+fn a_machine_against_a_constrained_design_hides_its_end() {
+    let design = "package rc interface ROps { op() }
+        stm RM { requires ROps initial i0 final F transition t { from i0 to F action op() } }";
+    let rsa = "simulation PM of rc::RM { cycleDef cycle == 1 }
+        assertion R : M refines PM in the traces model";
+    let reports = verify_texts(
+        [
+            ("rc.rct".to_string(), design.to_string()),
+            ("m.rst".to_string(), format!("{INTERFACES}\n{ENDINGS}")),
+            ("a.rsa".to_string(), rsa.to_string()),
+        ],
+        &Options::default(),
+    );
+    let r = &reports[0];
+    assert_eq!(r.verdict, Verdict::Pass, "{r:#?}");
+    assert!(r.notes.iter().any(|n| n.contains("`endexec` and `terminate` are hidden")), "{:?}", r.notes);
+}
+
 /// The RoboSim assertions of the reference output (RoboTool's rc2rs
 /// transformation of the Alpha Algorithm, `rc2rs/*.rsa`; FDR recorded no
 /// results for them): each is answered, and what the native checker cannot
