@@ -7,9 +7,8 @@ use std::time::Duration;
 
 use robosim_engine::verify::{verify_workspace, Options, Semantics, Verdict};
 
-#[path = "../../syntax/tests/support/inputs.rs"]
-mod inputs;
 use inputs::model_files;
+use robosim_test_support::inputs;
 
 /// One corpus project as its own workspace.
 fn load_project(project: &Path) -> (robosim_hir::RootDatabase, robosim_hir::Workspace) {

@@ -8,8 +8,7 @@ use std::path::Path;
 
 use robosim_engine::verify::{trace_text, verify_texts, verify_workspace, Options, Report, Semantics, Verdict};
 
-#[path = "../../syntax/tests/support/inputs.rs"]
-mod inputs;
+use robosim_test_support::inputs;
 
 /// The events and operation the machines of these tests use.
 const INTERFACE: &str = "interface I { event e event f event o op() }";

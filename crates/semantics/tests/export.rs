@@ -6,9 +6,8 @@ use std::path::{Path, PathBuf};
 
 use robosim_semantics::{export_workspace, lint, Options, Profile};
 
-#[path = "../../syntax/tests/support/inputs.rs"]
-mod inputs;
 use inputs::model_files;
+use robosim_test_support::inputs;
 
 fn export_dir(dir: &Path, profile: Profile) -> robosim_semantics::Export {
     let mut paths = Vec::new();

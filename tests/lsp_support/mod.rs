@@ -11,8 +11,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
 
-mod framing;
-use framing::{frame, read_message};
+use robosim_test_support::lsp_framing::{frame, read_message};
 
 /// How long to wait for any one expected message. Generous: CI machines
 /// are slow, and a passing test never waits this long.
@@ -42,7 +41,7 @@ impl Server {
 
     /// Starts `robosim lsp` with extra arguments after `lsp`.
     pub fn start_with_args(args: &[&str]) -> Server {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_robosim"))
+        let mut child = Command::new(env!("CARGO_BIN_EXE_robosim-e2e"))
             .arg("lsp")
             .args(args)
             .stdin(Stdio::piped())

@@ -1,5 +1,5 @@
 //! LSP base-protocol framing (`Content-Length` headers over stdio), shared
-//! by the LSP end-to-end tests and the `lsp_typing` benchmark.
+//! by the LSP end-to-end tests (`tests/`) and the `lsp_typing` benchmark.
 
 use std::io::BufRead;
 

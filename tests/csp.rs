@@ -11,15 +11,15 @@ use std::process::{Command, Output};
 use robosim_semantics::{export_workspace, lint, Options, Profile};
 
 fn robosim() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_robosim"))
+    Command::new(env!("CARGO_BIN_EXE_robosim-e2e"))
 }
 
 fn data(p: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(p)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data").join(p)
 }
 
 fn paper() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/paper")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/paper")
 }
 
 /// A fresh, empty folder for one test's output.

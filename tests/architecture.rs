@@ -8,7 +8,7 @@ use std::path::Path;
 
 /// The `[dependencies]` of every crate of the workspace, by crate folder.
 fn dependencies() -> BTreeMap<String, Vec<String>> {
-    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).join("../crates");
     let mut out = BTreeMap::new();
     for entry in std::fs::read_dir(&crates).expect("crates/") {
         let dir = entry.expect("a crate folder").path();
@@ -37,6 +37,7 @@ fn dependencies() -> BTreeMap<String, Vec<String>> {
 const ALLOWED: &[(&str, &[&str])] = &[
     ("syntax", &[]),
     ("stdlib", &[]),
+    ("test-support", &[]),
     ("cspm", &[]),
     ("fmt", &["robosim-syntax"]),
     ("hir", &["robosim-syntax", "robosim-stdlib", "robosim-cspm"]),

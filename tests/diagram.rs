@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn robosim() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_robosim"));
-    c.current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."));
+    let mut c = Command::new(env!("CARGO_BIN_EXE_robosim-e2e"));
+    c.current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."));
     c
 }
 
@@ -77,10 +77,8 @@ fn robosim_inputs_and_outputs_are_coloured() {
 
 #[test]
 fn dot_draws_composite_states_as_clusters() {
-    let out = robosim()
-        .args(["diagram", "--dot", "--element", "Robot", "crates/cli/tests/data/diagram/nested.rct"])
-        .output()
-        .unwrap();
+    let out =
+        robosim().args(["diagram", "--dot", "--element", "Robot", "tests/data/diagram/nested.rct"]).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let dot = String::from_utf8(out.stdout).unwrap();
     assert!(dot.starts_with("digraph \"nested::Robot\" {"));
@@ -91,7 +89,7 @@ fn dot_draws_composite_states_as_clusters() {
 
 #[test]
 fn json_is_the_diagram_model() {
-    let out = robosim().args(["diagram", "--json", "crates/cli/tests/data/diagram/nested.rct"]).output().unwrap();
+    let out = robosim().args(["diagram", "--json", "tests/data/diagram/nested.rct"]).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let all = v.as_array().unwrap();
@@ -133,7 +131,7 @@ fn the_readme_diagrams_are_up_to_date() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/diagrams");
+    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/diagrams");
     for name in ["paper_design.SMovement.svg", "paper_sim.SimSMovement.svg", "paper_design.CFootBot.svg"] {
         let fresh = std::fs::read_to_string(dir.join(name)).unwrap();
         let committed = std::fs::read_to_string(docs.join(name)).unwrap();

@@ -1,12 +1,11 @@
-//! The generated benchmark input, shared by the benchmark and the
-//! `parse_file` profiling example.
+//! Generated models of any size, shared by the benchmarks, the profiling
+//! examples and the incremental-vs-fresh tests.
 
 /// A synthetic RoboChart model of about `lines` lines, in the style of real
 /// models: machines with declarations, states with actions, transitions with
 /// triggers, resets, deadlines, guards and actions. Names and numbers vary
 /// from machine to machine, as in real models, so that no two machines share
 /// subtrees.
-#[allow(dead_code)]
 pub fn generated_model(lines: usize) -> String {
     let mut s = String::from(
         "package bench\nimport core::*\ninterface Ops { move(lv : real, av : real) stop() }\ninterface Evs { event obstacle event reading : nat }\n",
@@ -38,7 +37,6 @@ pub fn generated_model(lines: usize) -> String {
 /// (120 copies: 11,641 lines). Copy `k`'s guard
 /// `condition not $obstacle` (in transition `t3`) is the one benchmarks
 /// toggle to `not obstacle`, an RS:SM6 violation.
-#[allow(dead_code)]
 pub fn generated_robosim(copies: usize) -> String {
     let mut s = String::from("package bench_sim\n");
     for k in 0..copies {

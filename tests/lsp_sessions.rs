@@ -189,7 +189,7 @@ fn compact(v: &Value, indent: usize) -> String {
 }
 
 fn sessions() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/lsp");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("lsp");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .flatten()

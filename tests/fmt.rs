@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn robosim() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_robosim"))
+    Command::new(env!("CARGO_BIN_EXE_robosim-e2e"))
 }
 
 /// A fresh folder under the system's temporary folder, removed on drop.

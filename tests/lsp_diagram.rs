@@ -15,7 +15,7 @@ use serde_json::{json, Value};
 /// A workspace folder with a copy of `examples/paper`.
 fn paper_workspace(name: &str) -> PathBuf {
     let root = lsp_support::temp_dir(name);
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/paper");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/paper");
     for entry in std::fs::read_dir(&data).unwrap() {
         let path = entry.unwrap().path();
         if path.is_file() {

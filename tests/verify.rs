@@ -8,15 +8,15 @@ use std::process::Command;
 use expect_test::expect_file;
 
 fn robosim() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_robosim"))
+    Command::new(env!("CARGO_BIN_EXE_robosim-e2e"))
 }
 
 fn data() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/verify")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/verify")
 }
 
 fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
 }
 
 fn json(args: &[&str], path: &Path) -> (Option<i32>, serde_json::Value) {
@@ -297,7 +297,7 @@ fn plain_assertions_in_both_semantics() {
 /// duplicate of the other.
 #[test]
 fn each_project_checks_its_own_machine() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/projects");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/projects");
     let out = robosim().arg("check").arg(&dir).output().unwrap();
     let stdout = String::from_utf8(out.stdout).unwrap();
     assert_eq!(out.status.code(), Some(0), "{stdout}");

@@ -1,15 +1,9 @@
-//! Inputs shared by the tests of the parser and of other crates (the
-//! formatter's, the checker's and the exporter's tests include this file by
-//! path): the model files under a
+//! Inputs shared by the tests of several crates (the parser's, the
+//! formatter's, the engine's and the exporter's): the model files under a
 //! folder, a soup of tokens and keywords of all four languages, and a small
 //! model that uses most constructs.
 
-// Each test binary uses only some of these.
-#![allow(dead_code)]
-
 use std::path::{Path, PathBuf};
-
-use robosim_syntax::FileKind;
 
 /// Appends the model files under `dir` (recursively, sorted, skipping `.git`)
 /// to `out`; nothing for a folder that cannot be read.
@@ -23,7 +17,7 @@ pub fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
                 continue;
             }
             model_files(&p, out);
-        } else if FileKind::from_path(&p).is_some() {
+        } else if is_model_file(&p) {
             out.push(p);
         }
     }
@@ -129,3 +123,10 @@ pub const SOUP: &[&str] = &[
 
 /// A small well-formed model touching most constructs.
 pub const MODEL: &str = "package p\ninterface I { event e : int move(x : real) }\nstm M {\n  requires I uses I\n  var x : int = 0\n  clock C\n  initial i\n  state S { entry move(1.0); x = x + 1 during skip exit #C }\n  transition t { from i to S }\n  transition u { from S to S trigger e?x #C <{ 1 } condition x > 0 /\\ since(C) < 2 action if x == 1 then move(0) else skip end }\n}\nmodule Mod { robotic platform P { provides I } controller C { requires I sref m = M connection C on e to m on e } connection P on e to C on e (_async) [mult] }\n";
+
+/// Whether `path` has the extension of one of the four languages (`.rct`,
+/// `.rst`, `.assertions`, `.rsa`). Written out rather than taken from
+/// `robosim-syntax` so that the syntax crate's own tests can use this crate.
+pub fn is_model_file(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| matches!(e, "rct" | "rst" | "assertions" | "rsa"))
+}

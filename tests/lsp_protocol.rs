@@ -4,8 +4,7 @@
 
 mod lsp_support;
 
-#[path = "../../syntax/benches/generated.rs"]
-mod generated;
+use robosim_test_support::generated;
 
 use std::time::Duration;
 

@@ -44,7 +44,7 @@ if [ -z "$bin" ]; then
   bin="${CARGO_TARGET_DIR:-$repo/target}/debug/robosim"
 fi
 
-"$bin" diagram -o "$out/svg" examples/paper crates/cli/tests/data/diagram/nested.rct >/dev/null
+"$bin" diagram -o "$out/svg" examples/paper tests/data/diagram/nested.rct >/dev/null
 # The five widest diagrams before issue 21 (20,506 to 12,111 px wide).
 shared="$repo/../shared"
 wide=(

@@ -18,7 +18,7 @@ use serde_json::{json, Value};
 /// assertions (`checks.rsa`), plus `extra` files.
 fn gt3_workspace(name: &str, extra: &[(&str, &str)]) -> PathBuf {
     let root = lsp_support::temp_dir(name);
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/verify/gt3");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/verify/gt3");
     for f in ["design.rct", "checks.rsa"] {
         std::fs::copy(data.join(f), root.join(f)).unwrap();
     }
@@ -543,7 +543,7 @@ fn a_failed_check_is_drawn_on_the_diagram() {
 #[test]
 fn async_buffer_setting() {
     let root = lsp_support::temp_dir("verify-async");
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/verify/async");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/verify/async");
     for f in ["model.rct", "checks.assertions"] {
         std::fs::copy(data.join(f), root.join(f)).unwrap();
     }
@@ -572,7 +572,7 @@ fn async_buffer_setting() {
 #[test]
 fn names_resolve_within_each_project() {
     let root = lsp_support::temp_dir("projects");
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/projects");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/projects");
     for p in ["ProjectA", "ProjectB"] {
         std::fs::create_dir_all(root.join(p)).unwrap();
         for f in [".project", "robot.rct", "robot.assertions"] {
