@@ -245,17 +245,18 @@ fn reference_robosim_assertions() {
     files.sort();
     let db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
-    let mut got: Vec<(String, Verdict, String)> = robosim_engine::verify::verify_workspace(&db, ws, &Options::default(), None)
-        .into_iter()
-        .filter(|r| r.semantics == Semantics::Timed)
-        .map(|r| {
-            let file = r.file.rsplit('/').next().unwrap_or_default().to_string();
-            // The reason up to its source location (a path).
-            let reason = r.reason.unwrap_or_default();
-            let reason = reason.split(" (/").next().unwrap_or_default().to_string();
-            (format!("{file} {}", r.name), r.verdict, reason)
-        })
-        .collect();
+    let mut got: Vec<(String, Verdict, String)> =
+        robosim_engine::verify::verify_workspace(&db, ws, &Options::default(), None)
+            .into_iter()
+            .filter(|r| r.semantics == Semantics::Timed)
+            .map(|r| {
+                let file = r.file.rsplit('/').next().unwrap_or_default().to_string();
+                // The reason up to its source location (a path).
+                let reason = r.reason.unwrap_or_default();
+                let reason = reason.split(" (/").next().unwrap_or_default().to_string();
+                (format!("{file} {}", r.name), r.verdict, reason)
+            })
+            .collect();
     got.sort_by(|a, b| a.0.cmp(&b.0));
     let position = "the type `Position` is not supported by the native checker (booleans, numbers, enumerations, \
                     their products and small finite sets are)";

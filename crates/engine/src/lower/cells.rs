@@ -12,7 +12,13 @@ use super::{Link, MachineCx, Unsupported};
 impl MachineCx<'_, '_> {
     /// Gives the internal channel `chan` (the event `name` of a RoboSim
     /// machine, linked by `link`) its register and memory cell, once.
-    pub(super) fn memory_cell(&mut self, chan: u16, link: &Link, name: &str, range: TextRange) -> Result<(), Unsupported> {
+    pub(super) fn memory_cell(
+        &mut self,
+        chan: u16,
+        link: &Link,
+        name: &str,
+        range: TextRange,
+    ) -> Result<(), Unsupported> {
         if link.hidden {
             // RT-15 is RoboChart's; RoboSim's generated CSPm for an event
             // connected to nothing has not been read.
