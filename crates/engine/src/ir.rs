@@ -290,6 +290,12 @@ pub struct Channel {
     /// communication besides the sender: with several, all receive at once
     /// (RT-14: a multi-way synchronisation).
     pub receivers: u8,
+    /// RoboSim: a connection between two machines or controllers of the
+    /// design (RT-22): the slot of its memory cell's presence flag (the
+    /// value in the next slot). The sender writes the cell in cycle k; at
+    /// the start of cycle k+1 it is copied into the receiver's `register`
+    /// and erased.
+    pub cell: Option<u16>,
 }
 
 impl Channel {
@@ -308,6 +314,7 @@ impl Channel {
             var: false,
             alone: false,
             receivers: 1,
+            cell: None,
         }
     }
 }
@@ -692,11 +699,25 @@ pub struct Forward {
     pub copies: Vec<u16>,
 }
 
+/// What a design is: a module, a controller or a machine on its own.
+/// RoboSim's visible alphabet depends on it (robotool-facts RT-21).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Level {
+    /// A module: `endexec` and `terminate` hidden.
+    Module,
+    /// A controller on its own: its own `endexec` and `terminate` visible.
+    Controller,
+    /// A machine on its own: `endexec` and `terminate` visible.
+    Machine,
+}
+
 /// A RoboChart module (or controller, or machine) compiled for checking.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Design {
     /// The element's qualified name.
     pub name: String,
+    /// Whether it is a module, a controller or a machine.
+    pub level: Level,
     /// Machines, all running in parallel.
     pub machines: Vec<Machine>,
     /// External channels (inputs, outputs, operation calls).
@@ -795,6 +816,11 @@ impl Design {
                 for k in 1..=b.policy.size as u16 {
                     set(b.slot + k, d.lo.min(0), d.hi.max(0));
                 }
+            }
+            if let Some(cell) = c.cell {
+                let d = c.params.first().copied().unwrap_or(Dom { lo: 0, hi: 0 });
+                set(cell, 0, 1);
+                set(cell + 1, d.lo.min(0), d.hi.max(0));
             }
             if let Some(r) = c.register {
                 // A variable's register is the variable (bounded above).

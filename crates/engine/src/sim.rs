@@ -4,9 +4,10 @@
 //! one has ended its cycle with `exec` or terminated — each output written
 //! at once, at most once per register per cycle — then lets `p` time units
 //! pass, or terminates when every machine has. Visible: `registerRead`,
-//! `registerWrite`, `tock` (and ✓).
+//! `registerWrite`, `tock` (and ✓); a machine or a controller on its own
+//! also shows `endexec` and `terminate` (robotool-facts RT-20, RT-21).
 
-use crate::ir::{Design, Dir};
+use crate::ir::{Design, Dir, Level};
 use crate::lts::{Event, Label, TAU, TICK};
 use crate::machine::Offer;
 use crate::pack::{Encoding, VectorLts, Vectors};
@@ -15,6 +16,10 @@ use crate::sched::{Profile, Registers, State, DONE, ENDED, READ, RUN, RUNNING, W
 /// `paper2019`: writing the cycle's buffered outputs (`arg`: the outputs
 /// whose absence is still to be written).
 const WRITES: i32 = 3;
+
+/// A machine or controller on its own, after its visible `endexec`: `tock`
+/// and, if it has finished, `terminate` (RT-20).
+const ENDX: i32 = 4;
 
 /// A compiled RoboSim module (or controller, or machine) with period `p`.
 pub struct SimModule<'a> {
@@ -28,6 +33,10 @@ pub struct SimModule<'a> {
     false_group: Vec<usize>,
     profile: Profile,
     terminate: Event,
+    /// RT-21: `endexec` and `terminate` visible (a machine or a controller
+    /// on its own, RoboTool 3 profile), or hidden (a module).
+    visible_end: bool,
+    endexec: Event,
     // Slots after the design's: the cycle phase and its argument (inputs
     // still to read, or time units left), outputs written this cycle, mode.
     phase: usize,
@@ -87,13 +96,16 @@ impl<'a> SimModule<'a> {
         let mut events = registers.table.clone();
         let g = events.add("terminate", Vec::new()).map_err(|e| e.0)?;
         let terminate = events.event(g, &[]);
+        let g = events.add("endexec", Vec::new()).map_err(|e| e.0)?;
+        let endexec = events.event(g, &[]);
+        let visible_end = profile == Profile::RoboTool3 && design.level != Level::Module;
         let base = design.slots as usize;
         let period = period.max(1) as i32;
         let mut bounds = design.slot_bounds();
         let inputs_mask = (1i64 << inputs.len()) - 1;
         let nout = outputs.len();
         let out_mask = (1i64 << nout) - 1;
-        bounds.extend([(0, 3), (0, inputs_mask.max(out_mask).max(period as i64)), (0, out_mask), (0, 3)]);
+        bounds.extend([(0, ENDX as i64), (0, inputs_mask.max(out_mask).max(period as i64)), (0, out_mask), (0, 3)]);
         let max_event = events.next_event() as i64;
         bounds.extend(std::iter::repeat_n((0, max_event), outputs.len()));
         Ok(SimModule {
@@ -106,6 +118,8 @@ impl<'a> SimModule<'a> {
             false_group,
             profile,
             terminate,
+            visible_end,
+            endexec,
             phase: base,
             arg: base + 1,
             written: base + 2,
@@ -114,6 +128,14 @@ impl<'a> SimModule<'a> {
             len: base + 4 + nout,
             enc: Encoding::new(&bounds, events),
         })
+    }
+
+    /// The module reading (`endexec` and `terminate` hidden) whatever the
+    /// element is: for a refinement against a cycle-constrained design,
+    /// whose process has no `endexec`.
+    pub fn hiding_end(mut self) -> Self {
+        self.visible_end = false;
+        self
     }
 
     /// The first run-time error met during exploration, if any.
@@ -136,6 +158,17 @@ impl<'a> SimModule<'a> {
     fn begin_run(&self, st: &mut [i32]) -> Result<(), String> {
         st[self.phase] = RUN;
         st[self.written] = 0;
+        // RT-22: what was written into a connection's memory cell last cycle
+        // is read now, and the cell erased.
+        for c in &self.design.channels {
+            if let (Some(cell), Some(reg)) = (c.cell, c.register) {
+                let (cell, reg) = (cell as usize, reg as usize);
+                st[reg] = st[cell];
+                st[reg + 1] = st[cell + 1];
+                st[cell] = 0;
+                st[cell + 1] = 0;
+            }
+        }
         for m in &self.design.machines {
             m.resume(st, &self.design.clocks).map_err(|e| e.0)?;
         }
@@ -144,7 +177,7 @@ impl<'a> SimModule<'a> {
 
     fn tock(&self, st: &mut [i32]) -> Result<(), String> {
         self.design.advance_time(st)?;
-        let left = if st[self.phase] == RUN { self.period - 1 } else { st[self.arg] - 1 };
+        let left = if matches!(st[self.phase], RUN | ENDX) { self.period - 1 } else { st[self.arg] - 1 };
         if left <= 0 {
             self.begin_cycle(st)
         } else {
@@ -192,6 +225,23 @@ impl<'a> SimModule<'a> {
                     moves.clear();
                     m.moves(st, &mut moves).map_err(|e| e.0)?;
                     for mv in &moves {
+                        if let Offer::Out { chan, args } = &mv.offer {
+                            if let Some(cell) = self.design.channels[*chan as usize].cell {
+                                // RT-22: into the connection's memory cell, a
+                                // hidden step; like any output, at most once
+                                // per cycle (RT-20), else the cycle cannot end.
+                                let cell = cell as usize;
+                                if st[cell] != 0 {
+                                    continue;
+                                }
+                                let n = out.push_copy(st);
+                                self.design.apply(m, n, mv.act, None)?;
+                                n[cell] = 1;
+                                n[cell + 1] = args.first().map_or(0, |&v| v as i32);
+                                out.set_label(Label::TAU);
+                                continue;
+                            }
+                        }
                         if self.design.is_internal(&mv.offer) {
                             internal.push((mi, mv.clone()));
                             continue;
@@ -253,6 +303,19 @@ impl<'a> SimModule<'a> {
                     }
                 }
             }
+            ENDX => {
+                // RT-20: `TimeOut_1(terminate -> SKIP, WAIT(cycle-1); Cycle)`:
+                // `terminate` only if every machine has finished, and it
+                // competes with `tock` (both visible, no priority).
+                if self.design.machines.iter().all(|m| m.terminated(st)) {
+                    let n = out.push_copy(st);
+                    n[self.mode] = DONE;
+                    out.set_label(Label::plain(self.terminate));
+                }
+                let n = out.push_copy(st);
+                self.tock(n)?;
+                out.set_label(Label::TOCK);
+            }
             WRITES => {
                 let nout = self.outputs.len();
                 if nout > 0 && st[self.occ] != 0 {
@@ -285,6 +348,13 @@ impl<'a> SimModule<'a> {
     /// else time passes until the next.
     fn end_cycle(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
         let n = out.push_copy(st);
+        if self.visible_end {
+            // RT-21: a machine's (a controller's: after all its machines')
+            // `endexec` is visible.
+            n[self.phase] = ENDX;
+            out.set_label(Label::plain(self.endexec));
+            return Ok(());
+        }
         if self.design.machines.iter().all(|m| m.terminated(st)) {
             n[self.mode] = DONE;
             out.set_label(Label { event: TAU, note: self.terminate });

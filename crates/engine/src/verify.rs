@@ -29,6 +29,7 @@ pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
 pub use crate::untimed::Semantics;
 
+mod robosim;
 mod semantics;
 
 /// How to run checks.
@@ -574,10 +575,9 @@ fn refinement(
             }
             _ => {
                 let regs = Registers::new(&[&spec_d, &imp_d], opts.profile)?;
-                (
-                    side(&imp_t, &imp_d, imp_p, &regs, opts.profile)?,
-                    side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?,
-                )
+                let imp = side(&imp_t, &imp_d, imp_p, &regs, opts.profile)?;
+                let spec = side(&spec_t, &spec_d, spec_p, &regs, opts.profile)?;
+                robosim::constrained_alphabet((imp, &imp_d), (spec, &spec_d), report)
             }
         };
         report.notes.push(domains_note(&spec_d));

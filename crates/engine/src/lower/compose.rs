@@ -162,15 +162,8 @@ impl<'a> Cx<'a> {
                 ));
             }
         };
-        if let Some((f, r, ..)) = async_links.first() {
-            if self.robosim {
-                return Err(self.unsupported(
-                    *f,
-                    *r,
-                    "asynchronous connections between RoboSim controllers or machines are not supported yet",
-                ));
-            }
-        }
+        // RoboSim: `_async` or not, a connection between controllers or
+        // machines goes through a memory cell (RT-22, `cells.rs`).
         let async_ends: BTreeSet<End> = async_links.into_iter().flat_map(|(_, _, a, b)| [a, b]).collect();
         self.build(&top_name, top, instances, &links, &platform, &async_ends)
     }
@@ -240,7 +233,10 @@ impl<'a> Cx<'a> {
             match &o.def {
                 Definition::Inline(b) => ops.push((o.name.clone(), file, b)),
                 Definition::Ref { target, .. } => match (target, self.item(*target)) {
-                    (Some(t), Some(Item::Operation(b))) => ops.push((o.name.clone(), t.file, b)),
+                    // A machine calls the operation by its own name (the
+                    // signature its required interface declares), not by the
+                    // reference's: `opref op_ref0 = Move` serves `Move()`.
+                    (Some(t), Some(Item::Operation(b))) => ops.push((b.name.clone(), t.file, b)),
                     _ => return Err(self.unsupported(file, o.range, "the referenced operation could not be resolved")),
                 },
             }
@@ -302,6 +298,11 @@ impl<'a> Cx<'a> {
         self.defaults.real = widen(self.defaults.real, f[2], false);
         self.design = Some(Design {
             name: top_name.to_string(),
+            level: match top {
+                Top::Module => Level::Module,
+                Top::Controller => Level::Controller,
+                Top::Machine => Level::Machine,
+            },
             machines: Vec::new(),
             channels: Vec::new(),
             vars: Vec::new(),
@@ -549,6 +550,7 @@ impl<'a> Cx<'a> {
             activities: Vec::new(),
             timers: Vec::new(),
             deadlines: Vec::new(),
+            caller: None,
         };
         mc.declarations(inst.body, &external)?;
         mc.collect_nodes(&inst.body.region, None)?;

@@ -1,7 +1,7 @@
 //! One machine (or operation body): its declarations as slots and
 //! channels, its nodes and transitions as code.
 
-use robosim_hir::defs::Io;
+use robosim_hir::defs::{Io, UseKind};
 use robosim_hir::model::{self, Comm, CommPart, Decl, Region};
 
 use super::*;
@@ -37,19 +37,27 @@ impl<'b> MachineCx<'_, 'b> {
         let file = self.file;
         // Each source of declarations: its file, its declarations, whether
         // it is an interface, and the I/O context it comes through (RoboSim).
-        let mut sources: Vec<(File, &'b model::Decls, bool, Option<Dir>)> = vec![(file, &node.decls, false, None)];
+        let mut sources: Vec<(File, &'b model::Decls, Option<UseKind>, Option<Dir>)> =
+            vec![(file, &node.decls, None, None)];
         // RoboSim declares its inputs and outputs in I/O contexts.
         let contexts: Vec<(&'b model::Decls, Option<Dir>)> =
             node.contexts.iter().map(|(io, d)| (d, Some(if *io == Io::Input { Dir::In } else { Dir::Out }))).collect();
-        sources.extend(contexts.iter().map(|(c, d)| (file, *c, false, *d)));
+        sources.extend(contexts.iter().map(|(c, d)| (file, *c, None, *d)));
         let uses =
             std::iter::once((&node.decls, None)).chain(contexts).flat_map(|(n, d)| n.uses.iter().map(move |u| (u, d)));
         for (u, context) in uses {
             let (f, n) =
                 self.cx.interface(u.target).ok_or_else(|| self.err(u.range, "the interface could not be resolved"))?;
-            sources.push((f, n, true, context));
+            sources.push((f, n, Some(u.kind), context));
         }
         for (f, n, from_interface, context) in sources {
+            // RT-23: a RoboSim machine's `uses` (outside its I/O contexts)
+            // declares local variables; an operation's `requires` there
+            // names the calling machine's copies.
+            let robosim_local = self.cx.robosim && context.is_none();
+            let local_use = robosim_local && from_interface == Some(UseKind::Uses) && self.cur_op.is_none();
+            let caller_copy = robosim_local && from_interface == Some(UseKind::Requires) && self.caller.is_some();
+            let from_interface = from_interface.is_some() && !local_use;
             for c in &n.decls {
                 match c {
                     Decl::Vars { is_const, vars, range } => {
@@ -60,6 +68,23 @@ impl<'b> MachineCx<'_, 'b> {
                             let dom = ty.dom();
                             let init = v.init.as_ref();
                             self.bind_ty(&name, &ty);
+                            if caller_copy {
+                                match self.caller.as_ref().and_then(|c| c.get(&name)).cloned() {
+                                    Some(n @ (Name::Var { .. } | Name::Const(_))) => {
+                                        self.names.insert(name, n);
+                                        continue;
+                                    }
+                                    _ => {
+                                        return Err(self.err(
+                                            v.range,
+                                            format!(
+                                                "the operation requires `{name}`, which the calling machine does \
+                                                 not declare (RT-23: it uses the caller's copy)"
+                                            ),
+                                        ))
+                                    }
+                                }
+                            }
                             if *is_const {
                                 let q = format!("{}::{name}", self.inst_prefix);
                                 let value = match self.const_value(&name) {
@@ -140,17 +165,8 @@ impl<'b> MachineCx<'_, 'b> {
                                 }
                                 let chan = self.channel(&link.name, link.dir, false, shape);
                                 if link.internal && self.cx.robosim {
-                                    return Err(self.err(
-                                        range,
-                                        format!(
-                                            "`{name}` connects two RoboSim machines or controllers: not supported yet \
-                                             (the paper keeps such events in the module's memory, Rule 8, and in \
-                                             which cycle the receiver reads what the sender wrote is not pinned \
-                                             down)"
-                                        ),
-                                    ));
-                                }
-                                if link.internal {
+                                    self.memory_cell(chan, &link, &name, range)?;
+                                } else if link.internal {
                                     // Both ends share the channel: its buffer is made once.
                                     // RT-12: RoboTool's buffer unless the user assumes another.
                                     let policy = self.cx.defaults.async_buffer.unwrap_or(AsyncBuffer::ROBOTOOL);
@@ -769,7 +785,10 @@ impl<'b> MachineCx<'_, 'b> {
             }
             // The body runs in the caller's context: its events are the
             // caller's connections.
-            self.declarations(node, external)?;
+            self.caller = Some(saved_names.clone());
+            let declared = self.declarations(node, external);
+            self.caller = None;
+            declared?;
             self.collect_nodes(&node.region, None)?;
             self.compile(&node.region)?;
             let start = self.region_start(node.range, None)?;

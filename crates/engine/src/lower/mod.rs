@@ -13,6 +13,7 @@
 //! source location ([`Unsupported`]) instead of being approximated: a wrong
 //! verdict is worse than none.
 
+mod cells;
 mod compose;
 mod expr;
 mod machine;
@@ -321,6 +322,10 @@ struct MachineCx<'a, 'b> {
     timers: Vec<u16>,
     /// The deadlines `<{d}` of the transitions compiled so far, by source.
     deadlines: Vec<(u16, Expr)>,
+    /// RT-23: while a RoboSim operation's declarations are read, the
+    /// calling machine's names (its `requires` resolve to the caller's
+    /// copies).
+    caller: Option<HashMap<String, Name>>,
 }
 
 impl MachineCx<'_, '_> {
