@@ -166,6 +166,16 @@ fn csp_assertions_are_decided_or_explained() {
                     let file = r.file.rsplit_once("corpus/").map_or(r.file.as_str(), |(_, f)| f);
                     decided.push(format!("{file} {}: {}", r.name, r.verdict.name()));
                 }
+                // What is left says precisely why: the skills manager's
+                // machine keeps a sequence; RmGuar reads
+                // `radiation_level.in.100`, outside `core_real` (FDR's
+                // evaluator stops on it too: no verdict).
+                if a.name.starts_with("EBSM") {
+                    assert!(reason.starts_with("the type `Seq( Skills )` is not supported"), "{}: {reason}", a.name);
+                }
+                if a.name == "RadiationMonitorGuarantee" {
+                    assert!(reason.contains("`100` is outside the model's values"), "{reason}");
+                }
                 if r.file.ends_with("alpha-algorithm/model.assertions") {
                     alpha.push((r.name.clone(), r.verdict, reason));
                 }
