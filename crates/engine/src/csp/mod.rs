@@ -165,7 +165,7 @@ fn run(
         // `Events` holds the channels met so far: `tock` (which RoboTool's
         // script declares) and the model's channels.
         let _ = ev.value("tock");
-        if spec_block && !imp_block && events_only_run(&script.text) {
+        if spec_block && !imp_block && script.used().iter().all(|t| events_only_run(t)) {
             // Only the element's own channels (the implementation's
             // events, `M::terminate` among them): see `events_only_run`.
             let mut own: Vec<String> = host.own.keys().cloned().collect();
