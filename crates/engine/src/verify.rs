@@ -309,6 +309,9 @@ impl Cx<'_> {
     /// The bounded types, from `nametype core_X = {a..b}` lines.
     fn defaults(&self) -> DomainDefaults {
         let mut defaults = DomainDefaults { async_buffer: self.async_buffer, ..DomainDefaults::default() };
+        defaults.generated_functions = std::iter::once(self.read)
+            .chain(self.others.iter().map(|(_, r)| r))
+            .all(|r| r.csp_block("Instantiations").is_none());
         for r in std::iter::once(self.read).chain(self.others.iter().map(|(_, r)| r)) {
             for (name, lo, hi, _) in &r.instantiations.types {
                 defaults.set(name, *lo, *hi);

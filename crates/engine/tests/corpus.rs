@@ -132,7 +132,7 @@ fn csp_assertions_are_decided_or_explained() {
     let mut opts = Options::default();
     opts.budget.max_states = 100_000;
     opts.budget.timeout = Some(Duration::from_secs(5));
-    let (mut csp, mut decided) = (0, 0);
+    let (mut csp, mut decided) = (0, Vec::new());
     let mut alpha = Vec::new();
     for project in projects {
         let (db, ws) = load_project(&project);
@@ -165,7 +165,18 @@ fn csp_assertions_are_decided_or_explained() {
                 assert!(!reason.contains("raw CSPm"), "{}: {reason}", r.name);
                 assert!(!reason.is_empty(), "{}: no reason", r.name);
                 if matches!(r.verdict, Verdict::Pass | Verdict::Fail) {
-                    decided += 1;
+                    let file = r.file.rsplit_once("corpus/").map_or(r.file.as_str(), |(_, f)| f);
+                    decided.push(format!("{file} {}: {}", r.name, r.verdict.name()));
+                }
+                // What is left says precisely why: the skills manager's
+                // machine keeps a sequence; RmGuar reads
+                // `radiation_level.in.100`, outside `core_real` (FDR's
+                // evaluator stops on it too: no verdict).
+                if a.name.starts_with("EBSM") {
+                    assert!(reason.starts_with("the type `Seq( Skills )` is not supported"), "{}: {reason}", a.name);
+                }
+                if a.name == "RadiationMonitorGuarantee" {
+                    assert!(reason.contains("`100` is outside the model's values"), "{reason}");
                 }
                 if r.file.ends_with("alpha-algorithm/model.assertions") {
                     alpha.push((r.name.clone(), r.verdict, reason));
@@ -173,10 +184,39 @@ fn csp_assertions_are_decided_or_explained() {
             }
         }
     }
-    println!("{decided} of {csp} assertions on csp blocks decided");
-    // RoboTool's library (the SLEEC checks) and the skills' contracts.
-    assert!(decided >= 9, "{decided} decided");
+    println!("{} of {csp} assertions on csp blocks decided", decided.len());
     assert_eq!(csp, 29, "the corpus has 29 assertions on csp blocks");
+    // The decided ones, exactly (a regression fails here). Ours all fail in the
+    // timed semantics (RT-8: a plain assertion is checked timed, and csp
+    // blocks are read there), for the same reason FDR gives: the
+    // specifications are untimed (no `tock`), and the element lets time
+    // pass before the specification's first event (⟨tock⟩ is a trace of
+    // the model, not of the spec). The skill contracts (EBS*, EBCS1) need
+    // `exploreVOut : Velocities * nat` (a tuple with a record component);
+    // TestReq and RL need `waypoint_inverse`'s RT-2 default `(0, 0)` and
+    // `RUN(Events)` over the module's own channels.
+    let explore = "UoY-RoboStar__roboarch-examples/ObstacleAvoidance/RoboChart/SkillExploreProperties.assertions";
+    let skills = "UoY-RoboStar__roboarch-examples/ObstacleAvoidance/RoboChart/Skill";
+    let remote = "autonomy-and-verification__robochart_remoteinspection/main.assertions";
+    let sleec = "UoY-RoboStar__SLEEC-TK/sleec-core/Examples/FireFighter/robochart/jss_running_example-manual-conformance.assertions";
+    let mut expected: Vec<String> = ["EBS1", "EBS2", "EBS3", "EBS4", "EBS5", "EBS6", "EBCS1"]
+        .iter()
+        .map(|n| format!("{explore} {n}: fail"))
+        .chain(
+            ["MoveProperties.assertions EBDS1", "MoveProperties.assertions EBDS2", "MoveProperties.assertions EBDS4"]
+                .iter()
+                .chain(&["ProximityProperties.assertions EBDS1", "ProximityProperties.assertions EBDS3"])
+                .map(|n| format!("{skills}{n}: fail")),
+        )
+        .chain(["TestReq", "RL"].iter().map(|n| format!("{remote} {n}: fail")))
+        // RoboTool's tock-CSP library (`EDeadline`): the SLEEC checks.
+        .chain(
+            ["RCheck1: fail", "RCheck2: fail", "RCheck3: pass", "RCheck4: fail"].iter().map(|n| format!("{sleec} {n}")),
+        )
+        .collect();
+    expected.sort();
+    decided.sort();
+    assert_eq!(decided, expected);
     assert_eq!(alpha.len(), 2);
     for (name, verdict, reason) in &alpha {
         assert_eq!(*verdict, Verdict::Unsupported, "{name}");

@@ -121,21 +121,44 @@ fn value(names: &CspNames, p: &Param, t: &CspType, v: Val) -> Option<Value> {
         }
         Param::Num(_) => scalar(t, v),
         Param::Tuple(ds) => {
-            let comps: Vec<CspType> = match t {
-                CspType::Tuple(ts) => ts.clone(),
-                CspType::Named(n) => match &names.get(n)?.kind {
-                    CspKind::Type(TypeDef::Record(fs)) => fs.clone(),
-                    _ => return None,
-                },
-                _ => return None,
-            };
-            let vs = tuple_values(ds, v);
-            if vs.len() != comps.len() {
+            // The flat numbers, nested again by the channel's type (a
+            // tuple whose components are records: `((1, 0), 2)`).
+            if !matches!(structure(names, t), Some(Some(_))) {
                 return None;
             }
-            let vals = vs.iter().zip(&comps).map(|(&x, t)| scalar(t, x)).collect::<Option<Vec<_>>>()?;
+            let mut vs = tuple_values(ds, v).into_iter();
+            let out = nest(names, t, &mut vs, &scalar)?;
+            vs.next().is_none().then_some(out)
+        }
+    }
+}
+
+/// The components of `t` when it is a tuple or a record (`Some(None)`:
+/// a scalar; `None`: unknown).
+fn structure(names: &CspNames, t: &CspType) -> Option<Option<Vec<CspType>>> {
+    Some(match t {
+        CspType::Tuple(ts) => Some(ts.clone()),
+        CspType::Named(n) => match &names.get(n)?.kind {
+            CspKind::Type(TypeDef::Record(fs)) => Some(fs.clone()),
+            _ => None,
+        },
+        _ => None,
+    })
+}
+
+/// The value of type `t` made of the next numbers of `vs`.
+fn nest(
+    names: &CspNames,
+    t: &CspType,
+    vs: &mut impl Iterator<Item = Val>,
+    scalar: &dyn Fn(&CspType, Val) -> Option<Value>,
+) -> Option<Value> {
+    match structure(names, t)? {
+        Some(comps) => {
+            let vals = comps.iter().map(|c| nest(names, c, vs, scalar)).collect::<Option<Vec<_>>>()?;
             Some(Value::Tuple(vals.into()))
         }
+        None => scalar(t, vs.next()?),
     }
 }
 

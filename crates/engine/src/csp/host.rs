@@ -15,6 +15,9 @@ use crate::ir::Dom;
 /// The most values a field's set may have.
 const MAX_VALUES: usize = 100_000;
 
+/// The largest type whose subsets are a field's values (`Set(T)`).
+const MAX_SET_ELEMENTS: usize = 10;
+
 /// The lookup over the names table.
 pub(crate) struct Host<'a> {
     /// The table.
@@ -99,7 +102,19 @@ impl Host<'_> {
             CspType::InOut => vec![Value::Ctor("in".into()), Value::Ctor("out".into())],
             CspType::Tuple(ts) => product(&ts.iter().map(|t| self.values(t)).collect::<Option<Vec<_>>>()?)?,
             CspType::Named(n) => self.type_values(n)?,
-            CspType::Str | CspType::Set(_) | CspType::Seq(_) | CspType::Other(_) => return None,
+            // Every subset of a small type (`Set(Skills)`).
+            CspType::Set(t) => {
+                let el = self.values(t)?;
+                if el.len() > MAX_SET_ELEMENTS {
+                    return None;
+                }
+                (0u32..1 << el.len())
+                    .map(|bits| {
+                        set(el.iter().enumerate().filter(|(i, _)| bits >> i & 1 == 1).map(|(_, v)| v.clone()).collect())
+                    })
+                    .collect()
+            }
+            CspType::Str | CspType::Seq(_) | CspType::Other(_) => return None,
         })
     }
 
@@ -165,7 +180,7 @@ impl Host<'_> {
                 if self.lookup(name).is_some() {
                     return None;
                 }
-                "a name whose values the native checker cannot enumerate (strings, sets, sequences, functions)"
+                "a name whose values the native checker cannot enumerate (strings, sequences, functions, sets of more than 10 values)"
             }
         };
         Some(format!("`{name}` is {what}: the CSPm bridge does not support it here yet"))

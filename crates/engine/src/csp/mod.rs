@@ -162,12 +162,31 @@ fn run(
     }
     let mut ev = Evaluator::new(&module, &host, limits);
     if uses_events {
-        // `Events` holds the channels met so far: every model channel first
-        // (and `tock`, which RoboTool's script declares).
+        // `Events` holds the channels met so far: `tock` (which RoboTool's
+        // script declares) and the model's channels.
         let _ = ev.value("tock");
-        for n in names.iter() {
-            if matches!(n.kind, robosim_hir::csp_names::CspKind::Channel { .. }) {
-                let _ = ev.value(&n.name);
+        if spec_block && !imp_block && script.used().iter().all(|t| events_only_run(t)) {
+            // Only the element's own channels (the implementation's
+            // events, `M::terminate` among them): see `events_only_run`.
+            let mut own: Vec<String> = host.own.keys().cloned().collect();
+            own.extend(
+                compiled.as_ref().filter(|c| c.shows_terminate()).map(|c| format!("{}::terminate", c.element.module)),
+            );
+            own.sort();
+            for n in &own {
+                let _ = ev.value(n);
+            }
+            report.notes.push(
+                "`Events` is read as the events of the element's own channels (and of the channels the blocks \
+                 name): it only appears as `RUN(Events)`/`CHAOS(Events)`, with no hiding or renaming, so in \
+                 the traces model the other channels' events cannot change the verdict"
+                    .into(),
+            );
+        } else {
+            for n in names.iter() {
+                if matches!(n.kind, robosim_hir::csp_names::CspKind::Channel { .. }) {
+                    let _ = ev.value(&n.name);
+                }
             }
         }
         // Processes over a large `Events` cost the evaluator dearly.
@@ -460,6 +479,38 @@ fn check_script(cx: &Cx<'_>, script: &Script, host: &Host<'_>) -> Result<Module,
         )));
     }
     Ok(module)
+}
+
+/// Whether every `Events` of `text` is the whole argument of `RUN` or
+/// `CHAOS`, and `text` hides, projects and renames nothing. Then, in the
+/// traces model, `Events` may be read as any set `E'` with Σ ⊆ `E'` ⊆
+/// `Events`, Σ the implementation's events: without hiding or renaming
+/// every CSP operator is compositional on traces restricted to Σ (a trace
+/// of `P [| X |] Q`, `P ; Q`, `P /\ Q`, a choice or a prefix, over Σ, is
+/// made of traces over Σ of its parts), and `RUN(E')`, `CHAOS(E')` have
+/// the same traces over Σ as `RUN(Events)`; a trace of the implementation
+/// is over Σ. The element's own channels give Σ, with the values its
+/// events carry (each a value of the channel's type, so `E'` ⊆ `Events`).
+fn events_only_run(text: &str) -> bool {
+    let hides = text.char_indices().any(|(i, c)| c == '\\' && !text[..i].ends_with('/'));
+    if hides || text.contains("[[") {
+        return false;
+    }
+    let word = "Events";
+    text.match_indices(word).all(|(i, _)| {
+        let before = text[..i].trim_end();
+        let after = text[i + word.len()..].trim_start();
+        let ident = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '\'');
+        if ident(text[..i].chars().next_back()) || ident(text[i + word.len()..].chars().next()) {
+            return true; // Part of another name.
+        }
+        let Some(call) = before.strip_suffix('(') else { return false };
+        let call = call.trim_end();
+        let callee_ok = ["RUN", "CHAOS"].iter().any(|f| {
+            call.strip_suffix(f).is_some_and(|rest| !ident(rest.chars().next_back()) && !rest.ends_with("::"))
+        });
+        callee_ok && after.starts_with(')')
+    })
 }
 
 /// Whether `word` occurs in `text` as a whole identifier.

@@ -87,6 +87,12 @@ impl Script {
     /// through others), mention `word` (`Events`, `tock`): the library
     /// mentions both, whether a block uses it or not.
     pub fn mentions(&self, word: &str) -> bool {
+        self.used().iter().any(|u| super::mentions(u, word))
+    }
+
+    /// The blocks' text and the library definitions they use (directly or
+    /// through others).
+    pub fn used(&self) -> Vec<&str> {
         let mut used = vec![&self.text[self.blocks_at..]];
         let mut left: Vec<_> = self.library.iter().collect();
         loop {
@@ -102,7 +108,7 @@ impl Script {
                 break;
             }
         }
-        used.iter().any(|u| super::mentions(u, word))
+        used
     }
 
     /// Where `range` of the script is: `in `csp` block `B` at line N` (a

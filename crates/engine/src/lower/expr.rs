@@ -196,8 +196,18 @@ impl MachineCx<'_, '_> {
                 if ix.len() != 1 {
                     return Err(self.err(range, "an incomplete index"));
                 }
-                let Some(Layout::Tuple(ds)) = self.infer(base) else {
-                    return Err(self.err(range, "only the components of tuples can be indexed"));
+                let ds = match self.infer(base) {
+                    Some(Layout::Tuple(ds)) => ds,
+                    Some(Layout::Product(cs)) => {
+                        let ds: Vec<Dom> = cs.iter().map(Layout::dom).collect();
+                        let i = self.component(range, ix, &ds)?;
+                        if !cs[i].is_num() {
+                            return Err(self.err(range, "a tuple or record component, used here as a number"));
+                        }
+                        let t = self.typed(base, &Layout::Product(cs.clone()))?;
+                        return Ok(Expr::Proj(Box::new(t), stride(&ds, i), ds[i]));
+                    }
+                    _ => return Err(self.err(range, "only the components of tuples can be indexed")),
                 };
                 let i = self.component(range, ix, &ds)?;
                 let t = self.typed(base, &Layout::Tuple(ds.clone()))?;
@@ -226,6 +236,9 @@ impl MachineCx<'_, '_> {
             }
             ExprKind::Call { function: f, args, .. } => {
                 if !self.cx.defaults.functions.iter().any(|c| c.name == *f) {
+                    if let Some(v) = self.generated_default(range, f, None)? {
+                        return Ok(v);
+                    }
                     return Err(self.err(
                         range,
                         format!(
@@ -419,6 +432,14 @@ impl MachineCx<'_, '_> {
             ExprKind::Call { function, args, .. } => matches!(function.as_str(), "union" | "inter" | "diff")
                 .then(|| args.iter().find_map(|a| self.infer(a)))?,
             ExprKind::If(_, a, b) => self.infer(a).or_else(|| self.infer(b)),
+            // `t[i]` of a tuple with structured components.
+            ExprKind::Index(base, ix) => match (self.infer(base)?, ix.as_slice()) {
+                (Layout::Product(cs), [model::Expr { kind: ExprKind::Int(Some(i)), .. }]) => {
+                    let c = cs.get(usize::try_from(*i).ok()?.checked_sub(1)?)?;
+                    (!c.is_num()).then(|| c.clone())
+                }
+                _ => None,
+            },
             _ => None,
         }
     }
@@ -432,6 +453,27 @@ impl MachineCx<'_, '_> {
         let r = match (&e.kind, want) {
             (ExprKind::If(c, a, b), _) => {
                 Expr::If(Box::new(self.expr(c)?), Box::new(self.typed(a, want)?), Box::new(self.typed(b, want)?))
+            }
+            (ExprKind::Tuple(exprs), Layout::Product(cs)) => {
+                if exprs.len() != cs.len() {
+                    return Err(self.err(range, format!("a tuple of {} components is expected", cs.len())));
+                }
+                let mut parts = Vec::new();
+                for (x, c) in exprs.iter().zip(cs) {
+                    parts.push((self.typed(x, c)?, c.dom()));
+                }
+                Expr::Tuple(parts)
+            }
+            // A structured component of a tuple: `t[i]`.
+            (ExprKind::Index(base, ix), _) if matches!(self.infer(base), Some(Layout::Product(_))) => {
+                let Some(Layout::Product(cs)) = self.infer(base) else { unreachable!() };
+                let ds: Vec<Dom> = cs.iter().map(Layout::dom).collect();
+                let i = self.component(range, ix, &ds)?;
+                if cs[i] != *want {
+                    return Err(self.err(range, "this component does not have the type expected here"));
+                }
+                let t = self.typed(base, &Layout::Product(cs.clone()))?;
+                Expr::Proj(Box::new(t), stride(&ds, i), ds[i])
             }
             (ExprKind::Tuple(exprs), Layout::Tuple(ds)) => {
                 if exprs.len() != ds.len() {
@@ -479,6 +521,19 @@ impl MachineCx<'_, '_> {
                     _ => SetOp::Diff,
                 };
                 Expr::Set(op, Box::new(self.typed(a, want)?), Box::new(self.typed(b, want)?))
+            }
+            (ExprKind::Call { function: f, .. }, Layout::Tuple(_))
+                if !self.cx.defaults.functions.iter().any(|c| c.name == *f) =>
+            {
+                match self.generated_default(range, f, Some(want))? {
+                    Some(v) => v,
+                    None => {
+                        return Err(self.err(
+                            range,
+                            format!("`{f}` has no definition the native checker can read: define it in a `csp` block of an assertion file, as for FDR (`{f}(x) = …`)"),
+                        ))
+                    }
+                }
             }
             (ExprKind::Name { name: n, .. }, _) => {
                 if self.types.get(n) != Some(want) {
@@ -538,6 +593,60 @@ impl MachineCx<'_, '_> {
             return Ok(acc);
         }
         Err(self.err(e.range, "membership in a set whose type is not known"))
+    }
+
+    /// A call of `name`, a function the model declares without a body
+    /// (no `result == e` postcondition) and no CSPm block defines, when
+    /// RoboTool's generated instantiations are in force: its result
+    /// type's default (RT-2: 0, the first literal, `true`, component-wise
+    /// for tuples), of the layout `want` (a number when `None`). `None`
+    /// when the rule does not apply.
+    fn generated_default(
+        &mut self,
+        at: TextRange,
+        name: &str,
+        want: Option<&Layout>,
+    ) -> Result<Option<Expr>, Unsupported> {
+        if !self.cx.defaults.generated_functions {
+            return Ok(None);
+        }
+        let path: Vec<String> = name.split("::").map(str::to_string).collect();
+        let Some(loc) = model::resolve(self.cx.db, self.cx.ws, self.file, &path, robosim_hir::defs::DefKind::Function)
+        else {
+            return Ok(None);
+        };
+        let Some(Item::Function(f)) = self.cx.item(Some(loc)) else { return Ok(None) };
+        let defines = |e: &model::Expr| {
+            matches!(&e.kind, ExprKind::Binary(BinOp::Eq, a, b)
+                if matches!(a.kind, ExprKind::Result) || matches!(b.kind, ExprKind::Result))
+        };
+        if f.postconditions.iter().any(defines) {
+            return Ok(None);
+        }
+        let Some(result) = f.result.clone() else { return Ok(None) };
+        let layout = self.ty_of(loc.file, Some(&result), at)?;
+        let num = |d: Dom| d.lo.max(0).min(d.hi);
+        let value = match (&result.ty, &layout) {
+            (robosim_hir::types::Ty::Bool, Layout::Num(_)) => 1,
+            (robosim_hir::types::Ty::Product(parts), Layout::Tuple(ds)) if parts.len() == ds.len() => {
+                parts.iter().zip(ds).fold(0, |code, (t, d)| {
+                    let v = if matches!(t, robosim_hir::types::Ty::Bool) { 1 } else { num(*d) };
+                    code * d.size() as Val + (v - d.lo)
+                })
+            }
+            (_, Layout::Num(d)) => num(*d),
+            _ => {
+                return Err(self.err(
+                    at,
+                    format!("`{name}` has no body: its default result (RT-2) is supported for numbers, booleans, enumerations and tuples of them"),
+                ))
+            }
+        };
+        match want {
+            Some(w) if *w != layout => Err(self.err(at, format!("`{name}` does not return the type expected here"))),
+            None if !layout.is_num() => Err(self.err(at, format!("`{name}` returns a tuple, used here as a number"))),
+            _ => Ok(Some(Expr::Const(value))),
+        }
     }
 
     /// The component (0-based) an index `[i]` (at `at`) selects, `i` from 1.

@@ -247,7 +247,7 @@ impl<'b> MachineCx<'_, 'b> {
             ));
         }
         let platform = self.cx.robosim || self.cx.platform_vars.contains(name);
-        if platform && !ty.is_num() && !matches!(ty, Layout::Tuple(_) | Layout::Record(..)) {
+        if platform && !ty.is_num() && !matches!(ty, Layout::Tuple(_) | Layout::Record(..) | Layout::Product(_)) {
             return Err(self.err(
                 decl,
                 format!(

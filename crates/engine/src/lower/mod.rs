@@ -73,6 +73,11 @@ pub struct DomainDefaults {
     /// Functions defined in CSPm by the instantiations, for the model's
     /// functions declared without a body.
     pub functions: Vec<CspFunction>,
+    /// Whether a function declared without a body that no CSPm definition
+    /// gives a meaning returns its result type's default, as RoboTool's
+    /// generated instantiations define it (RT-2): so when no `csp`
+    /// block named `Instantiations` replaces them (RT-7).
+    pub generated_functions: bool,
     /// The buffer assumed for asynchronous connections between machines
     /// or controllers (none: RoboTool's, [`AsyncBuffer::ROBOTOOL`]).
     pub async_buffer: Option<AsyncBuffer>,
@@ -89,6 +94,7 @@ impl Default for DomainDefaults {
             types: Vec::new(),
             constants: Vec::new(),
             functions: Vec::new(),
+            generated_functions: false,
             async_buffer: None,
         }
     }

@@ -36,7 +36,36 @@ impl MachineCx<'_, '_> {
                     Selector::Index(ix, r) => Some((ix, *r)),
                     Selector::Field(..) => None,
                 });
+                let field = match selectors.as_slice() {
+                    [Selector::Field(f, r)] => Some((f.clone(), *r)),
+                    _ => None,
+                };
                 let expr = match (index, want) {
+                    // `r.f = v` of a record of numbers: the record with that
+                    // field replaced.
+                    (None, Some(Layout::Record(names, ds))) if field.is_some() => {
+                        let (f, f_range) = field.expect("a field");
+                        let Some(i) = names.iter().position(|n| *n == f) else {
+                            return Err(self.err(f_range, format!("the record has no field `{f}`")));
+                        };
+                        let slot = match self.names.get(&target) {
+                            Some(Name::Var { slot, .. }) => *slot,
+                            _ => return Err(self.err(range, format!("`{target}` is not a variable"))),
+                        };
+                        let mut parts = Vec::new();
+                        for (j, d) in ds.iter().enumerate() {
+                            let part = if j == i {
+                                self.expr(e)?
+                            } else {
+                                Expr::Proj(Box::new(Expr::Slot(slot)), stride(&ds, j), *d)
+                            };
+                            parts.push((part, *d));
+                        }
+                        Expr::Tuple(parts)
+                    }
+                    (None, Some(_)) if !selectors.is_empty() => {
+                        return Err(self.err(range, "only a field of a record of numbers can be assigned this way"))
+                    }
                     (None, Some(t)) => self.typed(e, &t)?,
                     (None, None) => self.expr(e)?,
                     // `x[i] = v` of a tuple: the tuple with component i replaced.

@@ -34,6 +34,12 @@ pub(super) enum Layout {
     Record(Vec<String>, Vec<Dom>),
     /// `Set(T)` of a type with at most [`MAX_SET_ELEMENTS`] values.
     Set(Box<Layout>),
+    /// `A * B * …` with a component that is itself a tuple or a record
+    /// (`Velocities * nat`): the components' codes in mixed radix, which
+    /// is the mixed radix of all their numbers in order, so that one event
+    /// parameter carries the flat numbers ([`Layout::leaves`]) and the
+    /// CSPm side nests them again by the channel's type.
+    Product(Vec<Layout>),
 }
 
 impl Layout {
@@ -43,6 +49,17 @@ impl Layout {
             Layout::Num(d) => *d,
             Layout::Tuple(ds) | Layout::Record(_, ds) => Dom { lo: 0, hi: tuple_size(ds) as Val - 1 },
             Layout::Set(el) => Dom { lo: 0, hi: (1 << el.dom().size()) - 1 },
+            Layout::Product(_) => Dom { lo: 0, hi: tuple_size(&self.leaves()) as Val - 1 },
+        }
+    }
+
+    /// The numbers of a product, in order, nested products opened (a
+    /// number: itself).
+    pub(super) fn leaves(&self) -> Vec<Dom> {
+        match self {
+            Layout::Tuple(ds) | Layout::Record(_, ds) => ds.clone(),
+            Layout::Product(cs) => cs.iter().flat_map(Layout::leaves).collect(),
+            t => vec![t.dom()],
         }
     }
 
@@ -56,6 +73,9 @@ impl Layout {
                 ds.iter().fold(0, |code, d| code * d.size() as Val + (num(*d) - d.lo))
             }
             Layout::Set(_) => 0,
+            Layout::Product(cs) => {
+                cs.iter().fold(0, |code, c| code * c.dom().size() as Val + (c.default_value() - c.dom().lo))
+            }
         }
     }
 
@@ -63,6 +83,7 @@ impl Layout {
     pub(super) fn param(&self) -> Param {
         match self {
             Layout::Tuple(ds) | Layout::Record(_, ds) => Param::Tuple(ds.clone()),
+            Layout::Product(_) => Param::Tuple(self.leaves()),
             t => Param::Num(t.dom()),
         }
     }
@@ -116,18 +137,24 @@ impl MachineCx<'_, '_> {
                 let mut comps = Vec::new();
                 for c in parts {
                     match self.layout(file, c, node)? {
-                        Layout::Num(d) => comps.push(d),
-                        _ => {
+                        Layout::Set(_) => {
                             return Err(self.cx.unsupported(
                                 file,
                                 range,
-                                "tuples whose components are tuples or sets are not supported yet",
+                                "tuples whose components are sets are not supported yet",
                             ))
                         }
+                        l => comps.push(l),
                     }
                 }
-                self.small_product(file, node, &comps)?;
-                Ok(Layout::Tuple(comps))
+                let product = Layout::Product(comps);
+                self.small_product(file, node, &product.leaves())?;
+                Ok(match product {
+                    Layout::Product(cs) if cs.iter().all(Layout::is_num) => {
+                        Layout::Tuple(cs.iter().map(Layout::dom).collect())
+                    }
+                    p => p,
+                })
             }
             Ty::Set(inner) => {
                 let el = self.layout(file, inner, node)?;

@@ -104,6 +104,7 @@ pub fn resolve(db: &dyn Db, ws: Workspace, from: File, path: &[String], kind: De
         DefKind::Enumeration => |k| k == DefKind::Enumeration,
         DefKind::Record => |k| k == DefKind::Record,
         DefKind::PrimitiveType => |k| k == DefKind::PrimitiveType,
+        DefKind::Function => |k| k == DefKind::Function,
         _ => |_| false,
     };
     resolve_item(db, ws, from, path, accept).into_iter().next()
