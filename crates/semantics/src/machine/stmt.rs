@@ -408,6 +408,15 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.problem(r, "RoboSim machines communicate through `$` inputs and outputs only");
             return None;
         }
+        // Refused rather than exported without its guard (which would offer
+        // the event whatever the guard says); the engine refuses them too.
+        if let (Some(g), false) = (comm.guard, matches!(comm.part, Some(m::CommPart::Input(..)))) {
+            self.problem(
+                g,
+                format!("guarded communications `{ev}[| … |]` are not supported by the export yet (the guard would be lost)"),
+            );
+            return None;
+        }
         let ty = self.events[i].ty.clone();
         let mut dir = if trigger.is_some() { "in" } else { "out" };
         let mut value: Option<Vec<Expr>> = None;
