@@ -93,7 +93,7 @@ pub(crate) fn element<'a>(ex: &mut Exporter<'a>, file: File, def: ElemDef<'a>, p
         None => {}
     }
     ex.elems.insert(key, ElemState::InProgress);
-    let module = ex.module_name(&path);
+    let module = ex.element_module_name(file, &path);
     let kind = def.kind();
     let result = match def {
         ElemDef::Machine(b) => Gen::new(ex, file, Some(b), path.clone(), b.name_range, false)

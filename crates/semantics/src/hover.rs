@@ -82,7 +82,7 @@ pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> O
         _ => None,
     })?;
     let mut ex = Exporter::new(db, ws, Profile::RoboTool3);
-    let module = crate::util::qualified(&path);
+    let module = crate::util::element_module(&ex.package(file), &path);
     let out = Gen::new(&mut ex, file, Some(machine), path.clone(), machine.name_range, true).run(module, path).ok()?;
     // The most specific term around the offset: statements and `exec`
     // before transitions (whose range is their name).
