@@ -329,7 +329,7 @@ fn controller<'a>(
     let mut problems = Vec::new();
     let mut insts = Vec::new();
     for i in &c.machines {
-        if let Some(e) = instance(ex, file, i, &path, |b| ElemDef::Machine(b), &mut problems) {
+        if let Some(e) = instance(ex, file, i, &path, ElemDef::Machine, &mut problems) {
             insts.push(Inst { name: i.name.clone(), elem: e });
         }
     }
@@ -384,7 +384,7 @@ fn module_<'a>(ex: &mut Exporter<'a>, file: File, x: &'a m::Module, module: Stri
     let mut problems = Vec::new();
     let mut insts = Vec::new();
     for i in &x.controllers {
-        if let Some(e) = instance(ex, file, i, &path, |c| ElemDef::Controller(c), &mut problems) {
+        if let Some(e) = instance(ex, file, i, &path, ElemDef::Controller, &mut problems) {
             insts.push(Inst { name: i.name.clone(), elem: e });
         }
     }
