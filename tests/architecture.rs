@@ -42,8 +42,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("fmt", &["robosim-syntax"]),
     ("hir", &["robosim-syntax", "robosim-stdlib", "robosim-cspm"]),
     ("engine", &["robosim-syntax", "robosim-hir", "robosim-cspm"]),
-    ("semantics", &["robosim-syntax", "robosim-hir"]),
-    ("diagram", &["robosim-syntax", "robosim-hir"]),
+    ("semantics", &["robosim-hir"]),
+    ("diagram", &["robosim-hir"]),
     (
         "ide",
         &[

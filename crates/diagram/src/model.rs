@@ -6,10 +6,9 @@
 use std::collections::{BTreeSet, HashMap};
 
 use robosim_hir::defs::{file_defs, ConnectionData, DefData, DefId, DefKind, FileDefs, Io};
+use robosim_hir::line_index::LineIndex;
 use robosim_hir::resolve::{ctx_members, Ctx};
 use robosim_hir::{Db, File, FileKind, TextRange, Workspace};
-use robosim_syntax::line_index::LineIndex;
-use robosim_syntax::SyntaxKind;
 use serde::Serialize;
 
 /// A source range: byte offsets, and the start as a 0-based line and UTF-16
@@ -390,11 +389,7 @@ fn region(defs: &FileDefs, src: &Src<'_>, owner: DefId, prefix: &str) -> Region 
             .actions
             .iter()
             .map(|(k, range)| {
-                let kw = match *k {
-                    SyntaxKind::ENTRY_ACTION => "entry",
-                    SyntaxKind::DURING_ACTION => "during",
-                    _ => "exit",
-                };
+                let kw = k.keyword();
                 Action { kind: kw.to_string(), text: src.clause(*range, kw), range: src.span(*range) }
             })
             .collect();

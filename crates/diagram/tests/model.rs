@@ -16,8 +16,8 @@ use robosim_diagram::layout::{layout, Edge, Laid, Rect, Shape};
 use robosim_diagram::model::{Diagram, Region};
 use robosim_diagram::{dump, file_diagrams};
 use robosim_hir::defs::{file_defs, DefKind};
+use robosim_hir::FileKind;
 use robosim_hir::{load_workspace, RootDatabase, RuleSet};
-use robosim_syntax::FileKind;
 
 mod support;
 use support::{files_in, root};

@@ -23,8 +23,8 @@ use expect_test::expect_file;
 use robosim_diagram::file_diagrams;
 use robosim_diagram::layout::layout;
 use robosim_diagram::metrics::{measure, measure_plain, reference_dot, Metrics};
+use robosim_hir::FileKind;
 use robosim_hir::{load_workspace, RootDatabase, RuleSet};
-use robosim_syntax::FileKind;
 
 mod support;
 use support::{files_in, root};

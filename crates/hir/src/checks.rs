@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use rustc_hash::FxHashMap;
 
-use robosim_syntax::{FileKind, SyntaxKind, TextRange};
+use robosim_syntax::{FileKind, TextRange};
 
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
 use crate::index::resolve_item;
@@ -276,14 +276,10 @@ impl<'a> Checker<'a> {
 
     /// RC:S2: at most one entry, during and exit action.
     fn state_actions(&mut self, id: DefId, d: &Def) {
-        let mut seen: FxHashMap<SyntaxKind, TextRange> = FxHashMap::default();
+        let mut seen: FxHashMap<crate::defs::ActionKind, TextRange> = FxHashMap::default();
         for (kind, range) in &self.defs.facts(id).actions {
             if let Some(first) = seen.get(kind) {
-                let word = match kind {
-                    SyntaxKind::ENTRY_ACTION => "entry",
-                    SyntaxKind::DURING_ACTION => "during",
-                    _ => "exit",
-                };
+                let word = kind.keyword();
                 self.out.push(
                     Problem::new("RC:S2", *range, format!("state `{}` has more than one {word} action", d.name))
                         .with_related(self.file, *first, format!("the first {word} action")),

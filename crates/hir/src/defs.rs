@@ -268,6 +268,28 @@ pub struct Def {
     pub syntax: SyntaxKind,
 }
 
+/// Which action of a state an action clause is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ActionKind {
+    /// `entry`.
+    Entry,
+    /// `during`.
+    During,
+    /// `exit`.
+    Exit,
+}
+
+impl ActionKind {
+    /// Its keyword.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            ActionKind::Entry => "entry",
+            ActionKind::During => "during",
+            ActionKind::Exit => "exit",
+        }
+    }
+}
+
 /// Facts about a context block (machine, controller, module, operation,
 /// state) that are not definitions.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
@@ -278,8 +300,8 @@ pub struct ContainerFacts {
     pub input_contexts: Vec<TextRange>,
     /// `output context` keyword ranges.
     pub output_contexts: Vec<TextRange>,
-    /// Entry/during/exit actions: keyword and range.
-    pub actions: Vec<(SyntaxKind, TextRange)>,
+    /// Entry/during/exit actions: which and range.
+    pub actions: Vec<(ActionKind, TextRange)>,
 }
 
 /// An `import`.
@@ -784,7 +806,12 @@ impl Lower {
             }
             ENTRY_ACTION | DURING_ACTION | EXIT_ACTION => {
                 if let Some(owner) = parent {
-                    self.out.facts[owner.0 as usize].actions.push((node.kind(), node.text_range()));
+                    let kind = match node.kind() {
+                        ENTRY_ACTION => ActionKind::Entry,
+                        DURING_ACTION => ActionKind::During,
+                        _ => ActionKind::Exit,
+                    };
+                    self.out.facts[owner.0 as usize].actions.push((kind, node.text_range()));
                 }
                 return;
             }

@@ -35,7 +35,7 @@ mod walk;
 
 pub use db::{Db, RootDatabase};
 pub use diagnostics::{file_diagnostics, prefetch_rules, Diagnostic, Related, Severity};
-pub use robosim_syntax::{FileKind, Parse, TextRange, TextSize};
+pub use robosim_syntax::{line_index, FileKind, Parse, TextRange, TextSize};
 
 /// One model file: its path (as given by the user, or a `<stdlib>/…` path
 /// for the bundled library), its text and its language.

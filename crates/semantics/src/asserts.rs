@@ -9,13 +9,15 @@ use robosim_hir::assertions::{
     AssertionDecl, AssertionFile, AssertionKind, CspLineKind, Override, SemanticModelName, Value,
 };
 use robosim_hir::defs::DefKind;
+use robosim_hir::index::resolve_item;
+use robosim_hir::model as m;
 use robosim_hir::target::{self, Scope};
-use robosim_hir::File;
-use robosim_syntax::TextRange;
+use robosim_hir::{File, TextRange};
 
+use crate::compose::ElemDef;
 use crate::cspm::{call, hide, name, Assert, AssertKind, Decl, Expr, Model};
 use crate::export::{Elem, Exporter};
-use crate::util::{self, ident};
+use crate::util::ident;
 
 /// A subject of an assertion: a process to call, with its parameters.
 #[derive(Clone)]
@@ -98,13 +100,13 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
         }
         let accept: fn(DefKind) -> bool =
             |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
-        let Some((f, node)) = util::resolve(ex.db, ex.ws, file, &s.of, accept) else {
+        let Some(loc) = resolve_item(ex.db, ex.ws, file, &s.of, accept).into_iter().next() else {
             let msg = format!("simulation {}: `{}` could not be resolved", s.name, s.of.join("::"));
             ex.warn(file, s.of_range, msg.clone());
             out.push(Decl::Comment(format!("NOT EXPORTED: {msg}")));
             continue;
         };
-        let Some(elem) = crate::compose::element(ex, f, &node) else {
+        let Some(elem) = crate::compose::element_at(ex, loc) else {
             let msg = format!("simulation {}: `{}` is not exported", s.name, s.of.join("::"));
             ex.warn(file, s.of_range, msg.clone());
             out.push(Decl::Comment(format!("NOT EXPORTED: {msg}")));
@@ -179,16 +181,26 @@ fn subject(
         target::Subject::Simulation { loc, inner, period, .. } => (loc, inner, period),
         target::Subject::Design { loc, inner, .. } => (loc, inner, None),
     };
-    let Some(mut node) = util::node_of(ex.db, loc) else {
+    let Some(def) = ElemDef::at(ex.db, ex.ws, loc) else {
         return Err(format!("`{}` could not be resolved", path.join("::")));
     };
-    if let Some(inner) = inner {
-        let machine = node
-            .children()
-            .find(|c| c.kind() == robosim_syntax::SyntaxKind::STATE_MACHINE && util::name_of(c) == inner);
-        node = machine.ok_or_else(|| format!("`{}` could not be resolved", path.join("::")))?;
-    }
-    let Some(elem) = crate::compose::element(ex, loc.file, &node) else {
+    let mut qualified = ex.path_of_item(loc);
+    let def = match inner {
+        None => def,
+        // A machine declared inside the controller.
+        Some(inner) => {
+            let machine = match def {
+                ElemDef::Controller(c) => c.machines.iter().find_map(|i| match &i.def {
+                    m::Definition::Inline(b) if b.name == inner => Some(ElemDef::Machine(b)),
+                    _ => None,
+                }),
+                _ => None,
+            };
+            qualified.push(inner);
+            machine.ok_or_else(|| format!("`{}` could not be resolved", path.join("::")))?
+        }
+    };
+    let Some(elem) = crate::compose::element(ex, loc.file, def, qualified) else {
         return Err(format!("`{}` is not exported", path.join("::")));
     };
     let period = elem.robosim.then(|| period.unwrap_or(elem.period));
@@ -235,8 +247,8 @@ fn process(ex: &mut Exporter<'_>, file: File, a: &AssertionDecl, s: &Subject, pr
             }
             let accept: fn(DefKind) -> bool =
                 |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine | DefKind::Interface);
-            if let Some((f, node)) = util::resolve(ex.db, ex.ws, file, of, accept) {
-                owners.insert(of.clone(), ex.path_of_node(f, &node));
+            if let Some(loc) = resolve_item(ex.db, ex.ws, file, of, accept).into_iter().next() {
+                owners.insert(of.clone(), ex.path_of_item(loc));
             }
         }
     }

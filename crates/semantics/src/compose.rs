@@ -7,39 +7,100 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::rc::Rc;
 
-use robosim_hir::defs::DefKind;
-use robosim_hir::{Db, File, Workspace};
-use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode};
+use robosim_hir::defs::{DefId, UseKind};
+use robosim_hir::index::ItemLoc;
+use robosim_hir::model as m;
+use robosim_hir::{Db, File, FileKind, TextRange, Workspace};
 
 use crate::cspm::{call, dot, hide, name, par, Decl, Expr};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, ElemState, Exporter, Reg, Ty};
 use crate::machine::{Gen, Problem};
-use crate::util::{self, children, ident, ident_text, name_of, path_of};
+use crate::util::ident;
 
-/// The element declared at `node` of `file`, exported on first use.
-pub(crate) fn element(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Option<Rc<Elem>> {
-    let key = (file, node.text_range());
+/// A machine, controller or module of the model, to export.
+#[derive(Clone, Copy)]
+pub(crate) enum ElemDef<'a> {
+    Machine(&'a m::Behaviour),
+    Controller(&'a m::Controller),
+    Module(&'a m::Module),
+}
+
+impl<'a> ElemDef<'a> {
+    /// The top-level element `loc`, if it is a machine, controller or module.
+    pub(crate) fn at(db: &'a dyn Db, ws: Workspace, loc: ItemLoc) -> Option<Self> {
+        match m::item(db, ws, loc)? {
+            m::Item::Machine(b) => Some(ElemDef::Machine(b)),
+            m::Item::Controller(c) => Some(ElemDef::Controller(c)),
+            m::Item::Module(x) => Some(ElemDef::Module(x)),
+            _ => None,
+        }
+    }
+
+    /// Its name.
+    pub(crate) fn name(self) -> &'a str {
+        match self {
+            ElemDef::Machine(b) => &b.name,
+            ElemDef::Controller(c) => &c.name,
+            ElemDef::Module(x) => &x.name,
+        }
+    }
+
+    /// Its whole range.
+    fn range(self) -> TextRange {
+        match self {
+            ElemDef::Machine(b) => b.range,
+            ElemDef::Controller(c) => c.range,
+            ElemDef::Module(x) => x.range,
+        }
+    }
+
+    /// Its name's range.
+    pub(crate) fn name_range(self) -> TextRange {
+        match self {
+            ElemDef::Machine(b) => b.name_range,
+            ElemDef::Controller(c) => c.name_range,
+            ElemDef::Module(x) => x.name_range,
+        }
+    }
+
+    fn kind(self) -> ElemKind {
+        match self {
+            ElemDef::Machine(_) => ElemKind::Machine,
+            ElemDef::Controller(_) => ElemKind::Controller,
+            ElemDef::Module(_) => ElemKind::Module,
+        }
+    }
+}
+
+/// The top-level element `loc`, exported on first use.
+pub(crate) fn element_at(ex: &mut Exporter<'_>, loc: ItemLoc) -> Option<Rc<Elem>> {
+    let def = ElemDef::at(ex.db, ex.ws, loc)?;
+    let path = ex.path_of_item(loc);
+    element(ex, loc.file, def, path)
+}
+
+/// The element `def` of `file`, whose qualified path (package, enclosing
+/// elements, name) is `path`, exported on first use.
+pub(crate) fn element<'a>(ex: &mut Exporter<'a>, file: File, def: ElemDef<'a>, path: Vec<String>) -> Option<Rc<Elem>> {
+    let key = (file, def.range());
     match ex.elems.get(&key) {
         Some(ElemState::Done(e)) => return Some(e.clone()),
         Some(ElemState::Failed) => return None,
         Some(ElemState::InProgress) => {
-            ex.warn(file, util::name_range(node), "the element refers to itself");
+            ex.warn(file, def.name_range(), "the element refers to itself");
             return None;
         }
         None => {}
     }
     ex.elems.insert(key, ElemState::InProgress);
-    let path = ex.path_of_node(file, node);
     let module = ex.element_module_name(file, &path);
-    let kind = match node.kind() {
-        STATE_MACHINE => ElemKind::Machine,
-        CONTROLLER => ElemKind::Controller,
-        _ => ElemKind::Module,
-    };
-    let result = match kind {
-        ElemKind::Machine => Gen::new(ex, file, node, false).run(module, path.clone()).map(|m| (m.elem, m.decls)),
-        ElemKind::Controller => controller(ex, file, node, module, path.clone()),
-        ElemKind::Module => module_(ex, file, node, module, path.clone()),
+    let kind = def.kind();
+    let result = match def {
+        ElemDef::Machine(b) => Gen::new(ex, file, Some(b), path.clone(), b.name_range, false)
+            .run(module, path.clone())
+            .map(|m| (m.elem, m.decls)),
+        ElemDef::Controller(c) => controller(ex, file, c, module, path.clone()),
+        ElemDef::Module(x) => module_(ex, file, x, module, path.clone()),
     };
     match result {
         Ok((elem, decls)) => {
@@ -61,38 +122,47 @@ pub(crate) fn element(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> O
     }
 }
 
-/// The element a reference (`sref`, `cref`) names, exported on first use.
-fn referenced(
-    ex: &mut Exporter<'_>,
+/// The element an instance of a controller (machines) or module
+/// (controllers) is, declared inline or referenced (`sref`, `cref`),
+/// exported on first use; `inline` picks the inline element.
+fn instance<'a, T>(
+    ex: &mut Exporter<'a>,
     file: File,
-    r: &SyntaxNode,
-    kind: DefKind,
+    inst: &'a m::Instance<T>,
+    container: &[String],
+    inline: fn(&'a T) -> ElemDef<'a>,
     problems: &mut Vec<Problem>,
 ) -> Option<Rc<Elem>> {
-    let accept: fn(DefKind) -> bool = match kind {
-        DefKind::StateMachine => |k| k == DefKind::StateMachine,
-        DefKind::Controller => |k| k == DefKind::Controller,
-        _ => |k| k == DefKind::Platform,
-    };
-    let p = path_of(r);
-    let Some((f, n)) = util::resolve(ex.db, ex.ws, file, &p, accept) else {
-        problems.push((file, r.text_range(), format!("`{}` could not be resolved", p.join("::"))));
-        return None;
-    };
-    let e = element(ex, f, &n);
-    if e.is_none() {
-        problems.push((file, r.text_range(), format!("`{}` is not exported", p.join("::"))));
+    match &inst.def {
+        m::Definition::Ref { path, target } => {
+            let Some(loc) = target else {
+                problems.push((file, inst.range, format!("`{}` could not be resolved", path.join("::"))));
+                return None;
+            };
+            let e = element_at(ex, *loc);
+            if e.is_none() {
+                problems.push((file, inst.range, format!("`{}` is not exported", path.join("::"))));
+            }
+            e
+        }
+        m::Definition::Inline(x) => {
+            let def = inline(x);
+            let mut path = container.to_vec();
+            path.push(def.name().to_string());
+            let e = element(ex, file, def, path);
+            if e.is_none() {
+                problems.push((file, def.name_range(), format!("`{}` is not exported", inst.name)));
+            }
+            e
+        }
     }
-    e
 }
 
 /// The period a RoboSim container is simulated with: hir's choice, the
 /// least that its `cycleDef` and those of its components admit (the same
 /// period the native checker explores).
-pub(crate) fn declared_period(db: &dyn Db, ws: Workspace, file: File, node: &SyntaxNode) -> Option<i64> {
-    let defs = robosim_hir::defs::file_defs(db, file);
-    let id = defs.iter().find(|(_, d)| d.range == node.text_range() && d.syntax == node.kind()).map(|(i, _)| i)?;
-    match robosim_hir::cycle::simulation_period(db, ws, file, id, &[])? {
+pub(crate) fn declared_period(db: &dyn Db, ws: Workspace, file: File, def: Option<DefId>) -> Option<i64> {
+    match robosim_hir::cycle::simulation_period(db, ws, file, def?, &[])? {
         robosim_hir::cycle::Feasibility::Feasible(p) => i64::try_from(p).ok(),
         _ => None,
     }
@@ -105,78 +175,76 @@ struct Inst {
     elem: Rc<Elem>,
 }
 
-/// The non-constant variables of the interfaces `node` refers to with a
+/// The non-constant variables of the interfaces `decls` refers to with a
 /// keyword `which` accepts (`provides`, `requires`, `uses`).
-fn variables_of_interfaces(
-    ex: &Exporter<'_>,
-    file: File,
-    node: &SyntaxNode,
-    which: fn(SyntaxKind) -> bool,
-) -> BTreeSet<String> {
+fn variables_of_interfaces(ex: &Exporter<'_>, decls: &m::Decls, which: fn(UseKind) -> bool) -> BTreeSet<String> {
     let mut out = BTreeSet::new();
-    for u in children(node, INTERFACE_USE) {
-        if !u.first_token().is_some_and(|t| which(t.kind())) {
-            continue;
+    for u in decls.uses.iter().filter(|u| which(u.kind)) {
+        if let Some((_, i)) = interface(ex, u) {
+            out.extend(variables(&i.decls));
         }
-        let Some((_, i)) = util::resolve(ex.db, ex.ws, file, &path_of(&u), |k| k == DefKind::Interface) else {
-            continue;
-        };
-        out.extend(variables(&i));
     }
     out
 }
 
-/// The non-constant variables `node` declares itself.
-fn variables(node: &SyntaxNode) -> Vec<String> {
-    children(node, VARIABLE_LIST)
-        .filter(|l| !l.children_with_tokens().any(|t| t.kind() == CONST_KW))
-        .flat_map(|l| children(&l, VARIABLE).map(|v| name_of(&v)).collect::<Vec<_>>())
+/// The interface a `uses`, `provides` or `requires` clause names, and its
+/// file.
+fn interface<'a>(ex: &Exporter<'a>, u: &m::InterfaceUse) -> Option<(File, &'a m::Platform)> {
+    let loc = u.target?;
+    match m::item(ex.db, ex.ws, loc)? {
+        m::Item::Interface(i) => Some((loc.file, i)),
+        _ => None,
+    }
+}
+
+/// The non-constant variables `decls` declares itself.
+fn variables(decls: &m::Decls) -> Vec<String> {
+    decls
+        .decls
+        .iter()
+        .filter_map(|d| match d {
+            m::Decl::Vars { is_const: false, vars, .. } => Some(vars.iter().map(|v| v.name.clone())),
+            _ => None,
+        })
+        .flatten()
         .collect()
 }
 
-/// Events an interface-using context declares: own events and those of
-/// the interfaces it uses, provides or requires.
+/// Events an interface-using context (`decls`, of `file`) declares: own
+/// events and those of the interfaces it uses, provides or requires.
 fn declared_events(
     ex: &mut Exporter<'_>,
     file: File,
-    node: &SyntaxNode,
+    decls: &m::Decls,
     problems: &mut Vec<Problem>,
 ) -> Vec<(String, Option<Ty>)> {
-    let mut sources = vec![(file, node.clone())];
-    for u in children(node, INTERFACE_USE) {
-        let p = path_of(&u);
-        if let Some((f, n)) = util::resolve(ex.db, ex.ws, file, &p, |k| k == DefKind::Interface) {
-            sources.push((f, n));
+    let mut sources = vec![(file, decls)];
+    for u in &decls.uses {
+        if let Some((f, i)) = interface(ex, u) {
+            sources.push((f, &i.decls));
         }
     }
     let mut out: Vec<(String, Option<Ty>)> = Vec::new();
-    for (f, n) in sources {
-        for ev in children(&n, EVENT) {
-            let nm = name_of(&ev);
-            if out.iter().any(|(x, _)| *x == nm) {
+    for (f, d) in sources {
+        for decl in &d.decls {
+            let m::Decl::Event { name: nm, ty, range, .. } = decl else { continue };
+            if out.iter().any(|(x, _)| x == nm) {
                 continue;
             }
-            let ty = match util::type_child(&ev) {
-                Some(t) => match ex.ty(f, Some(&t)) {
+            let ty = match ty {
+                Some(t) => match ex.ty_ref(f, Some(t)) {
                     Ok(t) => Some(t),
-                    Err(m) => {
-                        problems.push((f, ev.text_range(), format!("event `{nm}`: {m}")));
+                    Err(msg) => {
+                        problems.push((f, *range, format!("event `{nm}`: {msg}")));
                         None
                     }
                 },
                 None => None,
             };
-            out.push((nm, ty));
+            out.push((nm.clone(), ty));
         }
     }
     out
-}
-
-/// A connection's ends: (node, event) × 2, and whether asynchronous.
-fn ends(c: &SyntaxNode) -> ((String, String), (String, String), bool) {
-    let refs: Vec<String> = children(c, NAME_REF).map(|n| ident_text(&n)).collect();
-    let get = |i: usize| refs.get(i).cloned().unwrap_or_default();
-    ((get(0), get(1)), (get(2), get(3)), c.children().any(|n| n.kind() == ASYNC_FLAG))
 }
 
 fn event_chan(csp: String, model: String, ty: Option<&Ty>, dir: Dir) -> Chan {
@@ -184,35 +252,6 @@ fn event_chan(csp: String, model: String, ty: Option<&Ty>, dir: Dir) -> Chan {
     let mut fields = vec![name("InOut")];
     fields.extend(values.iter().cloned());
     Chan { csp, model, kind: ChanKind::Event, fields, dir, values }
-}
-
-/// Collects the instances of a controller (machines) or module
-/// (controllers).
-fn instances(
-    ex: &mut Exporter<'_>,
-    file: File,
-    node: &SyntaxNode,
-    inner: DefKind,
-    problems: &mut Vec<Problem>,
-) -> Vec<Inst> {
-    let (refk, defk) = match inner {
-        DefKind::StateMachine => (STATE_MACHINE_REF, STATE_MACHINE),
-        _ => (CONTROLLER_REF, CONTROLLER),
-    };
-    let mut out = Vec::new();
-    for c in node.children() {
-        if c.kind() == refk {
-            if let Some(e) = referenced(ex, file, &c, inner, problems) {
-                out.push(Inst { name: name_of(&c), elem: e });
-            }
-        } else if c.kind() == defk {
-            match element(ex, file, &c) {
-                Some(e) => out.push(Inst { name: name_of(&c), elem: e }),
-                None => problems.push((file, util::name_range(&c), format!("`{}` is not exported", name_of(&c)))),
-            }
-        }
-    }
-    out
 }
 
 fn union_consts(insts: &[Inst]) -> Vec<ConstParam> {
@@ -263,90 +302,121 @@ type RegRename = (String, String, Vec<Expr>, bool);
 
 type Result2 = Result<(Elem, Vec<Decl>), Vec<Problem>>;
 
-fn controller(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: String, path: Vec<String>) -> Result2 {
-    let robosim = file.kind(ex.db) == robosim_syntax::FileKind::RoboSim;
+/// What a container passes to its composition: where it is, its
+/// instances, the name its connections use for it, its events and its
+/// connections.
+struct Container<'m> {
+    file: File,
+    /// Its name's range, for problems.
+    name_range: TextRange,
+    module: String,
+    path: Vec<String>,
+    kind: ElemKind,
+    insts: Vec<Inst>,
+    own: String,
+    events: Vec<(String, Option<Ty>)>,
+    connections: &'m [m::Connection],
+}
+
+fn controller<'a>(
+    ex: &mut Exporter<'a>,
+    file: File,
+    c: &'a m::Controller,
+    module: String,
+    path: Vec<String>,
+) -> Result2 {
+    let robosim = file.kind(ex.db) == FileKind::RoboSim;
     let mut problems = Vec::new();
-    let insts = instances(ex, file, node, DefKind::StateMachine, &mut problems);
-    let own = name_of(node);
-    let events = declared_events(ex, file, node, &mut problems);
-    for c in node.children() {
-        if matches!(c.kind(), OPERATION_DEF | OPERATION_REF) {
-            // The machines run the operations they can resolve by name;
-            // one they call the platform for is defined here only.
-            let op =
-                if c.kind() == OPERATION_REF { path_of(&c).last().cloned().unwrap_or_default() } else { name_of(&c) };
-            let called =
-                insts.iter().any(|i| i.elem.chans.iter().any(|ch| ch.kind == ChanKind::Call && ch.model == op))
-                    || insts.iter().any(|i| i.elem.outputs.iter().any(|o| o.model == op));
-            if called {
-                problems.push((
-                    file,
-                    c.text_range(),
-                    format!(
-                        "operation `{op}` is provided by the controller, but the machines calling it cannot \
-                         resolve its definition by name (they run an operation only where they resolve it): \
-                         not supported by the export yet"
-                    ),
-                ));
-            }
+    let mut insts = Vec::new();
+    for i in &c.machines {
+        if let Some(e) = instance(ex, file, i, &path, ElemDef::Machine, &mut problems) {
+            insts.push(Inst { name: i.name.clone(), elem: e });
+        }
+    }
+    let events = declared_events(ex, file, &c.decls, &mut problems);
+    for o in &c.operations {
+        // The machines run the operations they can resolve by name;
+        // one they call the platform for is defined here only.
+        let op = match &o.def {
+            m::Definition::Ref { path, .. } => path.last().cloned().unwrap_or_default(),
+            m::Definition::Inline(_) => o.name.clone(),
+        };
+        let called = insts.iter().any(|i| i.elem.chans.iter().any(|ch| ch.kind == ChanKind::Call && ch.model == op))
+            || insts.iter().any(|i| i.elem.outputs.iter().any(|o| o.model == op));
+        if called {
+            problems.push((
+                file,
+                o.range,
+                format!(
+                    "operation `{op}` is provided by the controller, but the machines calling it cannot \
+                     resolve its definition by name (they run an operation only where they resolve it): \
+                     not supported by the export yet"
+                ),
+            ));
         }
     }
     if insts.is_empty() && problems.is_empty() {
-        problems.push((file, util::name_range(node), "a controller without state machines".into()));
+        problems.push((file, c.name_range, "a controller without state machines".into()));
     }
     if !problems.is_empty() {
         return Err(problems);
     }
-    let connections: Vec<_> = children(node, CONNECTION).collect();
+    let k = Container {
+        file,
+        name_range: c.name_range,
+        module,
+        path,
+        kind: ElemKind::Controller,
+        insts,
+        own: c.name.clone(),
+        events,
+        connections: &c.connections,
+    };
     if robosim {
-        return robosim_container(
-            ex,
-            file,
-            node,
-            module,
-            path,
-            insts,
-            &own,
-            &events,
-            &connections,
-            ElemKind::Controller,
-        );
+        return robosim_container(ex, k, c.def);
     }
-    robochart_container(ex, file, node, module, path, insts, &own, &events, &connections, ElemKind::Controller, &[])
+    let provided = variables_of_interfaces(ex, &c.decls, |k| k == UseKind::Provides);
+    robochart_container(ex, k, &[], &provided)
 }
 
-fn module_(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: String, path: Vec<String>) -> Result2 {
-    let robosim = file.kind(ex.db) == robosim_syntax::FileKind::RoboSim;
+fn module_<'a>(ex: &mut Exporter<'a>, file: File, x: &'a m::Module, module: String, path: Vec<String>) -> Result2 {
+    let robosim = file.kind(ex.db) == FileKind::RoboSim;
     let mut problems = Vec::new();
-    let insts = instances(ex, file, node, DefKind::Controller, &mut problems);
+    let mut insts = Vec::new();
+    for i in &x.controllers {
+        if let Some(e) = instance(ex, file, i, &path, ElemDef::Controller, &mut problems) {
+            insts.push(Inst { name: i.name.clone(), elem: e });
+        }
+    }
     // The robotic platform: its name and events.
     let mut platform_names = Vec::new();
     let mut events = Vec::new();
-    for c in node.children() {
-        let pnode = match c.kind() {
-            ROBOTIC_PLATFORM => Some((file, c.clone())),
-            PLATFORM_REF => {
-                let p = path_of(&c);
-                let r = util::resolve(ex.db, ex.ws, file, &p, |k| k == DefKind::Platform);
-                if r.is_none() {
-                    problems.push((file, c.text_range(), format!("`{}` could not be resolved", p.join("::"))));
+    for p in &x.platforms {
+        let platform = match &p.def {
+            m::Definition::Inline(pl) => Some((file, &**pl)),
+            m::Definition::Ref { path, target } => {
+                let found = target.and_then(|loc| match m::item(ex.db, ex.ws, loc)? {
+                    m::Item::Platform(pl) => Some((loc.file, pl)),
+                    _ => None,
+                });
+                if found.is_none() {
+                    problems.push((file, p.range, format!("`{}` could not be resolved", path.join("::"))));
                 }
-                r
+                found
             }
-            _ => None,
         };
-        if let Some((pf, pn)) = pnode {
-            platform_names.push(name_of(&c));
-            events.extend(declared_events(ex, pf, &pn, &mut problems));
+        if let Some((pf, pl)) = platform {
+            platform_names.push(p.name.clone());
+            events.extend(declared_events(ex, pf, &pl.decls, &mut problems));
             // Variables of the platform (its own, and those of the
             // interfaces it uses or provides, as `robosim verify` reads
             // them) are outputs (Rule 1): not exported yet.
-            let mut vars = variables_of_interfaces(ex, pf, &pn, |_| true);
-            vars.extend(variables(&pn));
+            let mut vars = variables_of_interfaces(ex, &pl.decls, |_| true);
+            vars.extend(variables(&pl.decls));
             if let Some(v) = vars.iter().next() {
                 problems.push((
                     pf,
-                    util::name_range(&pn),
+                    pl.name_range,
                     format!(
                         "platform variables (`{v}`) are not exported yet: `robosim verify` reads them as the paper \
                          does (outputs whose updates are visible, §5.2), but RoboTool's CSPm names for them are \
@@ -357,47 +427,39 @@ fn module_(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode, module: String,
         }
     }
     if insts.is_empty() && problems.is_empty() {
-        problems.push((file, util::name_range(node), "a module without controllers".into()));
+        problems.push((file, x.name_range, "a module without controllers".into()));
     }
     if !problems.is_empty() {
         return Err(problems);
     }
-    let connections: Vec<_> = children(node, CONNECTION).collect();
     let own = platform_names.first().cloned().unwrap_or_default();
-    if robosim {
-        return robosim_container(ex, file, node, module, path, insts, &own, &events, &connections, ElemKind::Module);
-    }
-    robochart_container(
-        ex,
+    let k = Container {
         file,
-        node,
+        name_range: x.name_range,
         module,
         path,
+        kind: ElemKind::Module,
         insts,
-        &own,
-        &events,
-        &connections,
-        ElemKind::Module,
-        &platform_names,
-    )
+        own,
+        events,
+        connections: &x.connections,
+    };
+    if robosim {
+        return robosim_container(ex, k, x.def);
+    }
+    // A module provides no variables (it has no interface clauses).
+    robochart_container(ex, k, &platform_names, &BTreeSet::new())
 }
 
 /// A RoboChart controller (`own` = its name) or module (`own` = its
 /// platform's name): components renamed to the container's channels.
-#[allow(clippy::too_many_arguments)]
 fn robochart_container(
     ex: &mut Exporter<'_>,
-    file: File,
-    node: &SyntaxNode,
-    module: String,
-    path: Vec<String>,
-    insts: Vec<Inst>,
-    own: &str,
-    events: &[(String, Option<Ty>)],
-    connections: &[SyntaxNode],
-    kind: ElemKind,
+    k: Container<'_>,
     platforms: &[String],
+    provided: &BTreeSet<String>,
 ) -> Result2 {
+    let Container { file, name_range, module, path, kind, insts, own, events, connections } = k;
     let mut problems: Vec<Problem> = Vec::new();
     // Each machine keeps the variables it requires in its own memory, so a
     // variable two components require would not be shared (as it is in
@@ -413,7 +475,7 @@ fn robochart_container(
         if users.len() > 1 {
             problems.push((
                 file,
-                util::name_range(node),
+                name_range,
                 format!(
                     "`{v}` is required by {}: variables shared between machines or controllers are not exported \
                      yet (each would keep its own copy; `robosim verify` shares them)",
@@ -422,7 +484,6 @@ fn robochart_container(
             ));
         }
     }
-    let provided = variables_of_interfaces(ex, file, node, |k| k == PROVIDES_KW);
     let required: Vec<String> = requirers.keys().filter(|v| !provided.contains(**v)).map(|v| v.to_string()).collect();
     let is_own = |n: &str| n == own || platforms.iter().any(|p| p == n);
     // Renamings per instance: whole channels, and directed events of
@@ -436,7 +497,8 @@ fn robochart_container(
     let inst_of = |n: &str| insts.iter().position(|i| i.name == n);
     let mut k = 0;
     for c in connections {
-        let ((a, ea), (b, eb), is_async) = ends(c);
+        let ((a, ea), (b, eb), is_async) =
+            ((c.from.clone(), c.efrom.clone()), (c.to.clone(), c.eto.clone()), c.is_async);
         let (ia, ib) = (inst_of(&a), inst_of(&b));
         match (is_own(&a), ia, is_own(&b), ib) {
             // Container ↔ component.
@@ -444,13 +506,13 @@ fn robochart_container(
                 let (cev, iev, dir) = if is_own(&a) { (&ea, &eb, Dir::In) } else { (&eb, &ea, Dir::Out) };
                 let Some(ch) = insts[j].elem.chans.iter().find(|ch| ch.kind == ChanKind::Event && ch.model == *iev)
                 else {
-                    problems.push((file, c.text_range(), format!("`{iev}` is not an event of `{}`", insts[j].name)));
+                    problems.push((file, c.range, format!("`{iev}` is not an event of `{}`", insts[j].name)));
                     continue;
                 };
                 let Some((_, ty)) = events.iter().find(|(n, _)| n == cev) else {
                     problems.push((
                         file,
-                        c.text_range(),
+                        c.range,
                         format!("`{cev}` is not an event of `{}`", if is_own(&a) { &a } else { &b }),
                     ));
                     continue;
@@ -466,7 +528,7 @@ fn robochart_container(
                 if is_async {
                     problems.push((
                         file,
-                        c.text_range(),
+                        c.range,
                         "asynchronous connections between machines or controllers are not exported: the size of \
                          RoboTool's buffer and what it does when full are not pinned down (semantics.md §11, \
                          item 3)"
@@ -478,11 +540,11 @@ fn robochart_container(
                     insts[x].elem.chans.iter().find(|ch| ch.kind == ChanKind::Event && ch.model == e).cloned()
                 };
                 let (Some(ca), Some(cb)) = (find(i, &ea), find(j, &eb)) else {
-                    problems.push((file, c.text_range(), "a connection end is not an event of its component".into()));
+                    problems.push((file, c.range, "a connection end is not an event of its component".into()));
                     continue;
                 };
                 if ca.values != cb.values {
-                    problems.push((file, c.text_range(), "the connected events have different types".into()));
+                    problems.push((file, c.range, "the connected events have different types".into()));
                     continue;
                 }
                 k += 1;
@@ -504,7 +566,7 @@ fn robochart_container(
                 internal[j].insert(conn.clone());
                 hidden.push(conn);
             }
-            _ => problems.push((file, c.text_range(), format!("the connection `{a}` → `{b}` has an unknown end"))),
+            _ => problems.push((file, c.range, format!("the connection `{a}` → `{b}` has an unknown end"))),
         }
     }
     // Operation calls go to the platform by name.
@@ -513,7 +575,7 @@ fn robochart_container(
             match chans.iter().find(|x| x.csp == ch.csp) {
                 Some(x) if x.values != ch.values => problems.push((
                     file,
-                    util::name_range(node),
+                    name_range,
                     format!("operation `{}` is required with different parameter types", ch.model),
                 )),
                 Some(_) => {}
@@ -586,41 +648,30 @@ fn rename(p: Expr, pairs: &[(String, String)]) -> Expr {
 
 /// A RoboSim controller or module: the components' register events are
 /// renamed to the container's registers through the connections.
-#[allow(clippy::too_many_arguments)]
-fn robosim_container(
-    ex: &mut Exporter<'_>,
-    file: File,
-    node: &SyntaxNode,
-    module: String,
-    path: Vec<String>,
-    insts: Vec<Inst>,
-    own: &str,
-    events: &[(String, Option<Ty>)],
-    connections: &[SyntaxNode],
-    kind: ElemKind,
-) -> Result2 {
+fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>) -> Result2 {
+    let Container { file, name_range, module, path, kind, insts, own, events, connections } = k;
     let mut problems: Vec<Problem> = Vec::new();
     let inst_of = |n: &str| insts.iter().position(|i| i.name == n);
     // Register renamings per instance: (instance ctor, container ctor, value types, input).
     let mut renames: Vec<Vec<RegRename>> = vec![Vec::new(); insts.len()];
     let mut mapped: HashMap<(usize, String), String> = HashMap::new();
     for c in connections {
-        let ((a, ea), (b, eb), _) = ends(c);
+        let ((a, ea), (b, eb)) = ((c.from.clone(), c.efrom.clone()), (c.to.clone(), c.eto.clone()));
         match (a == own, inst_of(&a), b == own, inst_of(&b)) {
             (true, _, _, Some(j)) | (_, Some(j), true, _) => {
                 let (cev, iev) = if a == own { (&ea, &eb) } else { (&eb, &ea) };
                 if !events.iter().any(|(n, _)| n == cev) {
-                    problems.push((file, c.text_range(), format!("`{cev}` is not an event of `{own}`")));
+                    problems.push((file, c.range, format!("`{cev}` is not an event of `{own}`")));
                     continue;
                 }
                 mapped.insert((j, iev.clone()), cev.clone());
             }
             (_, Some(_), _, Some(_)) => problems.push((
                 file,
-                c.text_range(),
+                c.range,
                 "connections between RoboSim machines or controllers are not supported by the export yet".into(),
             )),
-            _ => problems.push((file, c.text_range(), format!("the connection `{a}` → `{b}` has an unknown end"))),
+            _ => problems.push((file, c.range, format!("the connection `{a}` → `{b}` has an unknown end"))),
         }
     }
     let mut inputs: Vec<Reg> = Vec::new();
@@ -631,7 +682,7 @@ fn robosim_container(
                 let model = mapped.get(&(j, r.model.clone())).cloned().unwrap_or_else(|| r.model.clone());
                 let ctor = if input { ex.in_reg(&model) } else { ex.out_reg(&model) };
                 if let Err(m) = ex.register(input, &ctor, &r.values) {
-                    problems.push((file, util::name_range(node), m));
+                    problems.push((file, name_range, m));
                     continue;
                 }
                 if ctor != r.ctor {
@@ -641,7 +692,7 @@ fn robosim_container(
                 if list.iter().any(|x| x.ctor == ctor) {
                     problems.push((
                         file,
-                        util::name_range(node),
+                        name_range,
                         format!("the register `{ctor}` is used by two components: each input and output belongs to one (RS:C3, RS:M3)"),
                     ));
                     continue;
@@ -711,7 +762,7 @@ fn robosim_container(
         Decl::Module(module.clone(), vec![], exports),
         Decl::Blank,
     ];
-    let period = declared_period(ex.db, ex.ws, file, node).unwrap_or(1);
+    let period = declared_period(ex.db, ex.ws, file, def).unwrap_or(1);
     Ok((
         Elem { kind, robosim: true, module, path, consts, chans: vec![], inputs, outputs, period, required: vec![] },
         decls,

@@ -8,11 +8,11 @@ use std::fmt;
 use std::rc::Rc;
 
 use robosim_hir::defs::{file_defs, DefId, DefKind, TypeRef};
-use robosim_hir::{model, parse, Db, File, Workspace};
-use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
+use robosim_hir::index::ItemLoc;
+use robosim_hir::{model, Db, File, FileKind, TextRange, Workspace};
 
 use crate::cspm::{call, dot, name, Decl, Expr, Field};
-use crate::util::{self, ident, name_of, path_of, qualified};
+use crate::util::{self, ident, qualified};
 
 pub use robosim_hir::profile::Profile;
 
@@ -469,18 +469,15 @@ impl<'a> Exporter<'a> {
         robosim_hir::defs::file_defs(self.db, file).package.clone()
     }
 
-    /// The qualified model path of a top-level (or nested) element node.
-    pub(crate) fn path_of_node(&self, file: File, node: &SyntaxNode) -> Vec<String> {
-        let mut p = self.package(file);
-        // Nested elements (a machine inside a controller) keep their
-        // container's name.
-        let mut names: Vec<String> = node
-            .ancestors()
-            .filter(|a| matches!(a.kind(), STATE_MACHINE | CONTROLLER | MODULE))
-            .map(|a| name_of(&a))
-            .collect();
-        names.reverse();
-        p.extend(names);
+    /// The qualified model path of the top-level item `loc`: its package
+    /// and, for a machine, controller or module, its name (the path the
+    /// constants it declares are owned by).
+    pub(crate) fn path_of_item(&self, loc: ItemLoc) -> Vec<String> {
+        let mut p = self.package(loc.file);
+        let item = loc.summary(self.db);
+        if matches!(item.kind, DefKind::StateMachine | DefKind::Controller | DefKind::Module) {
+            p.push(item.name.clone());
+        }
         p
     }
 
@@ -574,54 +571,6 @@ impl<'a> Exporter<'a> {
         };
         Err(format!(
             "the type `{text}` is not supported by the export yet (booleans, numbers, enumerations, primitive types, records, products, sets and sequences are)"
-        ))
-    }
-
-    /// The bounded type of a type node written in `file`.
-    pub(crate) fn ty(&mut self, file: File, node: Option<&SyntaxNode>) -> Result<Ty, String> {
-        let Some(node) = node else { return Err("an untyped declaration".into()) };
-        match node.kind() {
-            PAREN_TYPE => return self.ty(file, util::type_child(node).as_ref()),
-            PRODUCT_TYPE => {
-                let mut ts = Vec::new();
-                for c in node.children().filter(|c| robosim_syntax::ast::is_type_kind(c.kind())) {
-                    // `A * B * C` is one product of three, however parsed.
-                    match self.ty(file, Some(&c))? {
-                        Ty::Product(inner) if c.kind() == PRODUCT_TYPE => ts.extend(inner),
-                        t => ts.push(t),
-                    }
-                }
-                return Ok(Ty::Product(ts));
-            }
-            SET_TYPE => return Ok(Ty::Set(Box::new(self.ty(file, util::type_child(node).as_ref())?))),
-            SEQ_TYPE => {
-                self.uses_seq = true;
-                return Ok(Ty::Seq(Box::new(self.ty(file, util::type_child(node).as_ref())?)));
-            }
-            _ => {}
-        }
-        let path = if node.kind() == NAMED_TYPE { path_of(node) } else { Vec::new() };
-        match path.last().map(String::as_str).unwrap_or("") {
-            "boolean" => return Ok(Ty::Bool),
-            "nat" => return Ok(Ty::Nat),
-            "int" => return Ok(Ty::Int),
-            "real" => return Ok(Ty::Real),
-            "string" => {
-                // RoboTool's strings: sequences of characters (semantics.md §3).
-                self.uses_seq = true;
-                self.uses_string = true;
-                return Ok(Ty::Named("core_string".into(), Expr::SeqLit(vec![])));
-            }
-            _ => {}
-        }
-        if !path.is_empty() {
-            if let Some(r) = self.named_ty(file, &path) {
-                return r;
-            }
-        }
-        Err(format!(
-            "the type `{}` is not supported by the export yet (booleans, numbers, enumerations, primitive types, records, products, sets and sequences are)",
-            node.text().to_string().trim()
         ))
     }
 
@@ -791,16 +740,8 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
     let files: Vec<File> = ws.files(db).iter().copied().filter(|f| !f.is_library(db)).collect();
     // Literals widen the core types (semantics.md §3).
     for &f in &files {
-        if f.kind(db).is_assertions() {
-            continue;
-        }
-        let root = parse(db, f).syntax_node();
-        for t in root.descendants_with_tokens().filter_map(|e| e.into_token()) {
-            if t.kind() == INT_NUMBER {
-                if let Ok(v) = t.text().parse::<i64>() {
-                    ex.literals.push(v);
-                }
-            }
+        if !f.kind(db).is_assertions() {
+            ex.literals.extend(model::file_model(db, ws, f).literals.iter().copied());
         }
     }
     // The assertion files first read: their `csp` blocks may fix the
@@ -808,8 +749,7 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
     let mut assertion_files = Vec::new();
     for &f in &files {
         if f.kind(db).is_assertions() {
-            let root = parse(db, f).syntax_node();
-            let read = robosim_hir::assertions::read_assertions(&root);
+            let read = model::assertion_file(db, f);
             for (n, lo, hi, _) in &read.instantiations.types {
                 ex.fixed_types.insert(n.trim_start_matches("core_").to_string(), (*lo, *hi));
             }
@@ -832,39 +772,49 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
         if f.kind(db).is_assertions() {
             continue;
         }
-        let root = parse(db, f).syntax_node();
-        if let Some(e) = parse(db, f).errors().iter().find(|e| e.severity == robosim_syntax::Severity::Error) {
-            let msg = format!("the file has syntax errors and is not exported: {}", e.message);
-            ex.warn(f, e.range, msg.clone());
+        let fm = model::file_model(db, ws, f);
+        if let Some((range, message)) = fm.syntax_errors.first() {
+            let msg = format!("the file has syntax errors and is not exported: {message}");
+            ex.warn(f, *range, msg.clone());
             ex.emit(f, vec![Decl::Comment(format!("NOT EXPORTED: {msg}"))]);
             continue;
         }
-        for item in root.children() {
-            match item.kind() {
-                STATE_MACHINE | CONTROLLER | MODULE => {
-                    crate::compose::element(&mut ex, f, &item);
+        let package = ex.package(f);
+        for (id, item) in &fm.items {
+            let path = |name: &str| {
+                let mut p = package.clone();
+                p.push(name.to_string());
+                p
+            };
+            match item {
+                model::Item::Machine(b) => {
+                    crate::compose::element(&mut ex, f, crate::compose::ElemDef::Machine(b), path(&b.name));
                 }
-                ENUM_DECL => {
-                    if let Some(id) = util::def_at(db, f, item.text_range()) {
-                        ex.enumeration(f, id);
-                    }
+                model::Item::Controller(c) => {
+                    crate::compose::element(&mut ex, f, crate::compose::ElemDef::Controller(c), path(&c.name));
                 }
-                FUNCTION => {
+                model::Item::Module(x) => {
+                    crate::compose::element(&mut ex, f, crate::compose::ElemDef::Module(x), path(&x.name));
+                }
+                model::Item::Enumeration(..) => {
+                    ex.enumeration(f, *id);
+                }
+                model::Item::Function(fun) => {
                     // Unused functions without a definition are no loss:
                     // calls of them are reported where they are.
-                    if let Err(m) = crate::machine::function(&mut ex, f, &item) {
+                    if let Err(m) = crate::machine::function(&mut ex, f, fun) {
                         ex.emit(f, vec![Decl::Comment(m), Decl::Blank]);
                     }
                 }
                 // Operations with a body (reported, with a NOT EXPORTED comment,
                 // when not exported); calls of the others are call events.
-                OPERATION_DEF if util::child(&item, INITIAL).is_some() => {
-                    let _ = crate::machine::operation(&mut ex, f, &item);
+                model::Item::Operation(op) if op.region.nodes.iter().any(|n| n.kind == model::NodeKind::Initial) => {
+                    let _ = crate::machine::operation(&mut ex, f, op, package.clone());
                 }
-                RECORD_DECL => {
-                    let Some(id) = util::def_at(db, f, item.text_range()) else { continue };
-                    if let Err(m) = ex.record(f, id) {
-                        ex.warn(f, util::name_range(&item), format!("{m}; the record is not exported"));
+                model::Item::Record(..) => {
+                    if let Err(m) = ex.record(f, *id) {
+                        let at = file_defs(db, f).def(*id).name_range;
+                        ex.warn(f, at, format!("{m}; the record is not exported"));
                         ex.emit(f, vec![Decl::Comment(format!("NOT EXPORTED: {m}")), Decl::Blank]);
                     }
                 }

@@ -2,13 +2,13 @@
 //! name, a transition, an `exec`, a RoboSim output or a platform call, the
 //! CSP term the export generates for it and a one-line reading in English.
 
-use robosim_hir::{parse, Db, File, Workspace};
-use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
+use robosim_hir::model as m;
+use robosim_hir::{Db, File, FileKind, TextRange, TextSize, Workspace};
 
+use crate::compose::ElemDef;
 use crate::cspm::{print_expr, Decl, Expr};
 use crate::export::{Exporter, Profile};
 use crate::machine::{Gen, Term, TermKind};
-use crate::util::{self, name_of, name_range};
 
 /// A term for a hover.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -23,37 +23,67 @@ pub struct HoverTerm {
 
 const WIDTH: usize = 80;
 
+/// The machines, controllers and modules of `file`, nested ones included,
+/// each with its qualified path.
+fn elements<'a>(db: &'a dyn Db, ws: Workspace, file: File) -> Vec<(ElemDef<'a>, Vec<String>)> {
+    fn controller<'a>(c: &'a m::Controller, path: Vec<String>, out: &mut Vec<(ElemDef<'a>, Vec<String>)>) {
+        for i in &c.machines {
+            if let m::Definition::Inline(b) = &i.def {
+                let mut p = path.clone();
+                p.push(b.name.clone());
+                out.push((ElemDef::Machine(b), p));
+            }
+        }
+        out.push((ElemDef::Controller(c), path));
+    }
+    let package = robosim_hir::defs::file_defs(db, file).package.clone();
+    let mut out = Vec::new();
+    for (_, item) in &m::file_model(db, ws, file).items {
+        let mut path = package.clone();
+        match item {
+            m::Item::Machine(b) => {
+                path.push(b.name.clone());
+                out.push((ElemDef::Machine(b), path));
+            }
+            m::Item::Controller(c) => {
+                path.push(c.name.clone());
+                controller(c, path, &mut out);
+            }
+            m::Item::Module(x) => {
+                path.push(x.name.clone());
+                for c in &x.controllers {
+                    if let m::Definition::Inline(c) = &c.def {
+                        let mut p = path.clone();
+                        p.push(c.name.clone());
+                        controller(c, p, &mut out);
+                    }
+                }
+                out.push((ElemDef::Module(x), path));
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
 /// The term of the construct at `offset` of `file`, if it has one.
 pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Option<HoverTerm> {
     if !matches!(file.kind(db), FileKind::RoboChart | FileKind::RoboSim) {
         return None;
     }
-    let root = parse(db, file).syntax_node();
-    // The token under the cursor, or the one it ends (`Mower|`).
-    let at = root.token_at_offset(offset);
-    let token = match (at.clone().left_biased(), at.right_biased()) {
-        (Some(l), Some(r)) if r.kind().is_trivia() || !matches!(r.kind(), IDENT | EXEC_KW | DOLLAR) => {
-            if matches!(l.kind(), IDENT | EXEC_KW) {
-                l
-            } else {
-                r
-            }
-        }
-        (l, r) => r.or(l)?,
-    };
-    let node = token.parent()?;
+    let elements = elements(db, ws, file);
     // On the name of a machine, controller or module: its process.
-    if node.kind() == NAME {
-        let decl = node.parent()?;
-        if matches!(decl.kind(), STATE_MACHINE | CONTROLLER | MODULE) {
-            return element_term(db, ws, file, &decl);
-        }
+    if let Some((def, path)) = elements.iter().find(|(d, _)| d.name_range().contains_inclusive(offset)) {
+        return element_term(db, ws, file, *def, path.clone());
     }
-    let machine = node.ancestors().find(|n| n.kind() == STATE_MACHINE)?;
+    // Inside a machine (the innermost: machines do not nest).
+    let (machine, path) = elements.into_iter().find_map(|(d, p)| match d {
+        ElemDef::Machine(b) if b.range.contains_inclusive(offset) => Some((b, p)),
+        _ => None,
+    })?;
     let mut ex = Exporter::new(db, ws, Profile::RoboTool3);
-    let path = ex.path_of_node(file, &machine);
-    let module = util::element_module(&ex.package(file), &path);
-    let out = Gen::new(&mut ex, file, &machine, true).run(module, path).ok()?;
+    let module = crate::util::element_module(&ex.package(file), &path);
+    let out = Gen::new(&mut ex, file, Some(machine), path.clone(), machine.name_range, true).run(module, path).ok()?;
     // The most specific term around the offset: statements and `exec`
     // before transitions (whose range is their name).
     let best = out
@@ -65,10 +95,10 @@ pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> O
     Some(HoverTerm { range: best.range, term: print_expr(&best.expr, WIDTH), reading })
 }
 
-fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: &SyntaxNode) -> Option<HoverTerm> {
+fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: ElemDef<'_>, path: Vec<String>) -> Option<HoverTerm> {
     let mut ex = Exporter::new(db, ws, Profile::RoboTool3);
     let robosim = file.kind(db) == FileKind::RoboSim;
-    let elem = crate::compose::element(&mut ex, file, decl)?;
+    let elem = crate::compose::element(&mut ex, file, decl, path)?;
     let decls = ex.out.remove(&file).unwrap_or_default();
     // The definitions of the element's module.
     let module = decls.iter().find_map(|d| match d {
@@ -99,7 +129,7 @@ fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: &SyntaxNode) -> Op
         term.push_str(" =\n");
         term.push_str(&indent(&print_expr(&abbreviate(&b), WIDTH - 4)));
     }
-    let what = name_of(decl);
+    let what = decl.name();
     let reading = match (elem.kind, robosim) {
         (crate::export::ElemKind::Machine, false) => format!(
             "The machine `{what}`: its states are processes (`Enter__S` runs the entry action, `Rest__S` offers the transitions while time passes) in parallel with its memory (`Memory__`: variables, clocks, and the guards, which enable each transition's trigger); internal events are hidden and happen before time passes (`TimedPriority`)."
@@ -116,7 +146,7 @@ fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: &SyntaxNode) -> Op
             elem.kind.describe()
         ),
     };
-    Some(HoverTerm { range: name_range(decl), term, reading })
+    Some(HoverTerm { range: decl.name_range(), term, reading })
 }
 
 fn indent(s: &str) -> String {

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use robosim_syntax::FileKind;
+use robosim_hir::FileKind;
 
 /// The repository's root.
 pub fn root() -> PathBuf {

@@ -62,7 +62,23 @@ pub fn file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
         };
         items.push((id, cx.item(&node)));
     }
-    FileModel { items }
+    let literals = int_literals(&root);
+    let syntax_errors = parse(db, file)
+        .errors()
+        .iter()
+        .filter(|e| e.severity == robosim_syntax::Severity::Error)
+        .map(|e| (e.range, e.message.clone()))
+        .collect();
+    FileModel { items, literals, syntax_errors }
+}
+
+/// The integer literals under `n`, in order.
+fn int_literals(n: &SyntaxNode) -> Vec<i64> {
+    n.descendants_with_tokens()
+        .filter_map(|e| e.into_token())
+        .filter(|t| t.kind() == INT_NUMBER)
+        .filter_map(|t| t.text().parse().ok())
+        .collect()
 }
 
 fn find_node(root: &SyntaxNode, range: TextRange, kind: robosim_syntax::SyntaxKind) -> Option<SyntaxNode> {
@@ -268,14 +284,10 @@ impl Cx<'_> {
                 _ => None,
             })
             .collect();
-        let literals = n
-            .descendants_with_tokens()
-            .filter_map(|e| e.into_token())
-            .filter(|t| t.kind() == INT_NUMBER)
-            .filter_map(|t| t.text().parse().ok())
-            .collect();
+        let literals = int_literals(n);
         Behaviour {
             name: name_of(n),
+            name_range: name_range(n),
             range: n.text_range(),
             params: self.params(n),
             decls: self.decls(n),
@@ -420,6 +432,7 @@ impl Cx<'_> {
         let name = name_of(n);
         Controller {
             name: name.clone(),
+            name_range: name_range(n),
             range: n.text_range(),
             decls,
             operations,
@@ -445,7 +458,7 @@ impl Cx<'_> {
     }
 
     fn platform(&mut self, n: &SyntaxNode) -> Platform {
-        Platform { name: name_of(n), range: n.text_range(), decls: self.decls(n) }
+        Platform { name: name_of(n), name_range: name_range(n), range: n.text_range(), decls: self.decls(n) }
     }
 
     fn module(&mut self, n: &SyntaxNode) -> Module {
@@ -481,6 +494,7 @@ impl Cx<'_> {
         });
         Module {
             name,
+            name_range: name_range(n),
             range: n.text_range(),
             platforms,
             controllers,

@@ -271,6 +271,8 @@ pub struct Transition {
 pub struct Behaviour {
     /// Its name.
     pub name: String,
+    /// The name's range (the element's when it has none).
+    pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
     /// Parameters (operations).
@@ -397,6 +399,8 @@ pub enum End {
 pub struct Controller {
     /// Its name.
     pub name: String,
+    /// The name's range (the element's when it has none).
+    pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
     /// Its own declarations (events, interfaces).
@@ -418,6 +422,8 @@ pub struct Controller {
 pub struct Platform {
     /// Its name.
     pub name: String,
+    /// The name's range (the element's when it has none).
+    pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
     /// What it declares, provides and uses.
@@ -429,6 +435,8 @@ pub struct Platform {
 pub struct Module {
     /// Its name.
     pub name: String,
+    /// The name's range (the element's when it has none).
+    pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
     /// Its platforms (normally one).
@@ -503,4 +511,10 @@ pub enum Item {
 pub struct FileModel {
     /// The elements, in order, each with its definition in the file.
     pub items: Vec<(DefId, Item)>,
+    /// Every integer literal written in the file, in order (RoboTool
+    /// widens the numeric types with them).
+    pub literals: Vec<i64>,
+    /// The file's syntax errors (not warnings), in order: range and
+    /// message. A back end refuses a file that has any.
+    pub syntax_errors: Vec<(TextRange, String)>,
 }

@@ -187,12 +187,12 @@ impl<'e, 'a> Gen<'e, 'a> {
                 .collect();
             for (c, v) in inputs {
                 if let Err(m) = self.ex.register(true, &c, &v) {
-                    self.problem(util::name_range(&self.node), m);
+                    self.problem(self.name_range, m);
                 }
             }
             for (c, v) in self.output_regs() {
                 if let Err(m) = self.ex.register(false, &c, &v) {
-                    self.problem(util::name_range(&self.node), m);
+                    self.problem(self.name_range, m);
                 }
             }
         }
@@ -213,7 +213,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let start_node = self.nodes.iter().position(|n| n.parent.is_none() && n.kind == NodeKind::Initial);
         let Some(start_node) = start_node else {
-            self.problem(util::name_range(&self.node), "the machine has no initial junction");
+            self.problem(self.name_range, "the machine has no initial junction");
             return Vec::new();
         };
         let start = self.enter(start_node);
@@ -390,13 +390,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         doc.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
         exports.extend(doc);
         let kind = if self.robosim { "RoboSim" } else { "RoboChart" };
-        let mut path = self.ex.path_of_node(self.file, &self.node);
-        let what = if self.is_operation {
-            path.push(name_of(&self.node));
-            "operation"
-        } else {
-            "state machine"
-        };
+        let path = self.path.clone();
+        let what = if self.is_operation { "operation" } else { "state machine" };
         vec![
             Decl::Comment(format!("{kind} {what} {}", path.join("::"))),
             Decl::Module(module.to_string(), private, exports),
@@ -678,7 +673,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             chans,
             inputs,
             outputs,
-            period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, &self.node).unwrap_or(1),
+            period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, self.model.and_then(|b| b.def))
+                .unwrap_or(1),
             required: self.required.clone(),
         }
     }

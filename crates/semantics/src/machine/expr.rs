@@ -444,16 +444,25 @@ impl<'e, 'a> Gen<'e, 'a> {
             return None;
         }
         let fname = fname.to_string();
-        let Some((ff, fnode)) =
-            util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&fname), |k| k == DefKind::Function)
-        else {
+        let (db, ws) = (self.ex.db, self.ex.ws);
+        let found = robosim_hir::index::resolve_item(db, ws, self.file, std::slice::from_ref(&fname), |k| {
+            k == DefKind::Function
+        })
+        .into_iter()
+        .next()
+        .and_then(|loc| Some((loc.file, m::item(db, ws, loc)?)));
+        let Some((ff, fitem)) = found else {
             self.problem(r, format!("`{fname}` is not a function the export can resolve"));
             return None;
         };
         if ff.is_library(self.ex.db) {
             return self.toolkit(&fname, args, cx, r);
         }
-        let f = match crate::machine::function(self.ex, ff, &fnode) {
+        let m::Item::Function(fdef) = fitem else {
+            self.problem(r, format!("the function `{fname}` is not in the model"));
+            return None;
+        };
+        let f = match crate::machine::function(self.ex, ff, fdef) {
             Ok(f) => f,
             Err(m) => {
                 self.problem(r, m);

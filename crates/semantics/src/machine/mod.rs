@@ -21,12 +21,11 @@ use std::rc::Rc;
 
 use robosim_hir::defs::{DefKind, Io};
 use robosim_hir::model as m;
-use robosim_hir::File;
-use robosim_syntax::{SyntaxNode, TextRange};
+use robosim_hir::{File, FileKind, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
-use crate::util::{self, ident, name_of};
+use crate::util::{self, ident};
 
 mod assembly;
 mod behaviour;
@@ -183,9 +182,13 @@ struct EOut {
 pub(crate) struct Gen<'e, 'a> {
     ex: &'e mut Exporter<'a>,
     file: File,
-    node: SyntaxNode,
+    /// The qualified path of what is translated (package, enclosing
+    /// elements, its name).
+    path: Vec<String>,
+    /// Its name's range, for problems about it as a whole.
+    name_range: TextRange,
     /// The machine or operation in the model (none for a function).
-    model: Option<Rc<m::Behaviour>>,
+    model: Option<&'a m::Behaviour>,
     robosim: bool,
     profile: Profile,
     names: HashMap<String, Nm>,
@@ -242,14 +245,24 @@ const MAX_NESTING: usize = 64;
 const GENERATED: &[&str] = &["P__", "D__", "O__", "VS__", "Memory__", "Behaviour__", "Cycle__", "id__", "cycle"];
 
 impl<'e, 'a> Gen<'e, 'a> {
-    pub(crate) fn new(ex: &'e mut Exporter<'a>, file: File, node: &SyntaxNode, record: bool) -> Self {
-        let robosim = file.kind(ex.db) == robosim_syntax::FileKind::RoboSim;
+    /// A translation of `model` (a machine or operation of `file`; none for
+    /// a function), whose qualified path is `path`; `record`: keep the
+    /// terms for hovers.
+    pub(crate) fn new(
+        ex: &'e mut Exporter<'a>,
+        file: File,
+        model: Option<&'a m::Behaviour>,
+        path: Vec<String>,
+        name_range: TextRange,
+        record: bool,
+    ) -> Self {
+        let robosim = file.kind(ex.db) == FileKind::RoboSim;
         let profile = ex.profile;
-        let model = util::model_behaviour(ex.db, ex.ws, file, node.text_range()).map(Rc::new);
         Gen {
             ex,
             file,
-            node: node.clone(),
+            path,
+            name_range,
             model,
             robosim,
             profile,
@@ -340,7 +353,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         if !self.nodes.iter().any(|n| n.parent.is_none() && n.kind == NodeKind::Initial) {
             self.problem(
-                util::name_range(&self.node),
+                self.name_range,
                 "the operation has no body (initial junction): only operations defined by a state machine are exported",
             );
             return Err(self.problems);
@@ -402,7 +415,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     // ------------------------------------------------------ declarations
 
     fn declarations(&mut self) {
-        let Some(beh) = self.model.clone() else { return };
+        let Some(beh) = self.model else { return };
         let file = self.file;
         // The machine's own declarations, its RoboSim contexts', then those
         // of the interfaces they use.
@@ -524,10 +537,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let init = v.init.as_ref();
         if is_const {
             let local = self.local(&n);
-            let mut owner = self.ex.path_of_node(self.file, &self.node);
-            if self.is_operation {
-                owner.push(name_of(&self.node));
-            }
+            let mut owner = self.path.clone();
             let global = ident(&format!("const_{}_{}", util::qualified(&owner), n));
             let default = match init {
                 Some(e) if f == self.file => match self.expr(e, ECtx::Const, Some(&ty)) {
@@ -575,9 +585,9 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     /// The nodes and transitions of the machine, from the model.
     fn collect_structure(&mut self) {
-        let Some(beh) = self.model.clone() else {
+        let Some(beh) = self.model else {
             let what = self.what();
-            self.problem(util::name_range(&self.node), format!("the model of this {what} is not available"));
+            self.problem(self.name_range, format!("the model of this {what} is not available"));
             return;
         };
         self.collect_nodes(&beh.region, None);
@@ -690,25 +700,31 @@ pub(crate) struct OpChan {
     pub params: Vec<Ty>,
 }
 
-/// The CSPm module of the operation at `node` in `file` (RoboChart), made
-/// on first use; the reason when it cannot be exported.
-pub(crate) fn operation(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<OperationOut>, String> {
-    let key = (file, node.text_range());
-    let oname = name_of(node);
+/// The CSPm module of the operation `op` of `file` (RoboChart), declared
+/// in `outer` (its package and enclosing elements), made on first use;
+/// the reason when it cannot be exported.
+pub(crate) fn operation<'a>(
+    ex: &mut Exporter<'a>,
+    file: File,
+    op: &'a m::Behaviour,
+    outer: Vec<String>,
+) -> Result<Rc<OperationOut>, String> {
+    let key = (file, op.range);
+    let oname = op.name.clone();
     match ex.operations.get(&key) {
         Some(Some(r)) => return r.clone(),
         Some(None) => return Err(format!("the operation `{oname}` calls itself: not supported by the export yet")),
         None => {}
     }
     ex.operations.insert(key, None);
-    let mut path = ex.path_of_node(file, node);
+    let mut path = outer;
     path.push(oname.clone());
     let module = ex.module_name(&path);
-    let mut g = Gen::new(ex, file, node, false);
+    let mut g = Gen::new(ex, file, Some(op), path.clone(), op.name_range, false);
     g.is_operation = true;
     let mut params = Vec::new();
     let mut problems = Vec::new();
-    let model_params = g.model.as_ref().map(|b| b.params.clone()).unwrap_or_default();
+    let model_params = g.model.map(|b| b.params.clone()).unwrap_or_default();
     for p in &model_params {
         let pn = p.name.clone();
         match g.ex.ty_ref(file, p.ty.as_ref()) {
@@ -753,19 +769,19 @@ pub(crate) struct FunctionOut {
     pub result: Ty,
 }
 
-/// The CSPm function of the model's function at `node` in `file`, made on
-/// first use: only explicit definitions (`postcondition result == e`)
-/// are exported.
-pub(crate) fn function(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
-    let key = (file, node.text_range());
-    let fname = name_of(node);
+/// The CSPm function of the model's function `f` of `file`, made on first
+/// use: only explicit definitions (`postcondition result == e`) are
+/// exported.
+pub(crate) fn function(ex: &mut Exporter<'_>, file: File, f: &m::Function) -> Result<Rc<FunctionOut>, String> {
+    let key = (file, f.range);
+    let fname = f.name.clone();
     match ex.functions.get(&key) {
         Some(Some(f)) => return Ok(f.clone()),
         Some(None) => return Err(format!("the function `{fname}` is recursive: not supported by the export yet")),
         None => {}
     }
     ex.functions.insert(key, None);
-    let r = function_inner(ex, file, node);
+    let r = function_inner(ex, file, f);
     match &r {
         Ok(f) => {
             ex.functions.insert(key, Some(f.clone()));
@@ -777,12 +793,8 @@ pub(crate) fn function(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> 
     r
 }
 
-fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Result<Rc<FunctionOut>, String> {
-    let fname = name_of(node);
-    let model = match util::model_item(ex.db, ex.ws, file, node.text_range()) {
-        Some(m::Item::Function(f)) => f.clone(),
-        _ => return Err(format!("the function `{fname}` is not in the model")),
-    };
+fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Result<Rc<FunctionOut>, String> {
+    let fname = model.name.clone();
     let mut params = Vec::new();
     for p in &model.params {
         let t = ex.ty_ref(file, p.ty.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
@@ -809,7 +821,7 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> Resul
     let mut path = ex.package(file);
     path.push(fname.clone());
     let csp = ex.module_name(&path);
-    let mut g = Gen::new(ex, file, node, false);
+    let mut g = Gen::new(ex, file, None, path.clone(), model.range, false);
     let mut names = Vec::new();
     for (n, t) in &params {
         let local = g.local(n);

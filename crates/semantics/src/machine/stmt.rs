@@ -233,9 +233,11 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
         let r = s.range;
         let n = self.ops[o].name.clone();
-        let callee = |k| k == DefKind::Operation;
-        let (of, onode) = util::resolve(self.ex.db, self.ex.ws, self.file, std::slice::from_ref(&n), callee)?;
-        let op = match operation(self.ex, of, &onode) {
+        let (db, ws) = (self.ex.db, self.ex.ws);
+        let loc = m::resolve(db, ws, self.file, std::slice::from_ref(&n), DefKind::Operation)?;
+        let m::Item::Operation(def) = m::item(db, ws, loc)? else { return None };
+        let outer = self.ex.package(loc.file);
+        let op = match operation(self.ex, loc.file, def, outer) {
             Ok(op) => op,
             Err(m) => {
                 self.problem(r, m);
@@ -404,6 +406,15 @@ impl<'e, 'a> Gen<'e, 'a> {
         };
         if self.robosim {
             self.problem(r, "RoboSim machines communicate through `$` inputs and outputs only");
+            return None;
+        }
+        // Refused rather than exported without its guard (which would offer
+        // the event whatever the guard says); the engine refuses them too.
+        if let (Some(g), false) = (comm.guard, matches!(comm.part, Some(m::CommPart::Input(..)))) {
+            self.problem(
+                g,
+                format!("guarded communications `{ev}[| … |]` are not supported by the export yet (the guard would be lost)"),
+            );
             return None;
         }
         let ty = self.events[i].ty.clone();
