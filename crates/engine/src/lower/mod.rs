@@ -15,6 +15,7 @@
 
 mod compose;
 mod expr;
+mod inspect;
 mod machine;
 mod stmt;
 mod types;
@@ -27,6 +28,7 @@ use robosim_hir::{Db, File, TextRange, Workspace};
 
 use crate::ir::*;
 use robosim_hir::csp_fn::CspFunction;
+pub use inspect::{inspect_element, ElementView, EventView};
 use types::Layout;
 
 /// Why a model cannot be checked natively.

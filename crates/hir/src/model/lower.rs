@@ -62,7 +62,13 @@ pub fn file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
         };
         items.push((id, cx.item(&node)));
     }
-    FileModel { items }
+    let literals = root
+        .descendants_with_tokens()
+        .filter_map(|e| e.into_token())
+        .filter(|t| t.kind() == INT_NUMBER)
+        .filter_map(|t| t.text().parse().ok())
+        .collect();
+    FileModel { items, literals }
 }
 
 fn find_node(root: &SyntaxNode, range: TextRange, kind: robosim_syntax::SyntaxKind) -> Option<SyntaxNode> {

@@ -503,4 +503,9 @@ pub enum Item {
 pub struct FileModel {
     /// The elements, in order, each with its definition in the file.
     pub items: Vec<(DefId, Item)>,
+    /// Every integer literal written in the file, in any declaration: the
+    /// numeric types are bounded once per project, widened by every
+    /// literal of its models (robotool-facts RT-5: one `instantiations.csp`
+    /// for the whole project), not per element.
+    pub literals: Vec<i64>,
 }
