@@ -33,9 +33,15 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     (
         "constant",
         "",
-        "(RT-1 default), export [Ok(1)]",
+        "(RT-1 default), export [\"1\"]",
         "a constant with no value is 1 in the export's instantiations.csp; RoboTool writes the type's default, 0 \
          (RT-1; the reference's instantiations.csp: `const_…_lv = 0`)",
+    ),
+    (
+        "constant",
+        "",
+        "engine [\"1\"] (RT-1 default), export [\"0\"]",
+        "a boolean constant with no value is false in the export; RoboTool's default for booleans is true (RT-1, RT-2)",
     ),
     (
         "alphabet",
@@ -49,16 +55,16 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     (
         "constant",
         "alpha-algorithm pkg223_::Communication",
-        "_id: engine [], export [Err(",
+        "_id: engine [], export [\"error: ",
         "same cause: the inlined operations' constants become parameters of the machine's D__",
     ),
 ];
 
 /// Whether `f` is listed in [`KNOWN`], and where.
 fn known(f: &Finding) -> Option<usize> {
-    KNOWN.iter().position(|(kind, place, detail, _)| {
-        *kind == f.kind && f.place.contains(place) && f.detail.contains(detail)
-    })
+    KNOWN
+        .iter()
+        .position(|(kind, place, detail, _)| *kind == f.kind && f.place.contains(place) && f.detail.contains(detail))
 }
 
 /// A channel with more events than this is compared by its size.
@@ -135,8 +141,7 @@ fn engine_elements(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -
             // (checked on its own, RT-19).
             if it.kind == DefKind::Controller {
                 for m in it.members.iter().filter(|m| m.kind == DefKind::StateMachine) {
-                    let view = inspect_element(db, ws, loc, Some(&m.name), &[], &defaults)
-                        .map_err(|u| u.message);
+                    let view = inspect_element(db, ws, loc, Some(&m.name), &[], &defaults).map_err(|u| u.message);
                     let inner = format!("{}::{}", path.join("::"), m.name);
                     out.push(EngineElement { path: inner, view });
                 }
@@ -226,7 +231,8 @@ impl ExportView<'_> {
     fn range(&mut self, name: &str) -> Result<(i64, i64), String> {
         match self.eval.value(name).map_err(|d| d.message)? {
             Value::Set(s) => {
-                let ints: Vec<i64> = s.iter().filter_map(|v| if let Value::Int(i) = v { Some(*i) } else { None }).collect();
+                let ints: Vec<i64> =
+                    s.iter().filter_map(|v| if let Value::Int(i) = v { Some(*i) } else { None }).collect();
                 match (ints.iter().min(), ints.iter().max()) {
                     (Some(lo), Some(hi)) if ints.len() == s.len() => Ok((*lo, *hi)),
                     _ => Err(format!("`{name}` is not a set of integers")),
@@ -293,7 +299,11 @@ fn compare_events(ex: &mut ExportView<'_>, place: &str, e: &EngineElement, v: &E
         let export = match ex.events(&expr, &strip) {
             Ok(s) => s,
             Err(why) => {
-                out.push(Finding { kind: "event", place: here.clone(), detail: format!("{}: export: {why}", ev.label) });
+                out.push(Finding {
+                    kind: "event",
+                    place: here.clone(),
+                    detail: format!("{}: export: {why}", ev.label),
+                });
                 continue;
             }
         };
@@ -373,17 +383,18 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
     let skip = if v.robosim { 2 } else { 1 };
     ps.drain(..skip.min(ps.len()));
     let short = |q: &str| q.rsplit("::").next().unwrap_or(q).to_string();
-    // By constant name: the values each side uses, and whether the engine
-    // took RoboTool's default (RT-1).
-    let mut engine: BTreeMap<String, (Vec<i64>, bool)> = BTreeMap::new();
+    // By constant name: the values each side uses, printed (the engine's
+    // default as its note prints it: `true`, `Mode_Idle`), and whether the
+    // engine took RoboTool's default (RT-1).
+    let mut engine: BTreeMap<String, (Vec<String>, bool)> = BTreeMap::new();
     for (q, val) in &v.constants {
-        let default = v.defaults.iter().any(|d| d.starts_with(&format!("constant {q} = ")));
+        let note = v.defaults.iter().find_map(|d| d.strip_prefix(&format!("constant {q} = "))?.strip_suffix(" (RT-1)"));
         let entry = engine.entry(short(q)).or_default();
-        entry.0.push(*val);
-        entry.1 |= default;
+        entry.0.push(note.map_or_else(|| val.to_string(), |n| n.replace("true", "1").replace("false", "0")));
+        entry.1 |= note.is_some();
     }
     let names: BTreeSet<String> = engine.keys().cloned().collect();
-    let mut export: BTreeMap<String, Vec<Result<i64, String>>> = BTreeMap::new();
+    let mut export: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for p in &ps {
         let (k, global) = match p.strip_prefix("const_") {
             // The longest constant name of the engine's that ends it.
@@ -397,23 +408,24 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
             None => (p.clone(), format!("const_{module}_{p}")),
         };
         let value = match ex.eval.value(&global) {
-            Ok(Value::Int(i)) => Ok(i),
-            Ok(Value::Bool(b)) => Ok(b as i64),
-            Ok(other) => Err(format!("{other}")),
-            Err(d) => Err(d.message),
+            Ok(Value::Bool(b)) => (b as i64).to_string(),
+            Ok(other) => other.to_string(),
+            Err(d) => format!("error: {}", d.message),
         };
         export.entry(k).or_default().push(value);
     }
     for name in names.iter().chain(export.keys()).collect::<BTreeSet<_>>() {
         let (mut e, default) = engine.get(name).cloned().unwrap_or_default();
         let mut x = export.get(name).cloned().unwrap_or_default();
-        e.sort();
-        x.sort();
         // The export passes one value per constant it names, the engine
         // has one per machine instance: the same values either way.
-        e.dedup();
-        x.dedup();
-        if x != e.iter().map(|v| Ok(*v)).collect::<Vec<_>>() {
+        for vs in [&mut e, &mut x] {
+            vs.sort();
+            vs.dedup();
+        }
+        // An enumeration literal: RoboTool's `pkg_Mode_Idle` is `Mode_Idle`.
+        let same = e.len() == x.len() && e.iter().zip(&x).all(|(a, b)| a == b || b.ends_with(&format!("_{a}")));
+        if !same {
             let default = if default { " (RT-1 default)" } else { "" };
             out.push(Finding {
                 kind: "constant",
@@ -451,7 +463,14 @@ fn period_assertions(elements: &[EngineElement]) -> String {
 }
 
 /// Compares the period of RoboSim element number `i`.
-fn compare_period(ex: &mut ExportView<'_>, here: &str, i: usize, e: &EngineElement, v: &ElementView, out: &mut Vec<Finding>) {
+fn compare_period(
+    ex: &mut ExportView<'_>,
+    here: &str,
+    i: usize,
+    e: &EngineElement,
+    v: &ElementView,
+    out: &mut Vec<Finding>,
+) {
     let module = ex.modules[&e.path].clone();
     let script = ex.scripts.get("agree_assertions.csp").cloned().unwrap_or_default();
     let marker = format!("-- assertion agree_{i} :");
@@ -459,7 +478,9 @@ fn compare_period(ex: &mut ExportView<'_>, here: &str, i: usize, e: &EngineEleme
         None => Err("no assertion".to_string()),
         // Refused for want of a period: what the engine says too.
         Some(a) if a.contains("NOT EXPORTED: no positive period satisfies") => Err("infeasible".to_string()),
-        Some(a) if a.contains("NOT EXPORTED") => Err(a.lines().find(|l| l.contains("NOT EXPORTED")).unwrap_or(a).to_string()),
+        Some(a) if a.contains("NOT EXPORTED") => {
+            Err(a.lines().find(|l| l.contains("NOT EXPORTED")).unwrap_or(a).to_string())
+        }
         Some(a) => match call_args(a, &format!("{module}::D__")).and_then(|args| args.get(1).cloned()) {
             None => Err(format!("no call of {module}::D__ in {a}")),
             Some(arg) => match ex.eval.eval_text(&arg) {
@@ -474,7 +495,11 @@ fn compare_period(ex: &mut ExportView<'_>, here: &str, i: usize, e: &EngineEleme
         ref other => Err(format!("{other:?}")),
     };
     if engine != export {
-        out.push(Finding { kind: "period", place: here.to_string(), detail: format!("engine {engine:?}, export {export:?}") });
+        out.push(Finding {
+            kind: "period",
+            place: here.to_string(),
+            detail: format!("engine {engine:?}, export {export:?}"),
+        });
     }
 }
 
@@ -581,7 +606,8 @@ fn workspaces() -> Vec<(String, Vec<(String, String)>)> {
 #[test]
 fn the_engine_and_the_export_agree() {
     let mut all = Vec::new();
-    let (mut compared, mut engine_refused, mut export_refused, mut inline, mut periods, mut spaces) = (0, 0, 0, 0, 0, 0);
+    let (mut compared, mut engine_refused, mut export_refused, mut inline, mut periods, mut spaces) =
+        (0, 0, 0, 0, 0, 0);
     for (name, files) in workspaces() {
         let t = agree(&name, files);
         spaces += 1;
@@ -592,6 +618,10 @@ fn the_engine_and_the_export_agree() {
         periods += t.periods;
         all.extend(t.findings);
     }
+    let kinds = agree("kinds", vec![("kinds.rct".to_string(), KINDS.to_string())]);
+    assert_eq!(kinds.compared, 3, "{:#?}", kinds.findings);
+    compared += kinds.compared;
+    all.extend(kinds.findings);
     let mut used = vec![false; KNOWN.len()];
     let mut unknown = Vec::new();
     for f in &all {
@@ -666,3 +696,31 @@ fn the_back_ends_choose_the_same_period() {
         }
     }
 }
+
+/// One model with a constant of each kind and no value, a packaged
+/// enumeration, a record, a product and platform operations: the kinds of
+/// values the corpus has few of. It is compared
+/// with the corpus, in [`the_engine_and_the_export_agree`].
+const KINDS: &str = "package kinds
+    enumeration Mode { Idle Busy }
+    datatype Pos { x : nat y : int }
+    interface I { event go : Mode event at : Pos event pair : nat * boolean event ping }
+    interface Ops { turn(m : Mode) stop() }
+    stm M { uses I requires Ops const k : nat const b : boolean const m : Mode
+      var n : nat var v : Mode var q : Pos var r : nat * boolean
+      initial i state S { }
+      transition t { from i to S }
+      transition u { from S to S trigger go?v action turn(v) ; n = n + 3 }
+      transition w { from S to S trigger at?q condition b /\\ k == 0 action stop() }
+      transition p { from S to S trigger pair?r action ping } }
+    controller C { uses I requires Ops sref s = M
+      connection C on go to s on go ( _async )
+      connection C on at to s on at ( _async )
+      connection C on pair to s on pair ( _async )
+      connection s on ping to C on ping }
+    robotic platform P { uses I provides Ops }
+    module Mod { rref p = P cref c = C
+      connection p on go to c on go ( _async )
+      connection p on at to c on at ( _async )
+      connection p on pair to c on pair ( _async )
+      connection c on ping to p on ping ( _async ) }\n";

@@ -27,8 +27,8 @@ use robosim_hir::model::{self, Behaviour, Item};
 use robosim_hir::{Db, File, TextRange, Workspace};
 
 use crate::ir::*;
-use robosim_hir::csp_fn::CspFunction;
 pub use inspect::{inspect_element, ElementView, EventView};
+use robosim_hir::csp_fn::CspFunction;
 use types::Layout;
 
 /// Why a model cannot be checked natively.
