@@ -21,8 +21,7 @@ use robosim_hir::cycle::Feasibility;
 use robosim_hir::defs::DefKind;
 use robosim_hir::index::{file_summary, ItemLoc};
 
-#[path = "../../syntax/tests/support/inputs.rs"]
-mod inputs;
+use robosim_test_support::inputs;
 
 /// Disagreements where the export is wrong, checked against RoboTool's
 /// generated CSPm (`reference/alpha-algorithm/csp-gen`) and
