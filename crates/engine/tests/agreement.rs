@@ -175,38 +175,72 @@ fn export_view<'a>(
     let ex = robosim_semantics::export_workspace(db, ws, &robosim_semantics::Options::default());
     let (mut modules, mut texts, mut scripts) = (BTreeMap::new(), BTreeMap::new(), BTreeMap::new());
     let mut refused = BTreeSet::new();
+    let (mut all_modules, mut headers) = (BTreeMap::new(), Vec::new());
     let mut text = String::new();
     for f in &ex.files {
         let t = f.text();
+        // `AGREE_DUMP=dir` keeps the exported files, to read a finding.
+        if let Ok(dir) = std::env::var("AGREE_DUMP") {
+            let _ = std::fs::write(format!("{dir}/{place}_{}", f.name), &t);
+        }
         // The assertion scripts (they include the other files).
         if t.contains("\ninclude \"") {
             scripts.insert(f.name.clone(), t);
             continue;
         }
         let lines: Vec<&str> = t.lines().collect();
+        // Every module, nested ones by their full name (`pkg::M`: RoboTool
+        // puts the elements of package `pkg` inside its module), with its
+        // text up to its `endmodule`.
+        let mut stack: Vec<(String, usize, usize)> = Vec::new();
         for (i, l) in lines.iter().enumerate() {
+            let indent = l.len() - l.trim_start().len();
+            if let Some(name) = l.trim_start().strip_prefix("module ") {
+                let full = match stack.last() {
+                    Some((outer, ..)) => format!("{outer}::{}", name.trim()),
+                    None => name.trim().to_string(),
+                };
+                stack.push((full, indent, i));
+            } else if l.trim() == "endmodule" {
+                if let Some((full, _, start)) = stack.pop() {
+                    all_modules.insert(full, lines[start..i].join("\n"));
+                }
+            }
+        }
+        for l in &lines {
+            let Some(header) = l.strip_prefix("-- RoboChart ").or_else(|| l.strip_prefix("-- RoboSim ")) else {
+                continue;
+            };
+            if let Some(path) = ["state machine ", "controller ", "module "].iter().find_map(|k| header.strip_prefix(k))
+            {
+                headers.push(path.to_string());
+            }
+        }
+        for l in &lines {
             if let Some(what) = l.strip_prefix("-- NOT EXPORTED: ") {
                 if let Some(path) =
                     ["state machine ", "controller ", "module "].iter().find_map(|k| what.strip_prefix(k))
                 {
                     refused.insert(path.to_string());
                 }
-                continue;
             }
-            let Some(header) = l.strip_prefix("-- RoboChart ").or_else(|| l.strip_prefix("-- RoboSim ")) else {
-                continue;
-            };
-            let Some(path) = ["state machine ", "controller ", "module "].iter().find_map(|k| header.strip_prefix(k))
-            else {
-                continue;
-            };
-            let Some(name) = lines.get(i + 1).and_then(|n| n.strip_prefix("module ")) else { continue };
-            let body: Vec<&str> = lines[i + 1..].iter().take_while(|l| **l != "endmodule").copied().collect();
-            modules.insert(path.to_string(), name.trim().to_string());
-            texts.insert(path.to_string(), body.join("\n"));
         }
         text.push_str(&t);
         text.push('\n');
+    }
+    // Each exported element's module: `A_B::M_S` for the element
+    // `A::B::M::S` of package `A::B` (the package is a prefix of the path).
+    for path in headers {
+        let parts: Vec<&str> = path.split("::").collect();
+        let flat = |ps: &[&str]| ps.join("_");
+        let found = (1..parts.len())
+            .map(|k| format!("{}::{}", flat(&parts[..k]), flat(&parts[k..])))
+            .chain(std::iter::once(flat(&parts)))
+            .find(|m| all_modules.contains_key(m));
+        if let Some(m) = found {
+            texts.insert(path.clone(), all_modules[&m].clone());
+            modules.insert(path, m);
+        }
     }
     let m = module.insert(Module::check(&text, &NoNames));
     for d in m.diagnostics().iter().filter(|d| d.severity == robosim_cspm::Severity::Error) {
@@ -245,7 +279,13 @@ impl ExportView<'_> {
     /// events, aside).
     fn channels(&self, path: &str) -> Vec<String> {
         let Some(text) = self.texts.get(path) else { return Vec::new() };
-        let exports = text.split_once("\nexports\n").map_or("", |(_, e)| e);
+        // The module's own `exports`, at the indentation of its `module`.
+        let indent = text.len() - text.trim_start().len();
+        let exports = text
+            .split('\n')
+            .skip_while(|l| !(l.trim() == "exports" && l.len() - l.trim_start().len() == indent))
+            .collect::<Vec<_>>()
+            .join("\n");
         let mut out = Vec::new();
         for l in exports.lines() {
             let Some(decl) = l.trim_start().strip_prefix("channel ") else { continue };
@@ -343,8 +383,8 @@ fn compare_events(ex: &mut ExportView<'_>, place: &str, e: &EngineElement, v: &E
 /// The parameters of the process `name` as `module` defines it
 /// (`D__(id__, cycle, PI, lv)`).
 fn params(text: &str, name: &str) -> Vec<String> {
-    let Some(at) = text.find(&format!("\n  {name}(")) else { return Vec::new() };
-    let rest = &text[at + name.len() + 4..];
+    let Some(line) = text.lines().find(|l| l.trim_start().starts_with(&format!("{name}("))) else { return Vec::new() };
+    let rest = &line.trim_start()[name.len() + 1..];
     let close = rest.find(')').unwrap_or(0);
     rest[..close].split(',').map(|p| p.trim().to_string()).filter(|p| !p.is_empty()).collect()
 }
@@ -377,7 +417,6 @@ fn call_args(text: &str, callee: &str) -> Option<Vec<String>> {
 /// the parameters the export's `D__` takes, each valued by the
 /// instantiations (`const_<path>_<k>`), by constant name.
 fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: &ElementView, out: &mut Vec<Finding>) {
-    let module = ex.modules[&e.path].clone();
     let mut ps = params(&ex.texts[&e.path], "D__");
     let skip = if v.robosim { 2 } else { 1 };
     ps.drain(..skip.min(ps.len()));
@@ -404,7 +443,7 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
                     .max_by_key(|k| k.len());
                 (k.cloned().unwrap_or_else(|| rest.to_string()), p.clone())
             }
-            None => (p.clone(), format!("const_{module}_{p}")),
+            None => (p.clone(), format!("const_{}_{p}", e.path.replace("::", "_"))),
         };
         let value = match ex.eval.value(&global) {
             Ok(Value::Bool(b)) => (b as i64).to_string(),
@@ -662,6 +701,10 @@ fn cycle_model(module: Option<&str>, controller: Option<&str>, machine: Option<&
     )
 }
 
+/// The cycleDefs of a module, its controller and its machine, and the
+/// period they give (`None`: no period is feasible).
+type CycleCase<'a> = (Option<&'a str>, Option<&'a str>, Option<&'a str>, Option<u64>);
+
 /// The cycle cases of issue 16: each back end takes the least period the
 /// cycleDefs of the module, its controller and its machine all admit
 /// (`periods.rs` checks the verdicts that follow from it), and refuses a
@@ -669,7 +712,7 @@ fn cycle_model(module: Option<&str>, controller: Option<&str>, machine: Option<&
 #[test]
 fn the_back_ends_choose_the_same_period() {
     let gt = Some("cycle > 2");
-    let cases: [(Option<&str>, Option<&str>, Option<&str>, Option<u64>); 7] = [
+    let cases: [CycleCase; 7] = [
         (gt, gt, gt, Some(3)),
         (Some("cycle >= 2"), Some("cycle >= 2"), Some("cycle >= 2"), Some(2)),
         (Some("cycle < 5"), Some("cycle < 5"), Some("cycle < 5"), Some(1)),
