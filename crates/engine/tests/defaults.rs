@@ -107,3 +107,20 @@ fn primitive_types_range_over_zero_and_one() {
     assert_eq!(got, [("O", Verdict::Pass), ("T", Verdict::Fail)], "{reports:#?}");
     assert!(reports[0].notes.join("\n").contains("type ID = {0, 1} (RT-3)"), "{:?}", reports[0].notes);
 }
+
+/// RT-5: the number types are bounded once for the project (RoboTool's
+/// one `instantiations.csp`), widened by the literals of every model, not
+/// only the checked element's. Here `B` alone would bound `nat` to
+/// {0..2}, where `x + 1` sticks at 2; `A`'s literal 5 widens it, so `x`
+/// reaches 3 and `Big` is reachable, as in RoboTool.
+#[test]
+fn number_types_are_bounded_by_the_whole_project() {
+    let model = "stm A { var y : nat initial i state S { } transition t { from i to S action y = 5 } }
+        stm B { var x : nat initial i state S { } state Big { }
+          transition t { from i to S }
+          transition u { from S to S condition x <= 2 action x = x + 1 }
+          transition v { from S to Big condition x > 2 } }";
+    let reports = run(model, "assertion R : B::Big is reachable in B");
+    assert_eq!(reports.len(), 1);
+    assert_eq!(reports[0].verdict, Verdict::Pass, "{:?}", reports[0].reason);
+}

@@ -274,9 +274,21 @@ impl<'a> Cx<'a> {
         platform: &HashMap<End, Dir>,
         async_ends: &BTreeSet<End>,
     ) -> Result<Design, Unsupported> {
-        // Literals of every machine widen the numeric domains (as RoboTool's
-        // generator does), and so do the constants' values.
-        let mut lits: Vec<Val> = instances.iter().flat_map(|i| i.body.literals.iter().copied()).collect();
+        // The literals of every model of the project widen the numeric
+        // domains, as RoboTool's one `instantiations.csp` per project does
+        // (RT-5; the CSPm export bounds them alike): an element checked on
+        // its own still takes the values the others' literals allow. The
+        // constants' values widen them too.
+        let project = instances.first().and_then(|i| robosim_hir::index::project_of(self.db, self.ws, i.file));
+        let mut lits: Vec<Val> = self
+            .ws
+            .files(self.db)
+            .iter()
+            .filter(|f| !f.is_library(self.db) && !f.kind(self.db).is_assertions())
+            .filter(|f| robosim_hir::index::project_of(self.db, self.ws, **f) == project)
+            .flat_map(|f| model::file_model(self.db, self.ws, *f).literals.iter().copied())
+            .collect();
+        lits.extend(instances.iter().flat_map(|i| i.body.literals.iter().copied()));
         lits.extend(self.consts.iter().map(|c| c.value));
         let widen = |d: Dom, fixed: bool, nat: bool| -> Dom {
             if fixed {

@@ -16,6 +16,7 @@
 mod cells;
 mod compose;
 mod expr;
+mod inspect;
 mod machine;
 mod stmt;
 mod types;
@@ -27,6 +28,7 @@ use robosim_hir::model::{self, Behaviour, Item};
 use robosim_hir::{Db, File, TextRange, Workspace};
 
 use crate::ir::*;
+pub use inspect::{inspect_element, ElementView, EventView};
 use robosim_hir::csp_fn::CspFunction;
 use types::Layout;
 

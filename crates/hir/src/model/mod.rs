@@ -511,8 +511,10 @@ pub enum Item {
 pub struct FileModel {
     /// The elements, in order, each with its definition in the file.
     pub items: Vec<(DefId, Item)>,
-    /// Every integer literal written in the file, in order (RoboTool
-    /// widens the numeric types with them).
+    /// Every integer literal written in the file, in order: the numeric
+    /// types are bounded once per project, widened by every literal of its
+    /// models (robotool-facts RT-5: one `instantiations.csp` for the whole
+    /// project), not per element.
     pub literals: Vec<i64>,
     /// The file's syntax errors (not warnings), in order: range and
     /// message. A back end refuses a file that has any.
