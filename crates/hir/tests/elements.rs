@@ -9,6 +9,7 @@ mod generated;
 use std::sync::{Arc, Mutex};
 
 use robosim_hir::element::{element_list, Element};
+use robosim_hir::element_rules::{element_cycles, element_rules};
 use robosim_hir::{file_diagnostics, load_workspace, parse, Diagnostic, File, Prior, RootDatabase, RuleSet, Workspace};
 use salsa::plumbing::AsId;
 use salsa::Setter;
@@ -37,14 +38,22 @@ fn an_edit_inside_one_machine_reruns_that_element_only() {
     let good = generated::generated_robosim(6);
     let ws = load_workspace(&db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
     let file = user_file(&db, ws);
-    assert!(file_diagnostics(&db, ws, file).is_empty());
-    let (machine_id, after) = {
+    // The keys of the machine's rule queries (salsa names a query taking
+    // the workspace and the element by an id of its own), read from the
+    // log as they are computed first.
+    let (machine_id, after, rule_keys) = {
         let elements: &[Element] = element_list(&db, file);
         // Two interfaces, a machine, a controller and a module per copy.
         assert_eq!(elements.len(), 6 * 5);
         let i = elements.iter().position(|e| e.name(&db) == "SimSMovement3").unwrap();
-        (format!("{:?}", elements[i].as_id()), elements.len() - i)
+        log.lock().unwrap().clear();
+        element_rules(&db, ws, elements[i]);
+        element_cycles(&db, ws, elements[i]);
+        let ran = std::mem::take(&mut *log.lock().unwrap());
+        let key = |q: &str| ran.iter().find(|e| e.starts_with(&format!("{q}("))).cloned().unwrap();
+        (format!("{:?}", elements[i].as_id()), elements.len() - i, [key("element_rules"), key("element_cycles")])
     };
+    assert!(file_diagnostics(&db, ws, file).is_empty());
 
     let at = good.find("stm SimSMovement3 {").unwrap();
     let guard = at + good[at..].find("not $obstacle").unwrap() + "not ".len();
@@ -70,6 +79,21 @@ fn an_edit_inside_one_machine_reruns_that_element_only() {
         assert!(runs("element_members").len() <= 1, "{ran:?}");
         // Nothing resolves or types the whole file.
         for q in ["body_resolution", "type_checks", "file_resolution"] {
+            assert!(runs(q).is_empty(), "{q}: {ran:?}");
+        }
+        // The rules run for the machine only: its controller and module
+        // read it through position-free queries (members, cycle
+        // specifications, usages, name places), which are equal after
+        // the edit, so their rules are not run again.
+        for (q, key) in ["element_rules", "element_cycles"].into_iter().zip(&rule_keys) {
+            assert_eq!(&runs(q), std::slice::from_ref(key), "{ran:?}");
+        }
+        for q in ["element_specs", "element_usages"] {
+            assert!(runs(q).len() <= 1, "{q}: {ran:?}");
+        }
+        // No rule query over the whole file, and the file's definitions
+        // are not put together.
+        for q in ["top_duplicates", "size_checks", "cycle_infos", "file_defs", "file_checks", "more_checks"] {
             assert!(runs(q).is_empty(), "{q}: {ran:?}");
         }
     }
