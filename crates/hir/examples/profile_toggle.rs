@@ -42,8 +42,6 @@ fn toggle_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) 
     };
     let _ = parse(db, file);
     lap("parse");
-    let _ = defs::file_defs(db, file);
-    lap("file_defs");
     let _ = element::file_elements(db, file);
     lap("file_elements");
     for (e, _) in element::file_elements(db, file) {

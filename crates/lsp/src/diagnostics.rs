@@ -1,7 +1,8 @@
 //! Computing and publishing diagnostics.
 //!
 //! Every change starts a job on a background thread (`background.rs`: a
-//! lower priority than the threads answering requests). The job takes a
+//! lower priority than the threads answering requests, except while it
+//! checks the buffer just edited, which the user waits for). The job takes a
 //! snapshot, computes, drops the snapshot, then publishes, in that order,
 //! so no snapshot is ever held while waiting for a lock or for the client:
 //! a write to the database (which waits for all snapshots) can always
@@ -35,7 +36,13 @@ use crate::state::{Phase, Shared};
 /// `others`, for every other file whose diagnostics may depend on it.
 pub(crate) fn schedule(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
     let job = shared.clone();
-    crate::background::spawn(shared, "robosim-engine", move || run(&job, primary, others));
+    if primary.is_some() {
+        // The edited buffer's check is waited for: at the caller's
+        // priority, the rest of the job (other files) one level lower.
+        crate::background::spawn_urgent(shared, "robosim-engine", move || run(&job, primary, others));
+    } else {
+        crate::background::spawn(shared, "robosim-engine", move || run(&job, primary, others));
+    }
     // Results of verification dropped by the change: titles to update.
     crate::verify::refresh_lenses(shared);
 }
@@ -82,6 +89,7 @@ fn run(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
     if !others {
         return;
     }
+    crate::background::lower_priority(shared.background_nice);
     let all = shared.lock().all_files();
     for (key, seq) in all {
         if primary.as_ref().is_some_and(|(k, _)| *k == key) {
@@ -144,15 +152,17 @@ fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
 /// Computes and publishes one file's complete diagnostics, retrying when a
 /// write that did not change this file cancelled the computation. With
 /// `parallel` (the file just edited, whose check someone waits for), a
-/// second thread computes part of the rules at the same time.
+/// second thread computes part of the rules at the same time when the
+/// buffer has no complete check yet.
 fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) -> Outcome {
     loop {
         if shared.phase() != Phase::Running {
             return Outcome::Stale;
         }
-        let (analysis, target) = {
+        let (analysis, target, first_check) = {
             let st = shared.lock();
             let Some(entry) = st.current(key, seq) else { return Outcome::Stale };
+            let first_check = entry.open.as_ref().is_none_or(|d| d.checked.is_none());
             let target = Target {
                 key: key.to_string(),
                 seq,
@@ -162,9 +172,13 @@ fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) 
                 verified: st.verify.reports_for(key),
                 stamp: st.verify.stamp(key),
             };
-            (st.host.analysis(), target)
+            (st.host.analysis(), target, first_check)
         };
-        if let (true, Some(file)) = (parallel, target.file) {
+        // Only for a check from scratch: after an edit the rules of the
+        // edited element are all there is to compute (they run per
+        // element), and a second thread would only re-verify the other
+        // elements' results alongside this one.
+        if let (true, true, Some(file)) = (parallel, first_check, target.file) {
             // Its own snapshot, dropped when done or cancelled by an edit;
             // the results land in the shared memo tables.
             let helper = analysis.clone();
