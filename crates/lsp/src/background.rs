@@ -1,8 +1,6 @@
-//! Threads for work nobody is waiting on right now: the check of other
-//! files after an edit, its helper, re-publishing, verification runs. They
-//! run at a lower CPU priority than the threads answering requests (the
-//! check of the buffer just edited starts at their priority: see
-//! [`spawn_urgent`]), so that a hover or a jump
+//! Threads for work nobody is waiting on right now: the check of a file
+//! after an edit, its helper, re-publishing, verification runs. They run at a lower CPU
+//! priority than the threads answering requests, so that a hover or a jump
 //! to a definition sent while a large file is being checked gets a core
 //! first; when nothing else wants the CPU, background work runs at full
 //! speed. Threads of tokio's shared blocking pool are not used for this: a
@@ -21,21 +19,11 @@ const NICE_INCREMENT: i32 = 5;
 /// Runs `f` on a new background thread; on the runtime's blocking pool when
 /// no thread can be started.
 pub(crate) fn spawn(shared: &Arc<Shared>, name: &str, f: impl FnOnce() + Send + 'static) {
-    spawn_at(shared, name, shared.background_nice, f)
-}
-
-/// [`spawn`], the thread at the caller's priority: for the check of the
-/// buffer just edited, which the user waits for (the job lowers its own
-/// priority with [`lower_priority`] before any other work).
-pub(crate) fn spawn_urgent(shared: &Arc<Shared>, name: &str, f: impl FnOnce() + Send + 'static) {
-    spawn_at(shared, name, None, f)
-}
-
-fn spawn_at(shared: &Arc<Shared>, name: &str, nice: Option<i32>, f: impl FnOnce() + Send + 'static) {
     // `f` moves into the thread or, if that fails, to the pool: keep it in
     // an Option the failure path can take back.
     let slot = Arc::new(std::sync::Mutex::new(Some(f)));
     let for_thread = slot.clone();
+    let nice = shared.background_nice;
     let spawned = std::thread::Builder::new()
         .name(name.to_string())
         // As the runtime's threads: analyses recurse over syntax trees.

@@ -1,8 +1,7 @@
 //! Computing and publishing diagnostics.
 //!
 //! Every change starts a job on a background thread (`background.rs`: a
-//! lower priority than the threads answering requests, except while it
-//! checks the buffer just edited, which the user waits for). The job takes a
+//! lower priority than the threads answering requests). The job takes a
 //! snapshot, computes, drops the snapshot, then publishes, in that order,
 //! so no snapshot is ever held while waiting for a lock or for the client:
 //! a write to the database (which waits for all snapshots) can always
@@ -36,13 +35,7 @@ use crate::state::{Phase, Shared};
 /// `others`, for every other file whose diagnostics may depend on it.
 pub(crate) fn schedule(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
     let job = shared.clone();
-    if primary.is_some() {
-        // The edited buffer's check is waited for: at the caller's
-        // priority, the rest of the job (other files) one level lower.
-        crate::background::spawn_urgent(shared, "robosim-engine", move || run(&job, primary, others));
-    } else {
-        crate::background::spawn(shared, "robosim-engine", move || run(&job, primary, others));
-    }
+    crate::background::spawn(shared, "robosim-engine", move || run(&job, primary, others));
     // Results of verification dropped by the change: titles to update.
     crate::verify::refresh_lenses(shared);
 }
@@ -89,7 +82,6 @@ fn run(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
     if !others {
         return;
     }
-    crate::background::lower_priority(shared.background_nice);
     let all = shared.lock().all_files();
     for (key, seq) in all {
         if primary.as_ref().is_some_and(|(k, _)| *k == key) {
