@@ -174,7 +174,10 @@ impl<'a> Checker<'a> {
                     }
                     self.out.push(
                         Problem::new("DUP-01", d.name_range, format!("duplicate {} `{}`", d.kind.describe(), d.name))
-                            .with_related(Place::here(self.file, f.name_range), format!("`{}` is first declared here", f.name)),
+                            .with_related(
+                                Place::here(self.file, f.name_range),
+                                format!("`{}` is first declared here", f.name),
+                            ),
                     );
                 }
                 None => {

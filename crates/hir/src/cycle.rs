@@ -626,7 +626,10 @@ pub struct CycleInfo {
 /// container of `file` (put together from its elements').
 #[salsa::tracked(returns(ref))]
 pub fn cycle_infos(db: &dyn Db, ws: Workspace, file: File) -> Vec<(DefId, CycleInfo)> {
-    element_list(db, file).iter().flat_map(|e| crate::element_rules::element_cycles(db, ws, *e).1.iter().copied()).collect()
+    element_list(db, file)
+        .iter()
+        .flat_map(|e| crate::element_rules::element_cycles(db, ws, *e).1.iter().copied())
+        .collect()
 }
 
 /// The cycle rules of the RoboSim containers of `defs` (one element of
@@ -642,7 +645,8 @@ pub(crate) fn element_cycle_checks(
     if file.kind(db) != robosim_syntax::FileKind::RoboSim {
         return (problems, infos);
     }
-    for (id, d) in defs.iter() {        let code = match d.kind {
+    for (id, d) in defs.iter() {
+        let code = match d.kind {
             DefKind::Module => "RS:M1",
             DefKind::Controller => "RS:C1",
             DefKind::StateMachine => "RS:SM1",

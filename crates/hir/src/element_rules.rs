@@ -97,10 +97,13 @@ pub(crate) fn use_places(db: &dyn Db, file: File, id: DefId) -> Vec<(crate::defs
     defs.uses_of(id).map(|u| (u.clone(), anchor)).collect()
 }
 
-/// The top-level definitions of `element`: kind, name and the name's range
-/// relative to the element's start.
+/// A top-level definition: kind, name and the name's range relative to
+/// its element's start.
+type Head = (DefKind, String, TextRange);
+
+/// The top-level definitions of `element`.
 #[salsa::tracked(returns(ref))]
-fn element_heads<'db>(db: &'db dyn Db, element: Element<'db>) -> Vec<(DefKind, String, TextRange)> {
+fn element_heads<'db>(db: &'db dyn Db, element: Element<'db>) -> Vec<Head> {
     element_lowered(db, element).children(None).map(|(_, d)| (d.kind, d.name.clone(), d.name_range)).collect()
 }
 
@@ -109,7 +112,7 @@ fn element_heads<'db>(db: &'db dyn Db, element: Element<'db>) -> Vec<(DefKind, S
 #[salsa::tracked(returns(ref))]
 pub(crate) fn top_duplicates(db: &dyn Db, file: File) -> Vec<Problem> {
     let mut out = Vec::new();
-    let mut seen: FxHashMap<(u8, &str), (Anchor, &(DefKind, String, TextRange))> = FxHashMap::default();
+    let mut seen: FxHashMap<(u8, &str), (Anchor, &Head)> = FxHashMap::default();
     let mut reported = rustc_hash::FxHashSet::default();
     for e in element_list(db, file) {
         let anchor = Anchor::Element(e.as_id());

@@ -23,13 +23,7 @@ use crate::{parse, Db, File, Workspace};
 
 /// The rules relating the containers of `defs` (one element of `file`) to
 /// their parts, and the element's workspace-wide names.
-pub(crate) fn element_more(
-    db: &dyn Db,
-    ws: Workspace,
-    file: File,
-    defs: &FileDefs,
-    root: &SyntaxNode,
-) -> Vec<Problem> {
+pub(crate) fn element_more(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs, root: &SyntaxNode) -> Vec<Problem> {
     let mut out = Vec::new();
     if file.kind(db).is_assertions() {
         return out;
@@ -787,8 +781,7 @@ fn probabilities(defs: &FileDefs, root: &SyntaxNode, junction: DefId, out: &mut 
             continue;
         }
         let Some(p) = td.probability else { return };
-        let Some(lit) = find_node(root, p, PROBABILITY).and_then(|n| n.children().find(|c| c.kind() == LITERAL))
-        else {
+        let Some(lit) = find_node(root, p, PROBABILITY).and_then(|n| n.children().find(|c| c.kind() == LITERAL)) else {
             return;
         };
         let text = lit.text().to_string();

@@ -209,8 +209,7 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
             for v in &shared_vars {
                 for (who, sources) in [(name, src), (other, other_src)] {
                     if let Some((_, Some(at))) = sources.iter().find(|(n, _)| n == *v) {
-                        problem =
-                            problem.with_related(*at, format!("`{v}` is an output of a machine of `{who}` here"));
+                        problem = problem.with_related(*at, format!("`{v}` is an output of a machine of `{who}` here"));
                     }
                 }
             }
