@@ -41,8 +41,6 @@ fn toggle_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) 
     };
     let _ = parse(db, file);
     lap("parse");
-    let _ = defs::file_defs(db, file);
-    lap("file_defs");
     let _ = element::file_elements(db, file);
     lap("file_elements");
     for (e, _) in element::file_elements(db, file) {
@@ -53,10 +51,12 @@ fn toggle_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) 
     lap("file_summary");
     let _ = index::workspace_index(db, ws);
     lap("workspace_index");
-    let _ = cycle::cycle_checks(db, ws, file);
-    lap("cycle_checks");
+    for e in element::element_list(db, file) {
+        let _ = element_rules::element_cycles(db, ws, *e);
+    }
+    lap("element_cycles");
     prefetch_rules(db, ws, file);
-    lap("file_checks, more_checks, robosim_engines");
+    lap("element_rules");
     let n = file_diagnostics(db, ws, file).len();
     lap("rest of file_diagnostics");
     let total = start.elapsed();

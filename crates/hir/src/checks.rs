@@ -8,46 +8,85 @@ use rustc_hash::FxHashMap;
 
 use robosim_syntax::{FileKind, TextRange};
 
-use crate::defs::{file_defs, Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
+use crate::defs::{Def, DefData, DefId, DefKind, FileDefs, Io, UseKind};
 use crate::index::resolve_item;
 use crate::{Db, File, Workspace};
+
+/// What a range is relative to: rules run per element
+/// ([`crate::element_rules`]), on positions from the element's start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Anchor {
+    /// The start of the element whose rules found the problem.
+    Here,
+    /// The start of an element of the range's file (the salsa id of its
+    /// [`crate::element::Element`]).
+    Element(salsa::Id),
+    /// The start of the file.
+    File,
+}
+
+/// A range of a file, relative to an [`Anchor`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Place {
+    /// The file.
+    pub file: File,
+    /// What `range` is relative to.
+    pub anchor: Anchor,
+    /// The range.
+    pub range: TextRange,
+}
+
+impl Place {
+    /// `range` in the element being checked, of `file`.
+    pub(crate) fn here(file: File, range: TextRange) -> Place {
+        Place { file, anchor: Anchor::Here, range }
+    }
+}
 
 /// A rule violation before it becomes a diagnostic.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Problem {
     /// Rule code.
     pub code: &'static str,
-    /// Where.
+    /// Where, in the file whose rules found it.
     pub range: TextRange,
+    /// What `range` is relative to.
+    pub anchor: Anchor,
     /// What.
     pub message: String,
     /// Other places involved.
-    pub related: Vec<(File, TextRange, String)>,
+    pub related: Vec<(Place, String)>,
 }
 
 impl Problem {
     pub(crate) fn new(code: &'static str, range: TextRange, message: impl Into<String>) -> Problem {
-        Problem { code, range, message: message.into(), related: Vec::new() }
+        Problem { code, range, anchor: Anchor::Here, message: message.into(), related: Vec::new() }
     }
 
-    pub(crate) fn with_related(mut self, file: File, range: TextRange, message: impl Into<String>) -> Problem {
-        self.related.push((file, range, message.into()));
+    /// The same problem, its range relative to `anchor`.
+    pub(crate) fn at(mut self, anchor: Anchor) -> Problem {
+        self.anchor = anchor;
+        self
+    }
+
+    pub(crate) fn with_related(mut self, place: Place, message: impl Into<String>) -> Problem {
+        self.related.push((place, message.into()));
         self
     }
 
     /// Adds a related location when there is one.
-    pub(crate) fn with_related_opt(self, loc: Option<(File, TextRange)>, message: impl Into<String>) -> Problem {
-        match loc {
-            Some((f, r)) => self.with_related(f, r, message),
+    pub(crate) fn with_related_opt(self, place: Option<Place>, message: impl Into<String>) -> Problem {
+        match place {
+            Some(p) => self.with_related(p, message),
             None => self,
         }
     }
 }
 
-/// Every declaration-level rule violation of `file`.
-#[salsa::tracked(returns(ref))]
-pub fn file_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
-    let defs = file_defs(db, file);
+/// The declaration-level rule violations of the definitions `defs` of
+/// `file` (one element's: DUP-01 between top-level definitions is
+/// [`crate::element_rules::top_duplicates`]'s).
+pub(crate) fn element_checks(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs) -> Vec<Problem> {
     let mut c = Checker { db, ws, file, defs, rs: file.kind(db) == FileKind::RoboSim, out: Vec::new() };
     c.duplicates();
     for (id, d) in defs.iter() {
@@ -96,7 +135,7 @@ struct Checker<'a> {
 }
 
 /// Kinds that share one namespace for the duplicate rule.
-fn dup_group(k: DefKind) -> u8 {
+pub(crate) fn dup_group(k: DefKind) -> u8 {
     match k {
         DefKind::State | DefKind::Initial | DefKind::Junction | DefKind::Final | DefKind::ProbabilisticJunction => 1,
         DefKind::Variable | DefKind::Constant => 2,
@@ -112,7 +151,7 @@ impl<'a> Checker<'a> {
         let mut seen: FxHashMap<(Option<DefId>, u8, &str), DefId> = FxHashMap::default();
         let mut reported = rustc_hash::FxHashSet::default();
         for (id, d) in self.defs.iter() {
-            if d.name.is_empty() || d.kind == DefKind::Connection {
+            if d.name.is_empty() || d.kind == DefKind::Connection || d.parent.is_none() {
                 continue;
             }
             let key = (d.parent, dup_group(d.kind), d.name.as_str());
@@ -128,15 +167,17 @@ impl<'a> Checker<'a> {
                                 format!("duplicate {} `{}`", f.kind.describe(), f.name),
                             )
                             .with_related(
-                                self.file,
-                                d.name_range,
+                                Place::here(self.file, d.name_range),
                                 format!("`{}` is declared again here", d.name),
                             ),
                         );
                     }
                     self.out.push(
                         Problem::new("DUP-01", d.name_range, format!("duplicate {} `{}`", d.kind.describe(), d.name))
-                            .with_related(self.file, f.name_range, format!("`{}` is first declared here", f.name)),
+                            .with_related(
+                                Place::here(self.file, f.name_range),
+                                format!("`{}` is first declared here", f.name),
+                            ),
                     );
                 }
                 None => {
@@ -282,7 +323,7 @@ impl<'a> Checker<'a> {
                 let word = kind.keyword();
                 self.out.push(
                     Problem::new("RC:S2", *range, format!("state `{}` has more than one {word} action", d.name))
-                        .with_related(self.file, *first, format!("the first {word} action")),
+                        .with_related(Place::here(self.file, *first), format!("the first {word} action")),
                 );
             } else {
                 seen.insert(*kind, *range);
@@ -390,7 +431,7 @@ impl<'a> Checker<'a> {
                             d.name, c.name
                         ),
                     )
-                    .with_related(self.file, c.name_range, format!("`{}` is here", c.name)),
+                    .with_related(Place::here(self.file, c.name_range), format!("`{}` is here", c.name)),
                 );
             }
         }
@@ -467,7 +508,7 @@ impl<'a> Checker<'a> {
                             event.1,
                             format!("`{}` on `{}` is already connected", event.0, node.0),
                         )
-                        .with_related(self.file, *first, "the other connection"),
+                        .with_related(Place::here(self.file, *first), "the other connection"),
                     ),
                     None => {
                         used.insert(key, event.1);

@@ -13,9 +13,14 @@ use std::collections::HashMap;
 use robosim_syntax::ast::{binary_operator, operand_exprs};
 use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange};
 
-use crate::defs::{file_defs, DefData, DefId, DefKind};
+use salsa::plumbing::AsId;
+
+use crate::checks::{Anchor, Place, Problem};
+use crate::defs::{DefData, DefId, DefKind, FileDefs};
+use crate::element::{element_defs, element_list, element_of, Element};
+use crate::element_rules::defs_at;
 use crate::index::{resolve_item, ItemLoc};
-use crate::{parse, Db, File, Workspace};
+use crate::{Db, File, Workspace};
 
 /// An exact rational with a positive denominator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -75,7 +80,7 @@ impl Rational {
 }
 
 /// A term: linear `a·cycle + b`, or unknown.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Term {
     Lin(Rational, Rational),
     /// `(p·cycle + q) % m` with integer p, q and positive integer m.
@@ -84,7 +89,7 @@ enum Term {
 }
 
 /// A formula over the period.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 enum Formula {
     Const(bool),
     Unknown,
@@ -521,9 +526,11 @@ impl Lowerer<'_> {
 }
 
 /// One container's cycle specification.
-#[derive(Debug, Clone)]
-struct Spec {
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Spec {
     file: File,
+    /// What `range` and `impure` are relative to.
+    anchor: Anchor,
     /// The expression's range.
     range: TextRange,
     formula: Formula,
@@ -531,22 +538,54 @@ struct Spec {
     impure: Vec<TextRange>,
 }
 
-/// The cycle specification of a definition (its first `cycleDef`).
+/// The cycle specification of a definition (its first `cycleDef`), from
+/// its element's specifications: unchanged by edits that leave the
+/// element's `cycleDef`s alone.
 fn spec_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Spec> {
-    spec_bound(db, ws, file, id, &[])
+    let e = element_of(db, file, id)?;
+    element_specs(db, ws, e).iter().find(|(d, _)| *d == id).map(|(_, s)| s.clone())
+}
+
+/// The cycle specifications of the modules, controllers and machines of
+/// `element`, positions relative to its start.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_specs<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>) -> Vec<(DefId, Spec)> {
+    let (file, defs) = (element.file(db), element_defs(db, element));
+    let root = SyntaxNode::new_root(element.green(db).0.clone());
+    let anchor = Anchor::Element(element.as_id());
+    defs.iter()
+        .filter(|(_, d)| matches!(d.kind, DefKind::Module | DefKind::Controller | DefKind::StateMachine))
+        .filter_map(|(id, _)| Some((id, spec_in(db, ws, file, defs, &root, anchor, id, &[])?)))
+        .collect()
 }
 
 /// [`spec_of`], with constants bound to values from outside the model.
 fn spec_bound(db: &dyn Db, ws: Workspace, file: File, id: DefId, bound: &[(String, i64)]) -> Option<Spec> {
-    let defs = file_defs(db, file);
+    let e = element_of(db, file, id)?;
+    let root = SyntaxNode::new_root(e.green(db).0.clone());
+    spec_in(db, ws, file, element_defs(db, e), &root, Anchor::Element(e.as_id()), id, bound)
+}
+
+/// The specification of `id`, read from `defs` and the tree `root` their
+/// positions are in.
+#[allow(clippy::too_many_arguments)]
+fn spec_in(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    defs: &FileDefs,
+    root: &SyntaxNode,
+    anchor: Anchor,
+    id: DefId,
+    bound: &[(String, i64)],
+) -> Option<Spec> {
     let range = *defs.facts(id).cycle_defs.first()?;
-    let root = parse(db, file).syntax_node();
-    let node = expr_at(&root, range)?;
+    let node = expr_at(root, range)?;
     // Constants of the container with initialisers fold into the formula.
     let mut consts = HashMap::new();
     for (_, c) in defs.children(Some(id)) {
         if let (DefKind::Constant, DefData::Typed { init: Some(init), .. }) = (c.kind, &c.data) {
-            if let Some(n) = expr_at(&root, *init) {
+            if let Some(n) = expr_at(root, *init) {
                 consts.insert(c.name.clone(), n);
             }
         }
@@ -560,7 +599,7 @@ fn spec_bound(db: &dyn Db, ws: Workspace, file: File, id: DefId, bound: &[(Strin
     let mut l = Lowerer { consts: &consts, bound, const_names: &const_names, depth: 0, impure: Vec::new() };
     let shape = l.shape(&node);
     let formula = if shape == Shape::Boolean { l.formula(&node) } else { Formula::Unknown };
-    Some(Spec { file, range, formula, shape, impure: l.impure })
+    Some(Spec { file, anchor, range, formula, shape, impure: l.impure })
 }
 
 /// The expression node with exactly `range`.
@@ -573,19 +612,6 @@ fn expr_at(root: &SyntaxNode, range: TextRange) -> Option<SyntaxNode> {
     start.ancestors().find(|n| n.text_range() == range && robosim_syntax::ast::is_expr_kind(n.kind()))
 }
 
-/// A cycle-rule violation.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct CycleProblem {
-    /// Rule code.
-    pub code: &'static str,
-    /// Where.
-    pub range: TextRange,
-    /// What.
-    pub message: String,
-    /// Other places involved (file, range, message).
-    pub related: Vec<(File, TextRange, String)>,
-}
-
 /// What is known about a container's period, for hovers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CycleInfo {
@@ -596,15 +622,29 @@ pub struct CycleInfo {
     pub joint: Option<Feasibility>,
 }
 
-/// The cycle rules of every RoboSim container of `file`.
+/// What the cycle rules found about the period of every RoboSim
+/// container of `file` (put together from its elements').
 #[salsa::tracked(returns(ref))]
-pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem>, Vec<(DefId, CycleInfo)>) {
+pub fn cycle_infos(db: &dyn Db, ws: Workspace, file: File) -> Vec<(DefId, CycleInfo)> {
+    element_list(db, file)
+        .iter()
+        .flat_map(|e| crate::element_rules::element_cycles(db, ws, *e).1.iter().copied())
+        .collect()
+}
+
+/// The cycle rules of the RoboSim containers of `defs` (one element of
+/// `file`), positions relative to the element's start.
+pub(crate) fn element_cycle_checks(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    defs: &FileDefs,
+) -> (Vec<Problem>, Vec<(DefId, CycleInfo)>) {
     let mut problems = Vec::new();
     let mut infos = Vec::new();
     if file.kind(db) != robosim_syntax::FileKind::RoboSim {
         return (problems, infos);
     }
-    let defs = file_defs(db, file);
     for (id, d) in defs.iter() {
         let code = match d.kind {
             DefKind::Module => "RS:M1",
@@ -621,34 +661,31 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
                     Shape::Set => "a set",
                     _ => "not a condition",
                 };
-                problems.push(CycleProblem {
+                problems.push(Problem::new(
                     code,
-                    range: spec.range,
-                    message: format!(
+                    spec.range,
+                    format!(
                         "the cycleDef of {what} must be a boolean condition on `cycle`, such as `cycle == 1`; this is {got}"
                     ),
-                    related: Vec::new(),
-                });
+                ));
                 continue;
             }
             Shape::Boolean | Shape::Unknown => {}
         }
         for r in &spec.impure {
-            problems.push(CycleProblem {
-                code: "RS-CYC-02",
-                range: *r,
-                message: "a cycle specification may mention only `cycle`, literals and constants: the period is fixed before the simulation starts".into(),
-                related: Vec::new(),
-            });
+            problems.push(Problem::new(
+                "RS-CYC-02",
+                *r,
+                "a cycle specification may mention only `cycle`, literals and constants: the period is fixed before the simulation starts",
+            ));
         }
         let own = decide(&[&spec.formula]);
         if own == Feasibility::Infeasible {
-            problems.push(CycleProblem {
-                code: "RS-CYC-01",
-                range: spec.range,
-                message: format!("the cycleDef of {what} admits no positive period"),
-                related: Vec::new(),
-            });
+            problems.push(Problem::new(
+                "RS-CYC-01",
+                spec.range,
+                format!("the cycleDef of {what} admits no positive period"),
+            ));
         }
         // The components whose specifications must agree with this one.
         let parts: Vec<(String, TextRange, Option<Spec>)> = match d.kind {
@@ -690,10 +727,13 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
                     for k in &keep {
                         let (name, via, s) = &parts[*k];
                         if let Some(s) = s {
-                            related.push((s.file, s.range, format!("the cycleDef of `{name}`")));
+                            related.push((
+                                Place { file: s.file, anchor: s.anchor, range: s.range },
+                                format!("the cycleDef of `{name}`"),
+                            ));
                         }
                         if via != &TextRange::empty(0.into()) {
-                            related.push((file, *via, format!("`{name}` is part of {what} here")));
+                            related.push((Place::here(file, *via), format!("`{name}` is part of {what} here")));
                         }
                     }
                     if keep.is_empty() {
@@ -701,9 +741,10 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
                         // diagnostic (the rule's) instead of RS-CYC-01 as well.
                         problems.retain(|p| !(p.code == "RS-CYC-01" && p.range == spec.range));
                     }
-                    problems.push(CycleProblem {
+                    problems.push(Problem {
                         code: rule,
                         range: spec.range,
+                        anchor: Anchor::Here,
                         message: if keep.is_empty() {
                             format!("the cycleDef of {what} admits no positive period, so none agrees with its {sub}")
                         } else {
@@ -714,14 +755,11 @@ pub fn cycle_checks(db: &dyn Db, ws: Workspace, file: File) -> (Vec<CycleProblem
                         related,
                     });
                 }
-                Feasibility::Unknown => problems.push(CycleProblem {
-                    code: "RS-CYC-03",
-                    range: spec.range,
-                    message: format!(
-                        "whether the cycle specifications of {what} and its components agree could not be decided"
-                    ),
-                    related: Vec::new(),
-                }),
+                Feasibility::Unknown => problems.push(Problem::new(
+                    "RS-CYC-03",
+                    spec.range,
+                    format!("whether the cycle specifications of {what} and its components agree could not be decided"),
+                )),
                 Feasibility::Feasible(_) => {}
             }
             Some(verdict)
@@ -757,7 +795,7 @@ fn component_defs(
     inline: &[DefKind],
     reference: DefKind,
 ) -> Vec<(String, TextRange, File, DefId)> {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, owner).0;
     let mut out = Vec::new();
     let mut seen: Vec<(File, DefId)> = Vec::new();
     for (cid, c) in defs.children(Some(owner)) {
@@ -812,7 +850,7 @@ pub fn simulation_period(
         }
         seen.push((file, def));
         specs.extend(spec_bound(db, ws, file, def, bound));
-        let below = match file_defs(db, file).def(def).kind {
+        let below = match defs_at(db, file, def).0.def(def).kind {
             DefKind::Module => component_defs(db, ws, file, def, &[DefKind::Controller], DefKind::ControllerRef),
             DefKind::Controller => component_defs(db, ws, file, def, &[DefKind::StateMachine], DefKind::MachineRef),
             _ => Vec::new(),

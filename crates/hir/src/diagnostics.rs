@@ -67,10 +67,10 @@ pub fn prefetch_rules(db: &dyn Db, workspace: Workspace, file: File) {
     }
     // Behaviour resolution and typing come first in `file_diagnostics`;
     // these come last, so the two threads start on different work.
-    crate::checks::file_checks(db, workspace, file);
-    crate::more_checks::more_checks(db, workspace, file);
-    crate::robosim::robosim_engines(db, workspace, file);
-    crate::cycle::cycle_checks(db, workspace, file);
+    for e in crate::element::element_list(db, file) {
+        crate::element_rules::element_rules(db, workspace, *e);
+        crate::element_rules::element_cycles(db, workspace, *e);
+    }
 }
 
 /// Every diagnostic of `file`, sorted by position.
@@ -128,17 +128,53 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
                 }
             }
         }
-        for p in &crate::cycle::cycle_checks(db, workspace, file).0 {
-            let related =
-                p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();
-            out.push(make(p.code, p.range, p.message.clone(), related));
+        // The rules run per element, positions relative to the element
+        // (or to another element, for related locations): each list in
+        // the order the rules give it, element after element.
+        let placer = crate::element_rules::Placer::new(db, file);
+        let elements: Vec<_> = crate::element::file_elements(db, file)
+            .iter()
+            .map(|(e, at)| {
+                let rules = crate::element_rules::element_rules(db, workspace, *e);
+                (&crate::element_rules::element_cycles(db, workspace, *e).0, rules, *at)
+            })
+            .collect();
+        let mut push = |p: &crate::checks::Problem, at: u32| {
+            let related = p
+                .related
+                .iter()
+                .map(|(place, m)| Related {
+                    file: place.file,
+                    range: placer.range(place.file, place.anchor, place.range, at),
+                    message: m.clone(),
+                })
+                .collect();
+            out.push(make(p.code, placer.range(file, p.anchor, p.range, at), p.message.clone(), related));
+        };
+        for (cycles, _, at) in &elements {
+            cycles.iter().for_each(|p| push(p, *at));
         }
-        let checks = crate::checks::file_checks(db, workspace, file);
-        let more = crate::more_checks::more_checks(db, workspace, file);
-        for p in checks.iter().chain(crate::robosim::robosim_engines(db, workspace, file)).chain(more) {
-            let related =
-                p.related.iter().map(|(f, r, m)| Related { file: *f, range: *r, message: m.clone() }).collect();
-            out.push(make(p.code, p.range, p.message.clone(), related));
+        crate::element_rules::top_duplicates(db, file).iter().for_each(|p| push(p, 0));
+        let lists: [fn(&crate::element_rules::ElementRules) -> &Vec<_>; 3] =
+            [|r| &r.checks, |r| &r.robosim, |r| &r.more];
+        for list in lists {
+            for (_, rules, at) in &elements {
+                list(rules).iter().for_each(|p| push(p, *at));
+            }
+        }
+        crate::more_checks::size_checks(db, workspace, file).iter().for_each(|p| push(p, 0));
+        if file.kind(db) == robosim_syntax::FileKind::RoboSim {
+            // Found per element: a keystroke looks at the edited element only.
+            for (e, at) in crate::element::file_elements(db, file) {
+                for d in &crate::element::element_marks(db, *e).0 {
+                    out.push(make(
+                        "RS-STMT-02",
+                        *d + TextSize::from(*at),
+                        "statement deadlines are not part of RoboSim: count cycles with a clock instead".to_string(),
+                        Vec::new(),
+                    ));
+                }
+            }
         }
         for b in &crate::csp_blocks::csp_blocks(db, workspace, file).blocks {
             out.extend(b.problems.iter().map(|p| make(p.code, p.range, p.message.clone(), Vec::new())));

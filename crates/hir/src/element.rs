@@ -121,15 +121,17 @@ pub(crate) fn element_summary<'db>(db: &'db dyn Db, element: Element<'db>) -> Ve
     crate::index::summarize(element_lowered(db, element))
 }
 
-/// The id of the first definition of each element of `file`, in order:
-/// changes only when an element gains or loses definitions.
+/// The id of the first definition of each element of `file` and how many
+/// it has, in order: changes only when an element gains or loses
+/// definitions.
 #[salsa::tracked(returns(ref))]
-fn def_bases(db: &dyn Db, file: File) -> Vec<(u32, Element<'_>)> {
+pub(crate) fn def_bases(db: &dyn Db, file: File) -> Vec<(u32, Element<'_>, u32)> {
     let mut base = 0;
     let mut out = Vec::new();
     for e in element_list(db, file) {
-        out.push((base, *e));
-        base += element_lowered(db, *e).defs.len() as u32;
+        let count = element_lowered(db, *e).defs.len() as u32;
+        out.push((base, *e, count));
+        base += count;
     }
     out
 }
@@ -137,7 +139,7 @@ fn def_bases(db: &dyn Db, file: File) -> Vec<(u32, Element<'_>)> {
 #[salsa::tracked(returns(copy))]
 fn element_base<'db>(db: &'db dyn Db, element: Element<'db>) -> u32 {
     let bases = def_bases(db, element.file(db));
-    bases.iter().find(|(_, e)| *e == element).map_or(0, |(b, _)| *b)
+    bases.iter().find(|(_, e, _)| *e == element).map_or(0, |(b, _, _)| *b)
 }
 
 /// The definitions of `element`, with the file's ids and positions
@@ -207,12 +209,13 @@ pub fn element_problems<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'d
     ElementProblems { resolution: resolution.problems, body: body.problems, types }
 }
 
-/// The element of `file` that declares `id`.
+/// The element of `file` that declares `id` (from the ids alone, so that
+/// asking does not depend on the element's positions).
 pub(crate) fn element_of(db: &dyn Db, file: File, id: DefId) -> Option<Element<'_>> {
     let bases = def_bases(db, file);
-    let i = bases.partition_point(|(b, _)| *b <= id.0).checked_sub(1)?;
-    let e = bases[i].1;
-    element_defs(db, e).holds(id).then_some(e)
+    let i = bases.partition_point(|(b, _, _)| *b <= id.0).checked_sub(1)?;
+    let (base, e, count) = bases[i];
+    (id.0 < base + count).then_some(e)
 }
 
 /// What resolution and typing work on: a whole file, or one element of it

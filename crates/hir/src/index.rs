@@ -11,7 +11,7 @@ use std::collections::HashMap;
 
 use rustc_hash::FxHashMap;
 
-use crate::defs::{file_defs, DefData, DefId, DefKind, Io, TypeRef, UseKind};
+use crate::defs::{DefData, DefId, DefKind, Io, TypeRef, UseKind};
 use crate::{Db, File, Workspace};
 
 /// A member of an item, without positions.
@@ -165,7 +165,14 @@ impl ItemLoc {
 /// so that readers do not depend on the file's positions.
 #[salsa::tracked(returns(ref))]
 pub(crate) fn item_defs(db: &dyn Db, file: File) -> Vec<DefId> {
-    file_defs(db, file).children(None).filter(|(_, d)| !d.name.is_empty()).map(|(id, _)| id).collect()
+    // From the elements' lowerings (ids from 0) and where their ids start,
+    // not from the file's definitions, which every keystroke changes.
+    let mut out = Vec::new();
+    for (base, e, _) in crate::element::def_bases(db, file) {
+        let lowered = crate::element::element_lowered(db, *e);
+        out.extend(lowered.children(None).filter(|(_, d)| !d.name.is_empty()).map(|(id, _)| DefId(base + id.0)));
+    }
+    out
 }
 
 /// Qualified names of the whole workspace.

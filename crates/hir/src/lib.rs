@@ -22,6 +22,7 @@ pub mod defs;
 mod defs_shift;
 mod diagnostics;
 pub mod element;
+pub mod element_rules;
 pub mod index;
 pub mod model;
 mod more_checks;

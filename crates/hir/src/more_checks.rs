@@ -9,25 +9,27 @@
 use std::collections::{HashMap, HashSet};
 
 use robosim_syntax::{FileKind, SyntaxKind::*, SyntaxNode, TextRange};
+use rustc_hash::FxHashMap;
+use salsa::plumbing::AsId;
 
-use crate::checks::Problem;
-use crate::defs::{file_defs, DefData, DefId, DefKind, TypeRef, UseKind};
+use crate::checks::{Anchor, Place, Problem};
+use crate::defs::{file_defs, DefData, DefId, DefKind, FileDefs, TypeRef, UseKind};
+use crate::element::{element_defs, element_of, Element};
+use crate::element_rules::{defs_at, name_place};
 use crate::index::{index_for, resolve_item, ItemLoc};
 use crate::resolve::{ctx_members, node_ctx, Ctx, Member};
 use crate::types::{compatible, lower};
 use crate::{parse, Db, File, Workspace};
 
-/// The cross-element rules of `file`.
-#[salsa::tracked(returns(ref))]
-pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
+/// The rules relating the containers of `defs` (one element of `file`) to
+/// their parts, and the element's workspace-wide names.
+pub(crate) fn element_more(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs, root: &SyntaxNode) -> Vec<Problem> {
     let mut out = Vec::new();
     if file.kind(db).is_assertions() {
         return out;
     }
-    let defs = file_defs(db, file);
     let rs = file.kind(db) == FileKind::RoboSim;
-    unique_names(db, ws, file, &mut out);
-    sizes(db, ws, file, &mut out);
+    unique_names(db, ws, file, defs, &mut out);
     for (id, d) in defs.iter() {
         match d.kind {
             DefKind::Controller => {
@@ -44,38 +46,31 @@ pub fn more_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
                 module_directions(db, ws, file, id, &mut out);
             }
             DefKind::StateMachine if rs => machine_level_events(db, ws, file, id, &mut out),
-            DefKind::ProbabilisticJunction => probabilities(db, file, id, &mut out),
+            DefKind::ProbabilisticJunction => probabilities(defs, root, id, &mut out),
             _ => {}
         }
     }
-    recursion(db, ws, file, &mut out);
-    if rs {
-        // Found per element: a keystroke looks at the edited element only.
-        for (e, at) in crate::element::file_elements(db, file) {
-            for d in &crate::element::element_marks(db, *e).0 {
-                out.push(Problem::new(
-                    "RS-STMT-02",
-                    *d + robosim_syntax::TextSize::from(*at),
-                    "statement deadlines are not part of RoboSim: count cycles with a clock instead",
-                ));
-            }
-        }
-    }
+    recursion(db, ws, file, defs, &mut out);
     out
 }
 
-/// RC-PKG-01: fully qualified names are unique across the workspace.
-fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
+/// RC-PKG-01: fully qualified names are unique across the workspace (for
+/// the top-level definitions of `defs`).
+fn unique_names(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs, out: &mut Vec<Problem>) {
     let index = index_for(db, ws, file);
-    let defs = file_defs(db, file);
-    for (path, locs) in &index.items {
-        if locs.len() < 2 || !locs.iter().any(|l| l.file == file) {
+    for (id, d) in defs.children(None) {
+        let mut path = defs.package.clone();
+        path.push(d.name.clone());
+        let Some(locs) = index.items.get(&path) else { continue };
+        if locs.len() < 2 {
             continue;
         }
         // Report in every file but the first declaring one.
         let first = locs[0];
         for l in locs.iter().skip(1).filter(|l| l.file == file) {
-            let Some(def) = l.def(db) else { continue };
+            if l.def(db) != Some(id) {
+                continue;
+            }
             let Some(fdef) = first.def(db) else { continue };
             if first.file == file {
                 // Same file: DUP-01 covers it.
@@ -84,24 +79,27 @@ fn unique_names(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) 
             out.push(
                 Problem::new(
                     "RC-PKG-01",
-                    defs.def(def).name_range,
+                    d.name_range,
                     format!("`{}` is declared more than once in the workspace", path.join("::")),
                 )
-                .with_related(
-                    first.file,
-                    file_defs(db, first.file).def(fdef).name_range,
-                    "the other declaration",
-                ),
+                .with_related(name_place(db, first.file, fdef), "the other declaration"),
             );
         }
     }
 }
 
-/// RC-TYPE-02/03/04: vector and matrix sizes are literals or constants.
-fn sizes(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
+/// RC-TYPE-02/03/04: vector and matrix sizes are literals or constants
+/// (positions in the file). A file-level query, but one that runs again
+/// only for files that write vector or matrix types.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn size_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
+    let mut out = Vec::new();
+    if file.kind(db).is_assertions() {
+        return out;
+    }
     // Most files write no vector type: no walk of the whole file then.
-    if !crate::element::file_elements(db, file).iter().any(|(e, _)| crate::element::element_marks(db, *e).1) {
-        return;
+    if !crate::element::element_list(db, file).iter().any(|e| crate::element::element_marks(db, *e).1) {
+        return out;
     }
     let root = parse(db, file).syntax_node();
     let sized = crate::walk::file_nodes(db, file).nodes(&root, &[VECTOR_TYPE, MATRIX_TYPE], false);
@@ -129,29 +127,39 @@ fn sizes(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
                     let owned = decl.map(|d| (d.def, file_defs(db, d.file).def(d.def).clone()));
                     let c = owned.as_ref().map(|(id, d)| (*id, d));
                     match c {
-                        Some((_, d)) if d.kind == DefKind::Variable => out.push(Problem::new(
-                            code,
-                            size.text_range(),
-                            format!("a size must be an integer literal or a constant; `{name}` is a variable"),
-                        )),
+                        Some((_, d)) if d.kind == DefKind::Variable => out.push(
+                            Problem::new(
+                                code,
+                                size.text_range(),
+                                format!("a size must be an integer literal or a constant; `{name}` is a variable"),
+                            )
+                            .at(Anchor::File),
+                        ),
                         Some((_, d)) => {
                             if let DefData::Typed { ty: Some(TypeRef::Named(p, _)), .. } = &d.data {
                                 if p.last().is_some_and(|n| n != "nat") {
-                                    out.push(Problem::new(
-                                        "RC-TYPE-04",
-                                        size.text_range(),
-                                        format!("a size constant has type nat; `{name}` has type {}", p.join("::")),
-                                    ));
+                                    out.push(
+                                        Problem::new(
+                                            "RC-TYPE-04",
+                                            size.text_range(),
+                                            format!("a size constant has type nat; `{name}` has type {}", p.join("::")),
+                                        )
+                                        .at(Anchor::File),
+                                    );
                                 }
                             }
                         }
                         None => {}
                     }
                 }
-                _ => out.push(Problem::new(code, size.text_range(), "a size must be an integer literal or a constant")),
+                _ => out.push(
+                    Problem::new(code, size.text_range(), "a size must be an integer literal or a constant")
+                        .at(Anchor::File),
+                ),
             }
         }
     }
+    out
 }
 
 /// Members of the machines of a controller, with each machine's node.
@@ -161,7 +169,8 @@ fn machine_members(
     file: File,
     controller: DefId,
 ) -> Vec<(DefId, String, Ctx, Vec<Member>)> {
-    file_defs(db, file)
+    defs_at(db, file, controller)
+        .0
         .children(Some(controller))
         .filter(|(_, m)| matches!(m.kind, DefKind::StateMachine | DefKind::MachineRef))
         .filter_map(|(id, m)| {
@@ -204,16 +213,13 @@ fn member_file(m: &Member) -> Option<File> {
 
 /// RC:C3, RC:C4 and RS-IO-09: a controller provides what its machines require.
 fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId, rs: bool, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, controller).0;
     let c = defs.def(controller);
     let own = ctx_members(db, ws, Ctx::Local(file, controller));
     let defined: HashSet<String> = crate::resolve::defined_operations(db, ws, Ctx::Local(file, controller));
     for (mid, mname, mctx, members) in machine_members(db, ws, file, controller) {
         // The machine's own definition when an `sref` brings it from elsewhere.
-        let remote = match mctx {
-            Ctx::Item(_) => crate::resolve::ctx_def(db, mctx).map(|(f, d)| (f, file_defs(db, f).def(d).name_range)),
-            Ctx::Local(..) => None,
-        };
+        let remote = remote_name(db, mctx);
         let mut missing_vars = Vec::new();
         let mut missing_io_vars = Vec::new();
         let mut missing_ops = Vec::new();
@@ -260,7 +266,7 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                         list(&missing_vars)
                     ),
                 )
-                .with_related(file, mrange, format!("`{mname}` is here"))
+                .with_related(Place::here(file, mrange), format!("`{mname}` is here"))
                 .with_related_opt(remote, "the machine's definition"),
             );
         }
@@ -279,7 +285,7 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                         if missing_io_vars.len() > 1 { "them" } else { "it" }
                     ),
                 )
-                .with_related(file, mrange, format!("`{mname}` is here"))
+                .with_related(Place::here(file, mrange), format!("`{mname}` is here"))
                 .with_related_opt(remote, "the machine's definition"),
             );
         }
@@ -296,7 +302,7 @@ fn controller_provides(db: &dyn Db, ws: Workspace, file: File, controller: DefId
                         if missing_ops.len() > 1 { "them" } else { "it" }
                     ),
                 )
-                .with_related(file, mrange, format!("`{mname}` is here"))
+                .with_related(Place::here(file, mrange), format!("`{mname}` is here"))
                 .with_related_opt(remote, "the machine's definition"),
             );
         }
@@ -313,7 +319,7 @@ fn plural<T>(v: &[T]) -> &'static str {
 
 /// RC:C8: a controller references each operation definition once.
 fn operation_copies(db: &dyn Db, ws: Workspace, file: File, controller: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, controller).0;
     let mut seen: HashMap<(File, DefId), TextRange> = HashMap::new();
     for (id, d) in defs.children(Some(controller)) {
         let key = match d.kind {
@@ -334,7 +340,7 @@ fn operation_copies(db: &dyn Db, ws: Workspace, file: File, controller: DefId, o
                     d.name_range,
                     format!("operation `{}` is already part of this controller", d.name),
                 )
-                .with_related(file, *first, "the first copy"),
+                .with_related(Place::here(file, *first), "the first copy"),
             );
         } else {
             seen.insert(key, d.name_range);
@@ -344,7 +350,7 @@ fn operation_copies(db: &dyn Db, ws: Workspace, file: File, controller: DefId, o
 
 /// RC:M2: the platform provides what each controller requires.
 fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, module).0;
     let m = defs.def(module);
     let Some((pid, _)) =
         defs.children(Some(module)).find(|(_, d)| matches!(d.kind, DefKind::Platform | DefKind::PlatformRef))
@@ -389,7 +395,7 @@ fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
                     m.name_range,
                     format!("the robotic platform of `{}` does not provide {list}, required by `{}`", m.name, c.name),
                 )
-                .with_related(file, c.name_range, format!("`{}` requires it", c.name))
+                .with_related(Place::here(file, c.name_range), format!("`{}` requires it", c.name))
                 .with_related_opt(remote_name(db, cctx), "the controller's definition")
                 .with_related_opt(remote_name(db, pctx), "the robotic platform's definition"),
             );
@@ -399,16 +405,16 @@ fn platform_provides(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
 
 /// The name of a context's definition when it lives outside the current
 /// definition (reached through a reference).
-fn remote_name(db: &dyn Db, ctx: Ctx) -> Option<(File, TextRange)> {
+fn remote_name(db: &dyn Db, ctx: Ctx) -> Option<Place> {
     match ctx {
-        Ctx::Item(_) => crate::resolve::ctx_def(db, ctx).map(|(f, d)| (f, file_defs(db, f).def(d).name_range)),
+        Ctx::Item(_) => crate::resolve::ctx_def(db, ctx).map(|(f, d)| name_place(db, f, d)),
         Ctx::Local(..) => None,
     }
 }
 
 /// RC:Cn4, RC-CONN-01, RC-CONN-02: broadcast and event types of connections.
 fn connection_types(db: &dyn Db, ws: Workspace, file: File, owner: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, owner).0;
     let o = defs.def(owner);
     let event = |node: &str, ev: &str| -> Option<(Member, DefKind)> {
         let (nid, kind) = if o.kind == DefKind::Controller && o.name == node {
@@ -478,36 +484,68 @@ fn connection_types(db: &dyn Db, ws: Workspace, file: File, owner: DefId, out: &
 }
 
 /// How a machine or operation uses events: inputs, outputs and the
-/// operations it calls.
+/// operations it calls (position-free: an edit that moves text inside the
+/// element leaves it equal).
 #[derive(Debug, Default, Clone, PartialEq, Eq)]
 pub struct Usage {
     inputs: HashSet<String>,
     outputs: HashSet<String>,
     calls: HashSet<String>,
-    /// Each call with the range of the called name.
-    call_sites: Vec<(String, TextRange)>,
 }
 
 fn usage_of(db: &dyn Db, file: File, def: DefId) -> Usage {
-    file_usages(db, file).get(&def).cloned().unwrap_or_else(|| compute_usage(db, file, def))
+    let Some(e) = element_of(db, file, def) else { return Usage::default() };
+    match element_usages(db, e).get(&def) {
+        Some(u) => u.clone(),
+        None => walk_usage(&element_root(db, e), element_defs(db, e), def).0,
+    }
 }
 
-/// How every machine and operation of a file uses events and calls, from
-/// one walk per definition and revision.
+/// The calls of `def` of `file`, each with the range of the called name,
+/// and what the ranges are relative to.
+fn call_sites_of(db: &dyn Db, file: File, def: DefId) -> (Vec<(String, TextRange)>, Anchor) {
+    let Some(e) = element_of(db, file, def) else { return (Vec::new(), Anchor::File) };
+    let sites = match element_call_sites(db, e).get(&def) {
+        Some(s) => s.clone(),
+        None => walk_usage(&element_root(db, e), element_defs(db, e), def).1,
+    };
+    (sites, Anchor::Element(e.as_id()))
+}
+
+fn element_root(db: &dyn Db, e: Element<'_>) -> SyntaxNode {
+    SyntaxNode::new_root(e.green(db).0.clone())
+}
+
+/// How every machine and operation of `element` uses events and calls.
 #[salsa::tracked(returns(ref))]
-pub fn file_usages(db: &dyn Db, file: File) -> HashMap<DefId, Usage> {
-    file_defs(db, file)
-        .iter()
+pub(crate) fn element_usages<'db>(db: &'db dyn Db, element: Element<'db>) -> FxHashMap<DefId, Usage> {
+    let (root, defs) = (element_root(db, element), element_defs(db, element));
+    defs.iter()
         .filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::Operation))
-        .map(|(id, _)| (id, compute_usage(db, file, id)))
+        .map(|(id, _)| (id, walk_usage(&root, defs, id).0))
         .collect()
 }
 
-fn compute_usage(db: &dyn Db, file: File, def: DefId) -> Usage {
-    let defs = file_defs(db, file);
-    let root = parse(db, file).syntax_node();
+/// The calls of every machine and operation of `element`, with the ranges
+/// of the called names relative to the element's start.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_call_sites<'db>(
+    db: &'db dyn Db,
+    element: Element<'db>,
+) -> FxHashMap<DefId, Vec<(String, TextRange)>> {
+    let (root, defs) = (element_root(db, element), element_defs(db, element));
+    defs.iter()
+        .filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::Operation))
+        .map(|(id, _)| (id, walk_usage(&root, defs, id).1))
+        .collect()
+}
+
+/// The usage and call sites of `def`, read from `root` (the tree `defs`'
+/// positions are in).
+fn walk_usage(root: &SyntaxNode, defs: &FileDefs, def: DefId) -> (Usage, Vec<(String, TextRange)>) {
     let d = defs.def(def);
-    let Some(node) = find_node(&root, d.range, d.syntax) else { return Usage::default() };
+    let mut sites = Vec::new();
+    let Some(node) = find_node(root, d.range, d.syntax) else { return (Usage::default(), sites) };
     let mut u = Usage::default();
     for n in node.descendants() {
         match n.kind() {
@@ -526,14 +564,14 @@ fn compute_usage(db: &dyn Db, file: File, def: DefId) -> Usage {
             CALL_STMT => {
                 if let Some(q) = n.children().find(|c| c.kind() == QUALIFIED_NAME) {
                     let name = q.text().to_string().trim().to_string();
-                    u.call_sites.push((name.clone(), q.text_range()));
+                    sites.push((name.clone(), q.text_range()));
                     u.calls.insert(name);
                 }
             }
             _ => {}
         }
     }
-    u
+    (u, sites)
 }
 
 fn find_node(root: &SyntaxNode, range: TextRange, kind: robosim_syntax::SyntaxKind) -> Option<SyntaxNode> {
@@ -564,7 +602,8 @@ fn machine_usage(
     };
     let mut total = usage_of(db, mf, mdef);
     let mut via: HashMap<String, (String, File, DefId)> = HashMap::new();
-    let ops: HashMap<String, (File, DefId)> = file_defs(db, file)
+    let ops: HashMap<String, (File, DefId)> = defs_at(db, file, controller)
+        .0
         .children(Some(controller))
         .filter_map(|(id, d)| match d.kind {
             DefKind::Operation => Some((d.name.clone(), (file, id))),
@@ -608,7 +647,7 @@ fn machine_directions(db: &dyn Db, ws: Workspace, file: File, controller: DefId,
     if file.kind(db) == FileKind::RoboSim {
         return;
     }
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, controller).0;
     let machines: HashMap<String, Ctx> = defs
         .children(Some(controller))
         .filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::MachineRef))
@@ -625,7 +664,7 @@ fn machine_directions(db: &dyn Db, ws: Workspace, file: File, controller: DefId,
                 if u.outputs.contains(&et.0) {
                     let op = via.get(&format!("out:{}", et.0)).cloned();
                     let through = op.as_ref().map(|o| format!(" (through operation `{}`)", o.0)).unwrap_or_default();
-                    let op_loc = op.map(|(_, f, d)| (f, file_defs(db, f).def(d).name_range));
+                    let op_loc = op.map(|(_, f, d)| name_place(db, f, d));
                     out.push(Problem::new(
                         "RC:Cn8",
                         t.1,
@@ -640,7 +679,7 @@ fn machine_directions(db: &dyn Db, ws: Workspace, file: File, controller: DefId,
                 if u.inputs.contains(&ef.0) {
                     let op = via.get(&format!("in:{}", ef.0)).cloned();
                     let through = op.as_ref().map(|o| format!(" (through operation `{}`)", o.0)).unwrap_or_default();
-                    let op_loc = op.map(|(_, f, d)| (f, file_defs(db, f).def(d).name_range));
+                    let op_loc = op.map(|(_, f, d)| name_place(db, f, d));
                     out.push(Problem::new(
                         "RC:Cn9",
                         f.1,
@@ -655,7 +694,7 @@ fn machine_directions(db: &dyn Db, ws: Workspace, file: File, controller: DefId,
 /// RC:Cn5–Cn7: module connections to a controller agree in direction with
 /// the controller's own connections on that event.
 fn module_directions(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, module).0;
     for (_, c) in defs.children(Some(module)) {
         let DefData::Connection(cd) = &c.data else { continue };
         for (node, ev, ends_here) in [(&cd.to, &cd.eto, true), (&cd.from, &cd.efrom, false)] {
@@ -672,7 +711,7 @@ fn module_directions(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
             }) else {
                 continue;
             };
-            let cdefs = file_defs(db, cf);
+            let (cdefs, canchor) = defs_at(db, cf, cdef);
             let cname = cdefs.def(cdef).name.clone();
             for (_, inner) in cdefs.children(Some(cdef)) {
                 let DefData::Connection(ic) = &inner.data else { continue };
@@ -690,8 +729,7 @@ fn module_directions(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
                             format!("`{}` on `{}` is bidirectional here but not inside the controller", ev.0, node.0),
                         )
                         .with_related(
-                            cf,
-                            inner.name_range,
+                            Place { file: cf, anchor: canchor, range: inner.name_range },
                             format!("the connection inside `{cname}`"),
                         ),
                     );
@@ -704,8 +742,7 @@ fn module_directions(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
                             format!("the direction of `{}` inside `{}` contradicts this connection", ev.0, node.0),
                         )
                         .with_related(
-                            cf,
-                            inner.name_range,
+                            Place { file: cf, anchor: canchor, range: inner.name_range },
                             format!("the connection inside `{cname}`"),
                         ),
                     );
@@ -717,7 +754,7 @@ fn module_directions(db: &dyn Db, ws: Workspace, file: File, module: DefId, out:
 
 /// RS-IO-08: machine-level `uses I` with events in RoboSim.
 fn machine_level_events(db: &dyn Db, ws: Workspace, file: File, machine: DefId, out: &mut Vec<Problem>) {
-    for u in file_defs(db, file).uses_of(machine).filter(|u| u.kind == UseKind::Uses && u.io.is_none()) {
+    for u in defs_at(db, file, machine).0.uses_of(machine).filter(|u| u.kind == UseKind::Uses && u.io.is_none()) {
         let Some(loc) = resolve_item(db, ws, file, &u.path, |k| k == DefKind::Interface).first().copied() else {
             continue;
         };
@@ -733,11 +770,9 @@ fn machine_level_events(db: &dyn Db, ws: Workspace, file: File, machine: DefId, 
 }
 
 /// RC:PJ3: probabilities leaving a probabilistic junction add up to 1.
-fn probabilities(db: &dyn Db, file: File, junction: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+fn probabilities(defs: &FileDefs, root: &SyntaxNode, junction: DefId, out: &mut Vec<Problem>) {
     let j = defs.def(junction);
     let Some(container) = j.parent else { return };
-    let root = parse(db, file).syntax_node();
     let mut num: i128 = 0;
     let mut den: i128 = 1;
     for (_, t) in defs.children(Some(container)) {
@@ -746,8 +781,7 @@ fn probabilities(db: &dyn Db, file: File, junction: DefId, out: &mut Vec<Problem
             continue;
         }
         let Some(p) = td.probability else { return };
-        let Some(lit) = find_node(&root, p, PROBABILITY).and_then(|n| n.children().find(|c| c.kind() == LITERAL))
-        else {
+        let Some(lit) = find_node(root, p, PROBABILITY).and_then(|n| n.children().find(|c| c.kind() == LITERAL)) else {
             return;
         };
         let text = lit.text().to_string();
@@ -773,8 +807,7 @@ fn probabilities(db: &dyn Db, file: File, junction: DefId, out: &mut Vec<Problem
 /// RC:O2: the operations of a controller do not call themselves, directly
 /// or through each other. Reported once per cycle, on the call that closes
 /// it (or, when that call is in another file, on the controller's `opref`).
-fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+fn recursion(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs, out: &mut Vec<Problem>) {
     for (cid, _) in defs.iter().filter(|(_, d)| d.kind == DefKind::Controller) {
         // name → (file, definition, the controller member that brings it in)
         let mut ops: HashMap<String, (File, DefId, TextRange)> = HashMap::new();
@@ -793,10 +826,12 @@ fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
                 _ => {}
             }
         }
-        let sites: HashMap<String, Vec<(String, TextRange)>> = ops
+        // The ranges of an operation's calls are relative to its element.
+        let sites: HashMap<String, (Vec<(String, TextRange)>, Anchor)> = ops
             .iter()
             .map(|(n, (f, d, _))| {
-                (n.clone(), usage_of(db, *f, *d).call_sites.into_iter().filter(|(c, _)| ops.contains_key(c)).collect())
+                let (sites, anchor) = call_sites_of(db, *f, *d);
+                (n.clone(), (sites.into_iter().filter(|(c, _)| ops.contains_key(c)).collect(), anchor))
             })
             .collect();
         let mut reported: HashSet<Vec<String>> = HashSet::new();
@@ -807,7 +842,11 @@ fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
             let mut stack: Vec<(String, Vec<String>)> = vec![(start.clone(), vec![start.clone()])];
             let mut seen = HashSet::new();
             while let Some((cur, path)) = stack.pop() {
-                for (callee, range) in sites.get(&cur).into_iter().flatten() {
+                let (calls, anchor) = match sites.get(&cur) {
+                    Some((calls, anchor)) => (&calls[..], *anchor),
+                    None => (&[][..], Anchor::File),
+                };
+                for (callee, range) in calls {
                     if callee == start {
                         let mut key = path.clone();
                         key.sort();
@@ -818,11 +857,10 @@ fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
                         let (of, _, member) = ops[&cur];
                         let msg = format!("operation `{start}` calls itself: {cycle}");
                         if of == file {
-                            out.push(Problem::new("RC:O2", *range, msg));
+                            out.push(Problem::new("RC:O2", *range, msg).at(anchor));
                         } else {
                             out.push(Problem::new("RC:O2", member, msg).with_related(
-                                of,
-                                *range,
+                                Place { file: of, anchor, range: *range },
                                 "the call that closes the cycle",
                             ));
                         }
@@ -840,7 +878,7 @@ fn recursion(db: &dyn Db, ws: Workspace, file: File, out: &mut Vec<Problem>) {
 /// RC:STM8–STM10 and RS-IO-05: an operation defined in a controller gets
 /// what it requires from each machine or operation that calls it.
 fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, rs: bool, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, controller).0;
     let c = defs.def(controller);
     // The controller's operations: name → (file, definition).
     let mut ops: Vec<(String, File, DefId)> = Vec::new();
@@ -899,7 +937,7 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
     for (k, (xname, xf, xdef)) in callers.iter().enumerate() {
         let calls = usage_of(db, *xf, *xdef).calls;
         let xmembers = ctx_members(db, ws, Ctx::Local(*xf, *xdef));
-        let xdefs = file_defs(db, *xf);
+        let xdefs = defs_at(db, *xf, *xdef).0;
         let xclocks: HashSet<String> = xdefs
             .children(Some(*xdef))
             .filter(|(_, d)| d.kind == DefKind::Clock)
@@ -973,12 +1011,8 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
                             if matches!(code, "RC:STM8" | "RC:STM9") { " with a compatible type" } else { "" }
                         ),
                     )
-                    .with_related(*xf, file_defs(db, *xf).def(*xdef).name_range, format!("`{xname}` calls `{oname}`"))
-                    .with_related(
-                        *of,
-                        file_defs(db, *of).def(*odef).name_range,
-                        format!("`{oname}` is defined here"),
-                    ),
+                    .with_related(name_place(db, *xf, *xdef), format!("`{xname}` calls `{oname}`"))
+                    .with_related(name_place(db, *of, *odef), format!("`{oname}` is defined here")),
                 );
             }
         }
@@ -988,7 +1022,7 @@ fn operation_callers(db: &dyn Db, ws: Workspace, file: File, controller: DefId, 
 /// RC:C4-weak: every operation an operation of the controller requires is
 /// defined or required by the controller.
 fn operation_requirements(db: &dyn Db, ws: Workspace, file: File, controller: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, controller).0;
     let c = defs.def(controller);
     let defined = crate::resolve::defined_operations(db, ws, Ctx::Local(file, controller));
     let own = ctx_members(db, ws, Ctx::Local(file, controller));

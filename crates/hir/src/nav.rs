@@ -323,5 +323,5 @@ pub fn item_of(db: &dyn Db, decl: DeclLoc) -> Option<ItemLoc> {
 
 /// The cycle information of a RoboSim container, for hovers on `cycleDef`.
 pub fn cycle_info(db: &dyn Db, ws: Workspace, file: File, def: DefId) -> Option<crate::cycle::CycleInfo> {
-    crate::cycle::cycle_checks(db, ws, file).1.iter().find(|(d, _)| *d == def).map(|(_, i)| *i)
+    crate::cycle::cycle_infos(db, ws, file).iter().find(|(d, _)| *d == def).map(|(_, i)| *i)
 }

@@ -292,7 +292,8 @@ fn typed(d: &Def) -> Option<crate::defs::TypeRef> {
 /// The context a (connection/reference) node denotes: an inline definition,
 /// or the definition a `cref/sref/rref` names.
 pub fn node_ctx(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Ctx> {
-    node_ctx_in(db, ws, file, file_defs(db, file), id)
+    // From the element's definitions, which an edit elsewhere leaves alone.
+    node_ctx_in(db, ws, file, crate::element_rules::defs_at(db, file, id).0, id)
 }
 
 /// [`node_ctx`], the definition read from `defs` (which hold `id`).
@@ -361,7 +362,9 @@ pub fn file_resolution(db: &dyn Db, ws: Workspace, file: File) -> FileResolution
 /// The problems of the imports of `file` (the part of [`file_resolution`]
 /// that belongs to no element).
 pub(crate) fn import_problems(db: &dyn Db, ws: Workspace, file: File) -> Vec<ResolveProblem> {
-    let defs = file_defs(db, file);
+    // The package and imports only: not the file's definitions, which
+    // every keystroke changes.
+    let defs = crate::element::file_header(db, file);
     let unit = Unit {
         file,
         defs,
@@ -714,10 +717,10 @@ impl<'a> Resolver<'a> {
 /// use (the connection makes the relay explicit).
 fn machine_event(db: &dyn Db, ws: Workspace, ctx: Ctx, name: &str) -> Option<Member> {
     let (file, def) = ctx_def(db, ctx)?;
-    if file.kind(db) != robosim_syntax::FileKind::RoboSim || file_defs(db, file).def(def).kind != DefKind::Controller {
+    let defs = crate::element_rules::defs_at(db, file, def).0;
+    if file.kind(db) != robosim_syntax::FileKind::RoboSim || defs.def(def).kind != DefKind::Controller {
         return None;
     }
-    let defs = file_defs(db, file);
     defs.children(Some(def)).filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::MachineRef)).find_map(
         |(id, _)| {
             let mctx = node_ctx(db, ws, file, id)?;
@@ -764,7 +767,8 @@ pub fn defined_operations(db: &dyn Db, ws: Workspace, ctx: Ctx) -> std::collecti
         })
     };
     match ctx {
-        Ctx::Local(f, id) => file_defs(db, f)
+        Ctx::Local(f, id) => crate::element_rules::defs_at(db, f, id)
+            .0
             .children(Some(id))
             .filter_map(|(_, d)| match (&d.kind, &d.data) {
                 (DefKind::Operation, data) => Some(op_key(&d.name, &params_of(data))),

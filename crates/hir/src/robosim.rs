@@ -3,8 +3,9 @@
 
 use robosim_syntax::{FileKind, TextRange};
 
-use crate::checks::Problem;
-use crate::defs::{file_defs, DefData, DefId, DefKind, Io, UseKind};
+use crate::checks::{Place, Problem};
+use crate::defs::{DefData, DefId, DefKind, FileDefs, Io, UseKind};
+use crate::element_rules::{context_places, defs_at, name_place};
 use crate::index::resolve_item;
 use crate::resolve::{ctx_members, node_ctx, Ctx, Member};
 use crate::{Db, File, Workspace};
@@ -31,27 +32,26 @@ fn outputs(members: &[Member]) -> Outputs {
 
 /// The machines of a controller (inline or by `sref`): (node def, name, members).
 fn machines(db: &dyn Db, ws: Workspace, file: File, controller: DefId) -> Vec<(DefId, String, Option<Ctx>)> {
-    file_defs(db, file)
+    defs_at(db, file, controller)
+        .0
         .children(Some(controller))
         .filter(|(_, m)| matches!(m.kind, DefKind::StateMachine | DefKind::MachineRef))
         .map(|(id, m)| (id, m.name.clone(), node_ctx(db, ws, file, id)))
         .collect()
 }
 
-/// RS rules of `file`.
-#[salsa::tracked(returns(ref))]
-pub fn robosim_engines(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem> {
+/// RS rules of the definitions `defs` (one element's) of `file`.
+pub(crate) fn element_robosim(db: &dyn Db, ws: Workspace, file: File, defs: &FileDefs) -> Vec<Problem> {
     let mut out = Vec::new();
     if file.kind(db) != FileKind::RoboSim {
         return out;
     }
-    let defs = file_defs(db, file);
     for (id, d) in defs.iter() {
         match d.kind {
             DefKind::Controller => {
                 let ms = machines(db, ws, file, id);
                 controller_io(db, ws, file, id, &ms, &mut out);
-                controller_outputs(db, ws, file, &ms, &mut out);
+                controller_outputs(db, ws, file, defs, &ms, &mut out);
                 required_operations(db, ws, file, id, &ms, &mut out);
             }
             DefKind::Module => module_outputs(db, ws, file, id, &mut out),
@@ -71,7 +71,7 @@ fn controller_io(
     ms: &[(DefId, String, Option<Ctx>)],
     out: &mut Vec<Problem>,
 ) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, controller).0;
     for (_, c) in defs.children(Some(controller)) {
         let DefData::Connection(cd) = &c.data else { continue };
         for (end, event, as_target) in [(&cd.to, &cd.eto, true), (&cd.from, &cd.efrom, false)] {
@@ -108,10 +108,10 @@ fn controller_outputs(
     db: &dyn Db,
     ws: Workspace,
     file: File,
+    defs: &FileDefs,
     ms: &[(DefId, String, Option<Ctx>)],
     out: &mut Vec<Problem>,
 ) {
-    let defs = file_defs(db, file);
     let outs: Vec<(DefId, &String, Outputs, Ctx)> =
         ms.iter().filter_map(|(id, n, c)| c.map(|c| (*id, n, outputs(&ctx_members(db, ws, c)), c))).collect();
     for (i, (id, name, o, ctx)) in outs.iter().enumerate() {
@@ -128,7 +128,7 @@ fn controller_outputs(
                     defs.def(*id).name_range,
                     format!("machines `{other}` and `{name}` both output {what}: outputs of a controller's machines must be disjoint"),
                 )
-                .with_related(file, defs.def(*other_id).name_range, format!("`{other}` also outputs it"))
+                .with_related(Place::here(file, defs.def(*other_id).name_range), format!("`{other}` also outputs it"))
                 .with_related_opt(context_of(db, *ctx, Io::Output), format!("the output context of `{name}`"))
                 .with_related_opt(context_of(db, *other_ctx, Io::Output), format!("the output context of `{other}`")),
             );
@@ -157,10 +157,10 @@ fn describe_shared(vars: &[&String], ops: &[&String]) -> String {
 
 /// RS:M3: the outputs of a module's controllers are disjoint.
 fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, module).0;
     // Per controller: its outputs, and where each one is declared (the
     // machine's output context for variables; the controller for operations).
-    type Loc = Option<(File, TextRange)>;
+    type Loc = Option<Place>;
     type Sources = Vec<(String, Loc)>;
     let mut ctrls: Vec<(DefId, String, Outputs, Sources, Loc)> = Vec::new();
     for (cid, c) in defs.children(Some(module)) {
@@ -188,7 +188,7 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
         }
         o.vars.sort();
         o.vars.dedup();
-        let def_loc = crate::resolve::ctx_def(db, ctx).map(|(f, d)| (f, file_defs(db, f).def(d).name_range));
+        let def_loc = crate::resolve::ctx_def(db, ctx).map(|(f, d)| name_place(db, f, d));
         ctrls.push((cid, c.name.clone(), o, sources, def_loc));
     }
     for (i, (id, name, o, src, loc)) in ctrls.iter().enumerate() {
@@ -204,16 +204,12 @@ fn module_outputs(db: &dyn Db, ws: Workspace, file: File, module: DefId, out: &m
                 defs.def(*id).name_range,
                 format!("controllers `{other}` and `{name}` both drive {what}: outputs of a module's controllers must be disjoint"),
             )
-            .with_related(file, defs.def(*other_id).name_range, format!("`{other}` also drives it"));
+            .with_related(Place::here(file, defs.def(*other_id).name_range), format!("`{other}` also drives it"));
             // Where the shared outputs are declared, on both sides.
             for v in &shared_vars {
                 for (who, sources) in [(name, src), (other, other_src)] {
                     if let Some((_, Some(at))) = sources.iter().find(|(n, _)| n == *v) {
-                        problem = problem.with_related(
-                            at.0,
-                            at.1,
-                            format!("`{v}` is an output of a machine of `{who}` here"),
-                        );
+                        problem = problem.with_related(*at, format!("`{v}` is an output of a machine of `{who}` here"));
                     }
                 }
             }
@@ -245,7 +241,7 @@ fn controller_machine_ctxs(db: &dyn Db, ws: Workspace, ctx: Ctx) -> Vec<Ctx> {
 
 /// RS:SM4: variables a machine requires are inputs or outputs.
 fn required_variables(db: &dyn Db, ws: Workspace, file: File, machine: DefId, out: &mut Vec<Problem>) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, machine).0;
     let io_vars: Vec<String> = ctx_members(db, ws, Ctx::Local(file, machine))
         .iter()
         .filter(|m| m.io.is_some() && m.kind == DefKind::Variable && m.via == Some(UseKind::Requires))
@@ -287,32 +283,21 @@ fn required_operations(
     ms: &[(DefId, String, Option<Ctx>)],
     out: &mut Vec<Problem>,
 ) {
-    let defs = file_defs(db, file);
+    let defs = defs_at(db, file, controller).0;
     let defined = controller_operation_names(db, ws, Ctx::Local(file, controller));
     for (mid, mname, ctx) in ms {
         let Some(ctx) = ctx else { continue };
         // Machine-level (not I/O) required operations.
-        let (mfile, uses): (File, Vec<(Vec<String>, TextRange)>) = match ctx {
-            Ctx::Local(f, id) => (
-                *f,
-                file_defs(db, *f)
-                    .uses_of(*id)
-                    .filter(|u| u.kind == UseKind::Requires && u.io.is_none())
-                    .map(|u| (u.path.clone(), u.range))
-                    .collect(),
-            ),
-            Ctx::Item(loc) => {
-                let Some(def) = loc.def(db) else { continue };
-                (
-                    loc.file,
-                    file_defs(db, loc.file)
-                        .uses_of(def)
-                        .filter(|u| u.kind == UseKind::Requires && u.io.is_none())
-                        .map(|u| (u.path.clone(), u.range))
-                        .collect(),
-                )
-            }
-        };
+        let Some((mfile, mdef)) = crate::resolve::ctx_def(db, *ctx) else { continue };
+        let mut manchor = crate::checks::Anchor::File;
+        let uses: Vec<(Vec<String>, TextRange)> = crate::element_rules::use_places(db, mfile, mdef)
+            .iter()
+            .filter(|(u, _)| u.kind == UseKind::Requires && u.io.is_none())
+            .map(|(u, a)| {
+                manchor = *a;
+                (u.path.clone(), u.range)
+            })
+            .collect();
         for (path, range) in uses {
             let Some(loc) = resolve_item(db, ws, mfile, &path, |k| k == DefKind::Interface).first().copied() else {
                 continue;
@@ -345,8 +330,7 @@ fn required_operations(
                 Problem::new("RS:SM5", range, msg)
             } else {
                 Problem::new("RS:SM5", defs.def(*mid).name_range, msg).with_related(
-                    mfile,
-                    range,
+                    Place { file: mfile, anchor: manchor, range },
                     format!("`{mname}` requires `{iname}` here"),
                 )
             };
@@ -356,12 +340,11 @@ fn required_operations(
 }
 
 /// The `input context`/`output context` keyword of a machine.
-fn context_of(db: &dyn Db, ctx: Ctx, io: Io) -> Option<(File, TextRange)> {
+fn context_of(db: &dyn Db, ctx: Ctx, io: Io) -> Option<Place> {
     let (f, d) = crate::resolve::ctx_def(db, ctx)?;
-    let facts = file_defs(db, f).facts(d);
-    let r = match io {
-        Io::Input => facts.input_contexts.first(),
-        Io::Output => facts.output_contexts.first(),
-    }?;
-    Some((f, *r))
+    let (input, output) = context_places(db, f, d);
+    match io {
+        Io::Input => input,
+        Io::Output => output,
+    }
 }

@@ -8,6 +8,7 @@ use robosim_test_support::generated;
 use std::sync::{Arc, Mutex};
 
 use robosim_hir::element::{element_list, Element};
+use robosim_hir::element_rules::{element_cycles, element_rules};
 use robosim_hir::{file_diagnostics, load_workspace, parse, Diagnostic, File, Prior, RootDatabase, RuleSet, Workspace};
 use salsa::plumbing::AsId;
 use salsa::Setter;
@@ -36,14 +37,22 @@ fn an_edit_inside_one_machine_reruns_that_element_only() {
     let good = generated::generated_robosim(6);
     let ws = load_workspace(&db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
     let file = user_file(&db, ws);
-    assert!(file_diagnostics(&db, ws, file).is_empty());
-    let (machine_id, after) = {
+    // The keys of the machine's rule queries (salsa names a query taking
+    // the workspace and the element by an id of its own), read from the
+    // log as they are computed first.
+    let (machine_id, after, rule_keys) = {
         let elements: &[Element] = element_list(&db, file);
         // Two interfaces, a machine, a controller and a module per copy.
         assert_eq!(elements.len(), 6 * 5);
         let i = elements.iter().position(|e| e.name(&db) == "SimSMovement3").unwrap();
-        (format!("{:?}", elements[i].as_id()), elements.len() - i)
+        log.lock().unwrap().clear();
+        element_rules(&db, ws, elements[i]);
+        element_cycles(&db, ws, elements[i]);
+        let ran = std::mem::take(&mut *log.lock().unwrap());
+        let key = |q: &str| ran.iter().find(|e| e.starts_with(&format!("{q}("))).cloned().unwrap();
+        (format!("{:?}", elements[i].as_id()), elements.len() - i, [key("element_rules"), key("element_cycles")])
     };
+    assert!(file_diagnostics(&db, ws, file).is_empty());
 
     let at = good.find("stm SimSMovement3 {").unwrap();
     let guard = at + good[at..].find("not $obstacle").unwrap() + "not ".len();
@@ -69,6 +78,21 @@ fn an_edit_inside_one_machine_reruns_that_element_only() {
         assert!(runs("element_members").len() <= 1, "{ran:?}");
         // Nothing resolves or types the whole file.
         for q in ["body_resolution", "type_checks", "file_resolution"] {
+            assert!(runs(q).is_empty(), "{q}: {ran:?}");
+        }
+        // The rules run for the machine only: its controller and module
+        // read it through position-free queries (members, cycle
+        // specifications, usages, name places), which are equal after
+        // the edit, so their rules are not run again.
+        for (q, key) in ["element_rules", "element_cycles"].into_iter().zip(&rule_keys) {
+            assert_eq!(&runs(q), std::slice::from_ref(key), "{ran:?}");
+        }
+        for q in ["element_specs", "element_usages"] {
+            assert!(runs(q).len() <= 1, "{q}: {ran:?}");
+        }
+        // No rule query over the whole file, and the file's definitions
+        // are not put together.
+        for q in ["top_duplicates", "size_checks", "cycle_infos", "file_defs", "file_checks", "more_checks"] {
             assert!(runs(q).is_empty(), "{q}: {ran:?}");
         }
     }
@@ -171,17 +195,57 @@ fn rendered(db: &RootDatabase, diags: &[Diagnostic]) -> Vec<String> {
 #[test]
 fn random_edits_give_what_a_fresh_check_gives() {
     let edits: usize = std::env::var("ROBOSIM_RANDOM_EDITS").ok().and_then(|n| n.parse().ok()).unwrap_or(10_000);
-    let start = generated::generated_robosim(1);
+    random_edits("gen.rst", &generated::generated_robosim(1), edits, 0x9e37_79b9_7f4a_7c15);
+}
+
+/// A RoboChart model whose rules relate elements: problems and related
+/// locations in one element found by another's rules (a recursion through
+/// top-level operations, a machine that receives through an operation, a
+/// module connection reversed inside its controller, copies of names).
+const RELATED: &str = "interface Ops { a() b() op() }
+interface E { event e event ping : nat }
+operation a() { requires Ops initial i state S { entry b() } transition t { from i to S } }
+operation b() { requires Ops initial i state S { entry a() } transition t { from i to S } }
+stm M { uses E requires Ops var x : nat initial i state S { entry op(); e } transition t { from i to S } }
+controller C {
+  uses E requires Ops
+  opref oa = a
+  opref ob = b
+  operation op() { uses E var x : nat initial i state S { entry ping?x } final f transition t { from i to S } transition u { from S to f } }
+  sref m = M
+  connection m on ping to C on ping
+  connection m on e to C on e
+}
+controller D { uses E sref m = M connection C on e to m on e }
+module Mod {
+  robotic platform P { uses E provides Ops }
+  cref c = C
+  connection P on e to c on e ( _async )
+}
+stm M { initial i }
+";
+
+#[test]
+fn random_edits_of_related_elements_give_what_a_fresh_check_gives() {
+    let edits: usize =
+        std::env::var("ROBOSIM_RANDOM_EDITS").ok().and_then(|n| n.parse().ok()).map_or(2_000, |n: usize| n / 5);
+    random_edits("related.rct", RELATED, edits, 0x2545_f491_4f6c_dd1d);
+}
+
+/// Applies `edits` random edits to `start` (restarting from it now and
+/// then), comparing after each the diagnostics of the edited database with
+/// those of a fresh one.
+fn random_edits(path: &str, start: &str, edits: usize, seed: u64) {
     let mut db = RootDatabase::default();
-    let ws = load_workspace(&db, [("gen.rst".to_string(), start.clone())], RuleSet::Paper);
+    let ws = load_workspace(&db, [(path.to_string(), start.to_string())], RuleSet::Paper);
     let file = user_file(&db, ws);
-    let mut text = start;
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut text = start.to_string();
+    let mut rng = Rng(seed);
     for k in 0..edits {
         // Restart from the clean model now and then, so that the text does
         // not drift into noise.
         if k % 200 == 0 && k > 0 {
-            text = generated::generated_robosim(1);
+            text = start.to_string();
         }
         let at = {
             let mut at = rng.below(text.len() + 1);
@@ -202,7 +266,7 @@ fn random_edits_give_what_a_fresh_check_gives() {
         assert_eq!(robosim_hir::defs::file_defs(&db, file), &whole, "edit {k}");
         // From scratch: a new database.
         let fresh_db = RootDatabase::default();
-        let fws = load_workspace(&fresh_db, [("gen.rst".to_string(), text.clone())], RuleSet::Paper);
+        let fws = load_workspace(&fresh_db, [(path.to_string(), text.clone())], RuleSet::Paper);
         let fresh = rendered(&fresh_db, file_diagnostics(&fresh_db, fws, user_file(&fresh_db, fws)));
         assert_eq!(incremental, fresh, "edit {k}: {at}..{end} := {insert:?}\n{text}");
     }

@@ -144,15 +144,17 @@ fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
 /// Computes and publishes one file's complete diagnostics, retrying when a
 /// write that did not change this file cancelled the computation. With
 /// `parallel` (the file just edited, whose check someone waits for), a
-/// second thread computes part of the rules at the same time.
+/// second thread computes part of the rules at the same time when the
+/// buffer has no complete check yet.
 fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) -> Outcome {
     loop {
         if shared.phase() != Phase::Running {
             return Outcome::Stale;
         }
-        let (analysis, target) = {
+        let (analysis, target, first_check) = {
             let st = shared.lock();
             let Some(entry) = st.current(key, seq) else { return Outcome::Stale };
+            let first_check = entry.open.as_ref().is_none_or(|d| d.checked.is_none());
             let target = Target {
                 key: key.to_string(),
                 seq,
@@ -162,9 +164,13 @@ fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) 
                 verified: st.verify.reports_for(key),
                 stamp: st.verify.stamp(key),
             };
-            (st.host.analysis(), target)
+            (st.host.analysis(), target, first_check)
         };
-        if let (true, Some(file)) = (parallel, target.file) {
+        // Only for a check from scratch: after an edit the rules of the
+        // edited element are all there is to compute (they run per
+        // element), and a second thread would only re-verify the other
+        // elements' results alongside this one.
+        if let (true, true, Some(file)) = (parallel, first_check, target.file) {
             // Its own snapshot, dropped when done or cancelled by an edit;
             // the results land in the shared memo tables.
             let helper = analysis.clone();

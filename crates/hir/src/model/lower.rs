@@ -45,7 +45,7 @@ pub fn file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
         .map(|(id, d)| (d.range, id))
         .collect();
     let cycles = match file.kind(db) {
-        crate::FileKind::RoboSim => crate::cycle::cycle_checks(db, ws, file).1.iter().copied().collect(),
+        crate::FileKind::RoboSim => crate::cycle::cycle_infos(db, ws, file).iter().copied().collect(),
         _ => FxHashMap::default(),
     };
     let types = crate::types::expr_types(db, ws, file);
