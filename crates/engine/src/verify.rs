@@ -307,7 +307,11 @@ impl Cx<'_> {
 
     /// The bounded types, from `nametype core_X = {a..b}` lines.
     fn defaults(&self) -> DomainDefaults {
-        let mut defaults = DomainDefaults { async_buffer: self.async_buffer, ..DomainDefaults::default() };
+        let mut defaults = DomainDefaults {
+            async_buffer: self.async_buffer,
+            replaced: self.read.csp_blocks.iter().any(|b| b.name == "Instantiations"),
+            ..DomainDefaults::default()
+        };
         for r in std::iter::once(self.read).chain(self.others.iter().map(|(_, r)| r)) {
             for (name, lo, hi, _) in &r.instantiations.types {
                 defaults.set(name, *lo, *hi);

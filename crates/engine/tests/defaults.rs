@@ -107,3 +107,73 @@ fn primitive_types_range_over_zero_and_one() {
     assert_eq!(got, [("O", Verdict::Pass), ("T", Verdict::Fail)], "{reports:#?}");
     assert!(reports[0].notes.join("\n").contains("type ID = {0, 1} (RT-3)"), "{:?}", reports[0].notes);
 }
+
+const FUNCTIONS: &str = "enumeration Mode { Idle Busy }
+    interface I { event zero event yes event idle event chosen }
+    function scale(x : nat) : nat { }
+    function ready() : boolean { precondition true }
+    function mode() : Mode { }
+    function choose(s : Set(nat)) : nat { precondition s != {} postcondition result in s }
+    stm M { uses I
+      initial i state S { } state Z { } state Y { } state D { } state C { }
+      transition t { from i to S }
+      transition a { from S to Z condition scale(2) == 0 action zero }
+      transition b { from S to Y condition ready() action yes }
+      transition c { from S to D condition mode() == Mode::Idle action idle }
+      transition d { from S to C condition choose({1, 2}) == 0 action chosen } }";
+
+/// RT-2: a function without a body returns its result type's default —
+/// 0, `true`, the first literal — even when its postcondition says
+/// otherwise (`choose` returns 0, not a member of `{1, 2}`), and each
+/// verdict names the defaults it rests on.
+#[test]
+fn bodiless_functions_return_the_default_of_their_type() {
+    let reports = run(
+        FUNCTIONS,
+        "assertion Z : M::Z is reachable in M
+         assertion Y : M::Y is reachable in M
+         assertion D : M::D is reachable in M
+         assertion C : M::C is reachable in M",
+    );
+    let got: Vec<(&str, Verdict)> = reports.iter().map(|r| (r.name.as_str(), r.verdict)).collect();
+    assert_eq!(got, [("Z", Verdict::Pass), ("Y", Verdict::Pass), ("D", Verdict::Pass), ("C", Verdict::Pass)]);
+    let notes = reports[0].notes.join("\n");
+    for d in [
+        "function scale(x) = 0 (RT-2)",
+        "function ready() = true (RT-2)",
+        "function mode() = Mode_Idle (RT-2)",
+        "function choose(s) = 0 (RT-2)",
+    ] {
+        assert!(notes.contains(d), "{d}: {notes}");
+    }
+    // With the defaults, `scale(2)` is 0: the guard `scale(2) == 1` never holds.
+    let other = run(&FUNCTIONS.replace("scale(2) == 0", "scale(2) == 1"), "assertion Z : M::Z is reachable in M");
+    assert_eq!(other[0].verdict, Verdict::Fail, "{other:#?}");
+}
+
+/// RT-2 and RT-7: a CSPm definition in the assertion file wins over the
+/// default (and the notes do not claim one); an `Instantiations` block
+/// replaces the generated defaults, so a function it does not define has
+/// no definition at all and the check is refused, not guessed; a function
+/// defined by `result == e` is not given a default either.
+#[test]
+fn defined_functions_are_not_defaults() {
+    let defined = run(FUNCTIONS, "csp Defs csp-begin\nscale(x) = x + 1\ncsp-end\nassertion Z : M::Z is reachable in M");
+    assert_eq!(defined[0].verdict, Verdict::Fail, "{defined:#?}");
+    assert!(!defined[0].notes.join("\n").contains("function scale"), "{:?}", defined[0].notes);
+    let replaced =
+        run(FUNCTIONS, "csp Instantiations csp-begin\nscale(x) = x\ncsp-end\nassertion Z : M::Z is reachable in M");
+    let reason = replaced[0].reason.clone().unwrap_or_default();
+    assert_eq!(replaced[0].verdict, Verdict::Unsupported);
+    assert!(reason.starts_with("`ready` has no definition the native checker can read"), "{reason}");
+    assert!(reason.contains("RT-7"), "{reason}");
+    let post = run(
+        &FUNCTIONS.replace(
+            "function scale(x : nat) : nat { }",
+            "function scale(x : nat) : nat { postcondition result == x }",
+        ),
+        "assertion Z : M::Z is reachable in M",
+    );
+    assert_eq!(post[0].verdict, Verdict::Unsupported);
+    assert!(post[0].reason.as_deref().unwrap_or_default().contains("result == …"), "{post:#?}");
+}

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use robosim_hir::csp_fn::{CspBinOp, CspExpr, CspFunction};
 use robosim_hir::model::{self, BinOp, ExprKind, UnOp};
 
-use super::types::stride;
+use super::types::{stride, Layout};
 use super::*;
 
 impl MachineCx<'_, '_> {
@@ -224,15 +224,13 @@ impl MachineCx<'_, '_> {
             ExprKind::Tuple(_) | ExprKind::Set(_) => {
                 return Err(self.err(range, "a tuple or set where a number is expected"));
             }
-            ExprKind::Call { function: f, args, .. } => {
+            ExprKind::Call { function: f, args, res } => {
                 if !self.cx.defaults.functions.iter().any(|c| c.name == *f) {
-                    return Err(self.err(
-                        range,
-                        format!(
-                            "`{f}` has no definition the native checker can read: define it in a `csp` block \
-                             of an assertion file, as for FDR (`{f}(x) = …`)"
-                        ),
-                    ));
+                    // RT-2: RoboTool's default for a function without a body.
+                    return match self.bodiless_call(range, f, res.as_ref())? {
+                        (v, Layout::Num(_)) => Ok(Expr::Const(v)),
+                        _ => Err(self.err(range, format!("`{f}` returns a tuple or a set, used here as a number"))),
+                    };
                 }
                 let mut values = Vec::new();
                 for a in args {
@@ -479,6 +477,17 @@ impl MachineCx<'_, '_> {
                     _ => SetOp::Diff,
                 };
                 Expr::Set(op, Box::new(self.typed(a, want)?), Box::new(self.typed(b, want)?))
+            }
+            // RT-2: a function without a body returns the default of its
+            // (tuple, record or set) result type.
+            (ExprKind::Call { function: f, res, .. }, _)
+                if !self.cx.defaults.functions.iter().any(|c| c.name == *f) =>
+            {
+                let (v, ty) = self.bodiless_call(range, f, res.as_ref())?;
+                if ty != *want {
+                    return Err(self.err(range, format!("`{f}` does not return the type expected here")));
+                }
+                Expr::Const(v)
             }
             (ExprKind::Name { name: n, .. }, _) => {
                 if self.types.get(n) != Some(want) {

@@ -15,6 +15,7 @@
 
 mod compose;
 mod expr;
+mod functions;
 mod machine;
 mod stmt;
 mod types;
@@ -75,6 +76,10 @@ pub struct DomainDefaults {
     /// The buffer assumed for asynchronous connections between machines
     /// or controllers (none: RoboTool's, [`AsyncBuffer::ROBOTOOL`]).
     pub async_buffer: Option<AsyncBuffer>,
+    /// Whether the assertion's file has a `csp Instantiations` block, which
+    /// replaces RoboTool's generated defaults (RT-7): a function it does
+    /// not define then has no definition at all (no RT-2 default).
+    pub replaced: bool,
 }
 
 impl Default for DomainDefaults {
@@ -89,6 +94,7 @@ impl Default for DomainDefaults {
             constants: Vec::new(),
             functions: Vec::new(),
             async_buffer: None,
+            replaced: false,
         }
     }
 }
