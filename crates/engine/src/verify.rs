@@ -29,6 +29,7 @@ pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
 pub use crate::untimed::Semantics;
 
+mod params;
 mod semantics;
 
 /// How to run checks.
@@ -299,10 +300,12 @@ impl Cx<'_> {
     /// The constant values the assertion gives.
     pub(crate) fn constants(&self) -> Result<Vec<ConstValue>, String> {
         let scope = Scope { db: self.db, ws: self.ws, file: self.file, read: self.read, others: self.others };
-        Ok(robosim_hir::target::bindings_in(scope, self.a)?
+        let mut out: Vec<ConstValue> = robosim_hir::target::bindings_in(scope, self.a)?
             .into_iter()
             .map(|b| ConstValue { name: b.name, of: b.of, value: b.value as Val })
-            .collect())
+            .collect();
+        out.extend(params::parameter_values(self.a)?);
+        Ok(out)
     }
 
     /// The bounded types, from `nametype core_X = {a..b}` lines.

@@ -177,3 +177,69 @@ fn defined_functions_are_not_defaults() {
     assert_eq!(post[0].verdict, Verdict::Unsupported);
     assert!(post[0].reason.as_deref().unwrap_or_default().contains("result == …"), "{post:#?}");
 }
+
+/// RT-5: `core_real` is widened by the values of the model's expressions,
+/// each computed with the sticky arithmetic over the base ranges: `180 / 4`
+/// is `Div(180, 4, {-2..2})`, which keeps 180, so `core_real = {-2..180}`;
+/// the operands `180` and `4` widen nothing, and no `nat` expression
+/// leaves {0..2}. In the widened domain the division gives 45.
+#[test]
+fn domains_are_widened_by_expression_values() {
+    let model = "interface I { event quarter }
+        stm M { uses I var y : real const half : real
+          initial i state S { } state Q { }
+          transition t { from i to S action y = 180 / 4 }
+          transition a { from S to Q condition y == half action quarter } }";
+    let reports = run(
+        model,
+        "assertion A : M::Q is reachable in M with constant half of M set to 45
+         assertion B : M::Q is reachable in M with constant half of M set to 180",
+    );
+    let got: Vec<(&str, Verdict)> = reports.iter().map(|r| (r.name.as_str(), r.verdict)).collect();
+    assert_eq!(got, [("A", Verdict::Pass), ("B", Verdict::Fail)], "{reports:#?}");
+    let notes = reports[0].notes.join("\n");
+    assert!(notes.contains("core_real = {-2..180}, widened by the model's expressions (RT-5)"), "{notes}");
+    // Not RoboTool's (which does not widen by the assertion's values): the
+    // engine widens by `half = 45` too, and says so.
+    assert!(
+        notes.contains(
+            "core_nat = {0..45}, widened by the constants' values of the assertion — RoboTool does not widen by them \
+             and computes with {0..2} (RT-5)"
+        ),
+        "{notes}"
+    );
+}
+
+/// RT-5: the arithmetic is sticky in the domain of the expression's type:
+/// `x + 1` is a `nat` sum, `Plus(x, 1, core_nat)`, so at `x == 2` it stays
+/// 2 (core_nat = {0..2}) even though `core_real` reaches 180; `T` is never
+/// reached.
+#[test]
+fn arithmetic_is_sticky_in_the_type_of_the_expression() {
+    let model = "interface I { event up event top }
+        stm M { uses I var x : nat var r : real
+          initial i state S { } state T { }
+          transition t { from i to S action r = 180 / 4 }
+          transition u { from S to S condition x < 2 action x = x + 1 ; up }
+          transition v { from S to T condition x + 1 > 2 action top } }";
+    let reports = run(model, "assertion T : M::T is reachable in M");
+    assert_eq!(reports[0].verdict, Verdict::Fail, "{reports:#?}");
+    assert!(reports[0].notes.join("\n").contains("core_nat = {0..2}"), "{:?}", reports[0].notes);
+}
+
+/// RT-5: RoboTool's domain is `union(base, {min..max})`; when the values
+/// do not reach the base range it is not one range ({0..2} ∪ {7}), which
+/// the engine does not represent: refused with the reason, never widened
+/// to {0..7}.
+#[test]
+fn a_domain_with_a_gap_is_refused() {
+    let model = "interface I { event e }
+        stm M { uses I var x : nat
+          initial i state S { }
+          transition t { from i to S action x = 7 ; e } }";
+    let reports = run(model, "assertion A : M is deadlock-free");
+    assert_eq!(reports[0].verdict, Verdict::Unsupported, "{reports:#?}");
+    let reason = reports[0].reason.clone().unwrap_or_default();
+    // `core_real` (computed first) has the same gap.
+    assert!(reason.contains("∪ {7..7} (RT-5), not one range"), "{reason}");
+}

@@ -104,13 +104,22 @@ impl MachineCx<'_, '_> {
                 if matches!(inner.kind, ExprKind::Missing) {
                     return Err(self.err(range, "an operator without an operand"));
                 }
+                let literal = matches!(inner.kind, ExprKind::Int(_) | ExprKind::Real(_));
                 let inner = self.expr(inner)?;
                 match op {
                     UnOp::Not => Expr::Not(Box::new(inner)),
-                    UnOp::Neg => match inner.constant() {
+                    // A negative literal is a number (not `Neg` of one).
+                    UnOp::Neg if literal => match inner.constant() {
                         Some(v) => Expr::Const(-v),
-                        None => Expr::Neg(Box::new(inner), int_dom),
+                        None => return Err(self.err(range, "this number is not supported")),
                     },
+                    UnOp::Neg => {
+                        let neg = Expr::Neg(Box::new(inner), self.arith_dom(e).unwrap_or(int_dom));
+                        match neg.constant() {
+                            Some(v) => Expr::Const(v),
+                            None => neg,
+                        }
+                    }
                     UnOp::Other => return Err(self.err(range, "this operator is not supported by the native checker")),
                 }
             }
@@ -147,7 +156,9 @@ impl MachineCx<'_, '_> {
                         }
                     }
                 }
-                let ar = |op| Expr::Arith(op, Box::new(x.clone()), Box::new(y.clone()), int_dom);
+                // RT-5: sticky in the domain of the expression's type.
+                let dom = self.arith_dom(e).unwrap_or(int_dom);
+                let ar = |op| Expr::Arith(op, Box::new(x.clone()), Box::new(y.clone()), dom);
                 let result = match op {
                     BinOp::Add => ar(ArOp::Add),
                     BinOp::Sub => ar(ArOp::Sub),

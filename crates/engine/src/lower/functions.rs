@@ -93,3 +93,32 @@ fn defines_result(e: &model::Expr) -> bool {
         _ => false,
     }
 }
+
+impl MachineCx<'_, '_> {
+    /// RT-11: the parameters of an operation checked on its own are
+    /// constants of its process: the value `with parameter x of Op set to
+    /// v` gives, else RoboTool's default (`param_x = 0`; `true` for a
+    /// boolean, as for constants), noted.
+    pub(super) fn parameters_as_constants(&mut self, body: &Behaviour) -> Result<(), Unsupported> {
+        for p in &body.params {
+            let ty = self.ty_of(self.file, p.ty.as_ref(), p.range)?;
+            if !ty.is_num() {
+                return Err(self.err(p.range, "parameters of tuple, record or set types are not supported yet"));
+            }
+            let value = match self.const_value(&p.name) {
+                Some(v) => v,
+                None => {
+                    let v = self.default_of(p.ty.as_ref(), &ty);
+                    let shown = self.value_text(p.ty.as_ref(), v);
+                    let note = format!("parameter {}::{} = {shown} (RT-11)", self.decl_name, p.name);
+                    self.design().defaults.push(note);
+                    v
+                }
+            };
+            let q = format!("{}::{}", self.decl_name, p.name);
+            self.design().constants.push((q, value));
+            self.names.insert(p.name.clone(), Name::Const(value));
+        }
+        Ok(())
+    }
+}

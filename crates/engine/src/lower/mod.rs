@@ -14,6 +14,7 @@
 //! verdict is worse than none.
 
 mod compose;
+mod domains;
 mod expr;
 mod functions;
 mod machine;
@@ -152,6 +153,7 @@ pub fn lower_element(
         lone: false,
         bidirectional: BTreeSet::new(),
         primitive_defaults: Default::default(),
+        op_subject: false,
     };
     let mut design = cx.lower(loc, inner)?;
     design.defaults.extend(cx.primitive_defaults.into_inner());
@@ -184,6 +186,8 @@ struct Cx<'a> {
     /// RT-3: the primitive types given no range, which range over {0, 1}
     /// (noted when a type is laid out, which only reads the context).
     primitive_defaults: std::cell::RefCell<BTreeSet<String>>,
+    /// RT-11: the element checked is an operation on its own.
+    op_subject: bool,
 }
 
 /// An operation a controller defines or references: its name there, the
