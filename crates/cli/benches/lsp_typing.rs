@@ -26,11 +26,9 @@
 //! queries each keystroke re-executes. `LSP_TYPING=robosim` runs this part
 //! only.
 
-#[path = "../tests/lsp_support/framing.rs"]
-mod framing;
-#[path = "../../syntax/benches/generated.rs"]
-mod generated;
 use framing::{frame, read_message};
+use robosim_test_support::generated;
+use robosim_test_support::lsp_framing as framing;
 
 use std::io::{BufReader, Write};
 use std::process::{ChildStdin, Command, Stdio};

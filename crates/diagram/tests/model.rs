@@ -172,7 +172,7 @@ fn paper_example() {
     let mut problems = Vec::new();
     let mut out = run_workspace(files_in(&root.join("examples/paper"), &root), &mut problems);
     out.push_str(&run_workspace(files_in(&root.join("examples/lawnmower"), &root), &mut problems));
-    out.push_str(&run_workspace(files_in(&root.join("crates/cli/tests/data/diagram"), &root), &mut problems));
+    out.push_str(&run_workspace(files_in(&root.join("tests/data/diagram"), &root), &mut problems));
     expect_file!["../test_data/examples.txt"].assert_eq(&out);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }

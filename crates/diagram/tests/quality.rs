@@ -209,7 +209,7 @@ The same diagrams, measured the same way, before this layout replaced the one ma
 | width (px) | 342 | 20,490 | 31 wider than 1,920 |
 
 {WIDEST}
-`crates/cli/tests/data/diagram/browser_test.sh` renders all five in headless Chromium and keeps
+`tests/data/diagram/browser_test.sh` renders all five in headless Chromium and keeps
 the screenshots in `target/diagram-test/`. They are drawings of other people's models, so they
 are not copied into the repository; the running example's diagrams are in `docs/diagrams/`.
 ";

@@ -281,7 +281,7 @@ pub(crate) struct Cx<'a> {
     /// The buffer assumed for asynchronous connections, if any.
     async_buffer: Option<AsyncBuffer>,
     /// The semantics checked in.
-    semantics: Semantics,
+    pub(crate) semantics: Semantics,
 }
 
 impl Cx<'_> {
@@ -337,6 +337,18 @@ impl Cx<'_> {
 
     /// The compiled element of `target` and its period.
     pub(crate) fn compile(&self, target: &Target, consts: &[ConstValue]) -> Result<(Design, u32), String> {
+        self.compile_with_types(target, consts, &[])
+    }
+
+    /// [`Cx::compile`] with bounded types `(core_X, lo, hi)` the assertion
+    /// file's `csp` blocks define (evaluated by the CSPm engine, so also
+    /// when written as more than a plain range).
+    pub(crate) fn compile_with_types(
+        &self,
+        target: &Target,
+        consts: &[ConstValue],
+        types: &[(String, Val, Val)],
+    ) -> Result<(Design, u32), String> {
         let (name, loc, period) = match target {
             Target::Constrained { name, loc, period, .. } | Target::Simulation { name, loc, period, .. } => {
                 (name, *loc, *period)
@@ -351,7 +363,11 @@ impl Cx<'_> {
         let Some(period) = period.filter(|p| (1..=1_000).contains(p)) else {
             return Err(format!("`{name}` has no cycle period from 1 to 1000: give one with `cycleDef cycle == N`"));
         };
-        let design = lower_element(self.db, self.ws, loc, inner, consts, &self.defaults())
+        let mut defaults = self.defaults();
+        for (name, lo, hi) in types {
+            defaults.set(name, *lo, *hi);
+        }
+        let design = lower_element(self.db, self.ws, loc, inner, consts, &defaults)
             .map_err(|u| unsupported_reason(self.db, self.ws, &u))?;
         Ok((design, period as u32))
     }
@@ -572,7 +588,11 @@ fn refinement(
             }
         };
         report.notes.push(domains_note(&spec_d));
-        report.notes.push(domains_note(&imp_d));
+        // Both sides usually share domains and constants: one note then.
+        let imp_note = domains_note(&imp_d);
+        if !report.notes.contains(&imp_note) {
+            report.notes.push(imp_note);
+        }
         let mut directions = vec![(&spec, &imp, &spec_d, &imp_d, "")];
         if both_ways {
             directions.push((&imp, &spec, &imp_d, &spec_d, " (converse)"));

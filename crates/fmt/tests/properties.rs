@@ -13,9 +13,8 @@ use std::path::{Path, PathBuf};
 use robosim_fmt::{format, FormatError, Indent, Options};
 use robosim_syntax::{lexer, parse, FileKind, Severity, SyntaxKind};
 
-#[path = "../../syntax/tests/support/inputs.rs"]
-mod inputs;
 use inputs::model_files;
+use robosim_test_support::inputs;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")

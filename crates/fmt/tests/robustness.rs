@@ -10,9 +10,8 @@ use proptest::prelude::*;
 use robosim_fmt::{format, FormatError, Options};
 use robosim_syntax::{lexer, parse, FileKind, Severity, SyntaxKind};
 
-#[path = "../../syntax/tests/support/inputs.rs"]
-mod inputs;
 use inputs::{model_files, MODEL, SOUP};
+use robosim_test_support::inputs;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")

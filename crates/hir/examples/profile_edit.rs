@@ -1,8 +1,7 @@
 //! Times each query of the semantic model after a one-character edit in the
 //! middle of the generated 10,000-line model.
-#[path = "../../syntax/benches/generated.rs"]
-mod generated;
 use robosim_hir::*;
+use robosim_test_support::generated;
 use salsa::Setter;
 use std::time::Instant;
 

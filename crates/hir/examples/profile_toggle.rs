@@ -1,9 +1,8 @@
 //! Times each query of the complete check after toggling `$` in one guard
 //! of the generated 11,641-line RoboSim model (the keystroke of issue 22):
 //! `cargo run --release -p robosim-hir --example profile_toggle [ROUNDS]`.
-#[path = "../../syntax/benches/generated.rs"]
-mod generated;
 use robosim_hir::*;
+use robosim_test_support::generated;
 use salsa::Setter;
 use std::time::Instant;
 

@@ -12,6 +12,7 @@ pub mod body;
 mod checks;
 pub mod codes;
 pub mod csp_blocks;
+pub mod csp_defs;
 pub mod csp_fn;
 pub mod csp_library;
 pub mod csp_names;

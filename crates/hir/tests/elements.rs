@@ -3,8 +3,7 @@
 //! sequence of edits the diagnostics of the edited database are those of a
 //! fresh one.
 
-#[path = "../../syntax/benches/generated.rs"]
-mod generated;
+use robosim_test_support::generated;
 
 use std::sync::{Arc, Mutex};
 

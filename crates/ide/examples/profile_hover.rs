@@ -2,8 +2,7 @@
 //! middle of the generated 10,000-line model (nothing computed for the new
 //! text yet), and what they wait for: `cargo run --release -p robosim-ide
 //! --example profile_hover [ROUNDS]`.
-#[path = "../../syntax/benches/generated.rs"]
-mod generated;
+use robosim_test_support::generated;
 
 use std::time::Instant;
 

@@ -3,8 +3,7 @@
 //! `cargo run --release -p robosim-ide --example profile_requests` (also under
 //! `perf record`).
 
-#[path = "../../syntax/benches/generated.rs"]
-mod generated;
+use robosim_test_support::generated;
 
 use std::time::Instant;
 

@@ -1,12 +1,12 @@
 //! Verification in the editor, without a protocol: lenses, runs on a
 //! snapshot, and the results as titles, diagnostics and hovers, on the
-//! paper's GT-3 design (`crates/cli/tests/data/verify/gt3`).
+//! paper's GT-3 design (`tests/data/verify/gt3`).
 
 use robosim_ide::verify::{format_seconds, lens_title, shorten, Budget, Options, Profile, Report, Semantics, Verdict};
 use robosim_ide::{AnalysisHost, Durability, FileId, Severity, TextSize, Verified, VerifyTarget};
 
-const DESIGN: &str = include_str!("../../cli/tests/data/verify/gt3/design.rct");
-const CHECKS: &str = include_str!("../../cli/tests/data/verify/gt3/checks.rsa");
+const DESIGN: &str = include_str!("../../../tests/data/verify/gt3/design.rct");
+const CHECKS: &str = include_str!("../../../tests/data/verify/gt3/checks.rsa");
 
 fn host(extra: &[(&str, &str)]) -> AnalysisHost {
     let mut host = AnalysisHost::default();
@@ -214,8 +214,8 @@ fn setting_the_same_text_does_not_wait_for_snapshots() {
 /// RT-9: untimed, `wait(2)` is SKIP, so `Fast` has `Slow`'s traces.
 #[test]
 fn both_semantics_side_by_side() {
-    const MODEL: &str = include_str!("../../cli/tests/data/verify/untimed/model.rct");
-    const ASSERTIONS: &str = include_str!("../../cli/tests/data/verify/untimed/checks.assertions");
+    const MODEL: &str = include_str!("../../../tests/data/verify/untimed/model.rct");
+    const ASSERTIONS: &str = include_str!("../../../tests/data/verify/untimed/checks.assertions");
     let host = host(&[("/w/m.rct", MODEL), ("/w/a.assertions", ASSERTIONS)]);
     let target = VerifyTarget::Assertion { path: "/w/a.assertions".into(), name: "W".into() };
     let reports = run(&host, &target);

@@ -435,6 +435,7 @@ fn generated_names(ex: &Exporter<'_>) -> std::collections::HashSet<String> {
     .map(|x| x.to_string())
     .collect();
     s.extend(crate::defs::SHARED_PROCESSES.iter().map(|x| x.to_string()));
+    s.extend(robosim_hir::csp_defs::DEFINITIONS.iter().flat_map(|d| d.names.iter().map(|x| x.to_string())));
     s.extend(ex.module_names.iter().cloned());
     s.extend(ex.in_regs.keys().cloned());
     s.extend(ex.out_regs.keys().cloned());

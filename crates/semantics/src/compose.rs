@@ -30,7 +30,7 @@ pub(crate) fn element(ex: &mut Exporter<'_>, file: File, node: &SyntaxNode) -> O
     }
     ex.elems.insert(key, ElemState::InProgress);
     let path = ex.path_of_node(file, node);
-    let module = ex.module_name(&path);
+    let module = ex.element_module_name(file, &path);
     let kind = match node.kind() {
         STATE_MACHINE => ElemKind::Machine,
         CONTROLLER => ElemKind::Controller,

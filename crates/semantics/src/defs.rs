@@ -2,20 +2,24 @@
 //! sticky arithmetic, registers) and `instantiations.csp` (the bounded
 //! types and the constants' default values).
 
-use crate::cspm::{bin, call, ext, guard, hide, name, par, prefix, seq, BinOp, Decl, Expr, ReplOp};
+use crate::cspm::{bin, call, ext, name, prefix, BinOp, Decl, Expr, ReplOp};
 use crate::export::{Exporter, OutFile};
 
-/// Names the shared file defines (for the structural checker).
+/// Whether the shared file defines `name`: its own processes, or
+/// RoboTool's library ([`robosim_hir::csp_defs`]).
+pub fn is_shared(name: &str) -> bool {
+    SHARED_PROCESSES.contains(&name) || robosim_hir::csp_defs::defines(name, true)
+}
+
+/// Names the shared file defines itself (for the structural checker);
+/// RoboTool's library adds its own ([`is_shared`]).
 pub const SHARED_PROCESSES: &[&str] = &[
     "TimedPriority",
     "TStop",
     "Wait",
     "WaitInterval",
-    "EDeadline",
     "Delayable",
     "TimelockFree__",
-    "EndBy",
-    "EndByTimer__",
     "Plus",
     "Minus",
     "Mult",
@@ -25,21 +29,11 @@ pub const SHARED_PROCESSES: &[&str] = &[
     "Max__",
     "Min__",
     "ClockTick",
-    "LSeq",
     "Concat",
     "Filter",
     "Last",
     "Front",
     "Reverse",
-    "OneStep",
-    "USTOP",
-    "CRUN",
-    "TCHAOS",
-    "SKIP_ANYTIME",
-    "wait",
-    "StartBy",
-    "Deadline",
-    "WAIT_INTERVAL",
 ];
 
 fn def(n: &str, params: &[&str], body: Expr) -> Decl {
@@ -132,18 +126,6 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         &["S"],
         Expr::Repl(ReplOp::IntChoice, vec![("n".into(), n("S"))], Box::new(call("Wait", vec![n("n")]))),
     ));
-    d.push(Decl::Comment("The event e within d time units (urgent when d is 0), then SKIP.".into()));
-    d.push(def(
-        "EDeadline",
-        &["e", "d"],
-        ext(vec![
-            prefix("e", vec![], Expr::Skip),
-            guard(
-                bin(BinOp::Gt, n("d"), Expr::Int(0)),
-                prefix("tock", vec![], call("EDeadline", vec![n("e"), bin(BinOp::Sub, n("d"), Expr::Int(1))])),
-            ),
-        ]),
-    ));
     d.push(Decl::Comment("The event e whenever the environment offers it; time may pass meanwhile.".into()));
     d.push(def(
         "Delayable",
@@ -171,31 +153,15 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             ),
         ]),
     ));
-    d.push(Decl::Comment("P must terminate within d time units (the statement deadline `P <{d}`).".into()));
-    d.push(def(
-        "EndBy",
-        &["P", "d"],
-        hide(
-            par(
-                seq(vec![n("P"), prefix("deadline_done__", vec![], Expr::Skip)]),
-                Expr::Set(vec![n("tock"), n("deadline_done__")]),
-                call("EndByTimer__", vec![n("d")]),
-            ),
-            Expr::Set(vec![n("deadline_done__")]),
-        ),
+    // RoboTool's library as RoboTool defines it, the same text the model
+    // checker's CSPm bridge loads (`EDeadline` for urgent events, `EndBy`
+    // for statement deadlines `P <{d}`, `StartBy`, `CRUN`, … for users'
+    // `csp` blocks).
+    d.push(Decl::Blank);
+    d.push(Decl::Comment(
+        "RoboTool's library (tock-CSP operators, state helpers, core functions), as in its timed script.".into(),
     ));
-    d.push(def(
-        "EndByTimer__",
-        &["d"],
-        ext(vec![
-            prefix("deadline_done__", vec![], Expr::Skip),
-            guard(
-                bin(BinOp::Gt, n("d"), Expr::Int(0)),
-                prefix("tock", vec![], call("EndByTimer__", vec![bin(BinOp::Sub, n("d"), Expr::Int(1))])),
-            ),
-        ]),
-    ));
-    d.extend(tock_csp_library());
+    d.push(Decl::Raw(robosim_hir::csp_defs::text(true).trim_end().to_string(), String::new()));
     d.push(Decl::Blank);
     d.push(Decl::Comment(
         "RoboTool's arithmetic on the bounded types: a result outside the type T keeps the left operand.".into(),
@@ -238,30 +204,6 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             Box::new(n("c")),
         ),
     ));
-    if ex.uses_seq {
-        d.push(Decl::Comment("The sequences over T of length at most n (bounded `Seq(T)`).".into()));
-        d.push(def(
-            "LSeq",
-            &["T", "n"],
-            Expr::If(
-                Box::new(bin(BinOp::Le, n("n"), Expr::Int(0))),
-                Box::new(Expr::Set(vec![Expr::SeqLit(vec![])])),
-                Box::new(call(
-                    "union",
-                    vec![
-                        Expr::Set(vec![Expr::SeqLit(vec![])]),
-                        Expr::SetComp(
-                            Box::new(bin(BinOp::Cat, Expr::SeqLit(vec![n("x")]), n("s"))),
-                            vec![
-                                ("x".into(), n("T")),
-                                ("s".into(), call("LSeq", vec![n("T"), bin(BinOp::Sub, n("n"), Expr::Int(1))])),
-                            ],
-                        ),
-                    ],
-                )),
-            ),
-        ));
-    }
     let s = || n("s");
     let empty = || Expr::SeqLit(vec![]);
     let hd = || call("head", vec![n("s")]);
@@ -420,70 +362,4 @@ pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
         title: "Instantiations: bounded types and constant values".into(),
         decls: d,
     }
-}
-
-/// The tock-CSP operators RoboTool's library gives the `csp` blocks of
-/// assertion files (`StartBy`, `CRUN`, … in the corpus's specifications),
-/// with the meaning robotool-facts and FDR's timed sections give them, so
-/// that a user's blocks load beside the export.
-fn tock_csp_library() -> Vec<Decl> {
-    let wait = |d: Expr| call("WAIT", vec![d]);
-    vec![
-        Decl::Blank,
-        Decl::Comment("The tock-CSP library of RoboTool's `csp` blocks.".into()),
-        Decl::Comment("A timed section whose untimed events take no time.".into()),
-        def("OneStep", &["_"], Expr::Int(0)),
-        Decl::Comment("Timelock: neither events nor time.".into()),
-        def("USTOP", &[], Expr::Stop),
-        def("CRUN", &["S"], call("RUN", vec![n("S")])),
-        Decl::Comment("CHAOS over S that may also let time pass, timelock or deadlock.".into()),
-        def(
-            "TCHAOS",
-            &["S"],
-            crate::cspm::nary(
-                crate::cspm::ProcOp::Interrupt,
-                vec![
-                    call("CHAOS", vec![n("S")]),
-                    crate::cspm::nary(
-                        crate::cspm::ProcOp::IntChoice,
-                        vec![n("USTOP"), prefix("tock", vec![], call("TCHAOS", vec![n("S")]))],
-                    ),
-                ],
-            ),
-        ),
-        Decl::Comment("Terminates after any number of time units.".into()),
-        def(
-            "SKIP_ANYTIME",
-            &[],
-            crate::cspm::nary(
-                crate::cspm::ProcOp::IntChoice,
-                vec![Expr::Skip, prefix("tock", vec![], n("SKIP_ANYTIME"))],
-            ),
-        ),
-        Decl::Comment("n time units, outside timed sections.".into()),
-        def(
-            "wait",
-            &["n"],
-            Expr::If(
-                Box::new(bin(BinOp::Gt, n("n"), Expr::Int(0))),
-                Box::new(prefix("tock", vec![], call("wait", vec![bin(BinOp::Sub, n("n"), Expr::Int(1))]))),
-                Box::new(Expr::Skip),
-            ),
-        ),
-        Decl::Timed(
-            "OneStep".into(),
-            vec![
-                Decl::Comment("P must start (do an event) within d time units.".into()),
-                def("StartBy", &["P", "d"], ext(vec![n("P"), seq(vec![wait(n("d")), n("USTOP")])])),
-                Decl::Comment("P must terminate within d time units.".into()),
-                def("Deadline", &["P", "d"], call("EndBy", vec![n("P"), n("d")])),
-                Decl::Comment("A wait of a duration in S, chosen at once.".into()),
-                def(
-                    "WAIT_INTERVAL",
-                    &["S"],
-                    Expr::Repl(ReplOp::IntChoice, vec![("x".into(), n("S"))], Box::new(wait(n("x")))),
-                ),
-            ],
-        ),
-    ]
 }

@@ -52,7 +52,7 @@ pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> O
     let machine = node.ancestors().find(|n| n.kind() == STATE_MACHINE)?;
     let mut ex = Exporter::new(db, ws, Profile::RoboTool3);
     let path = ex.path_of_node(file, &machine);
-    let module = util::qualified(&path);
+    let module = util::element_module(&ex.package(file), &path);
     let out = Gen::new(&mut ex, file, &machine, true).run(module, path).ok()?;
     // The most specific term around the offset: statements and `exec`
     // before transitions (whose range is their name).

@@ -362,7 +362,8 @@ impl Checker {
         if bound.iter().any(|b| b == n) {
             return Some(Kind::Value);
         }
-        if let Some((m, x)) = n.split_once("::") {
+        // `A_B::M::x`: the name `x` of module `A_B::M`.
+        if let Some((m, x)) = n.rsplit_once("::") {
             if !self.exports.get(m)?.contains(x) {
                 return None;
             }

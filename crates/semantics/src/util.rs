@@ -186,6 +186,18 @@ pub(crate) fn qualified(path: &[String]) -> String {
     ident(&path.join("_"))
 }
 
+/// The CSPm module of a RoboChart element as RoboTool names it
+/// (`robosim_hir::csp_names`): the element `M` of package `A::B` is the
+/// module `M` inside the package's module `A_B`, written `A_B::M` (just `M`
+/// in the default package). `path` is the element's model path, starting
+/// with `package`; a nested element keeps its container's name (`C_S`).
+pub(crate) fn element_module(package: &[String], path: &[String]) -> String {
+    match path.strip_prefix(package) {
+        Some(rest) if !package.is_empty() && !rest.is_empty() => format!("{}::{}", qualified(package), qualified(rest)),
+        _ => qualified(path),
+    }
+}
+
 /// The 1-based line and column of `offset` in `text`.
 pub(crate) fn line_col(text: &str, offset: u32) -> (u32, u32) {
     let mut offset = (offset as usize).min(text.len());

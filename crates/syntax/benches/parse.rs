@@ -10,9 +10,8 @@ use robosim_syntax::{parse, FileKind};
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-#[path = "generated.rs"]
-mod generated;
 use generated::generated_model;
+use robosim_test_support::generated;
 
 fn main() {
     divan::main();

@@ -8,8 +8,7 @@ use robosim_syntax::{parse, FileKind};
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-#[path = "../benches/generated.rs"]
-mod generated;
+use robosim_test_support::generated;
 
 fn main() {
     let mut args = std::env::args().skip(1);

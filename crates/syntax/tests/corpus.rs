@@ -6,10 +6,7 @@ use std::path::{Path, PathBuf};
 
 use robosim_syntax::{parse, FileKind, Severity};
 
-mod support {
-    pub mod inputs;
-}
-use support::inputs::model_files;
+use robosim_test_support::inputs::model_files;
 
 fn corpus_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus")

@@ -8,12 +8,8 @@ use std::path::{Path, PathBuf};
 use proptest::prelude::*;
 use robosim_syntax::{parse, reparse, try_reparse, FileKind, Parse};
 
-mod support {
-    pub mod inputs;
-}
-#[path = "../benches/generated.rs"]
-mod generated;
-use support::inputs::{model_files, MODEL, SOUP};
+use robosim_test_support::generated;
+use robosim_test_support::inputs::{model_files, MODEL, SOUP};
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")

@@ -4,10 +4,7 @@
 use proptest::prelude::*;
 use robosim_syntax::{parse, FileKind};
 
-mod support {
-    pub mod inputs;
-}
-use support::inputs::{MODEL, SOUP};
+use robosim_test_support::inputs::{MODEL, SOUP};
 
 /// Parses on a thread with a small stack (the size of a test thread), so a
 /// recursion that would overflow in the editor or the CLI shows up here.

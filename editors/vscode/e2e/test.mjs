@@ -326,6 +326,12 @@ try {
     await shot("csp-block-squiggle");
     await command("File: Revert File");
     await until("the squiggle goes away with the revert", async () => !(await squiggleOnLine(l2)));
+    // And the Problems panel (updated apart from the editor) drops it too:
+    // no stale CSP-N01 once the text is back.
+    await until("the Problems panel drops CSP-N01 with the revert", async () => {
+      const t = await page.locator(".markers-panel").innerText().catch(() => "");
+      return !t.includes("CSP-N01");
+    }, 20000);
   }, 60);
 
   // From a RoboSim file to the interface it imports from another file.

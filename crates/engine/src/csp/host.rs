@@ -29,17 +29,21 @@ pub(crate) struct Host<'a> {
     /// Only resolving names: every generated process of a RoboChart
     /// element is known (with a placeholder LTS).
     pub resolve_only: bool,
+    /// The timed script: `tock` is declared (RoboTool's untimed script has
+    /// no `tock`, RT-9).
+    pub timed: bool,
 }
 
 impl<'a> Host<'a> {
     /// The lookup for resolving names only.
-    pub(crate) fn resolving(names: &'a CspNames) -> Host<'a> {
+    pub(crate) fn resolving(names: &'a CspNames, timed: bool) -> Host<'a> {
         Host {
             names,
             own: FxHashMap::default(),
             domains: FxHashMap::default(),
             processes: FxHashMap::default(),
             resolve_only: true,
+            timed,
         }
     }
 }
@@ -203,7 +207,7 @@ impl Host<'_> {
 impl NameLookup for Host<'_> {
     fn lookup(&self, name: &str) -> Option<ExternalName> {
         match name {
-            "tock" => return Some(ExternalName::Channel(Vec::new())),
+            "tock" => return self.timed.then(|| ExternalName::Channel(Vec::new())),
             "in" | "out" => return Some(ExternalName::Value(Value::Ctor(name.into()))),
             "InOut" => return Some(ExternalName::Value(set(self.values(&CspType::InOut)?))),
             _ => {}

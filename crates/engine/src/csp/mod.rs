@@ -1,8 +1,16 @@
 //! The bridge between the CSPm of assertion files' `csp` blocks and the
 //! native engine: `M refines Spec` (and `equals`) where `Spec` is defined
 //! in a `csp` block of the assertion's own file, in the traces, failures
-//! and failures-divergences models.
+//! and failures-divergences models, in the timed semantics and (RT-8) the
+//! untimed one, each with its own RoboTool script ([`script::Script`]).
 //!
+//! - The script holds RoboTool's library ([`robosim_hir::csp_defs`], the
+//!   text the CSPm export writes too): in the timed script its tock-CSP
+//!   operators (`StartBy`, `EDeadline`, …); the untimed script has neither
+//!   them nor `tock` nor the `timed csp` blocks, so a block that needs time
+//!   makes it unloadable, as in FDR.
+//! - The bounded types a block defines (`nametype core_real = …`) are
+//!   evaluated by the CSPm engine and the model is compiled over them.
 //! - The block sees the model's names as RoboTool's generated CSPm spells
 //!   them ([`robosim_hir::csp_names`], through [`host::Host`]) and its own
 //!   file's other blocks, concatenated as RoboTool's generated script does
@@ -34,6 +42,7 @@ use crate::budget::ProgressFn;
 use crate::design::DesignLts;
 use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
 use crate::pack::VectorLts;
+use crate::untimed::Semantics;
 use crate::verify::{Counterexample, Cx, Options, Report, Step, Verdict};
 
 use self::events::Names;
@@ -91,7 +100,8 @@ fn run(
     // The blocks first: FDR rejects a script with an unknown name whichever
     // assertion uses it.
     let script = Script::of(cx);
-    let resolving = Host::resolving(names);
+    let timed = cx.semantics == Semantics::Timed;
+    let resolving = Host::resolving(names, timed);
     let checked = check_script(cx, &script, &resolving)?;
     if model == SemanticModel::TickTock {
         return Err(unsupported("the tick-tock model with a CSPm specification is not supported yet"));
@@ -110,32 +120,40 @@ fn run(
         (true, false) => Some(other),
         (true, true) => None,
     };
-    let mut compiled =
-        native_path.map(|p| native::compile(cx, names, p, &bindings)).transpose().map_err(unsupported)?;
     let limits = Limits {
         max_states: usize::try_from(opts.budget.max_states).unwrap_or(usize::MAX).min(Limits::default().max_states),
         time: opts.budget.timeout.unwrap_or(Limits::default().time),
         cancel: opts.budget.cancel.clone(),
         ..Limits::default()
     };
+    let types = bounded_types(&checked, &resolving, &limits)?;
+    let mut compiled =
+        native_path.map(|p| native::compile(cx, names, p, &bindings, &types)).transpose().map_err(unsupported)?;
     // Generated processes the blocks apply, with the constants' values as
     // the script has them.
     let procs = {
         let ev = std::cell::RefCell::new(Evaluator::new(&checked, &resolving, limits.clone()));
         let constant = |k: &str| ev.borrow_mut().value(k).ok();
-        native::processes(cx, names, &script.text, &constant, limits.max_states).map_err(unsupported)?
+        native::processes(cx, names, &script.text, &constant, &types, limits.max_states).map_err(unsupported)?
     };
     let own = compiled.as_ref().map(|c| c.own.clone()).unwrap_or_default();
-    let domains = compiled.as_ref().map(|c| c.design.domains.iter().cloned().collect()).unwrap_or_default();
+    let mut domains: rustc_hash::FxHashMap<String, crate::ir::Dom> =
+        compiled.as_ref().map(|c| c.design.domains.iter().cloned().collect()).unwrap_or_default();
+    // Without a model side, the model's channels range over the blocks'
+    // bounded types.
+    for (name, lo, hi) in &types {
+        domains.entry(name.clone()).or_insert(crate::ir::Dom { lo: *lo, hi: *hi });
+    }
     let host = Host {
         names,
         own: own.into_iter().map(|(k, v)| (k, v.into_iter().map(|s| s.into_iter().collect()).collect())).collect(),
         domains,
         processes: procs,
         resolve_only: false,
+        timed,
     };
     let module = check_script(cx, &script, &host)?;
-    let uses_events = module.defined_names().iter().all(|n| n != "Events") && mentions(&script.text, "Events");
+    let uses_events = module.defined_names().iter().all(|n| n != "Events") && script.mentions("Events");
     if uses_events && model != SemanticModel::Traces {
         return Err(unsupported(
             "the specification uses `Events`, which in RoboTool's script holds every channel of the generated \
@@ -217,7 +235,7 @@ fn run(
         // A model element refines a block.
         (Some(c), Some((trans, at)), None) => {
             let spec = SpecLts { trans, names: &ids };
-            let native = DesignLts::new(&c.design).map_err(unsupported)?;
+            let native = c.lts().map_err(unsupported)?;
             let imp = Imp { inner: &native, terminate, names: &ids };
             report.notes.push(crate::verify::domains_note(&c.design));
             let explain =
@@ -231,7 +249,7 @@ fn run(
         // A block refines a model element.
         (Some(c), None, Some((trans, at))) => {
             let imp = SpecLts { trans, names: &ids };
-            let native = DesignLts::new(&c.design).map_err(unsupported)?;
+            let native = c.lts().map_err(unsupported)?;
             let spec = Imp { inner: &native, terminate, names: &ids };
             report.notes.push(crate::verify::domains_note(&c.design));
             let explain = |cex: &RefinementCex<u32>| explicit_counterexample(&imp, cex, &spec_name, &at);
@@ -285,12 +303,12 @@ fn decide<Sp: Lts, Im: Lts>(
         RefinementResult::Fails(cex) => {
             check_named(ids, &cex)?;
             let mut c = explain(&cex);
-            let untimed = !mentions(&script.text, "tock") && !mentions(&script.text, "Timed");
-            if untimed && matches!(&cex, RefinementCex::Trace { event, .. } if event.event == TOCK) {
+            let untimed = !script.mentions("tock") && !script.mentions("Timed");
+            if untimed && script.timed && matches!(&cex, RefinementCex::Trace { event, .. } if event.event == TOCK) {
                 c.explanation.push(
                     "the specification never lets time pass: it is untimed, and this check runs in the timed \
-                     semantics (RT-8), where the model lets time pass; RoboTool's untimed check of this assertion \
-                     is not run natively yet"
+                     semantics (RT-8), where the model lets time pass; a plain (neither `timed` nor `untimed`) \
+                     assertion is also checked, and reported, in the untimed semantics"
                         .into(),
                 );
             }
@@ -366,6 +384,45 @@ fn definition(text: &str, name: &str) -> Option<TextRange> {
     None
 }
 
+/// A bounded type's name and least and greatest values.
+type BoundedType = (String, crate::ir::Val, crate::ir::Val);
+
+/// The bounded types (`core_nat`, `core_int`, `core_real`,
+/// `core_clock_type`) the file's blocks define, as the CSPm engine
+/// evaluates them (`union({-2..2}, TemperatureRange)` too): the model is
+/// compiled over exactly these values, as RoboTool's script has it.
+fn bounded_types(module: &Module, host: &Host<'_>, limits: &Limits) -> Result<Vec<BoundedType>, (Verdict, String)> {
+    let defined = module.defined_names();
+    let mut ev = Evaluator::new(module, host, limits.clone());
+    let mut out = Vec::new();
+    for name in ["core_nat", "core_int", "core_real", "core_clock_type"] {
+        if !defined.iter().any(|d| d == name) {
+            continue;
+        }
+        let v = ev.value(name).map_err(|d| unsupported(format!("`{name}` could not be evaluated: {}", d.message)))?;
+        let ints: Option<Vec<i64>> = match &v {
+            robosim_cspm::Value::Set(s) => {
+                s.iter().map(|x| if let robosim_cspm::Value::Int(i) = x { Some(*i) } else { None }).collect()
+            }
+            _ => None,
+        };
+        // A set of integers without gaps: the native checker's types are
+        // ranges.
+        match ints.as_deref() {
+            Some([lo, .., hi]) if hi - lo + 1 == ints.as_ref().map_or(0, |v| v.len() as i64) => {
+                out.push((name.to_string(), *lo, *hi))
+            }
+            Some([x]) => out.push((name.to_string(), *x, *x)),
+            _ => {
+                return Err(unsupported(format!(
+                    "`{name}` is {v} here: the native checker takes a bounded type as a non-empty range of integers"
+                )))
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// The file's blocks read with the model's names, or why they cannot be
 /// (an unknown name, a type error: FDR would not load the script either).
 fn check_script(cx: &Cx<'_>, script: &Script, host: &Host<'_>) -> Result<Module, (Verdict, String)> {
@@ -375,9 +432,18 @@ fn check_script(cx: &Cx<'_>, script: &Script, host: &Host<'_>) -> Result<Module,
         if let Some(why) = (d.code == Code::Unresolved).then(|| host.unsupported(text)).flatten() {
             return Err(unsupported(why));
         }
-        if d.code == Code::Unresolved && script::TOCK_LIBRARY.contains(&text) {
+        // A `Timed` section needs `tock` too.
+        let text = if d.message.contains("channel `tock`") { "tock" } else { text };
+        if d.code == Code::Unresolved
+            && cx.semantics == Semantics::Untimed
+            && (text == "tock" || robosim_hir::csp_defs::defines(text, true))
+        {
+            // RT-8/RT-9: RoboTool's untimed script has no `tock` and no
+            // tock-CSP library, so FDR cannot load it.
             return Err(unsupported(format!(
-                "`{text}` ({}) belongs to RoboTool's tock-CSP library, which the CSPm bridge does not define yet",
+                "in the untimed semantics: `{text}` ({}) is defined only in RoboTool's timed script (tock-CSP); \
+                 RoboTool's untimed script of this file does not define it, so FDR rejects that script (write the \
+                 assertion `timed`, or the block without time)",
                 script.locate(cx, d.range).trim_start_matches("in ")
             )));
         }

@@ -12,7 +12,7 @@ use robosim_hir::target::Subject as Target;
 use rustc_hash::FxHashMap;
 
 use crate::design::{shared_events, DesignLts};
-use crate::ir::Design;
+use crate::ir::{Design, Val};
 use crate::lower::ConstValue;
 use crate::lts::{Event, Lts, FIRST_VISIBLE, TAU, TICK, TOCK};
 use crate::verify::Cx;
@@ -32,6 +32,8 @@ pub(crate) struct Compiled<'n> {
     pub own: OwnChannels,
     /// The CSPm value of each native event from `FIRST_VISIBLE` on.
     pub values: Vec<Option<Value>>,
+    /// Read in RoboChart's untimed semantics (RT-9): no `tock`.
+    pub untimed: bool,
 }
 
 impl Compiled<'_> {
@@ -40,6 +42,12 @@ impl Compiled<'_> {
     /// hold it), a module's does not.
     pub fn shows_terminate(&self) -> bool {
         matches!(self.element.kind, DefKind::Controller | DefKind::StateMachine)
+    }
+
+    /// The element's LTS in the semantics checked.
+    pub fn lts(&self) -> Result<DesignLts<'_>, String> {
+        let lts = DesignLts::new(&self.design)?;
+        Ok(if self.untimed { lts.without_time() } else { lts })
     }
 }
 
@@ -50,6 +58,7 @@ pub(crate) fn compile<'n>(
     names: &'n CspNames,
     path: &[String],
     consts: &[ConstValue],
+    types: &[(String, Val, Val)],
 ) -> Result<Compiled<'n>, String> {
     let target = cx.target(path)?;
     let Target::Design { loc, inner, .. } = &target else {
@@ -72,17 +81,21 @@ pub(crate) fn compile<'n>(
         _ => None,
     }
     .ok_or_else(|| format!("`{}` has no name in RoboTool's CSPm", path.join("::")))?;
-    let (design, _) = cx.compile(&target, consts)?;
+    let (design, _) = cx.compile_with_types(&target, consts, types)?;
+    // RT-8: in the untimed semantics, the element as RoboTool's untimed
+    // script has it (RT-9).
+    let design = cx.in_semantics(design)?;
     let table = shared_events(&[&design])?;
     let (ids, own, values) = design_names(&design, &table, &element.module, names)?;
-    Ok(Compiled { element, design, ids, own, values })
+    let untimed = cx.semantics == crate::untimed::Semantics::Untimed;
+    Ok(Compiled { element, design, ids, own, values, untimed })
 }
 
 /// The element's LTS, explored in full (at most `max_states` states),
 /// with its events as CSPm values.
 pub(crate) fn explicit(c: &mut Compiled<'_>, max_states: usize) -> Result<robosim_cspm::Lts, String> {
     let terminate = c.shows_terminate().then(|| c.ids.id(&format!("{}::terminate", c.element.module)));
-    let native = DesignLts::new(&c.design)?;
+    let native = c.lts()?;
     let imp = Imp { inner: &native, terminate, names: &c.ids };
     let mut events: Vec<Value> = Vec::new();
     let mut event_ix: FxHashMap<Event, u32> = FxHashMap::default();
@@ -162,6 +175,7 @@ pub(crate) fn processes(
     names: &CspNames,
     text: &str,
     constant: &dyn Fn(&str) -> Option<Value>,
+    types: &[(String, Val, Val)],
     max_states: usize,
 ) -> Result<FxHashMap<String, (usize, BuildLts)>, String> {
     let mut out = FxHashMap::default();
@@ -174,7 +188,7 @@ pub(crate) fn processes(
             if el.robosim {
                 return Err(format!("`{name}` is a RoboSim process: the CSPm bridge gives RoboChart ones so far"));
             }
-            let mut c = compile(cx, names, &el.path, &[]).map_err(|e| format!("`{name}`: {e}"))?;
+            let mut c = compile(cx, names, &el.path, &[], types).map_err(|e| format!("`{name}`: {e}"))?;
             let lts = Rc::new(explicit(&mut c, max_states)?);
             let expected: Vec<Value> = el
                 .constants

@@ -1,26 +1,18 @@
 //! The CSPm script a `csp` block is read in, as RoboTool's generated
-//! script holds it (RT-7): the blocks of the assertion's own file, in file
-//! order, after the library definitions RoboTool's script includes and
-//! blocks use (`LSeq` for `core_string`, the sticky arithmetic when no
-//! `Instantiations` block replaces the defaults), each written here from
-//! its meaning and added only when no block defines the name itself.
+//! script of the semantics checked holds it (RT-7, RT-8): the blocks of the
+//! assertion's own file, in file order (`timed csp` blocks in the timed
+//! script only), after the library RoboTool's script includes
+//! ([`robosim_hir::csp_defs`], shared with the CSPm export: the tock-CSP
+//! operators in the timed script, the state helpers and core functions in
+//! both) and the sticky arithmetic when no `Instantiations` block replaces
+//! the defaults; a library definition is added only when no block defines
+//! the name itself.
 
 use robosim_cspm::{Module, NoNames, TextRange};
+use robosim_hir::csp_defs;
 
 use super::Cx;
-
-/// Library definitions: (name, CSPm text).
-const LIBRARY: &[(&str, &str)] = &[
-    // Sequences of at most `n` elements of `X` (`core_string` is `LSeq(Char, 2)`).
-    ("LSeq", "LSeq(X, n) = if n <= 0 then {<>} else union({<>}, { <x>^s | x <- X, s <- LSeq(X, n - 1) })"),
-    // The same without repeated elements.
-    (
-        "ILSeq",
-        "ILSeq(X, n) = if n <= 0 then {<>} else union({<>}, { <x>^s | x <- X, s <- ILSeq(diff(X, {x}), n - 1) })",
-    ),
-    // RT-6: a divisor of 0 counts as 1.
-    ("no_zero_div", "no_zero_div(x) = if x == 0 then 1 else x"),
-];
+use crate::untimed::Semantics;
 
 /// RT-5's sticky arithmetic, part of the generated defaults that an
 /// `Instantiations` block replaces: a result outside `T` keeps the left
@@ -34,27 +26,16 @@ const DEFAULTS: &[(&str, &str)] = &[
     ("Neg", "Neg(a, T) = if member(-a, T) then -a else a"),
 ];
 
-/// RoboTool's tock-CSP library names, which this bridge does not define
-/// (their exact definitions are RoboTool's): an unresolved one is said to
-/// be unsupported, not unknown.
-pub(crate) const TOCK_LIBRARY: &[&str] = &[
-    "StartBy",
-    "EndBy",
-    "Deadline",
-    "EDeadline",
-    "TimedInterrupt",
-    "CRUN",
-    "TRUN",
-    "USTOP",
-    "TCHAOS",
-    "SHARE_WAIT",
-    "wait",
-];
-
 /// The script's text, and where each block starts.
 pub(crate) struct Script {
     /// The CSPm text.
     pub text: String,
+    /// RoboTool's timed script (else its untimed one).
+    pub timed: bool,
+    /// Where the blocks start in `text` (the library comes first).
+    blocks_at: usize,
+    /// The library definitions included: (names, text).
+    library: Vec<(&'static [&'static str], &'static str)>,
     /// (offset in `text`, offset in the assertion file, block name).
     parts: Vec<(usize, usize, String)>,
 }
@@ -65,7 +46,9 @@ impl Script {
         let file_text = cx.file.text(cx.db);
         let mut blocks = String::new();
         let mut parts = Vec::new();
-        for b in &cx.read.csp_blocks {
+        let timed = cx.semantics == Semantics::Timed;
+        // RT-8: `timed csp` blocks exist only in the timed script.
+        for b in cx.read.csp_blocks.iter().filter(|b| timed || !b.timed) {
             let Some(r) = b.text_range else { continue };
             let Some(body) = file_text.get(std::ops::Range::<usize>::from(r)) else { continue };
             parts.push((blocks.len(), usize::from(r.start()), b.name.clone()));
@@ -75,15 +58,51 @@ impl Script {
         let defined = Module::check(&blocks, &NoNames).defined_names();
         let replaced = cx.read.csp_blocks.iter().any(|b| b.name == "Instantiations");
         let mut text = String::new();
-        for (name, def) in LIBRARY.iter().chain(if replaced { &[][..] } else { DEFAULTS }) {
-            if !defined.iter().any(|d| d == name) {
+        let is_defined = |name: &str| defined.iter().any(|d| d == name);
+        let mut library = Vec::new();
+        for def in csp_defs::definitions(timed) {
+            if !def.names.iter().any(|n| is_defined(n)) {
+                text.push_str(def.text);
+                library.push((def.names, def.text));
+            }
+        }
+        for (name, def) in if replaced { &[][..] } else { DEFAULTS } {
+            if !is_defined(name) {
                 text.push_str(def);
                 text.push('\n');
             }
         }
         let shift = text.len();
         text.push_str(&blocks);
-        Script { text, parts: parts.into_iter().map(|(s, f, n)| (s + shift, f, n)).collect() }
+        Script {
+            text,
+            timed,
+            blocks_at: shift,
+            library,
+            parts: parts.into_iter().map(|(s, f, n)| (s + shift, f, n)).collect(),
+        }
+    }
+
+    /// Whether the blocks, or a library definition they use (directly or
+    /// through others), mention `word` (`Events`, `tock`): the library
+    /// mentions both, whether a block uses it or not.
+    pub fn mentions(&self, word: &str) -> bool {
+        let mut used = vec![&self.text[self.blocks_at..]];
+        let mut left: Vec<_> = self.library.iter().collect();
+        loop {
+            let before = left.len();
+            left.retain(|(names, text)| {
+                let is_used = names.iter().any(|n| used.iter().any(|u| super::mentions(u, n)));
+                if is_used {
+                    used.push(text);
+                }
+                !is_used
+            });
+            if left.len() == before {
+                break;
+            }
+        }
+        used.iter().any(|u| super::mentions(u, word))
     }
 
     /// Where `range` of the script is: `in `csp` block `B` at line N` (a

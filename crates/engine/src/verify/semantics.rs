@@ -55,12 +55,16 @@ pub(super) fn check_untimed_reading(cx: &Cx<'_>) -> Result<(), String> {
 fn designs(cx: &Cx<'_>, paths: &[&[String]]) -> Result<(), String> {
     for path in paths {
         let name = path.join("::");
-        // RT-7: a `csp` block of this file (RoboTool's untimed script has
-        // the untimed blocks too); their untimed reading is not built yet.
-        if path.last().is_some_and(|n| cx.read.csp_block(n).is_some()) {
-            return Err(format!(
-                "`{name}` is a `csp` block: assertions on `csp` blocks are checked in the timed semantics only so far"
-            ));
+        // RT-7, RT-8: a `csp` block of this file is in RoboTool's untimed
+        // script too, unless it is a `timed csp` block.
+        if crate::csp::is_block(cx, path) {
+            if path.last().and_then(|n| cx.read.csp_block(n)).is_some_and(|b| b.timed) {
+                return Err(format!(
+                    "`{name}` is a `timed csp` block: it exists only in RoboTool's timed script (RT-8), so it is \
+                     checked in the timed semantics only"
+                ));
+            }
+            continue;
         }
         match cx.target(path)? {
             Target::Design { .. } => {}
@@ -84,7 +88,7 @@ fn designs(cx: &Cx<'_>, paths: &[&[String]]) -> Result<(), String> {
 impl Cx<'_> {
     /// `design` in the semantics checked: as compiled (timed), or with its
     /// time constructs read as RoboTool's untimed semantics reads them.
-    pub(super) fn in_semantics(&self, design: Design) -> Result<Design, String> {
+    pub(crate) fn in_semantics(&self, design: Design) -> Result<Design, String> {
         match self.semantics {
             Semantics::Timed => Ok(design),
             Semantics::Untimed => untime(&design).map_err(|u| {

@@ -302,7 +302,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut s = ident(n);
         while s.contains("__")
             || GENERATED.contains(&s.as_str())
-            || crate::defs::SHARED_PROCESSES.contains(&s.as_str())
+            || crate::defs::is_shared(&s)
             || s.starts_with("core_")
             || self.locals.contains(&s)
         {

@@ -1,0 +1,132 @@
+//! Inputs shared by the tests of several crates (the parser's, the
+//! formatter's, the engine's and the exporter's): the model files under a
+//! folder, a soup of tokens and keywords of all four languages, and a small
+//! model that uses most constructs.
+
+use std::path::{Path, PathBuf};
+
+/// Appends the model files under `dir` (recursively, sorted, skipping `.git`)
+/// to `out`; nothing for a folder that cannot be read.
+pub fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let mut entries: Vec<_> = entries.flatten().map(|e| e.path()).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            if p.file_name().is_some_and(|n| n == ".git") {
+                continue;
+            }
+            model_files(&p, out);
+        } else if is_model_file(&p) {
+            out.push(p);
+        }
+    }
+}
+
+/// Words proptest strings together into arbitrary, mostly broken, input.
+pub const SOUP: &[&str] = &[
+    "stm",
+    "state",
+    "transition",
+    "from",
+    "to",
+    "trigger",
+    "exec",
+    "{",
+    "}",
+    "(",
+    ")",
+    "[",
+    "]",
+    "[|",
+    "|]",
+    "(|",
+    "|)",
+    "<{",
+    "x",
+    "e",
+    "1",
+    "2.5",
+    "\"s\"",
+    "=",
+    "==",
+    ";",
+    ",",
+    ":",
+    "::",
+    "::*",
+    "?",
+    "!",
+    ".",
+    "$",
+    "#",
+    "if",
+    "then",
+    "else",
+    "end",
+    "forall",
+    "@",
+    "|",
+    "Set(",
+    "Seq(",
+    "int",
+    "->",
+    "<->",
+    "*",
+    "+",
+    "-",
+    "not",
+    "/\\",
+    "\\/",
+    "=>",
+    "interface",
+    "event",
+    "var",
+    "const",
+    "controller",
+    "module",
+    "connection",
+    "on",
+    "_async",
+    "cycleDef",
+    "input",
+    "context",
+    "assertion",
+    "is",
+    "deadlock-free",
+    "csp",
+    "csp-begin",
+    "csp-end",
+    "with",
+    "constant",
+    "of",
+    "set",
+    "and",
+    "/*",
+    "*/",
+    "//",
+    "\n",
+    "the",
+    "let",
+    "lambda",
+    "since",
+    "sinceEntry",
+    "wait",
+    "send",
+    "entry",
+    "^",
+    "<",
+    ">",
+    "\n\n",
+    "\t",
+];
+
+/// A small well-formed model touching most constructs.
+pub const MODEL: &str = "package p\ninterface I { event e : int move(x : real) }\nstm M {\n  requires I uses I\n  var x : int = 0\n  clock C\n  initial i\n  state S { entry move(1.0); x = x + 1 during skip exit #C }\n  transition t { from i to S }\n  transition u { from S to S trigger e?x #C <{ 1 } condition x > 0 /\\ since(C) < 2 action if x == 1 then move(0) else skip end }\n}\nmodule Mod { robotic platform P { provides I } controller C { requires I sref m = M connection C on e to m on e } connection P on e to C on e (_async) [mult] }\n";
+
+/// Whether `path` has the extension of one of the four languages (`.rct`,
+/// `.rst`, `.assertions`, `.rsa`). Written out rather than taken from
+/// `robosim-syntax` so that the syntax crate's own tests can use this crate.
+pub fn is_model_file(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| matches!(e, "rct" | "rst" | "assertions" | "rsa"))
+}
