@@ -29,6 +29,7 @@ pub use crate::ir::AsyncBuffer;
 pub use crate::sched::Profile;
 pub use crate::untimed::Semantics;
 
+mod params;
 mod robosim;
 mod semantics;
 
@@ -300,18 +301,21 @@ impl Cx<'_> {
     /// The constant values the assertion gives.
     pub(crate) fn constants(&self) -> Result<Vec<ConstValue>, String> {
         let scope = Scope { db: self.db, ws: self.ws, file: self.file, read: self.read, others: self.others };
-        Ok(robosim_hir::target::bindings_in(scope, self.a)?
+        let mut out: Vec<ConstValue> = robosim_hir::target::bindings_in(scope, self.a)?
             .into_iter()
             .map(|b| ConstValue { name: b.name, of: b.of, value: b.value as Val })
-            .collect())
+            .collect();
+        out.extend(params::parameter_values(self.a)?);
+        Ok(out)
     }
 
     /// The bounded types, from `nametype core_X = {a..b}` lines.
     fn defaults(&self) -> DomainDefaults {
-        let mut defaults = DomainDefaults { async_buffer: self.async_buffer, ..DomainDefaults::default() };
-        defaults.generated_functions = std::iter::once(self.read)
-            .chain(self.others.iter().map(|(_, r)| r))
-            .all(|r| r.csp_block("Instantiations").is_none());
+        let mut defaults = DomainDefaults {
+            async_buffer: self.async_buffer,
+            replaced: self.read.csp_blocks.iter().any(|b| b.name == "Instantiations"),
+            ..DomainDefaults::default()
+        };
         for r in std::iter::once(self.read).chain(self.others.iter().map(|(_, r)| r)) {
             for (name, lo, hi, _) in &r.instantiations.types {
                 defaults.set(name, *lo, *hi);

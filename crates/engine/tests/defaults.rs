@@ -124,3 +124,139 @@ fn number_types_are_bounded_by_the_whole_project() {
     assert_eq!(reports.len(), 1);
     assert_eq!(reports[0].verdict, Verdict::Pass, "{:?}", reports[0].reason);
 }
+
+const FUNCTIONS: &str = "enumeration Mode { Idle Busy }
+    interface I { event zero event yes event idle event chosen }
+    function scale(x : nat) : nat { }
+    function ready() : boolean { precondition true }
+    function mode() : Mode { }
+    function choose(s : Set(nat)) : nat { precondition s != {} postcondition result in s }
+    stm M { uses I
+      initial i state S { } state Z { } state Y { } state D { } state C { }
+      transition t { from i to S }
+      transition a { from S to Z condition scale(2) == 0 action zero }
+      transition b { from S to Y condition ready() action yes }
+      transition c { from S to D condition mode() == Mode::Idle action idle }
+      transition d { from S to C condition choose({1, 2}) == 0 action chosen } }";
+
+/// RT-2: a function without a body returns its result type's default —
+/// 0, `true`, the first literal — even when its postcondition says
+/// otherwise (`choose` returns 0, not a member of `{1, 2}`), and each
+/// verdict names the defaults it rests on.
+#[test]
+fn bodiless_functions_return_the_default_of_their_type() {
+    let reports = run(
+        FUNCTIONS,
+        "assertion Z : M::Z is reachable in M
+         assertion Y : M::Y is reachable in M
+         assertion D : M::D is reachable in M
+         assertion C : M::C is reachable in M",
+    );
+    let got: Vec<(&str, Verdict)> = reports.iter().map(|r| (r.name.as_str(), r.verdict)).collect();
+    assert_eq!(got, [("Z", Verdict::Pass), ("Y", Verdict::Pass), ("D", Verdict::Pass), ("C", Verdict::Pass)]);
+    let notes = reports[0].notes.join("\n");
+    for d in [
+        "function scale(x) = 0 (RT-2)",
+        "function ready() = true (RT-2)",
+        "function mode() = Mode_Idle (RT-2)",
+        "function choose(s) = 0 (RT-2)",
+    ] {
+        assert!(notes.contains(d), "{d}: {notes}");
+    }
+    // With the defaults, `scale(2)` is 0: the guard `scale(2) == 1` never holds.
+    let other = run(&FUNCTIONS.replace("scale(2) == 0", "scale(2) == 1"), "assertion Z : M::Z is reachable in M");
+    assert_eq!(other[0].verdict, Verdict::Fail, "{other:#?}");
+}
+
+/// RT-2 and RT-7: a CSPm definition in the assertion file wins over the
+/// default (and the notes do not claim one); an `Instantiations` block
+/// replaces the generated defaults, so a function it does not define has
+/// no definition at all and the check is refused, not guessed; a function
+/// defined by `result == e` is not given a default either.
+#[test]
+fn defined_functions_are_not_defaults() {
+    let defined = run(FUNCTIONS, "csp Defs csp-begin\nscale(x) = x + 1\ncsp-end\nassertion Z : M::Z is reachable in M");
+    assert_eq!(defined[0].verdict, Verdict::Fail, "{defined:#?}");
+    assert!(!defined[0].notes.join("\n").contains("function scale"), "{:?}", defined[0].notes);
+    let replaced =
+        run(FUNCTIONS, "csp Instantiations csp-begin\nscale(x) = x\ncsp-end\nassertion Z : M::Z is reachable in M");
+    let reason = replaced[0].reason.clone().unwrap_or_default();
+    assert_eq!(replaced[0].verdict, Verdict::Unsupported);
+    assert!(reason.starts_with("`ready` has no definition the native checker can read"), "{reason}");
+    assert!(reason.contains("RT-7"), "{reason}");
+    let post = run(
+        &FUNCTIONS.replace(
+            "function scale(x : nat) : nat { }",
+            "function scale(x : nat) : nat { postcondition result == x }",
+        ),
+        "assertion Z : M::Z is reachable in M",
+    );
+    assert_eq!(post[0].verdict, Verdict::Unsupported);
+    assert!(post[0].reason.as_deref().unwrap_or_default().contains("result == …"), "{post:#?}");
+}
+
+/// RT-5: `core_real` is widened by the values of the model's expressions,
+/// each computed with the sticky arithmetic over the base ranges: `180 / 4`
+/// is `Div(180, 4, {-2..2})`, which keeps 180, so `core_real = {-2..180}`;
+/// the operands `180` and `4` widen nothing, and no `nat` expression
+/// leaves {0..2}. In the widened domain the division gives 45.
+#[test]
+fn domains_are_widened_by_expression_values() {
+    let model = "interface I { event quarter }
+        stm M { uses I var y : real const half : real
+          initial i state S { } state Q { }
+          transition t { from i to S action y = 180 / 4 }
+          transition a { from S to Q condition y == half action quarter } }";
+    let reports = run(
+        model,
+        "assertion A : M::Q is reachable in M with constant half of M set to 45
+         assertion B : M::Q is reachable in M with constant half of M set to 180",
+    );
+    let got: Vec<(&str, Verdict)> = reports.iter().map(|r| (r.name.as_str(), r.verdict)).collect();
+    assert_eq!(got, [("A", Verdict::Pass), ("B", Verdict::Fail)], "{reports:#?}");
+    let notes = reports[0].notes.join("\n");
+    assert!(notes.contains("core_real = {-2..180}, widened by the model's expressions (RT-5)"), "{notes}");
+    // Not RoboTool's (which does not widen by the assertion's values): the
+    // engine widens by `half = 45` too, and says so.
+    assert!(
+        notes.contains(
+            "core_nat = {0..45}, widened by the constants' values of the assertion — RoboTool does not widen by them \
+             and computes with {0..2} (RT-5)"
+        ),
+        "{notes}"
+    );
+}
+
+/// RT-5: the arithmetic is sticky in the domain of the expression's type:
+/// `x + 1` is a `nat` sum, `Plus(x, 1, core_nat)`, so at `x == 2` it stays
+/// 2 (core_nat = {0..2}) even though `core_real` reaches 180; `T` is never
+/// reached.
+#[test]
+fn arithmetic_is_sticky_in_the_type_of_the_expression() {
+    let model = "interface I { event up event top }
+        stm M { uses I var x : nat var r : real
+          initial i state S { } state T { }
+          transition t { from i to S action r = 180 / 4 }
+          transition u { from S to S condition x < 2 action x = x + 1 ; up }
+          transition v { from S to T condition x + 1 > 2 action top } }";
+    let reports = run(model, "assertion T : M::T is reachable in M");
+    assert_eq!(reports[0].verdict, Verdict::Fail, "{reports:#?}");
+    assert!(reports[0].notes.join("\n").contains("core_nat = {0..2}"), "{:?}", reports[0].notes);
+}
+
+/// RT-5: RoboTool's domain is `union(base, {min..max})`; when the values
+/// do not reach the base range it is not one range ({0..2} ∪ {7}), which
+/// the engine does not represent: refused with the reason, never widened
+/// to {0..7}.
+#[test]
+fn a_domain_with_a_gap_is_refused() {
+    let model = "interface I { event e }
+        stm M { uses I var x : nat
+          initial i state S { }
+          transition t { from i to S action x = 7 ; e } }";
+    let reports = run(model, "assertion A : M is deadlock-free");
+    assert_eq!(reports[0].verdict, Verdict::Unsupported, "{reports:#?}");
+    let reason = reports[0].reason.clone().unwrap_or_default();
+    // `core_real` (computed first) has the same gap.
+    assert!(reason.contains("∪ {7..7} (RT-5), not one range"), "{reason}");
+}

@@ -69,9 +69,9 @@ fn rt11_values_of_another_type_are_refused() {
 /// RT-11: instance paths. `C::s` (a machine reference of a controller) is
 /// the machine it references on its own, `Mod::c` (a controller reference
 /// of a module) the controller: the same verdicts and state counts as
-/// naming them directly. An operation as subject, and a machine of a
-/// controller with operations (RT-19: inlined or visible?), are refused
-/// with the reason.
+/// naming them directly; `D::o` (an operation reference) is the operation
+/// on its own. A machine of a controller with operations (RT-19: inlined
+/// or visible?) is refused with the reason.
 #[test]
 fn rt11_instance_paths() {
     let model = "interface I { event e op() }
@@ -120,13 +120,8 @@ module Mod { robotic platform P { uses I } cref c = C connection P on e to c on 
         .as_deref()
         .unwrap()
         .starts_with("`D::s` is a machine of a controller that defines operations"));
-    assert_eq!(
-        reports[6].reason.as_deref(),
-        Some(
-            "`D::o` is an operation: operations as subjects (RT-11, checked as their own process with their \
-             parameters) are not supported by the native checker yet"
-        )
-    );
+    // `D::o` is the operation `Op` on its own: it terminates, no deadlock.
+    assert_eq!(got[6].1, Verdict::Pass, "{:?}", reports[6]);
 }
 
 /// RT-11: `with constant z of X` where `X` is the machine, the controller
@@ -175,4 +170,54 @@ module Mod { robotic platform P { uses I provides K } cref c = C connection P on
             ("H", Verdict::Unsupported, "no state machine of the controller `C` requires a constant `y`"),
         ]
     );
+}
+
+const OPERATION: &str = "interface I { event a event b }
+operation Op(n : nat) { uses I
+  initial i state S { } final f
+  transition t { from i to S }
+  transition u { from S to f condition n == 0 action a }
+  transition v { from S to S condition n > 0 action b } }
+stm M { uses I const n : nat
+  initial i state S { } final f
+  transition t { from i to S }
+  transition u { from S to f condition n == 0 action a }
+  transition v { from S to S condition n > 0 action b } }";
+
+/// RT-11: an operation checked on its own is RoboTool's `O__` of it: its
+/// body as a process that terminates at its final state, its parameters
+/// constants — `with parameter n of Op set to v`, else RoboTool's
+/// `param_n = 0`, noted. It gets the verdicts, state counts and
+/// counterexamples of the machine with the same body and a constant.
+#[test]
+fn rt11_operations_as_subjects() {
+    let kinds = ["is deadlock-free", "is deterministic", "is divergence-free", "terminates"];
+    let mut text = String::new();
+    for (k, kind) in kinds.iter().enumerate() {
+        text.push_str(&format!("assertion O{k} : Op {kind}\nassertion M{k} : M {kind}\n"));
+        text.push_str(&format!(
+            "assertion P{k} : Op {kind} with parameter n of Op set to 1\nassertion N{k} : M {kind} with constant n of M set to 1\n"
+        ));
+    }
+    for semantics in [Semantics::Timed, Semantics::Untimed] {
+        let reports: Vec<Report> = verify_texts(
+            [("m.rct".to_string(), OPERATION.to_string()), ("a.assertions".to_string(), text.clone())],
+            &Options::default(),
+        )
+        .into_iter()
+        .filter(|r| r.semantics == semantics)
+        .collect();
+        assert_eq!(reports.len(), 16);
+        for pair in reports.chunks(2) {
+            let (op, m) = (&pair[0], &pair[1]);
+            assert_ne!(op.verdict, Verdict::Unsupported, "{op:#?}");
+            assert_eq!((op.verdict, op.stats.states), (m.verdict, m.stats.states), "{op:#?} {m:#?}");
+            let trace = |r: &Report| r.counterexample.as_ref().map(|c| trace_text(&c.steps));
+            assert_eq!(trace(op).is_some(), trace(m).is_some());
+        }
+        // With n = 0 the operation ends after `a`; with n = 1 it never ends.
+        assert_eq!([reports[12].verdict, reports[14].verdict], [Verdict::Pass, Verdict::Fail], "{reports:#?}");
+        assert!(reports[0].notes.join("\n").contains("parameter Op::n = 0 (RT-11)"), "{:?}", reports[0].notes);
+        assert!(!reports[2].notes.join("\n").contains("parameter Op::n"), "{:?}", reports[2].notes);
+    }
 }

@@ -368,6 +368,14 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
     if let Some(found) = instance(db, ws, file, path) {
         return Ok(Subject::Design { name, loc: found?, inner: None });
     }
+    // RT-11: a RoboChart operation, checked as its own process with its
+    // parameters.
+    let operation = resolve_item(db, ws, file, path, |k| k == DefKind::Operation)
+        .into_iter()
+        .find(|l| l.file.kind(db) == FileKind::RoboChart);
+    if let (Some(loc), true) = (operation, resolve_item(db, ws, file, path, element).is_empty()) {
+        return Ok(Subject::Design { name, loc, inner: None });
+    }
     let loc = resolve_item(db, ws, file, path, element).into_iter().next().ok_or_else(|| {
         let csp = std::iter::once(read)
             .chain(others.iter().map(|(_, r)| r))
@@ -451,10 +459,15 @@ fn instance(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<R
                 }
                 loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::StateMachine).into_iter().next()?;
             }
+            // RT-11: an operation reference is the operation it references,
+            // checked as its own process with its parameters.
+            (DefKind::OperationRef, DefData::Reference { path: target, .. }) if seg == path.last()? => {
+                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Operation).into_iter().next()?;
+            }
             (DefKind::Operation | DefKind::OperationRef, _) => {
                 return Some(Err(format!(
-                    "`{name}` is an operation: operations as subjects (RT-11, checked as their own process with \
-                     their parameters) are not supported by the native checker yet"
+                    "`{name}` is an operation declared inside its controller: as a subject (RT-11) the native \
+                     checker takes top-level operations and operation references only so far"
                 )))
             }
             _ => return None,

@@ -153,12 +153,28 @@ impl<'a> Cx<'a> {
                 });
                 (b.name.clone(), Top::Machine)
             }
+            // RT-11: an operation on its own, as RoboTool's `O__` of it: its
+            // body as a machine's (reaching its final state terminates),
+            // its parameters constants of the process.
+            Item::Operation(b) if !self.robosim => {
+                self.op_subject = true;
+                instances.push(Instance {
+                    ctrl: String::new(),
+                    name: b.name.clone(),
+                    decl_name: b.name.clone(),
+                    file,
+                    body: b,
+                    inline: false,
+                    ops: Vec::new(),
+                });
+                (b.name.clone(), Top::Machine)
+            }
             _ => {
                 let range = self.range_of(loc).ok_or_else(not_found)?;
                 return Err(self.unsupported(
                     file,
                     range,
-                    "only RoboChart modules, controllers and state machines can be checked",
+                    "only RoboChart modules, controllers, state machines and operations can be checked",
                 ));
             }
         };
@@ -274,21 +290,59 @@ impl<'a> Cx<'a> {
         platform: &HashMap<End, Dir>,
         async_ends: &BTreeSet<End>,
     ) -> Result<Design, Unsupported> {
-        // The literals of every model of the project widen the numeric
-        // domains, as RoboTool's one `instantiations.csp` per project does
-        // (RT-5; the CSPm export bounds them alike): an element checked on
-        // its own still takes the values the others' literals allow. The
-        // constants' values widen them too.
-        let project = instances.first().and_then(|i| robosim_hir::index::project_of(self.db, self.ws, i.file));
-        let mut lits: Vec<Val> = self
-            .ws
-            .files(self.db)
-            .iter()
-            .filter(|f| !f.is_library(self.db) && !f.kind(self.db).is_assertions())
-            .filter(|f| robosim_hir::index::project_of(self.db, self.ws, **f) == project)
-            .flat_map(|f| model::file_model(self.db, self.ws, *f).literals.iter().copied())
-            .collect();
-        lits.extend(instances.iter().flat_map(|i| i.body.literals.iter().copied()));
+        // RT-5: RoboChart's domains are widened by the values of the
+        // project's expressions (`domains`).
+        let mut widened = Vec::new();
+        if let (false, Some(first)) = (self.robosim, instances.first()) {
+            let (doms, notes) = self.robotool_domains(first.file)?;
+            let fixed = self.defaults.fixed;
+            [self.defaults.nat, self.defaults.int, self.defaults.real] = doms;
+            widened = notes;
+            // Not RoboTool's: it computes with the domains above whatever
+            // values an assertion gives the constants (RT-5), so that
+            // `PI / av` with PI = 45, av = 15 is `Div(45, 15, {-2..2})`,
+            // 45. The engine still widens by those values (as the paper's
+            // examples expect), and says so whenever it changes a domain.
+            for (r, name) in ["nat", "int", "real"].iter().enumerate() {
+                let d = [self.defaults.nat, self.defaults.int, self.defaults.real][r];
+                let mut w = d;
+                for c in self.consts.iter().filter(|c| r > 0 || c.value >= 0) {
+                    if !fixed[r] {
+                        (w.lo, w.hi) = (w.lo.min(c.value), w.hi.max(c.value));
+                    }
+                }
+                if w != d {
+                    widened.push(format!(
+                        "core_{name} = {{{}..{}}}, widened by the constants' values of the assertion — RoboTool \
+                         does not widen by them and computes with {{{}..{}}} (RT-5)",
+                        w.lo, w.hi, d.lo, d.hi
+                    ));
+                    match r {
+                        0 => self.defaults.nat = w,
+                        1 => self.defaults.int = w,
+                        _ => self.defaults.real = w,
+                    }
+                }
+            }
+            self.defaults.fixed = [true; 3];
+        }
+        // RoboSim: the literals of every model of the project widen the
+        // numeric domains, as RoboTool's one `instantiations.csp` per
+        // project does (the CSPm export bounds them alike), and so do the
+        // constants' values. (RoboChart's were widened by RT-5 above.)
+        let mut lits: Vec<Val> = Vec::new();
+        if self.robosim {
+            let project = instances.first().and_then(|i| robosim_hir::index::project_of(self.db, self.ws, i.file));
+            lits = self
+                .ws
+                .files(self.db)
+                .iter()
+                .filter(|f| !f.is_library(self.db) && !f.kind(self.db).is_assertions())
+                .filter(|f| robosim_hir::index::project_of(self.db, self.ws, **f) == project)
+                .flat_map(|f| model::file_model(self.db, self.ws, *f).literals.iter().copied())
+                .collect();
+            lits.extend(instances.iter().flat_map(|i| i.body.literals.iter().copied()));
+        }
         lits.extend(self.consts.iter().map(|c| c.value));
         let widen = |d: Dom, fixed: bool, nat: bool| -> Dom {
             if fixed {
@@ -327,7 +381,7 @@ impl<'a> Cx<'a> {
                 ("core_real".into(), self.defaults.real),
             ],
             constants: Vec::new(),
-            defaults: Vec::new(),
+            defaults: widened,
             forwards: Vec::new(),
         });
         // Union-find over connection ends: a machine event is external when
@@ -564,6 +618,9 @@ impl<'a> Cx<'a> {
             deadlines: Vec::new(),
             caller: None,
         };
+        if mc.cx.op_subject {
+            mc.parameters_as_constants(inst.body)?;
+        }
         mc.declarations(inst.body, &external)?;
         mc.collect_nodes(&inst.body.region, None)?;
         mc.compile(&inst.body.region)?;

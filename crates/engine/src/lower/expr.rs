@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use robosim_hir::csp_fn::{CspBinOp, CspExpr, CspFunction};
 use robosim_hir::model::{self, BinOp, ExprKind, UnOp};
 
-use super::types::stride;
+use super::types::{stride, Layout};
 use super::*;
 
 impl MachineCx<'_, '_> {
@@ -104,13 +104,22 @@ impl MachineCx<'_, '_> {
                 if matches!(inner.kind, ExprKind::Missing) {
                     return Err(self.err(range, "an operator without an operand"));
                 }
+                let literal = matches!(inner.kind, ExprKind::Int(_) | ExprKind::Real(_));
                 let inner = self.expr(inner)?;
                 match op {
                     UnOp::Not => Expr::Not(Box::new(inner)),
-                    UnOp::Neg => match inner.constant() {
+                    // A negative literal is a number (not `Neg` of one).
+                    UnOp::Neg if literal => match inner.constant() {
                         Some(v) => Expr::Const(-v),
-                        None => Expr::Neg(Box::new(inner), int_dom),
+                        None => return Err(self.err(range, "this number is not supported")),
                     },
+                    UnOp::Neg => {
+                        let neg = Expr::Neg(Box::new(inner), self.arith_dom(e).unwrap_or(int_dom));
+                        match neg.constant() {
+                            Some(v) => Expr::Const(v),
+                            None => neg,
+                        }
+                    }
                     UnOp::Other => return Err(self.err(range, "this operator is not supported by the native checker")),
                 }
             }
@@ -147,7 +156,9 @@ impl MachineCx<'_, '_> {
                         }
                     }
                 }
-                let ar = |op| Expr::Arith(op, Box::new(x.clone()), Box::new(y.clone()), int_dom);
+                // RT-5: sticky in the domain of the expression's type.
+                let dom = self.arith_dom(e).unwrap_or(int_dom);
+                let ar = |op| Expr::Arith(op, Box::new(x.clone()), Box::new(y.clone()), dom);
                 let result = match op {
                     BinOp::Add => ar(ArOp::Add),
                     BinOp::Sub => ar(ArOp::Sub),
@@ -234,18 +245,13 @@ impl MachineCx<'_, '_> {
             ExprKind::Tuple(_) | ExprKind::Set(_) => {
                 return Err(self.err(range, "a tuple or set where a number is expected"));
             }
-            ExprKind::Call { function: f, args, .. } => {
+            ExprKind::Call { function: f, args, res } => {
                 if !self.cx.defaults.functions.iter().any(|c| c.name == *f) {
-                    if let Some(v) = self.generated_default(range, f, None)? {
-                        return Ok(v);
-                    }
-                    return Err(self.err(
-                        range,
-                        format!(
-                            "`{f}` has no definition the native checker can read: define it in a `csp` block \
-                             of an assertion file, as for FDR (`{f}(x) = …`)"
-                        ),
-                    ));
+                    // RT-2: RoboTool's default for a function without a body.
+                    return match self.bodiless_call(range, f, res.as_ref())? {
+                        (v, Layout::Num(_)) => Ok(Expr::Const(v)),
+                        _ => Err(self.err(range, format!("`{f}` returns a tuple or a set, used here as a number"))),
+                    };
                 }
                 let mut values = Vec::new();
                 for a in args {
@@ -522,18 +528,16 @@ impl MachineCx<'_, '_> {
                 };
                 Expr::Set(op, Box::new(self.typed(a, want)?), Box::new(self.typed(b, want)?))
             }
-            (ExprKind::Call { function: f, .. }, Layout::Tuple(_))
+            // RT-2: a function without a body returns the default of its
+            // (tuple, record or set) result type.
+            (ExprKind::Call { function: f, res, .. }, _)
                 if !self.cx.defaults.functions.iter().any(|c| c.name == *f) =>
             {
-                match self.generated_default(range, f, Some(want))? {
-                    Some(v) => v,
-                    None => {
-                        return Err(self.err(
-                            range,
-                            format!("`{f}` has no definition the native checker can read: define it in a `csp` block of an assertion file, as for FDR (`{f}(x) = …`)"),
-                        ))
-                    }
+                let (v, ty) = self.bodiless_call(range, f, res.as_ref())?;
+                if ty != *want {
+                    return Err(self.err(range, format!("`{f}` does not return the type expected here")));
                 }
+                Expr::Const(v)
             }
             (ExprKind::Name { name: n, .. }, _) => {
                 if self.types.get(n) != Some(want) {
@@ -593,60 +597,6 @@ impl MachineCx<'_, '_> {
             return Ok(acc);
         }
         Err(self.err(e.range, "membership in a set whose type is not known"))
-    }
-
-    /// A call of `name`, a function the model declares without a body
-    /// (no `result == e` postcondition) and no CSPm block defines, when
-    /// RoboTool's generated instantiations are in force: its result
-    /// type's default (RT-2: 0, the first literal, `true`, component-wise
-    /// for tuples), of the layout `want` (a number when `None`). `None`
-    /// when the rule does not apply.
-    fn generated_default(
-        &mut self,
-        at: TextRange,
-        name: &str,
-        want: Option<&Layout>,
-    ) -> Result<Option<Expr>, Unsupported> {
-        if !self.cx.defaults.generated_functions {
-            return Ok(None);
-        }
-        let path: Vec<String> = name.split("::").map(str::to_string).collect();
-        let Some(loc) = model::resolve(self.cx.db, self.cx.ws, self.file, &path, robosim_hir::defs::DefKind::Function)
-        else {
-            return Ok(None);
-        };
-        let Some(Item::Function(f)) = self.cx.item(Some(loc)) else { return Ok(None) };
-        let defines = |e: &model::Expr| {
-            matches!(&e.kind, ExprKind::Binary(BinOp::Eq, a, b)
-                if matches!(a.kind, ExprKind::Result) || matches!(b.kind, ExprKind::Result))
-        };
-        if f.postconditions.iter().any(defines) {
-            return Ok(None);
-        }
-        let Some(result) = f.result.clone() else { return Ok(None) };
-        let layout = self.ty_of(loc.file, Some(&result), at)?;
-        let num = |d: Dom| d.lo.max(0).min(d.hi);
-        let value = match (&result.ty, &layout) {
-            (robosim_hir::types::Ty::Bool, Layout::Num(_)) => 1,
-            (robosim_hir::types::Ty::Product(parts), Layout::Tuple(ds)) if parts.len() == ds.len() => {
-                parts.iter().zip(ds).fold(0, |code, (t, d)| {
-                    let v = if matches!(t, robosim_hir::types::Ty::Bool) { 1 } else { num(*d) };
-                    code * d.size() as Val + (v - d.lo)
-                })
-            }
-            (_, Layout::Num(d)) => num(*d),
-            _ => {
-                return Err(self.err(
-                    at,
-                    format!("`{name}` has no body: its default result (RT-2) is supported for numbers, booleans, enumerations and tuples of them"),
-                ))
-            }
-        };
-        match want {
-            Some(w) if *w != layout => Err(self.err(at, format!("`{name}` does not return the type expected here"))),
-            None if !layout.is_num() => Err(self.err(at, format!("`{name}` returns a tuple, used here as a number"))),
-            _ => Ok(Some(Expr::Const(value))),
-        }
     }
 
     /// The component (0-based) an index `[i]` (at `at`) selects, `i` from 1.

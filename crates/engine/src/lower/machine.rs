@@ -11,7 +11,7 @@ impl<'b> MachineCx<'_, 'b> {
     /// The value an assertion gives the constant `name`, else the one an
     /// instantiation block gives it (RoboTool's `pkg_Machine_name` or
     /// `Machine_name`).
-    fn const_value(&self, name: &str) -> Option<Val> {
+    pub(super) fn const_value(&self, name: &str) -> Option<Val> {
         let given = self
             .cx
             .consts

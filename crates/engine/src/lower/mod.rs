@@ -15,7 +15,9 @@
 
 mod cells;
 mod compose;
+mod domains;
 mod expr;
+mod functions;
 mod inspect;
 mod machine;
 mod stmt;
@@ -75,14 +77,13 @@ pub struct DomainDefaults {
     /// Functions defined in CSPm by the instantiations, for the model's
     /// functions declared without a body.
     pub functions: Vec<CspFunction>,
-    /// Whether a function declared without a body that no CSPm definition
-    /// gives a meaning returns its result type's default, as RoboTool's
-    /// generated instantiations define it (RT-2): so when no `csp`
-    /// block named `Instantiations` replaces them (RT-7).
-    pub generated_functions: bool,
     /// The buffer assumed for asynchronous connections between machines
     /// or controllers (none: RoboTool's, [`AsyncBuffer::ROBOTOOL`]).
     pub async_buffer: Option<AsyncBuffer>,
+    /// Whether the assertion's file has a `csp Instantiations` block, which
+    /// replaces RoboTool's generated defaults (RT-7): a function it does
+    /// not define then has no definition at all (no RT-2 default).
+    pub replaced: bool,
 }
 
 impl Default for DomainDefaults {
@@ -96,8 +97,8 @@ impl Default for DomainDefaults {
             types: Vec::new(),
             constants: Vec::new(),
             functions: Vec::new(),
-            generated_functions: false,
             async_buffer: None,
+            replaced: false,
         }
     }
 }
@@ -155,6 +156,7 @@ pub fn lower_element(
         lone: false,
         bidirectional: BTreeSet::new(),
         primitive_defaults: Default::default(),
+        op_subject: false,
     };
     let mut design = cx.lower(loc, inner)?;
     design.defaults.extend(cx.primitive_defaults.into_inner());
@@ -187,6 +189,8 @@ struct Cx<'a> {
     /// RT-3: the primitive types given no range, which range over {0, 1}
     /// (noted when a type is laid out, which only reads the context).
     primitive_defaults: std::cell::RefCell<BTreeSet<String>>,
+    /// RT-11: the element checked is an operation on its own.
+    op_subject: bool,
 }
 
 /// An operation a controller defines or references: its name there, the

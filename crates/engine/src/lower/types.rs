@@ -259,8 +259,15 @@ impl MachineCx<'_, '_> {
     /// booleans (RT-1, RT-4), otherwise the least value of each number
     /// (0 when in range), the first literal, the empty set.
     pub(super) fn default_of(&self, node: Option<&TyRef>, ty: &Layout) -> Val {
-        match self.param_of(node) {
-            Some(Param::Bool) => 1,
+        match (self.param_of(node), node.map(|n| &n.ty), ty) {
+            (Some(Param::Bool), _, _) => 1,
+            // A tuple's boolean components are `true` too (RT-1, RT-4).
+            (_, Some(robosim_hir::types::Ty::Product(parts)), Layout::Tuple(ds)) if parts.len() == ds.len() => {
+                parts.iter().zip(ds).fold(0, |code, (t, d)| {
+                    let v = if matches!(t, robosim_hir::types::Ty::Bool) { d.hi.min(1) } else { d.lo.max(0).min(d.hi) };
+                    code * d.size() as Val + (v - d.lo)
+                })
+            }
             _ => ty.default_value(),
         }
     }

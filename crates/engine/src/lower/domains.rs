@@ -1,0 +1,594 @@
+//! RoboTool's number domains (robotool-facts RT-5): `core_nat = {0..2}`,
+//! `core_int = core_real = {-2..2}`, each widened to cover the values of
+//! the model's expressions of that type (a `nat` expression also widens
+//! `int` and `real`, an `int` one `real`), every expression evaluated with
+//! the sticky arithmetic (`Plus(e1, e2, T)` keeps `e1` when the result
+//! leaves `T`; a divisor 0 counts as 1, RT-6) over the base ranges of its
+//! free variables and constants and over its literals. The generated
+//! `instantiations.csp` writes this as
+//! `union(base, {calc_type_min(U)..calc_type_max(U)})`, where
+//! `calc_type_max` never goes below 0.
+//!
+//! Our reading of the reference output (`../shared/reference/alpha-algorithm`):
+//! the expressions are the model's maximal ones — values assigned, sent
+//! and waited for, arguments of calls, operands of comparisons (with clocks
+//! too: `since(RCC) >= RC` seems to put `RC` in `core_nat`'s list) and
+//! connectives, initial values, deadlines, indices — not the operands of
+//! arithmetic (`360` in `random() * 360 / av` widens nothing); they come
+//! from every machine and operation of the project, not only the checked
+//! element (RoboTool writes one `instantiations.csp` per project). Inside
+//! `core_real`'s own list the arithmetic is over the base ranges; the other
+//! lists use the widened `core_real` (and `core_int`) for the arithmetic of
+//! those types.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use robosim_hir::csp_fn::{CspBinOp, CspExpr, CspFunction};
+use robosim_hir::index::project_of;
+use robosim_hir::model::{BinOp, CommPart, Definition, Expr as MExpr, ExprKind, Item, Region, Stmt, StmtKind, UnOp};
+use robosim_hir::types::{expr_types, Ty};
+use robosim_syntax::FileKind;
+
+use super::*;
+
+/// The most combinations of free values an expression is evaluated at.
+const MAX_COMBINATIONS: usize = 1 << 14;
+
+/// The base ranges (before widening).
+const BASE: [Dom; 3] = [Dom { lo: 0, hi: 2 }, Dom { lo: -2, hi: 2 }, Dom { lo: -2, hi: 2 }];
+
+/// The numeric rank of a type: nat 0, int 1, real 2.
+fn rank(t: &Ty) -> Option<usize> {
+    match t {
+        Ty::Nat => Some(0),
+        Ty::Int => Some(1),
+        Ty::Real => Some(2),
+        _ => None,
+    }
+}
+
+/// One maximal expression, in the file whose types say what it is.
+struct Site<'a> {
+    file: File,
+    expr: &'a MExpr,
+}
+
+impl<'a> Cx<'a> {
+    /// RT-5: the domains of `nat`, `int` and `real` for the project of
+    /// `file`, widened by the values of its expressions; the types an
+    /// instantiation fixed stay as given. Also says which were widened.
+    pub(super) fn robotool_domains(&self, file: File) -> Result<([Dom; 3], Vec<String>), Unsupported> {
+        let d = &self.defaults;
+        let mut doms = [d.nat, d.int, d.real];
+        if d.fixed.iter().all(|f| *f) {
+            return Ok((doms, Vec::new()));
+        }
+        let project = project_of(self.db, self.ws, file);
+        let mut sites = Vec::new();
+        let mut decl_types: Vec<&Ty> = Vec::new();
+        for &f in self.ws.files(self.db) {
+            if f.is_library(self.db)
+                || f.kind(self.db) != FileKind::RoboChart
+                || project_of(self.db, self.ws, f) != project
+            {
+                continue;
+            }
+            for (_, item) in &model::file_model(self.db, self.ws, f).items {
+                item_types(item, &mut decl_types);
+                match item {
+                    Item::Machine(b) | Item::Operation(b) => behaviour_sites(f, b, &mut sites),
+                    Item::Controller(c) => {
+                        for inst in c.machines.iter().chain(&c.operations) {
+                            if let Definition::Inline(b) = &inst.def {
+                                behaviour_sites(f, b, &mut sites);
+                            }
+                        }
+                    }
+                    Item::Module(m) => {
+                        for inst in &m.controllers {
+                            if let Definition::Inline(c) = &inst.def {
+                                for i in c.machines.iter().chain(&c.operations) {
+                                    if let Definition::Inline(b) = &i.def {
+                                        behaviour_sites(f, b, &mut sites);
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+        let mut declared = [false; 3];
+        for t in &decl_types {
+            mark_ranks(t, &mut declared);
+        }
+        let mut notes = Vec::new();
+        // `real` first (over the base ranges), then `int` and `nat` with
+        // the widened `real` (and `int`) for the arithmetic of those types.
+        let mut arith = BASE;
+        for r in [2, 1, 0] {
+            if d.fixed[r] {
+                arith[r] = doms[r];
+                continue;
+            }
+            let mut own = arith;
+            own[r] = BASE[r];
+            let mut values = BTreeSet::new();
+            for s in &sites {
+                self.site_values(s, r, &own, &mut values)?;
+            }
+            let max = values.iter().copied().max().unwrap_or(0).max(0);
+            let min = values.iter().copied().min().unwrap_or(max).min(max);
+            let base = BASE[r];
+            let name = ["nat", "int", "real"][r];
+            // A gap matters only when values of the type are stored or
+            // communicated (the values in it would be RoboTool's none).
+            if min > base.hi + 1 && declared[r] {
+                return Err(Unsupported {
+                    message: format!(
+                        "RoboTool's `core_{name}` here is {{{}..{}}} ∪ {{{min}..{max}}} (RT-5), not one range: \
+                         give it with `nametype core_{name} = {{a..b}}` in a `csp` block of an assertion file",
+                        base.lo, base.hi
+                    ),
+                    location: None,
+                });
+            }
+            let w = Dom { lo: base.lo.min(min), hi: base.hi.max(max) };
+            if w != base {
+                notes.push(format!("core_{name} = {{{}..{}}}, widened by the model's expressions (RT-5)", w.lo, w.hi));
+            }
+            doms[r] = w;
+            arith[r] = w;
+        }
+        Ok((doms, notes))
+    }
+
+    /// Adds to `out` the values of the expressions at `s` (and inside it)
+    /// whose type widens the domain of rank `r`.
+    fn site_values(
+        &self,
+        s: &Site<'_>,
+        r: usize,
+        arith: &[Dom; 3],
+        out: &mut BTreeSet<Val>,
+    ) -> Result<(), Unsupported> {
+        let types = expr_types(self.db, self.ws, s.file);
+        let mut stack = vec![s.expr];
+        while let Some(e) = stack.pop() {
+            let ty = types.get(&e.range).and_then(rank);
+            if ty.is_some_and(|t| t <= r) {
+                let vs = Eval { cx: self, types, arith }.values(e).ok_or_else(|| Unsupported {
+                    message: format!(
+                        "RoboTool's `core_{}` depends on the value of this expression, which the native checker \
+                         cannot work out (RT-5): give the type with `nametype core_{} = {{a..b}}` in a `csp` block",
+                        ["nat", "int", "real"][r],
+                        ["nat", "int", "real"][r]
+                    ),
+                    location: Some((s.file.path(self.db).clone(), e.range)),
+                })?;
+                out.extend(vs);
+            }
+            // Into what is not arithmetic: comparisons, connectives, calls,
+            // conditionals, indices.
+            match &e.kind {
+                ExprKind::Binary(op, a, b) if !is_arith(*op) => stack.extend([&**a, &**b]),
+                ExprKind::Unary(UnOp::Not, a) => stack.push(a),
+                ExprKind::Call { args, .. } => stack.extend(args.iter()),
+                ExprKind::If(c, a, b) => stack.extend([&**c, &**a, &**b]),
+                ExprKind::Index(base, ix) => {
+                    stack.push(base);
+                    stack.extend(ix.iter());
+                }
+                ExprKind::Tuple(xs) => stack.extend(xs.iter()),
+                ExprKind::Record(fs) => stack.extend(fs.iter().map(|(_, x)| x)),
+                ExprKind::Interval { lo, hi, .. } => stack.extend([&**lo, &**hi]),
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+}
+
+fn is_arith(op: BinOp) -> bool {
+    matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Mod)
+}
+
+/// The maximal expressions of a machine or operation.
+fn behaviour_sites<'a>(file: File, b: &'a Behaviour, out: &mut Vec<Site<'a>>) {
+    for d in &b.decls.decls {
+        if let model::Decl::Vars { vars, .. } = d {
+            out.extend(vars.iter().filter_map(|v| v.init.as_ref()).map(|expr| Site { file, expr }));
+        }
+    }
+    region_sites(file, &b.region, out);
+}
+
+fn region_sites<'a>(file: File, r: &'a Region, out: &mut Vec<Site<'a>>) {
+    for n in &r.nodes {
+        for a in [&n.entry, &n.during, &n.exit].into_iter().flatten() {
+            if let Some(s) = &a.stmt {
+                stmt_sites(file, s, out);
+            }
+        }
+        region_sites(file, &n.region, out);
+    }
+    for t in &r.transitions {
+        if let Some(c) = t.condition.as_ref().and_then(|c| c.expr.as_ref()) {
+            out.push(Site { file, expr: c });
+        }
+        if let Some((_, Some(d))) = &t.deadline {
+            out.push(Site { file, expr: d });
+        }
+        if let Some(s) = t.action.as_ref().and_then(|a| a.stmt.as_ref()) {
+            stmt_sites(file, s, out);
+        }
+    }
+}
+
+fn stmt_sites<'a>(file: File, s: &'a Stmt, out: &mut Vec<Site<'a>>) {
+    s.walk(&mut |s| match &s.kind {
+        StmtKind::Assign { value, .. } => out.push(Site { file, expr: value }),
+        StmtKind::If(c, ..) => out.push(Site { file, expr: c }),
+        StmtKind::Comm(c) => {
+            if let Some(CommPart::Sync(Some(v)) | CommPart::Output(Some(v))) = &c.part {
+                out.push(Site { file, expr: v });
+            }
+        }
+        StmtKind::Call { args, .. } | StmtKind::SimCall { args, .. } => {
+            out.extend(args.iter().map(|expr| Site { file, expr }))
+        }
+        StmtKind::Output(_, Some(v)) | StmtKind::Wait(v) | StmtKind::Timed(_, Some(v)) => {
+            out.push(Site { file, expr: v })
+        }
+        _ => {}
+    });
+}
+
+/// Evaluates expressions over every combination of their free values.
+struct Eval<'c, 'a> {
+    cx: &'c Cx<'a>,
+    types: &'c rustc_hash::FxHashMap<TextRange, Ty>,
+    arith: &'c [Dom; 3],
+}
+
+impl Eval<'_, '_> {
+    /// The values of `e` (none when it cannot be worked out).
+    fn values(&self, e: &MExpr) -> Option<BTreeSet<Val>> {
+        // The free values: names and what is not computed here (tuple
+        // components, fields, set sizes), each over its base range, keyed
+        // by name (one value per name) or by range.
+        let mut free: BTreeMap<String, Dom> = BTreeMap::new();
+        self.free(e, &mut free)?;
+        let keys: Vec<(&String, &Dom)> = free.iter().collect();
+        let mut count: usize = 1;
+        for (_, d) in &keys {
+            count = count.checked_mul(d.size() as usize).filter(|c| *c <= MAX_COMBINATIONS)?;
+        }
+        let mut out = BTreeSet::new();
+        let mut env: BTreeMap<String, Val> = keys.iter().map(|(k, d)| ((*k).clone(), d.lo)).collect();
+        for i in 0..count {
+            let mut rest = i;
+            for (k, d) in &keys {
+                let n = d.size() as usize;
+                env.insert((*k).clone(), d.lo + (rest % n) as Val);
+                rest /= n;
+            }
+            if let Some(v) = self.eval(e, &env) {
+                out.insert(v);
+            }
+        }
+        Some(out)
+    }
+
+    fn base_of(&self, e: &MExpr) -> Option<Dom> {
+        match self.types.get(&e.range)? {
+            Ty::Bool => Some(Dom::BOOL),
+            t @ Ty::Named(_, _, robosim_hir::defs::DefKind::Enumeration) => {
+                Some(Dom { lo: 0, hi: self.type_size(t)? - 1 })
+            }
+            t => rank(t).map(|r| BASE[r]),
+        }
+    }
+
+    /// The key of a free value.
+    fn key(e: &MExpr) -> String {
+        match &e.kind {
+            ExprKind::Name { name, .. } => name.clone(),
+            _ => format!("@{:?}", e.range),
+        }
+    }
+
+    fn free(&self, e: &MExpr, out: &mut BTreeMap<String, Dom>) -> Option<()> {
+        match &e.kind {
+            ExprKind::Int(_) | ExprKind::Bool(_) | ExprKind::Real(_) | ExprKind::EnumLiteral { .. } => {}
+            ExprKind::Unary(_, a) => self.free(a, out)?,
+            ExprKind::Binary(_, a, b) => {
+                self.free(a, out)?;
+                self.free(b, out)?;
+            }
+            ExprKind::If(c, a, b) => {
+                self.free(c, out)?;
+                self.free(a, out)?;
+                self.free(b, out)?;
+            }
+            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
+                for a in args {
+                    // Arguments that are not numbers only matter to CSPm
+                    // definitions, which would need them: not evaluated.
+                    if self.base_of(a).is_some() {
+                        self.free(a, out)?;
+                    } else if self.csp_defined(function) {
+                        return None;
+                    }
+                }
+            }
+            ExprKind::Call { args, .. } => {
+                // `size(s)`: from 0 to the number of values of its elements.
+                let n = match args.first().and_then(|a| self.types.get(&a.range)) {
+                    Some(Ty::Set(el)) => self.type_size(el)?,
+                    _ => return None,
+                };
+                out.insert(Self::key(e), Dom { lo: 0, hi: n });
+            }
+            _ => {
+                out.insert(Self::key(e), self.base_of(e)?);
+            }
+        }
+        Some(())
+    }
+
+    /// The number of values of an element type, for `size`.
+    fn type_size(&self, t: &Ty) -> Option<Val> {
+        Some(match t {
+            Ty::Bool => 2,
+            Ty::Named(loc, _, robosim_hir::defs::DefKind::Enumeration) => match self.cx.item(Some(*loc))? {
+                Item::Enumeration(_, lits) => lits.len() as Val,
+                _ => return None,
+            },
+            Ty::Named(_, name, robosim_hir::defs::DefKind::PrimitiveType) => {
+                let core = format!("core_{name}");
+                match self.cx.defaults.types.iter().rev().find(|(n, _)| n == name || *n == core) {
+                    Some((_, d)) => d.size() as Val,
+                    None => 2,
+                }
+            }
+            t => BASE[rank(t)?].size() as Val,
+        })
+    }
+
+    fn csp_defined(&self, f: &str) -> bool {
+        self.cx.defaults.functions.iter().any(|c| c.name == f)
+    }
+
+    /// The sticky domain of the arithmetic at `e` (its type's).
+    fn dom(&self, e: &MExpr) -> Dom {
+        self.arith[self.types.get(&e.range).and_then(rank).unwrap_or(2)]
+    }
+
+    fn eval(&self, e: &MExpr, env: &BTreeMap<String, Val>) -> Option<Val> {
+        let sticky = |r: Option<Val>, x: Val| r.filter(|r| self.dom(e).contains(*r)).unwrap_or(x);
+        Some(match &e.kind {
+            ExprKind::Int(v) => (*v)?,
+            ExprKind::Bool(b) => *b as Val,
+            ExprKind::Real(t) => {
+                let v: f64 = t.parse().ok()?;
+                (v.fract() == 0.0 && v.abs() < 1e15).then_some(v as Val)?
+            }
+            ExprKind::EnumLiteral { literal, enumeration, .. } => match self.cx.item(*enumeration)? {
+                Item::Enumeration(_, lits) => lits.iter().position(|l| l == literal)? as Val,
+                _ => return None,
+            },
+            // A negative literal is a number (not `Neg` of one).
+            ExprKind::Unary(UnOp::Neg, a) if matches!(a.kind, ExprKind::Int(_) | ExprKind::Real(_)) => {
+                self.eval(a, env)?.checked_neg()?
+            }
+            ExprKind::Unary(UnOp::Neg, a) => {
+                let x = self.eval(a, env)?;
+                sticky(x.checked_neg(), x)
+            }
+            ExprKind::Unary(UnOp::Not, a) => (self.eval(a, env)? == 0) as Val,
+            ExprKind::Binary(op, a, b) => {
+                let (x, y) = (self.eval(a, env)?, self.eval(b, env)?);
+                match op {
+                    BinOp::Add => sticky(x.checked_add(y), x),
+                    BinOp::Sub => sticky(x.checked_sub(y), x),
+                    BinOp::Mul => sticky(x.checked_mul(y), x),
+                    // RT-6: `no_zero_div`.
+                    BinOp::Div => sticky(x.checked_div(if y == 0 { 1 } else { y }), x),
+                    // FDR stops on `x % 0`: no value.
+                    BinOp::Mod => sticky(Some(x.checked_rem(y)?), x),
+                    BinOp::Eq => (x == y) as Val,
+                    BinOp::Ne => (x != y) as Val,
+                    BinOp::Lt => (x < y) as Val,
+                    BinOp::Le => (x <= y) as Val,
+                    BinOp::Gt => (x > y) as Val,
+                    BinOp::Ge => (x >= y) as Val,
+                    BinOp::And => (x != 0 && y != 0) as Val,
+                    BinOp::Or => (x != 0 || y != 0) as Val,
+                    BinOp::Implies => (x == 0 || y != 0) as Val,
+                    BinOp::Iff => ((x != 0) == (y != 0)) as Val,
+                    _ => return None,
+                }
+            }
+            ExprKind::If(c, a, b) => {
+                if self.eval(c, env)? != 0 {
+                    self.eval(a, env)?
+                } else {
+                    self.eval(b, env)?
+                }
+            }
+            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
+                if self.csp_defined(function) {
+                    let mut vs = Vec::new();
+                    for a in args {
+                        vs.push(self.eval(a, env)?);
+                    }
+                    csp_apply(&self.cx.defaults.functions, &self.cx.defaults.constants, function, &vs, 0)?
+                } else {
+                    // RT-2: the default of its result type (0, `true`).
+                    match self.types.get(&e.range)? {
+                        Ty::Bool => 1,
+                        t => {
+                            rank(t)?;
+                            0
+                        }
+                    }
+                }
+            }
+            _ => *env.get(&Self::key(e))?,
+        })
+    }
+}
+
+/// A function defined in CSPm applied to numbers (plain CSPm arithmetic).
+fn csp_apply(fs: &[CspFunction], consts: &[(String, Val)], name: &str, args: &[Val], depth: usize) -> Option<Val> {
+    if depth > 16 {
+        return None;
+    }
+    'clauses: for c in fs.iter().filter(|c| c.name == name && c.params.len() == args.len()) {
+        let mut env = BTreeMap::new();
+        for (p, a) in c.params.iter().zip(args) {
+            match p {
+                CspExpr::Name(n) if n.contains('_') => return None, // a constructor
+                CspExpr::Name(n) => {
+                    env.insert(n.clone(), *a);
+                }
+                CspExpr::Int(v) if v == a => {}
+                CspExpr::Bool(b) if (*b as Val) == *a => {}
+                CspExpr::Int(_) | CspExpr::Bool(_) => continue 'clauses,
+                _ => return None,
+            }
+        }
+        return csp_eval(fs, consts, &c.body, &env, depth);
+    }
+    None
+}
+
+fn csp_eval(
+    fs: &[CspFunction],
+    consts: &[(String, Val)],
+    e: &CspExpr,
+    env: &BTreeMap<String, Val>,
+    depth: usize,
+) -> Option<Val> {
+    let go = |x: &CspExpr| csp_eval(fs, consts, x, env, depth);
+    Some(match e {
+        CspExpr::Int(v) => *v,
+        CspExpr::Bool(b) => *b as Val,
+        CspExpr::Name(n) => match env.get(n) {
+            Some(v) => *v,
+            None => match consts.iter().find(|(c, _)| c == n) {
+                Some((_, v)) => *v,
+                None => csp_apply(fs, consts, n, &[], depth + 1)?,
+            },
+        },
+        CspExpr::Call(f, xs) => {
+            let mut vs = Vec::new();
+            for x in xs {
+                vs.push(go(x)?);
+            }
+            csp_apply(fs, consts, f, &vs, depth + 1)?
+        }
+        CspExpr::Neg(x) => go(x)?.checked_neg()?,
+        CspExpr::Not(x) => (go(x)? == 0) as Val,
+        CspExpr::Bin(op, a, b) => {
+            let (x, y) = (go(a)?, go(b)?);
+            match op {
+                CspBinOp::Add => x.checked_add(y)?,
+                CspBinOp::Sub => x.checked_sub(y)?,
+                CspBinOp::Mul => x.checked_mul(y)?,
+                CspBinOp::Div => x.checked_div(y)?,
+                CspBinOp::Mod => x.checked_rem(y)?,
+                CspBinOp::Eq => (x == y) as Val,
+                CspBinOp::Ne => (x != y) as Val,
+                CspBinOp::Lt => (x < y) as Val,
+                CspBinOp::Le => (x <= y) as Val,
+                CspBinOp::Gt => (x > y) as Val,
+                CspBinOp::Ge => (x >= y) as Val,
+                CspBinOp::And => (x != 0 && y != 0) as Val,
+                CspBinOp::Or => (x != 0 || y != 0) as Val,
+                CspBinOp::Cat => return None,
+            }
+        }
+        CspExpr::If(c, a, b) => {
+            if go(c)? != 0 {
+                go(a)?
+            } else {
+                go(b)?
+            }
+        }
+    })
+}
+
+impl MachineCx<'_, '_> {
+    /// The domain of the sticky arithmetic at `e`: its type's (RoboTool's
+    /// `Plus(e1, e2, core_nat)` for a `nat` sum, `core_real` for every
+    /// division); `None` when the type checker did not type it.
+    pub(super) fn arith_dom(&self, e: &MExpr) -> Option<Dom> {
+        let d = &self.cx.defaults;
+        let t = expr_types(self.cx.db, self.cx.ws, self.file).get(&e.range)?;
+        Some([d.nat, d.int, d.real][rank(t)?])
+    }
+}
+
+/// Marks the numeric types `t` stores (in products and sets too).
+fn mark_ranks(t: &Ty, out: &mut [bool; 3]) {
+    match t {
+        Ty::Product(ts) => ts.iter().for_each(|t| mark_ranks(t, out)),
+        Ty::Set(t) | Ty::Seq(t) | Ty::Vector(t, _) | Ty::Matrix(t, ..) => mark_ranks(t, out),
+        t => {
+            if let Some(r) = rank(t) {
+                out[r] = true;
+            }
+        }
+    }
+}
+
+/// The types of what an item declares: variables, constants, events,
+/// parameters (of its behaviours, interfaces, controllers, platforms).
+fn item_types<'a>(item: &'a Item, out: &mut Vec<&'a Ty>) {
+    fn decls<'a>(d: &'a model::Decls, out: &mut Vec<&'a Ty>) {
+        for d in &d.decls {
+            match d {
+                model::Decl::Vars { vars, .. } => out.extend(vars.iter().filter_map(|v| v.ty.as_ref()).map(|t| &t.ty)),
+                model::Decl::Event { ty: Some(t), .. } => out.push(&t.ty),
+                model::Decl::OperationSig { params, .. } => {
+                    out.extend(params.iter().filter_map(|p| p.ty.as_ref()).map(|t| &t.ty))
+                }
+                _ => {}
+            }
+        }
+    }
+    fn behaviour<'a>(b: &'a Behaviour, out: &mut Vec<&'a Ty>) {
+        decls(&b.decls, out);
+        out.extend(b.params.iter().filter_map(|p| p.ty.as_ref()).map(|t| &t.ty));
+    }
+    fn controller<'a>(c: &'a model::Controller, out: &mut Vec<&'a Ty>) {
+        decls(&c.decls, out);
+        for i in c.machines.iter().chain(&c.operations) {
+            if let Definition::Inline(b) = &i.def {
+                behaviour(b, out);
+            }
+        }
+    }
+    match item {
+        Item::Machine(b) | Item::Operation(b) => behaviour(b, out),
+        Item::Controller(c) => controller(c, out),
+        Item::Interface(p) | Item::Platform(p) => decls(&p.decls, out),
+        Item::Module(m) => {
+            for c in &m.controllers {
+                if let Definition::Inline(c) = &c.def {
+                    controller(c, out);
+                }
+            }
+            for p in &m.platforms {
+                if let Definition::Inline(p) = &p.def {
+                    decls(&p.decls, out);
+                }
+            }
+        }
+        Item::Record(_, fields) => out.extend(fields.iter().filter_map(|f| f.ty.as_ref()).map(|t| &t.ty)),
+        _ => {}
+    }
+}

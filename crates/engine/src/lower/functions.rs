@@ -1,0 +1,129 @@
+//! Calls of functions the model declares without a body (robotool-facts
+//! RT-2): RoboTool's generated instantiations define each as returning its
+//! result type's default — 0, `true`, the first literal, the empty set,
+//! component-wise for tuples and records — whatever its postconditions
+//! say, unless a `csp` block defines it (then [`super::expr`] inlines that
+//! definition).
+
+use robosim_hir::defs::DefKind;
+use robosim_hir::index::resolve_item;
+use robosim_hir::model::{BinOp, ExprKind, Function, Item};
+use robosim_hir::resolve::Target;
+
+use super::types::Layout;
+use super::*;
+
+impl MachineCx<'_, '_> {
+    /// The value a call of `f` (at `at`, resolved to `res`) returns when
+    /// no CSPm definition is given: RT-2's default, noted as one. A
+    /// function defined by a `result == e` postcondition, or one that an
+    /// `Instantiations` block (which replaces RoboTool's defaults, RT-7)
+    /// does not define, is refused with the reason.
+    pub(super) fn bodiless_call(
+        &mut self,
+        at: TextRange,
+        f: &str,
+        res: Option<&Target>,
+    ) -> Result<(Val, Layout), Unsupported> {
+        let (file, func) = self
+            .function_decl(f, res)
+            .ok_or_else(|| self.err(at, format!("the function `{f}` could not be resolved")))?;
+        if func.postconditions.iter().any(defines_result) {
+            return Err(self.err(
+                at,
+                format!(
+                    "`{f}` is defined by a postcondition `result == …`, which the native checker does not \
+                     inline yet: define it in a `csp` block of an assertion file, as for FDR (`{f}(x) = …`)"
+                ),
+            ));
+        }
+        if self.cx.defaults.replaced {
+            return Err(self.err(
+                at,
+                format!(
+                    "`{f}` has no definition the native checker can read: the assertion file's `csp \
+                     Instantiations` block replaces RoboTool's generated defaults (RT-7) and does not define \
+                     it, so FDR would stop on the undefined name; define it there (`{f}(x) = …`)"
+                ),
+            ));
+        }
+        let ty = self.ty_of(file, func.result.as_ref(), func.range)?;
+        let v = self.default_of(func.result.as_ref(), &ty);
+        let params: Vec<&str> = func.params.iter().map(|p| p.name.as_str()).collect();
+        let shown = match &ty {
+            Layout::Set(_) => "{}".to_string(),
+            Layout::Num(_) => self.value_text(func.result.as_ref(), v),
+            // Tuples and records: each component's default (numbers 0).
+            Layout::Tuple(ds) | Layout::Record(_, ds) => {
+                let parts: Vec<String> = ds.iter().map(|d| d.lo.max(0).min(d.hi).to_string()).collect();
+                format!("({})", parts.join(", "))
+            }
+            // Nested products: their numbers in order.
+            Layout::Product(_) => {
+                let parts: Vec<String> = ty.leaves().iter().map(|d| d.lo.max(0).min(d.hi).to_string()).collect();
+                format!("({})", parts.join(", "))
+            }
+        };
+        let note = format!("function {}({}) = {shown} (RT-2)", func.name, params.join(", "));
+        let design = self.design();
+        if !design.defaults.contains(&note) {
+            design.defaults.push(note);
+        }
+        Ok((v, ty))
+    }
+
+    /// The declaration of the function `f` called here.
+    fn function_decl(&self, f: &str, res: Option<&Target>) -> Option<(File, &'_ Function)> {
+        let loc = match res {
+            Some(Target::Item(loc)) => Some(*loc),
+            _ => None,
+        };
+        let loc = loc.or_else(|| {
+            let path: Vec<String> = f.split("::").map(|s| s.trim().to_string()).collect();
+            resolve_item(self.cx.db, self.cx.ws, self.file, &path, |k| k == DefKind::Function).into_iter().next()
+        })?;
+        match model::item(self.cx.db, self.cx.ws, loc)? {
+            Item::Function(func) => Some((loc.file, func)),
+            _ => None,
+        }
+    }
+}
+
+/// Whether a postcondition defines the result (`result == e`, either way
+/// round): RoboTool then generates the function from `e`.
+fn defines_result(e: &model::Expr) -> bool {
+    match &e.kind {
+        ExprKind::Binary(BinOp::Eq, a, b) => matches!(a.kind, ExprKind::Result) || matches!(b.kind, ExprKind::Result),
+        ExprKind::Binary(BinOp::And, a, b) => defines_result(a) || defines_result(b),
+        _ => false,
+    }
+}
+
+impl MachineCx<'_, '_> {
+    /// RT-11: the parameters of an operation checked on its own are
+    /// constants of its process: the value `with parameter x of Op set to
+    /// v` gives, else RoboTool's default (`param_x = 0`; `true` for a
+    /// boolean, as for constants), noted.
+    pub(super) fn parameters_as_constants(&mut self, body: &Behaviour) -> Result<(), Unsupported> {
+        for p in &body.params {
+            let ty = self.ty_of(self.file, p.ty.as_ref(), p.range)?;
+            if !ty.is_num() {
+                return Err(self.err(p.range, "parameters of tuple, record or set types are not supported yet"));
+            }
+            let value = match self.const_value(&p.name) {
+                Some(v) => v,
+                None => {
+                    let v = self.default_of(p.ty.as_ref(), &ty);
+                    let shown = self.value_text(p.ty.as_ref(), v);
+                    let note = format!("parameter {}::{} = {shown} (RT-11)", self.decl_name, p.name);
+                    self.design().defaults.push(note);
+                    v
+                }
+            };
+            let q = format!("{}::{}", self.decl_name, p.name);
+            self.design().constants.push((q, value));
+            self.names.insert(p.name.clone(), Name::Const(value));
+        }
+        Ok(())
+    }
+}
