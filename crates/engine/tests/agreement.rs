@@ -30,19 +30,6 @@ use robosim_test_support::inputs;
 /// when its kind is the same and its place and detail contain these.
 const KNOWN: &[(&str, &str, &str, &str)] = &[
     (
-        "constant",
-        "",
-        "(RT-1 default), export [\"1\"]",
-        "a constant with no value is 1 in the export's instantiations.csp; RoboTool writes the type's default, 0 \
-         (RT-1; the reference's instantiations.csp: `const_…_lv = 0`)",
-    ),
-    (
-        "constant",
-        "",
-        "engine [\"1\"] (RT-1 default), export [\"0\"]",
-        "a boolean constant with no value is false in the export; RoboTool's default for booleans is true (RT-1, RT-2)",
-    ),
-    (
         "alphabet",
         "alpha-algorithm pkg223_::Communication",
         "opCall",

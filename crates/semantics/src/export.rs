@@ -173,11 +173,14 @@ impl Ty {
         }
     }
 
-    /// The value a variable of this type starts with, when not initialised.
+    /// RoboTool's default of the type: the value a variable starts with when
+    /// not initialised (RT-4), a constant with no value (RT-1) and a
+    /// bodiless function's result (RT-2).
     pub(crate) fn default_value(&self) -> Expr {
         match self {
             Ty::Nat | Ty::Int | Ty::Real => Expr::Int(0),
-            Ty::Bool => Expr::Bool(false),
+            // RoboTool's boolean default is `true` (RT-1, RT-2, RT-4).
+            Ty::Bool => Expr::Bool(true),
             Ty::Named(_, v) => v.clone(),
             Ty::Product(ts) => Expr::Tuple(ts.iter().map(Ty::default_value).collect()),
             Ty::Record(r) => {

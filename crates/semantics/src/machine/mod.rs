@@ -575,12 +575,11 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
+    /// RoboTool's value for a constant the model gives none (RT-1): its
+    /// type's default, 0 for numbers — a divisor of 0 is harmless, as
+    /// division is `x / 0 = x / 1` (RT-6).
     fn const_default(&self, ty: &Ty) -> Expr {
-        match ty {
-            // 1 rather than 0: constants are often divisors (PI / av).
-            Ty::Nat | Ty::Int | Ty::Real => Expr::Int(1),
-            t => t.default_value(),
-        }
+        ty.default_value()
     }
 
     /// The nodes and transitions of the machine, from the model.
