@@ -258,12 +258,12 @@ fn reference_robosim_assertions() {
             })
             .collect();
     got.sort_by(|a, b| a.0.cmp(&b.0));
-    let position = "the type `Position` is not supported by the native checker (booleans, numbers, enumerations, \
-                    their products and small finite sets are)";
-    let id = "the type `main::ID` is not supported by the native checker (booleans, numbers, enumerations, \
-              their products and small finite sets are)";
-    let floor = "`floor` has no definition the native checker can read: define it in a `csp` block of an \
-                 assertion file, as for FDR (`floor(x) = …`)";
+    // RT-5 comes first: the project's `core_real` depends on expressions
+    // over `Position` and `main::ID`, which the engine cannot evaluate.
+    let domain = "RoboTool's `core_real` depends on the value of this expression, which the native checker \
+                  cannot work out (RT-5): give the type with `nametype core_real = {a..b}` in a `csp` block";
+    let (position, id) = (domain, domain);
+    let floor = "the function `floor` could not be resolved";
     let mult = "`$broadcast` is not an input event or a variable of the machine";
     let expected = [
         ("communicationC.rsa A1", id),

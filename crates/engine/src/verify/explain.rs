@@ -65,7 +65,12 @@ pub(super) fn refinement_counterexample<S: Lts>(
 /// What the specification does on the counterexample's visible trace (up
 /// to the offending event): the shortest run of `spec` with that trace,
 /// found breadth first within a small budget, as located steps.
-pub(super) fn specification_steps(spec: &Side<'_>, design: &Design, cex: &RefinementCex<Packed>, budget: &Budget) -> Vec<Step> {
+pub(super) fn specification_steps(
+    spec: &Side<'_>,
+    design: &Design,
+    cex: &RefinementCex<Packed>,
+    budget: &Budget,
+) -> Vec<Step> {
     let (path, drop_last) = match cex {
         // The offending step (an event, or the `tock` refused too much
         // before) is not the specification's.
