@@ -303,7 +303,7 @@ describe("robosim lsp over stdio", { timeout: 120000 }, () => {
     // lens's arguments as they are: nothing to register in the extension.
     assert.deepEqual(initResult.capabilities.executeCommandProvider?.commands, ["robosim.verify"]);
     assert.ok(initResult.capabilities.codeLensProvider, "the server advertises codeLensProvider");
-    const gt3 = join(extensionRoot, "..", "..", "crates", "cli", "tests", "data", "verify", "gt3");
+    const gt3 = join(extensionRoot, "..", "..", "tests", "data", "verify", "gt3");
     const uri = (name) => pathToFileURL(join(workspace, "gt3", name)).href;
     for (const [name, languageId] of [
       ["design.rct", "robochart"],

@@ -13,7 +13,7 @@
 # apt-get when they are missing. Never skips.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-repo="$(cd "$here/../../../../.." && pwd)"
+repo="$(cd "$here/../../.." && pwd)"
 cd "$repo"
 out="${CARGO_TARGET_DIR:-$repo/target}/diagram-test"
 rm -rf "$out"
