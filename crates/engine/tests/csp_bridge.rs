@@ -4,58 +4,17 @@
 //! native LTS, in the shapes real projects use — cycles of a machine's
 //! events, time windows inside `Timed(OneStep)`, contracts `let PRE … within`.
 
-use robosim_engine::verify::{trace_text, verify_texts, Options, Report, Verdict};
+use robosim_engine::verify::{trace_text, Report, Verdict};
 
-/// A package with an interface and machines that use it: `M` answers `go`
-/// with `speed!k` and `done` at once, `Fast` with `done` at once, `Slow`
-/// with `done` one time unit later (and rests one more).
-const MODEL: &str = "package p
-interface I { event go event speed : nat event done }
-stm M {
-  uses I
-  const k : nat
-  initial i
-  state A { }
-  state B { }
-  transition t0 { from i to A }
-  transition t1 { from A to B trigger go }
-  transition t2 { from B to A action speed!k ; done }
-}
-stm Fast {
-  uses I
-  initial i
-  state A { }
-  state B { }
-  transition t0 { from i to A }
-  transition t1 { from A to B trigger go }
-  transition t2 { from B to A action done }
-}
-stm Slow {
-  uses I
-  initial i
-  state A { }
-  state B { }
-  transition t0 { from i to A }
-  transition t1 { from A to B trigger go }
-  transition t2 { from B to A action wait(1) ; done ; wait(1) }
-}
-";
+mod support;
+use support::csp::{outcome, MACHINES};
 
 fn run(assertions: &str) -> Vec<Report> {
-    verify_texts(
-        [("m.rct".to_string(), MODEL.to_string()), ("a.assertions".to_string(), format!("import p::*\n{assertions}"))],
-        &Options::default(),
-    )
+    support::csp::run(MACHINES, assertions)
 }
 
 fn report<'a>(reports: &'a [Report], name: &str) -> &'a Report {
     reports.iter().find(|r| r.name == name).unwrap_or_else(|| panic!("no report {name}"))
-}
-
-/// The verdict and the counterexample's trace (or the reason).
-fn outcome(r: &Report) -> (Verdict, String) {
-    let cex = r.counterexample.as_ref().map(|c| format!("{}: {}", c.kind, trace_text(&c.steps)));
-    (r.verdict, cex.unwrap_or_else(|| r.reason.clone().unwrap_or_default()))
 }
 
 /// Traces refinement of a machine against a cycle of its events (time may

@@ -5,45 +5,18 @@
 use std::path::Path;
 use std::time::Duration;
 
-use robosim_engine::verify::{trace_text, verify_texts, verify_workspace, Options, Report, Semantics, Verdict};
+use robosim_engine::verify::{verify_workspace, Options, Report, Semantics, Verdict};
 
 use robosim_test_support::inputs::model_files;
 
-/// `Fast` answers `go` with `done` at once; `Slow` one time unit later
-/// (and rests one more); `M` with `speed!k` and `done` at once; `Prompt`
-/// one time unit later, and urgently (`<{0}`). An output without a
-/// deadline may wait for its receiver, time passing meanwhile.
-const MODEL: &str = "package p
-interface I { event go event speed : nat event done }
-stm M {
-  uses I
-  const k : nat
-  initial i
-  state A { }
-  state B { }
-  transition t0 { from i to A }
-  transition t1 { from A to B trigger go }
-  transition t2 { from B to A action speed!k ; done }
-}
-stm Fast {
-  uses I
-  initial i
-  state A { }
-  state B { }
-  transition t0 { from i to A }
-  transition t1 { from A to B trigger go }
-  transition t2 { from B to A action done }
-}
-stm Slow {
-  uses I
-  initial i
-  state A { }
-  state B { }
-  transition t0 { from i to A }
-  transition t1 { from A to B trigger go }
-  transition t2 { from B to A action wait(1) ; done ; wait(1) }
-}
-stm Prompt {
+mod support;
+use support::csp::{outcome, MACHINES};
+
+/// Beside the shared machines (`MACHINES`: `M`, `Fast`, `Slow`), `Prompt`
+/// answers `go` with `done` one time unit later, and urgently (`<{0}`). An
+/// output without a deadline may wait for its receiver, time passing
+/// meanwhile.
+const PROMPT: &str = "stm Prompt {
   uses I
   initial i
   state A { }
@@ -55,10 +28,7 @@ stm Prompt {
 ";
 
 fn run(assertions: &str) -> Vec<Report> {
-    verify_texts(
-        [("m.rct".to_string(), MODEL.to_string()), ("a.assertions".to_string(), format!("import p::*\n{assertions}"))],
-        &Options::default(),
-    )
+    support::csp::run(&format!("{MACHINES}{PROMPT}"), assertions)
 }
 
 /// The report of `name` in `semantics`.
@@ -67,12 +37,6 @@ fn report<'a>(reports: &'a [Report], name: &str, semantics: Semantics) -> &'a Re
         .iter()
         .find(|r| r.name == name && r.semantics == semantics)
         .unwrap_or_else(|| panic!("no {semantics:?} report {name}: {reports:#?}"))
-}
-
-/// The verdict and the counterexample's trace (or the reason).
-fn outcome(r: &Report) -> (Verdict, String) {
-    let cex = r.counterexample.as_ref().map(|c| format!("{}: {}", c.kind, trace_text(&c.steps)));
-    (r.verdict, cex.unwrap_or_else(|| r.reason.clone().unwrap_or_default()))
 }
 
 /// `EDeadline(e, d)` and `StartBy(P, d)` as RoboTool defines them (inside

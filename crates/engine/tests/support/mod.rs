@@ -1,1 +1,2 @@
+pub mod csp;
 pub mod machines;
