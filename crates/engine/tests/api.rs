@@ -3,7 +3,9 @@
 //! are read and described, budgets that depend on the clock, and the
 //! numbering of the events a lowering produces.
 
-use robosim_engine::verify::AsyncBuffer;
+use std::time::Duration;
+
+use robosim_engine::verify::{verify_texts, AsyncBuffer, Options, Semantics, Verdict};
 
 fn buffer(text: &str) -> AsyncBuffer {
     AsyncBuffer::parse(text).expect("a buffer")
@@ -30,4 +32,25 @@ fn buffer_assumptions_are_described() {
     assert!(buffer("2:block").describe().ends_with(
         "when full, the sender waits (assumed with `--async-buffer`; RoboTool's default buffer is `1:overwrite`)"
     ));
+}
+
+/// A check whose time is up before it starts is inconclusive (or, on a
+/// machine fast enough to finish before the first look at the clock,
+/// decided); never a wrong verdict. (A spent state budget is the fixture
+/// `reasons_spent_state_budget`.)
+#[test]
+fn a_spent_timeout_is_inconclusive() {
+    let design = "interface I { event i op() }
+        stm M { uses I requires I const k : nat initial i0 state S { entry op(); wait(1) }
+          transition t { from i0 to S } transition u { from S to S } }
+        controller C { uses I requires I sref m = M connection C on i to m on i }
+        module Mod { robotic platform P { uses I provides I } cref c = C connection P on i to c on i }";
+    let rsa = "simulation S of Mod { cycleDef cycle == 1 }
+        assertion A : S is schedulable with constant k of M set to 1 .";
+    let mut opts = Options::default();
+    opts.budget.timeout = Some(Duration::ZERO);
+    let reports =
+        verify_texts([("m.rct".to_string(), design.to_string()), ("a.rsa".to_string(), rsa.to_string())], &opts);
+    let r = reports.iter().find(|r| r.semantics == Semantics::Timed).expect("the timed report");
+    assert!(matches!(r.verdict, Verdict::Inconclusive | Verdict::Pass), "{:?}", r.verdict);
 }
