@@ -54,3 +54,43 @@ fn a_spent_timeout_is_inconclusive() {
     let r = reports.iter().find(|r| r.semantics == Semantics::Timed).expect("the timed report");
     assert!(matches!(r.verdict, Verdict::Inconclusive | Verdict::Pass), "{:?}", r.verdict);
 }
+
+/// A RoboSim module reading the platform's `level` every cycle and raising
+/// `alarm` at 2, its machine's input context extended with an event.
+const WATCHER: &str = "package pi
+    interface Pings { event ping : nat }
+    interface Lvl { var level : nat }
+    interface Out { var alarm : boolean }
+    stm Watch {
+      cycleDef cycle == 1
+      input context { requires Lvl uses Pings }
+      output context { requires Out }
+      initial i
+      state S { }
+      transition t0 { from i to S }
+      transition hi { from S to S exec condition $level >= 2 action $alarm = true }
+      transition lo { from S to S exec condition $level < 2 }
+    }
+    controller C { cycleDef cycle == 1 requires Lvl requires Out sref w = Watch }
+    module M { cycleDef cycle == 1 robotic platform P { provides Lvl provides Out } cref c = C }";
+
+/// The register events a check numbers: a variable's read carries its value
+/// alone, an event's its presence flag (and value); writes carry the value.
+#[test]
+fn register_events_of_variables() {
+    use robosim_engine::lower::{lower_design, DomainDefaults};
+    use robosim_engine::sched::Registers;
+    let text = WATCHER.to_string();
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, [("w.rst".to_string(), text)], robosim_hir::RuleSet::Paper);
+    let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
+    let path = ["pi".to_string(), "Watch".to_string()];
+    let loc = robosim_hir::index::resolve_item(&db, ws, file, &path, |_| true)[0];
+    let design = lower_design(&db, ws, loc, &[], &DomainDefaults::default()).expect("supported");
+    let regs = Registers::new(&[&design], robosim_engine::verify::Profile::RoboTool3).expect("registers");
+    let name = |e| regs.table.name(e).expect("a register event");
+    assert_eq!(name(regs.read("level", true, Some(2)).expect("level")), "registerRead.i_level.2");
+    assert_eq!(name(regs.read("ping", true, Some(1)).expect("ping")), "registerRead.i_ping.true.1");
+    assert_eq!(name(regs.read("ping", false, Some(0)).expect("ping")), "registerRead.i_ping.false.0");
+    assert_eq!(name(regs.write("alarm", &[1]).expect("alarm")), "registerWrite.o_alarm.true");
+}
