@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use robosim_engine::verify::{verify_texts, Options, Report, Semantics, Verdict};
+use robosim_engine::verify::{trace_text, verify_texts, Options, Profile, Report, Semantics, Verdict};
 
 /// The timed reports of the assertions of `files`.
 fn run(files: &[(&str, String)]) -> Vec<Report> {
@@ -43,4 +43,77 @@ fn alpha_algorithm_communication() {
         ("a3", Verdict::Pass, 102),
     ];
     assert_eq!(got, expected.map(|(n, v, s)| (n.to_string(), v, s)).to_vec());
+}
+
+/// The paper's Figure 1 (examples/paper/design.rct) and its variants, as the
+/// oracle names them.
+fn figure1(variant: &str) -> String {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/paper/design.rct"))
+        .expect("examples/paper/design.rct");
+    let out = match variant {
+        "Fig.1" => text.clone(),
+        "Fig.1 without wait(1) in Moving" => text.replace("entry move(lv, 0); wait(1)", "entry move(lv, 0)"),
+        "Fig.1 with wait([0,1]) fixed to 0" => text.replace("wait([0, 1])", "wait(0)"),
+        v => panic!("unknown variant {v}"),
+    };
+    assert!(variant == "Fig.1" || out != text, "the variant edit of {variant} did not apply");
+    out
+}
+
+/// The oracle's event names in ours (lv = 1, av = 15, registers `i_`/`o_`).
+fn oracle_trace(t: &str) -> String {
+    t.split_whitespace()
+        .map(|e| match e {
+            "registerRead.obstacle.True" => "registerRead.i_obstacle.true",
+            "registerRead.obstacle.False" => "registerRead.i_obstacle.false",
+            "(moveCall.lv.0)" => "(moveCall.1.0)",
+            "(moveCall.0.av)" => "(moveCall.0.15)",
+            "moveCall.lv.0" => "moveCall.1.0",
+            "moveCall.0.av" => "moveCall.0.15",
+            "registerWrite.moveU.true.lv.0" => "registerWrite.moveU.true.1.0",
+            "registerWrite.moveU.true.0.av" => "registerWrite.moveU.true.0.15",
+            "registerWrite.move.lv.0" => "registerWrite.o_move.1.0",
+            "registerWrite.move.0.av" => "registerWrite.o_move.0.15",
+            "registerWrite.stop" => "registerWrite.o_stop",
+            "(obstacle)" => "(obstacle.in)",
+            other => other,
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Every schedulability case of the oracle, in both profiles: same verdict
+/// and, for failures, the same shortest counterexample event for event
+/// (GT-3 in `paper2019` is the paper's published trace). The oracle's state
+/// counts are not compared: it steps through every internal instruction,
+/// we run straight-line code in one step.
+#[test]
+fn agrees_with_the_oracle_on_the_running_example() {
+    let oracle = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/spec/semantics_oracle.py");
+    let out = std::process::Command::new("python3").arg(oracle).output().expect("python3 runs the oracle");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).expect("utf-8");
+    let mut compared = 0;
+    for line in text.lines().filter(|l| l.starts_with("robotool3 ") || l.starts_with("paper2019 ")) {
+        let profile = if line.starts_with("paper2019") { Profile::Paper2019 } else { Profile::RoboTool3 };
+        let rest = line["robotool3 ".len()..].trim_start();
+        let (variant, rest) = rest.split_once("  p=").expect("variant and period");
+        let variant = variant.trim();
+        let p: u32 = rest[..1].parse().expect("period");
+        let (verdict, trace) = match rest.split_once("NOT schedulable: ") {
+            Some((_, t)) => (Verdict::Fail, oracle_trace(t)),
+            None => (Verdict::Pass, String::new()),
+        };
+        let rsa = format!(
+            "simulation S of paper_design::CFootBot {{ cycleDef cycle == {p} }}
+             assertion A : S is schedulable with constant PI of paper_design::SMovement set to 45,
+               constant av of paper_design::SMovement set to 15, and constant lv of paper_design::SMovement set to 1 ."
+        );
+        let files = [("design.rct".to_string(), figure1(variant)), ("checks.rsa".to_string(), rsa)];
+        let r = verify_texts(files, &Options { profile, ..Options::default() }).remove(0);
+        let got = r.counterexample.as_ref().map(|c| trace_text(&c.steps)).unwrap_or_default();
+        assert_eq!((r.verdict, got.as_str()), (verdict, trace.as_str()), "{variant}, p = {p}, {profile:?}");
+        compared += 1;
+    }
+    assert_eq!(compared, 24, "the oracle's schedulability lines");
 }
