@@ -184,23 +184,19 @@ fn subject(
     let Some(def) = ElemDef::at(ex.db, ex.ws, loc) else {
         return Err(format!("`{}` could not be resolved", path.join("::")));
     };
-    let mut qualified = ex.path_of_item(loc);
-    let def = match inner {
-        None => def,
-        // A machine declared inside the controller.
-        Some(inner) => {
-            let machine = match def {
-                ElemDef::Controller(c) => c.machines.iter().find_map(|i| match &i.def {
-                    m::Definition::Inline(b) if b.name == inner => Some(ElemDef::Machine(b)),
-                    _ => None,
-                }),
-                _ => None,
-            };
-            qualified.push(inner);
-            machine.ok_or_else(|| format!("`{}` could not be resolved", path.join("::")))?
+    let qualified = ex.path_of_item(loc);
+    let elem = match (inner, def) {
+        (None, def) => crate::compose::element(ex, loc.file, def, qualified),
+        // A machine declared inside the controller, as the controller has it.
+        (Some(inner), ElemDef::Controller(c)) => {
+            if !c.machines.iter().any(|i| matches!(&i.def, m::Definition::Inline(b) if b.name == inner)) {
+                return Err(format!("`{}` could not be resolved", path.join("::")));
+            }
+            crate::compose::inner_machine(ex, loc.file, c, &inner, &qualified)
         }
+        (Some(_), _) => return Err(format!("`{}` could not be resolved", path.join("::"))),
     };
-    let Some(elem) = crate::compose::element(ex, loc.file, def, qualified) else {
+    let Some(elem) = elem else {
         return Err(format!("`{}` is not exported", path.join("::")));
     };
     let period = elem.robosim.then(|| period.unwrap_or(elem.period));
