@@ -113,3 +113,35 @@ assertion a3: app::D::S is deadlock-free";
     let errors = cspm_errors(&e, "a_assertions.csp");
     assert!(errors.is_empty(), "{errors:#?}");
 }
+
+/// RT-7: a block is copied whole. Definitions of names the export does not
+/// make (old-style `nametype ID`, `nametype nat`) stay, so that the specs
+/// using them resolve; those the export makes (`core_nat`, whose bounds
+/// instantiations.csp takes from the block, and `Plus`) stay commented, as
+/// a second definition would be an error.
+#[test]
+fn instantiations_blocks_keep_the_names_the_export_does_not_define() {
+    let asserts = "csp Instantiations csp-begin
+nametype ID = {0,1}
+nametype nat = {0..4}
+nametype core_nat = {0..3}
+Plus(e1,e2,T) = if member(e1+e2,T) then e1+e2 else e1
+csp-end
+csp Spec csp-begin
+Spec = |~| x : ID @ app::M::go.in -> SKIP
+csp-end
+assertion a1: Spec refines app::M in the traces model";
+    let e = export(&[("lib.rct", LIB), ("app.rct", APP), ("a.assertions", asserts)]);
+    let script = file(&e, "a_assertions.csp");
+    for kept in ["\nnametype ID = {0,1}\n", "\nnametype nat = {0..4}\n"] {
+        assert!(script.contains(kept), "{kept} {script}");
+    }
+    for commented in [
+        "-- (in instantiations.csp or robosim_defs.csp) nametype core_nat = {0..3}",
+        "-- (in instantiations.csp or robosim_defs.csp) Plus(",
+    ] {
+        assert!(script.contains(commented), "{commented} {script}");
+    }
+    let errors = cspm_errors(&e, "a_assertions.csp");
+    assert!(errors.is_empty(), "{errors:#?}");
+}
