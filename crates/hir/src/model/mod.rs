@@ -25,7 +25,7 @@ pub use lower::{assertion_file, enum_literals, file_model, item, resolve};
 pub use print::render;
 // The definition handles and kinds the model's data carries, so that a
 // back end names them through the model.
-pub use crate::defs::{ActionKind, DefId, Io, UseKind};
+pub use crate::defs::{ActionKind, DefId, DefKind, Io, UseKind};
 
 use crate::cycle::CycleInfo;
 use crate::index::ItemLoc;
