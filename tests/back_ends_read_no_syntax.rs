@@ -1,6 +1,7 @@
 //! The back ends translate from the semantic model (`robosim_hir::model`),
 //! never from syntax trees (docs/architecture.md): no `rowan`, no syntax
-//! nodes, tokens or kinds, no `ast` helpers and no parse in their sources.
+//! nodes, tokens or kinds, no `ast` helpers and no parse in their sources;
+//! the diagrams not the definition tables (`robosim_hir::defs`) either.
 
 use std::path::{Path, PathBuf};
 
@@ -48,6 +49,24 @@ fn the_back_ends_read_the_model_not_syntax() {
                         n + 1
                     );
                 }
+            }
+        }
+    }
+}
+
+/// The diagrams are drawn from the lowered model (`robosim_hir::model`),
+/// not from the per-file definition tables it is lowered from.
+#[test]
+fn the_diagrams_read_the_model_not_the_definition_tables() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../crates/diagram/src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    assert!(files.len() > 5, "crates/diagram/src: {files:?}");
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("readable");
+        for (n, line) in text.lines().enumerate() {
+            if let Some(word) = ["hir::defs", "file_defs"].iter().find(|w| line.contains(**w)) {
+                panic!("{}:{}: `{word}` — crates/diagram must read `robosim_hir::model`", file.display(), n + 1);
             }
         }
     }

@@ -1,12 +1,12 @@
-//! The diagram model: what a diagram shows, computed from the semantic
-//! model (per-file declarations and name resolution), independent of any
+//! The diagram model: what a diagram shows, computed from the lowered
+//! model of a file (`robosim_hir::model`), independent of any
 //! layout. The language server returns it as JSON (`robosim/diagram`), the
 //! command line lays it out and renders it.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::BTreeSet;
 
-use robosim_hir::defs::{file_defs, ConnectionData, DefData, DefId, DefKind, FileDefs, Io};
 use robosim_hir::line_index::LineIndex;
+use robosim_hir::model::{self, file_model, Behaviour, Controller, DefId, Definition, Instance, Io, Item, Module};
 use robosim_hir::resolve::{ctx_members, Ctx};
 use robosim_hir::{Db, File, FileKind, TextRange, Workspace};
 use serde::Serialize;
@@ -287,51 +287,152 @@ pub fn collapse(s: &str) -> String {
 }
 
 /// The diagrams of every machine, operation, controller and module declared
-/// in `file`, in source order.
+/// in `file`, in source order (an element before the elements declared in
+/// it), from the file's lowered model ([`robosim_hir::model::file_model`]).
 pub fn file_diagrams(db: &dyn Db, ws: Workspace, file: File) -> Vec<Diagram> {
-    let defs = file_defs(db, file);
+    let m = file_model(db, ws, file);
     let text = file.text(db);
-    let src = Src { text, index: LineIndex::new(text) };
-    let robosim = file.kind(db) == FileKind::RoboSim;
+    let cx = Cx {
+        db,
+        ws,
+        file,
+        path: file.path(db),
+        robosim: file.kind(db) == FileKind::RoboSim,
+        src: Src { text, index: LineIndex::new(text) },
+    };
     let mut out = Vec::new();
-    for (id, d) in defs.iter() {
-        let kind = match d.kind {
-            DefKind::StateMachine => DiagramKind::StateMachine,
-            DefKind::Operation => DiagramKind::Operation,
-            DefKind::Controller => DiagramKind::Controller,
-            DefKind::Module => DiagramKind::Module,
-            _ => continue,
+    for (_, item) in &m.items {
+        match item {
+            Item::Machine(b) => cx.behaviour(DiagramKind::StateMachine, b, &m.package, &mut out),
+            Item::Operation(b) => cx.behaviour(DiagramKind::Operation, b, &m.package, &mut out),
+            Item::Controller(c) => cx.controller(c, &m.package, &mut out),
+            Item::Module(x) => cx.module(x, &m.package, &mut out),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// What every diagram of a file shares.
+struct Cx<'a> {
+    db: &'a dyn Db,
+    ws: Workspace,
+    file: File,
+    path: &'a String,
+    robosim: bool,
+    src: Src<'a>,
+}
+
+/// A block of a controller or module diagram, before it is placed: its
+/// kind, its instance, and where it is written.
+type Member<'a> = (&'static str, &'a str, TextRange, Option<String>);
+
+impl Cx<'_> {
+    /// A diagram with no contents yet; `scope` is the package and the
+    /// enclosing elements' names.
+    fn diagram(
+        &self,
+        kind: DiagramKind,
+        name: &str,
+        scope: &[String],
+        range: TextRange,
+        name_range: TextRange,
+        def: Option<DefId>,
+    ) -> Diagram {
+        let (inputs, outputs) = match def {
+            Some(id) if self.robosim => io_names(self.db, self.ws, self.file, id),
+            _ => (Vec::new(), Vec::new()),
         };
-        let mut qualified: Vec<String> = defs.package.clone();
-        qualified.extend(defs.local_path(id));
-        let (inputs, outputs) = if robosim { io_names(db, ws, file, id) } else { (Vec::new(), Vec::new()) };
-        let mut diagram = Diagram {
+        let mut qualified = scope.to_vec();
+        qualified.push(name.to_string());
+        Diagram {
             kind,
-            name: d.name.clone(),
+            name: name.to_string(),
             qualified_name: qualified.join("::"),
-            file: file.path(db).clone(),
-            robosim,
-            range: src.span(d.range),
-            name_range: src.span(d.name_range),
+            file: self.path.clone(),
+            robosim: self.robosim,
+            range: self.src.span(range),
+            name_range: self.src.span(name_range),
             inputs,
             outputs,
             region: None,
             blocks: Vec::new(),
             connections: Vec::new(),
-        };
-        match kind {
-            DiagramKind::StateMachine | DiagramKind::Operation => {
-                diagram.region = Some(region(defs, &src, id, ""));
-            }
-            DiagramKind::Controller | DiagramKind::Module => {
-                let (blocks, connections) = structure(defs, &src, id);
-                diagram.blocks = blocks;
-                diagram.connections = connections;
+        }
+    }
+
+    fn behaviour(&self, kind: DiagramKind, b: &Behaviour, scope: &[String], out: &mut Vec<Diagram>) {
+        let mut d = self.diagram(kind, &b.name, scope, b.range, b.name_range, b.def);
+        d.region = Some(region(&self.src, &b.region, ""));
+        out.push(d);
+    }
+
+    fn controller(&self, c: &Controller, scope: &[String], out: &mut Vec<Diagram>) {
+        let mut d = self.diagram(DiagramKind::Controller, &c.name, scope, c.range, c.name_range, c.def);
+        let mut members: Vec<Member<'_>> = Vec::new();
+        members.extend(c.machines.iter().map(|i| member("stm", i)));
+        members.extend(c.operations.iter().map(|i| member("operation", i)));
+        members.sort_by_key(|m| m.2.start());
+        (d.blocks, d.connections) = structure(&self.src, &members, &c.connections, &c.name, c.name_range);
+        out.push(d);
+        // The elements declared inside, in the order written.
+        let inner = child_scope(scope, &c.name);
+        let mut nested: Vec<(DiagramKind, &Behaviour)> = Vec::new();
+        nested.extend(c.machines.iter().filter_map(inline).map(|b| (DiagramKind::StateMachine, b)));
+        nested.extend(c.operations.iter().filter_map(inline).map(|b| (DiagramKind::Operation, b)));
+        nested.sort_by_key(|(_, b)| b.range.start());
+        for (kind, b) in nested {
+            self.behaviour(kind, b, &inner, out);
+        }
+    }
+
+    fn module(&self, x: &Module, scope: &[String], out: &mut Vec<Diagram>) {
+        let mut d = self.diagram(DiagramKind::Module, &x.name, scope, x.range, x.name_range, x.def);
+        let mut members: Vec<Member<'_>> = Vec::new();
+        members.extend(x.platforms.iter().map(|i| member("platform", i)));
+        members.extend(x.controllers.iter().map(|i| member("controller", i)));
+        members.extend(x.machines.iter().map(|i| member("stm", i)));
+        members.sort_by_key(|m| m.2.start());
+        (d.blocks, d.connections) = structure(&self.src, &members, &x.connections, &x.name, x.name_range);
+        out.push(d);
+        let inner = child_scope(scope, &x.name);
+        enum Inner<'a> {
+            Controller(&'a Controller),
+            Machine(&'a Behaviour),
+        }
+        let mut nested: Vec<(TextRange, Inner<'_>)> = Vec::new();
+        nested.extend(x.controllers.iter().filter_map(inline).map(|c| (c.range, Inner::Controller(c))));
+        nested.extend(x.machines.iter().filter_map(inline).map(|b| (b.range, Inner::Machine(b))));
+        nested.sort_by_key(|(r, _)| r.start());
+        for (_, n) in nested {
+            match n {
+                Inner::Controller(c) => self.controller(c, &inner, out),
+                Inner::Machine(b) => self.behaviour(DiagramKind::StateMachine, b, &inner, out),
             }
         }
-        out.push(diagram);
     }
-    out
+}
+
+fn child_scope(scope: &[String], name: &str) -> Vec<String> {
+    let mut s = scope.to_vec();
+    s.push(name.to_string());
+    s
+}
+
+/// The element an instance declares inline (none for a reference).
+fn inline<T>(i: &Instance<T>) -> Option<&T> {
+    match &i.def {
+        Definition::Inline(t) => Some(t),
+        Definition::Ref { .. } => None,
+    }
+}
+
+fn member<'a, T>(kind: &'static str, i: &'a Instance<T>) -> Member<'a> {
+    let reference = match &i.def {
+        Definition::Ref { path, .. } => Some(path.join("::")),
+        Definition::Inline(_) => None,
+    };
+    (kind, &i.name, i.range, reference)
 }
 
 /// The RoboSim inputs and outputs visible in a machine or operation (those
@@ -349,15 +450,14 @@ fn io_names(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> (Vec<String>, 
     (inputs.into_iter().collect(), outputs.into_iter().collect())
 }
 
-fn node_kind(k: DefKind) -> Option<NodeKind> {
-    Some(match k {
-        DefKind::State => NodeKind::State,
-        DefKind::Initial => NodeKind::Initial,
-        DefKind::Junction => NodeKind::Junction,
-        DefKind::Final => NodeKind::Final,
-        DefKind::ProbabilisticJunction => NodeKind::ProbabilisticJunction,
-        _ => return None,
-    })
+fn node_kind(k: model::NodeKind) -> NodeKind {
+    match k {
+        model::NodeKind::State => NodeKind::State,
+        model::NodeKind::Initial => NodeKind::Initial,
+        model::NodeKind::Junction => NodeKind::Junction,
+        model::NodeKind::Final => NodeKind::Final,
+        model::NodeKind::Probabilistic => NodeKind::ProbabilisticJunction,
+    }
 }
 
 fn join_id(prefix: &str, name: &str) -> String {
@@ -368,24 +468,21 @@ fn join_id(prefix: &str, name: &str) -> String {
     }
 }
 
-/// The nodes and transitions directly inside `owner` (a machine, operation
-/// or state); `prefix` is the owner's node id ("" for the machine).
-fn region(defs: &FileDefs, src: &Src<'_>, owner: DefId, prefix: &str) -> Region {
+/// The nodes and transitions of a region of the model; `prefix` is the
+/// owner's node id ("" for the machine).
+fn region(src: &Src<'_>, m: &model::Region, prefix: &str) -> Region {
     let mut r = Region::default();
-    let mut by_name: HashMap<&str, String> = HashMap::new();
     let mut unnamed = 0;
-    for (id, d) in defs.children(Some(owner)) {
-        let Some(kind) = node_kind(d.kind) else { continue };
-        let name = if d.name.is_empty() {
+    for n in &m.nodes {
+        let kind = node_kind(n.kind);
+        let name = if n.name.is_empty() {
             unnamed += 1;
             format!("#{unnamed}")
         } else {
-            d.name.clone()
+            n.name.clone()
         };
         let node_id = join_id(prefix, &name);
-        by_name.entry(&d.name).or_insert_with(|| node_id.clone());
-        let actions = defs
-            .facts(id)
+        let actions = n
             .actions
             .iter()
             .map(|(k, range)| {
@@ -393,41 +490,38 @@ fn region(defs: &FileDefs, src: &Src<'_>, owner: DefId, prefix: &str) -> Region 
                 Action { kind: kw.to_string(), text: src.clause(*range, kw), range: src.span(*range) }
             })
             .collect();
-        let inner = if kind == NodeKind::State { region(defs, src, id, &node_id) } else { Region::default() };
+        let inner = if kind == NodeKind::State { region(src, &n.region, &node_id) } else { Region::default() };
         r.nodes.push(Node {
             id: node_id,
             kind,
             name,
-            range: src.span(d.range),
-            name_range: src.span(d.name_range),
+            range: src.span(n.range),
+            name_range: src.span(n.name_range),
             actions,
             region: inner,
         });
     }
     let mut unnamed_t = 0;
-    for (_, d) in defs.children(Some(owner)) {
-        let (DefKind::Transition, DefData::Transition(t)) = (d.kind, &d.data) else { continue };
-        let name = if d.name.is_empty() {
+    for t in &m.transitions {
+        let name = if t.name.is_empty() {
             unnamed_t += 1;
             format!("#t{unnamed_t}")
         } else {
-            d.name.clone()
+            t.name.clone()
         };
-        let end = |e: &Option<(String, TextRange)>| -> (Option<String>, String) {
-            match e {
-                Some((n, _)) => (by_name.get(n.as_str()).cloned(), n.clone()),
-                None => (None, String::new()),
-            }
+        // Transitions name nodes of their own region (the first of a name).
+        let end = |name: &Option<String>, node: Option<usize>| -> (Option<String>, String) {
+            (node.and_then(|i| r.nodes.get(i)).map(|n| n.id.clone()), name.clone().unwrap_or_default())
         };
-        let (source, source_name) = end(&t.source);
-        let (target, target_name) = end(&t.target);
-        let trigger = t.trigger.as_ref().map(|(r, _)| src.clause(*r, "trigger")).filter(|s| !s.is_empty());
+        let (source, source_name) = end(&t.source, t.source_node);
+        let (target, target_name) = end(&t.target, t.target_node);
+        let trigger = t.trigger_range.map(|r| src.clause(r, "trigger")).filter(|s| !s.is_empty());
         let probability = t.probability.map(|r| src.clause(r, "probability"));
         let resets: Vec<String> = t.resets.iter().map(|(n, _)| format!("#{n}")).collect();
-        let deadline = t.deadline.map(|r| src.clause(r, ""));
-        let guard = t.condition.map(|r| src.clause(r, "condition"));
-        let action = t.action.map(|r| src.clause(r, "action"));
-        let exec = t.exec.is_some();
+        let deadline = t.deadline.as_ref().map(|(r, _)| src.clause(*r, ""));
+        let guard = t.condition.as_ref().map(|c| src.clause(c.range, "condition"));
+        let action = t.action.as_ref().map(|a| src.clause(a.range, "action"));
+        let exec = t.exec;
         let mut parts: Vec<String> = Vec::new();
         if let Some(tr) = &trigger {
             parts.push(tr.clone());
@@ -463,44 +557,36 @@ fn region(defs: &FileDefs, src: &Src<'_>, owner: DefId, prefix: &str) -> Region 
             deadline,
             guard,
             action,
-            range: src.span(d.range),
+            range: src.span(t.range),
         });
     }
     r
 }
 
-/// The blocks and connections of a controller or module.
-fn structure(defs: &FileDefs, src: &Src<'_>, owner: DefId) -> (Vec<Block>, Vec<Connection>) {
-    let me = defs.def(owner);
+/// The blocks and connections of a controller or module: `members` its
+/// instances in the order written, `name` and `name_range` its own.
+fn structure(
+    src: &Src<'_>,
+    members: &[Member<'_>],
+    raw: &[model::Connection],
+    name: &str,
+    name_range: TextRange,
+) -> (Vec<Block>, Vec<Connection>) {
     let mut blocks = Vec::new();
-    for (_, d) in defs.children(Some(owner)) {
-        let (kind, reference) = match (d.kind, &d.data) {
-            (DefKind::Platform, _) => ("platform", None),
-            (DefKind::Controller, _) => ("controller", None),
-            (DefKind::StateMachine, _) => ("stm", None),
-            (DefKind::Operation, _) => ("operation", None),
-            (DefKind::PlatformRef, data) => ("platform", ref_path(data)),
-            (DefKind::ControllerRef, data) => ("controller", ref_path(data)),
-            (DefKind::MachineRef, data) => ("stm", ref_path(data)),
-            (DefKind::OperationRef, data) => ("operation", ref_path(data)),
-            _ => continue,
-        };
-        if d.name.is_empty() {
+    for (kind, id, range, reference) in members {
+        if id.is_empty() {
             continue;
         }
-        blocks.push(Block { id: d.name.clone(), kind: kind.to_string(), reference, range: src.span(d.range) });
+        blocks.push(Block {
+            id: id.to_string(),
+            kind: kind.to_string(),
+            reference: reference.clone(),
+            range: src.span(*range),
+        });
     }
-    let raw: Vec<(&ConnectionData, TextRange)> = defs
-        .children(Some(owner))
-        .filter_map(|(_, d)| match &d.data {
-            DefData::Connection(c) => Some((c, d.range)),
-            _ => None,
-        })
-        .collect();
-    let name = |e: &Option<(String, TextRange)>| e.as_ref().map(|(n, _)| n.clone()).unwrap_or_default();
     let mut connections: Vec<Connection> = Vec::new();
-    for (c, range) in raw {
-        let (from, from_event, to, to_event) = (name(&c.from), name(&c.efrom), name(&c.to), name(&c.eto));
+    for c in raw {
+        let (from, from_event, to, to_event) = (c.from.clone(), c.efrom.clone(), c.to.clone(), c.eto.clone());
         // The reverse of an earlier connection on the same events: one
         // bidirectional line.
         if let Some(prev) = connections.iter_mut().find(|p| {
@@ -537,15 +623,15 @@ fn structure(defs: &FileDefs, src: &Src<'_>, owner: DefId) -> (Vec<Block>, Vec<C
             mult: c.is_mult,
             direction: direction.to_string(),
             label,
-            range: src.span(range),
+            range: src.span(c.range),
         });
     }
     // The element itself, when connections name it (its boundary).
     let named = |n: &str| connections.iter().any(|c| c.from == n || c.to == n);
-    if !me.name.is_empty() && !blocks.iter().any(|b| b.id == me.name) && named(&me.name) {
+    if !name.is_empty() && !blocks.iter().any(|b| b.id == name) && named(name) {
         blocks.insert(
             0,
-            Block { id: me.name.clone(), kind: "boundary".into(), reference: None, range: src.span(me.name_range) },
+            Block { id: name.to_string(), kind: "boundary".into(), reference: None, range: src.span(name_range) },
         );
     }
     // Ends that name nothing still get a box, so that every connection is drawn.
@@ -558,16 +644,9 @@ fn structure(defs: &FileDefs, src: &Src<'_>, owner: DefId) -> (Vec<Block>, Vec<C
         }
     }
     for n in missing {
-        blocks.push(Block { id: n, kind: "unresolved".into(), reference: None, range: src.span(me.name_range) });
+        blocks.push(Block { id: n, kind: "unresolved".into(), reference: None, range: src.span(name_range) });
     }
     (blocks, connections)
-}
-
-fn ref_path(data: &DefData) -> Option<String> {
-    match data {
-        DefData::Reference { path, .. } => Some(path.join("::")),
-        _ => None,
-    }
 }
 
 /// A compact, stable text form of a diagram for snapshot tests: one line

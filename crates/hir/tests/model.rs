@@ -312,3 +312,34 @@ fn every_corpus_model_lowers() {
     // The top-level elements of the corpus (machines inside controllers not counted).
     assert_eq!((machines, controllers, modules), (24, 16, 10));
 }
+
+/// What the diagrams read beyond the back ends: the package, machines
+/// declared in a module, every action clause of a state in the order
+/// written, and the keyword's range for a node without a name.
+#[test]
+fn what_the_diagrams_read() {
+    use robosim_hir::model::{ActionKind, Definition, Item};
+    let text = "package a::b\nstm M {\n  initial i\n  state S { exit x = 2 entry x = 1 entry x = 3 }\n  junction\n}\n\
+                module Mod {\n  stm Loose { initial k }\n  rref p = P\n  sref s = M\n}\n";
+    let db = RootDatabase::default();
+    let ws = load_workspace(&db, vec![("t.rct".to_string(), text.to_string())], RuleSet::Paper);
+    let f = ws.files(&db).iter().copied().find(|f| f.path(&db) == "t.rct").expect("the file");
+    let m = file_model(&db, ws, f);
+    assert_eq!(m.package, ["a", "b"]);
+    let at = |r: robosim_hir::TextRange| &text[usize::from(r.start())..usize::from(r.end())];
+    let Item::Machine(b) = &m.items[0].1 else { panic!("a machine: {:?}", m.items[0].1) };
+    let s = &b.region.nodes[1];
+    let clauses: Vec<(ActionKind, &str)> = s.actions.iter().map(|(k, r)| (*k, at(*r))).collect();
+    assert_eq!(
+        clauses,
+        [(ActionKind::Exit, "exit x = 2"), (ActionKind::Entry, "entry x = 1"), (ActionKind::Entry, "entry x = 3")]
+    );
+    assert_eq!(s.entry.as_ref().map(|a| at(a.range)), Some("entry x = 1"));
+    let j = &b.region.nodes[2];
+    assert_eq!((j.name.as_str(), at(j.name_range)), ("", "junction"));
+    let Item::Module(x) = &m.items[1].1 else { panic!("a module: {:?}", m.items[1].1) };
+    let machines: Vec<(&str, bool)> =
+        x.machines.iter().map(|i| (i.name.as_str(), matches!(i.def, Definition::Inline(_)))).collect();
+    assert_eq!(machines, [("Loose", true), ("s", false)]);
+    assert_eq!(x.platforms.len(), 1);
+}

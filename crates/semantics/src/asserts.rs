@@ -8,9 +8,9 @@ use std::collections::HashMap;
 use robosim_hir::assertions::{
     AssertionDecl, AssertionFile, AssertionKind, CspLineKind, Override, SemanticModelName, Value,
 };
-use robosim_hir::defs::DefKind;
 use robosim_hir::index::resolve_item;
 use robosim_hir::model as m;
+use robosim_hir::model::DefKind;
 use robosim_hir::target::{self, Scope};
 use robosim_hir::{File, TextRange};
 

@@ -36,9 +36,10 @@ fn elements<'a>(db: &'a dyn Db, ws: Workspace, file: File) -> Vec<(ElemDef<'a>, 
         }
         out.push((ElemDef::Controller(c), path));
     }
-    let package = robosim_hir::defs::file_defs(db, file).package.clone();
+    let model = m::file_model(db, ws, file);
+    let package = model.package.clone();
     let mut out = Vec::new();
-    for (_, item) in &m::file_model(db, ws, file).items {
+    for (_, item) in &model.items {
         let mut path = package.clone();
         match item {
             m::Item::Machine(b) => {

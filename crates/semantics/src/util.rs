@@ -1,6 +1,6 @@
 //! Small helpers over names and the model.
 
-use robosim_hir::defs::DefId;
+use robosim_hir::model::DefId;
 use robosim_hir::{model, Db, File, Workspace};
 
 /// The top-level element `id` of the model of `file`.

@@ -5,8 +5,8 @@
 //! say, unless a `csp` block defines it (then [`super::expr`] inlines that
 //! definition).
 
-use robosim_hir::defs::DefKind;
 use robosim_hir::index::resolve_item;
+use robosim_hir::model::DefKind;
 use robosim_hir::model::{BinOp, ExprKind, Function, Item};
 use robosim_hir::resolve::Target;
 

@@ -1,8 +1,8 @@
 //! One machine (or operation body): its declarations as slots and
 //! channels, its nodes and transitions as code.
 
-use robosim_hir::defs::{Io, UseKind};
 use robosim_hir::model::{self, Comm, CommPart, Decl, Region};
+use robosim_hir::model::{Io, UseKind};
 
 use super::*;
 use crate::events::Param;

@@ -2,8 +2,8 @@
 //! is one slot, a product its components in mixed radix, a finite set a
 //! bitmask.
 
-use robosim_hir::defs::DefKind;
 use robosim_hir::index::ItemLoc;
+use robosim_hir::model::DefKind;
 use robosim_hir::model::{Item, TyRef};
 use robosim_hir::types::Ty;
 use robosim_hir::{File, TextRange};

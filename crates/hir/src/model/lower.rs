@@ -69,7 +69,7 @@ pub fn file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
         .filter(|e| e.severity == robosim_syntax::Severity::Error)
         .map(|e| (e.range, e.message.clone()))
         .collect();
-    FileModel { items, literals, syntax_errors }
+    FileModel { package: defs.package.clone(), items, literals, syntax_errors }
 }
 
 /// The integer literals under `n`, in order.
@@ -144,8 +144,12 @@ fn name_of(n: &SyntaxNode) -> String {
     n.children().find(|c| c.kind() == NAME).map(|c| name_text(&c)).unwrap_or_default()
 }
 
+/// The range of `n`'s name; when it has none, of its first token (its
+/// keyword), as the definitions have it.
 fn name_range(n: &SyntaxNode) -> TextRange {
-    n.children().find(|c| c.kind() == NAME).map(|c| c.text_range()).unwrap_or(n.text_range())
+    n.children().find(|c| c.kind() == NAME).map(|c| c.text_range()).unwrap_or_else(|| {
+        n.children_with_tokens().find(|t| !t.kind().is_trivia()).map(|t| t.text_range()).unwrap_or(n.text_range())
+    })
 }
 
 fn type_child(n: &SyntaxNode) -> Option<SyntaxNode> {
@@ -311,11 +315,24 @@ impl Cx<'_> {
                 _ => continue,
             };
             let action = |cx: &mut Self, k| c.children().find(|a| a.kind() == k).map(|a| cx.action(&a));
+            let actions = c
+                .children()
+                .filter_map(|a| {
+                    let kind = match a.kind() {
+                        ENTRY_ACTION => ActionKind::Entry,
+                        DURING_ACTION => ActionKind::During,
+                        EXIT_ACTION => ActionKind::Exit,
+                        _ => return None,
+                    };
+                    Some((kind, a.text_range()))
+                })
+                .collect();
             region.nodes.push(Node {
                 kind,
                 name: name_of(&c),
                 name_range: name_range(&c),
                 range: c.text_range(),
+                actions,
                 entry: action(self, ENTRY_ACTION),
                 during: action(self, DURING_ACTION),
                 exit: action(self, EXIT_ACTION),
@@ -462,7 +479,7 @@ impl Cx<'_> {
     }
 
     fn module(&mut self, n: &SyntaxNode) -> Module {
-        let (mut platforms, mut controllers) = (Vec::new(), Vec::new());
+        let (mut platforms, mut controllers, mut machines) = (Vec::new(), Vec::new(), Vec::new());
         for c in n.children() {
             match c.kind() {
                 ROBOTIC_PLATFORM => platforms.push(Instance {
@@ -476,6 +493,12 @@ impl Cx<'_> {
                     name: name_of(&c),
                     range: c.text_range(),
                     def: Definition::Inline(Box::new(self.controller(&c))),
+                }),
+                STATE_MACHINE_REF => machines.push(self.reference(&c, DefKind::StateMachine)),
+                STATE_MACHINE => machines.push(Instance {
+                    name: name_of(&c),
+                    range: c.text_range(),
+                    def: Definition::Inline(Box::new(self.behaviour(&c))),
                 }),
                 _ => {}
             }
@@ -498,6 +521,7 @@ impl Cx<'_> {
             range: n.text_range(),
             platforms,
             controllers,
+            machines,
             connections,
             def: self.def_of(n),
             cycle: self.cycle_of(n),

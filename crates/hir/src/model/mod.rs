@@ -23,9 +23,11 @@ mod print;
 pub use expr::{BinOp, Comm, CommPart, Expr, ExprKind, Selector, Stmt, StmtKind, UnOp};
 pub use lower::{assertion_file, enum_literals, file_model, item, resolve};
 pub use print::render;
+// The definition handles and kinds the model's data carries, so that a
+// back end names them through the model.
+pub use crate::defs::{ActionKind, DefId, DefKind, Io, UseKind};
 
 use crate::cycle::CycleInfo;
-use crate::defs::{DefId, Io, UseKind};
 use crate::index::ItemLoc;
 use crate::types::Ty;
 use crate::TextRange;
@@ -188,10 +190,14 @@ pub struct Node {
     pub kind: NodeKind,
     /// Its name.
     pub name: String,
-    /// The name's range (the node's when it has none).
+    /// The name's range (its keyword's when it has none).
     pub name_range: TextRange,
     /// The whole node's range.
     pub range: TextRange,
+    /// Every `entry`, `during` and `exit` clause, in the order written
+    /// (a well-formed state has at most one of each, the first of each
+    /// is lowered below; diagrams show them all).
+    pub actions: Vec<(ActionKind, TextRange)>,
     /// `entry` action.
     pub entry: Option<Action>,
     /// `during` action.
@@ -234,7 +240,7 @@ pub struct Condition {
 pub struct Transition {
     /// Its name.
     pub name: String,
-    /// The name's range (the transition's when it has none).
+    /// The name's range (its keyword's when it has none).
     pub name_range: TextRange,
     /// The whole transition's range.
     pub range: TextRange,
@@ -271,7 +277,7 @@ pub struct Transition {
 pub struct Behaviour {
     /// Its name.
     pub name: String,
-    /// The name's range (the element's when it has none).
+    /// The name's range (its keyword's when it has none).
     pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
@@ -399,7 +405,7 @@ pub enum End {
 pub struct Controller {
     /// Its name.
     pub name: String,
-    /// The name's range (the element's when it has none).
+    /// The name's range (its keyword's when it has none).
     pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
@@ -422,7 +428,7 @@ pub struct Controller {
 pub struct Platform {
     /// Its name.
     pub name: String,
-    /// The name's range (the element's when it has none).
+    /// The name's range (its keyword's when it has none).
     pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
@@ -435,7 +441,7 @@ pub struct Platform {
 pub struct Module {
     /// Its name.
     pub name: String,
-    /// The name's range (the element's when it has none).
+    /// The name's range (its keyword's when it has none).
     pub name_range: TextRange,
     /// Its range.
     pub range: TextRange,
@@ -443,6 +449,10 @@ pub struct Module {
     pub platforms: Vec<Instance<Platform>>,
     /// Its controllers, in order.
     pub controllers: Vec<Instance<Controller>>,
+    /// State machines declared or referenced directly in it (which
+    /// RoboChart's well-formedness rules reject; diagrams show them), in
+    /// order.
+    pub machines: Vec<Instance<Behaviour>>,
     /// Its connections.
     pub connections: Vec<Connection>,
     /// Its definition in its file (for [`crate::cycle::simulation_period`]).
@@ -509,6 +519,8 @@ pub enum Item {
 /// The model of one file: its top-level elements with their definitions.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
 pub struct FileModel {
+    /// The package path (empty for the default package).
+    pub package: Vec<String>,
     /// The elements, in order, each with its definition in the file.
     pub items: Vec<(DefId, Item)>,
     /// Every integer literal written in the file, in order: the numeric

@@ -75,6 +75,14 @@ impl Printer<'_> {
                             }
                         }
                     }
+                    for s in &m.machines {
+                        match &s.def {
+                            Definition::Inline(x) => p.behaviour("stm", x),
+                            Definition::Ref { path, target } => {
+                                p.line(format!("sref {} = {} {}", s.name, path.join("::"), p.loc(*target)))
+                            }
+                        }
+                    }
                     p.connections(&m.connections);
                 });
             }

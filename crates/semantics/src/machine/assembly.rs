@@ -402,7 +402,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(super) fn output_regs(&self) -> Vec<(String, Vec<Expr>)> {
         let mut out = Vec::new();
         for e in self.events.iter().filter(|e| !self.is_input(e)) {
-            if e.io == Some(robosim_hir::defs::Io::Output) || e.io.is_none() {
+            if e.io == Some(robosim_hir::model::Io::Output) || e.io.is_none() {
                 out.push((self.ex.out_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()));
             }
         }

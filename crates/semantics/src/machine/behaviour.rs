@@ -257,7 +257,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     pub(super) fn is_input(&self, e: &EvI) -> bool {
-        self.robosim && (e.io == Some(robosim_hir::defs::Io::Input) || (e.io.is_none() && e.received))
+        self.robosim && (e.io == Some(robosim_hir::model::Io::Input) || (e.io.is_none() && e.received))
     }
 
     pub(super) fn memory_call(&self, args: Vec<Expr>) -> Expr {

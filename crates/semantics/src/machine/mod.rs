@@ -19,8 +19,8 @@
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
-use robosim_hir::defs::{DefKind, Io};
 use robosim_hir::model as m;
+use robosim_hir::model::{DefKind, Io};
 use robosim_hir::{File, FileKind, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
@@ -132,7 +132,7 @@ struct EvI {
     name: String,
     csp: String,
     ty: Option<Ty>,
-    io: Option<robosim_hir::defs::Io>,
+    io: Option<Io>,
     received: bool,
     /// Tagged trigger channel in use.
     trig: bool,
