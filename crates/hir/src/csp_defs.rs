@@ -15,8 +15,8 @@
 //! one only the untimed state helpers (`CRUN(A)` is `RUN(A)` there) and the
 //! core functions. `tock` itself is declared by the script's user (the
 //! bridge's model names, the export's shared file), not here. RoboTool's
-//! `model_shifting` module (its tick-tock encoding) and its toolkit
-//! functions over `mapFromList` are not part of this library.
+//! `model_shifting` module (its tick-tock encoding, a parameterised module
+//! the CSPm engine does not evaluate) is not part of this library.
 
 /// Which of RoboTool's two scripts a definition is in (RT-8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -196,6 +196,22 @@ pub const DEFINITIONS: &[CspDef] = &[
     },
     // RT-6: a divisor of 0 counts as 1.
     CspDef { names: &["no_zero_div"], script: Both, text: "no_zero_div(0) = 1\nno_zero_div(x__) = x__\n" },
+    // Relations and functions as sets of pairs, over FDR's maps.
+    // Every relation between s1 and s2 (every set of pairs).
+    CspDef {
+        names: &["Relation"],
+        script: Both,
+        text: "Relation(s1, s2) = Set({ (x, y) | x <- s1, y <- s2 })\n",
+    },
+    // Every total function from s1 to s2: the relations that a map keeps
+    // whole (one pair per argument) and that cover s1.
+    CspDef {
+        names: &["Function"],
+        script: Both,
+        text: "Function(s1, s2) = { r | r <- Relation(s1, s2), set(mapToList(mapFromList(seq(r)))) == r, { x | (x, y) <- r } == s1 }\n",
+    },
+    CspDef { names: &["funcToSet"], script: Both, text: "funcToSet(f, s) = { (x, f(x)) | x <- s }\n" },
+    CspDef { names: &["callFunc"], script: Both, text: "callFunc(f, x) = mapLookup(mapFromList(seq(f)), x)\n" },
 ];
 
 /// The definitions of the timed (`true`) or untimed script, in order.
@@ -272,5 +288,35 @@ mod tests {
         }
         assert_eq!(super::text(true).matches("Timed(OneStep)").count(), 2);
         assert_eq!(super::text(false).matches("Timed(OneStep)").count(), 0);
+    }
+
+    /// The value of `expr` with the library of both scripts loaded.
+    fn value(expr: &str) -> Vec<String> {
+        [true, false]
+            .map(|timed| {
+                let text = format!("channel tock\n{}\nr = {expr}\n", super::text(timed));
+                let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+                let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, Default::default());
+                ev.value("r").map(|v| v.to_string()).unwrap_or_else(|e| e.to_string())
+            })
+            .to_vec()
+    }
+
+    /// RoboTool's relations and functions as sets of pairs (its
+    /// `core_defs.csp`): every relation, every total function, a function
+    /// applied and tabulated.
+    #[test]
+    fn relations_and_functions() {
+        let both = |s: &str| vec![s.to_string(), s.to_string()];
+        assert_eq!(value("Relation({0}, {1, 2})"), both("{{}, {(0, 1)}, {(0, 1), (0, 2)}, {(0, 2)}}"));
+        assert_eq!(value("card(Relation({0, 1}, {0, 1}))"), both("16"));
+        // Total functions only: one pair per argument, every argument.
+        assert_eq!(value("Function({0, 1}, {5})"), both("{{(0, 5), (1, 5)}}"));
+        assert_eq!(value("card(Function({0, 1}, {0, 1, 2}))"), both("9"));
+        assert_eq!(value("Function({}, {1})"), both("{{}}"));
+        assert_eq!(value("callFunc({(0, 1), (1, 0)}, 1)"), both("0"));
+        assert_eq!(value("funcToSet(\\ x @ x * 2, {1, 2})"), both("{(1, 2), (2, 4)}"));
+        // Outside its domain, FDR's `mapLookup` error.
+        assert!(value("callFunc({(0, 1)}, 2)")[0].contains("not in the map's domain"), "{:?}", value("callFunc({(0, 1)}, 2)"));
     }
 }
