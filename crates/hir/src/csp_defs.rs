@@ -145,6 +145,36 @@ pub const DEFINITIONS: &[CspDef] = &[
         text: "clock_type_plus(x__, y__, t__) = if member(x__ + y__, t__) then x__ + y__ else x__\n",
     },
     CspDef { names: &["DoClockReset"], script: Timed, text: "DoClockReset(CS__) = ||| c__ : CS__ @ c__ -> SKIP\n" },
+    // RoboTool's encoding of the tick-tock model over the events `Sigma`
+    // (`instance M = model_shifting(Sigma)`, then `M::TT(P)`): refusals
+    // as `ref.x` events. A parameterised module: the CSPm engine reads it
+    // but does not evaluate it, the export writes it for FDR.
+    CspDef {
+        names: &["model_shifting"],
+        script: Timed,
+        text: "module model_shifting(Sigma)
+external prioritise
+external prioritisepo
+transparent sbisim
+channel ref : union(Sigma, {tock, tick})
+channel acc : union(Sigma, {tock, tick})
+channel stab
+channel tick
+-- Each event has priority over its refusal.
+order = { (x, ref.x) | x : union(Sigma, {tock, tick}) }
+C1(P) = sbisim(prioritisepo(P ||| RUN({| ref, stab |}), union(Sigma, {| ref, tock, tick |}), order, union(Sigma, {tock, tick})))
+C2(P) = C1(P) [| union(Sigma, {| ref, stab, tock, tick |}) |] Sem
+Sem = ([] x : union(Sigma, {tock, tick}) @ x -> Sem) [] (ref?x -> Ref) [] (stab -> Ref)
+Ref = (ref?x -> Ref) [] (stab -> Ref) [] tock -> Sem
+exports
+-- Refusal testing.
+RT(P) = C1(P ; tick -> SKIP)
+C3(P) = C2(prioritise(P, <{}, {tock}>) ; tick -> SKIP)
+-- Tick-tock.
+TT(P) = C3(P)
+endmodule
+",
+    },
     // State helpers: `share__` lets other threads access shared variables.
     CspDef { names: &["share__", "timed_share__"], script: Timed, text: "channel share__, timed_share__\n" },
     CspDef { names: &["share__"], script: Untimed, text: "channel share__\n" },
