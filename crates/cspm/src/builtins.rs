@@ -308,10 +308,9 @@ pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at:
         "mapToList" => {
             Value::Seq(map(a, at)?.iter().map(|(k, v)| Value::Tuple(vec![k.clone(), v.clone()].into())).collect())
         }
-        "mapLookup" => map(a, at)?
-            .get(&args[1])
-            .cloned()
-            .ok_or_else(|| err(Code::Runtime, at, format!("mapLookup: the key {} is not in the map's domain", args[1])))?,
+        "mapLookup" => map(a, at)?.get(&args[1]).cloned().ok_or_else(|| {
+            err(Code::Runtime, at, format!("mapLookup: the key {} is not in the map's domain", args[1]))
+        })?,
         "mapMember" => Value::Bool(map(a, at)?.contains_key(&args[1])),
         "mapUpdate" => {
             let mut m = (*map(a, at)?).clone();

@@ -347,6 +347,10 @@ mod tests {
         assert_eq!(value("callFunc({(0, 1), (1, 0)}, 1)"), both("0"));
         assert_eq!(value("funcToSet(\\ x @ x * 2, {1, 2})"), both("{(1, 2), (2, 4)}"));
         // Outside its domain, FDR's `mapLookup` error.
-        assert!(value("callFunc({(0, 1)}, 2)")[0].contains("not in the map's domain"), "{:?}", value("callFunc({(0, 1)}, 2)"));
+        assert!(
+            value("callFunc({(0, 1)}, 2)")[0].contains("not in the map's domain"),
+            "{:?}",
+            value("callFunc({(0, 1)}, 2)")
+        );
     }
 }
