@@ -1,9 +1,9 @@
 //! FDR's built-in names: processes (`STOP`, `SKIP`, `DIV`, `RUN`, `CHAOS`,
 //! `WAIT`, `TSTOP`, `TSKIP`), operators (`prioritise`, `timed_priority`,
 //! compressions, which are the identity on the semantics), sets,
-//! sequences and types.
+//! sequences, maps and types.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::rc::Rc;
 
 use crate::eval::{err, Evaluator, Func, R};
@@ -57,9 +57,17 @@ const FUNCTIONS: &[&str] = &[
     "lazynorm",
     "prioritise_nocache",
     "loop",
+    "mapFromList",
+    "mapToList",
+    "mapLookup",
+    "mapMember",
+    "mapUpdate",
+    "mapUpdateMultiple",
+    "mapDelete",
+    "Map",
 ];
 
-const CONSTANTS: &[&str] = &["STOP", "SKIP", "DIV", "Events", "Int", "Bool", "Proc", "Char", "Event"];
+const CONSTANTS: &[&str] = &["STOP", "SKIP", "DIV", "Events", "Int", "Bool", "Proc", "Char", "Event", "emptyMap"];
 
 /// Whether `name` is built in.
 pub(crate) fn is_builtin(name: &str) -> bool {
@@ -79,6 +87,7 @@ pub(crate) fn value(ev: &mut Evaluator, name: &str) -> Option<Value> {
         "Events" => ev.all_events(at).ok()?,
         "Int" => Value::Ints,
         "Bool" => Value::set([Value::Bool(false), Value::Bool(true)]),
+        "emptyMap" => Value::Map(Rc::new(BTreeMap::new())),
         _ => return None,
     })
 }
@@ -98,6 +107,24 @@ fn seq(v: &Value, at: TextRange) -> R<Rc<[Value]>> {
     }
 }
 
+fn map(v: &Value, at: TextRange) -> R<Rc<BTreeMap<Value, Value>>> {
+    match v {
+        Value::Map(m) => Ok(m.clone()),
+        v => Err(err(Code::Type, at, format!("expected a map, found {}", v.kind_name()))),
+    }
+}
+
+/// The pairs `(k, v)` of a sequence of 2-tuples, in order.
+fn pairs(v: &Value, at: TextRange) -> R<Vec<(Value, Value)>> {
+    seq(v, at)?
+        .iter()
+        .map(|t| match t {
+            Value::Tuple(p) if p.len() == 2 => Ok((p[0].clone(), p[1].clone())),
+            t => Err(err(Code::Type, at, format!("expected a pair `(key, value)`, found {}", t.kind_name()))),
+        })
+        .collect()
+}
+
 fn proc(v: &Value, at: TextRange) -> R<Rc<P>> {
     match v {
         Value::Proc(p) => Ok(p.inner.clone()),
@@ -105,10 +132,36 @@ fn proc(v: &Value, at: TextRange) -> R<Rc<P>> {
     }
 }
 
+/// Whether every key of `a` is a key of `b` with a value `<=` its value
+/// there (libcspm's order on maps: `M.isSubmapOfBy` with `compareValues`).
+pub(crate) fn submap(a: &BTreeMap<Value, Value>, b: &BTreeMap<Value, Value>) -> bool {
+    a.iter().all(|(k, v)| b.get(k).is_some_and(|w| value_le(v, w)))
+}
+
+/// libcspm's partial order on values (`compareValues` giving LT or EQ):
+/// numbers, characters, booleans and tuples (lexicographically) by value,
+/// sets by inclusion, sequences by prefix, maps as submaps; anything else
+/// only when equal.
+fn value_le(v: &Value, w: &Value) -> bool {
+    match (v, w) {
+        _ if v == w => true,
+        (Value::Int(_), Value::Int(_))
+        | (Value::Char(_), Value::Char(_))
+        | (Value::Bool(_), Value::Bool(_))
+        | (Value::Tuple(_), Value::Tuple(_)) => v <= w,
+        (Value::Set(x), Value::Set(y)) => x.is_subset(y),
+        (Value::Seq(x), Value::Seq(y)) => y.starts_with(x),
+        (Value::Map(x), Value::Map(y)) => submap(x, y),
+        _ => false,
+    }
+}
+
 /// Applies a built-in function.
 pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at: TextRange) -> R<Value> {
     let arity = match name {
         "union" | "inter" | "diff" | "member" | "elem" | "prioritise" | "prioritise_nocache" => 2,
+        "mapLookup" | "mapMember" | "mapUpdateMultiple" | "mapDelete" | "Map" => 2,
+        "mapUpdate" => 3,
         _ => 1,
     };
     if args.len() != arity {
@@ -247,6 +300,61 @@ pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at:
             Value::Tuple(p) if p.len() == 2 => Some(Value::Tuple(vec![p[1].clone(), p[0].clone()].into())),
             _ => None,
         })),
+        // Maps, as libcspm's `BuiltInFunctions.hs` defines them.
+        // `mapFromList`: a later pair for the same key wins (Haskell's
+        // `Map.fromList`).
+        "mapFromList" => Value::Map(Rc::new(pairs(a, at)?.into_iter().collect())),
+        // In ascending order of keys.
+        "mapToList" => {
+            Value::Seq(map(a, at)?.iter().map(|(k, v)| Value::Tuple(vec![k.clone(), v.clone()].into())).collect())
+        }
+        "mapLookup" => map(a, at)?.get(&args[1]).cloned().ok_or_else(|| {
+            err(Code::Runtime, at, format!("mapLookup: the key {} is not in the map's domain", args[1]))
+        })?,
+        "mapMember" => Value::Bool(map(a, at)?.contains_key(&args[1])),
+        "mapUpdate" => {
+            let mut m = (*map(a, at)?).clone();
+            m.insert(args[1].clone(), args[2].clone());
+            Value::Map(Rc::new(m))
+        }
+        // A `foldr` of inserts: for a key given twice the first pair wins.
+        "mapUpdateMultiple" => {
+            let mut m = (*map(a, at)?).clone();
+            for (k, v) in pairs(&args[1], at)?.into_iter().rev() {
+                m.insert(k, v);
+            }
+            Value::Map(Rc::new(m))
+        }
+        "mapDelete" => {
+            let mut m = (*map(a, at)?).clone();
+            m.remove(&args[1]);
+            Value::Map(Rc::new(m))
+        }
+        // Every map whose domain is a subset of `ks` and whose values are
+        // in `vs`: (|vs| + 1)^|ks| of them.
+        "Map" => {
+            let (ks, vs) = (set(a, at)?, set(&args[1], at)?);
+            let count = u32::try_from(ks.len())
+                .ok()
+                .and_then(|n| (vs.len() + 1).checked_pow(n))
+                .filter(|&c| c <= ev.limits.max_set)
+                .ok_or_else(|| err(Code::Limit, at, "the set of maps is too large"))?;
+            let mut maps: Vec<BTreeMap<Value, Value>> = Vec::with_capacity(count);
+            maps.push(BTreeMap::new());
+            for k in ks.iter() {
+                let mut next = Vec::with_capacity(maps.len() * (vs.len() + 1));
+                for m in &maps {
+                    next.push(m.clone());
+                    for v in vs.iter() {
+                        let mut with = m.clone();
+                        with.insert(k.clone(), v.clone());
+                        next.push(with);
+                    }
+                }
+                maps = next;
+            }
+            Value::set(maps.into_iter().map(|m| Value::Map(Rc::new(m))))
+        }
         // Compressions and FDR's other semantics-preserving operators.
         _ => {
             proc(a, at)?;

@@ -738,7 +738,17 @@ impl<'m> Evaluator<'m> {
                 }
                 Value::Set(Rc::new(out))
             }
-            Map(_) => return Err(err(Code::Unsupported, at, "maps `(| … |)` are not supported")),
+            // `(| k => v, … |)`: a later pair for the same key wins (libcspm's
+            // `M.fromList`).
+            Map(kvs) => {
+                let mut m = std::collections::BTreeMap::new();
+                for (k, v) in kvs {
+                    let k = self.eval(k, env)?;
+                    let v = self.eval(v, env)?;
+                    m.insert(k, v);
+                }
+                Value::Map(Rc::new(m))
+            }
             Let(decls, body) => {
                 let fr = self.new_frame(env, None);
                 self.bind_decls(decls, fr);
@@ -831,6 +841,12 @@ impl<'m> Evaluator<'m> {
                 BinOp::Gt => x.starts_with(&y) && y.len() < x.len(),
                 _ => x.starts_with(&y),
             }),
+            // Maps: libcspm's submap order (`isSubmapOfBy` with `<=` on values).
+            (BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge, Value::Map(x), Value::Map(y)) => {
+                let (a, b) = if matches!(op, BinOp::Lt | BinOp::Le) { (&x, &y) } else { (&y, &x) };
+                let strict = matches!(op, BinOp::Lt | BinOp::Gt);
+                Value::Bool(crate::builtins::submap(a, b) && !(strict && a == b))
+            }
             (BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge, x, y)
                 if matches!(
                     (&x, &y),

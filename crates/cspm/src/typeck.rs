@@ -26,6 +26,8 @@ enum Ty {
     Seq(Box<Ty>),
     Tuple(Vec<Ty>),
     Fn(Vec<Ty>, Box<Ty>),
+    /// A map from keys to values (`(| k => v |)`).
+    Map(Box<Ty>, Box<Ty>),
 }
 
 use Ty::*;
@@ -36,6 +38,10 @@ fn set(t: Ty) -> Ty {
 
 fn seq(t: Ty) -> Ty {
     Seq(Box::new(t))
+}
+
+fn map(k: Ty, v: Ty) -> Ty {
+    Map(Box::new(k), Box::new(v))
 }
 
 #[derive(Clone)]
@@ -95,6 +101,7 @@ impl<'a> Checker<'a> {
             Seq(t) => seq(self.resolve(t)),
             Tuple(ts) => Tuple(ts.iter().map(|t| self.resolve(t)).collect()),
             Fn(a, r) => Fn(a.iter().map(|t| self.resolve(t)).collect(), Box::new(self.resolve(r))),
+            Map(k, v) => map(self.resolve(k), self.resolve(v)),
             t => t.clone(),
         }
     }
@@ -105,6 +112,7 @@ impl<'a> Checker<'a> {
             Set(t) | Seq(t) => self.occurs(v, &t),
             Tuple(ts) => ts.iter().any(|t| self.occurs(v, t)),
             Fn(a, r) => a.iter().any(|t| self.occurs(v, t)) || self.occurs(v, &r),
+            Map(k, w) => self.occurs(v, &k) || self.occurs(v, &w),
             _ => false,
         }
     }
@@ -122,6 +130,7 @@ impl<'a> Checker<'a> {
                 true
             }
             (Set(x), Set(y)) | (Seq(x), Seq(y)) => self.unify_inner(x, y),
+            (Map(xk, xv), Map(yk, yv)) => self.unify_inner(xk, yk) && self.unify_inner(xv, yv),
             (Tuple(xs), Tuple(ys)) => xs.len() == ys.len() && xs.iter().zip(ys).all(|(x, y)| self.unify_inner(x, y)),
             (Fn(xa, xr), Fn(ya, yr)) => {
                 xa.len() == ya.len()
@@ -154,6 +163,7 @@ impl<'a> Checker<'a> {
             Seq(t) => seq(self.instantiate(&t, map)),
             Tuple(ts) => Tuple(ts.iter().map(|t| self.instantiate(t, map)).collect()),
             Fn(a, r) => Fn(a.iter().map(|t| self.instantiate(t, map)).collect(), Box::new(self.instantiate(&r, map))),
+            Map(k, v) => Map(Box::new(self.instantiate(&k, map)), Box::new(self.instantiate(&v, map))),
             t => t,
         }
     }
@@ -331,6 +341,9 @@ impl<'a> Checker<'a> {
 
     fn builtin(&mut self, n: &str) -> Ty {
         let a = self.fresh();
+        let b = self.fresh();
+        let mab = map(a.clone(), b.clone());
+        let pairs = seq(Tuple(vec![a.clone(), b.clone()]));
         let sa = set(a.clone());
         let qa = seq(a.clone());
         let f = |args: Vec<Ty>, r: Ty| Fn(args, Box::new(r));
@@ -357,6 +370,15 @@ impl<'a> Checker<'a> {
             "RUN" | "CHAOS" => f(vec![set(Event)], Proc),
             "prioritise" | "prioritise_nocache" => f(vec![Proc, seq(set(Event))], Proc),
             "WAIT" => f(vec![Int], Proc),
+            "emptyMap" => mab,
+            "mapFromList" => f(vec![pairs], mab),
+            "mapToList" => f(vec![mab], pairs),
+            "mapLookup" => f(vec![mab, a], b),
+            "mapMember" => f(vec![mab, a], Bool),
+            "mapUpdate" => f(vec![mab.clone(), a, b], mab),
+            "mapUpdateMultiple" => f(vec![mab.clone(), pairs], mab),
+            "mapDelete" => f(vec![mab.clone(), a], mab),
+            "Map" => f(vec![set(a), set(b)], set(mab)),
             "timed_priority" | "loop" | "dbisim" | "sbisim" | "wbisim" | "diamond" | "normal" | "normalise"
             | "normalize" | "explicate" | "lazyenumerate" | "chase" | "chase_nocache" | "deter" | "model_compress"
             | "tau_loop_factor" | "lazynorm" => f(vec![Proc], Proc),
@@ -370,6 +392,7 @@ impl<'a> Checker<'a> {
             match t {
                 Proc | Fn(..) => true,
                 Set(t) | Seq(t) => bad(t),
+                Map(k, v) => bad(k) || bad(v),
                 Tuple(ts) => ts.iter().any(bad),
                 _ => false,
             }
@@ -499,6 +522,10 @@ impl<'a> Checker<'a> {
                 let ats: Vec<Ty> = args.iter().map(|a| self.expr(a)).collect();
                 let r = self.fresh();
                 self.unify(&ft, &Fn(ats, Box::new(r.clone())), e.range);
+                // A map's keys are compared (FDR's `Set k` on every map).
+                if let Ty::Map(k, _) = self.resolve(&r) {
+                    self.comparable(&k, e.range);
+                }
                 r
             }
             Bin(op, a, b) => match op {
@@ -589,11 +616,13 @@ impl<'a> Checker<'a> {
                 set(Event)
             }
             Map(kvs) => {
+                let (kt, vt) = (self.fresh(), self.fresh());
                 for (k, v) in kvs {
-                    self.expr(k);
-                    self.expr(v);
+                    self.want(kt.clone(), k);
+                    self.want(vt.clone(), v);
                 }
-                Any
+                self.comparable(&kt, e.range);
+                map(kt, vt)
             }
             Let(decls, body) => {
                 // Definitions with a type annotation may be polymorphic.
@@ -769,6 +798,7 @@ fn show(t: &Ty) -> String {
         Seq(t) => format!("a sequence of {}", show_inner(t)),
         Tuple(ts) => format!("a tuple ({})", ts.iter().map(show_inner).collect::<Vec<_>>().join(", ")),
         Fn(a, r) => format!("a function of {} argument(s) returning {}", a.len(), show(r)),
+        Map(k, v) => format!("a map from {} to {}", show_inner(k), show_inner(v)),
     }
 }
 

@@ -3,7 +3,7 @@
 //! channel or a datatype constructor. Functions and processes compare by
 //! identity.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::rc::Rc;
 
@@ -59,6 +59,8 @@ pub enum Value {
     Set(Rc<BTreeSet<Value>>),
     /// The set of all integers (`Int`): membership only.
     Ints,
+    /// A finite map (FDR's `mapFromList`, `(| k => v |)`), ordered by key.
+    Map(Rc<BTreeMap<Value, Value>>),
     /// A channel or datatype constructor with no fields given.
     Ctor(Rc<str>),
     /// A dotted value: a constructor or channel and its fields, or plain
@@ -83,6 +85,7 @@ impl Value {
             Value::Tuple(_) => "a tuple",
             Value::Seq(_) => "a sequence",
             Value::Set(_) | Value::Ints => "a set",
+            Value::Map(_) => "a map",
             Value::Ctor(_) | Value::Dot(_) => "a dotted value",
             Value::Func(_) => "a function",
             Value::Proc(_) => "a process",
@@ -121,6 +124,18 @@ impl fmt::Display for Value {
             Value::Seq(vs) => list(f, "<", vs.iter(), ">"),
             Value::Set(vs) => list(f, "{", vs.iter(), "}"),
             Value::Ints => f.write_str("Int"),
+            // FDR prints `(| k => v, … |)`.
+            Value::Map(m) if m.is_empty() => f.write_str("(| |)"),
+            Value::Map(m) => {
+                f.write_str("(| ")?;
+                for (i, (k, v)) in m.iter().enumerate() {
+                    if i > 0 {
+                        f.write_str(", ")?;
+                    }
+                    write!(f, "{k} => {v}")?;
+                }
+                f.write_str(" |)")
+            }
             Value::Ctor(n) => f.write_str(n),
             Value::Dot(vs) => {
                 for (i, v) in vs.iter().enumerate() {

@@ -19,7 +19,7 @@ use robosim_cspm::{Evaluator, Limits, Module, NoNames, Severity};
 
 /// Passing files per folder reached when this test was written (out of the
 /// totals printed). Raise them when the crate improves; never lower them.
-const FLOOR: &[(&str, usize)] = &[("parser", 74), ("typechecker", 123), ("evaluator", 81), ("desugar", 2)];
+const FLOOR: &[(&str, usize)] = &[("parser", 74), ("typechecker", 123), ("evaluator", 82), ("desugar", 2)];
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/libcspm/tests")

@@ -270,3 +270,27 @@ Last = Mv::speed.in?x -> (if x == 1 then Mv::done.out -> STOP else STOP)
     assert!(last.has_trace(&["Mv::speed.in.1", "Mv::done.out"]));
     assert!(!last.has_trace(&["Mv::speed.in.0", "Mv::done.out"]));
 }
+
+/// FDR's maps, as libcspm defines them: `mapFromList` keeps the last pair
+/// of a key, `mapUpdateMultiple` the first (a `foldr` of inserts),
+/// `mapToList` is ordered by key, `Map(K, V)` is every partial map, maps
+/// are ordered as submaps, and a missing key is an error.
+#[test]
+fn maps() {
+    let text = "
+m = mapFromList(<(2, 20), (1, 10), (2, 21)>)
+u = mapUpdateMultiple(m, <(3, 30), (3, 31)>)
+";
+    let v = |e: &str| value(&format!("{text}\nr = {e}"), "r");
+    assert_eq!(v("m"), "(| 1 => 10, 2 => 21 |)");
+    assert_eq!(v("mapToList(m)"), "<(1, 10), (2, 21)>");
+    assert_eq!(v("mapLookup(u, 3)"), "30");
+    assert_eq!(v("mapMember(m, 1) and not mapMember(mapDelete(m, 1), 1)"), "true");
+    assert_eq!(v("mapToList(mapUpdate(emptyMap, 0, true))"), "<(0, true)>");
+    assert_eq!(v("(| 0 => 1, 0 => 2 |) == mapFromList(<(0, 2)>)"), "true");
+    assert_eq!(v("card(Map({0, 1}, {0, 1}))"), "9");
+    assert_eq!(v("Map({0}, {5})"), "{(| |), (| 0 => 5 |)}");
+    assert_eq!(v("mapFromList(<(1, 0)>) < mapFromList(<(1, 1)>)"), "true");
+    assert_eq!(v("(| 1 => 0 |) <= (| 1 => 0, 2 => 0 |) and not (| 1 => 1 |) <= (| 1 => 0 |)"), "true");
+    assert!(v("mapLookup(m, 3)").contains("not in the map's domain"), "{}", v("mapLookup(m, 3)"));
+}

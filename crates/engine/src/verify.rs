@@ -314,30 +314,29 @@ impl Cx<'_> {
         Ok(out)
     }
 
-    /// The bounded types, from `nametype core_X = {a..b}` lines.
+    /// The bounded types, constants and functions the assertion's own file
+    /// instantiates (`nametype core_X = {a..b}`, `X_c = v`, `f(x) = e`):
+    /// RoboTool's script for one assertion file includes that file's `csp`
+    /// blocks only (RT-7), so another file's `Instantiations` never applies.
     fn defaults(&self) -> DomainDefaults {
+        let r = self.read;
         let mut defaults = DomainDefaults {
             async_buffer: self.async_buffer,
-            replaced: self.read.csp_blocks.iter().any(|b| b.name == "Instantiations"),
+            replaced: r.csp_blocks.iter().any(|b| b.name == "Instantiations"),
             ..DomainDefaults::default()
         };
-        for r in std::iter::once(self.read).chain(self.others.iter().map(|(_, r)| r)) {
-            for (name, lo, hi, _) in &r.instantiations.types {
-                defaults.set(name, *lo, *hi);
-            }
-            for (name, value, _) in &r.instantiations.constants {
-                let v = match value {
-                    Value::Int(v) => *v,
-                    Value::Bool(b) => *b as Val,
-                    Value::Other(_) => continue,
-                };
-                defaults.constants.push((name.clone(), v));
-            }
-            // A function's clauses come from one file: this assertion's
-            // first, then the others'.
-            let known: Vec<String> = defaults.functions.iter().map(|f| f.name.clone()).collect();
-            defaults.functions.extend(r.instantiations.functions.iter().filter(|f| !known.contains(&f.name)).cloned());
+        for (name, lo, hi, _) in &r.instantiations.types {
+            defaults.set(name, *lo, *hi);
         }
+        for (name, value, _) in &r.instantiations.constants {
+            let v = match value {
+                Value::Int(v) => *v,
+                Value::Bool(b) => *b as Val,
+                Value::Other(_) => continue,
+            };
+            defaults.constants.push((name.clone(), v));
+        }
+        defaults.functions.extend(r.instantiations.functions.iter().cloned());
         defaults
     }
 

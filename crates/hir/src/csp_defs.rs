@@ -15,8 +15,8 @@
 //! one only the untimed state helpers (`CRUN(A)` is `RUN(A)` there) and the
 //! core functions. `tock` itself is declared by the script's user (the
 //! bridge's model names, the export's shared file), not here. RoboTool's
-//! `model_shifting` module (its tick-tock encoding) and its toolkit
-//! functions over `mapFromList` are not part of this library.
+//! `model_shifting` module (its tick-tock encoding, a parameterised module
+//! the CSPm engine does not evaluate) is not part of this library.
 
 /// Which of RoboTool's two scripts a definition is in (RT-8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -145,6 +145,36 @@ pub const DEFINITIONS: &[CspDef] = &[
         text: "clock_type_plus(x__, y__, t__) = if member(x__ + y__, t__) then x__ + y__ else x__\n",
     },
     CspDef { names: &["DoClockReset"], script: Timed, text: "DoClockReset(CS__) = ||| c__ : CS__ @ c__ -> SKIP\n" },
+    // RoboTool's encoding of the tick-tock model over the events `Sigma`
+    // (`instance M = model_shifting(Sigma)`, then `M::TT(P)`): refusals
+    // as `ref.x` events. A parameterised module: the CSPm engine reads it
+    // but does not evaluate it, the export writes it for FDR.
+    CspDef {
+        names: &["model_shifting"],
+        script: Timed,
+        text: "module model_shifting(Sigma)
+external prioritise
+external prioritisepo
+transparent sbisim
+channel ref : union(Sigma, {tock, tick})
+channel acc : union(Sigma, {tock, tick})
+channel stab
+channel tick
+-- Each event has priority over its refusal.
+order = { (x, ref.x) | x : union(Sigma, {tock, tick}) }
+C1(P) = sbisim(prioritisepo(P ||| RUN({| ref, stab |}), union(Sigma, {| ref, tock, tick |}), order, union(Sigma, {tock, tick})))
+C2(P) = C1(P) [| union(Sigma, {| ref, stab, tock, tick |}) |] Sem
+Sem = ([] x : union(Sigma, {tock, tick}) @ x -> Sem) [] (ref?x -> Ref) [] (stab -> Ref)
+Ref = (ref?x -> Ref) [] (stab -> Ref) [] tock -> Sem
+exports
+-- Refusal testing.
+RT(P) = C1(P ; tick -> SKIP)
+C3(P) = C2(prioritise(P, <{}, {tock}>) ; tick -> SKIP)
+-- Tick-tock.
+TT(P) = C3(P)
+endmodule
+",
+    },
     // State helpers: `share__` lets other threads access shared variables.
     CspDef { names: &["share__", "timed_share__"], script: Timed, text: "channel share__, timed_share__\n" },
     CspDef { names: &["share__"], script: Untimed, text: "channel share__\n" },
@@ -196,6 +226,22 @@ pub const DEFINITIONS: &[CspDef] = &[
     },
     // RT-6: a divisor of 0 counts as 1.
     CspDef { names: &["no_zero_div"], script: Both, text: "no_zero_div(0) = 1\nno_zero_div(x__) = x__\n" },
+    // Relations and functions as sets of pairs, over FDR's maps.
+    // Every relation between s1 and s2 (every set of pairs).
+    CspDef {
+        names: &["Relation"],
+        script: Both,
+        text: "Relation(s1, s2) = Set({ (x, y) | x <- s1, y <- s2 })\n",
+    },
+    // Every total function from s1 to s2: the relations that a map keeps
+    // whole (one pair per argument) and that cover s1.
+    CspDef {
+        names: &["Function"],
+        script: Both,
+        text: "Function(s1, s2) = { r | r <- Relation(s1, s2), set(mapToList(mapFromList(seq(r)))) == r, { x | (x, y) <- r } == s1 }\n",
+    },
+    CspDef { names: &["funcToSet"], script: Both, text: "funcToSet(f, s) = { (x, f(x)) | x <- s }\n" },
+    CspDef { names: &["callFunc"], script: Both, text: "callFunc(f, x) = mapLookup(mapFromList(seq(f)), x)\n" },
 ];
 
 /// The definitions of the timed (`true`) or untimed script, in order.
@@ -272,5 +318,39 @@ mod tests {
         }
         assert_eq!(super::text(true).matches("Timed(OneStep)").count(), 2);
         assert_eq!(super::text(false).matches("Timed(OneStep)").count(), 0);
+    }
+
+    /// The value of `expr` with the library of both scripts loaded.
+    fn value(expr: &str) -> Vec<String> {
+        [true, false]
+            .map(|timed| {
+                let text = format!("channel tock\n{}\nr = {expr}\n", super::text(timed));
+                let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+                let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, Default::default());
+                ev.value("r").map(|v| v.to_string()).unwrap_or_else(|e| e.to_string())
+            })
+            .to_vec()
+    }
+
+    /// RoboTool's relations and functions as sets of pairs (its
+    /// `core_defs.csp`): every relation, every total function, a function
+    /// applied and tabulated.
+    #[test]
+    fn relations_and_functions() {
+        let both = |s: &str| vec![s.to_string(), s.to_string()];
+        assert_eq!(value("Relation({0}, {1, 2})"), both("{{}, {(0, 1)}, {(0, 1), (0, 2)}, {(0, 2)}}"));
+        assert_eq!(value("card(Relation({0, 1}, {0, 1}))"), both("16"));
+        // Total functions only: one pair per argument, every argument.
+        assert_eq!(value("Function({0, 1}, {5})"), both("{{(0, 5), (1, 5)}}"));
+        assert_eq!(value("card(Function({0, 1}, {0, 1, 2}))"), both("9"));
+        assert_eq!(value("Function({}, {1})"), both("{{}}"));
+        assert_eq!(value("callFunc({(0, 1), (1, 0)}, 1)"), both("0"));
+        assert_eq!(value("funcToSet(\\ x @ x * 2, {1, 2})"), both("{(1, 2), (2, 4)}"));
+        // Outside its domain, FDR's `mapLookup` error.
+        assert!(
+            value("callFunc({(0, 1)}, 2)")[0].contains("not in the map's domain"),
+            "{:?}",
+            value("callFunc({(0, 1)}, 2)")
+        );
     }
 }

@@ -356,6 +356,10 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
     let bound = bindings_in(scope, a).unwrap_or_default();
     if let Some((ctrl, machine)) = inline_machine(db, ws, file, path) {
         let inner = path.last().cloned();
+        let is_operation = file_defs(db, ctrl.file).def(machine).kind == DefKind::Operation;
+        if is_operation && ctrl.file.kind(db) == FileKind::RoboSim {
+            return Err(robosim_operation(&name));
+        }
         if ctrl.file.kind(db) != FileKind::RoboSim {
             return Ok(Subject::Design { name, loc: ctrl, inner });
         }
@@ -366,7 +370,8 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
         return Ok(Subject::Simulation { name, loc: ctrl, inner, period });
     }
     if let Some(found) = instance(db, ws, file, path) {
-        return Ok(Subject::Design { name, loc: found?, inner: None });
+        let (loc, inner) = found?;
+        return Ok(Subject::Design { name, loc, inner });
     }
     // RT-11: a RoboChart operation, checked as its own process with its
     // parameters.
@@ -375,6 +380,12 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
         .find(|l| l.file.kind(db) == FileKind::RoboChart);
     if let (Some(loc), true) = (operation, resolve_item(db, ws, file, path, element).is_empty()) {
         return Ok(Subject::Design { name, loc, inner: None });
+    }
+    let robosim_op = resolve_item(db, ws, file, path, |k| k == DefKind::Operation)
+        .into_iter()
+        .any(|l| l.file.kind(db) == FileKind::RoboSim);
+    if robosim_op && resolve_item(db, ws, file, path, element).is_empty() {
+        return Err(robosim_operation(&name));
     }
     let loc = resolve_item(db, ws, file, path, element).into_iter().next().ok_or_else(|| {
         let csp = std::iter::once(read)
@@ -422,12 +433,28 @@ fn robosim_period(
     }
 }
 
+/// Why a RoboSim operation is not checked as a subject.
+fn robosim_operation(name: &str) -> String {
+    format!(
+        "`{name}` is a RoboSim operation: RoboTool checks it as its own process `OP_…::O__(id__, params)`, in which \
+         its `exec` statements are the visible events `endexec` and `startexec` and its clocks let time pass \
+         without the cycle of a machine; the native checker compiles RoboSim operations only inside the machines \
+         that call them so far (check such a machine)"
+    )
+}
+
 /// RT-11: the RoboChart element an instance path names, checked on its
 /// own: `C::s` for the machine reference `s` of controller `C`, `M::c`
 /// for the controller reference `c` of module `M`, and longer paths
-/// (`M::c::s`). `None` when `path` is no such path (inline elements and
-/// qualified names are found otherwise).
-fn instance(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<Result<ItemLoc, String>> {
+/// (`M::c::s`, `M::c::o`); with the operation declared inside the
+/// controller it ends at, if any. `None` when `path` is no such path
+/// (inline elements and qualified names are found otherwise).
+fn instance(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    path: &[String],
+) -> Option<Result<(ItemLoc, Option<String>), String>> {
     let container = |k| matches!(k, DefKind::Module | DefKind::Controller);
     let (start, mut loc) = (1..path.len())
         .rev()
@@ -464,20 +491,20 @@ fn instance(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<R
             (DefKind::OperationRef, DefData::Reference { path: target, .. }) if seg == path.last()? => {
                 loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Operation).into_iter().next()?;
             }
+            // RT-11: an operation declared inside the controller, on its own
+            // (as a top-level one).
+            (DefKind::Operation, _) if seg == path.last()? => return Some(Ok((loc, Some(seg.clone())))),
             (DefKind::Operation | DefKind::OperationRef, _) => {
-                return Some(Err(format!(
-                    "`{name}` is an operation declared inside its controller: as a subject (RT-11) the native \
-                     checker takes top-level operations and operation references only so far"
-                )))
+                return Some(Err(format!("`{name}`: `{seg}` is an operation, which declares no element to name")))
             }
             _ => return None,
         }
     }
-    Some(Ok(loc))
+    Some(Ok((loc, None)))
 }
 
-/// The controller `C` and its machine `M` when `path` is `C::M` and `C`
-/// declares `M` in its own body.
+/// The controller `C` and its machine (or operation, RT-11) `M` when
+/// `path` is `C::M` and `C` declares `M` in its own body.
 fn inline_machine(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<(ItemLoc, DefId)> {
     let (last, prefix) = path.split_last()?;
     let controller = resolve_item(db, ws, file, prefix, |k| k == DefKind::Controller);
@@ -486,7 +513,7 @@ fn inline_machine(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Op
         let defs = file_defs(db, loc.file);
         let machine = defs
             .children(Some(id))
-            .find(|(_, d)| d.kind == DefKind::StateMachine && d.name == *last)
+            .find(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::Operation) && d.name == *last)
             .map(|(m, _)| m)?;
         Some((loc, machine))
     })

@@ -67,6 +67,15 @@ impl<'a> Cx<'a> {
                 let range = self.range_of(loc).ok_or_else(not_found)?;
                 return Err(self.unsupported(file, range, format!("the controller declares no state machine `{m}`")));
             };
+            // RT-11: an operation the controller declares in its own body,
+            // on its own (as a top-level operation).
+            let op = c.operations.iter().find_map(|o| match &o.def {
+                Definition::Inline(b) if o.name == m => Some(&**b),
+                _ => None,
+            });
+            if let Some(b) = op.filter(|_| !self.robosim) {
+                return self.operation_subject(file, b);
+            }
             return self.inner_machine(file, c, m);
         }
         let mut instances = Vec::new();
@@ -153,22 +162,7 @@ impl<'a> Cx<'a> {
                 });
                 (b.name.clone(), Top::Machine)
             }
-            // RT-11: an operation on its own, as RoboTool's `O__` of it: its
-            // body as a machine's (reaching its final state terminates),
-            // its parameters constants of the process.
-            Item::Operation(b) if !self.robosim => {
-                self.op_subject = true;
-                instances.push(Instance {
-                    ctrl: String::new(),
-                    name: b.name.clone(),
-                    decl_name: b.name.clone(),
-                    file,
-                    body: b,
-                    inline: false,
-                    ops: Vec::new(),
-                });
-                (b.name.clone(), Top::Machine)
-            }
+            Item::Operation(b) if !self.robosim => return self.operation_subject(file, b),
             _ => {
                 let range = self.range_of(loc).ok_or_else(not_found)?;
                 return Err(self.unsupported(
@@ -182,6 +176,23 @@ impl<'a> Cx<'a> {
         // machines goes through a memory cell (RT-22, `cells.rs`).
         let async_ends: BTreeSet<End> = async_links.into_iter().flat_map(|(_, _, a, b)| [a, b]).collect();
         self.build(&top_name, top, instances, &links, &platform, &async_ends)
+    }
+
+    /// RT-11: the operation `b` (of `file`) on its own, as RoboTool's `O__`
+    /// of it: its body as a machine's (reaching its final state
+    /// terminates), its parameters constants of the process.
+    fn operation_subject(&mut self, file: File, b: &'a Behaviour) -> Result<Design, Unsupported> {
+        self.op_subject = true;
+        let inst = Instance {
+            ctrl: String::new(),
+            name: b.name.clone(),
+            decl_name: b.name.clone(),
+            file,
+            body: b,
+            inline: false,
+            ops: Vec::new(),
+        };
+        self.build(&b.name, Top::Machine, vec![inst], &[], &HashMap::new(), &BTreeSet::new())
     }
 
     /// The range of the element `loc`'s declaration.
