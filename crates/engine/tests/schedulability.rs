@@ -206,6 +206,17 @@ fn constructs() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// RoboTool does not widen the number types by the constants' values
+/// (RT-5): the paper's PI = 45, av = 15 are given the types a RoboTool user
+/// gives them, in an `Instantiations` block (RT-7), as
+/// `examples/paper/assertions.rsa` does.
+const TYPES: &str = "csp Instantiations csp-begin
+nametype core_nat = {0..45}
+nametype core_int = {-2..45}
+nametype core_real = {-2..45}
+csp-end
+";
+
 /// The paper's Figure 1 (examples/paper/design.rct) and its variants, as the
 /// oracle names them.
 fn figure1(variant: &str) -> String {
@@ -266,7 +277,7 @@ fn agrees_with_the_oracle_on_the_running_example() {
             None => (Verdict::Pass, String::new()),
         };
         let rsa = format!(
-            "simulation S of paper_design::CFootBot {{ cycleDef cycle == {p} }}
+            "{TYPES}simulation S of paper_design::CFootBot {{ cycleDef cycle == {p} }}
              assertion A : S is schedulable with constant PI of paper_design::SMovement set to 45,
                constant av of paper_design::SMovement set to 15, and constant lv of paper_design::SMovement set to 1 ."
         );

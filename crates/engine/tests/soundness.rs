@@ -16,6 +16,17 @@ const CONSTANTS: &str =
   constant lv of paper_design::SMovement set to 1, constant PI of SimSMovement set to 45,
   constant av of SimSMovement set to 15, and constant lv of SimSMovement set to 1 .";
 
+/// RoboTool does not widen the number types by the constants' values
+/// (RT-5): the paper's PI = 45, av = 15 are given the types a RoboTool user
+/// gives them, in an `Instantiations` block (RT-7), as
+/// `examples/paper/assertions.rsa` does.
+const TYPES: &str = "csp Instantiations csp-begin
+nametype core_nat = {0..45}
+nametype core_int = {-2..45}
+nametype core_real = {-2..45}
+csp-end
+";
+
 /// `Sim refines P` and `P refines Sim` for the simulation text `sim`.
 fn check(sim: &str) -> (Report, Report) {
     check_in(sim, Profile::RoboTool3)
@@ -30,7 +41,7 @@ fn check_in(sim: &str, profile: Profile) -> (Report, Report) {
 fn check_model(sim: &str, profile: Profile, model: &str) -> (Report, Report) {
     let package = if sim.contains("package paper_sim_alt") { "paper_sim_alt" } else { "paper_sim" };
     let rsa = format!(
-        "simulation P of paper_design::CFootBot {{ cycleDef cycle == 1 }}
+        "{TYPES}simulation P of paper_design::CFootBot {{ cycleDef cycle == 1 }}
          assertion R : {package}::SimCFootBot refines P in the {model} model {CONSTANTS}
          assertion C : P refines {package}::SimCFootBot in the {model} model {CONSTANTS}"
     );
@@ -185,10 +196,11 @@ fn deadlock_freedom_of_simulations() {
                 transition u { from S to S exec } }
         controller C { cycleDef cycle == 1 sref m = M }
         module Mod { cycleDef cycle == 1 robotic platform P { } cref c = C }";
-    let rsa = "assertion D1 : paper_sim::SimCFootBot is deadlock-free with constant PI of SimSMovement set to 45,
+    let rsa = format!(
+        "{TYPES}assertion D1 : paper_sim::SimCFootBot is deadlock-free with constant PI of SimSMovement set to 45,
            constant av of SimSMovement set to 15, and constant lv of SimSMovement set to 1 .
          assertion D2 : idle::Mod is not deadlock-free"
-        .to_string();
+    );
     let ws = robosim_hir::load_workspace(
         &db,
         [
@@ -322,7 +334,7 @@ fn the_robosim_machine_on_its_own() {
     let consts =
         |m: &str| format!("constant PI of {m} set to 45, constant av of {m} set to 15, constant lv of {m} set to 1");
     let rsa = format!(
-        "simulation PM of paper_design::SMovement {{ cycleDef cycle == 1 }}
+        "{TYPES}simulation PM of paper_design::SMovement {{ cycleDef cycle == 1 }}
          assertion D : paper_sim::SimSMovement is deadlock-free with {} .
          assertion R : paper_sim::SimSMovement refines PM in the failures divergences model with {}, {} .",
         consts("paper_sim::SimSMovement").replacen(", constant lv", ", and constant lv", 1),
