@@ -5,7 +5,7 @@
 use crate::cspm::{bin, call, ext, name, prefix, BinOp, Decl, Expr, ReplOp};
 use std::collections::BTreeSet;
 
-use robosim_hir::assertions::{AssertionFile, Value};
+use robosim_hir::assertions::AssertionFile;
 use robosim_hir::domains::{number_domains, DomainInputs, NumRange, BASE, NAMES};
 use robosim_hir::{File, FileKind};
 
@@ -298,26 +298,17 @@ pub(crate) fn number_types(
     assertion_files: &[(File, &AssertionFile)],
 ) -> ([(i64, i64); 3], String) {
     let (db, ws) = (ex.db, ex.ws);
+    // RT-7: a block's other definitions (functions, constants) belong to
+    // its own file's script, and old-style names (`nametype real = …`)
+    // define exactly those names: the shared types are RoboTool's generated
+    // ones, unless a block gives `core_nat`, `core_int` or `core_real`.
     let mut inputs = DomainInputs::default();
     for (_, read) in assertion_files {
         for (name, lo, hi, _) in &read.instantiations.types {
-            let range = NumRange { lo: *lo, hi: *hi };
-            inputs.types.push((name.clone(), range));
-            if let Some(r) =
-                NAMES.iter().position(|n| n.trim_start_matches("core_") == name.trim_start_matches("core_"))
-            {
-                inputs.fixed[r] = Some(range);
+            if let Some(r) = NAMES.iter().position(|n| n == name) {
+                inputs.fixed[r] = Some(NumRange { lo: *lo, hi: *hi });
             }
         }
-        for (name, value, _) in &read.instantiations.constants {
-            match value {
-                Value::Int(v) => inputs.constants.push((name.clone(), *v)),
-                Value::Bool(b) => inputs.constants.push((name.clone(), *b as i64)),
-                Value::Other(_) => {}
-            }
-        }
-        let known: Vec<String> = inputs.functions.iter().map(|f| f.name.clone()).collect();
-        inputs.functions.extend(read.instantiations.functions.iter().filter(|f| !known.contains(&f.name)).cloned());
     }
     let projects: BTreeSet<Option<u32>> = files
         .iter()

@@ -748,8 +748,11 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
     for &f in &files {
         if f.kind(db).is_assertions() {
             let read = model::assertion_file(db, f);
+            // Only RoboTool's own names set the shared types (RT-7).
             for (n, lo, hi, _) in &read.instantiations.types {
-                ex.fixed_types.insert(n.trim_start_matches("core_").to_string(), (*lo, *hi));
+                if let Some(t) = n.strip_prefix("core_") {
+                    ex.fixed_types.insert(t.to_string(), (*lo, *hi));
+                }
             }
             assertion_files.push((f, read));
         }
