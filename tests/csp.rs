@@ -65,7 +65,7 @@ fn paper_example_export() {
     // Only the clock-initialisation assertion of design.assertions is not
     // exported: the rest is written, and the exit status says so.
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("design.assertions:34:1: assertion D6 is not exported"), "{stderr}");
+    assert!(stderr.contains("design.assertions:54:1: assertion D6 is not exported"), "{stderr}");
     assert_eq!(stderr.matches("warning:").count(), 1, "{stderr}");
     assert!(stderr.contains("wrote 7 files to"), "{stderr}");
     let names = compare(&dir, "paper");

@@ -132,7 +132,7 @@ fn reads_shared(e: &Expr, shared: &HashSet<u16>) -> bool {
     match e {
         Expr::Const(_) | Expr::Clock(_) => false,
         Expr::Slot(s) => shared.contains(s),
-        Expr::Neg(a, _) | Expr::Not(a) | Expr::Proj(a, ..) | Expr::Elem(a, _) | Expr::Card(a) => {
+        Expr::Neg(a, _) | Expr::Not(a) | Expr::Proj(a, ..) | Expr::Elem(a, _) | Expr::Card(a) | Expr::Checked(a, _) => {
             reads_shared(a, shared)
         }
         Expr::Arith(_, a, b, _) | Expr::Cmp(_, a, b) | Expr::Log(_, a, b) | Expr::Set(_, a, b) => {

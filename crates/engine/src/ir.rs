@@ -100,6 +100,9 @@ pub enum Expr {
     Set(SetOp, Box<Expr>, Box<Expr>),
     /// `size(s)`: the number of elements of a bitmask set.
     Card(Box<Expr>),
+    /// A value sent on a channel: it must be one of the channel's type
+    /// (FDR stops with an error otherwise, [`EvalError::OutOfDomain`]).
+    Checked(Box<Expr>, Dom),
 }
 
 /// Operations on finite sets encoded as bitmasks.
@@ -117,6 +120,10 @@ pub enum SetOp {
     Meets,
 }
 
+/// How the message of an [`EvalError::OutOfDomain`] starts (the verdict
+/// turns it into FDR's error and its remedy).
+pub const OUT_OF_DOMAIN: &str = "the value ";
+
 /// Why an evaluation failed (reported, never a panic).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum EvalError {
@@ -126,6 +133,10 @@ pub enum EvalError {
     /// A tuple component or set element outside its type (it has no
     /// encoding: the check cannot go on).
     OutOfType,
+    /// A value sent or assigned outside the type of the channel or
+    /// variable (the value, the type's values): RoboTool's CSPm communicates
+    /// it on a channel of that type, and FDR stops with an error.
+    OutOfDomain(Val, Dom),
 }
 
 impl Expr {
@@ -227,6 +238,13 @@ impl Expr {
                 }
             }
             Expr::Card(s) => s.eval(st, saturated)?.count_ones() as Val,
+            Expr::Checked(e, d) => {
+                let v = e.eval(st, saturated)?;
+                if !d.contains(v) {
+                    return Err(EvalError::OutOfDomain(v, *d));
+                }
+                v
+            }
         })
     }
 
@@ -248,8 +266,17 @@ impl Expr {
             Expr::Arith(_, a, b, _) | Expr::Cmp(_, a, b) | Expr::Log(_, a, b) => a.is_static() && b.is_static(),
             Expr::If(c, a, b) => c.is_static() && a.is_static() && b.is_static(),
             Expr::Tuple(parts) => parts.iter().all(|(e, _)| e.is_static()),
-            Expr::Proj(e, ..) | Expr::Elem(e, _) | Expr::Card(e) => e.is_static(),
+            Expr::Proj(e, ..) | Expr::Elem(e, _) | Expr::Card(e) | Expr::Checked(e, _) => e.is_static(),
             Expr::Set(_, a, b) => a.is_static() && b.is_static(),
+        }
+    }
+
+    /// `self`, checked to be in `d` when it is used ([`Expr::Checked`]);
+    /// a constant in `d` as it is.
+    pub fn checked(self, d: Dom) -> Expr {
+        match self {
+            Expr::Const(v) if d.contains(v) => self,
+            e => Expr::Checked(Box::new(e), d),
         }
     }
 }
@@ -732,8 +759,10 @@ pub struct Design {
     pub files: Vec<String>,
     /// Domains used (`core_int` …), for the report.
     pub domains: Vec<(String, Dom)>,
-    /// Constants and the values used.
-    pub constants: Vec<(String, Val)>,
+    /// Constants: the qualified name, the value used (its code in the
+    /// type's layout), and that value as the modeller writes it (a record
+    /// `(| x = 0, y = 0 |)`, a tuple `(0, 0)`; a number as itself).
+    pub constants: Vec<(String, Val, String)>,
     /// The values the model takes from RoboTool's defaults because it
     /// gives none (robotool-facts RT-1, RT-4), described for the report.
     pub defaults: Vec<String>,

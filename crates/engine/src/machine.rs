@@ -214,9 +214,12 @@ impl Machine {
                         return Ok(());
                     }
                     let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
-                    if dom.contains(v) {
-                        st[*slot as usize] = v as i32;
+                    // RoboTool's CSPm writes the variable through a channel
+                    // of its type: FDR stops on a value outside it.
+                    if !dom.contains(v) {
+                        return Err(self.eval_error(EvalError::OutOfDomain(v, *dom)));
                     }
+                    st[*slot as usize] = v as i32;
                     if let Some((ctrl, pending, others)) = *forward {
                         st[ctrl as usize] = st[*slot as usize];
                         st[pending as usize] = others;
@@ -386,6 +389,13 @@ impl Machine {
             EvalError::OutOfType => {
                 StepError(format!("a tuple component or set element outside its type in machine `{}`", self.name))
             }
+            EvalError::OutOfDomain(v, d) => StepError(format!(
+                "{}{v} is outside its type's values {{{}..{}}}, sent or assigned in machine `{}`",
+                crate::ir::OUT_OF_DOMAIN,
+                d.lo,
+                d.hi,
+                self.name
+            )),
         }
     }
 

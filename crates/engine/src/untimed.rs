@@ -184,7 +184,9 @@ fn clock_in(e: &Expr) -> Option<u16> {
     match e {
         Expr::Clock(s) => Some(*s),
         Expr::Const(_) | Expr::Slot(_) => None,
-        Expr::Neg(a, _) | Expr::Not(a) | Expr::Proj(a, ..) | Expr::Elem(a, _) | Expr::Card(a) => clock_in(a),
+        Expr::Neg(a, _) | Expr::Not(a) | Expr::Proj(a, ..) | Expr::Elem(a, _) | Expr::Card(a) | Expr::Checked(a, _) => {
+            clock_in(a)
+        }
         Expr::Arith(_, a, b, _) | Expr::Cmp(_, a, b) | Expr::Log(_, a, b) | Expr::Set(_, a, b) => {
             clock_in(a).or_else(|| clock_in(b))
         }

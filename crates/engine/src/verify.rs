@@ -30,6 +30,7 @@ pub use crate::sched::Profile;
 pub use crate::untimed::Semantics;
 
 mod explain;
+mod fdr_error;
 mod params;
 mod robosim;
 mod semantics;
@@ -517,8 +518,8 @@ fn schedulable(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report
         let (result, stats) = find_deadlock(&lts, &opts.budget, progress);
         report.stats = stats;
         if let Some(err) = lts.error() {
-            report.verdict = Verdict::Inconclusive;
-            report.reason = Some(format!("the model met a run-time error: {err}"));
+            let (verdict, reason) = fdr_error::runtime_error(&err, &design.domains);
+            (report.verdict, report.reason) = (verdict, Some(reason));
             return Ok(());
         }
         let holds = match result {
@@ -608,8 +609,8 @@ fn refinement(
             report.stats.transitions += stats.transitions;
             report.stats.seconds += stats.seconds;
             if let Some(err) = sp.error().or_else(|| im.error()) {
-                report.verdict = Verdict::Inconclusive;
-                report.reason = Some(format!("the model met a run-time error: {err}"));
+                let (verdict, reason) = fdr_error::runtime_error(&err, &im_design.domains);
+                (report.verdict, report.reason) = (verdict, Some(reason));
                 return Ok(());
             }
             match result {
@@ -820,8 +821,8 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
             other => return Err(format!("`{}` assertions are not supported by the native checker yet", other.label())),
         };
         if let Some(err) = lts.error() {
-            report.verdict = Verdict::Inconclusive;
-            report.reason = Some(format!("the model met a run-time error: {err}"));
+            let (verdict, reason) = fdr_error::runtime_error(&err, &design.domains);
+            (report.verdict, report.reason) = (verdict, Some(reason));
             return Ok(());
         }
         match outcome {

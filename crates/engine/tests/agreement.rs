@@ -29,22 +29,6 @@ use robosim_test_support::inputs;
 /// why). A finding is known when its kind is the same and its place and
 /// detail contain these.
 const KNOWN: &[(&str, &str, &str, &str)] = &[
-    // One cause, to fix in the export next (issue 16/17): it widens the
-    // number types by every integer literal of the models (360 in
-    // `random() * 360 / av`, 3 in the small model's `x + 3`); RoboTool widens
-    // them by the values of expressions (RT-5): the reference's
-    // instantiations.csp bounds them by `Div(180, no_zero_div(av))` over av
-    // in {-2..2}, 180 — the engine's {..180} is RoboTool's. Its events then
-    // carry the extra values of the wider types, and nothing else.
-    ("domain", "", "export Ok(", "the export's literal widening (RT-5), see above"),
-    ("event", "", "; engine only []; export only [", "same cause: the export's wider number types"),
-    (
-        "constant",
-        "roboarch-examples Control::CSkill::Explore::Explore",
-        "ZERO_SPEED: engine [\"14\"] (RT-1 default), export [\"Types_Velocities_rec.0.0\"]",
-        "the same value, the record's default (0, 0) (RT-1): the engine reports a record constant by its code in \
-         the record's layout, which this comparison does not decode yet",
-    ),
     (
         "event",
         "alpha-algorithm pkg223_aggregation::Movement",
@@ -94,9 +78,11 @@ struct EngineElement {
 }
 
 /// What the assertion files' `csp` blocks give the engine besides the
-/// number types: functions defined in CSPm (`floor`) and the clocks' bound
-/// (as `verify` reads them). The number types are left at RoboTool's
-/// defaults, as in the export of the models alone.
+/// number types: the clocks' bound (as `verify` reads it). The number types
+/// and the functions without a body are left at RoboTool's defaults (RT-5,
+/// RT-2), as in the export of the models alone: a function a block defines
+/// (`floor(x) = x`) would change the values of the expressions that widen
+/// the number types, for the engine only.
 fn defaults(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -> DomainDefaults {
     let mut d = DomainDefaults::default();
     for &f in ws.files(db).iter().filter(|f| f.kind(db).is_assertions()) {
@@ -106,8 +92,6 @@ fn defaults(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -> Domai
                 d.set(name, *lo, *hi);
             }
         }
-        let known: Vec<String> = d.functions.iter().map(|f| f.name.clone()).collect();
-        d.functions.extend(read.instantiations.functions.iter().filter(|f| !known.contains(&f.name)).cloned());
     }
     d
 }
@@ -424,10 +408,10 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
     // default as its note prints it: `true`, `Mode_Idle`), and whether the
     // engine took RoboTool's default (RT-1).
     let mut engine: BTreeMap<String, (Vec<String>, bool)> = BTreeMap::new();
-    for (q, val) in &v.constants {
+    for (q, _, shown) in &v.constants {
         let note = v.defaults.iter().find_map(|d| d.strip_prefix(&format!("constant {q} = "))?.strip_suffix(" (RT-1)"));
         let entry = engine.entry(short(q)).or_default();
-        entry.0.push(note.map_or_else(|| val.to_string(), |n| n.replace("true", "1").replace("false", "0")));
+        entry.0.push(comparable(note.unwrap_or(shown)).replace("true", "1").replace("false", "0"));
         entry.1 |= note.is_some();
     }
     let names: BTreeSet<String> = engine.keys().cloned().collect();
@@ -446,7 +430,9 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
         };
         let value = match ex.eval.value(&global) {
             Ok(Value::Bool(b)) => (b as i64).to_string(),
-            Ok(other) => other.to_string(),
+            // A record (`R_rec.0.0`) by its fields, as `comparable` writes
+            // the engine's.
+            Ok(other) => normalise(&other.to_string(), &BTreeSet::new()),
             Err(d) => format!("error: {}", d.message),
         };
         export.entry(k).or_default().push(value);
@@ -470,6 +456,18 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
                 detail: format!("{name}: engine {e:?}{default}, export {x:?}"),
             });
         }
+    }
+}
+
+/// A constant's value as the engine writes it, comparable with the
+/// export's: a record `(| x = 0, y = 1 |)` by its fields, `0.1`, as
+/// `normalise` writes RoboTool's `R_rec.0.1`.
+fn comparable(shown: &str) -> String {
+    match shown.strip_prefix("(|").and_then(|r| r.strip_suffix("|)")) {
+        Some(fields) => {
+            fields.split(',').map(|f| f.split_once('=').map_or(f, |(_, v)| v).trim()).collect::<Vec<_>>().join(".")
+        }
+        None => shown.to_string(),
     }
 }
 

@@ -223,3 +223,39 @@ timed assertion I6 : Bound refines Cycle in the traces model
     assert_eq!(v, Verdict::Unsupported);
     assert!(why.contains("constant values other than the model's (0)"), "{why}");
 }
+
+/// A record-valued constant given to the generated process
+/// (`p::R::O__(0, const_p_R_z)`): its value is RoboTool's default record
+/// (RT-1: each field's default, `(| x = 0, y = 0 |)`), the one the native
+/// LTS was compiled with, so the application is the machine itself; the
+/// verdict's notes show the record by its fields, not by its code.
+#[test]
+fn record_constants_of_generated_processes() {
+    let model = "package p
+interface I { event go event out : V }
+datatype V { x : nat y : nat }
+stm R {
+  uses I
+  const z : V
+  initial i
+  state A { }
+  transition t0 { from i to A }
+  transition t1 { from A to A trigger go action out!z }
+}
+";
+    let reports = support::csp::run(
+        model,
+        "csp Same csp-begin
+Same = p::R::O__(0, const_p_R_z)
+csp-end
+timed assertion I1 : R equals Same
+timed assertion D : R is deadlock-free
+",
+    );
+    assert_eq!(outcome(report(&reports, "I1")).0, Verdict::Pass, "{reports:#?}");
+    let d = report(&reports, "D");
+    assert_eq!(d.verdict, Verdict::Pass, "{d:#?}");
+    let notes = d.notes.join("\n");
+    assert!(notes.contains("R::z = (| x = 0, y = 0 |)"), "{notes}");
+    assert!(notes.contains("constant R::z = (| x = 0, y = 0 |) (RT-1)"), "{notes}");
+}

@@ -29,6 +29,17 @@ const CONSTANTS: &str =
   constant lv of paper_design::SMovement set to 1, constant PI of SimSMovement set to 45,
   constant av of SimSMovement set to 15, and constant lv of SimSMovement set to 1 .";
 
+/// RoboTool does not widen the number types by the constants' values
+/// (RT-5): the paper's PI = 45, av = 15 are given the types a RoboTool user
+/// gives them, in an `Instantiations` block (RT-7), as
+/// `examples/paper/assertions.rsa` does.
+const TYPES: &str = "csp Instantiations csp-begin
+nametype core_nat = {0..45}
+nametype core_int = {-2..45}
+nametype core_real = {-2..45}
+csp-end
+";
+
 /// `Sim refines P` and `P refines Sim` for the simulation text `sim`.
 fn check(sim: &str) -> (Report, Report) {
     check_in(sim, Profile::RoboTool3)
@@ -43,7 +54,7 @@ fn check_in(sim: &str, profile: Profile) -> (Report, Report) {
 fn check_model(sim: &str, profile: Profile, model: &str) -> (Report, Report) {
     let package = if sim.contains("package paper_sim_alt") { "paper_sim_alt" } else { "paper_sim" };
     let rsa = format!(
-        "simulation P of paper_design::CFootBot {{ cycleDef cycle == 1 }}
+        "{TYPES}simulation P of paper_design::CFootBot {{ cycleDef cycle == 1 }}
          assertion R : {package}::SimCFootBot refines P in the {model} model {CONSTANTS}
          assertion C : P refines {package}::SimCFootBot in the {model} model {CONSTANTS}"
     );
@@ -390,7 +401,7 @@ fn agrees_with_the_oracle_on_the_running_example() {
             None => (Verdict::Pass, String::new()),
         };
         let rsa = format!(
-            "simulation S of paper_design::CFootBot {{ cycleDef cycle == {p} }}
+            "{TYPES}simulation S of paper_design::CFootBot {{ cycleDef cycle == {p} }}
              assertion A : S is schedulable with constant PI of paper_design::SMovement set to 45,
                constant av of paper_design::SMovement set to 15, and constant lv of paper_design::SMovement set to 1 ."
         );

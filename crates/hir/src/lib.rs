@@ -21,6 +21,7 @@ mod db;
 pub mod defs;
 mod defs_shift;
 mod diagnostics;
+pub mod domains;
 pub mod element;
 pub mod element_rules;
 pub mod index;

@@ -3,6 +3,12 @@
 //! types and the constants' default values).
 
 use crate::cspm::{bin, call, ext, name, prefix, BinOp, Decl, Expr, ReplOp};
+use std::collections::BTreeSet;
+
+use robosim_hir::assertions::AssertionFile;
+use robosim_hir::domains::{number_domains, DomainInputs, NumRange, BASE, NAMES};
+use robosim_hir::{File, FileKind};
+
 use crate::export::{Exporter, OutFile};
 
 /// Whether the shared file defines `name`: its own processes, or
@@ -282,38 +288,91 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
     }
 }
 
-pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
-    let mut d = vec![Decl::Comment(
-        "Bounded types (semantics.md §3): RoboTool's defaults {0..2}, {-2..2}, {-2..2}, widened to the\n\
-         integer literals of the models and of the assertions' constant values, unless a `csp` block\n\
-         of an assertion file fixes them."
-            .into(),
-    )];
-    let lits = &ex.literals;
-    let widen = |lo: i64, hi: i64, nat: bool| -> (i64, i64) {
-        let mut r = (lo, hi);
-        for &v in lits {
-            if nat && v < 0 {
-                continue;
+/// `core_nat`, `core_int` and `core_real`, and a comment saying how they
+/// were found: RoboTool's (RT-5, computed once in hir for every back end)
+/// for the RoboChart models of each project (the widest range when the
+/// workspace holds several), the types a `csp` block fixes as given.
+pub(crate) fn number_types(
+    ex: &Exporter<'_>,
+    files: &[File],
+    assertion_files: &[(File, &AssertionFile)],
+) -> ([(i64, i64); 3], String) {
+    let (db, ws) = (ex.db, ex.ws);
+    // RT-7: a block's other definitions (functions, constants) belong to
+    // its own file's script, and old-style names (`nametype real = …`)
+    // define exactly those names: the shared types are RoboTool's generated
+    // ones, unless a block gives `core_nat`, `core_int` or `core_real`.
+    let mut inputs = DomainInputs::default();
+    for (_, read) in assertion_files {
+        for (name, lo, hi, _) in &read.instantiations.types {
+            if let Some(r) = NAMES.iter().position(|n| n == name) {
+                inputs.fixed[r] = Some(NumRange { lo: *lo, hi: *hi });
             }
-            r.0 = r.0.min(v);
-            r.1 = r.1.max(v);
         }
-        r
-    };
-    let mut fixed_note = Vec::new();
-    for (t, lo, hi, nat) in [("nat", 0, 2, true), ("int", -2, 2, false), ("real", -2, 2, false)] {
-        let (lo, hi) = match ex.fixed_types.get(t) {
-            Some(&(a, b)) => {
-                fixed_note.push(format!("core_{t}"));
-                (a, b)
-            }
-            None => widen(lo, hi, nat),
-        };
-        d.push(Decl::Nametype(format!("core_{t}"), Expr::Range(Box::new(Expr::Int(lo)), Box::new(Expr::Int(hi)))));
     }
-    if !fixed_note.is_empty() {
-        d.push(Decl::Comment(format!("{} as set by a `csp` block of an assertion file.", fixed_note.join(", "))));
+    let projects: BTreeSet<Option<u32>> = files
+        .iter()
+        .filter(|f| f.kind(db) == FileKind::RoboChart)
+        .map(|f| robosim_hir::index::project_of(db, ws, *f))
+        .collect();
+    let fixed: Vec<&str> = (0..3).filter(|r| inputs.fixed[*r].is_some()).map(|r| NAMES[r]).collect();
+    let fixed = match fixed.is_empty() {
+        true => String::new(),
+        false => format!("\n{} as set by a `csp` block of an assertion file.", fixed.join(", ")),
+    };
+    let mut doms: Option<[(i64, i64); 3]> = None;
+    for p in &projects {
+        match number_domains(db, ws, *p, inputs.clone()) {
+            Ok(nd) => {
+                let got = nd.domains.map(|d| (d.lo, d.hi));
+                doms = Some(match doms {
+                    None => got,
+                    Some(old) => [0, 1, 2].map(|r| (old[r].0.min(got[r].0), old[r].1.max(got[r].1))),
+                });
+            }
+            Err(e) => {
+                // RoboTool leaves the values to FDR; without them, the
+                // defaults (a `csp` block gives the types).
+                let base = [0, 1, 2].map(|r| inputs.fixed[r].unwrap_or(BASE[r])).map(|d| (d.lo, d.hi));
+                let note = format!(
+                    "Bounded types: RoboTool's defaults {{0..2}}, {{-2..2}}, {{-2..2}}; their widening by the values of \n\
+                     the models' expressions (RT-5) is not worked out here: {}{fixed}",
+                    e.message
+                );
+                return (base, note);
+            }
+        }
+    }
+    if projects.is_empty() {
+        // RoboSim models only: widened by their integer literals, as the
+        // native checker bounds RoboSim elements.
+        let mut r = [0, 1, 2].map(|r| inputs.fixed[r].unwrap_or(BASE[r])).map(|d| (d.lo, d.hi));
+        for f in files.iter().filter(|f| !f.kind(db).is_assertions()) {
+            for &v in &robosim_hir::model::file_model(db, ws, *f).literals {
+                for k in (0..3).filter(|k| inputs.fixed[*k].is_none() && (*k > 0 || v >= 0)) {
+                    r[k] = (r[k].0.min(v), r[k].1.max(v));
+                }
+            }
+        }
+        let note = format!(
+            "Bounded types (RoboSim): RoboTool's defaults {{0..2}}, {{-2..2}}, {{-2..2}}, widened to the integer\n\
+             literals of the models.{fixed}"
+        );
+        return (r, note);
+    }
+    let note = format!(
+        "Bounded types (RT-5): RoboTool's defaults {{0..2}}, {{-2..2}}, {{-2..2}}, widened to the values of\n\
+         the models' expressions (sticky arithmetic, `x / 0` as `x / 1`); the values assertions give\n\
+         constants widen nothing.{fixed}"
+    );
+    (doms.unwrap_or([(0, 2), (-2, 2), (-2, 2)]), note)
+}
+
+pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
+    let (doms, note) = &ex.number_types;
+    let mut d = vec![Decl::Comment(note.clone())];
+    for (t, (lo, hi)) in ["nat", "int", "real"].iter().zip(doms) {
+        d.push(Decl::Nametype(format!("core_{t}"), Expr::Range(Box::new(Expr::Int(*lo)), Box::new(Expr::Int(*hi)))));
     }
     d.push(Decl::Nametype("core_boolean".into(), n("Bool")));
     let clock_max = ex.fixed_types.get("clock_type").map(|&(_, hi)| hi).unwrap_or(10);

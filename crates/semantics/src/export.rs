@@ -375,8 +375,9 @@ pub(crate) struct Exporter<'a> {
     /// Register constructors and their value types.
     pub in_regs: BTreeMap<String, Vec<Expr>>,
     pub out_regs: BTreeMap<String, Vec<Expr>>,
-    /// Integer literals of the models and of the assertions' values.
-    pub literals: Vec<i64>,
+    /// `core_nat`, `core_int`, `core_real` (RT-5), with the comment that
+    /// says how they were found.
+    pub number_types: ([(i64, i64); 3], String),
     /// Constant defaults for instantiations.csp: name, value, comment.
     pub constants: Vec<(String, Expr, String)>,
     pub const_names: HashSet<String>,
@@ -418,7 +419,7 @@ impl<'a> Exporter<'a> {
             module_names: HashSet::new(),
             in_regs: BTreeMap::new(),
             out_regs: BTreeMap::new(),
-            literals: Vec::new(),
+            number_types: ([(0, 2), (-2, 2), (-2, 2)], String::new()),
             constants: Vec::new(),
             const_names: HashSet::new(),
             enums: HashMap::new(),
@@ -759,35 +760,22 @@ impl<'a> Exporter<'a> {
 pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
     let mut ex = Exporter::new(db, ws, opts.profile);
     let files: Vec<File> = ws.files(db).iter().copied().filter(|f| !f.is_library(db)).collect();
-    // Literals widen the core types (semantics.md §3).
-    for &f in &files {
-        if !f.kind(db).is_assertions() {
-            ex.literals.extend(model::file_model(db, ws, f).literals.iter().copied());
-        }
-    }
     // The assertion files first read: their `csp` blocks may fix the
-    // core types, and their constant values widen them.
+    // core types (the values they give constants widen nothing, RT-5).
     let mut assertion_files = Vec::new();
     for &f in &files {
         if f.kind(db).is_assertions() {
             let read = model::assertion_file(db, f);
+            // Only RoboTool's own names set the shared types (RT-7).
             for (n, lo, hi, _) in &read.instantiations.types {
-                ex.fixed_types.insert(n.trim_start_matches("core_").to_string(), (*lo, *hi));
-            }
-            for a in &read.assertions {
-                for o in &a.overrides {
-                    if let robosim_hir::assertions::Override::Constant {
-                        value: robosim_hir::assertions::Value::Int(v),
-                        ..
-                    } = o
-                    {
-                        ex.literals.push(*v);
-                    }
+                if let Some(t) = n.strip_prefix("core_") {
+                    ex.fixed_types.insert(t.to_string(), (*lo, *hi));
                 }
             }
             assertion_files.push((f, read));
         }
     }
+    ex.number_types = crate::defs::number_types(&ex, &files, &assertion_files);
     // Every element of every model file, in file order.
     for &f in &files {
         if f.kind(db).is_assertions() {

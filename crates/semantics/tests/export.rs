@@ -309,3 +309,23 @@ fn guarded_communications_are_refused_not_unguarded() {
         assert!(text.contains("NOT EXPORTED: state machine G") && text.contains("module Plain"), "{comm}: {text}");
     }
 }
+
+/// RT-5, computed once in hir for both back ends: the export of the
+/// reference project (`../shared/reference/alpha-algorithm`, its assertion
+/// files included) bounds the number types as RoboTool's generated
+/// `instantiations.csp` does: `core_real` reaches 180 (`Div(180,
+/// no_zero_div(av), core_real)` keeps 180 for every av in {-2..2}), not
+/// the 360 of the literal in `random() * 360 / av`; `core_nat` and
+/// `core_int` stay RoboTool's defaults (their expressions are under
+/// `Mathematics_floor`, RT-2's 0). `model.assertions`' block names the old
+/// `nat`, `int`, `real`, which set nothing shared (RT-7), and the values
+/// assertions give constants widen nothing.
+#[test]
+fn reference_number_types_are_robotools() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/alpha-algorithm");
+    let e = export_dir(&dir, Profile::RoboTool3);
+    let inst = e.files.iter().find(|f| f.name == "instantiations.csp").expect("instantiations.csp").text();
+    for line in ["nametype core_nat = {0..2}", "nametype core_int = { -2..2}", "nametype core_real = { -2..180}"] {
+        assert!(inst.contains(line), "{line} not in {inst}");
+    }
+}

@@ -154,6 +154,14 @@ impl Host<'_> {
                 CspKind::Type(TypeDef::Primitive) => Some(Value::Int(0)),
                 CspKind::Type(TypeDef::Core) if n == "core_boolean" => Some(Value::Bool(true)),
                 CspKind::Type(TypeDef::Core) => Some(Value::Int(0)),
+                // A record: each field's default (RT-1), as the bridge
+                // writes record values (the tuple of the fields), so that
+                // `M::D__(…, const_M_r)` is applied to the value the
+                // native LTS was compiled with.
+                CspKind::Type(TypeDef::Record(fields)) => {
+                    let vs = fields.iter().map(|t| self.constant(t, None)).collect::<Option<Vec<_>>>()?;
+                    Some(Value::Tuple(vs.into()))
+                }
                 _ => None,
             },
             CspType::Nat | CspType::Int | CspType::Real | CspType::Clock => Some(Value::Int(0)),

@@ -305,42 +305,27 @@ impl<'a> Cx<'a> {
         // project's expressions (`domains`).
         let mut widened = Vec::new();
         if let (false, Some(first)) = (self.robosim, instances.first()) {
-            let (doms, notes) = self.robotool_domains(first.file)?;
-            let fixed = self.defaults.fixed;
-            [self.defaults.nat, self.defaults.int, self.defaults.real] = doms;
-            widened = notes;
-            // Not RoboTool's: it computes with the domains above whatever
-            // values an assertion gives the constants (RT-5), so that
-            // `PI / av` with PI = 45, av = 15 is `Div(45, 15, {-2..2})`,
-            // 45. The engine still widens by those values (as the paper's
-            // examples expect), and says so whenever it changes a domain.
-            for (r, name) in ["nat", "int", "real"].iter().enumerate() {
-                let d = [self.defaults.nat, self.defaults.int, self.defaults.real][r];
-                let mut w = d;
-                for c in self.consts.iter().filter(|c| r > 0 || c.value >= 0) {
-                    if !fixed[r] {
-                        (w.lo, w.hi) = (w.lo.min(c.value), w.hi.max(c.value));
-                    }
-                }
-                if w != d {
-                    widened.push(format!(
-                        "core_{name} = {{{}..{}}}, widened by the constants' values of the assertion — RoboTool \
-                         does not widen by them and computes with {{{}..{}}} (RT-5)",
-                        w.lo, w.hi, d.lo, d.hi
-                    ));
-                    match r {
-                        0 => self.defaults.nat = w,
-                        1 => self.defaults.int = w,
-                        _ => self.defaults.real = w,
-                    }
-                }
-            }
+            let computed =
+                robosim_hir::domains::domains_of(self.db, self.ws, first.file, &self.defaults.domain_inputs())
+                    .as_ref()
+                    .map_err(|e| Unsupported {
+                        message: e.message.clone(),
+                        location: e.location.map(|(f, r)| (f.path(self.db).clone(), r)),
+                    })?;
+            [self.defaults.nat, self.defaults.int, self.defaults.real] =
+                computed.domains.map(|d| Dom { lo: d.lo, hi: d.hi });
+            widened = computed.notes();
+            // The values an assertion gives constants widen nothing: RoboTool
+            // computes with the domains above whatever they are (`PI / av`
+            // with PI = 45, av = 15 is `Div(45, 15, {-2..2})`, 45), and a
+            // value sent or assigned outside its type stops FDR with an
+            // error (`EvalError::OutOfDomain`).
             self.defaults.fixed = [true; 3];
         }
         // RoboSim: the literals of every model of the project widen the
         // numeric domains, as RoboTool's one `instantiations.csp` per
-        // project does (the CSPm export bounds them alike), and so do the
-        // constants' values. (RoboChart's were widened by RT-5 above.)
+        // project does; the constants' values an assertion gives do not
+        // (RT-5). (RoboChart's were widened by RT-5 above.)
         let mut lits: Vec<Val> = Vec::new();
         if self.robosim {
             let project = instances.first().and_then(|i| robosim_hir::index::project_of(self.db, self.ws, i.file));
@@ -354,7 +339,6 @@ impl<'a> Cx<'a> {
                 .collect();
             lits.extend(instances.iter().flat_map(|i| i.body.literals.iter().copied()));
         }
-        lits.extend(self.consts.iter().map(|c| c.value));
         let widen = |d: Dom, fixed: bool, nat: bool| -> Dom {
             if fixed {
                 return d;

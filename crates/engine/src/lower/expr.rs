@@ -626,3 +626,19 @@ fn int_pattern(p: &CspExpr) -> Option<Val> {
         _ => None,
     }
 }
+
+impl MachineCx<'_, '_> {
+    /// The domain of the sticky arithmetic at `e`: its type's (RoboTool's
+    /// `Plus(e1, e2, core_nat)` for a `nat` sum, `core_real` for every
+    /// division); `None` when the type checker did not type it.
+    pub(super) fn arith_dom(&self, e: &robosim_hir::model::Expr) -> Option<Dom> {
+        let d = &self.cx.defaults;
+        let t = robosim_hir::types::expr_types(self.cx.db, self.cx.ws, self.file).get(&e.range)?;
+        match t {
+            robosim_hir::types::Ty::Nat => Some(d.nat),
+            robosim_hir::types::Ty::Int => Some(d.int),
+            robosim_hir::types::Ty::Real => Some(d.real),
+            _ => None,
+        }
+    }
+}

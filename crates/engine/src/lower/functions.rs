@@ -52,7 +52,7 @@ impl MachineCx<'_, '_> {
         let params: Vec<&str> = func.params.iter().map(|p| p.name.as_str()).collect();
         let shown = match &ty {
             Layout::Set(_) => "{}".to_string(),
-            Layout::Num(_) => self.value_text(func.result.as_ref(), v),
+            Layout::Num(_) => self.value_text(func.result.as_ref(), &ty, v),
             // Tuples and records: each component's default (numbers 0).
             Layout::Tuple(ds) | Layout::Record(_, ds) => {
                 let parts: Vec<String> = ds.iter().map(|d| d.lo.max(0).min(d.hi).to_string()).collect();
@@ -114,14 +114,14 @@ impl MachineCx<'_, '_> {
                 Some(v) => v,
                 None => {
                     let v = self.default_of(p.ty.as_ref(), &ty);
-                    let shown = self.value_text(p.ty.as_ref(), v);
+                    let shown = self.value_text(p.ty.as_ref(), &ty, v);
                     let note = format!("parameter {}::{} = {shown} (RT-11)", self.decl_name, p.name);
                     self.design().defaults.push(note);
                     v
                 }
             };
             let q = format!("{}::{}", self.decl_name, p.name);
-            self.design().constants.push((q, value));
+            self.design().constants.push((q, value, value.to_string()));
             self.names.insert(p.name.clone(), Name::Const(value));
         }
         Ok(())

@@ -24,8 +24,9 @@ pub struct ElementView {
     /// channel, in the design's order.
     pub events: Vec<EventView>,
     /// Each constant (`Machine::k`, under its controller's and module's
-    /// references) and the value the engine uses.
-    pub constants: Vec<(String, Val)>,
+    /// references), the value the engine uses (its code), and that value
+    /// as written (records and tuples decoded).
+    pub constants: Vec<(String, Val, String)>,
     /// The values taken from RoboTool's defaults because the model gives
     /// none (RT-1, RT-4), described (`constant M::k = 0 (RT-1)`).
     pub defaults: Vec<String>,

@@ -95,14 +95,15 @@ impl<'b> MachineCx<'_, 'b> {
                                             None => {
                                                 // RT-1: RoboTool writes the type's default.
                                                 let v = self.default_of(tnode, &ty);
-                                                let shown = self.value_text(tnode, v);
+                                                let shown = self.value_text(tnode, &ty, v);
                                                 self.design().defaults.push(format!("constant {q} = {shown} (RT-1)"));
                                                 v
                                             }
                                         }
                                     }
                                 };
-                                self.design().constants.push((q, value));
+                                let shown = ty.show(value);
+                                self.design().constants.push((q, value, shown));
                                 self.names.insert(name, Name::Const(value));
                             } else {
                                 if from_interface {

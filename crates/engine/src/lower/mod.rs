@@ -15,7 +15,6 @@
 
 mod cells;
 mod compose;
-mod domains;
 mod expr;
 mod functions;
 mod inspect;
@@ -104,6 +103,20 @@ impl Default for DomainDefaults {
 }
 
 impl DomainDefaults {
+    /// What RT-5's computation of the number domains takes from these
+    /// (what the instantiations fixed and define).
+    pub fn domain_inputs(&self) -> robosim_hir::domains::DomainInputs {
+        use robosim_hir::domains::NumRange;
+        let r = |d: Dom| NumRange { lo: d.lo, hi: d.hi };
+        let doms = [self.nat, self.int, self.real];
+        robosim_hir::domains::DomainInputs {
+            fixed: [0, 1, 2].map(|i| self.fixed[i].then(|| r(doms[i]))),
+            types: self.types.iter().map(|(n, d)| (n.clone(), r(*d))).collect(),
+            constants: self.constants.clone(),
+            functions: self.functions.clone(),
+        }
+    }
+
     /// Applies `nametype core_X = {a..b}` instantiations.
     pub fn set(&mut self, name: &str, lo: Val, hi: Val) {
         let d = Dom { lo, hi };
@@ -364,6 +377,20 @@ impl MachineCx<'_, '_> {
     }
 
     fn emit(&mut self, i: Instr) {
+        // A value sent must be one of the channel's type: RoboTool's CSPm
+        // stops FDR with an error otherwise (not a clamped value).
+        let i = match i {
+            Instr::Out { chan, args, urgent, store } => {
+                let params = self.design().channels.get(chan as usize).map(|c| c.params.clone()).unwrap_or_default();
+                let args = if params.len() == args.len() {
+                    args.into_iter().zip(params).map(|(a, d)| a.checked(d)).collect()
+                } else {
+                    args
+                };
+                Instr::Out { chan, args, urgent, store }
+            }
+            i => i,
+        };
         self.code.push(i);
         self.code_ranges.push(self.at);
         self.code_files.push(self.file_ix);

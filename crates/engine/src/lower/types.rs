@@ -63,6 +63,48 @@ impl Layout {
         }
     }
 
+    /// The value whose code is `v`, as written: a number as itself, a
+    /// tuple `(a, b)`, a record `(| x = a, y = b |)`, a set `{a, b}`.
+    pub(super) fn show(&self, v: Val) -> String {
+        // The components' values from the code, in mixed radix (the first
+        // component most significant).
+        fn digits(v: Val, sizes: &[u64]) -> Vec<Val> {
+            let mut out = vec![0; sizes.len()];
+            let mut rest = v;
+            for (i, n) in sizes.iter().enumerate().rev() {
+                let n = (*n).max(1) as Val;
+                out[i] = rest.rem_euclid(n);
+                rest = rest.div_euclid(n);
+            }
+            out
+        }
+        match self {
+            Layout::Num(_) => v.to_string(),
+            Layout::Tuple(ds) => {
+                let xs = digits(v, &ds.iter().map(|d| d.size()).collect::<Vec<_>>());
+                let xs: Vec<String> = xs.iter().zip(ds).map(|(x, d)| (x + d.lo).to_string()).collect();
+                format!("({})", xs.join(", "))
+            }
+            Layout::Record(names, ds) => {
+                let xs = digits(v, &ds.iter().map(|d| d.size()).collect::<Vec<_>>());
+                let fs: Vec<String> =
+                    names.iter().zip(xs.iter().zip(ds)).map(|(n, (x, d))| format!("{n} = {}", x + d.lo)).collect();
+                format!("(| {} |)", fs.join(", "))
+            }
+            Layout::Product(cs) => {
+                let xs = digits(v, &cs.iter().map(|c| c.dom().size()).collect::<Vec<_>>());
+                let parts: Vec<String> = xs.iter().zip(cs).map(|(x, c)| c.show(x + c.dom().lo)).collect();
+                format!("({})", parts.join(", "))
+            }
+            Layout::Set(el) => {
+                let lo = el.dom().lo;
+                let xs: Vec<String> =
+                    (0..el.dom().size().min(63)).filter(|i| v >> i & 1 == 1).map(|i| el.show(lo + i as Val)).collect();
+                format!("{{{}}}", xs.join(", "))
+            }
+        }
+    }
+
     /// The value of a variable declared without one: the least value of
     /// each number (0 when in range), the empty set.
     pub(super) fn default_value(&self) -> Val {
@@ -283,12 +325,13 @@ impl MachineCx<'_, '_> {
         v
     }
 
-    /// A value of the type `node` as the modeller writes it.
-    pub(super) fn value_text(&self, node: Option<&TyRef>, v: Val) -> String {
+    /// A value of the type `node` (laid out as `ty`) as the modeller
+    /// writes it.
+    pub(super) fn value_text(&self, node: Option<&TyRef>, ty: &Layout, v: Val) -> String {
         match self.param_of(node) {
             Some(Param::Bool) => (v != 0).to_string(),
             Some(Param::Named(names)) => names.get(v as usize).cloned().unwrap_or_else(|| v.to_string()),
-            _ => v.to_string(),
+            _ => ty.show(v),
         }
     }
 }

@@ -180,7 +180,7 @@ pub(crate) fn domains_note(design: &Design) -> String {
     let doms: Vec<String> = design.domains.iter().map(|(n, d)| format!("{n} = {{{}..{}}}", d.lo, d.hi)).collect();
     let mut s = format!("domains: {}", doms.join(", "));
     if !design.constants.is_empty() {
-        let cs: Vec<String> = design.constants.iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        let cs: Vec<String> = design.constants.iter().map(|(n, _, shown)| format!("{n} = {shown}")).collect();
         s.push_str(&format!("; constants: {}", cs.join(", ")));
     }
     if let Some(b) = design.channels.iter().find_map(|c| c.buffer) {

@@ -1,13 +1,13 @@
-//! RoboTool's number domains (robotool-facts RT-5): `core_nat = {0..2}`,
-//! `core_int = core_real = {-2..2}`, each widened to cover the values of
-//! the model's expressions of that type (a `nat` expression also widens
-//! `int` and `real`, an `int` one `real`), every expression evaluated with
-//! the sticky arithmetic (`Plus(e1, e2, T)` keeps `e1` when the result
-//! leaves `T`; a divisor 0 counts as 1, RT-6) over the base ranges of its
-//! free variables and constants and over its literals. The generated
-//! `instantiations.csp` writes this as
-//! `union(base, {calc_type_min(U)..calc_type_max(U)})`, where
-//! `calc_type_max` never goes below 0.
+//! RoboTool's number domains (robotool-facts RT-5), computed once for
+//! every back end: `core_nat = {0..2}`, `core_int = core_real = {-2..2}`,
+//! each widened to cover the values of the model's expressions of that
+//! type (a `nat` expression also widens `int` and `real`, an `int` one
+//! `real`), every expression evaluated with the sticky arithmetic
+//! (`Plus(e1, e2, T)` keeps `e1` when the result leaves `T`; a divisor 0
+//! counts as 1, RT-6) over the base ranges of its free variables and
+//! constants and over its literals. The generated `instantiations.csp`
+//! writes this as `union(base, {calc_type_min(U)..calc_type_max(U)})`,
+//! where `calc_type_max` never goes below 0.
 //!
 //! Our reading of the reference output (`../shared/reference/alpha-algorithm`):
 //! the expressions are the model's maximal ones — values assigned, sent
@@ -20,22 +20,111 @@
 //! `core_real`'s own list the arithmetic is over the base ranges; the other
 //! lists use the widened `core_real` (and `core_int`) for the arithmetic of
 //! those types.
+//!
+//! The values an assertion gives constants (`with constant PI set to 45`)
+//! widen nothing: RoboTool computes with these domains whatever they are.
+//! What an assertion file's `Instantiations` block fixes (`nametype
+//! core_real = {a..b}`, RT-7) stays as given, and its other definitions
+//! (primitive types' ranges, constants, functions written in CSPm) take
+//! part in the evaluation ([`DomainInputs`]).
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use robosim_hir::csp_fn::{CspBinOp, CspExpr, CspFunction};
-use robosim_hir::index::project_of;
-use robosim_hir::model::{BinOp, CommPart, Definition, Expr as MExpr, ExprKind, Item, Region, Stmt, StmtKind, UnOp};
-use robosim_hir::types::{expr_types, Ty};
-use robosim_syntax::FileKind;
+use robosim_syntax::{FileKind, TextRange};
 
-use super::*;
+use crate::csp_fn::{CspBinOp, CspExpr, CspFunction};
+use crate::defs::DefKind;
+use crate::index::project_of;
+use crate::model::{
+    self, item, Behaviour, BinOp, CommPart, Definition, Expr as MExpr, ExprKind, Item, Region, Stmt, StmtKind, UnOp,
+};
+use crate::types::{expr_types, Ty};
+use crate::{Db, File, Workspace};
+
+/// A value of the number types.
+type Val = i64;
+
+/// An integer range `{lo..hi}`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct NumRange {
+    /// Least value.
+    pub lo: i64,
+    /// Greatest value.
+    pub hi: i64,
+}
+
+impl NumRange {
+    /// Booleans, as numbers.
+    const BOOL: NumRange = NumRange { lo: 0, hi: 1 };
+
+    /// Whether `v` is in the range.
+    pub fn contains(self, v: i64) -> bool {
+        self.lo <= v && v <= self.hi
+    }
+
+    /// The number of values.
+    pub fn size(self) -> u64 {
+        (self.hi as i128 - self.lo as i128 + 1).clamp(0, u64::MAX as i128) as u64
+    }
+}
+
+/// RoboTool's ranges before widening: `core_nat`, `core_int`, `core_real`.
+pub const BASE: [NumRange; 3] = [NumRange { lo: 0, hi: 2 }, NumRange { lo: -2, hi: 2 }, NumRange { lo: -2, hi: 2 }];
+
+/// The names of the three number types, by rank (nat 0, int 1, real 2).
+pub const NAMES: [&str; 3] = ["core_nat", "core_int", "core_real"];
+
+/// What an assertion file's instantiations give the computation (RT-7):
+/// the default for a workspace without any is [`DomainInputs::default`].
+#[derive(Debug, Clone, Default, PartialEq, Eq, Hash)]
+pub struct DomainInputs {
+    /// `core_nat`, `core_int`, `core_real` as an instantiation fixes them
+    /// (not widened then).
+    pub fixed: [Option<NumRange>; 3],
+    /// Every `nametype X = {a..b}` (the ranges of the primitive types the
+    /// model declares, for `size`).
+    pub types: Vec<(String, NumRange)>,
+    /// Constant values (`pkg_Machine_k = v`), for functions written in CSPm.
+    pub constants: Vec<(String, i64)>,
+    /// Functions written in CSPm, for the model's functions without a body.
+    pub functions: Vec<CspFunction>,
+}
+
+/// The number types of a project.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct NumberDomains {
+    /// `core_nat`, `core_int`, `core_real`.
+    pub domains: [NumRange; 3],
+    /// Which of them the model's expressions widened (beyond [`BASE`]).
+    pub widened: [bool; 3],
+}
+
+impl NumberDomains {
+    /// The notes a verdict gives for the widened types (RT-5).
+    pub fn notes(&self) -> Vec<String> {
+        (0..3)
+            .rev()
+            .filter(|r| self.widened[*r])
+            .map(|r| {
+                let d = self.domains[r];
+                format!("{} = {{{}..{}}}, widened by the model's expressions (RT-5)", NAMES[r], d.lo, d.hi)
+            })
+            .collect()
+    }
+}
+
+/// Why the domains cannot be worked out statically: the user gives them
+/// with `nametype core_X = {a..b}` in a `csp` block.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct DomainError {
+    /// What, as a sentence.
+    pub message: String,
+    /// The expression at fault, when one is.
+    pub location: Option<(File, TextRange)>,
+}
 
 /// The most combinations of free values an expression is evaluated at.
 const MAX_COMBINATIONS: usize = 1 << 14;
-
-/// The base ranges (before widening).
-const BASE: [Dom; 3] = [Dom { lo: 0, hi: 2 }, Dom { lo: -2, hi: 2 }, Dom { lo: -2, hi: 2 }];
 
 /// The numeric rank of a type: nat 0, int 1, real 2.
 fn rank(t: &Ty) -> Option<usize> {
@@ -53,141 +142,141 @@ struct Site<'a> {
     expr: &'a MExpr,
 }
 
-impl<'a> Cx<'a> {
-    /// RT-5: the domains of `nat`, `int` and `real` for the project of
-    /// `file`, widened by the values of its expressions; the types an
-    /// instantiation fixed stay as given. Also says which were widened.
-    pub(super) fn robotool_domains(&self, file: File) -> Result<([Dom; 3], Vec<String>), Unsupported> {
-        let d = &self.defaults;
-        let mut doms = [d.nat, d.int, d.real];
-        if d.fixed.iter().all(|f| *f) {
-            return Ok((doms, Vec::new()));
+/// RT-5: the number types of the RoboChart models of `project` (as
+/// [`project_of`] numbers them), given what the instantiations define.
+#[salsa::tracked(returns(ref))]
+pub fn number_domains(
+    db: &dyn Db,
+    ws: Workspace,
+    project: Option<u32>,
+    inputs: DomainInputs,
+) -> Result<NumberDomains, DomainError> {
+    let mut doms = [0, 1, 2].map(|r| inputs.fixed[r].unwrap_or(BASE[r]));
+    let none = NumberDomains { domains: doms, widened: [false; 3] };
+    if inputs.fixed.iter().all(Option::is_some) {
+        return Ok(none);
+    }
+    let mut sites = Vec::new();
+    let mut decl_types: Vec<&Ty> = Vec::new();
+    for &f in ws.files(db) {
+        if f.is_library(db) || f.kind(db) != FileKind::RoboChart || project_of(db, ws, f) != project {
+            continue;
         }
-        let project = project_of(self.db, self.ws, file);
-        let mut sites = Vec::new();
-        let mut decl_types: Vec<&Ty> = Vec::new();
-        for &f in self.ws.files(self.db) {
-            if f.is_library(self.db)
-                || f.kind(self.db) != FileKind::RoboChart
-                || project_of(self.db, self.ws, f) != project
-            {
-                continue;
-            }
-            for (_, item) in &model::file_model(self.db, self.ws, f).items {
-                item_types(item, &mut decl_types);
-                match item {
-                    Item::Machine(b) | Item::Operation(b) => behaviour_sites(f, b, &mut sites),
-                    Item::Controller(c) => {
-                        for inst in c.machines.iter().chain(&c.operations) {
-                            if let Definition::Inline(b) = &inst.def {
-                                behaviour_sites(f, b, &mut sites);
-                            }
+        for (_, item) in &model::file_model(db, ws, f).items {
+            item_types(item, &mut decl_types);
+            match item {
+                Item::Machine(b) | Item::Operation(b) => behaviour_sites(f, b, &mut sites),
+                Item::Controller(c) => {
+                    for inst in c.machines.iter().chain(&c.operations) {
+                        if let Definition::Inline(b) = &inst.def {
+                            behaviour_sites(f, b, &mut sites);
                         }
                     }
-                    Item::Module(m) => {
-                        for inst in &m.controllers {
-                            if let Definition::Inline(c) = &inst.def {
-                                for i in c.machines.iter().chain(&c.operations) {
-                                    if let Definition::Inline(b) = &i.def {
-                                        behaviour_sites(f, b, &mut sites);
-                                    }
+                }
+                Item::Module(m) => {
+                    for inst in &m.controllers {
+                        if let Definition::Inline(c) = &inst.def {
+                            for i in c.machines.iter().chain(&c.operations) {
+                                if let Definition::Inline(b) = &i.def {
+                                    behaviour_sites(f, b, &mut sites);
                                 }
                             }
                         }
                     }
-                    _ => {}
                 }
-            }
-        }
-        let mut declared = [false; 3];
-        for t in &decl_types {
-            mark_ranks(t, &mut declared);
-        }
-        let mut notes = Vec::new();
-        // `real` first (over the base ranges), then `int` and `nat` with
-        // the widened `real` (and `int`) for the arithmetic of those types.
-        let mut arith = BASE;
-        for r in [2, 1, 0] {
-            if d.fixed[r] {
-                arith[r] = doms[r];
-                continue;
-            }
-            let mut own = arith;
-            own[r] = BASE[r];
-            let mut values = BTreeSet::new();
-            for s in &sites {
-                self.site_values(s, r, &own, &mut values)?;
-            }
-            let max = values.iter().copied().max().unwrap_or(0).max(0);
-            let min = values.iter().copied().min().unwrap_or(max).min(max);
-            let base = BASE[r];
-            let name = ["nat", "int", "real"][r];
-            // A gap matters only when values of the type are stored or
-            // communicated (the values in it would be RoboTool's none).
-            if min > base.hi + 1 && declared[r] {
-                return Err(Unsupported {
-                    message: format!(
-                        "RoboTool's `core_{name}` here is {{{}..{}}} ∪ {{{min}..{max}}} (RT-5), not one range: \
-                         give it with `nametype core_{name} = {{a..b}}` in a `csp` block of an assertion file",
-                        base.lo, base.hi
-                    ),
-                    location: None,
-                });
-            }
-            let w = Dom { lo: base.lo.min(min), hi: base.hi.max(max) };
-            if w != base {
-                notes.push(format!("core_{name} = {{{}..{}}}, widened by the model's expressions (RT-5)", w.lo, w.hi));
-            }
-            doms[r] = w;
-            arith[r] = w;
-        }
-        Ok((doms, notes))
-    }
-
-    /// Adds to `out` the values of the expressions at `s` (and inside it)
-    /// whose type widens the domain of rank `r`.
-    fn site_values(
-        &self,
-        s: &Site<'_>,
-        r: usize,
-        arith: &[Dom; 3],
-        out: &mut BTreeSet<Val>,
-    ) -> Result<(), Unsupported> {
-        let types = expr_types(self.db, self.ws, s.file);
-        let mut stack = vec![s.expr];
-        while let Some(e) = stack.pop() {
-            let ty = types.get(&e.range).and_then(rank);
-            if ty.is_some_and(|t| t <= r) {
-                let vs = Eval { cx: self, types, arith }.values(e).ok_or_else(|| Unsupported {
-                    message: format!(
-                        "RoboTool's `core_{}` depends on the value of this expression, which the native checker \
-                         cannot work out (RT-5): give the type with `nametype core_{} = {{a..b}}` in a `csp` block",
-                        ["nat", "int", "real"][r],
-                        ["nat", "int", "real"][r]
-                    ),
-                    location: Some((s.file.path(self.db).clone(), e.range)),
-                })?;
-                out.extend(vs);
-            }
-            // Into what is not arithmetic: comparisons, connectives, calls,
-            // conditionals, indices.
-            match &e.kind {
-                ExprKind::Binary(op, a, b) if !is_arith(*op) => stack.extend([&**a, &**b]),
-                ExprKind::Unary(UnOp::Not, a) => stack.push(a),
-                ExprKind::Call { args, .. } => stack.extend(args.iter()),
-                ExprKind::If(c, a, b) => stack.extend([&**c, &**a, &**b]),
-                ExprKind::Index(base, ix) => {
-                    stack.push(base);
-                    stack.extend(ix.iter());
-                }
-                ExprKind::Tuple(xs) => stack.extend(xs.iter()),
-                ExprKind::Record(fs) => stack.extend(fs.iter().map(|(_, x)| x)),
-                ExprKind::Interval { lo, hi, .. } => stack.extend([&**lo, &**hi]),
                 _ => {}
             }
         }
-        Ok(())
     }
+    let mut declared = [false; 3];
+    for t in &decl_types {
+        mark_ranks(t, &mut declared);
+    }
+    let mut widened = [false; 3];
+    // `real` first (over the base ranges), then `int` and `nat` with the
+    // widened `real` (and `int`) for the arithmetic of those types.
+    let mut arith = BASE;
+    for r in [2, 1, 0] {
+        if inputs.fixed[r].is_some() {
+            arith[r] = doms[r];
+            continue;
+        }
+        let mut own = arith;
+        own[r] = BASE[r];
+        let mut values = BTreeSet::new();
+        let eval = |file: File| Eval { db, ws, inputs: &inputs, types: expr_types(db, ws, file), arith: &own };
+        for s in &sites {
+            site_values(&eval(s.file), s, r, &mut values)?;
+        }
+        let max = values.iter().copied().max().unwrap_or(0).max(0);
+        let min = values.iter().copied().min().unwrap_or(max).min(max);
+        let base = BASE[r];
+        let name = NAMES[r];
+        // A gap matters only when values of the type are stored or
+        // communicated (the values in it would be RoboTool's none).
+        if min > base.hi + 1 && declared[r] {
+            return Err(DomainError {
+                message: format!(
+                    "RoboTool's `{name}` here is {{{}..{}}} ∪ {{{min}..{max}}} (RT-5), not one range: \
+                     give it with `nametype {name} = {{a..b}}` in a `csp` block of an assertion file",
+                    base.lo, base.hi
+                ),
+                location: None,
+            });
+        }
+        let w = NumRange { lo: base.lo.min(min), hi: base.hi.max(max) };
+        widened[r] = w != base;
+        doms[r] = w;
+        arith[r] = w;
+    }
+    Ok(NumberDomains { domains: doms, widened })
+}
+
+/// [`number_domains`] for the project of `file`.
+pub fn domains_of<'db>(
+    db: &'db dyn Db,
+    ws: Workspace,
+    file: File,
+    inputs: &DomainInputs,
+) -> &'db Result<NumberDomains, DomainError> {
+    number_domains(db, ws, project_of(db, ws, file), inputs.clone())
+}
+
+/// Adds to `out` the values of the expressions at `s` (and inside it)
+/// whose type widens the domain of rank `r`.
+fn site_values(ev: &Eval<'_>, s: &Site<'_>, r: usize, out: &mut BTreeSet<Val>) -> Result<(), DomainError> {
+    let mut stack = vec![s.expr];
+    while let Some(e) = stack.pop() {
+        let ty = ev.types.get(&e.range).and_then(rank);
+        if ty.is_some_and(|t| t <= r) {
+            let vs = ev.values(e).ok_or_else(|| DomainError {
+                message: format!(
+                    "RoboTool's `{}` depends on the value of this expression, which the native checker \
+                     cannot work out (RT-5): give the type with `nametype {} = {{a..b}}` in a `csp` block",
+                    NAMES[r], NAMES[r]
+                ),
+                location: Some((s.file, e.range)),
+            })?;
+            out.extend(vs);
+        }
+        // Into what is not arithmetic: comparisons, connectives, calls,
+        // conditionals, indices.
+        match &e.kind {
+            ExprKind::Binary(op, a, b) if !is_arith(*op) => stack.extend([&**a, &**b]),
+            ExprKind::Unary(UnOp::Not, a) => stack.push(a),
+            ExprKind::Call { args, .. } => stack.extend(args.iter()),
+            ExprKind::If(c, a, b) => stack.extend([&**c, &**a, &**b]),
+            ExprKind::Index(base, ix) => {
+                stack.push(base);
+                stack.extend(ix.iter());
+            }
+            ExprKind::Tuple(xs) => stack.extend(xs.iter()),
+            ExprKind::Record(fs) => stack.extend(fs.iter().map(|(_, x)| x)),
+            ExprKind::Interval { lo, hi, .. } => stack.extend([&**lo, &**hi]),
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 fn is_arith(op: BinOp) -> bool {
@@ -246,21 +335,23 @@ fn stmt_sites<'a>(file: File, s: &'a Stmt, out: &mut Vec<Site<'a>>) {
 }
 
 /// Evaluates expressions over every combination of their free values.
-struct Eval<'c, 'a> {
-    cx: &'c Cx<'a>,
+struct Eval<'c> {
+    db: &'c dyn Db,
+    ws: Workspace,
+    inputs: &'c DomainInputs,
     types: &'c rustc_hash::FxHashMap<TextRange, Ty>,
-    arith: &'c [Dom; 3],
+    arith: &'c [NumRange; 3],
 }
 
-impl Eval<'_, '_> {
+impl Eval<'_> {
     /// The values of `e` (none when it cannot be worked out).
     fn values(&self, e: &MExpr) -> Option<BTreeSet<Val>> {
         // The free values: names and what is not computed here (tuple
         // components, fields, set sizes), each over its base range, keyed
         // by name (one value per name) or by range.
-        let mut free: BTreeMap<String, Dom> = BTreeMap::new();
+        let mut free: BTreeMap<String, NumRange> = BTreeMap::new();
         self.free(e, &mut free)?;
-        let keys: Vec<(&String, &Dom)> = free.iter().collect();
+        let keys: Vec<(&String, &NumRange)> = free.iter().collect();
         let mut count: usize = 1;
         for (_, d) in &keys {
             count = count.checked_mul(d.size() as usize).filter(|c| *c <= MAX_COMBINATIONS)?;
@@ -281,12 +372,10 @@ impl Eval<'_, '_> {
         Some(out)
     }
 
-    fn base_of(&self, e: &MExpr) -> Option<Dom> {
+    fn base_of(&self, e: &MExpr) -> Option<NumRange> {
         match self.types.get(&e.range)? {
-            Ty::Bool => Some(Dom::BOOL),
-            t @ Ty::Named(_, _, robosim_hir::defs::DefKind::Enumeration) => {
-                Some(Dom { lo: 0, hi: self.type_size(t)? - 1 })
-            }
+            Ty::Bool => Some(NumRange::BOOL),
+            t @ Ty::Named(_, _, DefKind::Enumeration) => Some(NumRange { lo: 0, hi: self.type_size(t)? - 1 }),
             t => rank(t).map(|r| BASE[r]),
         }
     }
@@ -299,7 +388,7 @@ impl Eval<'_, '_> {
         }
     }
 
-    fn free(&self, e: &MExpr, out: &mut BTreeMap<String, Dom>) -> Option<()> {
+    fn free(&self, e: &MExpr, out: &mut BTreeMap<String, NumRange>) -> Option<()> {
         match &e.kind {
             ExprKind::Int(_) | ExprKind::Bool(_) | ExprKind::Real(_) | ExprKind::EnumLiteral { .. } => {}
             ExprKind::Unary(_, a) => self.free(a, out)?,
@@ -329,7 +418,7 @@ impl Eval<'_, '_> {
                     Some(Ty::Set(el)) => self.type_size(el)?,
                     _ => return None,
                 };
-                out.insert(Self::key(e), Dom { lo: 0, hi: n });
+                out.insert(Self::key(e), NumRange { lo: 0, hi: n });
             }
             _ => {
                 out.insert(Self::key(e), self.base_of(e)?);
@@ -342,13 +431,13 @@ impl Eval<'_, '_> {
     fn type_size(&self, t: &Ty) -> Option<Val> {
         Some(match t {
             Ty::Bool => 2,
-            Ty::Named(loc, _, robosim_hir::defs::DefKind::Enumeration) => match self.cx.item(Some(*loc))? {
+            Ty::Named(loc, _, DefKind::Enumeration) => match item(self.db, self.ws, *loc)? {
                 Item::Enumeration(_, lits) => lits.len() as Val,
                 _ => return None,
             },
-            Ty::Named(_, name, robosim_hir::defs::DefKind::PrimitiveType) => {
+            Ty::Named(_, name, DefKind::PrimitiveType) => {
                 let core = format!("core_{name}");
-                match self.cx.defaults.types.iter().rev().find(|(n, _)| n == name || *n == core) {
+                match self.inputs.types.iter().rev().find(|(n, _)| n == name || *n == core) {
                     Some((_, d)) => d.size() as Val,
                     None => 2,
                 }
@@ -358,11 +447,11 @@ impl Eval<'_, '_> {
     }
 
     fn csp_defined(&self, f: &str) -> bool {
-        self.cx.defaults.functions.iter().any(|c| c.name == f)
+        self.inputs.functions.iter().any(|c| c.name == f)
     }
 
     /// The sticky domain of the arithmetic at `e` (its type's).
-    fn dom(&self, e: &MExpr) -> Dom {
+    fn dom(&self, e: &MExpr) -> NumRange {
         self.arith[self.types.get(&e.range).and_then(rank).unwrap_or(2)]
     }
 
@@ -375,10 +464,12 @@ impl Eval<'_, '_> {
                 let v: f64 = t.parse().ok()?;
                 (v.fract() == 0.0 && v.abs() < 1e15).then_some(v as Val)?
             }
-            ExprKind::EnumLiteral { literal, enumeration, .. } => match self.cx.item(*enumeration)? {
-                Item::Enumeration(_, lits) => lits.iter().position(|l| l == literal)? as Val,
-                _ => return None,
-            },
+            ExprKind::EnumLiteral { literal, enumeration, .. } => {
+                match enumeration.and_then(|l| item(self.db, self.ws, l))? {
+                    Item::Enumeration(_, lits) => lits.iter().position(|l| l == literal)? as Val,
+                    _ => return None,
+                }
+            }
             // A negative literal is a number (not `Neg` of one).
             ExprKind::Unary(UnOp::Neg, a) if matches!(a.kind, ExprKind::Int(_) | ExprKind::Real(_)) => {
                 self.eval(a, env)?.checked_neg()?
@@ -424,7 +515,7 @@ impl Eval<'_, '_> {
                     for a in args {
                         vs.push(self.eval(a, env)?);
                     }
-                    csp_apply(&self.cx.defaults.functions, &self.cx.defaults.constants, function, &vs, 0)?
+                    csp_apply(&self.inputs.functions, &self.inputs.constants, function, &vs, 0)?
                 } else {
                     // RT-2: the default of its result type (0, `true`).
                     match self.types.get(&e.range)? {
@@ -519,17 +610,6 @@ fn csp_eval(
             }
         }
     })
-}
-
-impl MachineCx<'_, '_> {
-    /// The domain of the sticky arithmetic at `e`: its type's (RoboTool's
-    /// `Plus(e1, e2, core_nat)` for a `nat` sum, `core_real` for every
-    /// division); `None` when the type checker did not type it.
-    pub(super) fn arith_dom(&self, e: &MExpr) -> Option<Dom> {
-        let d = &self.cx.defaults;
-        let t = expr_types(self.cx.db, self.cx.ws, self.file).get(&e.range)?;
-        Some([d.nat, d.int, d.real][rank(t)?])
-    }
 }
 
 /// Marks the numeric types `t` stores (in products and sets too).

@@ -1,0 +1,116 @@
+//! RoboTool's number domains (robotool-facts RT-5, RT-6), computed once in
+//! hir for every back end (`robosim_hir::domains`). Each expected range is
+//! worked out by hand from the facts: the model's maximal expressions,
+//! evaluated with the sticky arithmetic over the base ranges `{0..2}`,
+//! `{-2..2}`, `{-2..2}`.
+
+use robosim_hir::domains::{domains_of, DomainInputs, NumRange, NumberDomains};
+use robosim_hir::{load_workspace, RootDatabase, RuleSet};
+
+/// The domains of the project of `model` (one file), or the error's text.
+fn domains(model: &str, inputs: &DomainInputs) -> Result<NumberDomains, String> {
+    let db = RootDatabase::default();
+    let ws = load_workspace(&db, [("m.rct".to_string(), model.to_string())], RuleSet::Paper);
+    let f = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model");
+    domains_of(&db, ws, f, inputs).clone().map_err(|e| e.message)
+}
+
+fn r(lo: i64, hi: i64) -> NumRange {
+    NumRange { lo, hi }
+}
+
+/// A machine with the declarations `decls` whose one transition does
+/// `action`.
+fn machine(decls: &str, action: &str) -> String {
+    format!(
+        "stm M {{ {decls}
+           initial i0 state S {{ }}
+           transition t {{ from i0 to S action {action} }} }}"
+    )
+}
+
+fn doms(model: &str) -> ([NumRange; 3], [bool; 3]) {
+    let d = domains(model, &DomainInputs::default()).expect("domains");
+    (d.domains, d.widened)
+}
+
+const BASE: [NumRange; 3] = [NumRange { lo: 0, hi: 2 }, NumRange { lo: -2, hi: 2 }, NumRange { lo: -2, hi: 2 }];
+
+#[test]
+fn sticky_arithmetic_keeps_the_left_operand() {
+    // `x + 3` over x in {0..2} leaves {0..2} every time: `Plus` keeps x.
+    assert_eq!(doms(&machine("var x : nat", "x = x + 3")), (BASE, [false; 3]));
+    // `3 + x` keeps 3: the value 3 widens `nat`, and so `int` and `real`.
+    assert_eq!(doms(&machine("var x : nat", "x = 3 + x")), ([r(0, 3), r(-2, 3), r(-2, 3)], [true; 3]));
+    // The operands of arithmetic widen nothing on their own: `360` in
+    // `x * 360` is not a value of the model (x * 360 keeps x).
+    assert_eq!(doms(&machine("var x : int", "x = x * 360")), (BASE, [false; 3]));
+}
+
+#[test]
+fn a_divisor_zero_counts_as_one() {
+    // RT-6: `3 / 0` is `3 / 1`, 3, not an error; 3 leaves {-2..2}, so the
+    // sticky rule keeps 3 all the same: `real` widens to 3.
+    assert_eq!(doms(&machine("var x : real", "x = 3 / 0")), ([r(0, 2), r(-2, 2), r(-2, 3)], [false, false, true]));
+    // `2 / y` over y in {-2..2}: -1, -2, 2 (y = 0 counts as 1), 2, 1.
+    assert_eq!(doms(&machine("var x : real var y : real", "x = 2 / y")), (BASE, [false; 3]));
+    // The reference's `180 / av` (Alpha Algorithm): every quotient leaves
+    // {-2..2} (or is 180 / 1), so 180 is kept; with `av`'s own values the
+    // list is {-2..2} ∪ {180}: core_real = {-2..180}.
+    assert_eq!(
+        doms(&machine("const av : real var x : real", "x = 180 / av ; x = av")),
+        ([r(0, 2), r(-2, 2), r(-2, 180)], [false, false, true])
+    );
+    // On its own, {180} leaves a gap after {-2..2}: RoboTool's type is not
+    // one range, and the computation asks for it.
+    let err = domains(&machine("const av : real var x : real", "x = 180 / av"), &DomainInputs::default());
+    assert!(err.expect_err("a gap").contains("{-2..2} ∪ {180..180}"));
+}
+
+#[test]
+fn a_nat_value_widens_int_and_real_an_int_one_real_only() {
+    assert_eq!(doms(&machine("var n : nat", "n = 3")), ([r(0, 3), r(-2, 3), r(-2, 3)], [true; 3]));
+    assert_eq!(doms(&machine("var i : int", "i = -7")), ([r(0, 2), r(-7, 2), r(-7, 2)], [false, true, true]));
+    // A comparison's operands are values too (not the comparison).
+    assert_eq!(
+        doms(&format!(
+            "stm M {{ var i : int initial i0 state S {{ }} transition t {{ from i0 to S condition i > -3 }} }}"
+        )),
+        ([r(0, 2), r(-3, 2), r(-3, 2)], [false, true, true])
+    );
+}
+
+#[test]
+fn an_instantiation_fixes_a_type_and_the_others_compute_with_it() {
+    let fixed = DomainInputs { fixed: [None, None, Some(r(-10, 10))], ..DomainInputs::default() };
+    let model = machine("var n : nat var x : real", "n = 3 ; x = 50");
+    let d = domains(&model, &fixed).expect("domains");
+    // `real` stays as given; the literal 50 is a `nat` value (the type
+    // checker's type of the literal), so it widens `nat` and `int`.
+    assert_eq!(d.domains, [r(0, 50), r(-2, 50), r(-10, 10)]);
+    assert_eq!(d.widened, [true, true, false]);
+    // Without it, 50 widens `real` too.
+    assert_eq!(doms(&model).0, [r(0, 50), r(-2, 50), r(-2, 50)]);
+    // Every type fixed: nothing is computed.
+    let all = DomainInputs { fixed: [Some(r(0, 1)), Some(r(-1, 1)), Some(r(-1, 1))], ..DomainInputs::default() };
+    assert_eq!(domains(&model, &all).expect("domains").domains, [r(0, 1), r(-1, 1), r(-1, 1)]);
+}
+
+#[test]
+fn a_gap_in_a_stored_type_asks_for_the_range() {
+    // RoboTool's `core_nat` would be {0..2} ∪ {10..10}: not one range.
+    let err = domains(&machine("var n : nat", "n = 10"), &DomainInputs::default()).expect_err("a gap");
+    assert_eq!(
+        err,
+        "RoboTool's `core_nat` here is {0..2} ∪ {10..10} (RT-5), not one range: give it with `nametype core_nat = \
+         {a..b}` in a `csp` block of an assertion file"
+    );
+}
+
+#[test]
+fn the_domains_are_the_projects_not_the_elements() {
+    // A second machine's value widens the first's types too.
+    let model =
+        format!("{}\n{}", machine("var x : nat", "x = 1"), machine("var y : int", "y = -5").replace("stm M", "stm N"));
+    assert_eq!(doms(&model), ([r(0, 2), r(-5, 2), r(-5, 2)], [false, true, true]));
+}
