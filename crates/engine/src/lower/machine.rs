@@ -155,7 +155,31 @@ impl<'b> MachineCx<'_, 'b> {
                         let chan = match external(&name) {
                             Ok(Some(link)) => {
                                 let both_ways = self.cx.lone || self.cx.bidirectional.contains(&link.name);
-                                if both_ways && link.dir == Dir::In && super::compose::sent_events(node).contains(&name)
+                                // RoboSim: the I/O context says the direction.
+                                // An event of both contexts, on its own or
+                                // `[mult]` to the platform, has an input
+                                // register `i_e` and an output register `o_e`,
+                                // independent of each other (the generated
+                                // `RegisterDataInput`/`RegisterDataOutput`).
+                                let sim_dir = context.filter(|_| self.cx.robosim && both_ways && !link.internal);
+                                if sim_dir == Some(Dir::Out) {
+                                    let out = self.channel(&link.name, Dir::Out, false, shape);
+                                    self.sends.insert(name.clone(), out);
+                                    // The input context's declaration names the
+                                    // event for `$e` and `$e?x`.
+                                    if !matches!(
+                                        self.names.get(&name),
+                                        Some(Name::Event { chan: Some((_, Dir::In)), .. })
+                                    ) {
+                                        self.names.insert(name, Name::Event { chan: Some((out, Dir::Out)), ty });
+                                    }
+                                    continue;
+                                }
+                                let link = Link { dir: sim_dir.unwrap_or(link.dir), ..link };
+                                if sim_dir.is_none()
+                                    && both_ways
+                                    && link.dir == Dir::In
+                                    && super::compose::sent_events(node).contains(&name)
                                 {
                                     // A machine on its own, or connected both
                                     // ways, that also sends the event it
