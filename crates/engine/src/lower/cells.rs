@@ -19,17 +19,6 @@ impl MachineCx<'_, '_> {
         name: &str,
         range: TextRange,
     ) -> Result<(), Unsupported> {
-        if link.hidden {
-            // RT-15 is RoboChart's; RoboSim's generated CSPm for an event
-            // connected to nothing has not been read.
-            return Err(self.err(
-                range,
-                format!(
-                    "`{name}` of a RoboSim machine is connected to nothing: how RoboTool reads such an event is \
-                     not known (connect it, or remove it)"
-                ),
-            ));
-        }
         if link.receivers > 1 {
             return Err(self.err(
                 range,

@@ -212,6 +212,24 @@ impl<'b> MachineCx<'_, 'b> {
                                 }
                                 Some((chan, link.dir))
                             }
+                            // Every input register of a RoboSim machine is read
+                            // at the start of each cycle, used or not (RT-20;
+                            // the generated `Cycle`), so an input connected to
+                            // nothing matters even when never used, and how
+                            // RoboTool reads it is not known (`compose.rs`).
+                            Ok(None) if self.cx.robosim && context == Some(Dir::In) => {
+                                return Err(self.cx.unsupported(
+                                    f,
+                                    range,
+                                    format!(
+                                        "`{name}`, an input of the RoboSim machine `{}`, is connected to nothing: its \
+                                         register is read every cycle, and whether RoboTool hides that read, leaves it \
+                                         to the environment or blocks it is not known (connect it, or remove it from \
+                                         the input context)",
+                                        self.inst_prefix
+                                    ),
+                                ))
+                            }
                             Ok(None) => None,
                             Err(msg) => return Err(self.err(range, msg)),
                         };
@@ -699,10 +717,14 @@ impl<'b> MachineCx<'_, 'b> {
     pub(super) fn event(&self, name: &str, at: TextRange) -> Result<(u16, Dir, Option<Dom>), Unsupported> {
         match self.names.get(name) {
             Some(Name::Event { chan: Some((c, d)), ty }) => Ok((*c, *d, *ty)),
+            // Only a RoboSim output connected to nothing has no channel
+            // (`compose.rs`: how RoboTool reads it is not known).
             Some(Name::Event { chan: None, .. }) => Err(self.err(
                 at,
                 format!(
-                    "event `{name}` is not connected to the robotic platform; events between machines are not supported yet"
+                    "`{name}`, an output of the RoboSim machine `{}`, is connected to nothing: whether RoboTool \
+                     hides its register write, leaves it to the environment or blocks it is not known (connect it)",
+                    self.inst_prefix
                 ),
             )),
             _ => Err(self.err(at, format!("`{name}` is not an event"))),
