@@ -487,7 +487,8 @@ impl<'a> Cx<'a> {
             let buffered = class.iter().any(|e| async_ends.contains(e));
             let receivers = u8::try_from(ends.len() - 1)
                 .map_err(|_| format!("event `{}` has too many receivers", machine_end.1))?;
-            if buffered && receivers > 1 {
+            // RoboSim's `_async` is a memory cell too (RT-22, `cells.rs`).
+            if buffered && receivers > 1 && !robosim {
                 return Err(format!(
                     "event `{}` is sent asynchronously to {receivers} receivers: not supported yet",
                     machine_end.1

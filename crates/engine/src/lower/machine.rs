@@ -189,7 +189,7 @@ impl<'b> MachineCx<'_, 'b> {
                                 }
                                 let chan = self.channel(&link.name, link.dir, false, shape);
                                 if link.internal && self.cx.robosim {
-                                    self.memory_cell(chan, &link, &name, range)?;
+                                    self.memory_cell(chan, &name, range)?;
                                 } else if link.internal {
                                     // Both ends share the channel: its buffer is made once.
                                     // RT-12: RoboTool's buffer unless the user assumes another.
