@@ -16,12 +16,25 @@
 //!   columns, the explanation and the state and transition counts, so that
 //!   a change in any of them is seen in review. `UPDATE_EXPECT=1`
 //!   refreshes the snapshots (never the hand-written verdicts).
+//!
+//! A line `// option NAME: VALUE` in any file of a fixture sets an option
+//! of the whole check, as the command line would: `profile: paper2019`
+//! (`--profile`), `async-buffer: 2:block` (`--async-buffer`),
+//! `max-states: 3` (`--max-states`); and `well-formed: true` asserts that
+//! no file of the fixture has an error (`robosim check` reports nothing),
+//! for fixtures whose point is a verdict on a correct model. Two options
+//! shape the workspace and the reports: `include: examples/paper/design.rct`
+//! adds a file of the repository (under its file name), so that a fixture
+//! can check an example without a copy that would drift from it; and
+//! `semantics: timed` (or `untimed`) keeps only the reports of that
+//! analysis, for included assertions whose other analysis (RT-8) the
+//! fixture is not about.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use robosim_engine::verify::{verify_texts, Options, Report, Semantics, Step, Verdict};
+use robosim_engine::verify::{verify_workspace, AsyncBuffer, Options, Profile, Report, Semantics, Step, Verdict};
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("test_data/verify")
@@ -40,6 +53,23 @@ fn files(dir: &Path) -> Vec<(String, String)> {
         })
         .collect();
     out.sort();
+    out
+}
+
+/// The files the `// option include: PATH` lines of `files` name, PATH
+/// relative to the repository's root.
+fn included(files: &[(String, String)]) -> Vec<(String, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut out = Vec::new();
+    for (_, text) in files {
+        for line in text.lines() {
+            let Some(path) = line.trim_start().strip_prefix("// option include:") else { continue };
+            let path = root.join(path.trim());
+            let name = path.file_name().expect("a file name").to_string_lossy().into_owned();
+            let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            out.push((name, text));
+        }
+    }
     out
 }
 
@@ -95,6 +125,59 @@ fn expectations(files: &[(String, String)]) -> BTreeMap<String, Expected> {
         }
     }
     out
+}
+
+/// The options the `// option NAME: VALUE` lines of the fixture's files
+/// set: the options of the check, whether the fixture must be well-formed,
+/// and the one semantics whose reports are kept (`None`: both).
+fn options(files: &[(String, String)]) -> (Options, bool, Option<Semantics>) {
+    let mut opts = Options::default();
+    let mut well_formed = false;
+    let mut semantics = None;
+    for (name, text) in files {
+        for (i, line) in text.lines().enumerate() {
+            let Some(rest) = line.trim_start().strip_prefix("// option ") else { continue };
+            let at = format!("{name}:{}", i + 1);
+            let (option, value) = rest.split_once(':').unwrap_or_else(|| panic!("{at}: `// option NAME: VALUE`"));
+            let value = value.trim();
+            match option.trim() {
+                "profile" => {
+                    opts.profile = match value {
+                        "robotool3" => Profile::RoboTool3,
+                        "paper2019" => Profile::Paper2019,
+                        _ => panic!("{at}: `{value}` is not a profile (robotool3, paper2019)"),
+                    }
+                }
+                "async-buffer" => {
+                    opts.async_buffer = Some(AsyncBuffer::parse(value).unwrap_or_else(|e| panic!("{at}: {e}")))
+                }
+                "max-states" => opts.budget.max_states = value.parse().unwrap_or_else(|e| panic!("{at}: {e}")),
+                "well-formed" => well_formed = value.parse().unwrap_or_else(|e| panic!("{at}: {e}")),
+                "semantics" => {
+                    semantics = Some(match value {
+                        "timed" => Semantics::Timed,
+                        "untimed" => Semantics::Untimed,
+                        _ => panic!("{at}: `{value}` is not a semantics (timed, untimed)"),
+                    })
+                }
+                "include" => {}
+                other => panic!(
+                    "{at}: `{other}` is not an option (profile, async-buffer, max-states, well-formed, semantics, include)"
+                ),
+            }
+        }
+    }
+    (opts, well_formed, semantics)
+}
+
+/// The errors of the fixture's files, as `robosim check` reports them.
+fn errors(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -> Vec<String> {
+    ws.files(db)
+        .iter()
+        .flat_map(|&f| robosim_hir::file_diagnostics(db, ws, f))
+        .filter(|d| d.severity == robosim_hir::Severity::Error)
+        .map(|d| format!("{} {}", d.code, d.message))
+        .collect()
 }
 
 /// `line:column` (1-based, in characters) of a byte offset.
@@ -159,11 +242,22 @@ fn render(out: &mut String, texts: &BTreeMap<&str, &str>, r: &Report) {
 }
 
 fn check_fixture(dir: &Path) -> Vec<String> {
-    let files = files(dir);
+    let mut files = files(dir);
+    files.extend(included(&files));
     let expected = expectations(&files);
-    let reports = verify_texts(files.clone(), &Options::default());
+    let (opts, well_formed, semantics) = options(&files);
+    // As `verify_texts`, with the workspace at hand for its diagnostics.
+    let db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&db, files.clone(), robosim_hir::RuleSet::Paper);
+    let mut reports = verify_workspace(&db, ws, &opts, None);
+    reports.retain(|r| semantics.is_none_or(|s| r.semantics == s));
     let texts: BTreeMap<&str, &str> = files.iter().map(|(n, t)| (n.as_str(), t.as_str())).collect();
     let mut problems = Vec::new();
+    if well_formed {
+        problems.extend(
+            errors(&db, ws).into_iter().map(|e| format!("{}: an error in a well-formed fixture: {e}", dir.display())),
+        );
+    }
     let mut snapshot = String::new();
     for r in &reports {
         render(&mut snapshot, &texts, r);

@@ -54,7 +54,12 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
             let defined = crate::lint::raw_defined(l);
             let clash: Vec<&String> =
                 defined.iter().filter(|n| ours.contains(n.as_str()) || ex.const_names.contains(*n)).collect();
-            if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) {
+            // RoboTool copies a block whole (RT-7): a type or standard
+            // definition stays unless the export defines that name itself
+            // (`nametype core_nat`, whose bounds instantiations.csp takes
+            // from the block; `Plus`): old-style names (`nametype ID`,
+            // `nametype nat`) define exactly those names, which specs use.
+            if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) && !clash.is_empty() {
                 lines.push(format!("-- (in instantiations.csp or robosim_defs.csp) {}", l.trim()));
             } else if let Some(n) = clash.first() {
                 let n = n.to_string();
@@ -184,23 +189,19 @@ fn subject(
     let Some(def) = ElemDef::at(ex.db, ex.ws, loc) else {
         return Err(format!("`{}` could not be resolved", path.join("::")));
     };
-    let mut qualified = ex.path_of_item(loc);
-    let def = match inner {
-        None => def,
-        // A machine declared inside the controller.
-        Some(inner) => {
-            let machine = match def {
-                ElemDef::Controller(c) => c.machines.iter().find_map(|i| match &i.def {
-                    m::Definition::Inline(b) if b.name == inner => Some(ElemDef::Machine(b)),
-                    _ => None,
-                }),
-                _ => None,
-            };
-            qualified.push(inner);
-            machine.ok_or_else(|| format!("`{}` could not be resolved", path.join("::")))?
+    let qualified = ex.path_of_item(loc);
+    let elem = match (inner, def) {
+        (None, def) => crate::compose::element(ex, loc.file, def, qualified),
+        // A machine declared inside the controller, as the controller has it.
+        (Some(inner), ElemDef::Controller(c)) => {
+            if !c.machines.iter().any(|i| matches!(&i.def, m::Definition::Inline(b) if b.name == inner)) {
+                return Err(format!("`{}` could not be resolved", path.join("::")));
+            }
+            crate::compose::inner_machine(ex, loc.file, c, &inner, &qualified)
         }
+        (Some(_), _) => return Err(format!("`{}` could not be resolved", path.join("::"))),
     };
-    let Some(elem) = crate::compose::element(ex, loc.file, def, qualified) else {
+    let Some(elem) = elem else {
         return Err(format!("`{}` is not exported", path.join("::")));
     };
     let period = elem.robosim.then(|| period.unwrap_or(elem.period));
@@ -451,5 +452,17 @@ fn generated_names(ex: &Exporter<'_>) -> std::collections::HashSet<String> {
     s.extend(ex.module_names.iter().cloned());
     s.extend(ex.in_regs.keys().cloned());
     s.extend(ex.out_regs.keys().cloned());
+    // The types instantiations.csp and the model files declare.
+    s.extend(ex.abstract_types.values().cloned());
+    for (ty, literals) in ex.enums.values() {
+        s.insert(ty.clone());
+        s.extend(literals.iter().map(|(_, c)| c.clone()));
+    }
+    if ex.uses_string {
+        s.insert("core_string".to_string());
+    }
+    if ex.uses_seq {
+        s.insert("core_seq_max".to_string());
+    }
     s
 }

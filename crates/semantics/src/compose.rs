@@ -14,7 +14,7 @@ use robosim_hir::{Db, File, FileKind, TextRange, Workspace};
 
 use crate::cspm::{call, dot, hide, name, par, Decl, Expr};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, ElemState, Exporter, Reg, Ty};
-use crate::machine::{Gen, Problem};
+use crate::machine::{Gen, Problem, ProvidedOp};
 use crate::util::ident;
 
 /// A machine, controller or module of the model, to export.
@@ -82,7 +82,29 @@ pub(crate) fn element_at(ex: &mut Exporter<'_>, loc: ItemLoc) -> Option<Rc<Elem>
 /// The element `def` of `file`, whose qualified path (package, enclosing
 /// elements, name) is `path`, exported on first use.
 pub(crate) fn element<'a>(ex: &mut Exporter<'a>, file: File, def: ElemDef<'a>, path: Vec<String>) -> Option<Rc<Elem>> {
-    let key = (file, def.range());
+    element_in(ex, file, def, path, (file, def.range()), file, Scope::default())
+}
+
+/// What a machine is translated with: the operations defined for it
+/// (its controller's; none on its own, RT-19) and, for an instance of a
+/// controller, the machine's own model path (its constants' owner).
+#[derive(Default)]
+struct Scope<'a> {
+    ops: Vec<ProvidedOp<'a>>,
+    owner: Option<Vec<String>>,
+}
+
+/// [`element`], cached under `key`, its CSPm module named in the package
+/// of `home` (the file of the controller of a machine instance).
+fn element_in<'a>(
+    ex: &mut Exporter<'a>,
+    file: File,
+    def: ElemDef<'a>,
+    path: Vec<String>,
+    key: (File, TextRange),
+    home: File,
+    scope: Scope<'a>,
+) -> Option<Rc<Elem>> {
     match ex.elems.get(&key) {
         Some(ElemState::Done(e)) => return Some(e.clone()),
         Some(ElemState::Failed) => return None,
@@ -93,10 +115,11 @@ pub(crate) fn element<'a>(ex: &mut Exporter<'a>, file: File, def: ElemDef<'a>, p
         None => {}
     }
     ex.elems.insert(key, ElemState::InProgress);
-    let module = ex.element_module_name(file, &path);
+    let module = ex.element_module_name(home, &path);
     let kind = def.kind();
     let result = match def {
         ElemDef::Machine(b) => Gen::new(ex, file, Some(b), path.clone(), b.name_range, false)
+            .provide(scope.ops, scope.owner)
             .run(module, path.clone())
             .map(|m| (m.elem, m.decls)),
         ElemDef::Controller(c) => controller(ex, file, c, module, path.clone()),
@@ -104,7 +127,7 @@ pub(crate) fn element<'a>(ex: &mut Exporter<'a>, file: File, def: ElemDef<'a>, p
     };
     match result {
         Ok((elem, decls)) => {
-            ex.emit(file, decls);
+            ex.emit(home, decls);
             let e = Rc::new(elem);
             ex.elems.insert(key, ElemState::Done(e.clone()));
             Some(e)
@@ -115,7 +138,7 @@ pub(crate) fn element<'a>(ex: &mut Exporter<'a>, file: File, def: ElemDef<'a>, p
                 lines.push(format!("  {}: {m}", ex.loc(*f, *r)));
                 ex.warn(*f, *r, format!("{} {} is not exported: {m}", kind.describe(), path.join("::")));
             }
-            ex.emit(file, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
+            ex.emit(home, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
             ex.elems.insert(key, ElemState::Failed);
             None
         }
@@ -156,6 +179,91 @@ fn instance<'a, T>(
             e
         }
     }
+}
+
+/// The operations a RoboChart controller defines for its machines, by the
+/// name they call them with: an inline one by its own, a reference
+/// (`opref r = P::op`) by the operation's (RT-19, as the engine matches
+/// them).
+fn controller_operations<'a>(
+    ex: &Exporter<'a>,
+    file: File,
+    c: &'a m::Controller,
+    path: &[String],
+    problems: &mut Vec<Problem>,
+) -> Vec<ProvidedOp<'a>> {
+    let mut ops = Vec::new();
+    for o in &c.operations {
+        match &o.def {
+            m::Definition::Inline(b) => ops.push((o.name.clone(), file, &**b, path.to_vec())),
+            m::Definition::Ref { path: p, target } => {
+                match target.and_then(|loc| Some((loc, m::item(ex.db, ex.ws, loc)?))) {
+                    Some((loc, m::Item::Operation(b))) => ops.push((b.name.clone(), loc.file, b, ex.package(loc.file))),
+                    _ => problems.push((file, o.range, format!("`{}` could not be resolved", p.join("::")))),
+                }
+            }
+        }
+    }
+    ops
+}
+
+/// A machine of a RoboChart controller, as RoboTool translates it inside
+/// the controller: with the controller's operations inlined (RT-19), as
+/// the module `<controller>::<instance>` (`pkg::C::stm_ref0`, whose
+/// constants are `const_pkg_C_stm_ref0_k`) for a reference, or the inline
+/// machine itself (`pkg::C::S`).
+fn machine_instance<'a>(
+    ex: &mut Exporter<'a>,
+    file: File,
+    inst: &'a m::Instance<m::Behaviour>,
+    container: &[String],
+    ops: &[ProvidedOp<'a>],
+    problems: &mut Vec<Problem>,
+) -> Option<Rc<Elem>> {
+    let (mfile, b, owner, key) = match &inst.def {
+        m::Definition::Ref { path, target } => {
+            let found = target.and_then(|loc| match m::item(ex.db, ex.ws, loc)? {
+                m::Item::Machine(b) => Some((loc, b)),
+                _ => None,
+            });
+            let Some((loc, b)) = found else {
+                problems.push((file, inst.range, format!("`{}` could not be resolved", path.join("::"))));
+                return None;
+            };
+            // The machine on its own too (RoboTool's `pkg::M`, with the
+            // operations undefined), wherever it is declared.
+            element_at(ex, loc);
+            (loc.file, b, Some(ex.path_of_item(loc)), (file, inst.range))
+        }
+        m::Definition::Inline(b) => (file, &**b, None, (file, b.range)),
+    };
+    let mut path = container.to_vec();
+    path.push(if owner.is_some() { inst.name.clone() } else { b.name.clone() });
+    let scope = Scope { ops: ops.to_vec(), owner };
+    let e = element_in(ex, mfile, ElemDef::Machine(b), path, key, file, scope);
+    if e.is_none() {
+        problems.push((file, inst.range, format!("`{}` is not exported", inst.name)));
+    }
+    e
+}
+
+/// The machine `inner` declared inside the controller `c` of `file`
+/// (whose model path is `ctrl_path`), as its controller translates it
+/// (RoboTool's module `pkg::C::S` is the one inside the controller).
+pub(crate) fn inner_machine<'a>(
+    ex: &mut Exporter<'a>,
+    file: File,
+    c: &'a m::Controller,
+    inner: &str,
+    ctrl_path: &[String],
+) -> Option<Rc<Elem>> {
+    let inst = c.machines.iter().find(|i| matches!(&i.def, m::Definition::Inline(b) if b.name == inner))?;
+    let mut problems = Vec::new();
+    if file.kind(ex.db) == FileKind::RoboSim {
+        return instance(ex, file, inst, ctrl_path, ElemDef::Machine, &mut problems);
+    }
+    let ops = controller_operations(ex, file, c, ctrl_path, &mut problems);
+    machine_instance(ex, file, inst, ctrl_path, &ops, &mut problems)
 }
 
 /// The period a RoboSim container is simulated with: hir's choice, the
@@ -328,33 +436,18 @@ fn controller<'a>(
     let robosim = file.kind(ex.db) == FileKind::RoboSim;
     let mut problems = Vec::new();
     let mut insts = Vec::new();
+    let ops = if robosim { Vec::new() } else { controller_operations(ex, file, c, &path, &mut problems) };
     for i in &c.machines {
-        if let Some(e) = instance(ex, file, i, &path, ElemDef::Machine, &mut problems) {
+        let e = if robosim {
+            instance(ex, file, i, &path, ElemDef::Machine, &mut problems)
+        } else {
+            machine_instance(ex, file, i, &path, &ops, &mut problems)
+        };
+        if let Some(e) = e {
             insts.push(Inst { name: i.name.clone(), elem: e });
         }
     }
     let events = declared_events(ex, file, &c.decls, &mut problems);
-    for o in &c.operations {
-        // The machines run the operations they can resolve by name;
-        // one they call the platform for is defined here only.
-        let op = match &o.def {
-            m::Definition::Ref { path, .. } => path.last().cloned().unwrap_or_default(),
-            m::Definition::Inline(_) => o.name.clone(),
-        };
-        let called = insts.iter().any(|i| i.elem.chans.iter().any(|ch| ch.kind == ChanKind::Call && ch.model == op))
-            || insts.iter().any(|i| i.elem.outputs.iter().any(|o| o.model == op));
-        if called {
-            problems.push((
-                file,
-                o.range,
-                format!(
-                    "operation `{op}` is provided by the controller, but the machines calling it cannot \
-                     resolve its definition by name (they run an operation only where they resolve it): \
-                     not supported by the export yet"
-                ),
-            ));
-        }
-    }
     if insts.is_empty() && problems.is_empty() {
         problems.push((file, c.name_range, "a controller without state machines".into()));
     }

@@ -44,32 +44,45 @@ impl OutFile {
 }
 
 /// The declarations with the modules of elements of a package (`A_B::M`)
-/// gathered, in place of the first, into the package's module `A_B`, as
-/// RoboTool's generated CSPm has them (its modules export everything).
+/// gathered, in place of the first, into the package's module `A_B`, and
+/// those of machines of a controller (`A_B::C::S`) into the controller's
+/// module, as RoboTool's generated CSPm has them (its modules export
+/// everything).
 fn nest_packages(decls: &[Decl]) -> Vec<Decl> {
     let mut out: Vec<Decl> = Vec::new();
-    let mut package_at: HashMap<String, usize> = HashMap::new();
     for d in decls {
-        if let Decl::Module(n, private, exports) = d {
-            if let Some((package, inner)) = n.split_once("::") {
-                let inner = Decl::Module(inner.to_string(), private.clone(), exports.clone());
-                match package_at.get(package) {
-                    Some(&i) => {
-                        if let Decl::Module(_, _, members) = &mut out[i] {
-                            members.push(inner);
-                        }
-                    }
-                    None => {
-                        package_at.insert(package.to_string(), out.len());
-                        out.push(Decl::Module(package.to_string(), Vec::new(), vec![inner]));
-                    }
-                }
-                continue;
-            }
+        match d {
+            Decl::Module(n, private, exports) => nest_module(&mut out, n, private, exports),
+            _ => out.push(d.clone()),
         }
-        out.push(d.clone());
     }
     out
+}
+
+/// Adds the module `path` (`A::B::M`: `M` inside `B` inside `A`) to
+/// `out`, into the modules of its prefix, which are made or merged.
+fn nest_module(out: &mut Vec<Decl>, path: &str, private: &[Decl], exports: &[Decl]) {
+    let (head, rest) = match path.split_once("::") {
+        Some((h, r)) => (h, Some(r)),
+        None => (path, None),
+    };
+    let at = out.iter().position(|d| matches!(d, Decl::Module(n, _, _) if n == head));
+    let i = match at {
+        Some(i) => i,
+        None => {
+            out.push(Decl::Module(head.to_string(), Vec::new(), Vec::new()));
+            out.len() - 1
+        }
+    };
+    if let Decl::Module(_, p, members) = &mut out[i] {
+        match rest {
+            Some(rest) => nest_module(members, rest, private, exports),
+            None => {
+                p.extend(private.iter().cloned());
+                members.extend(exports.iter().cloned());
+            }
+        }
+    }
 }
 
 /// Something that could not be exported.
@@ -449,12 +462,17 @@ impl<'a> Exporter<'a> {
         self.unique_module(qualified(path))
     }
 
-    /// A fresh, unique CSPm module name for the RoboChart element at
-    /// `path` of `file`, as RoboTool names it ([`util::element_module`]:
-    /// `A_B::M`, printed as module `M` inside module `A_B`).
+    /// A fresh, unique CSPm module name for the element at `path` of
+    /// `file`, as RoboTool names it: `robosim_hir::csp_names`'s (`A_B::M`,
+    /// `A_B::C::S`, printed as nested modules), else
+    /// [`util::element_module`]'s.
     pub(crate) fn element_module_name(&mut self, file: File, path: &[String]) -> String {
-        let package = self.package(file);
-        self.unique_module(util::element_module(&package, path))
+        let named = robosim_hir::csp_names::csp_names(self.db, self.ws).element_by_path(path);
+        let base = match named {
+            Some(e) if e.module.split("::").all(|s| util::ident(s) == s) => e.module.clone(),
+            _ => util::element_module(&self.package(file), path),
+        };
+        self.unique_module(base)
     }
 
     fn unique_module(&mut self, base: String) -> String {

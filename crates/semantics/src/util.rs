@@ -89,16 +89,21 @@ pub(crate) fn qualified(path: &[String]) -> String {
     ident(&path.join("_"))
 }
 
-/// The CSPm module of a RoboChart element as RoboTool names it
-/// (`robosim_hir::csp_names`): the element `M` of package `A::B` is the
-/// module `M` inside the package's module `A_B`, written `A_B::M` (just `M`
-/// in the default package). `path` is the element's model path, starting
-/// with `package`; a nested element keeps its container's name (`C_S`).
+/// The CSPm module of an element `robosim_hir::csp_names` does not name:
+/// as it would, the element `M` of package `A::B` is the module `M` inside
+/// the package's module `A_B`, written `A_B::M` (just `M` in the default
+/// package), and a nested element is inside its container's (`A_B::C::S`).
+/// `path` is the element's model path, starting with `package`.
 pub(crate) fn element_module(package: &[String], path: &[String]) -> String {
-    match path.strip_prefix(package) {
-        Some(rest) if !package.is_empty() && !rest.is_empty() => format!("{}::{}", qualified(package), qualified(rest)),
-        _ => qualified(path),
+    let rest = match path.strip_prefix(package) {
+        Some(rest) if !rest.is_empty() => rest,
+        _ => return qualified(path),
+    };
+    let mut parts: Vec<String> = rest.iter().map(|s| ident(s)).collect();
+    if !package.is_empty() {
+        parts.insert(0, qualified(package));
     }
+    parts.join("::")
 }
 
 /// The 1-based line and column of `offset` in `text`.

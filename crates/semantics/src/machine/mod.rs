@@ -236,7 +236,17 @@ pub(crate) struct Gen<'e, 'a> {
     /// The variables the machine requires through interfaces (kept in its
     /// own memory: its container must not share them).
     required: Vec<String>,
+    /// The operations defined for it, by the name it calls them with (see
+    /// [`Gen::provide`]); `None`: those it resolves by name.
+    provided: Option<Vec<ProvidedOp<'a>>>,
+    /// The model path that owns its constants, when it differs from `path`
+    /// (a machine instance of a controller: `path` is the instance's).
+    owner_path: Option<Vec<String>>,
 }
+
+/// An operation a controller defines for its machines: the name they call
+/// it by, its file, its definition and the path it is declared under.
+pub(crate) type ProvidedOp<'a> = (String, File, &'a m::Behaviour, Vec<String>);
 
 /// Statements and expressions nested deeper are not exported (the
 /// translation, printing and checking recurse on them).
@@ -294,7 +304,32 @@ impl<'e, 'a> Gen<'e, 'a> {
             op_params: Vec::new(),
             op_calls: Vec::new(),
             required: Vec::new(),
+            provided: None,
+            owner_path: None,
         }
+    }
+
+    /// Translates a machine with exactly the operations `ops` defined (its
+    /// controller's, RT-19): every other operation it requires is a call
+    /// event (`opCall`), as RoboTool leaves it undefined; `owner` is the
+    /// machine's own model path when `path` is an instance's.
+    pub(crate) fn provide(mut self, ops: Vec<ProvidedOp<'a>>, owner: Option<Vec<String>>) -> Self {
+        self.provided = Some(ops);
+        self.owner_path = owner;
+        self
+    }
+
+    /// The definition of the operation `n` the machine calls: its
+    /// container's (RT-19), else for an operation, the one it resolves by
+    /// name.
+    fn op_definition(&self, n: &str) -> Option<ProvidedOp<'a>> {
+        if let Some(ops) = &self.provided {
+            return ops.iter().find(|o| o.0 == n).cloned();
+        }
+        let (db, ws) = (self.ex.db, self.ex.ws);
+        let loc = m::resolve(db, ws, self.file, &[n.to_string()], DefKind::Operation)?;
+        let m::Item::Operation(def) = m::item(db, ws, loc)? else { return None };
+        Some((n.to_string(), loc.file, def, self.ex.package(loc.file)))
     }
 
     /// What is being translated, for messages.
@@ -492,16 +527,12 @@ impl<'e, 'a> Gen<'e, 'a> {
                         }
                         // An operation of the model with this name and a body (RoboTool
                         // matches a required operation and its definition by name); one
-                        // with a contract only (`terminates`) stays a call event.
+                        // with a contract only (`terminates`) stays a call event. A
+                        // machine's definitions are its controller's (RT-19).
                         let defined = !self.robosim
-                            && m::resolve(db, ws, file, std::slice::from_ref(n), DefKind::Operation)
-                                .and_then(|loc| m::item(db, ws, loc))
-                                .is_some_and(|i| match i {
-                                    m::Item::Operation(b) => {
-                                        b.region.nodes.iter().any(|x| x.kind == m::NodeKind::Initial)
-                                    }
-                                    _ => false,
-                                });
+                            && self.op_definition(n).is_some_and(|(_, _, b, _)| {
+                                b.region.nodes.iter().any(|x| x.kind == m::NodeKind::Initial)
+                            });
                         self.ops.push(OpI { name: n.clone(), params, defined });
                         self.op_names.insert(n.clone(), self.ops.len() - 1);
                     }
@@ -537,8 +568,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         let init = v.init.as_ref();
         if is_const {
             let local = self.local(&n);
-            let mut owner = self.path.clone();
-            let global = ident(&format!("const_{}_{}", util::qualified(&owner), n));
+            let mut owner = self.owner_path.clone().unwrap_or_else(|| self.path.clone());
+            let global = ident(&format!("const_{}_{}", util::qualified(&self.path), n));
             let default = match init {
                 Some(e) if f == self.file => match self.expr(e, ECtx::Const, Some(&ty)) {
                     Some(o) => (o.e, String::new()),

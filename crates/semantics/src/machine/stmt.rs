@@ -233,11 +233,8 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
         let r = s.range;
         let n = self.ops[o].name.clone();
-        let (db, ws) = (self.ex.db, self.ex.ws);
-        let loc = m::resolve(db, ws, self.file, std::slice::from_ref(&n), DefKind::Operation)?;
-        let m::Item::Operation(def) = m::item(db, ws, loc)? else { return None };
-        let outer = self.ex.package(loc.file);
-        let op = match operation(self.ex, loc.file, def, outer) {
+        let (_, file, def, outer) = self.op_definition(&n)?;
+        let op = match operation(self.ex, file, def, outer) {
             Ok(op) => op,
             Err(m) => {
                 self.problem(r, m);
@@ -267,17 +264,14 @@ impl<'e, 'a> Gen<'e, 'a> {
         let params: Vec<String> = (0..op.params.len()).map(|k| format!("x{k}__")).collect();
         let mut args = vec![name("id__")];
         args.extend(params.iter().map(|p| name(p.clone())));
-        for (c, t) in &op.consts {
-            let local = match self.consts.iter().find(|x| x.global == c.global) {
-                Some(x) => x.local.clone(),
-                None => {
-                    let local = self.local(&format!("{}_{}", c.owner.last().cloned().unwrap_or_default(), c.name));
-                    self.consts.push(ConstParam { local: local.clone(), ..c.clone() });
-                    self.const_ty.push(t.clone());
-                    local
-                }
-            };
-            args.push(name(local));
+        // The operation's constants are RoboTool's globals (instantiations.csp),
+        // not parameters of the caller's processes: `M::D__` takes the
+        // machine's own constants only.
+        for (c, _) in &op.consts {
+            match self.consts.iter().find(|x| x.global == c.global) {
+                Some(x) => args.push(name(x.local.clone())),
+                None => args.push(name(c.global.clone())),
+            }
         }
         let mut renames = Vec::new();
         for ch in &op.chans {
