@@ -710,6 +710,21 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                     TimedDeadlockResult::Free => {
                         Ok((true, None, format!("{name} never reaches a state where only time passes")))
                     }
+                    // A cycle of hidden steps alone is a divergence, which
+                    // RoboTool's encoding (RT-10: `tock` hidden, then
+                    // divergence-free) rejects alike; say which it is.
+                    TimedDeadlockResult::TimedDeadlock { path, cycle }
+                        if cycle.iter().all(|(l, _)| l.event != TOCK) =>
+                    {
+                        Ok((
+                            false,
+                            Some(("divergence", path, "from here it can compute forever".into())),
+                            format!(
+                                "{name} can run hidden steps forever without time passing (a divergence, which \
+                                 RoboTool's timed deadlock check fails too)"
+                            ),
+                        ))
+                    }
                     TimedDeadlockResult::TimedDeadlock { path, .. } => Ok((
                         false,
                         Some(("timed deadlock", path, "from here only time passes".into())),

@@ -7,39 +7,19 @@
 
 use robosim_hir::TextRange;
 
-use super::{Link, MachineCx, Unsupported};
+use super::{MachineCx, Unsupported};
 
 impl MachineCx<'_, '_> {
     /// Gives the internal channel `chan` (the event `name` of a RoboSim
-    /// machine, linked by `link`) its register and memory cell, once.
-    pub(super) fn memory_cell(
-        &mut self,
-        chan: u16,
-        link: &Link,
-        name: &str,
-        range: TextRange,
-    ) -> Result<(), Unsupported> {
-        if link.hidden {
-            // RT-15 is RoboChart's; RoboSim's generated CSPm for an event
-            // connected to nothing has not been read.
-            return Err(self.err(
-                range,
-                format!(
-                    "`{name}` of a RoboSim machine is connected to nothing: how RoboTool reads such an event is \
-                     not known (connect it, or remove it)"
-                ),
-            ));
-        }
-        if link.receivers > 1 {
-            return Err(self.err(
-                range,
-                format!(
-                    "`{name}` is sent to {} RoboSim machines or controllers: one memory cell per receiver is not \
-                     supported yet (RT-22 covers one sender and one receiver)",
-                    link.receivers
-                ),
-            ));
-        }
+    /// machine) its register and memory cell, once.
+    pub(super) fn memory_cell(&mut self, chan: u16, name: &str, range: TextRange) -> Result<(), Unsupported> {
+        // Several receivers share the cell, and the input register it is
+        // copied into (every end of the connection is this one channel):
+        // whether RoboTool keeps one cell per event (RT-22) or one per
+        // connection, each written by the same write before the cycle
+        // ends (hidden steps have priority over `tock`) and all read at
+        // the next cycle's start, every receiver sees the same value in
+        // the same cycle, and receivers never write it.
         if self.design().channels[chan as usize].params.len() > 1 {
             return Err(self.err(
                 range,

@@ -419,8 +419,26 @@ impl<'a> Cx<'a> {
         let external = |machine_end: &End, receives: Option<bool>| -> Result<Option<Link>, String> {
             let Some(class) = classes.iter().find(|c| c.contains(machine_end)) else {
                 // RT-15: an event connected to nothing is hidden by the
-                // controller (a RoboSim machine's is refused where used);
-                // one the machine never uses needs no channel.
+                // controller; one the machine never uses needs no channel.
+                //
+                // RoboSim: no channel, and `machine.rs` refuses the event
+                // where its meaning matters. The facts do not settle it
+                // (RT-15 is RoboChart's; RT-20 … RT-22 are about connected
+                // events) and the reference output has no RoboSim
+                // controller (`csp-gen/sim` holds the machine `Movement`
+                // only). What it shows: a machine reads every input register
+                // at each cycle's start, used or not (`Cycle =
+                // Deadline((registerRead.i_obstacle?x__ -> SKIP ||| …);
+                // startexec -> …, 0)`), and accepts only the writes of its own
+                // outputs (`CollectOutputs`). So an output the machine never
+                // writes changes nothing, whatever the controller does with
+                // it; but an input connected to nothing is read every cycle,
+                // and verdicts differ between hiding that read (RT-15's
+                // analogue: an internal choice of its value), leaving it to
+                // the environment (visible), or giving it no partner (the
+                // paper's Rule 10 synchronises the machines' `registerReadC`
+                // with the controller's cycle, which reads only the
+                // connected inputs): a deadlock in the first cycle.
                 let Some(receives) = receives.filter(|_| !robosim) else {
                     return Ok(None);
                 };
@@ -464,7 +482,8 @@ impl<'a> Cx<'a> {
             let buffered = class.iter().any(|e| async_ends.contains(e));
             let receivers = u8::try_from(ends.len() - 1)
                 .map_err(|_| format!("event `{}` has too many receivers", machine_end.1))?;
-            if buffered && receivers > 1 {
+            // RoboSim's `_async` is a memory cell too (RT-22, `cells.rs`).
+            if buffered && receivers > 1 && !robosim {
                 return Err(format!(
                     "event `{}` is sent asynchronously to {receivers} receivers: not supported yet",
                     machine_end.1

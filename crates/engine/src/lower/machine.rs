@@ -156,7 +156,31 @@ impl<'b> MachineCx<'_, 'b> {
                         let chan = match external(&name) {
                             Ok(Some(link)) => {
                                 let both_ways = self.cx.lone || self.cx.bidirectional.contains(&link.name);
-                                if both_ways && link.dir == Dir::In && super::compose::sent_events(node).contains(&name)
+                                // RoboSim: the I/O context says the direction.
+                                // An event of both contexts, on its own or
+                                // `[mult]` to the platform, has an input
+                                // register `i_e` and an output register `o_e`,
+                                // independent of each other (the generated
+                                // `RegisterDataInput`/`RegisterDataOutput`).
+                                let sim_dir = context.filter(|_| self.cx.robosim && both_ways && !link.internal);
+                                if sim_dir == Some(Dir::Out) {
+                                    let out = self.channel(&link.name, Dir::Out, false, shape);
+                                    self.sends.insert(name.clone(), out);
+                                    // The input context's declaration names the
+                                    // event for `$e` and `$e?x`.
+                                    if !matches!(
+                                        self.names.get(&name),
+                                        Some(Name::Event { chan: Some((_, Dir::In)), .. })
+                                    ) {
+                                        self.names.insert(name, Name::Event { chan: Some((out, Dir::Out)), ty });
+                                    }
+                                    continue;
+                                }
+                                let link = Link { dir: sim_dir.unwrap_or(link.dir), ..link };
+                                if sim_dir.is_none()
+                                    && both_ways
+                                    && link.dir == Dir::In
+                                    && super::compose::sent_events(node).contains(&name)
                                 {
                                     // A machine on its own, or connected both
                                     // ways, that also sends the event it
@@ -166,7 +190,7 @@ impl<'b> MachineCx<'_, 'b> {
                                 }
                                 let chan = self.channel(&link.name, link.dir, false, shape);
                                 if link.internal && self.cx.robosim {
-                                    self.memory_cell(chan, &link, &name, range)?;
+                                    self.memory_cell(chan, &name, range)?;
                                 } else if link.internal {
                                     // Both ends share the channel: its buffer is made once.
                                     // RT-12: RoboTool's buffer unless the user assumes another.
@@ -188,6 +212,24 @@ impl<'b> MachineCx<'_, 'b> {
                                     c.receivers = link.receivers;
                                 }
                                 Some((chan, link.dir))
+                            }
+                            // Every input register of a RoboSim machine is read
+                            // at the start of each cycle, used or not (RT-20;
+                            // the generated `Cycle`), so an input connected to
+                            // nothing matters even when never used, and how
+                            // RoboTool reads it is not known (`compose.rs`).
+                            Ok(None) if self.cx.robosim && context == Some(Dir::In) => {
+                                return Err(self.cx.unsupported(
+                                    f,
+                                    range,
+                                    format!(
+                                        "`{name}`, an input of the RoboSim machine `{}`, is connected to nothing: its \
+                                         register is read every cycle, and whether RoboTool hides that read, leaves it \
+                                         to the environment or blocks it is not known (connect it, or remove it from \
+                                         the input context)",
+                                        self.inst_prefix
+                                    ),
+                                ))
                             }
                             Ok(None) => None,
                             Err(msg) => return Err(self.err(range, msg)),
@@ -676,10 +718,14 @@ impl<'b> MachineCx<'_, 'b> {
     pub(super) fn event(&self, name: &str, at: TextRange) -> Result<(u16, Dir, Option<Dom>), Unsupported> {
         match self.names.get(name) {
             Some(Name::Event { chan: Some((c, d)), ty }) => Ok((*c, *d, *ty)),
+            // Only a RoboSim output connected to nothing has no channel
+            // (`compose.rs`: how RoboTool reads it is not known).
             Some(Name::Event { chan: None, .. }) => Err(self.err(
                 at,
                 format!(
-                    "event `{name}` is not connected to the robotic platform; events between machines are not supported yet"
+                    "`{name}`, an output of the RoboSim machine `{}`, is connected to nothing: whether RoboTool \
+                     hides its register write, leaves it to the environment or blocks it is not known (connect it)",
+                    self.inst_prefix
                 ),
             )),
             _ => Err(self.err(at, format!("`{name}` is not an event"))),

@@ -195,6 +195,9 @@ impl MachineCx<'_, '_> {
             StmtKind::Output(name, value) => {
                 let name = name.join("::");
                 let (chan, dir, ty) = self.event(&name, range)?;
+                // An event of both I/O contexts is written to its own
+                // output register.
+                let (chan, dir) = self.sends.get(&name).map_or((chan, dir), |&c| (c, Dir::Out));
                 if dir != Dir::Out {
                     return Err(self.err(range, format!("`{name}` is not an output")));
                 }

@@ -277,7 +277,7 @@ pub(super) fn describe_act(
             (Some(what), Some(Location { file, range: tr.range }))
         }
         Act::Comm => {
-            let what = out_verb(&m.code[pc]).unwrap_or("receives");
+            let what = out_verb(design, &m.code[pc]).unwrap_or("receives");
             // Between states (on a transition out of a junction) there is
             // no state to name.
             let place = m.leaf(prev).map(|l| format!(" in {}", at(Some(l)))).unwrap_or_default();
@@ -293,7 +293,7 @@ pub(super) fn describe_act(
             let pc = prev[a.pc_slot as usize] as usize;
             let what = match (act, m.code.get(pc)) {
                 (Act::ActivityChoose(_, n), _) => format!("the wait interval resolves to {n}"),
-                (_, Some(i @ Instr::Out { .. })) => out_verb(i).unwrap_or_default().into(),
+                (_, Some(i @ Instr::Out { .. })) => out_verb(design, i).unwrap_or_default().into(),
                 (_, Some(Instr::In { .. })) => "receives".into(),
                 (_, Some(Instr::Wait)) => "goes on after its wait".into(),
                 _ => "writes a variable".into(),
@@ -306,9 +306,13 @@ pub(super) fn describe_act(
 
 /// What a machine does at an output instruction, in words (none for other
 /// instructions).
-pub(super) fn out_verb(instr: &Instr) -> Option<&'static str> {
+pub(super) fn out_verb(design: &Design, instr: &Instr) -> Option<&'static str> {
     match instr {
         Instr::Out { store: Some(_), .. } => Some("updates the platform variable"),
+        // A RoboSim output event (`$e!v`) is urgent too, but no call.
+        Instr::Out { chan, urgent: true, .. } if design.channels.get(*chan as usize).is_some_and(|c| !c.is_call) => {
+            Some("outputs")
+        }
         Instr::Out { urgent: true, .. } => Some("calls the platform operation"),
         Instr::Out { .. } => Some("outputs"),
         _ => None,
