@@ -52,6 +52,7 @@ impl MachineCx<'_, '_> {
         let params: Vec<&str> = func.params.iter().map(|p| p.name.as_str()).collect();
         let shown = match &ty {
             Layout::Set(_) => "{}".to_string(),
+            Layout::Seq(_) => "<>".to_string(),
             Layout::Num(_) => self.value_text(func.result.as_ref(), v),
             // Tuples and records: each component's default (numbers 0).
             Layout::Tuple(ds) | Layout::Record(_, ds) => {
