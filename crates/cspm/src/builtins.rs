@@ -257,6 +257,13 @@ pub(crate) fn call(ev: &mut Evaluator, name: &'static str, args: Vec<Value>, at:
             ev.calls.insert(key, body.clone());
             ev.proc_value(body)
         }
+        "prioritise" | "prioritise_nocache" | "timed_priority" if ev.limits.traces_only => {
+            return Err(err(
+                Code::Unsupported,
+                at,
+                format!("`{name}` in a compilation up to traces (priority depends on more than traces)"),
+            ))
+        }
         "prioritise" | "prioritise_nocache" => {
             let p = proc(a, at)?;
             let levels: Vec<_> = seq(&args[1], at)?.iter().map(|s| ev.event_set(s, at)).collect::<R<_>>()?;

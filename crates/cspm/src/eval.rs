@@ -35,6 +35,15 @@ pub struct Limits {
     /// Most bytes of stack one evaluation may use (measured from its
     /// outermost call), well below the thread's stack size.
     pub max_stack: usize,
+    /// Compile processes only up to their traces: internal choices (`|~|`,
+    /// its replicated form, `$` inputs) become external ones. Every CSP
+    /// operator but priority is compositional in the traces model and
+    /// `P |~| Q` has the traces of `P [] Q`, so each process keeps its
+    /// traces, while an external choice of internal choices no longer
+    /// multiplies its branches' states. `prioritise` and
+    /// `timed_priority` are then refused (priority depends on more than
+    /// traces).
+    pub traces_only: bool,
 }
 
 impl Default for Limits {
@@ -47,6 +56,7 @@ impl Default for Limits {
             cancel: None,
             // Half of the 2 MiB of a default spawned thread.
             max_stack: 1 << 20,
+            traces_only: false,
         }
     }
 }

@@ -23,8 +23,11 @@ pub(crate) enum L {
     Ev(u32),
 }
 
-/// A process term (opaque outside the crate).
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+/// A process term (opaque outside the crate). Terms share subterms
+/// (`Rc`), so a term may be far larger as a tree than in memory: its hash
+/// reads a bounded part of it (see the `Hash` impl); equality is
+/// structural.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum P {
     Stop,
     Skip,
@@ -87,7 +90,106 @@ impl std::hash::Hash for ExternalLts {
     }
 }
 
+/// The most nodes of a term its hash reads.
+const HASH_NODES: usize = 128;
+
+/// A hash of at most [`HASH_NODES`] nodes, read breadth first: the same
+/// for equal terms, as `Hash` requires, and linear in the budget even for
+/// a term whose shared subterms make it exponentially large as a tree (a
+/// recursion through external choices of internal ones, `PRE` inside
+/// every branch of `CON`). Terms that differ only deeper collide, and are
+/// then told apart by equality.
+impl std::hash::Hash for P {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        let mut queue = std::collections::VecDeque::from([self]);
+        let mut read = 0;
+        while let Some(p) = queue.pop_front() {
+            read += 1;
+            if read > HASH_NODES {
+                break;
+            }
+            p.hash_node(h, &mut queue);
+        }
+    }
+}
+
+/// At most 16 events of a set, and its size.
+fn hash_events<H: std::hash::Hasher>(set: &[u32], h: &mut H) {
+    use std::hash::Hash;
+    set.len().hash(h);
+    set.iter().take(16).for_each(|e| e.hash(h));
+}
+
 impl P {
+    /// Hashes this node's own data and queues its subterms.
+    fn hash_node<'a, H: std::hash::Hasher>(&'a self, h: &mut H, queue: &mut std::collections::VecDeque<&'a P>) {
+        use std::hash::Hash;
+        std::mem::discriminant(self).hash(h);
+        match self {
+            P::Stop | P::Skip | P::Omega | P::Div => {}
+            P::Prefix(e, q) => {
+                e.hash(h);
+                queue.push_back(q);
+            }
+            P::Ext(ps) | P::Int(ps) => {
+                ps.len().hash(h);
+                queue.extend(ps.iter().map(|q| &**q));
+            }
+            P::SyncExt(a, ps) | P::Par(a, ps) => {
+                hash_events(a, h);
+                ps.len().hash(h);
+                queue.extend(ps.iter().map(|q| &**q));
+            }
+            P::Seq(a, b) | P::Interrupt(a, b) | P::Slide(a, b) => queue.extend([&**a, &**b]),
+            P::SeqList(q, list, i) => {
+                (list.len(), i).hash(h);
+                queue.push_back(q);
+            }
+            P::Tocks(t, n, q) => {
+                (t, n).hash(h);
+                queue.push_back(q);
+            }
+            P::AlphaPar(ps) => {
+                ps.len().hash(h);
+                for (a, q) in ps {
+                    hash_events(a, h);
+                    queue.push_back(q);
+                }
+            }
+            P::Hide(a, q) => {
+                hash_events(a, h);
+                queue.push_back(q);
+            }
+            P::Rename(map, q) => {
+                map.len().hash(h);
+                queue.push_back(q);
+            }
+            P::Link(map, a, b) => {
+                map.len().hash(h);
+                queue.extend([&**a, &**b]);
+            }
+            P::SyncInt(e, a, b) | P::Exception(e, a, b) => {
+                hash_events(e, h);
+                queue.extend([&**a, &**b]);
+            }
+            P::Run(a) | P::Chaos(a) => hash_events(a, h),
+            P::Prioritise(levels, q) => {
+                levels.len().hash(h);
+                queue.push_back(q);
+            }
+            P::TimedPrefix(t, branches) => {
+                (t, branches.len()).hash(h);
+                for (e, q) in branches.iter() {
+                    e.hash(h);
+                    queue.push_back(q);
+                }
+            }
+            P::TStop(t) | P::TSkip(t) => t.hash(h),
+            P::External(lts, s) => (lts.id, s).hash(h),
+            P::Call(key) => key.hash(h),
+        }
+    }
+
     /// `n` tocks then `p` (kept as one node: no deep terms).
     pub(crate) fn tocks(tock: u32, n: i64, p: Rc<P>) -> Rc<P> {
         match u32::try_from(n) {

@@ -27,6 +27,16 @@ pub(crate) fn is_process_syntax(e: &Expr) -> bool {
 }
 
 impl Evaluator<'_> {
+    /// `|~|` of `ps`, or `[]` when compiling up to traces
+    /// ([`crate::Limits::traces_only`]).
+    fn internal_choice(&self, ps: Vec<Rc<P>>) -> P {
+        if self.limits.traces_only {
+            P::Ext(ps)
+        } else {
+            P::Int(ps)
+        }
+    }
+
     /// The tock event and the event function of a timed frame.
     fn timed(&mut self, env: u32, at: TextRange) -> R<Option<(u32, Option<Value>)>> {
         let Some(t) = self.timed_of(env) else { return Ok(None) };
@@ -160,7 +170,7 @@ impl Evaluator<'_> {
                 Rc::new(match (op, tock) {
                     (ProcOp::Ext, Some(t)) => P::SyncExt(Rc::from([t]), vec![pa, pb]),
                     (ProcOp::Ext, None) => P::Ext(vec![pa, pb]),
-                    (ProcOp::Int, _) => P::Int(vec![pa, pb]),
+                    (ProcOp::Int, _) => self.internal_choice(vec![pa, pb]),
                     (ProcOp::Interleave, t) => P::Par(t.map_or(Rc::from([]), |t| Rc::from([t])), vec![pa, pb]),
                     (ProcOp::Seq, _) => P::Seq(pa, pb),
                     (ProcOp::Interrupt, Some(t)) => P::SyncInt(Rc::from([t]), pa, pb),
@@ -349,7 +359,7 @@ impl Evaluator<'_> {
                 if procs.is_empty() {
                     return Err(err(Code::Runtime, at, "nondeterministic input over no values"));
                 }
-                out.push(Branch::Proc(Rc::new(P::Int(procs))));
+                out.push(Branch::Proc(Rc::new(self.internal_choice(procs))));
                 Ok(())
             }
         }
@@ -475,7 +485,7 @@ impl Evaluator<'_> {
         Ok(Rc::new(match op {
             RepOp::Ext if tock.is_some() => P::SyncExt(tockset, ps),
             RepOp::Ext => P::Ext(ps),
-            RepOp::Int => P::Int(ps),
+            RepOp::Int => self.internal_choice(ps),
             RepOp::Interleave => P::Par(tockset, ps),
             // Flat, however long the sequence (no deep terms).
             RepOp::Seq => P::SeqList(ps[0].clone(), ps.into(), 1),

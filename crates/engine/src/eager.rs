@@ -140,5 +140,6 @@ fn reads_shared(e: &Expr, shared: &HashSet<u16>) -> bool {
         }
         Expr::If(c, a, b) => reads_shared(c, shared) || reads_shared(a, shared) || reads_shared(b, shared),
         Expr::Tuple(parts) => parts.iter().any(|(p, _)| reads_shared(p, shared)),
+        Expr::Seq(_, args, _) => args.iter().any(|p| reads_shared(p, shared)),
     }
 }

@@ -18,6 +18,10 @@ pub enum Param {
     /// A tuple encoded in one value (see [`crate::ir::Expr::Tuple`]),
     /// printed as one field per component, as CSPm's `e.a.b`.
     Tuple(Vec<Dom>),
+    /// A finite set of values of the element parameter, encoded as a
+    /// bitmask over the element's values (see [`crate::ir::Expr::Elem`]),
+    /// printed as CSPm prints a set (`{Skills_MOVE, Skills_EXPLORE}`).
+    Set(Box<Param>),
 }
 
 impl Param {
@@ -28,6 +32,7 @@ impl Param {
             Param::Bool => Dom::BOOL,
             Param::Named(names) => Dom { lo: 0, hi: names.len().saturating_sub(1) as Val },
             Param::Tuple(ds) => Dom { lo: 0, hi: tuple_size(ds).saturating_sub(1) as Val },
+            Param::Set(el) => Dom { lo: 0, hi: (1i64 << el.dom().size().min(62)) - 1 },
         }
     }
 
@@ -37,6 +42,8 @@ impl Param {
         match (self, other) {
             (Param::Tuple(a), Param::Tuple(b)) => (a == b).then(|| self.clone()),
             (Param::Tuple(_), _) | (_, Param::Tuple(_)) => None,
+            (Param::Set(a), Param::Set(b)) => (a == b).then(|| self.clone()),
+            (Param::Set(_), _) | (_, Param::Set(_)) => None,
             (Param::Named(a), Param::Named(b)) if a == b => Some(self.clone()),
             (Param::Bool, Param::Bool) => Some(Param::Bool),
             _ => {
@@ -49,6 +56,10 @@ impl Param {
     /// Writes value `v` as `.v` fields.
     fn print(&self, v: Val, s: &mut String) {
         match self {
+            Param::Set(el) => {
+                s.push('.');
+                s.push_str(&self.set_text(el, v));
+            }
             Param::Bool => s.push_str(if v != 0 { ".true" } else { ".false" }),
             Param::Named(names) => match usize::try_from(v).ok().and_then(|i| names.get(i)) {
                 Some(n) => {
@@ -64,6 +75,22 @@ impl Param {
                 }
             }
         }
+    }
+}
+
+impl Param {
+    /// The set whose bitmask (over `el`'s values) is `v`, as `{a, b}`.
+    pub fn set_text(&self, el: &Param, v: Val) -> String {
+        let d = el.dom();
+        let items: Vec<String> = (0..d.size().min(62) as Val)
+            .filter(|i| v & (1 << i) != 0)
+            .map(|i| {
+                let mut one = String::new();
+                el.print(d.lo + i, &mut one);
+                one.trim_start_matches('.').to_string()
+            })
+            .collect();
+        format!("{{{}}}", items.join(", "))
     }
 }
 

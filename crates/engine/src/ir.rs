@@ -103,6 +103,136 @@ pub enum Expr {
     /// A value sent on a channel: it must be one of the channel's type
     /// (FDR stops with an error otherwise, [`EvalError::OutOfDomain`]).
     Checked(Box<Expr>, Dom),
+    /// An operation on bounded sequences, each encoded in one value (see
+    /// [`SeqDom`]).
+    Seq(SeqOp, Vec<Expr>, SeqDom),
+}
+
+/// Operations on bounded sequences (the operands of [`Expr::Seq`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SeqOp {
+    /// `<a, b, …>`: the operands are the elements.
+    Lit,
+    /// `s ^ t`, `concat(s, t)`.
+    Cat,
+    /// `head(s)`: an element (an error on `<>`, as in CSPm).
+    Head,
+    /// `tail(s)` (an error on `<>`, as in CSPm).
+    Tail,
+    /// `last(s)`: an element (an error on `<>`).
+    Last,
+    /// `front(s)`: all but the last (an error on `<>`).
+    Front,
+    /// `reverse(s)`.
+    Reverse,
+    /// `#s`, `size(s)`: a number.
+    Len,
+    /// `filter(s, A)`: the elements of `s` in the bitmask set `A`, in order.
+    Filter,
+}
+
+/// A sequence type: elements of `el`, at most `max` of them. A sequence is
+/// encoded in one value: the number of shorter sequences plus its elements
+/// in base `|el|` (the first the most significant), so that the codes are
+/// dense (`0` is `<>`) and every code is a sequence.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SeqDom {
+    /// The elements' domain.
+    pub el: Dom,
+    /// The longest sequence the encoding holds.
+    pub max: u32,
+}
+
+impl SeqDom {
+    /// The number of sequences of length `len` or less.
+    fn below(self, len: u32) -> u64 {
+        let n = self.el.size();
+        (0..len).fold((0u64, 1u64), |(acc, p), _| (acc.saturating_add(p), p.saturating_mul(n))).0
+    }
+
+    /// The number of sequences of the type (codes `0..count`).
+    pub fn count(self) -> u64 {
+        self.below(self.max + 1)
+    }
+
+    /// The code of the sequence `items` (values of `el`).
+    pub fn encode(self, items: &[Val]) -> Result<Val, EvalError> {
+        if items.len() > self.max as usize {
+            return Err(EvalError::SeqTooLong(self.max));
+        }
+        let n = self.el.size() as Val;
+        let mut digits: Val = 0;
+        for &v in items {
+            if !self.el.contains(v) {
+                return Err(EvalError::OutOfType);
+            }
+            digits = digits * n + (v - self.el.lo);
+        }
+        Ok(self.below(items.len() as u32) as Val + digits)
+    }
+
+    /// The elements of the sequence `code`.
+    pub fn decode(self, code: Val) -> Vec<Val> {
+        let n = self.el.size().max(1);
+        let mut rest = code.max(0) as u64;
+        let mut len = 0u32;
+        let mut p = 1u64;
+        while len < self.max && rest >= p {
+            rest -= p;
+            p = p.saturating_mul(n);
+            len += 1;
+        }
+        let mut out = vec![self.el.lo; len as usize];
+        for slot in out.iter_mut().rev() {
+            *slot = self.el.lo + (rest % n) as Val;
+            rest /= n;
+        }
+        out
+    }
+
+    fn eval(self, op: SeqOp, args: &[Expr], st: &[i32], saturated: &mut bool) -> Result<Val, EvalError> {
+        let mut vals = Vec::with_capacity(args.len());
+        for a in args {
+            vals.push(a.eval(st, saturated)?);
+        }
+        let seq = |i: usize| self.decode(vals.get(i).copied().unwrap_or(0));
+        Ok(match op {
+            SeqOp::Lit => self.encode(&vals)?,
+            SeqOp::Cat => {
+                let mut s = seq(0);
+                s.extend(seq(1));
+                self.encode(&s)?
+            }
+            SeqOp::Head => *seq(0).first().ok_or(EvalError::EmptySeq("head"))?,
+            SeqOp::Tail => {
+                let s = seq(0);
+                if s.is_empty() {
+                    return Err(EvalError::EmptySeq("tail"));
+                }
+                self.encode(&s[1..])?
+            }
+            SeqOp::Last => *seq(0).last().ok_or(EvalError::EmptySeq("last"))?,
+            SeqOp::Front => {
+                let s = seq(0);
+                if s.is_empty() {
+                    return Err(EvalError::EmptySeq("front"));
+                }
+                self.encode(&s[..s.len() - 1])?
+            }
+            SeqOp::Reverse => {
+                let mut s = seq(0);
+                s.reverse();
+                self.encode(&s)?
+            }
+            SeqOp::Len => seq(0).len() as Val,
+            SeqOp::Filter => {
+                let set = vals.get(1).copied().unwrap_or(0);
+                let kept: Vec<Val> =
+                    seq(0).into_iter().filter(|v| v - self.el.lo < 62 && set & (1 << (v - self.el.lo)) != 0).collect();
+                self.encode(&kept)?
+            }
+        })
+    }
 }
 
 /// Operations on finite sets encoded as bitmasks.
@@ -137,6 +267,11 @@ pub enum EvalError {
     /// variable (the value, the type's values): RoboTool's CSPm communicates
     /// it on a channel of that type, and FDR stops with an error.
     OutOfDomain(Val, Dom),
+    /// A sequence longer than its type's bound (the check cannot go on
+    /// without a wrong verdict).
+    SeqTooLong(u32),
+    /// `head` or `tail` of the empty sequence (an error in CSPm too).
+    EmptySeq(&'static str),
 }
 
 impl Expr {
@@ -245,6 +380,7 @@ impl Expr {
                 }
                 v
             }
+            Expr::Seq(op, args, d) => d.eval(*op, args, st, saturated)?,
         })
     }
 
@@ -268,6 +404,7 @@ impl Expr {
             Expr::Tuple(parts) => parts.iter().all(|(e, _)| e.is_static()),
             Expr::Proj(e, ..) | Expr::Elem(e, _) | Expr::Card(e) | Expr::Checked(e, _) => e.is_static(),
             Expr::Set(_, a, b) => a.is_static() && b.is_static(),
+            Expr::Seq(_, args, _) => args.iter().all(Expr::is_static),
         }
     }
 

@@ -396,6 +396,16 @@ impl Machine {
                 d.hi,
                 self.name
             )),
+            EvalError::SeqTooLong(max) => StepError(format!(
+                "machine `{}` makes a sequence longer than {max} elements, the longest the native checker holds \
+                 (RoboChart's sequences are unbounded: no verdict is given rather than one that ignores the longer \
+                 sequences)",
+                self.name
+            )),
+            EvalError::EmptySeq(f) => StepError(format!(
+                "machine `{}` takes `{f}` of the empty sequence (an error in CSPm too: FDR stops there)",
+                self.name
+            )),
         }
     }
 

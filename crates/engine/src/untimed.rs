@@ -192,6 +192,7 @@ fn clock_in(e: &Expr) -> Option<u16> {
         }
         Expr::If(c, a, b) => clock_in(c).or_else(|| clock_in(a)).or_else(|| clock_in(b)),
         Expr::Tuple(parts) => parts.iter().find_map(|(e, _)| clock_in(e)),
+        Expr::Seq(_, args, _) => args.iter().find_map(clock_in),
     }
 }
 

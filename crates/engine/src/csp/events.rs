@@ -120,6 +120,16 @@ fn value(names: &CspNames, p: &Param, t: &CspType, v: Val) -> Option<Value> {
             (l == n || l.ends_with(&format!("_{n}"))).then(|| Value::Ctor(l.as_str().into()))
         }
         Param::Num(_) => scalar(t, v),
+        // A bitmask over the element's values: the CSPm set of them.
+        Param::Set(el) => {
+            let CspType::Set(inner) = t else { return None };
+            let d = el.dom();
+            let items = (0..d.size().min(62) as Val)
+                .filter(|i| v & (1 << i) != 0)
+                .map(|i| value(names, el, inner, d.lo + i))
+                .collect::<Option<BTreeSet<Value>>>()?;
+            Some(Value::Set(std::rc::Rc::new(items)))
+        }
         Param::Tuple(ds) => {
             // The flat numbers, nested again by the channel's type (a
             // tuple whose components are records: `((1, 0), 2)`).

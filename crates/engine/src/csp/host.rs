@@ -208,17 +208,20 @@ impl Host<'_> {
             _ => return Ok(()),
         };
         let Some(ExternalName::Channel(fields)) = self.lookup(&chan) else { return Ok(()) };
-        let bad = || format!("the specification's event `{v}` is not an event of `{chan}`");
         if fields.len() != args.len() {
-            return Err(bad());
+            return Err(format!("the specification's event `{v}` is not an event of `{chan}`"));
         }
-        for (set, a) in fields.iter().zip(args) {
+        for (i, (set, a)) in fields.iter().zip(args).enumerate() {
             if !set.contains(a) {
+                // FDR's evaluator stops on such a value with this message
+                // (libcspm's `dotIsNotValidMessage`): no verdict.
                 let shown: Vec<String> = set.iter().take(12).map(|x| x.to_string()).collect();
                 let more = if set.len() > 12 { ", …" } else { "" };
                 return Err(format!(
-                    "{}: `{a}` is outside the model's values {{{}{more}}} (a value outside the model's domain)",
-                    bad(),
+                    "FDR stops with an error: the value `{v}` is invalid as it is not within the set of values \
+                     defined for the channel `{chan}`; in particular its field {} `{a}` is not a member of the set \
+                     {{{}{more}}} (the model's values: a value outside the model's domain)",
+                    i + 1,
                     shown.join(", ")
                 ));
             }

@@ -75,6 +75,10 @@ pub(crate) fn refinement(
 
 type Outcome = Result<(), (Verdict, String)>;
 
+/// Why a block could not be compiled: the verdict, the reason, and whether
+/// a bound of the evaluator was reached.
+type BlockError = (Verdict, String, bool);
+
 /// The most events `Events` may hold.
 const MAX_EVENTS: usize = 20_000;
 
@@ -160,7 +164,7 @@ fn run(
              CSPm (internal ones too); refusals of it can only be checked with FDR, or in the traces model",
         ));
     }
-    let mut ev = Evaluator::new(&module, &host, limits);
+    let mut ev = Evaluator::new(&module, &host, limits.clone());
     if uses_events {
         // `Events` holds the channels met so far: `tock` (which RoboTool's
         // script declares) and the model's channels.
@@ -205,7 +209,8 @@ fn run(
         compiled.as_ref().filter(|c| c.shows_terminate()).map(|c| format!("{}::terminate", c.element.module));
     let terminate = terminate.map(|t| ids.id(&t));
     // The blocks' sides, compiled by the CSPm evaluator.
-    let mut block = |name: &str| -> Result<(Transitions, String), (Verdict, String)> {
+    // Compiling a block may reach a bound (`Code::Limit`): said apart.
+    let block = |ev: &mut Evaluator, ids: &mut Names, name: &str| -> Result<(Transitions, String), BlockError> {
         let lts = ev.lts(name).map_err(|d| {
             // A generated process the bridge cannot give is unsupported,
             // not a run-time error of the script.
@@ -214,14 +219,14 @@ fn run(
                 Code::Limit | Code::Cancelled | Code::Runtime => Verdict::Inconclusive,
                 _ => Verdict::Unsupported,
             };
-            (verdict, format!("`{name}` could not be compiled: {}", d.message))
+            (verdict, format!("`{name}` could not be compiled: {}", d.message), d.code == Code::Limit)
         })?;
         // Every value of a model channel must be one of the model's (FDR
         // rejects an event outside its channel's type).
-        for v in &lts.event_values {
-            host.check_event(v).map_err(unsupported)?;
-        }
         let at = definition(&script.text, name).map(|r| script.locate(cx, r)).unwrap_or_default();
+        for v in &lts.event_values {
+            host.check_event(v).map_err(|e| (Verdict::Unsupported, format!("`{name}` {at}: {e}"), false))?;
+        }
         let map: Vec<Event> = lts.events.iter().map(|n| ids.id(n)).collect();
         let trans = lts
             .transitions
@@ -243,8 +248,24 @@ fn run(
     };
     let spec_name = other.join("::");
     let imp_name = a.subject.join("::");
-    let spec_side = spec_block.then(|| block(&spec_name)).transpose()?;
-    let imp_side = imp_block.then(|| block(&imp_name)).transpose()?;
+    let spec_side = match spec_block.then(|| block(&mut ev, &mut ids, &spec_name)).transpose() {
+        Ok(side) => side,
+        // A specification too large to compile, against a model element:
+        // its traces may still show that the refinement fails.
+        Err((verdict, why, true)) if !imp_block && !both_ways && model != SemanticModel::Traces => {
+            let mut ev = Evaluator::new(&module, &host, Limits { traces_only: true, ..limits.clone() });
+            let traces = block(&mut ev, &mut ids, &spec_name)
+                .map_err(|(_, t, _)| (verdict, format!("{why}; up to traces: {t}")))?;
+            let c = compiled.as_ref().ok_or_else(|| (verdict, why.clone()))?;
+            let side = Side { model, terminate, ids: &ids, script: &script };
+            by_traces(c, traces, (&spec_name, &why), side, opts, progress, report)?;
+            // The refinement fails (`by_traces` found a trace).
+            report.verdict = if a.negated { Verdict::Pass } else { Verdict::Fail };
+            return Ok(());
+        }
+        Err((verdict, why, _)) => return Err((verdict, why)),
+    };
+    let imp_side = imp_block.then(|| block(&mut ev, &mut ids, &imp_name)).transpose().map_err(|(v, w, _)| (v, w))?;
     for (side, name) in [(&spec_side, &spec_name), (&imp_side, &imp_name)] {
         if let Some((trans, at)) = side {
             report.notes.push(format!("`{name}` {at}: {} states", trans.len()));
@@ -291,6 +312,63 @@ fn run(
         report.reason = Some(format!("{imp_name} {} {spec_name}", if both_ways { "equals" } else { "refines" }));
     }
     report.verdict = if holds != a.negated { Verdict::Pass } else { Verdict::Fail };
+    Ok(())
+}
+
+/// What [`by_traces`] checks besides the two sides.
+struct Side<'a> {
+    model: SemanticModel,
+    terminate: Option<Event>,
+    ids: &'a Names,
+    script: &'a Script,
+}
+
+/// `model`-refinement of the model `c` against a specification too large
+/// to compile in full (`why`), compiled up to traces (`trans`, defined
+/// `at`: [`robosim_cspm::Limits::traces_only`]). Refinement in the
+/// failures and failures-divergences models implies traces refinement
+/// (for failures-divergences, of a specification with no τ: a divergence
+/// of the full one would be an unguarded recursion, an error of the
+/// traces compilation), so a trace of the model the specification does
+/// not have makes it fail: then `Ok`, with the counterexample in `report`.
+/// Otherwise the first error, `why` among them: no verdict.
+fn by_traces(
+    c: &native::Compiled<'_>,
+    (trans, at): (Transitions, String),
+    (spec_name, why): (&str, &str),
+    side: Side<'_>,
+    opts: &Options,
+    progress: Option<ProgressFn>,
+    report: &mut Report,
+) -> Outcome {
+    let inconclusive = |more: &str| (Verdict::Inconclusive, format!("{why}; {more}"));
+    if side.model == SemanticModel::FailuresDivergences && trans.iter().flatten().any(|(l, _)| l.event == TAU) {
+        return Err(inconclusive("its traces could not stand for it either (it has internal steps)"));
+    }
+    let states = trans.len();
+    let spec = SpecLts { trans, names: side.ids };
+    let native = c.lts().map_err(unsupported)?;
+    let imp = Imp { inner: &native, terminate: side.terminate, names: side.ids };
+    let explain = |cex: &RefinementCex<_>| counterexample(&imp, &spec, &c.design, cex, &native, spec_name, &at);
+    let (model, ids, script) = (SemanticModel::Traces, side.ids, side.script);
+    let holds = decide(&spec, &imp, model, false, opts, progress, report, ids, &explain, script)?;
+    if let Some(err) = native.error() {
+        return Err((Verdict::Inconclusive, format!("the model met a run-time error: {err}")));
+    }
+    if holds {
+        return Err(inconclusive(
+            "up to traces (its internal choices read as external ones, which keeps every trace) the model refines \
+             it, so only its refusals are left unchecked",
+        ));
+    }
+    report.notes.push(crate::verify::domains_note(&c.design));
+    report.notes.push(format!(
+        "`{spec_name}` {at} is too large to compile in full ({}); compiled up to traces (its internal choices read \
+         as external ones, which keeps every trace: {states} states), it lacks a trace of the model, and \
+         refinement in the {} model implies refinement of traces, so it fails too",
+        why.rsplit(": ").next().unwrap_or(why),
+        if side.model == SemanticModel::Failures { "failures" } else { "failures-divergences" }
+    ));
     Ok(())
 }
 

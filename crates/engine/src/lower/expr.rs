@@ -224,6 +224,20 @@ impl MachineCx<'_, '_> {
                 let t = self.typed(base, &Layout::Tuple(ds.clone()))?;
                 Expr::Proj(Box::new(t), stride(&ds, i), ds[i])
             }
+            ExprKind::Call { function: f, args, .. }
+                if matches!(f.as_str(), "head" | "last" | "size" | "card" | "isNonEmpty")
+                    && matches!(args.as_slice(), [s] if matches!(self.infer(s), Some(Layout::Seq(_)))) =>
+            {
+                let Some(t @ Layout::Seq(d)) = self.infer(&args[0]) else { unreachable!() };
+                let s = self.typed(&args[0], &t)?;
+                let op = |op| Expr::Seq(op, vec![s.clone()], d);
+                match f.as_str() {
+                    "head" => op(SeqOp::Head),
+                    "last" => op(SeqOp::Last),
+                    "isNonEmpty" => Expr::Cmp(CmpOp::Gt, Box::new(op(SeqOp::Len)), Box::new(Expr::Const(0))),
+                    _ => op(SeqOp::Len),
+                }
+            }
             ExprKind::Call { function: f, args, .. } if matches!(f.as_str(), "member" | "size" | "card" | "subset") => {
                 match (f.as_str(), args.as_slice()) {
                     ("member", [x, set]) => self.member(e, x, set)?,
@@ -435,8 +449,15 @@ impl MachineCx<'_, '_> {
     fn infer(&self, e: &model::Expr) -> Option<Layout> {
         match &e.kind {
             ExprKind::Name { name, .. } => self.types.get(name).cloned(),
-            ExprKind::Call { function, args, .. } => matches!(function.as_str(), "union" | "inter" | "diff")
-                .then(|| args.iter().find_map(|a| self.infer(a)))?,
+            ExprKind::Call { function, args, .. } => match function.as_str() {
+                "union" | "inter" | "diff" => args.iter().find_map(|a| self.infer(a)),
+                // Sequences from sequences (the first argument's type).
+                "concat" | "tail" | "front" | "reverse" | "filter" => {
+                    args.first().and_then(|a| self.infer(a)).filter(|t| matches!(t, Layout::Seq(_)))
+                }
+                _ => None,
+            },
+            ExprKind::Binary(BinOp::Cat, a, b) => self.infer(a).or_else(|| self.infer(b)),
             ExprKind::If(_, a, b) => self.infer(a).or_else(|| self.infer(b)),
             // `t[i]` of a tuple with structured components.
             ExprKind::Index(base, ix) => match (self.infer(base)?, ix.as_slice()) {
@@ -515,6 +536,51 @@ impl MachineCx<'_, '_> {
                 }
                 acc.unwrap_or(Expr::Const(0))
             }
+            (ExprKind::Seq(items), Layout::Seq(d)) => {
+                let el = Layout::Num(d.el);
+                let mut parts = Vec::new();
+                for x in items {
+                    parts.push(self.typed(x, &el)?);
+                }
+                if parts.len() > d.max as usize {
+                    return Err(self.err(
+                        range,
+                        format!("a sequence of {} elements: the native checker holds at most {}", parts.len(), d.max),
+                    ));
+                }
+                Expr::Seq(SeqOp::Lit, parts, *d)
+            }
+            (ExprKind::Binary(BinOp::Cat, a, b), Layout::Seq(d)) => {
+                Expr::Seq(SeqOp::Cat, vec![self.typed(a, want)?, self.typed(b, want)?], *d)
+            }
+            (ExprKind::Call { function: f, args, .. }, Layout::Seq(d))
+                if matches!(f.as_str(), "concat" | "tail" | "front" | "reverse" | "filter") =>
+            {
+                let (op, n) = match f.as_str() {
+                    "concat" => (SeqOp::Cat, 2),
+                    "tail" => (SeqOp::Tail, 1),
+                    "front" => (SeqOp::Front, 1),
+                    "reverse" => (SeqOp::Reverse, 1),
+                    _ => (SeqOp::Filter, 2),
+                };
+                if args.len() != n {
+                    return Err(self.err(range, format!("`{f}` takes {n} arguments")));
+                }
+                let mut parts = vec![self.typed(&args[0], want)?];
+                if n == 2 {
+                    // `filter`'s second argument is a set of the elements.
+                    let second = if op == SeqOp::Filter {
+                        if d.el.size() > 31 {
+                            return Err(self.err(range, "`filter` by a set of a type of more than 31 values"));
+                        }
+                        Layout::Set(Box::new(Layout::Num(d.el)))
+                    } else {
+                        want.clone()
+                    };
+                    parts.push(self.typed(&args[1], &second)?);
+                }
+                Expr::Seq(op, parts, *d)
+            }
             (ExprKind::Call { function: f, args, .. }, Layout::Set(_))
                 if matches!(f.as_str(), "union" | "inter" | "diff") =>
             {
@@ -546,7 +612,11 @@ impl MachineCx<'_, '_> {
                 self.value_of(range, n)?
             }
             _ => {
-                let what = if matches!(want, Layout::Set(_)) { "a set" } else { "a tuple" };
+                let what = match want {
+                    Layout::Set(_) => "a set",
+                    Layout::Seq(_) => "a sequence",
+                    _ => "a tuple",
+                };
                 return Err(self.err(
                     range,
                     format!("{what} is expected here; this expression is not supported as one by the native checker"),

@@ -53,6 +53,7 @@ impl MachineCx<'_, '_> {
         let shown = match &ty {
             Layout::Set(_) => "{}".to_string(),
             Layout::Num(_) => self.value_text(func.result.as_ref(), &ty, v),
+            Layout::Seq(_) => "<>".to_string(),
             // Tuples and records: each component's default (numbers 0).
             Layout::Tuple(ds) | Layout::Record(_, ds) => {
                 let parts: Vec<String> = ds.iter().map(|d| d.lo.max(0).min(d.hi).to_string()).collect();

@@ -141,10 +141,19 @@ impl<'b> MachineCx<'_, 'b> {
                             Some(t) => Some(self.ty_of(f, Some(t), range)?),
                             None => None,
                         };
-                        if let Some(Layout::Set(_)) = &full {
+                        // Sets of numbers, booleans and literals are events'
+                        // values (`activeSkills.out.{Skills_MOVE}`).
+                        let unsupported = match &full {
+                            Some(Layout::Set(el)) if !el.is_num() => Some("sets of tuples or records"),
+                            Some(Layout::Seq(_)) => Some("sequences"),
+                            _ => None,
+                        };
+                        if let Some(what) = unsupported {
                             return Err(self.err(
                                 range,
-                                format!("events carrying sets (`{name}`) are not supported by the native checker yet"),
+                                format!(
+                                    "events carrying {what} (`{name}`) are not supported by the native checker yet"
+                                ),
                             ));
                         }
                         let ty = full.as_ref().map(Layout::dom);

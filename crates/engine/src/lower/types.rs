@@ -17,6 +17,12 @@ const MAX_TUPLES: u64 = 1 << 30;
 /// The largest element type of a set: a set is a bitmask in one slot.
 const MAX_SET_ELEMENTS: u64 = 31;
 
+/// The longest sequence the checker holds (less when the sequences of
+/// this length would be more than [`MAX_TUPLES`]). RoboChart's sequences
+/// are unbounded: a machine that makes a longer one stops the check with
+/// an error (`EvalError::SeqTooLong`), never a verdict that ignores it.
+const MAX_SEQ_LEN: u32 = 8;
+
 /// The layout of a type's values (the type itself is the model's
 /// [`Ty`]). Every value is one slot: a product is its components in mixed
 /// radix (first component most significant, so that the codes count
@@ -40,6 +46,8 @@ pub(super) enum Layout {
     /// parameter carries the flat numbers ([`Layout::leaves`]) and the
     /// CSPm side nests them again by the channel's type.
     Product(Vec<Layout>),
+    /// `Seq(T)` of numbers, bounded in length (see [`SeqDom`]).
+    Seq(SeqDom),
 }
 
 impl Layout {
@@ -50,6 +58,7 @@ impl Layout {
             Layout::Tuple(ds) | Layout::Record(_, ds) => Dom { lo: 0, hi: tuple_size(ds) as Val - 1 },
             Layout::Set(el) => Dom { lo: 0, hi: (1 << el.dom().size()) - 1 },
             Layout::Product(_) => Dom { lo: 0, hi: tuple_size(&self.leaves()) as Val - 1 },
+            Layout::Seq(d) => Dom { lo: 0, hi: d.count() as Val - 1 },
         }
     }
 
@@ -102,6 +111,10 @@ impl Layout {
                     (0..el.dom().size().min(63)).filter(|i| v >> i & 1 == 1).map(|i| el.show(lo + i as Val)).collect();
                 format!("{{{}}}", xs.join(", "))
             }
+            Layout::Seq(d) => {
+                let xs: Vec<String> = d.decode(v).iter().map(|x| x.to_string()).collect();
+                format!("<{}>", xs.join(", "))
+            }
         }
     }
 
@@ -114,7 +127,8 @@ impl Layout {
             Layout::Tuple(ds) | Layout::Record(_, ds) => {
                 ds.iter().fold(0, |code, d| code * d.size() as Val + (num(*d) - d.lo))
             }
-            Layout::Set(_) => 0,
+            // The empty set and the empty sequence.
+            Layout::Set(_) | Layout::Seq(_) => 0,
             Layout::Product(cs) => {
                 cs.iter().fold(0, |code, c| code * c.dom().size() as Val + (c.default_value() - c.dom().lo))
             }
@@ -126,6 +140,7 @@ impl Layout {
         match self {
             Layout::Tuple(ds) | Layout::Record(_, ds) => Param::Tuple(ds.clone()),
             Layout::Product(_) => Param::Tuple(self.leaves()),
+            Layout::Set(el) => Param::Set(Box::new(el.param())),
             t => Param::Num(t.dom()),
         }
     }
@@ -179,11 +194,11 @@ impl MachineCx<'_, '_> {
                 let mut comps = Vec::new();
                 for c in parts {
                     match self.layout(file, c, node)? {
-                        Layout::Set(_) => {
+                        Layout::Set(_) | Layout::Seq(_) => {
                             return Err(self.cx.unsupported(
                                 file,
                                 range,
-                                "tuples whose components are sets are not supported yet",
+                                "tuples whose components are sets or sequences are not supported yet",
                             ))
                         }
                         l => comps.push(l),
@@ -201,7 +216,7 @@ impl MachineCx<'_, '_> {
             Ty::Set(inner) => {
                 let el = self.layout(file, inner, node)?;
                 let n = el.dom().size();
-                if matches!(el, Layout::Set(_)) || n > MAX_SET_ELEMENTS {
+                if matches!(el, Layout::Set(_) | Layout::Seq(_)) || n > MAX_SET_ELEMENTS {
                     return Err(self.cx.unsupported(
                         file,
                         range,
@@ -212,6 +227,31 @@ impl MachineCx<'_, '_> {
                     ));
                 }
                 Ok(Layout::Set(Box::new(el)))
+            }
+            Ty::Seq(inner) => {
+                let el = match self.layout(file, inner, node)? {
+                    Layout::Num(d) => d,
+                    _ => {
+                        return Err(self.cx.unsupported(
+                            file,
+                            range,
+                            format!(
+                                "the sequence type `{}` is not supported: sequences of numbers, booleans and \
+                                 enumerations are",
+                                node.text
+                            ),
+                        ))
+                    }
+                };
+                let fits = |max| SeqDom { el, max }.count() <= MAX_TUPLES;
+                match (1..=MAX_SEQ_LEN).rev().find(|&max| fits(max)) {
+                    Some(max) => Ok(Layout::Seq(SeqDom { el, max })),
+                    None => Err(self.cx.unsupported(
+                        file,
+                        range,
+                        format!("the sequence type `{}` has too many values to check natively", node.text),
+                    )),
+                }
             }
             Ty::Bool => Ok(Layout::Num(Dom::BOOL)),
             Ty::Nat => Ok(Layout::Num(d.nat)),
@@ -289,6 +329,15 @@ impl MachineCx<'_, '_> {
     /// `Enum_Literal`).
     pub(super) fn param_of(&self, node: Option<&TyRef>) -> Option<Param> {
         match &node?.ty {
+            Ty::Set(inner) => Some(Param::Set(Box::new(self.scalar_param(inner)?))),
+            t => self.scalar_param(t),
+        }
+    }
+
+    /// How values of the type `t` are named when they are booleans or
+    /// enumerations' literals.
+    fn scalar_param(&self, t: &Ty) -> Option<Param> {
+        match t {
             Ty::Bool => Some(Param::Bool),
             Ty::Named(loc, ty, DefKind::Enumeration) => {
                 Some(Param::Named(self.literals(*loc)?.iter().map(|l| format!("{ty}_{l}")).collect()))
