@@ -233,7 +233,9 @@ fn toggle(server: &mut Server, edits: i64) -> Vec<(i64, Vec<Value>)> {
         // fix (the syntax-only one carries the last check's over).
         let deadline = std::time::Instant::now() + TIMEOUT;
         loop {
-            let msg = server.expect(&json!({"method": "textDocument/publishDiagnostics", "params": {"uri": uri, "version": version}}));
+            let msg = server.expect(
+                &json!({"method": "textDocument/publishDiagnostics", "params": {"uri": uri, "version": version}}),
+            );
             if has_sm6(&msg) == bad {
                 break;
             }
@@ -242,7 +244,8 @@ fn toggle(server: &mut Server, edits: i64) -> Vec<(i64, Vec<Value>)> {
     }
     server.drain(Duration::from_millis(300));
     let mut by_version: Vec<(i64, Vec<Value>)> = Vec::new();
-    for m in server.log.iter().filter(|m| m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri) {
+    for m in server.log.iter().filter(|m| m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri)
+    {
         let v = m["params"]["version"].as_i64().unwrap();
         match by_version.last_mut() {
             Some((last, list)) if *last == v => list.push(m.clone()),

@@ -250,12 +250,15 @@ fn robosim_queries() {
     use salsa::Setter;
     use std::sync::{Arc, Mutex};
     let log: Arc<Mutex<Vec<String>>> = Arc::default();
-    let sink = log.clone();
+    let validated: Arc<Mutex<Vec<String>>> = Arc::default();
+    let (sink, vsink) = (log.clone(), validated.clone());
     let mut db = RootDatabase::with_event_log(move |e| {
-        if let salsa::EventKind::WillExecute { database_key } = e.kind {
-            let key = format!("{database_key:?}");
-            sink.lock().unwrap().push(key.split('(').next().unwrap_or("").to_string());
-        }
+        let (sink, key) = match e.kind {
+            salsa::EventKind::WillExecute { database_key } => (&sink, format!("{database_key:?}")),
+            salsa::EventKind::DidValidateMemoizedValue { database_key } => (&vsink, format!("{database_key:?}")),
+            _ => return,
+        };
+        sink.lock().unwrap().push(key.split('(').next().unwrap_or("").to_string());
     });
     let good = generated::generated_robosim(120);
     let middle = good.find("SimSMovement60 {").unwrap();
@@ -269,6 +272,7 @@ fn robosim_queries() {
     for k in 0..TOGGLES {
         let text = if k % 2 == 0 { &bad } else { &good };
         log.lock().unwrap().clear();
+        validated.lock().unwrap().clear();
         let start = Instant::now();
         let prior = Prior { text: file.text(&db).as_str().into(), parse: parse(&db, file).clone() };
         file.set_prior(&mut db).to(Some(prior));
@@ -291,6 +295,16 @@ fn robosim_queries() {
         *by_name.entry(q.as_str()).or_default() += 1;
     }
     println!("  last keystroke: {by_name:?}");
+    // What salsa verified without re-executing: the memos of the elements
+    // the edit did not touch, each checked against its inputs.
+    let valid = std::mem::take(&mut *validated.lock().unwrap());
+    let mut by_name: std::collections::BTreeMap<&str, usize> = Default::default();
+    for q in &valid {
+        *by_name.entry(q.as_str()).or_default() += 1;
+    }
+    let mut top: Vec<_> = by_name.into_iter().collect();
+    top.sort_by_key(|(_, n)| std::cmp::Reverse(*n));
+    println!("memos re-validated by the last keystroke: {} ({:?} …)", valid.len(), &top[..top.len().min(12)]);
 }
 
 /// Reads whatever the server still sends until it is quiet for `quiet`.

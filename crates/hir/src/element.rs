@@ -261,7 +261,11 @@ pub fn defs_around(db: &dyn Db, file: File, range: TextRange) -> &FileDefs {
 /// The declaration-level references of `element` (resolution's, positions
 /// from its start), for requests about a place in it.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_refs<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>) -> Vec<crate::resolve::ResolvedRef> {
+pub(crate) fn element_refs<'db>(
+    db: &'db dyn Db,
+    ws: Workspace,
+    element: Element<'db>,
+) -> Vec<crate::resolve::ResolvedRef> {
     crate::resolve::resolve_unit(db, ws, &Unit::of_element(db, element)).refs
 }
 

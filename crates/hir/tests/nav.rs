@@ -114,7 +114,12 @@ fn symbol_at_agrees_with_whole_file_resolution() {
                 }
                 if let Some(d) = sym.as_ref().and_then(|s| symbol_declaration(&db, s)) {
                     let want = file_defs(&db, d.file).def(d.def);
-                    assert_eq!((d.name_range, d.full_range), (want.name_range, want.range), "{} at {o}", file.path(&db));
+                    assert_eq!(
+                        (d.name_range, d.full_range),
+                        (want.name_range, want.range),
+                        "{} at {o}",
+                        file.path(&db)
+                    );
                 }
             }
         }

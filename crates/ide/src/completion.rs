@@ -298,7 +298,7 @@ struct Cx<'a> {
     offset: TextSize,
 }
 
-impl Cx<'_> {
+impl<'a> Cx<'a> {
     fn after(&self, prev: &SyntaxToken, acc: &mut Acc) {
         let parent = prev.parent().map(|p| p.kind());
         let in_node = |k: SyntaxKind| prev.parent_ancestors().any(|a| a.kind() == k);
