@@ -231,10 +231,12 @@ impl<'a> Body<'a> {
             return m.clone();
         }
         let ctx_def = Ctx::Local(self.file, ctx);
-        let mut m = if self.one_context {
-            crate::resolve::compute_members(self.db, self.ws, ctx_def)
-        } else if let Some(unit) = self.unit {
+        // An element's members are memoised per element (what an edit
+        // elsewhere leaves alone); a file's, for the whole file.
+        let mut m = if let Some(unit) = self.unit {
             unit.members(self.db, self.ws, ctx).into_owned()
+        } else if self.one_context {
+            crate::resolve::compute_members(self.db, self.ws, ctx_def)
         } else {
             ctx_members(self.db, self.ws, ctx_def).into_owned()
         };

@@ -69,7 +69,7 @@ fn requests_after_an_edit_inside_one_machine_read_that_machine_only() {
         host.set_file("/w/gen.rct", edited.clone(), None, Durability::LOW);
         let (name, blank) = (TextSize::from((name + round) as u32), TextSize::from((blank + round) as u32));
         let a = host.analysis();
-        let mut ran = |what: &str, f: &dyn Fn()| {
+        let ran = |what: &str, f: &dyn Fn()| {
             log.lock().unwrap().clear();
             f();
             let ran = std::mem::take(&mut *log.lock().unwrap());

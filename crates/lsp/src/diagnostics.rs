@@ -16,14 +16,12 @@
 //! syntax-only one comes from a parse alone: the syntax diagnostics of the
 //! new text, plus the semantic diagnostics of the last complete check moved
 //! along with the edits made since (what editors do with markers anyway).
-//! The complete check runs at the same time, on the job's thread; the
-//! syntax-only result, computed on a second thread, waits for it until
-//! [`Shared::syntax_hold`] after the job started, and is dropped if the
-//! complete one came by then (rules run per element, so after a keystroke
-//! the check usually takes a few milliseconds). A check that takes longer
-//! (the first of a file, or an edit that touches many elements) does not
-//! hold back the syntax errors beyond that wait, and the complete publish
-//! never waits for the syntax-only one, only follows it on the wire.
+//! The complete check runs at the same time, on the job's thread, so that
+//! its publish never waits for the syntax-only one (it only follows it on
+//! the wire). The syntax-only result, computed on a second thread, is
+//! dropped if the complete one was published before it is ready, or
+//! before the wait `ROBOSIM_SYNTAX_HOLD_MS` after the job started (none by
+//! default: see `state::syntax_hold`).
 //!
 //! The verification results about a file's assertions (`verify.rs`) are
 //! published with its diagnostics, in both publishes. A publish computed
