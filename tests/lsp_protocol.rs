@@ -194,3 +194,100 @@ fn deep_nesting_does_not_crash_the_server() {
     assert!(server.alive());
     server.shutdown();
 }
+
+/// Whether a publish has RS:SM6 (the rule the toggle below breaks).
+fn has_sm6(msg: &Value) -> bool {
+    msg["params"]["diagnostics"].as_array().is_some_and(|a| a.iter().any(|d| d["code"] == "RS:SM6"))
+}
+
+/// Toggles `$` in one guard of a generated RoboSim model (`not $obstacle`
+/// ↔ `not obstacle`, an RS:SM6 violation) `edits` times, each waited for
+/// until its complete publish, and returns every publish of the document
+/// by version.
+fn toggle(server: &mut Server, edits: i64) -> Vec<(i64, Vec<Value>)> {
+    let uri = "file:///robosim-test/toggle.rst";
+    let text = generated::generated_robosim(20);
+    server.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": uri, "languageId": "robosim", "version": 1, "text": text}}),
+    );
+    server.expect(&json!({"method": "textDocument/publishDiagnostics", "params": {"uri": uri, "version": 1}}));
+    server.drain(Duration::from_millis(300));
+    let at = text.find("stm SimSMovement10 {").unwrap();
+    let at = at + text[at..].find("not $obstacle").unwrap() + "not ".len();
+    let line = text[..at].matches('\n').count();
+    let col = at - text[..at].rfind('\n').unwrap() - 1;
+    let pos = json!({"line": line, "character": col});
+    for version in 2..2 + edits {
+        let bad = version % 2 == 0;
+        let change = if bad {
+            json!({"range": {"start": pos, "end": {"line": line, "character": col + 1}}, "text": ""})
+        } else {
+            json!({"range": {"start": pos, "end": pos}, "text": "$"})
+        };
+        server.notify(
+            "textDocument/didChange",
+            json!({"textDocument": {"uri": uri, "version": version}, "contentChanges": [change]}),
+        );
+        // The complete publish: RS:SM6 after the bad edit, none after the
+        // fix (the syntax-only one carries the last check's over).
+        let deadline = std::time::Instant::now() + TIMEOUT;
+        loop {
+            let msg = server.expect(
+                &json!({"method": "textDocument/publishDiagnostics", "params": {"uri": uri, "version": version}}),
+            );
+            if has_sm6(&msg) == bad {
+                break;
+            }
+            assert!(std::time::Instant::now() < deadline, "no complete publish for version {version}");
+        }
+    }
+    server.drain(Duration::from_millis(300));
+    let mut by_version: Vec<(i64, Vec<Value>)> = Vec::new();
+    for m in server.log.iter().filter(|m| m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri)
+    {
+        let v = m["params"]["version"].as_i64().unwrap();
+        match by_version.last_mut() {
+            Some((last, list)) if *last == v => list.push(m.clone()),
+            _ => by_version.push((v, vec![m.clone()])),
+        }
+    }
+    by_version
+}
+
+/// After an edit the complete check's publish is the last for the version:
+/// a syntax-only publish (the parse's, with the last check's diagnostics
+/// carried over) may come first, when the check is not done within the
+/// server's short wait, never after it.
+#[test]
+fn the_complete_publish_of_an_edit_comes_last() {
+    let mut server = Server::start();
+    server.initialize(json!({}), Value::Null);
+    let by_version = toggle(&mut server, 20);
+    assert_eq!(by_version.iter().map(|(v, _)| *v).collect::<Vec<_>>(), (1..22).collect::<Vec<_>>());
+    for (version, publishes) in by_version.iter().skip(1) {
+        let bad = version % 2 == 0;
+        assert!(matches!(publishes.len(), 1 | 2), "version {version}: {} publishes", publishes.len());
+        let complete: Vec<bool> = publishes.iter().map(|m| has_sm6(m) == bad).collect();
+        assert_eq!(complete.last(), Some(&true), "version {version}: the last publish is not the complete one");
+        assert_eq!(complete.iter().filter(|c| **c).count(), 1, "version {version}: {publishes:?}");
+    }
+    server.shutdown();
+}
+
+/// When the complete check is done within the server's wait for it, it is
+/// the only publish of the version: the syntax-only one is not sent (here
+/// with a wait long enough for any check of this small model).
+#[test]
+fn a_check_done_within_the_wait_is_published_alone() {
+    let mut server = Server::start_with_env(&[], &[("ROBOSIM_SYNTAX_HOLD_MS", "5000")]);
+    server.initialize(json!({}), Value::Null);
+    let by_version = toggle(&mut server, 10);
+    for (version, publishes) in &by_version {
+        assert_eq!(publishes.len(), 1, "version {version}: {publishes:?}");
+        if *version > 1 {
+            assert_eq!(has_sm6(&publishes[0]), version % 2 == 0, "version {version}");
+        }
+    }
+    server.shutdown();
+}

@@ -41,9 +41,15 @@ impl Server {
 
     /// Starts `robosim lsp` with extra arguments after `lsp`.
     pub fn start_with_args(args: &[&str]) -> Server {
+        Server::start_with_env(args, &[])
+    }
+
+    /// Starts `robosim lsp` with extra arguments and environment variables.
+    pub fn start_with_env(args: &[&str], env: &[(&str, &str)]) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_robosim-e2e"))
             .arg("lsp")
             .args(args)
+            .envs(env.iter().copied())
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())

@@ -66,10 +66,24 @@ pub fn body_refs_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) ->
     if file.kind(db).is_assertions() {
         return Vec::new();
     }
-    let mut r = Body::new(db, ws, file, file_defs(db, file), None);
+    // Within the element at `offset`, on its own tree: a keystroke
+    // elsewhere does not put the file's definitions together again.
+    if let Some((element, at)) = crate::element::element_at(db, file, offset) {
+        let unit = crate::element::Unit::of_element(db, element);
+        let at = TextSize::from(at);
+        let mut refs = refs_around(Body::new(db, ws, file, unit.defs, Some(&unit)), &unit.root, offset - at);
+        for r in &mut refs {
+            r.range += at;
+        }
+        return refs;
+    }
+    refs_around(Body::new(db, ws, file, file_defs(db, file), None), &parse(db, file).syntax_node(), offset)
+}
+
+/// [`body_refs_at`] on the tree `root` and the definitions `r` reads.
+fn refs_around(mut r: Body<'_>, root: &SyntaxNode, offset: TextSize) -> Vec<ResolvedRef> {
     // One name needs the members of one context, not those of the file.
     r.one_context = true;
-    let root = parse(db, file).syntax_node();
     // Past the end (a stale position from an editor): nothing is there.
     if !root.text_range().contains_inclusive(offset) {
         return Vec::new();
@@ -217,10 +231,12 @@ impl<'a> Body<'a> {
             return m.clone();
         }
         let ctx_def = Ctx::Local(self.file, ctx);
-        let mut m = if self.one_context {
-            crate::resolve::compute_members(self.db, self.ws, ctx_def)
-        } else if let Some(unit) = self.unit {
+        // An element's members are memoised per element (what an edit
+        // elsewhere leaves alone); a file's, for the whole file.
+        let mut m = if let Some(unit) = self.unit {
             unit.members(self.db, self.ws, ctx).into_owned()
+        } else if self.one_context {
+            crate::resolve::compute_members(self.db, self.ws, ctx_def)
         } else {
             ctx_members(self.db, self.ws, ctx_def).into_owned()
         };

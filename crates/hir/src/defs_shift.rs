@@ -101,35 +101,55 @@ fn data(d: &mut DefData, by: TextSize) {
     }
 }
 
+fn def(d: &mut Def, by: TextSize, base: u32) {
+    let Def { kind: _, name: _, name_range, range, parent, io: _, data: dd, syntax: _ } = d;
+    r(name_range, by);
+    r(range, by);
+    if let Some(p) = parent {
+        p.0 += base;
+    }
+    data(dd, by);
+}
+
+fn use_(u: &mut Use, by: TextSize, base: u32) {
+    let Use { kind: _, path: _, range, owner, io: _ } = u;
+    r(range, by);
+    owner.0 += base;
+}
+
+fn facts(f: &mut ContainerFacts, by: TextSize) {
+    let ContainerFacts { cycle_defs, input_contexts, output_contexts, actions } = f;
+    cycle_defs.iter_mut().chain(input_contexts).chain(output_contexts).for_each(|x| r(x, by));
+    actions.iter_mut().for_each(|(_, x)| r(x, by));
+}
+
 /// Appends `part` (an element's definitions, ids and positions from 0) to
 /// `out`, moved by `by` and numbered after `out`'s definitions.
 pub(crate) fn append(out: &mut FileDefs, part: &FileDefs, by: TextSize) {
     let base = out.defs.len() as u32;
     for d in &part.defs {
         let mut d = d.clone();
-        let Def { kind: _, name: _, name_range, range, parent, io: _, data: dd, syntax: _ } = &mut d;
-        r(name_range, by);
-        r(range, by);
-        if let Some(p) = parent {
-            p.0 += base;
-        }
-        data(dd, by);
+        def(&mut d, by, base);
         out.defs.push(d);
     }
     for u in &part.uses {
         let mut u = u.clone();
-        let Use { kind: _, path: _, range, owner, io: _ } = &mut u;
-        r(range, by);
-        owner.0 += base;
+        use_(&mut u, by, base);
         out.uses.push(u);
     }
     for f in &part.facts {
-        let ContainerFacts { cycle_defs, input_contexts, output_contexts, actions } = f;
-        out.facts.push(ContainerFacts {
-            cycle_defs: cycle_defs.iter().map(|x| *x + by).collect(),
-            input_contexts: input_contexts.iter().map(|x| *x + by).collect(),
-            output_contexts: output_contexts.iter().map(|x| *x + by).collect(),
-            actions: actions.iter().map(|(k, x)| (*k, *x + by)).collect(),
-        });
+        let mut f = f.clone();
+        facts(&mut f, by);
+        out.facts.push(f);
     }
+}
+
+/// `defs` (an element's, with the file's ids) moved by `by`, ids kept: a
+/// uniform move keeps the order of the start index.
+pub(crate) fn moved(defs: &FileDefs, by: TextSize) -> FileDefs {
+    let mut out = defs.clone();
+    out.defs.iter_mut().for_each(|d| def(d, by, 0));
+    out.uses.iter_mut().for_each(|u| use_(u, by, 0));
+    out.facts.iter_mut().for_each(|f| facts(f, by));
+    out
 }

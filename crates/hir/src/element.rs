@@ -15,7 +15,7 @@
 
 use std::borrow::Cow;
 
-use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode};
+use robosim_syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 use rustc_hash::FxHashMap;
 
 use crate::defs::{file_defs, lower_element, lower_header, DefId, FileDefs};
@@ -207,6 +207,66 @@ pub fn element_problems<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'d
     let body = crate::body::resolve_body(db, ws, &unit);
     let types = crate::types::type_unit(db, ws, &unit, &resolution.refs, &body.refs);
     ElementProblems { resolution: resolution.problems, body: body.problems, types }
+}
+
+/// The element of `file` around `offset` (its first or last position
+/// included) and its start; `None` outside every element (the package,
+/// the imports, blank space between elements) and in assertion files,
+/// which are checked whole.
+pub fn element_at(db: &dyn Db, file: File, offset: TextSize) -> Option<(Element<'_>, u32)> {
+    if file.kind(db).is_assertions() {
+        return None;
+    }
+    let elements = file_elements(db, file);
+    let i = elements.partition_point(|(_, at)| TextSize::from(*at) <= offset).checked_sub(1)?;
+    let (e, at) = elements[i];
+    let end = TextSize::from(at) + e.green(db).0.text_len();
+    (offset <= end).then_some((e, at))
+}
+
+/// The definitions of `element` with the file's ids and positions: what
+/// requests about one place read (hover, definition), instead of putting
+/// the whole file's together after each keystroke. Recomputed when an
+/// edit before the element moves it.
+#[salsa::tracked(returns(ref))]
+pub fn placed_defs<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
+    let at = file_elements(db, element.file(db)).iter().find(|(e, _)| *e == element).map_or(0, |(_, at)| *at);
+    crate::defs_shift::moved(element_defs(db, element), at.into())
+}
+
+/// The definitions of `file` that hold `id`, with the file's positions:
+/// those of the element declaring it ([`placed_defs`]), or the whole
+/// file's for an assertion file.
+pub fn defs_holding(db: &dyn Db, file: File, id: DefId) -> &FileDefs {
+    match element_of(db, file, id).filter(|_| !file.kind(db).is_assertions()) {
+        Some(e) => placed_defs(db, e),
+        None => file_defs(db, file),
+    }
+}
+
+/// The definitions of `file` that may contain `range`, with the file's
+/// positions: those of the element around it, or the whole file's for an
+/// assertion file (outside every element: none, only the package and
+/// imports).
+pub fn defs_around(db: &dyn Db, file: File, range: TextRange) -> &FileDefs {
+    if file.kind(db).is_assertions() {
+        return file_defs(db, file);
+    }
+    match element_at(db, file, range.start()) {
+        Some((e, _)) => placed_defs(db, e),
+        None => file_header(db, file),
+    }
+}
+
+/// The declaration-level references of `element` (resolution's, positions
+/// from its start), for requests about a place in it.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn element_refs<'db>(
+    db: &'db dyn Db,
+    ws: Workspace,
+    element: Element<'db>,
+) -> Vec<crate::resolve::ResolvedRef> {
+    crate::resolve::resolve_unit(db, ws, &Unit::of_element(db, element)).refs
 }
 
 /// The element of `file` that declares `id` (from the ids alone, so that

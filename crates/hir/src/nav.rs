@@ -7,6 +7,7 @@ use robosim_syntax::{SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 
 use crate::body::{body_refs_at, body_resolution};
 use crate::defs::{file_defs, Def, DefData, DefId, DefKind, Io, TypeRef};
+use crate::element::defs_holding;
 use crate::index::ItemLoc;
 use crate::resolve::{file_resolution, ResolvedRef, Target};
 use crate::{parse, Db, File, Workspace};
@@ -33,12 +34,12 @@ pub fn declaration(db: &dyn Db, target: Target) -> Option<DeclLoc> {
             let item = loc.def(db)?;
             let name = &loc.summary(db).members[i as usize].name;
             let kind = loc.summary(db).members[i as usize].kind;
-            let defs = file_defs(db, loc.file);
+            let defs = defs_holding(db, loc.file, item);
             let (id, _) = defs.children(Some(item)).find(|(_, d)| &d.name == name && d.kind == kind)?;
             (loc.file, id)
         }
     };
-    let d = file_defs(db, file).def(def);
+    let d = defs_holding(db, file, def).def(def);
     Some(DeclLoc { file, def, name_range: d.name_range, full_range: d.range })
 }
 
@@ -70,10 +71,19 @@ pub fn symbol_at(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Op
     if let Some(r) = innermost(&body_refs_at(db, ws, file, offset)) {
         return Some(Symbol::Reference(r));
     }
-    if let Some(r) = innermost(&file_resolution(db, ws, file).refs) {
+    // Within the element at `offset`: after a keystroke elsewhere, its
+    // names resolve again on their own (and the declarations are its).
+    let (refs, defs) = match crate::element::element_at(db, file, offset) {
+        Some((e, at)) => {
+            let mut refs = crate::element::element_refs(db, ws, e).clone();
+            refs.iter_mut().for_each(|r| r.range += TextSize::from(at));
+            (std::borrow::Cow::Owned(refs), crate::element::placed_defs(db, e))
+        }
+        None => (std::borrow::Cow::Borrowed(&file_resolution(db, ws, file).refs[..]), file_defs(db, file)),
+    };
+    if let Some(r) = innermost(&refs) {
         return Some(Symbol::Reference(r));
     }
-    let defs = file_defs(db, file);
     defs.iter()
         .filter(|(_, d)| !d.name.is_empty() && hit(d.name_range))
         .min_by_key(|(_, d)| d.name_range.len())
@@ -135,7 +145,7 @@ pub struct Description {
 
 /// Describes a declaration.
 pub fn describe(db: &dyn Db, decl: DeclLoc) -> Description {
-    let defs = file_defs(db, decl.file);
+    let defs = defs_holding(db, decl.file, decl.def);
     let d = defs.def(decl.def);
     let signature = match d.kind {
         // The whole behaviour, which a diagram shortens (issue 21).

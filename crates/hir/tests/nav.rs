@@ -56,6 +56,7 @@ fn definition_references_and_hover_across_files() {
 /// file finds.
 #[test]
 fn symbol_at_agrees_with_whole_file_resolution() {
+    use robosim_hir::defs::file_defs;
     use robosim_hir::nav::references_in;
     use robosim_syntax::TextRange;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -92,12 +93,34 @@ fn symbol_at_agrees_with_whole_file_resolution() {
                 let offset = TextSize::from(o);
                 let hit = |r: TextRange| r.contains_inclusive(offset);
                 let expected = all.iter().filter(|r| hit(r.range)).min_by_key(|r| r.range.len()).cloned();
-                let got = match symbol_at(&db, ws, file, offset) {
-                    Some(Symbol::Reference(r)) => Some(r),
+                let sym = symbol_at(&db, ws, file, offset);
+                let got = match &sym {
+                    Some(Symbol::Reference(r)) => Some(r.clone()),
                     _ => None,
                 };
                 assert_eq!(got, expected, "{} at {o}", file.path(&db));
                 checked += usize::from(got.is_some());
+                // Declarations (read from the element around the offset,
+                // or the declaring one) at the file's positions.
+                let defs = file_defs(&db, file);
+                let declared = defs
+                    .iter()
+                    .filter(|(_, d)| !d.name.is_empty() && hit(d.name_range))
+                    .min_by_key(|(_, d)| d.name_range.len())
+                    .map(|(id, _)| id);
+                match &sym {
+                    Some(Symbol::Declaration(d)) => assert_eq!(Some(d.def), declared, "{} at {o}", file.path(&db)),
+                    _ => assert!(got.is_some() || declared.is_none(), "{} at {o}: no declaration", file.path(&db)),
+                }
+                if let Some(d) = sym.as_ref().and_then(|s| symbol_declaration(&db, s)) {
+                    let want = file_defs(&db, d.file).def(d.def);
+                    assert_eq!(
+                        (d.name_range, d.full_range),
+                        (want.name_range, want.range),
+                        "{} at {o}",
+                        file.path(&db)
+                    );
+                }
             }
         }
     }

@@ -20,7 +20,7 @@
 //! - elsewhere: the keywords that may start a member of the enclosing block
 //!   (file, machine, state, transition, …) in the file's language.
 
-use robosim_hir::defs::{file_defs, DefId, DefKind, Io, UseKind};
+use robosim_hir::defs::{DefId, DefKind, Io, UseKind};
 use robosim_hir::index::{file_summary, index_for, resolve_item};
 use robosim_hir::nav::type_ref_text;
 use robosim_hir::resolve::{ctx_members, enclosing, node_ctx, Ctx, Member, MEMBER_CONTEXTS};
@@ -298,7 +298,7 @@ struct Cx<'a> {
     offset: TextSize,
 }
 
-impl Cx<'_> {
+impl<'a> Cx<'a> {
     fn after(&self, prev: &SyntaxToken, acc: &mut Acc) {
         let parent = prev.parent().map(|p| p.kind());
         let in_node = |k: SyntaxKind| prev.parent_ancestors().any(|a| a.kind() == k);
@@ -352,9 +352,15 @@ impl Cx<'_> {
         }
     }
 
+    /// The definitions around the cursor (those of the element there:
+    /// right after a keystroke, the file's are not put together again).
+    fn defs(&self) -> &'a robosim_hir::defs::FileDefs {
+        robosim_hir::element::defs_around(self.db, self.file, TextRange::empty(self.start))
+    }
+
     /// The definition whose members names at the cursor see.
     fn context(&self, kinds: &[DefKind]) -> Option<DefId> {
-        let defs = file_defs(self.db, self.file);
+        let defs = self.defs();
         let inner = defs.innermost(TextRange::empty(self.start))?;
         enclosing(defs, inner, kinds)
     }
@@ -390,7 +396,7 @@ impl Cx<'_> {
     }
 
     fn transition_ends(&self, acc: &mut Acc) {
-        let defs = file_defs(self.db, self.file);
+        let defs = self.defs();
         let Some(inner) = defs.innermost(TextRange::empty(self.start)) else { return };
         let Some(t) = enclosing(defs, inner, &[DefKind::Transition]) else { return };
         let Some(container) = defs.def(t).parent else { return };
@@ -407,7 +413,7 @@ impl Cx<'_> {
 
     fn connection_nodes(&self, acc: &mut Acc) {
         let Some(owner) = self.connection_owner() else { return };
-        let defs = file_defs(self.db, self.file);
+        let defs = self.defs();
         let od = defs.def(owner);
         if od.kind == DefKind::Controller {
             acc.symbol(&od.name, od.kind, Some("this controller".to_string()));
@@ -432,7 +438,7 @@ impl Cx<'_> {
         let Some(node) = prev_significant(on) else { return };
         let name = node.text().trim_start_matches('^');
         let Some(owner) = self.connection_owner() else { return };
-        let defs = file_defs(self.db, self.file);
+        let defs = self.defs();
         let ctx = if defs.def(owner).name == name {
             Some(Ctx::Local(self.file, owner))
         } else {
@@ -465,7 +471,7 @@ impl Cx<'_> {
     }
 
     fn states(&self, acc: &mut Acc) {
-        let defs = file_defs(self.db, self.file);
+        let defs = self.defs();
         let Some(owner) = self.context(&[DefKind::StateMachine, DefKind::Operation]) else { return };
         for (id, d) in defs.iter() {
             if d.kind == DefKind::State
@@ -555,7 +561,7 @@ impl Cx<'_> {
                     acc.member(&m, false);
                 }
             }
-            let defs = file_defs(self.db, self.file);
+            let defs = self.defs();
             for (_, p) in defs.children(Some(ctx)) {
                 if p.kind == DefKind::Parameter {
                     acc.symbol(&p.name, p.kind, Some("parameter".to_string()));

@@ -13,7 +13,8 @@
 use std::fmt::Write;
 
 use robosim_hir::cycle::Feasibility;
-use robosim_hir::defs::{file_defs, DefId, DefKind, Io};
+use robosim_hir::defs::{DefId, DefKind, Io};
+use robosim_hir::element::{defs_around, defs_holding};
 use robosim_hir::nav::{self, DeclLoc, Symbol};
 use robosim_hir::resolve::{ctx_members, enclosing, Ctx, ResolvedRef};
 use robosim_hir::{Db, File, Workspace};
@@ -156,7 +157,7 @@ fn dollar_before(root: &SyntaxNode, start: TextSize) -> Option<SyntaxToken> {
 
 /// The context (machine or operation) whose members a name at `range` sees.
 pub(crate) fn machine_of(db: &dyn Db, file: File, range: TextRange) -> Option<DefId> {
-    let defs = file_defs(db, file);
+    let defs = defs_around(db, file, range);
     let inner = defs.innermost(range)?;
     enclosing(defs, inner, &[DefKind::Operation, DefKind::StateMachine])
 }
@@ -173,7 +174,7 @@ fn sim_io_section(db: &dyn Db, ws: Workspace, file: File, r: &ResolvedRef, decl:
         OUTPUT_COMM_STMT => Use::Emit,
         _ => Use::Read,
     };
-    let kind = file_defs(db, decl.file).def(decl.def).kind;
+    let kind = defs_holding(db, decl.file, decl.def).def(decl.def).kind;
     // The context the name is used in decides whether it is an input or an
     // output: interface members get their I/O from the `uses`/`requires`
     // that brings them in.
@@ -188,7 +189,7 @@ fn sim_io_section(db: &dyn Db, ws: Workspace, file: File, r: &ResolvedRef, decl:
         }
     }
     if !input && !output {
-        match file_defs(db, decl.file).def(decl.def).io {
+        match defs_holding(db, decl.file, decl.def).def(decl.def).io {
             Some(Io::Input) => input = true,
             Some(Io::Output) => output = true,
             None => return None,
@@ -268,7 +269,7 @@ fn cycle_section(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> Op
     let root = robosim_hir::parse(db, file).syntax_node();
     let token = root.token_at_offset(offset).left_biased()?;
     let node = token.parent_ancestors().find(|n| n.kind() == CYCLE_DEF)?;
-    let defs = file_defs(db, file);
+    let defs = defs_around(db, file, node.text_range());
     let owner = defs.innermost(node.text_range())?;
     let d = defs.def(owner);
     if !matches!(d.kind, DefKind::Module | DefKind::Controller | DefKind::StateMachine) {

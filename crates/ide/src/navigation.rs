@@ -1,7 +1,8 @@
 //! Go to definition (and declaration, the same target) and find
 //! references, over the semantic model's name resolution.
 
-use robosim_hir::defs::{file_defs, DefKind};
+use robosim_hir::defs::DefKind;
+use robosim_hir::element::defs_holding;
 use robosim_hir::nav::{self, DeclLoc, Symbol};
 use robosim_hir::{Db, File, Workspace};
 use robosim_syntax::{TextRange, TextSize};
@@ -115,7 +116,7 @@ pub(crate) fn symbol_range(sym: &Symbol) -> TextRange {
 }
 
 pub(crate) fn target(db: &dyn Db, decl: DeclLoc) -> NavigationTarget {
-    let d = file_defs(db, decl.file).def(decl.def);
+    let d = defs_holding(db, decl.file, decl.def).def(decl.def);
     NavigationTarget {
         file: FileId(decl.file),
         path: decl.file.path(db).clone(),

@@ -12,18 +12,23 @@
 //! on the wire. A newer edit cancels an older job's queries through salsa;
 //! there is no debounce.
 //!
-//! An edited buffer gets two publishes for its new version. The first
-//! comes from a parse alone: the syntax diagnostics of the new text, plus
-//! the semantic diagnostics of the last complete check moved along with
-//! the edits made since (what editors do with markers anyway). The second
-//! is the complete check. A parse of a 10,000-line file takes milliseconds,
-//! the semantic rules much longer, and typing should not wait for them.
+//! An edited buffer gets one or two publishes for its new version. The
+//! syntax-only one comes from a parse alone: the syntax diagnostics of the
+//! new text, plus the semantic diagnostics of the last complete check moved
+//! along with the edits made since (what editors do with markers anyway).
+//! The complete check runs at the same time, on the job's thread, so that
+//! its publish never waits for the syntax-only one (it only follows it on
+//! the wire). The syntax-only result, computed on a second thread, is
+//! dropped if the complete one was published before it is ready, or
+//! before the wait `ROBOSIM_SYNTAX_HOLD_MS` after the job started (none by
+//! default: see `state::syntax_hold`).
 //!
 //! The verification results about a file's assertions (`verify.rs`) are
 //! published with its diagnostics, in both publishes. A publish computed
 //! before those results changed is not sent: the change schedules another.
 
-use std::sync::Arc;
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::Instant;
 
 use robosim_ide::{Analysis, Cancellable, FileId, Verified};
 use tower_lsp_server::ls_types::{self as lsp, Uri};
@@ -48,7 +53,7 @@ pub(crate) fn republish(shared: &Arc<Shared>, keys: Vec<String>) {
         let shared = job;
         for key in keys {
             let Some(seq) = shared.lock().files.get(&key).map(|e| e.seq) else { continue };
-            full(&shared, &key, seq, false, false);
+            full(&shared, &key, seq, false, false, None);
         }
     });
 }
@@ -73,9 +78,33 @@ enum Outcome {
     Done,
 }
 
+/// Between the two publishes of one edit: whether the complete one has
+/// been sent (or given up), so that the syntax-only one never follows it.
+#[derive(Default)]
+struct Gate {
+    complete: Mutex<bool>,
+    changed: Condvar,
+}
+
+impl Gate {
+    /// Marks the complete publish as done (sent, or not needed).
+    fn close(&self) {
+        *self.complete.lock().unwrap_or_else(|e| e.into_inner()) = true;
+        self.changed.notify_all();
+    }
+}
+
 fn run(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
     if let Some((key, seq)) = &primary {
-        if fast(shared, key, *seq) == Outcome::Stale || full(shared, key, *seq, true, true) == Outcome::Stale {
+        let gate = Arc::new(Gate::default());
+        let deadline = Instant::now() + shared.syntax_hold;
+        let (job, fast_gate, fast_key, fast_seq) = (shared.clone(), gate.clone(), key.clone(), *seq);
+        crate::background::spawn(shared, "robosim-syntax", move || {
+            fast(&job, &fast_key, fast_seq, &fast_gate, deadline);
+        });
+        let outcome = full(shared, key, *seq, true, true, Some(&gate));
+        gate.close();
+        if outcome == Outcome::Stale {
             return;
         }
     }
@@ -93,13 +122,14 @@ fn run(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
                 return;
             }
         }
-        full(shared, &key, seq, false, false);
+        full(shared, &key, seq, false, false, None);
     }
 }
 
-/// The first publish for an edited buffer: parse only, older semantic
-/// diagnostics carried over. Nothing for files that are not open.
-fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
+/// The syntax-only publish for an edited buffer: parse only, older
+/// semantic diagnostics carried over; sent unless the complete publish
+/// passes `gate` before `deadline`. Nothing for files that are not open.
+fn fast(shared: &Arc<Shared>, key: &str, seq: u64, gate: &Gate, deadline: Instant) -> Outcome {
     loop {
         if shared.phase() != Phase::Running {
             return Outcome::Stale;
@@ -132,7 +162,19 @@ fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
         drop(analysis);
         match result {
             Some(Ok(diags)) => {
-                publish(shared, &target, diags, None, true);
+                // No snapshot is held while waiting; the gate stays locked
+                // while publishing, so the complete publish comes after.
+                let mut complete = gate.complete.lock().unwrap_or_else(|e| e.into_inner());
+                while !*complete {
+                    let now = Instant::now();
+                    if now >= deadline {
+                        break;
+                    }
+                    complete = gate.changed.wait_timeout(complete, deadline - now).unwrap_or_else(|e| e.into_inner()).0;
+                }
+                if !*complete {
+                    publish(shared, &target, diags, None, true);
+                }
                 return Outcome::Done;
             }
             Some(Err(_cancelled)) => continue,
@@ -145,8 +187,9 @@ fn fast(shared: &Arc<Shared>, key: &str, seq: u64) -> Outcome {
 /// write that did not change this file cancelled the computation. With
 /// `parallel` (the file just edited, whose check someone waits for), a
 /// second thread computes part of the rules at the same time when the
-/// buffer has no complete check yet.
-fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) -> Outcome {
+/// buffer has no complete check yet. `gate`: the edit's syntax-only
+/// publish, which must not follow this one.
+fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool, gate: Option<&Gate>) -> Outcome {
     loop {
         if shared.phase() != Phase::Running {
             return Outcome::Stale;
@@ -194,6 +237,10 @@ fn full(shared: &Arc<Shared>, key: &str, seq: u64, force: bool, parallel: bool) 
         drop(analysis);
         match result {
             Ok((diags, checked)) => {
+                if let Some(gate) = gate {
+                    // Taken after a syntax-only publish under way.
+                    gate.close();
+                }
                 publish(shared, &target, diags, checked, force);
                 return Outcome::Done;
             }
