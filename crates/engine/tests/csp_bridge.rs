@@ -148,8 +148,9 @@ assertion E2 : M refines Big in the traces model
     assert_eq!(v, Verdict::Unsupported);
     assert_eq!(
         why,
-        "the specification's event `p::M::speed.out.7` is not an event of `p::M::speed`: `7` is outside the model's \
-         values {0, 1, 2} (a value outside the model's domain)"
+        "`Big` in `csp` block `Big` at line 3: FDR stops with an error: the value `p::M::speed.out.7` is invalid as \
+         it is not within the set of values defined for the channel `p::M::speed`; in particular its field 2 `7` is \
+         not a member of the set {0, 1, 2} (the model's values: a value outside the model's domain)"
     );
 
     let reports = run("csp All csp-begin

@@ -207,9 +207,10 @@ timed assertion B2 : W refines Hidden in the traces model
     assert_eq!(v, Verdict::Unsupported);
     assert_eq!(
         why,
-        "the specification's event `q::W::at.in.(0, 7)` is not an event of `q::W::at`: `(0, 7)` is outside the \
-         model's values {(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (2, 0), (2, 1), (2, 2)} (a value outside \
-         the model's domain)"
+        "`Big` in `csp` block `Big` at line 3: FDR stops with an error: the value `q::W::at.in.(0, 7)` is invalid \
+         as it is not within the set of values defined for the channel `q::W::at`; in particular its field 2 `(0, 7)` \
+         is not a member of the set {(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (2, 0), (2, 1), (2, 2)} (the \
+         model's values: a value outside the model's domain)"
     );
     // Hiding: `Events` is read in full (both machines' channels), and the
     // model's first `tock` is refused all the same.
@@ -236,10 +237,9 @@ stm N {
 ";
 
 /// The block reads `Set(L)`'s values (every subset of `{s_L_X, s_L_Y}`),
-/// so the check goes as far as the model: the native checker does not
-/// carry sets in events yet, and says so (the skills manager's
-/// `activeSkills` now stops at its machine's `Seq( Skills )` the same
-/// way).
+/// and events carry sets both ways: N outputs the union of what it picked,
+/// as Grow does (S1 passes); Last outputs only the last pick, which N does
+/// not after picking `X` then `Y` (S2 fails there).
 #[test]
 fn events_carrying_a_set() {
     let reports = run(
@@ -252,14 +252,21 @@ Timed(et) {
   G(c) = s::N::pick.in?l -> s::N::chosen.out!union(c, {l}) -> G(union(c, {l}))
 }
 csp-end
+timed csp Last csp-begin
+Timed(et) {
+  Last = s::N::pick.in?l -> s::N::chosen.out!{l} -> Last
+}
+csp-end
 timed assertion S1 : N refines Grow in the traces model
+timed assertion S2 : N refines Last in the traces model
 ",
     );
+    assert_eq!(report(&reports, "S1").verdict, Verdict::Pass);
+    let s2 = report(&reports, "S2");
+    assert_eq!(s2.verdict, Verdict::Fail);
+    let trace = s2.counterexample.as_ref().map(|c| trace_text(&c.steps)).unwrap_or_default();
     assert_eq!(
-        outcome(report(&reports, "S1")),
-        (
-            Verdict::Unsupported,
-            "events carrying sets (`chosen`) are not supported by the native checker yet (m.rct:3:30)".to_string()
-        )
+        trace,
+        "s::N::pick.in.s_L_X s::N::chosen.out.{s_L_X} s::N::pick.in.s_L_Y s::N::chosen.out.{s_L_X, s_L_Y}"
     );
 }

@@ -285,8 +285,8 @@ fn the_papers_constants_need_the_types_given() {
     }
     let block = "csp Instantiations csp-begin
         nametype core_nat = {0..45}
-        nametype core_int = {-2..45}
-        nametype core_real = {-2..45}
+        nametype core_int = { -2..45}
+        nametype core_real = { -2..45}
         csp-end";
     for r in run(&design, &format!("import paper_design::*\n{block}\n{d1}")) {
         assert_eq!(r.verdict, Verdict::Pass, "{r:#?}");

@@ -41,7 +41,9 @@ fn fdr_error(err: &str, v: Val, d: Dom, domains: &[(String, Dom)]) -> String {
         (format!("its type's values {}", shown(&d)), "give the type's values there".to_string())
     } else {
         let wide = Dom { lo: d.lo.min(v), hi: d.hi.max(v) };
-        let lines: Vec<String> = types.iter().map(|n| format!("nametype {n} = {}", shown(&wide))).collect();
+        // A space after `{`: `{-` opens a CSPm comment.
+        let csp = |d: &Dom| format!("{{ {}..{}}}", d.lo, d.hi);
+        let lines: Vec<String> = types.iter().map(|n| format!("nametype {n} = {}", csp(&wide))).collect();
         (
             format!("{} = {}", types.join(" = "), shown(&d)),
             format!("for example `{}` (with the other types and definitions the script needs)", lines.join("; ")),
