@@ -57,6 +57,10 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     ),
 ];
 
+/// A module being read: its full name, its first line, and the line ranges
+/// of the modules nested in it.
+type OpenModule = (String, usize, Vec<(usize, usize)>);
+
 /// Whether `f` is listed in [`KNOWN`], and where.
 fn known(f: &Finding) -> Option<usize> {
     KNOWN
@@ -191,7 +195,7 @@ fn export_view<'a>(
         // puts the elements of package `pkg` inside its module, and a
         // controller's machines inside the controller's), with its text up
         // to its `endmodule`, without the modules nested in it.
-        let mut stack: Vec<(String, usize, Vec<(usize, usize)>)> = Vec::new();
+        let mut stack: Vec<OpenModule> = Vec::new();
         for (i, l) in lines.iter().enumerate() {
             if let Some(name) = l.trim_start().strip_prefix("module ") {
                 let full = match stack.last() {

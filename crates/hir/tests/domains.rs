@@ -73,9 +73,7 @@ fn a_nat_value_widens_int_and_real_an_int_one_real_only() {
     assert_eq!(doms(&machine("var i : int", "i = -7")), ([r(0, 2), r(-7, 2), r(-7, 2)], [false, true, true]));
     // A comparison's operands are values too (not the comparison).
     assert_eq!(
-        doms(&format!(
-            "stm M {{ var i : int initial i0 state S {{ }} transition t {{ from i0 to S condition i > -3 }} }}"
-        )),
+        doms("stm M { var i : int initial i0 state S { } transition t { from i0 to S condition i > -3 } }"),
         ([r(0, 2), r(-3, 2), r(-3, 2)], [false, true, true])
     );
 }
