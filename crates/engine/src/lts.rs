@@ -39,6 +39,18 @@ impl Label {
     pub fn plain(event: Event) -> Label {
         Label { event, note: 0 }
     }
+
+    /// The step as a counterexample shows it: a visible event by `name`, a
+    /// τ with a note as the hidden event in brackets (`(opCall)`), else `τ`.
+    /// `hidden` names the notes (the model's events when the step is the
+    /// implementation's of a refinement).
+    pub fn shown(&self, name: impl Fn(Event) -> String, hidden: impl Fn(Event) -> String) -> String {
+        match (self.event, self.note) {
+            (TAU, 0) => "τ".to_string(),
+            (TAU, note) => format!("({})", hidden(note)),
+            (event, _) => name(event),
+        }
+    }
 }
 
 /// A labelled transition system explored on the fly.

@@ -672,15 +672,7 @@ fn counterexample<L: Lts<State = crate::pack::Packed>>(
     let mut time = 0;
     for (label, st) in &path.steps {
         let next = native.values(&st.inner);
-        let event = if label.event == TAU {
-            if label.note != 0 {
-                format!("({})", native.event_name(label.note))
-            } else {
-                "τ".into()
-            }
-        } else {
-            imp.event_name(label.event)
-        };
+        let event = label.shown(|e| imp.event_name(e), |n| native.event_name(n));
         let (description, location) = crate::verify::describe_move(design, &prev, &next, label);
         steps.push(Step { event, visible: label.event != TAU, cycle: time, time, description, location });
         if label.event == TOCK {

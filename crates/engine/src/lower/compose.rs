@@ -151,15 +151,7 @@ impl<'a> Cx<'a> {
                 (top_name, Top::Controller)
             }
             Item::Machine(b) => {
-                instances.push(Instance {
-                    ctrl: String::new(),
-                    name: b.name.clone(),
-                    decl_name: b.name.clone(),
-                    file,
-                    body: b,
-                    inline: false,
-                    ops: Vec::new(),
-                });
+                instances.push(Instance::alone(file, b));
                 (b.name.clone(), Top::Machine)
             }
             Item::Operation(b) if !self.robosim => return self.operation_subject(file, b),
@@ -183,15 +175,7 @@ impl<'a> Cx<'a> {
     /// terminates), its parameters constants of the process.
     fn operation_subject(&mut self, file: File, b: &'a Behaviour) -> Result<Design, Unsupported> {
         self.op_subject = true;
-        let inst = Instance {
-            ctrl: String::new(),
-            name: b.name.clone(),
-            decl_name: b.name.clone(),
-            file,
-            body: b,
-            inline: false,
-            ops: Vec::new(),
-        };
+        let inst = Instance::alone(file, b);
         self.build(&b.name, Top::Machine, vec![inst], &[], &HashMap::new(), &BTreeSet::new())
     }
 

@@ -226,6 +226,15 @@ struct Instance<'a> {
     ops: Vec<OpDef<'a>>,
 }
 
+impl<'a> Instance<'a> {
+    /// The machine (or operation) `body` of `file` on its own: no
+    /// controller, no operations given to it.
+    fn alone(file: File, body: &'a Behaviour) -> Self {
+        let name = body.name.clone();
+        Instance { ctrl: String::new(), decl_name: name.clone(), name, file, body, inline: false, ops: Vec::new() }
+    }
+}
+
 /// A connection end: (node name, event name).
 type End = (String, String);
 

@@ -48,20 +48,7 @@ impl MachineCx<'_, '_> {
                         let Some(i) = names.iter().position(|n| *n == f) else {
                             return Err(self.err(f_range, format!("the record has no field `{f}`")));
                         };
-                        let slot = match self.names.get(&target) {
-                            Some(Name::Var { slot, .. }) => *slot,
-                            _ => return Err(self.err(range, format!("`{target}` is not a variable"))),
-                        };
-                        let mut parts = Vec::new();
-                        for (j, d) in ds.iter().enumerate() {
-                            let part = if j == i {
-                                self.expr(e)?
-                            } else {
-                                Expr::Proj(Box::new(Expr::Slot(slot)), stride(&ds, j), *d)
-                            };
-                            parts.push((part, *d));
-                        }
-                        Expr::Tuple(parts)
+                        self.with_component(&target, range, &ds, i, e)?
                     }
                     (None, Some(_)) if !selectors.is_empty() => {
                         return Err(self.err(range, "only a field of a record of numbers can be assigned this way"))
@@ -71,20 +58,7 @@ impl MachineCx<'_, '_> {
                     // `x[i] = v` of a tuple: the tuple with component i replaced.
                     (Some((ix, ix_range)), Some(Layout::Tuple(ds))) => {
                         let i = self.component(ix_range, ix, &ds)?;
-                        let slot = match self.names.get(&target) {
-                            Some(Name::Var { slot, .. }) => *slot,
-                            _ => return Err(self.err(range, format!("`{target}` is not a variable"))),
-                        };
-                        let mut parts = Vec::new();
-                        for (j, d) in ds.iter().enumerate() {
-                            let part = if j == i {
-                                self.expr(e)?
-                            } else {
-                                Expr::Proj(Box::new(Expr::Slot(slot)), stride(&ds, j), *d)
-                            };
-                            parts.push((part, *d));
-                        }
-                        Expr::Tuple(parts)
+                        self.with_component(&target, range, &ds, i, e)?
                     }
                     (Some((_, ix_range)), _) => {
                         return Err(self.err(ix_range, "only the components of tuples can be indexed"))
@@ -269,5 +243,27 @@ impl MachineCx<'_, '_> {
             exprs.push(self.expr(a)?);
         }
         Ok(exprs)
+    }
+
+    /// `target` (a record's or tuple's variable, components `ds`) with
+    /// component `i` replaced by `e`, the others read from its slot.
+    fn with_component(
+        &mut self,
+        target: &str,
+        range: TextRange,
+        ds: &[Dom],
+        i: usize,
+        e: &model::Expr,
+    ) -> Result<Expr, Unsupported> {
+        let slot = match self.names.get(target) {
+            Some(Name::Var { slot, .. }) => *slot,
+            _ => return Err(self.err(range, format!("`{target}` is not a variable"))),
+        };
+        let mut parts = Vec::new();
+        for (j, d) in ds.iter().enumerate() {
+            let part = if j == i { self.expr(e)? } else { Expr::Proj(Box::new(Expr::Slot(slot)), stride(ds, j), *d) };
+            parts.push((part, *d));
+        }
+        Ok(Expr::Tuple(parts))
     }
 }

@@ -137,15 +137,7 @@ pub(super) fn sim_steps<L: Lts>(lts: &L, design: &Design, path: &Path<State>) ->
     let mut prev: &State = &path.initial;
     let (mut cycle, mut time, mut after_tock) = (0u32, 0u32, false);
     for (label, next) in &path.steps {
-        let name = if label.event == TAU {
-            if label.note != 0 {
-                format!("({})", lts.event_name(label.note))
-            } else {
-                "τ".to_string()
-            }
-        } else {
-            lts.event_name(label.event)
-        };
+        let name = label.shown(|e| lts.event_name(e), |n| lts.event_name(n));
         if name.starts_with("registerRead") && after_tock {
             cycle += 1;
             after_tock = false;
