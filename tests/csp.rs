@@ -156,8 +156,8 @@ fn export(paths: &[PathBuf], profile: Profile) -> robosim_semantics::Export {
             }
         }
     }
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     export_workspace(&db, ws, &Options { profile })
 }
 

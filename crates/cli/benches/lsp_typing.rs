@@ -264,7 +264,7 @@ fn robosim_queries() {
     let middle = good.find("SimSMovement60 {").unwrap();
     let at = middle + good[middle..].find("not $obstacle").unwrap();
     let bad = format!("{}not obstacle{}", &good[..at], &good[at + "not $obstacle".len()..]);
-    let ws = load_workspace(&db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
+    let ws = load_workspace(&mut db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
     let file = *ws.files(&db).iter().find(|f| !f.is_library(&db)).unwrap();
     file_diagnostics(&db, ws, file);
     let (mut counts, mut times) = (Vec::new(), Vec::new());
@@ -275,8 +275,7 @@ fn robosim_queries() {
         validated.lock().unwrap().clear();
         let start = Instant::now();
         let prior = Prior { text: file.text(&db).as_str().into(), parse: parse(&db, file).clone() };
-        file.set_prior(&mut db).to(Some(prior));
-        file.set_text(&mut db).to(text.clone());
+        robosim_hir::set_text(&mut db, file, text.clone(), Some(prior), robosim_hir::Durability::LOW);
         let n = file_diagnostics(&db, ws, file).iter().filter(|d| d.code == "RS:SM6").count();
         times.push(start.elapsed());
         assert_eq!(n, usize::from(k % 2 == 0));

@@ -116,8 +116,8 @@ fn check_layout(d: &Diagram, laid: &Laid, problems: &mut Vec<String>) {
 
 /// Dumps every diagram of one workspace and checks it; returns the dump.
 fn run_workspace(files: Vec<(String, String)>, problems: &mut Vec<String>) -> String {
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, files, RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, files, RuleSet::Paper);
     let mut out = String::new();
     for &f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
         let defs = file_defs(&db, f);

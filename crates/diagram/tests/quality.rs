@@ -227,8 +227,8 @@ fn corpus_against_dot() {
     let mut reference = String::from("# dot -Tplain's layout of each diagram's graph: key, width, height, crossings\n");
     for base in [shared.join("corpus"), shared.join("reference")] {
         for dir in workspaces(&base) {
-            let db = RootDatabase::default();
-            let ws = load_workspace(&db, files_in(&dir, &shared), RuleSet::Paper);
+            let mut db = RootDatabase::default();
+            let ws = load_workspace(&mut db, files_in(&dir, &shared), RuleSet::Paper);
             for &f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
                 for d in file_diagrams(&db, ws, f) {
                     let key = format!("{} {}", d.file, d.qualified_name);

@@ -26,8 +26,8 @@ fn design(text: &str, item: &str, consts: &[ConstValue]) -> Design {
 }
 
 fn compile(text: &str, path: &str, item: &str, consts: &[ConstValue]) -> Design {
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, [(path.to_string(), text.to_string())], robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, [(path.to_string(), text.to_string())], robosim_hir::RuleSet::Paper);
     let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
     let path: Vec<String> = item.split("::").map(String::from).collect();
     let loc = robosim_hir::index::resolve_item(&db, ws, file, &path, |_| true)[0];

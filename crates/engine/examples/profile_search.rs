@@ -79,8 +79,8 @@ fn main() {
 
 /// The module `Mod` of the file `path` holding `text`, compiled.
 fn compile(text: String, path: &str) -> Design {
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, [(path.to_string(), text)], robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, [(path.to_string(), text)], robosim_hir::RuleSet::Paper);
     let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
     let loc = robosim_hir::index::resolve_item(&db, ws, file, &["Mod".to_string()], |_| true)[0];
     lower_design(&db, ws, loc, &[], &DomainDefaults::default()).expect("supported")

@@ -152,8 +152,8 @@ pub struct Report {
 /// the bundled library, with the paper's rule set: for tests, fuzzing and
 /// embedding, where there is no database yet.
 pub fn verify_texts(files: impl IntoIterator<Item = (String, String)>, opts: &Options) -> Vec<Report> {
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     verify_workspace(&db, ws, opts, None)
 }
 

@@ -580,8 +580,8 @@ struct Tally {
 /// Runs the comparison on one workspace.
 fn agree(place: &str, files: Vec<(String, String)>) -> Tally {
     let mut t = Tally::default();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files.clone(), robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files.clone(), robosim_hir::RuleSet::Paper);
     let elements = engine_elements(&db, ws);
     // The export of the same files and of one assertion per RoboSim
     // element (which widens nothing: it sets no constant).
@@ -591,8 +591,8 @@ fn agree(place: &str, files: Vec<(String, String)>) -> Tally {
     let mut with_periods: Vec<(String, String)> =
         files.iter().filter(|(p, _)| !(p.ends_with(".rsa") || p.ends_with(".assertions"))).cloned().collect();
     with_periods.push(("agree.rsa".to_string(), period_assertions(&elements)));
-    let db2 = robosim_hir::RootDatabase::default();
-    let ws2 = robosim_hir::load_workspace(&db2, with_periods, robosim_hir::RuleSet::Paper);
+    let mut db2 = robosim_hir::RootDatabase::default();
+    let ws2 = robosim_hir::load_workspace(&mut db2, with_periods, robosim_hir::RuleSet::Paper);
     let mut module = None;
     let mut ex = export_view(&db2, ws2, &mut module, &mut t.findings, place);
     // The same elements: exported or refused with a reason.
@@ -748,8 +748,8 @@ fn the_back_ends_choose_the_same_period() {
         assert!(t.findings.is_empty(), "{case}: {:#?}", t.findings);
         assert_eq!((t.compared, t.periods), (3, 3), "{case}");
         // The period both sides agreed on is the expected one.
-        let db = robosim_hir::RootDatabase::default();
-        let ws = robosim_hir::load_workspace(&db, [("m.rst".to_string(), text)], robosim_hir::RuleSet::Paper);
+        let mut db = robosim_hir::RootDatabase::default();
+        let ws = robosim_hir::load_workspace(&mut db, [("m.rst".to_string(), text)], robosim_hir::RuleSet::Paper);
         let module = engine_elements(&db, ws).into_iter().find(|e| e.path == "Mod").expect("the module");
         let period = module.view.expect("lowered").period;
         match expected {

@@ -965,8 +965,8 @@ fn register_events_of_variables() {
     use robosim_engine::lower::{lower_design, DomainDefaults};
     use robosim_engine::sched::Registers;
     let text = WATCHER.to_string();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, [("w.rst".to_string(), text)], robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, [("w.rst".to_string(), text)], robosim_hir::RuleSet::Paper);
     let file = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model file");
     let path = ["pi".to_string(), "Watch".to_string()];
     let loc = robosim_hir::index::resolve_item(&db, ws, file, &path, |_| true)[0];

@@ -18,8 +18,8 @@ fn load_project(project: &Path) -> (robosim_hir::RootDatabase, robosim_hir::Work
         .iter()
         .filter_map(|p| Some((p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).ok()?).into_owned())))
         .collect();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     (db, ws)
 }
 
@@ -64,8 +64,8 @@ fn alpha_algorithm(opts: &Options, names: &[&str]) -> Vec<(String, Verdict, u64)
     model_files(&project, &mut paths);
     let files: Vec<(String, String)> =
         paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).unwrap())).collect();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     verify_workspace(&db, ws, opts, None)
         .into_iter()
         // The timed analysis (both: `untimed.rs`).

@@ -242,8 +242,8 @@ fn sleec_manual_conformance() {
         .iter()
         .filter_map(|p| Some((p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).ok()?).into_owned())))
         .collect();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     let mut opts = Options::default();
     opts.budget.timeout = Some(Duration::from_secs(60));
     let reports: Vec<Report> = verify_workspace(&db, ws, &opts, None)

@@ -247,8 +247,8 @@ fn check_fixture(dir: &Path) -> Vec<String> {
     let expected = expectations(&files);
     let (opts, well_formed, semantics) = options(&files);
     // As `verify_texts`, with the workspace at hand for its diagnostics.
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files.clone(), robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files.clone(), robosim_hir::RuleSet::Paper);
     let mut reports = verify_workspace(&db, ws, &opts, None);
     reports.retain(|r| semantics.is_none_or(|s| r.semantics == s));
     let texts: BTreeMap<&str, &str> = files.iter().map(|(n, t)| (n.as_str(), t.as_str())).collect();

@@ -58,9 +58,9 @@ fn check_model(sim: &str, profile: Profile, model: &str) -> (Report, Report) {
          assertion R : {package}::SimCFootBot refines P in the {model} model {CONSTANTS}
          assertion C : P refines {package}::SimCFootBot in the {model} model {CONSTANTS}"
     );
-    let db = robosim_hir::RootDatabase::default();
+    let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(
-        &db,
+        &mut db,
         [
             ("design.rct".to_string(), example("design.rct")),
             ("sim.rst".to_string(), sim.to_string()),

@@ -21,9 +21,9 @@ fn module(machine: &str) -> String {
 fn properties(machine: &str) -> Vec<(Verdict, u64)> {
     let rsa =
         "assertion A : Mod is deadlock-free\nassertion B : Mod is timelock-free\nassertion C : Mod is divergence-free";
-    let db = robosim_hir::RootDatabase::default();
+    let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(
-        &db,
+        &mut db,
         [("m.rst".to_string(), module(machine)), ("a.rsa".to_string(), rsa.to_string())],
         robosim_hir::RuleSet::Paper,
     );

@@ -251,8 +251,8 @@ fn reference_robosim_assertions() {
         }
     }
     files.sort();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     let mut got: Vec<(String, Verdict, String)> =
         robosim_engine::verify::verify_workspace(&db, ws, &Options::default(), None)
             .into_iter()

@@ -69,9 +69,9 @@ fn mutated_models_get_verdicts_or_reasons() {
         let which = rng.next(files.len());
         let mut texts = originals.clone();
         texts[which] = mutate(&texts[which], &mut rng);
-        let db = robosim_hir::RootDatabase::default();
+        let mut db = robosim_hir::RootDatabase::default();
         let ws = robosim_hir::load_workspace(
-            &db,
+            &mut db,
             files.iter().map(|f| f.to_string()).zip(texts),
             robosim_hir::RuleSet::Paper,
         );
@@ -89,10 +89,10 @@ fn mutated_models_get_verdicts_or_reasons() {
 /// Binary junk and an empty workspace.
 #[test]
 fn junk_is_answered() {
-    let db = robosim_hir::RootDatabase::default();
+    let mut db = robosim_hir::RootDatabase::default();
     let junk = String::from_utf8_lossy(&(0..2000u32).map(|i| (i * 7919 % 251) as u8).collect::<Vec<_>>()).into_owned();
     let ws = robosim_hir::load_workspace(
-        &db,
+        &mut db,
         [
             ("junk.rct".to_string(), junk.clone()),
             ("junk.rsa".to_string(), format!("assertion A : X is schedulable\n{junk}")),

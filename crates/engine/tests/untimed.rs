@@ -325,8 +325,8 @@ fn alpha_algorithm(names: &[&str]) -> Vec<(String, &'static str, Verdict, u64)> 
     inputs::model_files(&project, &mut paths);
     let files: Vec<(String, String)> =
         paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).unwrap())).collect();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     verify_workspace(&db, ws, &Options::default(), None)
         .into_iter()
         .filter(|r| r.file.ends_with("model.assertions") && names.contains(&r.name.as_str()))

@@ -3,7 +3,7 @@
 //! `cargo run --release -p robosim-hir --example profile_toggle [ROUNDS]`.
 use robosim_hir::*;
 use robosim_test_support::generated;
-use salsa::Setter;
+
 use std::time::Instant;
 
 #[global_allocator]
@@ -15,7 +15,7 @@ fn main() {
     let at = middle + good[middle..].find("not $obstacle").unwrap() + "not ".len();
     let bad = format!("{}{}", &good[..at], &good[at + 1..]);
     let mut db = RootDatabase::default();
-    let ws = load_workspace(&db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
+    let ws = load_workspace(&mut db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
     let file = *ws.files(&db).iter().find(|f| !f.is_library(&db)).unwrap();
     let t = Instant::now();
     let n = file_diagnostics(&db, ws, file).len();
@@ -30,8 +30,7 @@ fn main() {
 #[inline(never)]
 fn toggle_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) {
     let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
-    file.set_prior(db).to(Some(prior));
-    file.set_text(db).to(text);
+    set_text(db, file, text, Some(prior), Durability::LOW);
     let mut laps = Vec::new();
     let start = Instant::now();
     let mut last = Instant::now();

@@ -549,7 +549,7 @@ fn spec_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<Spec> {
 /// The cycle specifications of the modules, controllers and machines of
 /// `element`, positions relative to its start.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_specs<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>) -> Vec<(DefId, Spec)> {
+pub(crate) fn element_specs(db: &dyn Db, ws: Workspace, element: Element) -> Vec<(DefId, Spec)> {
     let (file, defs) = (element.file(db), element_defs(db, element));
     let root = SyntaxNode::new_root(element.green(db).0.clone());
     let anchor = Anchor::Element(element.as_id());

@@ -48,8 +48,19 @@ impl std::hash::Hash for Green {
 /// A top-level element of a file (any child of the root but the package
 /// and the imports), identified by its kind, its name and its rank among
 /// the elements of the file with the same kind and name.
-#[salsa::tracked(debug)]
-pub struct Element<'db> {
+///
+/// Elements are inputs, kept by [`crate::set_text`] after each change of
+/// the file's text ([`sync_elements`]): an edit inside one element sets
+/// that element's syntax only, at the text's durability (low for a buffer
+/// being edited), and leaves the others' inputs alone, at medium
+/// durability. Salsa then re-validates a result that depends only on
+/// untouched elements (and on inputs of medium durability or more) without
+/// walking its dependencies: the work of a keystroke follows the element
+/// edited, not the file. What other elements read of an element (its
+/// summary, how many definitions it has, where their ids start) is
+/// published in fields of its own, set only when it changes.
+#[salsa::input(debug)]
+pub struct Element {
     /// The file.
     #[returns(copy)]
     pub file: File,
@@ -63,61 +74,212 @@ pub struct Element<'db> {
     #[returns(copy)]
     pub nth: u32,
     /// Its syntax.
-    #[tracked]
     #[returns(ref)]
     pub green: Green,
+    /// The id of its first definition (the count of those before it).
+    #[returns(copy)]
+    pub(crate) base: u32,
+    /// What other elements read of it.
+    #[returns(ref)]
+    pub(crate) public: Public,
+}
+
+/// What the other elements of the workspace read of an element, derived
+/// from its syntax ([`public_of`]) and kept as an input ([`Element::public`])
+/// so that an edit that leaves it equal does not lower their durability.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Public {
+    /// How many definitions it has.
+    pub count: u32,
+    /// The summaries of the items it declares.
+    pub summary: Vec<crate::index::ItemSummary>,
+    /// Its named top-level definitions (ids from 0).
+    pub tops: Vec<u32>,
+}
+
+/// [`Public`] as the element's syntax gives it.
+fn public_of(db: &dyn Db, element: Element) -> Public {
+    let lowered = element_lowered(db, element);
+    Public {
+        count: lowered.defs.len() as u32,
+        summary: element_summary(db, element).clone(),
+        tops: lowered.children(None).filter(|(_, d)| !d.name.is_empty()).map(|(id, _)| id.0).collect(),
+    }
+}
+
+/// Brings the elements of `file` in line with its text (see [`Element`]):
+/// elements whose syntax is unchanged are not set; the others get their
+/// new syntax, at low durability for an edit of one element of a buffer
+/// (`durability` LOW), at `durability` (or medium) otherwise. An element
+/// edited before at low durability goes back to medium when another one
+/// is edited, so that at most one element per file is of low durability.
+pub(crate) fn sync_elements(db: &mut crate::RootDatabase, file: File, durability: salsa::Durability) {
+    use salsa::{Durability, Setter};
+    let root = parse(db, file).syntax_node();
+    let header = lower_header(&root);
+    if *file.header(db) != header {
+        file.set_header(db).with_durability(durability.max(Durability::MEDIUM)).to(header);
+    }
+    // The green node of each element, in order.
+    let greens: Vec<(SyntaxKind, rowan::GreenNode)> = root
+        .green()
+        .children()
+        .filter_map(|c| c.into_node())
+        .map(|n| (<robosim_syntax::RoboLang as rowan::Language>::kind_from_raw(n.kind()), n.to_owned()))
+        .filter(|(k, _)| !matches!(k, PACKAGE_DECL | IMPORT))
+        .collect();
+    let old = file.elements(db).clone();
+    // The same elements (kind, name and rank) when there are as many of
+    // the same kinds and those whose syntax changed kept their names: the
+    // others' names are those of their unchanged trees. This avoids
+    // reading every element's name after each keystroke.
+    let mut edited = Vec::new();
+    let mut same_shape = old.len() == greens.len();
+    for (i, (kind, green)) in greens.iter().enumerate() {
+        if !same_shape {
+            break;
+        }
+        let e = old[i];
+        same_shape = e.kind(db) == *kind;
+        if same_shape && !std::ptr::eq::<rowan::GreenNodeData>(&*e.green(db).0, &**green) {
+            same_shape = *e.name(db) == element_name(green);
+            if same_shape && e.green(db).0 != *green {
+                edited.push(i);
+            }
+        }
+    }
+    let stable = durability.max(Durability::MEDIUM);
+    let mut changed = Vec::new();
+    let mut low = None;
+    let list = if same_shape {
+        // One element of a buffer edited: that element alone is of low
+        // durability. Anything else (a paste over several elements, a
+        // file on disk) is set at the stable durability.
+        let one = durability == Durability::LOW && edited.len() == 1;
+        for &i in &edited {
+            let at = if one { Durability::LOW } else { stable };
+            if one {
+                low = Some(old[i]);
+            }
+            old[i].set_green(db).with_durability(at).to(Green(greens[i].1.clone()));
+            changed.push(old[i]);
+        }
+        old
+    } else {
+        // The set of elements changed: reuse the inputs of those with the
+        // same kind, name and rank, create the others.
+        let mut by_id: FxHashMap<(SyntaxKind, String, u32), Element> =
+            old.iter().map(|e| ((e.kind(db), e.name(db).clone(), e.nth(db)), *e)).collect();
+        let mut list = Vec::new();
+        let mut seen: FxHashMap<(SyntaxKind, String), u32> = FxHashMap::default();
+        for (kind, green) in greens {
+            let name = element_name(&green);
+            let nth = seen.entry((kind, name.clone())).or_insert(0);
+            let (green, nth) = (Green(green), std::mem::replace(nth, *nth + 1));
+            let e = match by_id.remove(&(kind, name.clone(), nth)) {
+                Some(e) => {
+                    if *e.green(db) != green {
+                        e.set_green(db).with_durability(stable).to(green);
+                        changed.push(e);
+                    }
+                    e
+                }
+                None => {
+                    let e =
+                        Element::builder(file, kind, name, nth, green, 0, Public::default()).durability(stable).new(db);
+                    changed.push(e);
+                    e
+                }
+            };
+            list.push(e);
+        }
+        file.set_elements(db).with_durability(stable).to(list.clone());
+        list
+    };
+    // The element edited at low durability before, if not edited now,
+    // goes back to the stable durability (its results are recomputed
+    // once, and backdated).
+    let hot = file.hot(db);
+    if hot != low {
+        if let Some(e) = hot.filter(|e| list.contains(e) && !changed.contains(e)) {
+            let green = e.green(db).clone();
+            e.set_green(db).with_durability(stable).to(green);
+        }
+        // Read by no query: low durability invalidates nothing.
+        file.set_hot(db).with_durability(Durability::LOW).to(low);
+    }
+    // What the changed elements publish, and where every element's ids
+    // start.
+    let mut recount = !same_shape;
+    for e in changed {
+        let public = public_of(db, e);
+        if *e.public(db) != public {
+            recount |= e.public(db).count != public.count;
+            e.set_public(db).with_durability(stable).to(public);
+        }
+    }
+    let mut base = 0;
+    for e in list.into_iter().filter(|_| recount) {
+        if e.base(db) != base {
+            e.set_base(db).with_durability(stable).to(base);
+        }
+        base += e.public(db).count;
+    }
+}
+
+/// The name of an element ("" when it has none).
+fn element_name(node: &rowan::GreenNodeData) -> String {
+    node.children()
+        .find_map(|c| c.into_node().filter(|n| n.kind() == rowan::SyntaxKind(NAME as u16)))
+        .map(crate::defs::green_name_text)
+        .unwrap_or_default()
 }
 
 /// The elements of `file` with their start offsets (this changes with
 /// every edit before them; [`element_list`] does not).
 #[salsa::tracked(returns(ref))]
-pub fn file_elements(db: &dyn Db, file: File) -> Vec<(Element<'_>, u32)> {
+pub fn file_elements(db: &dyn Db, file: File) -> Vec<(Element, u32)> {
     let root = parse(db, file).syntax_node();
-    let mut seen: FxHashMap<(SyntaxKind, String), u32> = FxHashMap::default();
-    let mut out = Vec::new();
-    let mut offset = root.text_range().start();
+    let elements = file.elements(db);
+    let mut out = Vec::with_capacity(elements.len());
+    let mut offset = u32::from(root.text_range().start());
+    let mut next = elements.iter();
     for child in root.green().children() {
-        let len = child.text_len();
         if let rowan::NodeOrToken::Node(node) = child {
             let kind = <robosim_syntax::RoboLang as rowan::Language>::kind_from_raw(node.kind());
             if !matches!(kind, PACKAGE_DECL | IMPORT) {
-                let name = node
-                    .children()
-                    .find_map(|c| c.into_node().filter(|n| n.kind() == rowan::SyntaxKind(NAME as u16)))
-                    .map(crate::defs::green_name_text)
-                    .unwrap_or_default();
-                let nth = seen.entry((kind, name.clone())).or_insert(0);
-                out.push((Element::new(db, file, kind, name, *nth, Green(node.to_owned())), offset.into()));
-                *nth += 1;
+                if let Some(e) = next.next() {
+                    debug_assert!(e.green(db).0 == node.to_owned(), "elements not synced: use `hir::set_text`");
+                    out.push((*e, offset));
+                }
             }
         }
-        offset += len;
+        offset += u32::from(child.text_len());
     }
     out
 }
 
 /// The elements of `file`, in order, without positions.
-#[salsa::tracked(returns(ref))]
-pub fn element_list(db: &dyn Db, file: File) -> Vec<Element<'_>> {
-    file_elements(db, file).iter().map(|(e, _)| *e).collect()
+pub fn element_list(db: &dyn Db, file: File) -> &Vec<Element> {
+    file.elements(db)
 }
 
 /// The package and imports of `file` (as in [`file_defs`]).
-#[salsa::tracked(returns(ref))]
-pub(crate) fn file_header(db: &dyn Db, file: File) -> FileDefs {
-    lower_header(&parse(db, file).syntax_node())
+pub(crate) fn file_header(db: &dyn Db, file: File) -> &FileDefs {
+    file.header(db)
 }
 
 /// The definitions of `element` numbered from 0, positions relative to
 /// its start.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_lowered<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
+pub(crate) fn element_lowered(db: &dyn Db, element: Element) -> FileDefs {
     lower_element(&SyntaxNode::new_root(element.green(db).0.clone()))
 }
 
-/// The summaries of the items `element` declares (one, or none).
+/// The summaries of the items `element` declares (one, or none), from its
+/// syntax (others read [`Element::public`]).
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_summary<'db>(db: &'db dyn Db, element: Element<'db>) -> Vec<crate::index::ItemSummary> {
+pub(crate) fn element_summary(db: &dyn Db, element: Element) -> Vec<crate::index::ItemSummary> {
     crate::index::summarize(element_lowered(db, element))
 }
 
@@ -125,44 +287,27 @@ pub(crate) fn element_summary<'db>(db: &'db dyn Db, element: Element<'db>) -> Ve
 /// it has, in order: changes only when an element gains or loses
 /// definitions.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn def_bases(db: &dyn Db, file: File) -> Vec<(u32, Element<'_>, u32)> {
-    let mut base = 0;
-    let mut out = Vec::new();
-    for e in element_list(db, file) {
-        let count = element_lowered(db, *e).defs.len() as u32;
-        out.push((base, *e, count));
-        base += count;
-    }
-    out
-}
-
-#[salsa::tracked(returns(copy))]
-fn element_base<'db>(db: &'db dyn Db, element: Element<'db>) -> u32 {
-    let bases = def_bases(db, element.file(db));
-    bases.iter().find(|(_, e, _)| *e == element).map_or(0, |(b, _, _)| *b)
+pub(crate) fn def_bases(db: &dyn Db, file: File) -> Vec<(u32, Element, u32)> {
+    element_list(db, file).iter().map(|e| (e.base(db), *e, e.public(db).count)).collect()
 }
 
 /// The definitions of `element`, with the file's ids and positions
 /// relative to the element's start.
 #[salsa::tracked(returns(ref))]
-pub fn element_defs<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
-    element_lowered(db, element).rebased(element_base(db, element), file_header(db, element.file(db)))
+pub fn element_defs(db: &dyn Db, element: Element) -> FileDefs {
+    element_lowered(db, element).rebased(element.base(db), file_header(db, element.file(db)))
 }
 
 /// Where the nodes the rules look for are in `element`'s tree.
 #[salsa::tracked(returns(ref), no_eq)]
-pub(crate) fn element_nodes<'db>(db: &'db dyn Db, element: Element<'db>) -> NodeTable {
+pub(crate) fn element_nodes(db: &dyn Db, element: Element) -> NodeTable {
     crate::walk::node_table(&SyntaxNode::new_root(element.green(db).0.clone()))
 }
 
 /// The members of every context definition of `element` (as
 /// [`crate::resolve::file_members`] for a file).
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_members<'db>(
-    db: &'db dyn Db,
-    ws: Workspace,
-    element: Element<'db>,
-) -> FxHashMap<DefId, Vec<Member>> {
+pub(crate) fn element_members(db: &dyn Db, ws: Workspace, element: Element) -> FxHashMap<DefId, Vec<Member>> {
     let defs = element_defs(db, element);
     defs.iter()
         .filter(|(_, d)| crate::resolve::is_context_kind(d.kind))
@@ -187,7 +332,7 @@ pub struct ElementProblems {
 /// relative to its start, and whether it writes vector or matrix types
 /// (whose sizes the file-level rules check).
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_marks<'db>(db: &'db dyn Db, element: Element<'db>) -> (Vec<robosim_syntax::TextRange>, bool) {
+pub(crate) fn element_marks(db: &dyn Db, element: Element) -> (Vec<robosim_syntax::TextRange>, bool) {
     let root = SyntaxNode::new_root(element.green(db).0.clone());
     let table = element_nodes(db, element);
     let deadlines = table
@@ -201,7 +346,7 @@ pub(crate) fn element_marks<'db>(db: &'db dyn Db, element: Element<'db>) -> (Vec
 
 /// The resolution and typing problems of `element`.
 #[salsa::tracked(returns(ref))]
-pub fn element_problems<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>) -> ElementProblems {
+pub fn element_problems(db: &dyn Db, ws: Workspace, element: Element) -> ElementProblems {
     let unit = Unit::of_element(db, element);
     let resolution = crate::resolve::resolve_unit(db, ws, &unit);
     let body = crate::body::resolve_body(db, ws, &unit);
@@ -213,7 +358,7 @@ pub fn element_problems<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'d
 /// included) and its start; `None` outside every element (the package,
 /// the imports, blank space between elements) and in assertion files,
 /// which are checked whole.
-pub fn element_at(db: &dyn Db, file: File, offset: TextSize) -> Option<(Element<'_>, u32)> {
+pub fn element_at(db: &dyn Db, file: File, offset: TextSize) -> Option<(Element, u32)> {
     if file.kind(db).is_assertions() {
         return None;
     }
@@ -229,7 +374,7 @@ pub fn element_at(db: &dyn Db, file: File, offset: TextSize) -> Option<(Element<
 /// the whole file's together after each keystroke. Recomputed when an
 /// edit before the element moves it.
 #[salsa::tracked(returns(ref))]
-pub fn placed_defs<'db>(db: &'db dyn Db, element: Element<'db>) -> FileDefs {
+pub fn placed_defs(db: &dyn Db, element: Element) -> FileDefs {
     let at = file_elements(db, element.file(db)).iter().find(|(e, _)| *e == element).map_or(0, |(_, at)| *at);
     crate::defs_shift::moved(element_defs(db, element), at.into())
 }
@@ -261,17 +406,13 @@ pub fn defs_around(db: &dyn Db, file: File, range: TextRange) -> &FileDefs {
 /// The declaration-level references of `element` (resolution's, positions
 /// from its start), for requests about a place in it.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_refs<'db>(
-    db: &'db dyn Db,
-    ws: Workspace,
-    element: Element<'db>,
-) -> Vec<crate::resolve::ResolvedRef> {
+pub(crate) fn element_refs(db: &dyn Db, ws: Workspace, element: Element) -> Vec<crate::resolve::ResolvedRef> {
     crate::resolve::resolve_unit(db, ws, &Unit::of_element(db, element)).refs
 }
 
 /// The element of `file` that declares `id` (from the ids alone, so that
 /// asking does not depend on the element's positions).
-pub(crate) fn element_of(db: &dyn Db, file: File, id: DefId) -> Option<Element<'_>> {
+pub(crate) fn element_of(db: &dyn Db, file: File, id: DefId) -> Option<Element> {
     let bases = def_bases(db, file);
     let i = bases.partition_point(|(b, _, _)| *b <= id.0).checked_sub(1)?;
     let (base, e, count) = bases[i];
@@ -290,7 +431,7 @@ pub(crate) struct Unit<'a> {
     /// The nodes the queries look for.
     pub nodes: &'a NodeTable,
     /// The element, for an element.
-    pub element: Option<Element<'a>>,
+    pub element: Option<Element>,
 }
 
 impl<'a> Unit<'a> {
@@ -306,7 +447,7 @@ impl<'a> Unit<'a> {
     }
 
     /// One element.
-    pub fn of_element(db: &'a dyn Db, element: Element<'a>) -> Unit<'a> {
+    pub fn of_element(db: &'a dyn Db, element: Element) -> Unit<'a> {
         Unit {
             file: element.file(db),
             defs: element_defs(db, element),

@@ -37,7 +37,7 @@ pub struct ElementRules {
 
 /// The rules of `element` but the cycle rules.
 #[salsa::tracked(returns(ref))]
-pub fn element_rules<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>) -> ElementRules {
+pub fn element_rules(db: &dyn Db, ws: Workspace, element: Element) -> ElementRules {
     let file = element.file(db);
     let defs = element_defs(db, element);
     let root = SyntaxNode::new_root(element.green(db).0.clone());
@@ -51,11 +51,7 @@ pub fn element_rules<'db>(db: &'db dyn Db, ws: Workspace, element: Element<'db>)
 /// The cycle rules of `element`, and what they found about each
 /// container's period.
 #[salsa::tracked(returns(ref))]
-pub fn element_cycles<'db>(
-    db: &'db dyn Db,
-    ws: Workspace,
-    element: Element<'db>,
-) -> (Vec<Problem>, Vec<(DefId, CycleInfo)>) {
+pub fn element_cycles(db: &dyn Db, ws: Workspace, element: Element) -> (Vec<Problem>, Vec<(DefId, CycleInfo)>) {
     crate::cycle::element_cycle_checks(db, ws, element.file(db), element_defs(db, element))
 }
 
@@ -103,7 +99,7 @@ type Head = (DefKind, String, TextRange);
 
 /// The top-level definitions of `element`.
 #[salsa::tracked(returns(ref))]
-fn element_heads<'db>(db: &'db dyn Db, element: Element<'db>) -> Vec<Head> {
+fn element_heads(db: &dyn Db, element: Element) -> Vec<Head> {
     element_lowered(db, element).children(None).map(|(_, d)| (d.kind, d.name.clone(), d.name_range)).collect()
 }
 

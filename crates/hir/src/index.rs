@@ -72,7 +72,7 @@ pub fn file_summary(db: &dyn Db, file: File) -> FileSummary {
         imports: header.imports.iter().map(|i| (i.path.clone(), i.wildcard)).collect(),
         items: crate::element::element_list(db, file)
             .iter()
-            .flat_map(|e| crate::element::element_summary(db, *e).iter().cloned())
+            .flat_map(|e| e.public(db).summary.iter().cloned())
             .collect(),
     }
 }
@@ -168,9 +168,10 @@ pub(crate) fn item_defs(db: &dyn Db, file: File) -> Vec<DefId> {
     // From the elements' lowerings (ids from 0) and where their ids start,
     // not from the file's definitions, which every keystroke changes.
     let mut out = Vec::new();
-    for (base, e, _) in crate::element::def_bases(db, file) {
-        let lowered = crate::element::element_lowered(db, *e);
-        out.extend(lowered.children(None).filter(|(_, d)| !d.name.is_empty()).map(|(id, _)| DefId(base + id.0)));
+    // What the elements publish, which an edit inside one leaves alone.
+    for e in crate::element::element_list(db, file) {
+        let base = e.base(db);
+        out.extend(e.public(db).tops.iter().map(|id| DefId(base + id)));
     }
     out
 }

@@ -46,9 +46,12 @@ pub struct File {
     /// The path as given or found, used in messages and JSON.
     #[returns(ref)]
     pub path: String,
-    /// The current text.
+    /// The current text. Set it with [`set_text`], which also updates the
+    /// file's [`element::Element`]s.
+    #[get(text_field)]
+    #[set(set_text_field)]
     #[returns(ref)]
-    pub text: String,
+    pub(crate) text: String,
     /// The language, from the extension.
     #[returns(copy)]
     pub kind: FileKind,
@@ -58,8 +61,36 @@ pub struct File {
     /// An earlier text of the file and its parse, set by editors along with
     /// a new text so that [`parse`] reparses only what the edit touched.
     #[default]
+    #[get(prior_field)]
+    #[set(set_prior_field)]
     #[returns(ref)]
-    pub prior: Option<Prior>,
+    pub(crate) prior: Option<Prior>,
+    /// The top-level elements of the text, kept by [`set_text`].
+    #[default]
+    #[returns(ref)]
+    pub(crate) elements: Vec<element::Element>,
+    /// The package and imports of the text (positions from the file's
+    /// start), kept by [`set_text`].
+    #[default]
+    #[returns(ref)]
+    pub(crate) header: defs::FileDefs,
+    /// The element last edited at low durability, if any (read by no
+    /// query; see [`element::Element`]).
+    #[default]
+    #[returns(copy)]
+    pub(crate) hot: Option<element::Element>,
+}
+
+impl File {
+    /// The current text.
+    pub fn text(self, db: &dyn Db) -> &String {
+        self.text_field(db)
+    }
+
+    /// The earlier text and parse given with the current text, if any.
+    pub fn prior(self, db: &dyn Db) -> &Option<Prior> {
+        self.prior_field(db)
+    }
 }
 
 /// An earlier text of a file and its syntax tree, from which the tree of
@@ -107,31 +138,69 @@ pub enum RuleSet {
 /// its [`Prior`] when it has one, which reparses only the edited member).
 #[salsa::tracked(returns(ref))]
 pub fn parse(db: &dyn Db, file: File) -> Parse {
-    let (text, kind) = (file.text(db), file.kind(db));
-    match file.prior(db) {
+    let (text, kind) = (file.text_field(db), file.kind(db));
+    match file.prior_field(db) {
         Some(prior) if prior.parse.file_kind() == kind => robosim_syntax::reparse(&prior.parse, &prior.text, text),
         _ => robosim_syntax::parse(text, kind),
     }
 }
 
 /// Creates the workspace inputs for `files` (path, text) plus the bundled
-/// library.
+/// library. The library's inputs are of high durability (it never
+/// changes), the rest of low durability but for the files' paths and
+/// languages.
 pub fn load_workspace(
-    db: &RootDatabase,
+    db: &mut RootDatabase,
     files: impl IntoIterator<Item = (String, String)>,
     rules: RuleSet,
 ) -> Workspace {
     let mut all = Vec::new();
     for lib in robosim_stdlib::FILES {
         let kind = kind_of(lib.path).unwrap_or(FileKind::RoboChart);
-        all.push(File::new(db, lib.path.to_string(), lib.text.to_string(), kind, true));
+        all.push(new_file(db, lib.path.to_string(), lib.text.to_string(), kind, true, Durability::HIGH));
     }
     for (path, text) in files {
         let kind = kind_of(&path).unwrap_or(FileKind::RoboChart);
-        all.push(File::new(db, path, text, kind, false));
+        all.push(new_file(db, path, text, kind, false, Durability::LOW));
     }
-    Workspace::new(db, all, rules)
+    Workspace::builder(all, rules).durability(Durability::MEDIUM).new(db)
 }
+
+/// A new file of the workspace (not yet in its [`Workspace::files`]):
+/// `durability` is that of its text, its path and language are of medium
+/// durability at least. Creates its elements.
+pub fn new_file(
+    db: &mut RootDatabase,
+    path: String,
+    text: String,
+    kind: FileKind,
+    is_library: bool,
+    durability: Durability,
+) -> File {
+    let file = File::builder(path, text, kind, is_library)
+        .durability(durability.max(Durability::MEDIUM))
+        .text_durability(durability)
+        .prior_durability(durability)
+        .new(db);
+    element::sync_elements(db, file, durability);
+    file
+}
+
+/// Sets the text of `file` (with `prior`, an earlier text and its parse
+/// from which the new parse is derived incrementally, if any), and keeps
+/// its elements: only those whose syntax changed are set. `durability`
+/// is that of the text: LOW for a buffer being edited (its edited element
+/// is then the only input of low durability, so that salsa re-validates
+/// the other elements' results without looking at them), MEDIUM or HIGH
+/// for files that rarely change.
+pub fn set_text(db: &mut RootDatabase, file: File, text: String, prior: Option<Prior>, durability: Durability) {
+    use salsa::Setter;
+    file.set_prior_field(db).with_durability(durability).to(prior);
+    file.set_text_field(db).with_durability(durability).to(text);
+    element::sync_elements(db, file, durability);
+}
+
+pub use salsa::Durability;
 
 fn kind_of(path: &str) -> Option<FileKind> {
     FileKind::from_path(std::path::Path::new(path))

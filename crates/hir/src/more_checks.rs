@@ -512,13 +512,13 @@ fn call_sites_of(db: &dyn Db, file: File, def: DefId) -> (Vec<(String, TextRange
     (sites, Anchor::Element(e.as_id()))
 }
 
-fn element_root(db: &dyn Db, e: Element<'_>) -> SyntaxNode {
+fn element_root(db: &dyn Db, e: Element) -> SyntaxNode {
     SyntaxNode::new_root(e.green(db).0.clone())
 }
 
 /// How every machine and operation of `element` uses events and calls.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_usages<'db>(db: &'db dyn Db, element: Element<'db>) -> FxHashMap<DefId, Usage> {
+pub(crate) fn element_usages(db: &dyn Db, element: Element) -> FxHashMap<DefId, Usage> {
     let (root, defs) = (element_root(db, element), element_defs(db, element));
     defs.iter()
         .filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::Operation))
@@ -529,10 +529,7 @@ pub(crate) fn element_usages<'db>(db: &'db dyn Db, element: Element<'db>) -> FxH
 /// The calls of every machine and operation of `element`, with the ranges
 /// of the called names relative to the element's start.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn element_call_sites<'db>(
-    db: &'db dyn Db,
-    element: Element<'db>,
-) -> FxHashMap<DefId, Vec<(String, TextRange)>> {
+pub(crate) fn element_call_sites(db: &dyn Db, element: Element) -> FxHashMap<DefId, Vec<(String, TextRange)>> {
     let (root, defs) = (element_root(db, element), element_defs(db, element));
     defs.iter()
         .filter(|(_, d)| matches!(d.kind, DefKind::StateMachine | DefKind::Operation))

@@ -52,8 +52,8 @@ fn check(rules: RuleSet) -> (String, Vec<String>) {
                 (rel, String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned())
             })
             .collect();
-        let db = RootDatabase::default();
-        let ws = load_workspace(&db, texts, rules);
+        let mut db = RootDatabase::default();
+        let ws = load_workspace(&mut db, texts, rules);
         for f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
             let text = f.text(&db);
             let idx = LineIndex::new(text);
@@ -116,8 +116,8 @@ fn reference_alpha_algorithm_is_error_free() {
     texts.sort();
     assert!(texts.iter().any(|(p, _)| p.starts_with("rc2rs/robosim/")), "reference not found");
     for rules in [RuleSet::Paper, RuleSet::RoboTool] {
-        let db = RootDatabase::default();
-        let ws = load_workspace(&db, texts.clone(), rules);
+        let mut db = RootDatabase::default();
+        let ws = load_workspace(&mut db, texts.clone(), rules);
         let mut errors = Vec::new();
         let mut unresolved = BTreeSet::new();
         for f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {

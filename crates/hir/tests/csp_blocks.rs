@@ -22,9 +22,9 @@ stm M {
 /// `(code, severity, text at the range)` of every csp diagnostic of the
 /// assertion file `text`, checked with [`MODEL`].
 fn csp_diags(text: &str, rules: RuleSet) -> Vec<(String, Severity, String)> {
-    let db = RootDatabase::default();
+    let mut db = RootDatabase::default();
     let files = vec![("m.rct".to_owned(), MODEL.to_owned()), ("a.assertions".to_owned(), text.to_owned())];
-    let ws = load_workspace(&db, files, rules);
+    let ws = load_workspace(&mut db, files, rules);
     let file = *ws.files(&db).iter().find(|f| f.path(&db) == "a.assertions").unwrap();
     file_diagnostics(&db, ws, file)
         .iter()
@@ -55,8 +55,8 @@ csp-end
     assert_eq!(got, vec![e("CSP-N01", "Undefined"), e("CSP-P01", ""), e("CSP-T01", "true")], "{got:?}");
     // The syntax error (a missing `)`) is at the end of the block's text.
     let end = text.find("Bad = (a -> STOP\n").unwrap() + "Bad = (a -> STOP\n".len();
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, vec![("a.assertions".to_owned(), text.to_owned())], RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, vec![("a.assertions".to_owned(), text.to_owned())], RuleSet::Paper);
     let file = *ws.files(&db).iter().find(|f| f.path(&db) == "a.assertions").unwrap();
     let p = file_diagnostics(&db, ws, file).iter().find(|d| d.code == "CSP-P01").unwrap().range;
     assert_eq!((usize::from(p.start()), usize::from(p.end())), (end, end));
@@ -105,8 +105,8 @@ f(n) = n
 Timed(OneStep) { P = c?x -> STOP }
 csp-end
 ";
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, vec![("a.assertions".to_owned(), text.to_owned())], RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, vec![("a.assertions".to_owned(), text.to_owned())], RuleSet::Paper);
     let file = *ws.files(&db).iter().find(|f| f.path(&db) == "a.assertions").unwrap();
     let blocks = csp_blocks(&db, ws, file);
     let defs: Vec<(String, CspDefKind, &str)> =

@@ -27,8 +27,8 @@ fn named(n: &str) -> CspType {
 
 #[test]
 fn alpha_algorithm_names_match_robotool_output() {
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, alpha_files(), RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, alpha_files(), RuleSet::Paper);
     let t = csp_names(&db, ws);
     let kind = |n: &str| t.get(n).unwrap_or_else(|| panic!("no `{n}`")).kind.clone();
 
@@ -134,8 +134,8 @@ stm Mv {
 
 #[test]
 fn robosim_registers_and_constants() {
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, [("m.rst".to_string(), ROBOSIM.to_string())], RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, [("m.rst".to_string(), ROBOSIM.to_string())], RuleSet::Paper);
     let t = csp_names(&db, ws);
     let kind = |n: &str| t.get(n).unwrap_or_else(|| panic!("no `{n}`")).kind.clone();
     assert_eq!(kind("rs::Mv::i_obstacle"), CspKind::Register { input: true, ty: Some(CspType::Nat) });

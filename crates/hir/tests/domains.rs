@@ -9,8 +9,8 @@ use robosim_hir::{load_workspace, RootDatabase, RuleSet};
 
 /// The domains of the project of `model` (one file), or the error's text.
 fn domains(model: &str, inputs: &DomainInputs) -> Result<NumberDomains, String> {
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, [("m.rct".to_string(), model.to_string())], RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], RuleSet::Paper);
     let f = ws.files(&db).iter().copied().find(|f| !f.is_library(&db)).expect("the model");
     domains_of(&db, ws, f, inputs).clone().map_err(|e| e.message)
 }

@@ -11,7 +11,6 @@ use robosim_hir::element::{element_list, Element};
 use robosim_hir::element_rules::{element_cycles, element_rules};
 use robosim_hir::{file_diagnostics, load_workspace, parse, Diagnostic, File, Prior, RootDatabase, RuleSet, Workspace};
 use salsa::plumbing::AsId;
-use salsa::Setter;
 
 /// The user file of a one-file workspace.
 fn user_file(db: &RootDatabase, ws: Workspace) -> File {
@@ -21,8 +20,7 @@ fn user_file(db: &RootDatabase, ws: Workspace) -> File {
 /// Sets `text` as an editor's host does: with the previous text and parse.
 fn edit(db: &mut RootDatabase, file: File, text: String) {
     let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
-    file.set_prior(db).to(Some(prior));
-    file.set_text(db).to(text);
+    robosim_hir::set_text(db, file, text, Some(prior), robosim_hir::Durability::LOW);
 }
 
 #[test]
@@ -35,7 +33,7 @@ fn an_edit_inside_one_machine_reruns_that_element_only() {
         }
     });
     let good = generated::generated_robosim(6);
-    let ws = load_workspace(&db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
+    let ws = load_workspace(&mut db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
     let file = user_file(&db, ws);
     // The keys of the machine's rule queries (salsa names a query taking
     // the workspace and the element by an id of its own), read from the
@@ -57,17 +55,25 @@ fn an_edit_inside_one_machine_reruns_that_element_only() {
     let at = good.find("stm SimSMovement3 {").unwrap();
     let guard = at + good[at..].find("not $obstacle").unwrap() + "not ".len();
     let bad = format!("{}{}", &good[..guard], &good[guard + 1..]);
-    for (k, text) in [&bad, &good, &bad].into_iter().enumerate() {
+    for (k, text) in [&bad, &good, &bad, &good].into_iter().enumerate() {
         log.lock().unwrap().clear();
         edit(&mut db, file, text.clone());
         let sm6: Vec<_> = file_diagnostics(&db, ws, file).iter().filter(|d| d.code == "RS:SM6").cloned().collect();
-        assert_eq!(sm6.len(), usize::from(k != 1), "{sm6:?}");
+        assert_eq!(sm6.len(), usize::from(k % 2 == 0), "{sm6:?}");
         if let Some(d) = sm6.first() {
             // Positions re-attached: the range is the name's in the file.
             assert_eq!(&text[d.range], "obstacle");
             assert_eq!(usize::from(d.range.start()), guard);
         }
         let ran = std::mem::take(&mut *log.lock().unwrap());
+        if k == 0 {
+            // The first edit of an element lowers its input's durability
+            // (`hir::element::Element`), and salsa does not backdate a
+            // result that became less durable: what reads the machine
+            // (its controller's rules, the file's duplicate check) runs
+            // once more. From the second edit on, only the machine's.
+            continue;
+        }
         let runs = |q: &str| ran.iter().filter(|e| e.starts_with(&format!("{q}("))).cloned().collect::<Vec<_>>();
         // The element's rules run once; every other element's results are
         // reused (the tracked struct of an element is its salsa key).
@@ -124,8 +130,8 @@ fn elements_put_together_are_the_file() {
         ("gen.rct", generated::generated_model(300)),
         ("broken.rct", broken.to_string()),
     ] {
-        let db = RootDatabase::default();
-        let ws = load_workspace(&db, [(path.to_string(), text)], RuleSet::Paper);
+        let mut db = RootDatabase::default();
+        let ws = load_workspace(&mut db, [(path.to_string(), text)], RuleSet::Paper);
         for &f in ws.files(&db) {
             let whole = robosim_hir::defs::lower_file(&parse(&db, f).syntax_node());
             assert_eq!(robosim_hir::defs::file_defs(&db, f), &whole, "{}", f.path(&db));
@@ -237,7 +243,7 @@ fn random_edits_of_related_elements_give_what_a_fresh_check_gives() {
 /// those of a fresh one.
 fn random_edits(path: &str, start: &str, edits: usize, seed: u64) {
     let mut db = RootDatabase::default();
-    let ws = load_workspace(&db, [(path.to_string(), start.to_string())], RuleSet::Paper);
+    let ws = load_workspace(&mut db, [(path.to_string(), start.to_string())], RuleSet::Paper);
     let file = user_file(&db, ws);
     let mut text = start.to_string();
     let mut rng = Rng(seed);
@@ -265,8 +271,8 @@ fn random_edits(path: &str, start: &str, edits: usize, seed: u64) {
         let whole = robosim_hir::defs::lower_file(&parse(&db, file).syntax_node());
         assert_eq!(robosim_hir::defs::file_defs(&db, file), &whole, "edit {k}");
         // From scratch: a new database.
-        let fresh_db = RootDatabase::default();
-        let fws = load_workspace(&fresh_db, [(path.to_string(), text.clone())], RuleSet::Paper);
+        let mut fresh_db = RootDatabase::default();
+        let fws = load_workspace(&mut fresh_db, [(path.to_string(), text.clone())], RuleSet::Paper);
         let fresh = rendered(&fresh_db, file_diagnostics(&fresh_db, fws, user_file(&fresh_db, fws)));
         assert_eq!(incremental, fresh, "edit {k}: {at}..{end} := {insert:?}\n{text}");
     }

@@ -8,8 +8,8 @@ use robosim_hir::{load_workspace, RootDatabase, RuleSet};
 
 /// The model of each non-library file of `files`, rendered.
 fn models(files: Vec<(String, String)>) -> String {
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, files, RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, files, RuleSet::Paper);
     let mut out = String::new();
     for &f in ws.files(&db) {
         if f.is_library(&db) || f.kind(&db).is_assertions() {
@@ -165,8 +165,8 @@ fn examples() {
 /// the type the type checker gives it.
 fn typed_expressions(text: &str) -> String {
     use robosim_hir::model::{Expr, Item};
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, vec![("m.rct".to_string(), text.to_string())], RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, vec![("m.rct".to_string(), text.to_string())], RuleSet::Paper);
     let file = *ws.files(&db).iter().find(|f| !f.is_library(&db)).expect("the model");
     let mut out = String::new();
     let mut show = |e: &Expr| {
@@ -292,8 +292,8 @@ fn every_corpus_model_lowers() {
                 (p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).expect("readable")).into_owned())
             })
             .collect();
-        let db = RootDatabase::default();
-        let ws = load_workspace(&db, texts, RuleSet::Paper);
+        let mut db = RootDatabase::default();
+        let ws = load_workspace(&mut db, texts, RuleSet::Paper);
         for &f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
             let model = file_model(&db, ws, f);
             let named = file_defs(&db, f).children(None).count();
@@ -321,8 +321,8 @@ fn what_the_diagrams_read() {
     use robosim_hir::model::{ActionKind, Definition, Item};
     let text = "package a::b\nstm M {\n  initial i\n  state S { exit x = 2 entry x = 1 entry x = 3 }\n  junction\n}\n\
                 module Mod {\n  stm Loose { initial k }\n  rref p = P\n  sref s = M\n}\n";
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, vec![("t.rct".to_string(), text.to_string())], RuleSet::Paper);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, vec![("t.rct".to_string(), text.to_string())], RuleSet::Paper);
     let f = ws.files(&db).iter().copied().find(|f| f.path(&db) == "t.rct").expect("the file");
     let m = file_model(&db, ws, f);
     assert_eq!(m.package, ["a", "b"]);

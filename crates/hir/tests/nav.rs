@@ -17,9 +17,9 @@ fn offset_of(text: &str, needle: &str, nth: usize) -> TextSize {
 
 #[test]
 fn definition_references_and_hover_across_files() {
-    let db = RootDatabase::default();
+    let mut db = RootDatabase::default();
     let ws = load_workspace(
-        &db,
+        &mut db,
         [("types.rct".into(), TYPES.into()), ("machine.rct".into(), MACHINE.into())],
         RuleSet::Paper,
     );
@@ -84,8 +84,8 @@ fn symbol_at_agrees_with_whole_file_resolution() {
         if files.is_empty() {
             continue;
         }
-        let db = RootDatabase::default();
-        let ws = load_workspace(&db, files, RuleSet::Paper);
+        let mut db = RootDatabase::default();
+        let ws = load_workspace(&mut db, files, RuleSet::Paper);
         for &file in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {
             let all = references_in(&db, ws, file);
             let len = file.text(&db).len() as u32;

@@ -43,8 +43,8 @@ pub fn render(dir: &Path, rules: RuleSet) -> (String, Vec<String>) {
             (rel, std::fs::read_to_string(p).unwrap())
         })
         .collect();
-    let db = RootDatabase::default();
-    let ws = load_workspace(&db, texts.clone(), rules);
+    let mut db = RootDatabase::default();
+    let ws = load_workspace(&mut db, texts.clone(), rules);
     let mut lines = Vec::new();
     let mut codes = Vec::new();
     for f in ws.files(&db).iter().filter(|f| !f.is_library(&db)) {

@@ -94,16 +94,12 @@ impl AnalysisHost {
     /// logs salsa events).
     pub fn with_db(mut db: RootDatabase, rules: RuleSet) -> AnalysisHost {
         // The same library files, paths and kinds as `robosim check`.
-        let workspace = robosim_hir::load_workspace(&db, std::iter::empty(), rules);
+        // The library's inputs are of HIGH durability: queries that read
+        // only the library are not even re-validated after an edit.
+        let workspace = robosim_hir::load_workspace(&mut db, std::iter::empty(), rules);
         let library: Vec<File> = workspace.files(&db).clone();
         let mut files = HashMap::new();
         for file in library {
-            // The library never changes: with HIGH durability, queries that
-            // read only the library are not even re-validated after an edit.
-            let text = file.text(&db).clone();
-            file.set_text(&mut db).with_durability(Durability::HIGH).to(text);
-            let kind = file.kind(&db);
-            file.set_kind(&mut db).with_durability(Durability::HIGH).to(kind);
             files.insert(file.path(&db).clone(), file);
         }
         AnalysisHost { db, workspace, files }
@@ -133,19 +129,20 @@ impl AnalysisHost {
             if file.kind(&self.db) == kind && *file.text(&self.db) == text {
                 return FileId(file);
             }
+            let mut prior = None;
             if file.kind(&self.db) != kind {
-                file.set_kind(&mut self.db).with_durability(durability).to(kind);
+                file.set_kind(&mut self.db).with_durability(durability.max(Durability::MEDIUM)).to(kind);
             } else if durability == Durability::LOW {
                 // A buffer being edited: its last parse (normally computed
                 // for the previous version already) lets the next parse
                 // redo only the member the edit is in.
-                let prior = Prior { text: file.text(&self.db).as_str().into(), parse: parse(&self.db, file).clone() };
-                file.set_prior(&mut self.db).with_durability(durability).to(Some(prior));
+                prior = Some(Prior { text: file.text(&self.db).as_str().into(), parse: parse(&self.db, file).clone() });
             }
-            file.set_text(&mut self.db).with_durability(durability).to(text);
+            // Sets only the elements the edit touched (`hir::element`).
+            robosim_hir::set_text(&mut self.db, file, text, prior, durability);
             return FileId(file);
         }
-        let file = File::builder(path.to_string(), text, kind, false).durability(durability).new(&self.db);
+        let file = robosim_hir::new_file(&mut self.db, path.to_string(), text, kind, false, durability);
         self.files.insert(path.to_string(), file);
         let mut all = self.workspace.files(&self.db).clone();
         all.push(file);

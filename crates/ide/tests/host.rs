@@ -80,8 +80,8 @@ fn diagnostics_are_the_semantic_models() {
         ),
         ("/w/b.rct".to_string(), "stm A { initial i }\ninterface I { event e ; }".to_string()),
     ];
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files.clone(), RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files.clone(), RuleSet::Paper);
     let mut host = AnalysisHost::default();
     let ids: Vec<_> = files.iter().map(|(p, t)| host.set_file(p, t.clone(), None, Durability::LOW)).collect();
     let analysis = host.analysis();
@@ -147,7 +147,7 @@ fn rules_are_an_input() {
 fn editing_one_file_does_not_recompute_anothers_outline() {
     let log = Arc::new(Mutex::new(Vec::<String>::new()));
     let sink = log.clone();
-    let db = robosim_hir::RootDatabase::with_event_log(move |e| {
+    let mut db = robosim_hir::RootDatabase::with_event_log(move |e| {
         if let salsa::EventKind::WillExecute { database_key } = e.kind {
             sink.lock().unwrap().push(format!("{database_key:?}"));
         }

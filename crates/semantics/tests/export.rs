@@ -16,8 +16,8 @@ fn export_dir(dir: &Path, profile: Profile) -> robosim_semantics::Export {
         .iter()
         .filter_map(|p| Some((p.display().to_string(), String::from_utf8_lossy(&std::fs::read(p).ok()?).into_owned())))
         .collect();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     export_workspace(&db, ws, &Options { profile })
 }
 
@@ -81,8 +81,8 @@ fn long_and_deep_models_do_not_overflow() {
     );
     let run = move || {
         for (name, text) in [("big.rct", long), ("deep.rct", deep)] {
-            let db = robosim_hir::RootDatabase::default();
-            let ws = robosim_hir::load_workspace(&db, [(name.to_string(), text)], robosim_hir::RuleSet::Paper);
+            let mut db = robosim_hir::RootDatabase::default();
+            let ws = robosim_hir::load_workspace(&mut db, [(name.to_string(), text)], robosim_hir::RuleSet::Paper);
             let e = export_workspace(&db, ws, &Options::default());
             let problems = lint::check(&e.files);
             assert!(problems.is_empty(), "{name}: {problems:#?}");
@@ -108,9 +108,9 @@ fn periods_are_the_least_the_cycle_defs_admit() {
              module Mod {{ const K : nat = 4 cycleDef {spec} robotic platform P {{ uses I }} cref c = C
                connection P on i to c on i ( _async ) }}"
         );
-        let db = robosim_hir::RootDatabase::default();
+        let mut db = robosim_hir::RootDatabase::default();
         let ws = robosim_hir::load_workspace(
-            &db,
+            &mut db,
             [("m.rst".to_string(), model), ("a.rsa".to_string(), "assertion A : Mod is deadlock-free".to_string())],
             robosim_hir::RuleSet::Paper,
         );
@@ -128,8 +128,9 @@ fn an_event_and_an_operation_may_share_a_name() {
         interface Evs { event stop }
         stm S { requires Ops uses Evs initial i state A { } state B { entry stop() }
           transition t0 { from i to A } transition t1 { from A to B trigger stop } }";
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
     let e = export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 });
     assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| &w.message).collect::<Vec<_>>());
     let text: String = e.files.iter().map(|f| f.text()).collect();
@@ -144,9 +145,9 @@ fn an_event_and_an_operation_may_share_a_name() {
 fn terminates_and_timelock_free_follow_rt10() {
     let model = "stm M { initial i final f transition t { from i to f } }";
     let asserts = "assertion T : M terminates\nassertion L : M is timelock-free\nassertion N : M does not terminate";
-    let db = robosim_hir::RootDatabase::default();
+    let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(
-        &db,
+        &mut db,
         [("m.rct".to_string(), model.to_string()), ("a.assertions".to_string(), asserts.to_string())],
         robosim_hir::RuleSet::Paper,
     );
@@ -288,8 +289,9 @@ fn guarded_communications_are_refused_not_unguarded() {
              stm Plain {{ event e initial i state A {{ }} state B {{ }}
                transition t0 {{ from i to A }} transition t1 {{ from A to B trigger e }} }}"
         );
-        let db = robosim_hir::RootDatabase::default();
-        let ws = robosim_hir::load_workspace(&db, [("m.rct".to_string(), model.clone())], robosim_hir::RuleSet::Paper);
+        let mut db = robosim_hir::RootDatabase::default();
+        let ws =
+            robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.clone())], robosim_hir::RuleSet::Paper);
         let e = export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 });
         let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
         // The guard's position: just after the event's name.

@@ -37,8 +37,8 @@ controller D {
 
 fn export(files: &[(&str, &str)]) -> Export {
     let files: Vec<(String, String)> = files.iter().map(|(p, t)| (p.to_string(), t.to_string())).collect();
-    let db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 })
 }
 
