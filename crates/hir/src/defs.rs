@@ -487,6 +487,32 @@ fn header(out: &mut FileDefs, child: &SyntaxNode) {
 /// The package and imports of a file's tree, alone.
 pub(crate) fn lower_header(root: &SyntaxNode) -> FileDefs {
     let mut out = FileDefs::default();
+    // Found on the green tree, a cursor built for these nodes only: this
+    // runs after every keystroke, and a file has hundreds of elements.
+    let (raw_package, raw_import) = (rowan::SyntaxKind(PACKAGE_DECL as u16), rowan::SyntaxKind(IMPORT as u16));
+    let mut at = root.text_range().start();
+    for child in root.green().children() {
+        let len = child.text_len();
+        if let rowan::NodeOrToken::Node(n) = child {
+            if n.kind() == raw_package || n.kind() == raw_import {
+                let range = TextRange::at(at, len);
+                match root.child_or_token_at_range(range).and_then(|c| c.into_node()) {
+                    Some(c) if c.text_range() == range && matches!(c.kind(), PACKAGE_DECL | IMPORT) => {
+                        header(&mut out, &c)
+                    }
+                    // Not found alone (cannot happen with non-empty
+                    // nodes): the plain walk.
+                    _ => return lower_header_walk(root),
+                }
+            }
+        }
+        at += len;
+    }
+    out
+}
+
+fn lower_header_walk(root: &SyntaxNode) -> FileDefs {
+    let mut out = FileDefs::default();
     for child in root.children().filter(|c| matches!(c.kind(), PACKAGE_DECL | IMPORT)) {
         header(&mut out, &child);
     }

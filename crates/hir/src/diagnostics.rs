@@ -101,6 +101,11 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
             message,
             related,
         };
+        // One result per element: an edit elsewhere leaves it valid.
+        let reports: Vec<_> = crate::element::file_elements(db, file)
+            .iter()
+            .map(|(e, at)| (crate::element::element_report(db, workspace, *e), *at))
+            .collect();
         if file.kind(db).is_assertions() {
             let body = &crate::body::body_resolution(db, workspace, file).problems;
             let typing = crate::types::type_checks(db, workspace, file);
@@ -111,10 +116,7 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
             // Per element, positions relative to its start: an edit inside
             // one element re-runs that element's resolution and typing
             // only. Each list in the order the file-level queries give.
-            let elements: Vec<_> = crate::element::file_elements(db, file)
-                .iter()
-                .map(|(e, at)| (crate::element::element_problems(db, workspace, *e), *at))
-                .collect();
+            let elements: Vec<_> = reports.iter().map(|(r, at)| (&r.problems, *at)).collect();
             for p in crate::resolve::import_problems(db, workspace, file) {
                 out.push(make(p.code, p.range, p.message, Vec::new()));
             }
@@ -132,13 +134,7 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
         // (or to another element, for related locations): each list in
         // the order the rules give it, element after element.
         let placer = crate::element_rules::Placer::new(db, file);
-        let elements: Vec<_> = crate::element::file_elements(db, file)
-            .iter()
-            .map(|(e, at)| {
-                let rules = crate::element_rules::element_rules(db, workspace, *e);
-                (&crate::element_rules::element_cycles(db, workspace, *e).0, rules, *at)
-            })
-            .collect();
+        let elements: Vec<_> = reports.iter().map(|(r, at)| (&r.cycles, &r.rules, *at)).collect();
         let mut push = |p: &crate::checks::Problem, at: u32| {
             let related = p
                 .related
@@ -165,8 +161,8 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
         crate::more_checks::size_checks(db, workspace, file).iter().for_each(|p| push(p, 0));
         if file.kind(db) == robosim_syntax::FileKind::RoboSim {
             // Found per element: a keystroke looks at the edited element only.
-            for (e, at) in crate::element::file_elements(db, file) {
-                for d in &crate::element::element_marks(db, *e).0 {
+            for (r, at) in &reports {
+                for d in &r.deadlines {
                     out.push(make(
                         "RS-STMT-02",
                         *d + TextSize::from(*at),

@@ -95,7 +95,17 @@ pub struct Public {
     pub summary: Vec<crate::index::ItemSummary>,
     /// Its named top-level definitions (ids from 0).
     pub tops: Vec<u32>,
+    /// Its top-level definitions: kind, name and the name's range relative
+    /// to its start (for DUP-01 between elements).
+    pub heads: Vec<Head>,
+    /// Whether it writes vector or matrix types (whose sizes a file-level
+    /// rule checks).
+    pub sized: bool,
 }
+
+/// A top-level definition: kind, name and the name's range relative to
+/// its element's start.
+pub type Head = (crate::defs::DefKind, String, TextRange);
 
 /// [`Public`] as the element's syntax gives it.
 fn public_of(db: &dyn Db, element: Element) -> Public {
@@ -104,6 +114,8 @@ fn public_of(db: &dyn Db, element: Element) -> Public {
         count: lowered.defs.len() as u32,
         summary: element_summary(db, element).clone(),
         tops: lowered.children(None).filter(|(_, d)| !d.name.is_empty()).map(|(id, _)| id.0).collect(),
+        heads: lowered.children(None).map(|(_, d)| (d.kind, d.name.clone(), d.name_range)).collect(),
+        sized: element_marks(db, element).1,
     }
 }
 
@@ -352,6 +364,37 @@ pub fn element_problems(db: &dyn Db, ws: Workspace, element: Element) -> Element
     let body = crate::body::resolve_body(db, ws, &unit);
     let types = crate::types::type_unit(db, ws, &unit, &resolution.refs, &body.refs);
     ElementProblems { resolution: resolution.problems, body: body.problems, types }
+}
+
+/// Everything [`crate::file_diagnostics`] reads of `element`: one result
+/// per element, so that after an edit elsewhere salsa re-validates one
+/// memo of it (without walking its dependencies, see [`Element`]).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ElementReport {
+    /// Resolution and typing ([`element_problems`]; none in assertion
+    /// files, which are checked whole).
+    pub problems: ElementProblems,
+    /// The cycle rules ([`crate::element_rules::element_cycles`]).
+    pub cycles: Vec<crate::checks::Problem>,
+    /// The other rules ([`crate::element_rules::element_rules`]).
+    pub rules: crate::element_rules::ElementRules,
+    /// Statement deadlines ([`element_marks`]).
+    pub deadlines: Vec<TextRange>,
+}
+
+/// The problems of `element`, positions relative to its start.
+#[salsa::tracked(returns(ref))]
+pub fn element_report(db: &dyn Db, ws: Workspace, element: Element) -> ElementReport {
+    let problems = match element.file(db).kind(db).is_assertions() {
+        true => ElementProblems::default(),
+        false => element_problems(db, ws, element).clone(),
+    };
+    ElementReport {
+        problems,
+        cycles: crate::element_rules::element_cycles(db, ws, element).0.clone(),
+        rules: crate::element_rules::element_rules(db, ws, element).clone(),
+        deadlines: element_marks(db, element).0.clone(),
+    }
 }
 
 /// The element of `file` around `offset` (its first or last position

@@ -20,7 +20,7 @@ use salsa::plumbing::AsId;
 use crate::checks::{dup_group, Anchor, Place, Problem};
 use crate::cycle::CycleInfo;
 use crate::defs::{file_defs, DefId, DefKind, FileDefs};
-use crate::element::{element_defs, element_list, element_lowered, element_of, file_elements, Element};
+use crate::element::{element_defs, element_list, element_of, file_elements, Element};
 use crate::{Db, File, Workspace};
 
 /// The rule problems of one element, each list in the order the rules of
@@ -93,26 +93,18 @@ pub(crate) fn use_places(db: &dyn Db, file: File, id: DefId) -> Vec<(crate::defs
     defs.uses_of(id).map(|u| (u.clone(), anchor)).collect()
 }
 
-/// A top-level definition: kind, name and the name's range relative to
-/// its element's start.
-type Head = (DefKind, String, TextRange);
-
-/// The top-level definitions of `element`.
-#[salsa::tracked(returns(ref))]
-fn element_heads(db: &dyn Db, element: Element) -> Vec<Head> {
-    element_lowered(db, element).children(None).map(|(_, d)| (d.kind, d.name.clone(), d.name_range)).collect()
-}
-
 /// DUP-01 between top-level definitions of `file` (those inside an element
 /// are its own rules').
 #[salsa::tracked(returns(ref))]
 pub(crate) fn top_duplicates(db: &dyn Db, file: File) -> Vec<Problem> {
     let mut out = Vec::new();
-    let mut seen: FxHashMap<(u8, &str), (Anchor, &Head)> = FxHashMap::default();
+    let mut seen: FxHashMap<(u8, &str), (Anchor, &crate::element::Head)> = FxHashMap::default();
     let mut reported = rustc_hash::FxHashSet::default();
     for e in element_list(db, file) {
         let anchor = Anchor::Element(e.as_id());
-        for head in element_heads(db, *e) {
+        // Published by the element: an edit inside one leaves the others'
+        // alone, and this query is re-validated without looking at them.
+        for head in &e.public(db).heads {
             let (kind, name, range) = head;
             if name.is_empty() || *kind == DefKind::Connection {
                 continue;

@@ -98,7 +98,7 @@ pub(crate) fn size_checks(db: &dyn Db, ws: Workspace, file: File) -> Vec<Problem
         return out;
     }
     // Most files write no vector type: no walk of the whole file then.
-    if !crate::element::element_list(db, file).iter().any(|e| crate::element::element_marks(db, *e).1) {
+    if !crate::element::element_list(db, file).iter().any(|e| e.public(db).sized) {
         return out;
     }
     let root = parse(db, file).syntax_node();
