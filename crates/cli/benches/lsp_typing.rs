@@ -246,7 +246,7 @@ const TOGGLES: usize = 60;
 /// the queries each keystroke re-executes, and the complete check's time
 /// without the server around it.
 fn robosim_queries() {
-    use robosim_hir::{file_diagnostics, load_workspace, parse, Prior, RootDatabase, RuleSet};
+    use robosim_hir::{file_diagnostics, load_workspace, RootDatabase, RuleSet};
     use salsa::Setter;
     use std::sync::{Arc, Mutex};
     let log: Arc<Mutex<Vec<String>>> = Arc::default();
@@ -274,8 +274,7 @@ fn robosim_queries() {
         log.lock().unwrap().clear();
         validated.lock().unwrap().clear();
         let start = Instant::now();
-        let prior = Prior { text: file.text(&db).as_str().into(), parse: parse(&db, file).clone() };
-        robosim_hir::set_text(&mut db, file, text.clone(), Some(prior), robosim_hir::Durability::LOW);
+        robosim_hir::edit_text(&mut db, file, text.clone(), robosim_hir::Durability::LOW);
         let n = file_diagnostics(&db, ws, file).iter().filter(|d| d.code == "RS:SM6").count();
         times.push(start.elapsed());
         assert_eq!(n, usize::from(k % 2 == 0));

@@ -31,8 +31,7 @@ fn edit_round(db: &mut RootDatabase, ws: Workspace, file: File, text: &str, pos:
         t2.insert_str(pos, &" ".repeat(round + 1));
         // As the editor's host does: the previous text and its parse go
         // along, so that only the edited machine is parsed again.
-        let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
-        set_text(db, file, t2, Some(prior), Durability::LOW);
+        edit_text(db, file, t2, Durability::LOW);
         let mut last = Instant::now();
         let mut lap = |name: &str| {
             let e = last.elapsed();

@@ -38,8 +38,7 @@ fn main() {
 #[inline(never)]
 fn plain_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) {
     let start = Instant::now();
-    let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
-    set_text(db, file, text, Some(prior), Durability::LOW);
+    edit_text(db, file, text, Durability::LOW);
     let n = file_diagnostics(db, ws, file).len();
     eprintln!("total {:.2} ms ({n})", start.elapsed().as_secs_f64() * 1e3);
 }
@@ -54,8 +53,7 @@ fn toggle_round(db: &mut RootDatabase, ws: Workspace, file: File, text: String) 
         last = Instant::now();
     };
     // The parse and the elements' inputs (`hir::set_text`).
-    let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
-    set_text(db, file, text, Some(prior), Durability::LOW);
+    edit_text(db, file, text, Durability::LOW);
     lap("set_text");
     let _ = parse(db, file);
     lap("parse");

@@ -99,7 +99,7 @@ impl File {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Prior {
     /// The earlier text.
-    pub text: std::sync::Arc<str>,
+    pub text: String,
     /// Its parse.
     pub parse: Parse,
 }
@@ -197,6 +197,17 @@ pub fn set_text(db: &mut RootDatabase, file: File, text: String, prior: Option<P
     use salsa::Setter;
     file.set_prior_field(db).with_durability(durability).to(prior);
     file.set_text_field(db).with_durability(durability).to(text);
+    element::sync_elements(db, file, durability);
+}
+
+/// Sets the text of `file` after an edit, as [`set_text`] with the
+/// current text and parse as the prior (the current text is moved there,
+/// not copied): what an editor's host does after each keystroke.
+pub fn edit_text(db: &mut RootDatabase, file: File, text: String, durability: Durability) {
+    use salsa::Setter;
+    let parse = parse(db, file).clone();
+    let old = file.set_text_field(db).with_durability(durability).to(text);
+    file.set_prior_field(db).with_durability(durability).to(Some(Prior { text: old, parse }));
     element::sync_elements(db, file, durability);
 }
 

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 
-use robosim_hir::{file_diagnostics, load_workspace, parse, Durability, File, Prior, RootDatabase, RuleSet, Workspace};
+use robosim_hir::{file_diagnostics, load_workspace, Durability, File, RootDatabase, RuleSet, Workspace};
 use robosim_test_support::generated;
 
 fn user_file(db: &RootDatabase, ws: Workspace) -> File {
@@ -49,8 +49,7 @@ fn logged_db() -> (RootDatabase, Log) {
 /// number of RS:SM6 problems.
 fn keystroke(db: &mut RootDatabase, log: &Log, ws: Workspace, file: File, text: &str) -> (Keystroke, usize) {
     log.lock().unwrap().clear();
-    let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
-    robosim_hir::set_text(db, file, text.to_string(), Some(prior), Durability::LOW);
+    robosim_hir::edit_text(db, file, text.to_string(), Durability::LOW);
     let sm6 = file_diagnostics(db, ws, file).iter().filter(|d| d.code == "RS:SM6").count();
     let mut k = Keystroke::default();
     for (executed, name) in std::mem::take(&mut *log.lock().unwrap()) {

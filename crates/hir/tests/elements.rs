@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 
 use robosim_hir::element::{element_list, Element};
 use robosim_hir::element_rules::{element_cycles, element_rules};
-use robosim_hir::{file_diagnostics, load_workspace, parse, Diagnostic, File, Prior, RootDatabase, RuleSet, Workspace};
+use robosim_hir::{file_diagnostics, load_workspace, parse, Diagnostic, File, RootDatabase, RuleSet, Workspace};
 use salsa::plumbing::AsId;
 
 /// The user file of a one-file workspace.
@@ -19,8 +19,7 @@ fn user_file(db: &RootDatabase, ws: Workspace) -> File {
 
 /// Sets `text` as an editor's host does: with the previous text and parse.
 fn edit(db: &mut RootDatabase, file: File, text: String) {
-    let prior = Prior { text: file.text(db).as_str().into(), parse: parse(db, file).clone() };
-    robosim_hir::set_text(db, file, text, Some(prior), robosim_hir::Durability::LOW);
+    robosim_hir::edit_text(db, file, text, robosim_hir::Durability::LOW);
 }
 
 #[test]

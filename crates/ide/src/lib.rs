@@ -36,7 +36,7 @@ use std::collections::HashMap;
 use std::panic::AssertUnwindSafe;
 use std::sync::Arc;
 
-use robosim_hir::{parse, Db, File, Prior, RootDatabase, Workspace};
+use robosim_hir::{parse, Db, File, RootDatabase, Workspace};
 use salsa::Setter;
 
 pub use completion::{CompletionItem, CompletionKind};
@@ -129,17 +129,19 @@ impl AnalysisHost {
             if file.kind(&self.db) == kind && *file.text(&self.db) == text {
                 return FileId(file);
             }
-            let mut prior = None;
+            // Either way, only the elements the edit touched are set
+            // (`hir::element`).
             if file.kind(&self.db) != kind {
                 file.set_kind(&mut self.db).with_durability(durability.max(Durability::MEDIUM)).to(kind);
+                robosim_hir::set_text(&mut self.db, file, text, None, durability);
             } else if durability == Durability::LOW {
                 // A buffer being edited: its last parse (normally computed
                 // for the previous version already) lets the next parse
                 // redo only the member the edit is in.
-                prior = Some(Prior { text: file.text(&self.db).as_str().into(), parse: parse(&self.db, file).clone() });
+                robosim_hir::edit_text(&mut self.db, file, text, durability);
+            } else {
+                robosim_hir::set_text(&mut self.db, file, text, None, durability);
             }
-            // Sets only the elements the edit touched (`hir::element`).
-            robosim_hir::set_text(&mut self.db, file, text, prior, durability);
             return FileId(file);
         }
         let file = robosim_hir::new_file(&mut self.db, path.to_string(), text, kind, false, durability);

@@ -147,7 +147,7 @@ fn rules_are_an_input() {
 fn editing_one_file_does_not_recompute_anothers_outline() {
     let log = Arc::new(Mutex::new(Vec::<String>::new()));
     let sink = log.clone();
-    let mut db = robosim_hir::RootDatabase::with_event_log(move |e| {
+    let db = robosim_hir::RootDatabase::with_event_log(move |e| {
         if let salsa::EventKind::WillExecute { database_key } = e.kind {
             sink.lock().unwrap().push(format!("{database_key:?}"));
         }
