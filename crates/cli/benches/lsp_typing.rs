@@ -247,7 +247,6 @@ const TOGGLES: usize = 60;
 /// without the server around it.
 fn robosim_queries() {
     use robosim_hir::{file_diagnostics, load_workspace, RootDatabase, RuleSet};
-    use salsa::Setter;
     use std::sync::{Arc, Mutex};
     let log: Arc<Mutex<Vec<String>>> = Arc::default();
     let validated: Arc<Mutex<Vec<String>>> = Arc::default();
