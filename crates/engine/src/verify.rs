@@ -324,6 +324,7 @@ impl Cx<'_> {
         let mut defaults = DomainDefaults {
             async_buffer: self.async_buffer,
             replaced: r.csp_blocks.iter().any(|b| b.name == "Instantiations"),
+            robosim_script: self.file.kind(self.db) == robosim_hir::FileKind::SimAssertions,
             ..DomainDefaults::default()
         };
         for (name, lo, hi, _) in &r.instantiations.types {

@@ -94,9 +94,11 @@ fn a_finished_machine_keeps_ending_cycles() {
 
 /// A sends `e` (3) in its first cycle and finishes; B reads it through
 /// the connection's memory cell and writes `op2` with its value.
+/// `A` sends 2: RoboTool's `core_nat` here is `{0..2}` (RT-5: a RoboSim
+/// output widens nothing), so a 3 would stop FDR with an error.
 const CELLS: &str = "
     stm A { cycleDef cycle == 1 output context { uses Ev }
-      initial i0 final F transition t { from i0 to F action $e!3 } }
+      initial i0 final F transition t { from i0 to F action $e!2 } }
     stm B { cycleDef cycle == 1 input context { uses Ev } output context { requires Ops } var x : nat
       initial i0 state W { } final F transition t { from i0 to W }
       transition a { from W to F condition $e?x action $op2(x) }
@@ -121,7 +123,7 @@ const CELLS: &str = "
       connection s on e to r on e }";
 
 /// RT-22: what a machine sends another in cycle k, the receiver reads at
-/// the start of cycle k+1 (so `op2.3` follows one `tock`), `_async` or not,
+/// the start of cycle k+1 (so `op2.2` follows one `tock`), `_async` or not,
 /// between machines of a controller or between controllers of a module.
 #[test]
 fn connections_go_through_a_memory_cell_read_one_cycle_later() {
@@ -135,10 +137,10 @@ fn connections_go_through_a_memory_cell_read_one_cycle_later() {
     expect(
         &reports,
         &[
-            ("T", Verdict::Pass, "termination: tock registerWrite.o_op2.3 (terminate) ✓"),
-            ("TA", Verdict::Pass, "termination: tock registerWrite.o_op2.3 (terminate) ✓"),
-            ("TS", Verdict::Pass, "termination: tock registerWrite.o_op2.3 (terminate) ✓"),
-            ("TC", Verdict::Pass, "termination: endexec tock registerWrite.o_op2.3 endexec terminate ✓"),
+            ("T", Verdict::Pass, "termination: tock registerWrite.o_op2.2 (terminate) ✓"),
+            ("TA", Verdict::Pass, "termination: tock registerWrite.o_op2.2 (terminate) ✓"),
+            ("TS", Verdict::Pass, "termination: tock registerWrite.o_op2.2 (terminate) ✓"),
+            ("TC", Verdict::Pass, "termination: endexec tock registerWrite.o_op2.2 endexec terminate ✓"),
         ],
     );
 }
@@ -224,28 +226,17 @@ fn a_machine_against_a_constrained_design_hides_its_end() {
     assert!(r.notes.iter().any(|n| n.contains("`endexec` and `terminate` are hidden")), "{:?}", r.notes);
 }
 
-/// The RoboSim assertions of the reference output (RoboTool's rc2rs
-/// transformation of the Alpha Algorithm, `rc2rs/*.rsa`; FDR recorded no
-/// results for them): each is answered, and what the native checker cannot
-/// read is refused with the reason, never a guess. Before the operation
-/// references were read by the operation's own name, the module's deadlock
-/// freedom was decided with the controllers' operations as platform calls.
-///
-/// CommunicationC's A2 is decided since `[mult]` events read and written
-/// in one cycle are (`broadcast` and `receive`: an input and an output
-/// register each). It fails, as RoboTool's encoding must (RT-10: a
-/// divergence once `tock` is hidden): with `id = 0` (RT-1) and
-/// `receiveF` true, a read `receive` of `(0, 0)` enables `t2` (Receive to
-/// Receive, no `exec`) again and again within the cycle — primitive `ID`
-/// is `{0, 1}` (RT-3), so this does not rest on the number domains.
-#[test]
-fn reference_robosim_assertions() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/alpha-algorithm/rc2rs");
+/// The timed reports of the `.rsa` files in a workspace of the model and
+/// `.rsa` files of `subs` (folders of the reference output), as `(file
+/// name, verdict, reason up to its location)`, sorted.
+fn reference_rsa_reports(subs: &[&str]) -> Vec<(String, Verdict, String)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/alpha-algorithm");
     let mut files = Vec::new();
-    for sub in ["", "robochart", "robosim"] {
+    for sub in subs {
         for e in std::fs::read_dir(dir.join(sub)).unwrap() {
             let p = e.unwrap().path();
-            if p.is_file() {
+            let kind = robosim_syntax::FileKind::from_path(&p);
+            if p.is_file() && kind.is_some_and(|k| k != robosim_syntax::FileKind::Assertions) {
                 files.push((p.display().to_string(), std::fs::read_to_string(&p).unwrap()));
             }
         }
@@ -266,30 +257,90 @@ fn reference_robosim_assertions() {
             })
             .collect();
     got.sort_by(|a, b| a.0.cmp(&b.0));
-    // RT-5 comes first: the project's `core_real` depends on expressions
-    // over `Position` and `main::ID`, which the engine cannot evaluate.
+    got
+}
+
+/// The RoboSim assertions of the reference output (RoboTool's rc2rs
+/// transformation of the Alpha Algorithm, `rc2rs/*.rsa`; FDR recorded no
+/// results for them) with the `rc2rs` folder alone as the workspace: its
+/// RoboChart models import `main` and `Mathematics`, which live at the
+/// project's root, so `main::ID` and `floor` do not resolve. RoboTool's
+/// RoboSim script bounds the number types with the values of the
+/// project's RoboChart models too (`sim/instantiations.csp`, RT-5), among
+/// them `robots ! size(neighs)` over `Set(main::ID)`: no assertion can be
+/// checked without them, and each says why (CommunicationC's A2, decided
+/// before RoboSim's domains were RoboTool's, is refused too).
+#[test]
+fn reference_robosim_assertions_without_their_project() {
+    let got = reference_rsa_reports(&["rc2rs", "rc2rs/robochart", "rc2rs/robosim"]);
     let domain = "RoboTool's `core_real` depends on the value of this expression, which the native checker \
                   cannot work out (RT-5): give the type with `nametype core_real = {a..b}` in a `csp` block";
-    let (position, id) = (domain, domain);
-    let floor = "the function `floor` could not be resolved";
-    let diverges = "pkg223__sim::CommunicationC can run hidden steps forever without time passing (a divergence, \
-                    which RoboTool's timed deadlock check fails too)";
-    let (no, fail) = (Verdict::Unsupported, Verdict::Fail);
+    let want: Vec<(String, Verdict, String)> = ["communicationC.rsa", "main.rsa", "movementC.rsa"]
+        .iter()
+        .flat_map(|f| ["A1", "A2", "A3", "A4"].map(|a| (format!("{f} {a}"), Verdict::Unsupported, domain.to_string())))
+        .collect();
+    assert_eq!(got, want);
+}
+
+/// The same assertions in their project (the reference folder, whose
+/// `.project` is at its root, as RoboTool read it): the number types are
+/// `sim/instantiations.csp`'s, `{0..2}`, `{-2..2}`, `{-2..180}` (RT-5), on
+/// both sides of each refinement (RoboTool's RoboSim script includes that
+/// one file for the `simulation`'s RoboChart design too).
+///
+/// CommunicationC's A2 fails, as RoboTool's encoding must (RT-10: a
+/// divergence once `tock` is hidden): with `id = 0` (RT-1) and
+/// `receiveF` true, a read `receive` of `(0, 0)` enables `t2` (Receive to
+/// Receive, no `exec`) again and again within the cycle — primitive `ID`
+/// is `{0, 1}` (RT-3), so this does not rest on the number domains.
+///
+/// MovementC's A2–A4 changed when the RoboSim types became RoboTool's:
+/// with every literal of the project widening them (`{0..360}`), A2 ran
+/// out of memory and A3/A4 failed on values (`registerRead.i_neighbours.
+/// true.3`) the RoboChart side's `{0..2}` did not have — a mismatch
+/// RoboTool's one `core_nat` cannot have.
+#[test]
+fn reference_robosim_assertions_in_their_project() {
+    let got = reference_rsa_reports(&["", "rc2rs", "rc2rs/robochart", "rc2rs/robosim"]);
+    let several = "receiving into `n`, which the controller provides to several machines, is not supported yet";
+    let diverges = |m: &str| {
+        format!(
+            "{m} can run hidden steps forever without time passing (a divergence, which RoboTool's timed \
+             deadlock check fails too)"
+        )
+    };
+    let (no, pass, fail) = (Verdict::Unsupported, Verdict::Pass, Verdict::Fail);
     let expected = [
-        ("communicationC.rsa A1", no, id),
-        ("communicationC.rsa A2", fail, diverges),
-        ("communicationC.rsa A3", no, id),
-        ("communicationC.rsa A4", no, id),
-        ("main.rsa A1", no, position),
-        ("main.rsa A2", no, floor),
-        ("main.rsa A3", no, floor),
-        ("main.rsa A4", no, position),
-        ("movementC.rsa A1", no, position),
-        ("movementC.rsa A2", no, floor),
-        ("movementC.rsa A3", no, floor),
-        ("movementC.rsa A4", no, position),
+        ("communicationC.rsa A1", pass, "CommunicationC can be scheduled in cycles of period 1".to_string()),
+        ("communicationC.rsa A2", fail, diverges("pkg223__sim::CommunicationC")),
+        (
+            "communicationC.rsa A3",
+            fail,
+            "refinement fails: the implementation refuses every event the specification must offer: one of \
+             {registerWrite.o_broadcast.0}"
+                .to_string(),
+        ),
+        (
+            "communicationC.rsa A4",
+            fail,
+            "refinement fails: the implementation can perform registerWrite.o_broadcast.0 where the specification \
+             cannot"
+                .to_string(),
+        ),
+        ("main.rsa A1", no, several.to_string()),
+        ("main.rsa A2", fail, diverges("pkg223_main_sim::AggregationSoftware")),
+        ("main.rsa A3", no, several.to_string()),
+        ("main.rsa A4", no, several.to_string()),
+        ("movementC.rsa A1", fail, "MovementC cannot be scheduled in cycles of period 1".to_string()),
+        ("movementC.rsa A2", pass, "pkg223__sim::MovementC never reaches a state where only time passes".to_string()),
+        (
+            "movementC.rsa A3",
+            fail,
+            "refinement fails: the implementation can perform tock where the specification cannot".to_string(),
+        ),
+        ("movementC.rsa A4", pass, "NormalFormMovementC refines pkg223__sim::MovementC".to_string()),
     ];
     let want: Vec<(String, Verdict, String)> =
-        expected.iter().map(|(n, v, r)| (n.to_string(), *v, r.to_string())).collect();
+        expected.iter().map(|(n, v, r)| (n.to_string(), *v, r.clone())).collect();
     assert_eq!(got, want);
 }

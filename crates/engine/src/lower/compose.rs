@@ -286,17 +286,20 @@ impl<'a> Cx<'a> {
         async_ends: &BTreeSet<End>,
     ) -> Result<Design, Unsupported> {
         // RT-5: the domains are widened by the values of the project's
-        // expressions (`domains`: RoboChart's models for a RoboChart
-        // element, its RoboChart and RoboSim models for a RoboSim one).
+        // expressions (`domains`: RoboChart's models in RoboChart's script,
+        // its RoboChart and RoboSim models in RoboSim's, which a RoboSim
+        // element or a `.rsa` file's assertion is checked in).
         let mut widened = Vec::new();
         if let Some(first) = instances.first() {
-            let computed =
-                robosim_hir::domains::domains_of(self.db, self.ws, first.file, &self.defaults.domain_inputs())
-                    .as_ref()
-                    .map_err(|e| Unsupported {
-                        message: e.message.clone(),
-                        location: e.location.map(|(f, r)| (f.path(self.db).clone(), r)),
-                    })?;
+            let project = robosim_hir::index::project_of(self.db, self.ws, first.file);
+            let robosim = self.robosim || self.defaults.robosim_script;
+            let inputs = self.defaults.domain_inputs();
+            let computed = robosim_hir::domains::number_domains(self.db, self.ws, project, inputs, robosim)
+                .as_ref()
+                .map_err(|e| Unsupported {
+                    message: e.message.clone(),
+                    location: e.location.map(|(f, r)| (f.path(self.db).clone(), r)),
+                })?;
             [self.defaults.nat, self.defaults.int, self.defaults.real] =
                 computed.domains.map(|d| Dom { lo: d.lo, hi: d.hi });
             widened = computed.notes();
