@@ -158,10 +158,8 @@ fn robosim_call_arguments_and_assigned_values_widen() {
     let nat3 = ([r(0, 3), r(-2, 3), r(-2, 3)], [true; 3]);
     assert_eq!(sim_doms(&sim_machine("var x : nat", "true", "$move(0, 3)")), nat3);
     assert_eq!(sim_doms(&sim_machine("var x : nat", "true", "x = 3")), nat3);
-    let with_floor = format!(
-        "function floor(v : real) : nat {{ }}\n{}",
-        sim_machine("var x : nat", "floor(3) > x", "x = 1")
-    );
+    let with_floor =
+        format!("function floor(v : real) : nat {{ }}\n{}", sim_machine("var x : nat", "floor(3) > x", "x = 1"));
     assert_eq!(sim_doms(&with_floor), nat3);
     // The argument is evaluated whole, not taken apart: `x * 3` keeps x.
     assert_eq!(sim_doms(&sim_machine("var x : nat", "true", "$move(0, x * 3)")), (BASE, [false; 3]));
