@@ -34,8 +34,12 @@
 //! three `card(neighs)` entries are the RoboChart sends; `$robots !
 //! size(neighs)` adds none) or for `cycleDef cycle == 1` (the one `{1}` is
 //! RoboChart's `waitOp(1)`). The other `{0..2}` and `{-2..2}` entries are
-//! the declared variables, constants and parameters of each type (14 more
-//! of each in the RoboSim models), which widen nothing. So a RoboSim
+//! the declared variables, constants and parameters of each type, events
+//! left out (14 more of each in the RoboSim models, 22 of each in the
+//! RoboChart ones), which widen nothing. (Counted so, the RoboChart lists
+//! hold no comparison operand or index either — no `n`, `alpha`, `RC`,
+//! `x[1]` entry — nor the value of a `wait`, only the calls in it; the
+//! RoboChart reading above keeps them, which widens more, never less.) So a RoboSim
 //! model's sites are: the arguments of every call, wherever it is (each
 //! evaluated on its own, not taken apart), and — as in RoboChart, with no
 //! RoboSim example either way — initial and assigned values.
