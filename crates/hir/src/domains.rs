@@ -39,7 +39,7 @@
 //! RoboChart ones), which widen nothing. (Counted so, the RoboChart lists
 //! hold no comparison operand or index either — no `n`, `alpha`, `RC`,
 //! `x[1]` entry — nor the value of a `wait`, only the calls in it; the
-//! RoboChart reading above keeps them, which widens more, never less.) So a RoboSim
+//! RoboChart reading above keeps them, so it can widen more than RoboTool.) So a RoboSim
 //! model's sites are: the arguments of every call, wherever it is (each
 //! evaluated on its own, not taken apart), and — as in RoboChart, with no
 //! RoboSim example either way — initial and assigned values.
