@@ -42,7 +42,8 @@
 //! RoboChart reading above keeps them, so it can widen more than RoboTool.) So a RoboSim
 //! model's sites are: the arguments of every call, wherever it is (each
 //! evaluated on its own, not taken apart), and — as in RoboChart, with no
-//! RoboSim example either way — initial and assigned values.
+//! RoboSim example either way — initial and assigned values (a platform
+//! variable's `$x = e` too, although it writes a register as `$e!v` does).
 //!
 //! The values an assertion gives constants (`with constant PI set to 45`)
 //! widen nothing: RoboTool computes with these domains whatever they are.
