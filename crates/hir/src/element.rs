@@ -385,9 +385,10 @@ pub struct ElementReport {
 /// The problems of `element`, positions relative to its start.
 #[salsa::tracked(returns(ref))]
 pub fn element_report(db: &dyn Db, ws: Workspace, element: Element) -> ElementReport {
-    let problems = match element.file(db).kind(db).is_assertions() {
-        true => ElementProblems::default(),
-        false => element_problems(db, ws, element).clone(),
+    let problems = if element.file(db).kind(db).is_assertions() {
+        ElementProblems::default()
+    } else {
+        element_problems(db, ws, element).clone()
     };
     ElementReport {
         problems,
