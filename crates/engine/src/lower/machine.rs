@@ -243,6 +243,9 @@ impl<'b> MachineCx<'_, 'b> {
                             Ok(None) => None,
                             Err(msg) => return Err(self.err(range, msg)),
                         };
+                        if let (true, Some(Dir::Out), Some((c, Dir::Out))) = (self.cx.robosim, context, chan) {
+                            self.design().channels[c as usize].register_write = true;
+                        }
                         self.names.insert(name, Name::Event { chan, ty });
                     }
                     Decl::OperationSig { name, params: ps, .. } => {
@@ -260,6 +263,9 @@ impl<'b> MachineCx<'_, 'b> {
                             continue;
                         }
                         let chan = self.channel(&name, Dir::Out, true, shape);
+                        if self.cx.robosim && context == Some(Dir::Out) {
+                            self.design().channels[chan as usize].register_write = true;
+                        }
                         self.op_names.insert(name, Name::Op { params, chan });
                     }
                     Decl::Nested { range, .. } => return Err(self.err(
