@@ -176,7 +176,7 @@ controller C { cycleDef cycle == 1 opref o = Op }";
         robosim_hir::RuleSet::Paper,
     );
     let e = export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 });
-    let text = e.files.iter().find(|f| f.name == "a_rsa.csp").expect("the assertions file").text();
+    let text = e.files.iter().find(|f| f.name == "a_assertions.csp").expect("the assertions file").text();
     for name in ["Op", "C::o"] {
         let why = format!(
             "NOT EXPORTED: `{name}` is a RoboSim operation: its own process (RoboTool's `OP_…::O__`) is not exported yet"
