@@ -201,18 +201,25 @@ impl<'a> Cx<'a> {
                 file,
                 range,
                 format!(
-                    "the RoboSim operation `{}` {what}: RoboTool's process for it on its own (`OP_…::O__`) reads \
-                     such names with visible `get_x?x` events at every step, their values chosen by the \
-                     environment, which the native checker does not model yet (check a machine that calls it)",
+                    "the RoboSim operation `{}` {what}: RoboTool's process for it on its own (`OP_…::O__`) has no \
+                     memory for them, so it reads them with visible events at every step (`get_x?x`, values chosen \
+                     by the environment) and writes or resets them with visible events (`set_x!v`, `clockReset`), \
+                     which the native checker does not model yet (check a machine that calls it)",
                     b.name
                 ),
             ))
         };
         let has_vars =
             |d: &model::Decls| d.decls.iter().any(|x| matches!(x, model::Decl::Vars { is_const: false, .. }));
+        let has_clocks = |d: &model::Decls| d.decls.iter().any(|x| matches!(x, model::Decl::Clock { .. }));
         for u in &b.decls.uses {
             if self.interface(u.target).is_some_and(|(_, d)| has_vars(d)) {
                 return refuse(u.range, "requires variables");
+            }
+            // Its own clocks are served inside its process (`Clocks`); an
+            // interface's are reset and read with visible events.
+            if self.interface(u.target).is_some_and(|(_, d)| has_clocks(d)) {
+                return refuse(u.range, "requires clocks");
             }
         }
         for (io, ctx) in &b.contexts {
@@ -222,6 +229,18 @@ impl<'a> Cx<'a> {
             if reads || vars {
                 return refuse(b.name_range, "reads inputs or variables of the platform");
             }
+        }
+        if let Some(range) = exec_in_composite(&b.region) {
+            return Err(self.unsupported(
+                file,
+                range,
+                format!(
+                    "the RoboSim operation `{}` has an `exec` inside a composite state: in RoboTool's process the \
+                     composite's own transitions may interrupt what runs inside it before `endexec`, which the \
+                     native checker does not model for an operation on its own",
+                    b.name
+                ),
+            ));
         }
         if let Some(t) = exec_transition(&b.region) {
             return Err(self.unsupported(
@@ -733,6 +752,30 @@ impl<'a> Cx<'a> {
 /// trigger, if any.
 fn exec_transition(region: &model::Region) -> Option<&model::Transition> {
     region.transitions.iter().find(|t| t.exec).or_else(|| region.nodes.iter().find_map(|n| exec_transition(&n.region)))
+}
+
+/// The range of an `exec` statement inside a composite state of `region`
+/// (in its substates' actions or its transitions'), if any.
+fn exec_in_composite(region: &model::Region) -> Option<TextRange> {
+    region.nodes.iter().filter(|n| !n.region.is_empty()).find_map(|n| exec_stmt(&n.region))
+}
+
+/// The range of an `exec` statement anywhere in `region`, if any.
+fn exec_stmt(region: &model::Region) -> Option<TextRange> {
+    let mut found = None;
+    let actions = region
+        .nodes
+        .iter()
+        .flat_map(|n| [&n.entry, &n.during, &n.exit])
+        .chain(region.transitions.iter().map(|t| &t.action));
+    for s in actions.filter_map(|a| a.as_ref().and_then(|a| a.stmt.as_ref())) {
+        s.walk(&mut |s| {
+            if matches!(s.kind, model::StmtKind::Exec) {
+                found = found.or(Some(s.range));
+            }
+        });
+    }
+    found.or_else(|| region.nodes.iter().find_map(|n| exec_stmt(&n.region)))
 }
 
 fn rename_ctrl(e: End, top: &str) -> End {
