@@ -174,6 +174,7 @@ impl<'b> MachineCx<'_, 'b> {
                                 let sim_dir = context.filter(|_| self.cx.robosim && both_ways && !link.internal);
                                 if sim_dir == Some(Dir::Out) {
                                     let out = self.channel(&link.name, Dir::Out, false, shape);
+                                    self.design().channels[out as usize].register_write = true;
                                     self.sends.insert(name.clone(), out);
                                     // The input context's declaration names the
                                     // event for `$e` and `$e?x`.
