@@ -1,5 +1,5 @@
-//! Every assertion of the reference corpus (../shared/corpus), each project
-//! as its own workspace: no panic, a bounded run, and a reason for every
+//! Every assertion of the reference corpus (../shared/corpus), each RoboTool
+//! project (`inputs::corpus_projects`) as its own workspace: no panic, a bounded run, and a reason for every
 //! verdict that is not a plain pass or fail.
 
 use std::path::{Path, PathBuf};
@@ -30,6 +30,8 @@ fn corpus_assertions_are_answered() {
     let mut projects: Vec<PathBuf> =
         std::fs::read_dir(&corpus).unwrap().filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
     projects.sort();
+    // RoboTool's projects (a repository may hold several, MANIFEST.md).
+    let projects: Vec<PathBuf> = projects.iter().flat_map(|r| inputs::corpus_projects(r)).collect();
     let mut opts = Options::default();
     opts.budget.max_states = 100_000;
     opts.budget.timeout = Some(Duration::from_secs(5));
@@ -129,6 +131,8 @@ fn csp_assertions_are_decided_or_explained() {
     let mut projects: Vec<PathBuf> =
         std::fs::read_dir(&corpus).unwrap().filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
     projects.sort();
+    // RoboTool's projects (a repository may hold several, MANIFEST.md).
+    let projects: Vec<PathBuf> = projects.iter().flat_map(|r| inputs::corpus_projects(r)).collect();
     let mut opts = Options::default();
     opts.budget.max_states = 100_000;
     opts.budget.timeout = Some(Duration::from_secs(5));
@@ -252,4 +256,29 @@ fn csp_assertions_are_decided_or_explained() {
             "{name}: {reason}"
         );
     }
+}
+
+/// The corpus's repositories with several RoboTool projects are read as
+/// MANIFEST.md records them, so that the two copies of roboarch's
+/// `Executive::Executive` are never one workspace's duplicates.
+#[test]
+fn repositories_with_several_projects_are_split() {
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
+    let names = |repo: &str| -> Vec<String> {
+        let root = corpus.join(repo);
+        inputs::corpus_projects(&root).iter().map(|p| p.strip_prefix(&root).unwrap().display().to_string()).collect()
+    };
+    assert_eq!(
+        names("UoY-RoboStar__roboarch-examples"),
+        ["ObstacleAvoidance/RoboChart", "ObstacleAvoidance-Reduced/RoboChart"]
+    );
+    assert_eq!(
+        names("UoY-RoboStar__SLEEC-TK"),
+        [
+            "examples/ALMI",
+            "sleec-core/Examples/FireFighter/robochart",
+            "sleec-core/Examples/RAD-AssistiveDressingRobot/robochart"
+        ]
+    );
+    assert_eq!(names("robo-star__robochart-alpha-algorithm"), [""]);
 }

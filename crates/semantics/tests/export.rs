@@ -41,6 +41,8 @@ fn corpus_exports_without_panic_and_is_well_formed() {
     let mut projects: Vec<PathBuf> =
         std::fs::read_dir(&corpus).unwrap().filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
     projects.sort();
+    // RoboTool's projects (a repository may hold several, MANIFEST.md).
+    let projects: Vec<PathBuf> = projects.iter().flat_map(|r| inputs::corpus_projects(r)).collect();
     let mut exported = 0;
     let mut all_problems = Vec::new();
     for project in projects {
@@ -238,6 +240,7 @@ fn corpus_export_is_valid_cspm() {
         .filter(|p| p.is_dir())
         .collect();
     projects.sort();
+    let mut projects: Vec<PathBuf> = projects.iter().flat_map(|r| inputs::corpus_projects(r)).collect();
     projects.push(shared.join("reference/alpha-algorithm"));
     let mut wrong = Vec::new();
     for project in &projects {

@@ -23,6 +23,37 @@ pub fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// The RoboTool projects of the corpus repository `repo` (a folder of
+/// `../shared/corpus`), as the corpus's `MANIFEST.md` records them: the
+/// `.project` files were not copied, so the manifest's "Files:" entry names
+/// the project folders of a repository that holds several (`in two projects
+/// (`A/`, `B/`)`). RoboTool resolves names within a project, so each is
+/// checked on its own; a repository with one project is `[repo]`.
+pub fn corpus_projects(repo: &Path) -> Vec<PathBuf> {
+    let manifest = repo.parent().map(|c| c.join("MANIFEST.md"));
+    let text = manifest.and_then(|m| std::fs::read_to_string(m).ok()).unwrap_or_default();
+    let name = repo.file_name().map(|n| n.to_string_lossy().replacen("__", "/", 1)).unwrap_or_default();
+    let section = text.split("\n### ").find(|s| s.lines().next().is_some_and(|l| l.trim() == name));
+    // The "- Files:" bullet, up to the next bullet.
+    let files = section
+        .and_then(|s| s.split("\n- ").find(|b| b.starts_with("Files:")))
+        .filter(|b| b.contains("projects"))
+        .unwrap_or_default();
+    let roots: Vec<PathBuf> = files
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|q| q.ends_with('/'))
+        .map(|q| repo.join(q.trim_end_matches('/')))
+        .filter(|p| p.is_dir())
+        .collect();
+    if roots.is_empty() {
+        vec![repo.to_path_buf()]
+    } else {
+        roots
+    }
+}
+
 /// Words proptest strings together into arbitrary, mostly broken, input.
 pub const SOUP: &[&str] = &[
     "stm",
