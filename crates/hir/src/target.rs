@@ -528,7 +528,8 @@ pub fn parameters_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>
         let defs = file_defs(db, f);
         let op = defs.def(id).name.clone();
         if !defs.children(Some(id)).any(|(_, d)| d.kind == DefKind::Parameter && d.name == *name) {
-            return Err(format!("the operation `{written}` (`{op}`) has no parameter `{name}`"));
+            let op = if op == written { String::new() } else { format!(" (`{op}`)") };
+            return Err(format!("the operation `{written}`{op} has no parameter `{name}`"));
         }
         let value = match value {
             Value::Int(v) => *v,
