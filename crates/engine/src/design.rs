@@ -21,7 +21,7 @@ pub struct DesignLts<'a> {
     len: usize,
     /// Packing, run-time errors, event names.
     enc: Encoding,
-    /// RT-9: no `tock` (RoboChart's untimed semantics, see `untimed.rs`).
+    /// RT-9: no `tock` (RoboChart's untimed semantics, see the fixtures `untimed_*`).
     untimed: bool,
     /// RT-11: a RoboSim operation on its own: the slot saying it is
     /// between the `endexec` and the `startexec` of an `exec`, and those

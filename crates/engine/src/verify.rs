@@ -270,10 +270,48 @@ fn verify_in(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>) -> Repor
             report.reason = Some(format!("`{}` assertions are not supported by the native checker yet", other.label()));
         }
     }
+    if matches!(report.verdict, Verdict::Pass | Verdict::Fail) {
+        if let Some(note) = old_style_types_note(cx.read) {
+            report.notes.push(note);
+        }
+    }
     if report.stats.seconds == 0.0 {
         report.stats.seconds = started.elapsed().as_secs_f64();
     }
     report
+}
+
+/// RT-7: `nametype nat = …` (`int`, `real`) in a `csp` block is read as
+/// `core_nat` (…), as the RoboTool generators that named the types so did
+/// — the FDR results recorded for the Alpha Algorithm's `model.assertions`
+/// rest on it. RoboTool 3 copies the line as it is (defining `nat` only)
+/// and, its `Instantiations` block replacing the generated
+/// `instantiations.csp`, leaves `core_nat` undefined: the verdict says so.
+fn old_style_types_note(read: &AssertionFile) -> Option<String> {
+    let old: Vec<&str> = read
+        .instantiations
+        .types
+        .iter()
+        .map(|(n, ..)| n.as_str())
+        .filter(|n| matches!(*n, "nat" | "int" | "real"))
+        .collect();
+    if old.is_empty() {
+        return None;
+    }
+    let names: Vec<String> = old.iter().map(|n| format!("`{n}`")).collect();
+    let core: Vec<String> = old.iter().map(|n| format!("`core_{n}`")).collect();
+    Some(format!(
+        "the {} {} of this file's `csp` block {} read as {}, as the older RoboTool generators whose FDR results \
+         are recorded named them (RT-7); RoboTool 3's script defines only {} and, the `Instantiations` block \
+         replacing its generated defaults, leaves {} undefined (FDR stops): write `nametype core_nat = …` for \
+         RoboTool 3",
+        if old.len() == 1 { "type" } else { "types" },
+        names.join(", "),
+        if old.len() == 1 { "was" } else { "were" },
+        core.join(", "),
+        names.join(", "),
+        core.join(", ")
+    ))
 }
 
 /// Everything an assertion's check needs from the workspace.
@@ -329,6 +367,7 @@ impl Cx<'_> {
         let mut defaults = DomainDefaults {
             async_buffer: self.async_buffer,
             replaced: r.csp_blocks.iter().any(|b| b.name == "Instantiations"),
+            robosim_script: self.file.kind(self.db) == robosim_hir::FileKind::SimAssertions,
             ..DomainDefaults::default()
         };
         for (name, lo, hi, _) in &r.instantiations.types {

@@ -70,7 +70,7 @@ fn alpha_algorithm(opts: &Options, names: &[&str]) -> Vec<(String, Verdict, u64)
     let ws = robosim_hir::load_workspace(&db, files, robosim_hir::RuleSet::Paper);
     verify_workspace(&db, ws, opts, None)
         .into_iter()
-        // The timed analysis (both: `untimed.rs`).
+        // The timed analysis (both: the fixture `untimed_alpha_algorithm_in_both_semantics`).
         .filter(|r| r.semantics == Semantics::Timed)
         .filter(|r| r.file.ends_with("model.assertions") && names.contains(&r.name.as_str()))
         .map(|r| (r.name, r.verdict, r.stats.states))

@@ -28,13 +28,38 @@
 //! can check an example without a copy that would drift from it; and
 //! `semantics: timed` (or `untimed`) keeps only the reports of that
 //! analysis, for included assertions whose other analysis (RT-8) the
-//! fixture is not about.
+//! fixture is not about. `include` may name a folder: its model files,
+//! under their paths relative to it (the corpus's projects, in
+//! `../shared`). `only: FILE` keeps the reports of the files whose name
+//! ends with FILE, and `only: FILE: A B …` of those assertions of it (a
+//! project's assertions the fixture is about). `timeout: SECONDS` bounds
+//! each check's time (`--timeout`).
+//!
+//! Beside the verdict, a fixture may state by hand what else a report
+//! must show, so that a refreshed snapshot cannot lose it unseen. Each
+//! line names an assertion, optionally one analysis (`timed`, `untimed`);
+//! it holds of every report it names, and must name one:
+//!
+//! - `// expect-trace NAME: KIND: TRACE`: the counterexample's kind and
+//!   visible events (`trace_text`), or `none` for no counterexample;
+//! - `// expect-reason NAME: TEXT`: the reason contains TEXT;
+//! - `// expect-note NAME: TEXT` / `// expect-no-note NAME: TEXT`: some /
+//!   no note contains TEXT;
+//! - `// expect-explanation NAME: TEXT`: a line of the counterexample's
+//!   explanation contains TEXT;
+//! - `// expect-states NAME: N`: the check explored N states;
+//! - `// expect-same NAME: OTHER`: the same verdict, states and
+//!   counterexample (kind and trace) as OTHER in the same analysis.
+//!
+//! For example `// expect-trace B untimed: trace: o.out`.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use robosim_engine::verify::{verify_workspace, AsyncBuffer, Options, Profile, Report, Semantics, Step, Verdict};
+use robosim_engine::verify::{
+    trace_text, verify_workspace, AsyncBuffer, Options, Profile, Report, Semantics, Step, Verdict,
+};
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("test_data/verify")
@@ -57,17 +82,31 @@ fn files(dir: &Path) -> Vec<(String, String)> {
 }
 
 /// The files the `// option include: PATH` lines of `files` name, PATH
-/// relative to the repository's root.
+/// relative to the repository's root: a file under its name, a folder's
+/// model files under their paths relative to it.
 fn included(files: &[(String, String)]) -> Vec<(String, String)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    // Lossy: a corpus file need not be UTF-8 (as `robosim verify` reads it).
+    let read = |p: &Path| {
+        String::from_utf8_lossy(&std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).into_owned()
+    };
     let mut out = Vec::new();
     for (_, text) in files {
         for line in text.lines() {
             let Some(path) = line.trim_start().strip_prefix("// option include:") else { continue };
             let path = root.join(path.trim());
-            let name = path.file_name().expect("a file name").to_string_lossy().into_owned();
-            let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            out.push((name, text));
+            if path.is_dir() {
+                let mut paths = Vec::new();
+                robosim_test_support::inputs::model_files(&path, &mut paths);
+                assert!(!paths.is_empty(), "{}: no model files", path.display());
+                for p in paths {
+                    let name = p.strip_prefix(&path).expect("under the folder").to_string_lossy().into_owned();
+                    out.push((name, read(&p)));
+                }
+            } else {
+                let name = path.file_name().expect("a file name").to_string_lossy().into_owned();
+                out.push((name, read(&path)));
+            }
         }
     }
     out
@@ -127,13 +166,102 @@ fn expectations(files: &[(String, String)]) -> BTreeMap<String, Expected> {
     out
 }
 
-/// The options the `// option NAME: VALUE` lines of the fixture's files
-/// set: the options of the check, whether the fixture must be well-formed,
-/// and the one semantics whose reports are kept (`None`: both).
-fn options(files: &[(String, String)]) -> (Options, bool, Option<Semantics>) {
-    let mut opts = Options::default();
-    let mut well_formed = false;
-    let mut semantics = None;
+/// What a line `// expect-KIND NAME [SEMANTICS]: VALUE` states of a report.
+#[derive(Debug)]
+struct Fact {
+    kind: String,
+    name: String,
+    semantics: Option<Semantics>,
+    value: String,
+    /// `file:line` of the line, for messages.
+    at: String,
+}
+
+/// Reads the `// expect-…` lines of the fixture's files.
+fn facts(files: &[(String, String)]) -> Vec<Fact> {
+    let mut out = Vec::new();
+    for (file, text) in files {
+        for (i, line) in text.lines().enumerate() {
+            let Some(rest) = line.trim_start().strip_prefix("// expect-") else { continue };
+            let at = format!("{file}:{}", i + 1);
+            let (head, value) = rest.split_once(':').unwrap_or_else(|| panic!("{at}: `// expect-KIND NAME: VALUE`"));
+            let mut words = head.split_whitespace();
+            let (Some(kind), Some(name)) = (words.next(), words.next()) else {
+                panic!("{at}: `// expect-KIND NAME [SEMANTICS]: VALUE`")
+            };
+            let semantics = words.next().map(|w| match w {
+                "timed" => Semantics::Timed,
+                "untimed" => Semantics::Untimed,
+                _ => panic!("{at}: `{w}` is not a semantics (timed, untimed)"),
+            });
+            assert!(
+                ["trace", "reason", "note", "no-note", "explanation", "states", "same"].contains(&kind),
+                "{at}: `expect-{kind}` is not a fact (trace, reason, note, no-note, explanation, states, same)"
+            );
+            let value = value.trim().to_string();
+            out.push(Fact { kind: kind.to_string(), name: name.to_string(), semantics, value, at });
+        }
+    }
+    out
+}
+
+/// A counterexample as `KIND: TRACE`, or `none`.
+fn trace_of(r: &Report) -> String {
+    r.counterexample.as_ref().map_or("none".to_string(), |c| format!("{}: {}", c.kind, trace_text(&c.steps)))
+}
+
+/// Whether `r` shows `fact`; if not, what it shows instead.
+fn holds(fact: &Fact, r: &Report, reports: &[Report]) -> Result<(), String> {
+    let v = fact.value.as_str();
+    let ok = match fact.kind.as_str() {
+        "trace" => trace_of(r).trim_end() == v,
+        "reason" => r.reason.as_deref().is_some_and(|x| x.contains(v)),
+        "note" => r.notes.iter().any(|n| n.contains(v)),
+        "no-note" => !r.notes.iter().any(|n| n.contains(v)),
+        "explanation" => r.counterexample.as_ref().is_some_and(|c| c.explanation.iter().any(|e| e.contains(v))),
+        "states" => v.parse::<u64>().unwrap_or_else(|e| panic!("{}: {e}", fact.at)) == r.stats.states,
+        "same" => {
+            let other = reports
+                .iter()
+                .find(|o| o.name == v && o.semantics == r.semantics)
+                .ok_or_else(|| format!("no {:?} report {v}", r.semantics))?;
+            let shown = |x: &Report| (x.verdict, x.stats.states, trace_of(x));
+            if shown(r) == shown(other) {
+                return Ok(());
+            }
+            return Err(format!("{:?}, where {v} has {:?}", shown(r), shown(other)));
+        }
+        _ => unreachable!("checked by `facts`"),
+    };
+    if ok {
+        return Ok(());
+    }
+    let c = r.counterexample.as_ref();
+    Err(match fact.kind.as_str() {
+        "trace" => trace_of(r),
+        "reason" => format!("{:?}", r.reason),
+        "note" | "no-note" => format!("{:?}", r.notes),
+        "explanation" => format!("{:?}", c.map(|c| &c.explanation)),
+        _ => r.stats.states.to_string(),
+    })
+}
+
+/// What the `// option NAME: VALUE` lines of a fixture's files set.
+struct Setup {
+    /// The options of the check.
+    opts: Options,
+    /// Whether the fixture must be well-formed.
+    well_formed: bool,
+    /// The one semantics whose reports are kept (`None`: both).
+    semantics: Option<Semantics>,
+    /// The reports kept: of a file whose name ends with the first, named
+    /// one of the second (empty: any name).
+    only: Option<(String, Vec<String>)>,
+}
+
+fn options(files: &[(String, String)]) -> Setup {
+    let mut setup = Setup { opts: Options::default(), well_formed: false, semantics: None, only: None };
+    let opts = &mut setup.opts;
     for (name, text) in files {
         for (i, line) in text.lines().enumerate() {
             let Some(rest) = line.trim_start().strip_prefix("// option ") else { continue };
@@ -152,22 +280,32 @@ fn options(files: &[(String, String)]) -> (Options, bool, Option<Semantics>) {
                     opts.async_buffer = Some(AsyncBuffer::parse(value).unwrap_or_else(|e| panic!("{at}: {e}")))
                 }
                 "max-states" => opts.budget.max_states = value.parse().unwrap_or_else(|e| panic!("{at}: {e}")),
-                "well-formed" => well_formed = value.parse().unwrap_or_else(|e| panic!("{at}: {e}")),
+                "timeout" => {
+                    let secs = value.parse().unwrap_or_else(|e| panic!("{at}: {e}"));
+                    opts.budget.timeout = Some(std::time::Duration::from_secs(secs));
+                }
+                "well-formed" => setup.well_formed = value.parse().unwrap_or_else(|e| panic!("{at}: {e}")),
                 "semantics" => {
-                    semantics = Some(match value {
+                    setup.semantics = Some(match value {
                         "timed" => Semantics::Timed,
                         "untimed" => Semantics::Untimed,
                         _ => panic!("{at}: `{value}` is not a semantics (timed, untimed)"),
                     })
                 }
+                "only" => {
+                    let (file, names) = value.split_once(':').unwrap_or((value, ""));
+                    let names = names.split_whitespace().map(str::to_string).collect();
+                    setup.only = Some((file.trim().to_string(), names));
+                }
                 "include" => {}
                 other => panic!(
-                    "{at}: `{other}` is not an option (profile, async-buffer, max-states, well-formed, semantics, include)"
+                    "{at}: `{other}` is not an option (profile, async-buffer, max-states, timeout, well-formed, \
+                     semantics, include, only)"
                 ),
             }
         }
     }
-    (opts, well_formed, semantics)
+    setup
 }
 
 /// The errors of the fixture's files, as `robosim check` reports them.
@@ -245,12 +383,16 @@ fn check_fixture(dir: &Path) -> Vec<String> {
     let mut files = files(dir);
     files.extend(included(&files));
     let expected = expectations(&files);
-    let (opts, well_formed, semantics) = options(&files);
+    let facts = facts(&files);
+    let Setup { opts, well_formed, semantics, only } = options(&files);
     // As `verify_texts`, with the workspace at hand for its diagnostics.
     let db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(&db, files.clone(), robosim_hir::RuleSet::Paper);
     let mut reports = verify_workspace(&db, ws, &opts, None);
     reports.retain(|r| semantics.is_none_or(|s| r.semantics == s));
+    if let Some((file, names)) = &only {
+        reports.retain(|r| r.file.ends_with(file.as_str()) && (names.is_empty() || names.contains(&r.name)));
+    }
     let texts: BTreeMap<&str, &str> = files.iter().map(|(n, t)| (n.as_str(), t.as_str())).collect();
     let mut problems = Vec::new();
     if well_formed {
@@ -293,6 +435,26 @@ fn check_fixture(dir: &Path) -> Vec<String> {
     for (name, e) in &expected {
         if !reports.iter().any(|r| &r.name == name) {
             problems.push(format!("{} ({}): no assertion named {name} was checked", dir.display(), e.at));
+        }
+    }
+    for f in &facts {
+        let named: Vec<&Report> =
+            reports.iter().filter(|r| r.name == f.name && f.semantics.is_none_or(|s| r.semantics == s)).collect();
+        if named.is_empty() {
+            problems.push(format!("{} ({}): no report {} {:?} was made", dir.display(), f.at, f.name, f.semantics));
+        }
+        for r in named {
+            if let Err(got) = holds(f, r, &reports) {
+                problems.push(format!(
+                    "{} ({}): {} [{:?}]: expect-{} {}, got {got}",
+                    dir.display(),
+                    f.at,
+                    r.name,
+                    r.semantics,
+                    f.kind,
+                    f.value
+                ));
+            }
         }
     }
     let snap = dir.with_extension("txt");

@@ -21,6 +21,30 @@
 //! lists use the widened `core_real` (and `core_int`) for the arithmetic of
 //! those types.
 //!
+//! RoboSim (`.rst` files): RoboTool writes a second file for RoboSim
+//! elements (`sim/instantiations.csp`) whose lists hold the RoboChart
+//! models' entries, as above, and the RoboSim models' (the RoboChart
+//! elements' lists leave the RoboSim models out). Counted in the reference
+//! (entry by entry: `sim/` lists against the RoboChart ones), the RoboSim
+//! models add the arguments of every call — platform operations
+//! (`$move(0, av)`: five `{0}`, three `av`, one `Neg(av)`, one `lv`) and
+//! operations (`clone_waitOp_j_2_5_f(floor(random() * 360 / av))`: the
+//! argument, and `floor`'s own argument inside it) — and nothing for
+//! conditions (`since(C) == i`, `n > alpha`, `$e?x`), for outputs (the
+//! three `card(neighs)` entries are the RoboChart sends; `$robots !
+//! size(neighs)` adds none) or for `cycleDef cycle == 1` (the one `{1}` is
+//! RoboChart's `waitOp(1)`). The other `{0..2}` and `{-2..2}` entries are
+//! the declared variables, constants and parameters of each type, events
+//! left out (14 more of each in the RoboSim models, 22 of each in the
+//! RoboChart ones), which widen nothing. (Counted so, the RoboChart lists
+//! hold no comparison operand or index either — no `n`, `alpha`, `RC`,
+//! `x[1]` entry — nor the value of a `wait`, only the calls in it; the
+//! RoboChart reading above keeps them, so it can widen more than RoboTool.) So a RoboSim
+//! model's sites are: the arguments of every call, wherever it is (each
+//! evaluated on its own, not taken apart), and — as in RoboChart, with no
+//! RoboSim example either way — initial and assigned values (a platform
+//! variable's `$x = e` too, although it writes a register as `$e!v` does).
+//!
 //! The values an assertion gives constants (`with constant PI set to 45`)
 //! widen nothing: RoboTool computes with these domains whatever they are.
 //! What an assertion file's `Instantiations` block fixes (`nametype
@@ -140,16 +164,23 @@ fn rank(t: &Ty) -> Option<usize> {
 struct Site<'a> {
     file: File,
     expr: &'a MExpr,
+    /// Whether the comparisons, connectives, conditionals, calls and
+    /// indices inside it are values too (RoboChart's reading); RoboSim's
+    /// sites list the nested calls' arguments as sites of their own.
+    descend: bool,
 }
 
 /// RT-5: the number types of the RoboChart models of `project` (as
-/// [`project_of`] numbers them), given what the instantiations define.
+/// [`project_of`] numbers them), given what the instantiations define;
+/// with `robosim`, those of its RoboChart and RoboSim models together, as
+/// RoboTool's `sim/instantiations.csp` computes them for RoboSim elements.
 #[salsa::tracked(returns(ref))]
 pub fn number_domains(
     db: &dyn Db,
     ws: Workspace,
     project: Option<u32>,
     inputs: DomainInputs,
+    robosim: bool,
 ) -> Result<NumberDomains, DomainError> {
     let mut doms = [0, 1, 2].map(|r| inputs.fixed[r].unwrap_or(BASE[r]));
     let none = NumberDomains { domains: doms, widened: [false; 3] };
@@ -159,17 +190,22 @@ pub fn number_domains(
     let mut sites = Vec::new();
     let mut decl_types: Vec<&Ty> = Vec::new();
     for &f in ws.files(db) {
-        if f.is_library(db) || f.kind(db) != FileKind::RoboChart || project_of(db, ws, f) != project {
+        let sim = match f.kind(db) {
+            FileKind::RoboChart => false,
+            FileKind::RoboSim if robosim => true,
+            _ => continue,
+        };
+        if f.is_library(db) || project_of(db, ws, f) != project {
             continue;
         }
         for (_, item) in &model::file_model(db, ws, f).items {
             item_types(item, &mut decl_types);
             match item {
-                Item::Machine(b) | Item::Operation(b) => behaviour_sites(f, b, &mut sites),
+                Item::Machine(b) | Item::Operation(b) => behaviour(f, b, sim, &mut sites),
                 Item::Controller(c) => {
                     for inst in c.machines.iter().chain(&c.operations) {
                         if let Definition::Inline(b) = &inst.def {
-                            behaviour_sites(f, b, &mut sites);
+                            behaviour(f, b, sim, &mut sites);
                         }
                     }
                 }
@@ -178,7 +214,7 @@ pub fn number_domains(
                         if let Definition::Inline(c) = &inst.def {
                             for i in c.machines.iter().chain(&c.operations) {
                                 if let Definition::Inline(b) = &i.def {
-                                    behaviour_sites(f, b, &mut sites);
+                                    behaviour(f, b, sim, &mut sites);
                                 }
                             }
                         }
@@ -232,14 +268,17 @@ pub fn number_domains(
     Ok(NumberDomains { domains: doms, widened })
 }
 
-/// [`number_domains`] for the project of `file`.
+/// [`number_domains`] for the project of `file`: RoboSim's (the RoboChart
+/// and RoboSim models of the project) when `file` is a RoboSim file,
+/// RoboChart's otherwise.
 pub fn domains_of<'db>(
     db: &'db dyn Db,
     ws: Workspace,
     file: File,
     inputs: &DomainInputs,
 ) -> &'db Result<NumberDomains, DomainError> {
-    number_domains(db, ws, project_of(db, ws, file), inputs.clone())
+    let robosim = file.kind(db) == FileKind::RoboSim;
+    number_domains(db, ws, project_of(db, ws, file), inputs.clone(), robosim)
 }
 
 /// Adds to `out` the values of the expressions at `s` (and inside it)
@@ -258,6 +297,9 @@ fn site_values(ev: &Eval<'_>, s: &Site<'_>, r: usize, out: &mut BTreeSet<Val>) -
                 location: Some((s.file, e.range)),
             })?;
             out.extend(vs);
+        }
+        if !s.descend {
+            continue;
         }
         // Into what is not arithmetic: comparisons, connectives, calls,
         // conditionals, indices.
@@ -283,11 +325,19 @@ fn is_arith(op: BinOp) -> bool {
     matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Mod)
 }
 
+/// The sites of a machine or operation: RoboSim's or RoboChart's.
+fn behaviour<'a>(file: File, b: &'a Behaviour, sim: bool, out: &mut Vec<Site<'a>>) {
+    match sim {
+        false => behaviour_sites(file, b, out),
+        true => sim_behaviour_sites(file, b, out),
+    }
+}
+
 /// The maximal expressions of a machine or operation.
 fn behaviour_sites<'a>(file: File, b: &'a Behaviour, out: &mut Vec<Site<'a>>) {
     for d in &b.decls.decls {
         if let model::Decl::Vars { vars, .. } = d {
-            out.extend(vars.iter().filter_map(|v| v.init.as_ref()).map(|expr| Site { file, expr }));
+            out.extend(vars.iter().filter_map(|v| v.init.as_ref()).map(|expr| Site { file, descend: true, expr }));
         }
     }
     region_sites(file, &b.region, out);
@@ -304,10 +354,10 @@ fn region_sites<'a>(file: File, r: &'a Region, out: &mut Vec<Site<'a>>) {
     }
     for t in &r.transitions {
         if let Some(c) = t.condition.as_ref().and_then(|c| c.expr.as_ref()) {
-            out.push(Site { file, expr: c });
+            out.push(Site { file, descend: true, expr: c });
         }
         if let Some((_, Some(d))) = &t.deadline {
-            out.push(Site { file, expr: d });
+            out.push(Site { file, descend: true, expr: d });
         }
         if let Some(s) = t.action.as_ref().and_then(|a| a.stmt.as_ref()) {
             stmt_sites(file, s, out);
@@ -317,20 +367,90 @@ fn region_sites<'a>(file: File, r: &'a Region, out: &mut Vec<Site<'a>>) {
 
 fn stmt_sites<'a>(file: File, s: &'a Stmt, out: &mut Vec<Site<'a>>) {
     s.walk(&mut |s| match &s.kind {
-        StmtKind::Assign { value, .. } => out.push(Site { file, expr: value }),
-        StmtKind::If(c, ..) => out.push(Site { file, expr: c }),
+        StmtKind::Assign { value, .. } => out.push(Site { file, descend: true, expr: value }),
+        StmtKind::If(c, ..) => out.push(Site { file, descend: true, expr: c }),
         StmtKind::Comm(c) => {
             if let Some(CommPart::Sync(Some(v)) | CommPart::Output(Some(v))) = &c.part {
-                out.push(Site { file, expr: v });
+                out.push(Site { file, descend: true, expr: v });
             }
         }
         StmtKind::Call { args, .. } | StmtKind::SimCall { args, .. } => {
-            out.extend(args.iter().map(|expr| Site { file, expr }))
+            out.extend(args.iter().map(|expr| Site { file, descend: true, expr }))
         }
         StmtKind::Output(_, Some(v)) | StmtKind::Wait(v) | StmtKind::Timed(_, Some(v)) => {
-            out.push(Site { file, expr: v })
+            out.push(Site { file, descend: true, expr: v })
         }
         _ => {}
+    });
+}
+
+/// RoboSim (see the module doc): the sites of a machine or operation of a
+/// `.rst` file: initial values, assigned values and the arguments of
+/// every call, wherever it is; not conditions, outputs (`$e!v`) or cycle
+/// definitions.
+fn sim_behaviour_sites<'a>(file: File, b: &'a Behaviour, out: &mut Vec<Site<'a>>) {
+    for d in &b.decls.decls {
+        if let model::Decl::Vars { vars, .. } = d {
+            for v in vars.iter().filter_map(|v| v.init.as_ref()) {
+                sim_value(file, v, out);
+            }
+        }
+    }
+    sim_region_sites(file, &b.region, out);
+}
+
+fn sim_region_sites<'a>(file: File, r: &'a Region, out: &mut Vec<Site<'a>>) {
+    for n in &r.nodes {
+        for a in [&n.entry, &n.during, &n.exit].into_iter().flatten() {
+            if let Some(s) = &a.stmt {
+                sim_stmt_sites(file, s, out);
+            }
+        }
+        sim_region_sites(file, &n.region, out);
+    }
+    for t in &r.transitions {
+        if let Some(c) = t.condition.as_ref().and_then(|c| c.expr.as_ref()) {
+            sim_calls(file, c, out);
+        }
+        if let Some((_, Some(d))) = &t.deadline {
+            sim_calls(file, d, out);
+        }
+        if let Some(s) = t.action.as_ref().and_then(|a| a.stmt.as_ref()) {
+            sim_stmt_sites(file, s, out);
+        }
+    }
+}
+
+fn sim_stmt_sites<'a>(file: File, s: &'a Stmt, out: &mut Vec<Site<'a>>) {
+    s.walk(&mut |s| match &s.kind {
+        StmtKind::Assign { value, .. } => sim_value(file, value, out),
+        StmtKind::Call { args, .. } | StmtKind::SimCall { args, .. } => {
+            args.iter().for_each(|a| sim_value(file, a, out))
+        }
+        StmtKind::If(c, ..) | StmtKind::Wait(c) | StmtKind::Timed(_, Some(c)) | StmtKind::Output(_, Some(c)) => {
+            sim_calls(file, c, out)
+        }
+        StmtKind::Comm(c) => {
+            if let Some(CommPart::Sync(Some(v)) | CommPart::Output(Some(v))) = &c.part {
+                sim_calls(file, v, out);
+            }
+        }
+        _ => {}
+    });
+}
+
+/// A value that is a site of its own, and the calls in it.
+fn sim_value<'a>(file: File, e: &'a MExpr, out: &mut Vec<Site<'a>>) {
+    out.push(Site { file, expr: e, descend: false });
+    sim_calls(file, e, out);
+}
+
+/// The arguments of the calls in `e`, each a site.
+fn sim_calls<'a>(file: File, e: &'a MExpr, out: &mut Vec<Site<'a>>) {
+    e.walk(&mut |x| {
+        if let ExprKind::Call { args, .. } = &x.kind {
+            out.extend(args.iter().map(|a| Site { file, expr: a, descend: false }));
+        }
     });
 }
 

@@ -112,3 +112,82 @@ fn the_domains_are_the_projects_not_the_elements() {
         format!("{}\n{}", machine("var x : nat", "x = 1"), machine("var y : int", "y = -5").replace("stm M", "stm N"));
     assert_eq!(doms(&model), ([r(0, 2), r(-5, 2), r(-5, 2)], [false, true, true]));
 }
+
+/// The domains computed for `files[at]` in a workspace of `files`.
+fn domains_in(files: &[(&str, &str)], at: &str) -> Result<NumberDomains, String> {
+    let db = RootDatabase::default();
+    let ws = load_workspace(&db, files.iter().map(|(p, t)| (p.to_string(), t.to_string())), RuleSet::Paper);
+    let f = ws.files(&db).iter().copied().find(|f| f.path(&db) == at).expect("the file");
+    domains_of(&db, ws, f, &DomainInputs::default()).clone().map_err(|e| e.message)
+}
+
+/// A RoboSim machine with the declarations `decls` whose cycle transition
+/// (guarded by `condition`) does `action`, with a platform operation
+/// `move` and an output event `out` of type nat.
+fn sim_machine(decls: &str, condition: &str, action: &str) -> String {
+    format!(
+        "interface Ops {{ move(l : real, a : real) }}
+         interface Outs {{ event out : nat }}
+         stm M {{ cycleDef cycle == 7 {decls}
+           output context {{ requires Ops uses Outs }}
+           initial i state S {{ }}
+           transition t0 {{ from i to S }}
+           transition t1 {{ from S to S exec condition {condition} action {action} }} }}"
+    )
+}
+
+fn sim_doms(model: &str) -> ([NumRange; 3], [bool; 3]) {
+    let d = domains_in(&[("m.rst", model)], "m.rst").expect("domains");
+    (d.domains, d.widened)
+}
+
+/// RT-5 for RoboSim, as the reference's `sim/instantiations.csp` lists it
+/// (see the `domains` module doc): conditions, outputs (`$out!9`) and the
+/// cycle definition add no entry, so 7 and 9 widen nothing.
+#[test]
+fn robosim_conditions_outputs_and_cycles_widen_nothing() {
+    let m = sim_machine("var x : nat", "x > 7", "$out!9 ; $out!(x * 9)");
+    assert_eq!(sim_doms(&m), (BASE, [false; 3]));
+}
+
+/// The arguments of every call are values: a platform operation's
+/// (`$move(0, 3)`), wherever the call is (`floor`'s in a condition), and,
+/// as in RoboChart, assigned values.
+#[test]
+fn robosim_call_arguments_and_assigned_values_widen() {
+    let nat3 = ([r(0, 3), r(-2, 3), r(-2, 3)], [true; 3]);
+    assert_eq!(sim_doms(&sim_machine("var x : nat", "true", "$move(0, 3)")), nat3);
+    assert_eq!(sim_doms(&sim_machine("var x : nat", "true", "x = 3")), nat3);
+    let with_floor =
+        format!("function floor(v : real) : nat {{ }}\n{}", sim_machine("var x : nat", "floor(3) > x", "x = 1"));
+    assert_eq!(sim_doms(&with_floor), nat3);
+    // The argument is evaluated whole, not taken apart: `x * 3` keeps x.
+    assert_eq!(sim_doms(&sim_machine("var x : nat", "true", "$move(0, x * 3)")), (BASE, [false; 3]));
+}
+
+/// One computation per project: a RoboSim element's lists hold the
+/// project's RoboChart models' values too, a RoboChart element's leave the
+/// RoboSim models out (the reference's `instantiations.csp` has no entry of
+/// its `.rst` files).
+#[test]
+fn robosim_lists_hold_the_robochart_models_and_not_the_other_way() {
+    let rct = machine("var y : nat", "y = 3");
+    let rst = sim_machine("var k : int", "true", "k = -3");
+    let files = [("a.rct", rct.as_str()), ("b.rst", rst.as_str())];
+    let sim = domains_in(&files, "b.rst").expect("domains");
+    assert_eq!(sim.domains, [r(0, 3), r(-3, 3), r(-3, 3)]);
+    let chart = domains_in(&files, "a.rct").expect("domains");
+    assert_eq!(chart.domains, [r(0, 3), r(-2, 3), r(-2, 3)]);
+}
+
+/// A gap in a RoboSim list asks for the range, as in RoboChart (`real`,
+/// the first computed, is the first found: `move`'s parameters are reals).
+#[test]
+fn robosim_gap_asks_for_the_range() {
+    let err = domains_in(&[("m.rst", &sim_machine("var x : nat", "true", "x = 10"))], "m.rst").expect_err("a gap");
+    assert_eq!(
+        err,
+        "RoboTool's `core_real` here is {-2..2} ∪ {10..10} (RT-5), not one range: give it with `nametype core_real = \
+         {a..b}` in a `csp` block of an assertion file"
+    );
+}

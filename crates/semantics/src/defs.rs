@@ -3,7 +3,7 @@
 //! types and the constants' default values).
 
 use crate::cspm::{bin, call, ext, name, prefix, BinOp, Decl, Expr, ReplOp};
-use std::collections::BTreeSet;
+use std::collections::BTreeMap;
 
 use robosim_hir::assertions::AssertionFile;
 use robosim_hir::domains::{number_domains, DomainInputs, NumRange, BASE, NAMES};
@@ -290,8 +290,12 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
 
 /// `core_nat`, `core_int` and `core_real`, and a comment saying how they
 /// were found: RoboTool's (RT-5, computed once in hir for every back end)
-/// for the RoboChart models of each project (the widest range when the
-/// workspace holds several), the types a `csp` block fixes as given.
+/// for the models of each project (the widest range when the workspace
+/// holds several), the types a `csp` block fixes as given. A project with
+/// RoboSim models gets the types RoboTool computes for its RoboSim
+/// elements (`sim/instantiations.csp`: RoboChart and RoboSim models
+/// together); the one file written here serves both languages, and the
+/// comment says when RoboTool's RoboChart types would differ.
 pub(crate) fn number_types(
     ex: &Exporter<'_>,
     files: &[File],
@@ -310,55 +314,72 @@ pub(crate) fn number_types(
             }
         }
     }
-    let projects: BTreeSet<Option<u32>> = files
-        .iter()
-        .filter(|f| f.kind(db) == FileKind::RoboChart)
-        .map(|f| robosim_hir::index::project_of(db, ws, *f))
-        .collect();
+    // Each project, and whether it holds RoboChart and RoboSim models.
+    let mut projects: BTreeMap<Option<u32>, (bool, bool)> = BTreeMap::new();
+    for f in files {
+        let at = projects.entry(robosim_hir::index::project_of(db, ws, *f)).or_default();
+        match f.kind(db) {
+            FileKind::RoboChart => at.0 = true,
+            FileKind::RoboSim => at.1 = true,
+            _ => {}
+        }
+    }
+    projects.retain(|_, (rc, rs)| *rc || *rs);
     let fixed: Vec<&str> = (0..3).filter(|r| inputs.fixed[*r].is_some()).map(|r| NAMES[r]).collect();
     let fixed = match fixed.is_empty() {
         true => String::new(),
         false => format!("\n{} as set by a `csp` block of an assertion file.", fixed.join(", ")),
     };
+    let hull = |a: Option<[(i64, i64); 3]>, b: [(i64, i64); 3]| match a {
+        None => b,
+        Some(a) => [0, 1, 2].map(|r| (a[r].0.min(b[r].0), a[r].1.max(b[r].1))),
+    };
     let mut doms: Option<[(i64, i64); 3]> = None;
-    for p in &projects {
-        match number_domains(db, ws, *p, inputs.clone()) {
-            Ok(nd) => {
-                let got = nd.domains.map(|d| (d.lo, d.hi));
-                doms = Some(match doms {
-                    None => got,
-                    Some(old) => [0, 1, 2].map(|r| (old[r].0.min(got[r].0), old[r].1.max(got[r].1))),
-                });
-            }
-            Err(e) => {
-                // RoboTool leaves the values to FDR; without them, the
-                // defaults (a `csp` block gives the types).
-                let base = [0, 1, 2].map(|r| inputs.fixed[r].unwrap_or(BASE[r])).map(|d| (d.lo, d.hi));
-                let note = format!(
-                    "Bounded types: RoboTool's defaults {{0..2}}, {{-2..2}}, {{-2..2}}; their widening by the values of \n\
-                     the models' expressions (RT-5) is not worked out here: {}{fixed}",
-                    e.message
-                );
-                return (base, note);
-            }
-        }
-    }
-    if projects.is_empty() {
-        // RoboSim models only: widened by their integer literals, as the
-        // native checker bounds RoboSim elements.
-        let mut r = [0, 1, 2].map(|r| inputs.fixed[r].unwrap_or(BASE[r])).map(|d| (d.lo, d.hi));
-        for f in files.iter().filter(|f| !f.kind(db).is_assertions()) {
-            for &v in &robosim_hir::model::file_model(db, ws, *f).literals {
-                for k in (0..3).filter(|k| inputs.fixed[*k].is_none() && (*k > 0 || v >= 0)) {
-                    r[k] = (r[k].0.min(v), r[k].1.max(v));
+    let mut chart_only: Option<[(i64, i64); 3]> = None;
+    for (p, (rc, rs)) in &projects {
+        let mut got = Vec::new();
+        for robosim in [false, true].into_iter().filter(|r| if *r { *rs } else { *rc }) {
+            match number_domains(db, ws, *p, inputs.clone(), robosim) {
+                Ok(nd) => got.push(nd.domains.map(|d| (d.lo, d.hi))),
+                Err(e) => {
+                    // RoboTool leaves the values to FDR; without them, the
+                    // defaults (a `csp` block gives the types).
+                    let base = [0, 1, 2].map(|r| inputs.fixed[r].unwrap_or(BASE[r])).map(|d| (d.lo, d.hi));
+                    let note = format!(
+                        "Bounded types: RoboTool's defaults {{0..2}}, {{-2..2}}, {{-2..2}}; their widening by the values of \n\
+                         the models' expressions (RT-5) is not worked out here: {}{fixed}",
+                        e.message
+                    );
+                    return (base, note);
                 }
             }
         }
+        if *rc {
+            chart_only = Some(hull(chart_only, got[0]));
+        }
+        // The RoboSim computation when the project has RoboSim models.
+        if let Some(g) = got.last() {
+            doms = Some(hull(doms, *g));
+        }
+    }
+    let sim = projects.values().any(|(_, rs)| *rs);
+    let differ = match (chart_only, doms) {
+        (Some(c), Some(d)) if sim && c != d => {
+            let ts: Vec<String> = (0..3).map(|r| format!("{} = {{{}..{}}}", NAMES[r], c[r].0, c[r].1)).collect();
+            format!(
+                "\nRoboTool's RoboChart elements have {} (their lists leave the RoboSim models out).",
+                ts.join(", ")
+            )
+        }
+        _ => String::new(),
+    };
+    if sim {
         let note = format!(
-            "Bounded types (RoboSim): RoboTool's defaults {{0..2}}, {{-2..2}}, {{-2..2}}, widened to the integer\n\
-             literals of the models.{fixed}"
+            "Bounded types (RT-5, as RoboTool's sim/instantiations.csp): RoboTool's defaults {{0..2}}, {{-2..2}},\n\
+             {{-2..2}}, widened to the values of the RoboChart and RoboSim models' expressions (sticky arithmetic,\n\
+             `x / 0` as `x / 1`); the values assertions give constants widen nothing.{differ}{fixed}"
         );
-        return (r, note);
+        return (doms.unwrap_or([(0, 2), (-2, 2), (-2, 2)]), note);
     }
     let note = format!(
         "Bounded types (RT-5): RoboTool's defaults {{0..2}}, {{-2..2}}, {{-2..2}}, widened to the values of\n\

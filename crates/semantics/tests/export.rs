@@ -358,3 +358,43 @@ fn reference_number_types_are_robotools() {
         assert!(inst.contains(line), "{line} not in {inst}");
     }
 }
+
+/// RT-5 for RoboSim: RoboTool's `sim/instantiations.csp` (in the reference
+/// output, `csp-gen/sim/`) computes the number types over the project's
+/// RoboChart and RoboSim models together; for the Alpha Algorithm its
+/// lists add the `.rst` models' call arguments (`$move(0, av)`,
+/// `clone_waitOp_j_2_5_f(floor(random() * 360 / av))`) and widen to the
+/// same types as the RoboChart ones: `{0..2}`, `{-2..2}`, `{-2..180}`. The
+/// export, whose one `instantiations.csp` serves RoboChart and RoboSim
+/// elements, writes those, and says it wrote RoboSim's.
+#[test]
+fn reference_robosim_number_types_are_robotools() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/alpha-algorithm");
+    let e = export_dir(&dir, Profile::RoboTool3);
+    let inst = e.files.iter().find(|f| f.name == "instantiations.csp").expect("instantiations.csp").text();
+    for line in ["nametype core_nat = {0..2}", "nametype core_int = { -2..2}", "nametype core_real = { -2..180}"] {
+        assert!(inst.contains(line), "{line} not in {inst}");
+    }
+    assert!(inst.contains("as RoboTool's sim/instantiations.csp"), "{inst}");
+    // The RoboChart computation agrees: no line about RoboChart's types.
+    assert!(!inst.contains("RoboTool's RoboChart elements have"), "{inst}");
+}
+
+/// When a project's RoboSim models widen a type its RoboChart models do
+/// not (the engine's fixture `rt5_robosim_script_types`: a RoboSim
+/// variable starts at 3), the export writes RoboSim's types, which cover
+/// both, and names the RoboChart ones RoboTool's RoboChart script has.
+#[test]
+fn robosim_types_cover_the_robochart_ones_and_say_so() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../engine/test_data/verify/rt5_robosim_script_types");
+    let e = export_dir(&dir, Profile::RoboTool3);
+    let inst = e.files.iter().find(|f| f.name == "instantiations.csp").expect("instantiations.csp").text();
+    for line in [
+        "nametype core_nat = {0..3}",
+        "nametype core_int = { -2..3}",
+        "nametype core_real = { -2..3}",
+        "RoboTool's RoboChart elements have core_nat = {0..2}, core_int = {-2..2}, core_real = {-2..2}",
+    ] {
+        assert!(inst.contains(line), "{line} not in {inst}");
+    }
+}

@@ -364,17 +364,21 @@ impl<'a> Cx<'a> {
         platform: &HashMap<End, Dir>,
         async_ends: &BTreeSet<End>,
     ) -> Result<Design, Unsupported> {
-        // RT-5: RoboChart's domains are widened by the values of the
-        // project's expressions (`domains`).
+        // RT-5: the domains are widened by the values of the project's
+        // expressions (`domains`: RoboChart's models in RoboChart's script,
+        // its RoboChart and RoboSim models in RoboSim's, which a RoboSim
+        // element or a `.rsa` file's assertion is checked in).
         let mut widened = Vec::new();
-        if let (false, Some(first)) = (self.robosim, instances.first()) {
-            let computed =
-                robosim_hir::domains::domains_of(self.db, self.ws, first.file, &self.defaults.domain_inputs())
-                    .as_ref()
-                    .map_err(|e| Unsupported {
-                        message: e.message.clone(),
-                        location: e.location.map(|(f, r)| (f.path(self.db).clone(), r)),
-                    })?;
+        if let Some(first) = instances.first() {
+            let project = robosim_hir::index::project_of(self.db, self.ws, first.file);
+            let robosim = self.robosim || self.defaults.robosim_script;
+            let inputs = self.defaults.domain_inputs();
+            let computed = robosim_hir::domains::number_domains(self.db, self.ws, project, inputs, robosim)
+                .as_ref()
+                .map_err(|e| Unsupported {
+                    message: e.message.clone(),
+                    location: e.location.map(|(f, r)| (f.path(self.db).clone(), r)),
+                })?;
             [self.defaults.nat, self.defaults.int, self.defaults.real] =
                 computed.domains.map(|d| Dom { lo: d.lo, hi: d.hi });
             widened = computed.notes();
@@ -385,41 +389,6 @@ impl<'a> Cx<'a> {
             // error (`EvalError::OutOfDomain`).
             self.defaults.fixed = [true; 3];
         }
-        // RoboSim: the literals of every model of the project widen the
-        // numeric domains, as RoboTool's one `instantiations.csp` per
-        // project does; the constants' values an assertion gives do not
-        // (RT-5). (RoboChart's were widened by RT-5 above.)
-        let mut lits: Vec<Val> = Vec::new();
-        if self.robosim {
-            let project = instances.first().and_then(|i| robosim_hir::index::project_of(self.db, self.ws, i.file));
-            lits = self
-                .ws
-                .files(self.db)
-                .iter()
-                .filter(|f| !f.is_library(self.db) && !f.kind(self.db).is_assertions())
-                .filter(|f| robosim_hir::index::project_of(self.db, self.ws, **f) == project)
-                .flat_map(|f| model::file_model(self.db, self.ws, *f).literals.iter().copied())
-                .collect();
-            lits.extend(instances.iter().flat_map(|i| i.body.literals.iter().copied()));
-        }
-        let widen = |d: Dom, fixed: bool, nat: bool| -> Dom {
-            if fixed {
-                return d;
-            }
-            let mut d = d;
-            for &v in &lits {
-                if nat && v < 0 {
-                    continue;
-                }
-                d.lo = d.lo.min(v);
-                d.hi = d.hi.max(v);
-            }
-            d
-        };
-        let f = self.defaults.fixed;
-        self.defaults.nat = widen(self.defaults.nat, f[0], true);
-        self.defaults.int = widen(self.defaults.int, f[1], false);
-        self.defaults.real = widen(self.defaults.real, f[2], false);
         self.design = Some(Design {
             name: top_name.to_string(),
             level: match top {

@@ -83,6 +83,11 @@ pub struct DomainDefaults {
     /// replaces RoboTool's generated defaults (RT-7): a function it does
     /// not define then has no definition at all (no RT-2 default).
     pub replaced: bool,
+    /// Whether the script is RoboSim's (a `.rsa` file): RoboTool's RoboSim
+    /// script includes `sim/instantiations.csp`, whose number types cover
+    /// the project's RoboChart and RoboSim models, for every element it
+    /// names — a RoboChart design under `simulation` too (RT-5).
+    pub robosim_script: bool,
 }
 
 impl Default for DomainDefaults {
@@ -98,6 +103,7 @@ impl Default for DomainDefaults {
             functions: Vec::new(),
             async_buffer: None,
             replaced: false,
+            robosim_script: false,
         }
     }
 }
