@@ -5,7 +5,7 @@
 //! `timelock-free`, `deterministic`, `reachable`) are about.
 
 use crate::events::{EventTable, Param};
-use crate::ir::{Design, Dir, Val};
+use crate::ir::{Design, Dir, Level, Val};
 use crate::lts::{Event, Label, Lts, TAU, TICK};
 use crate::machine::Offer;
 use crate::pack::{Encoding, VectorLts, Vectors};
@@ -23,11 +23,18 @@ pub struct DesignLts<'a> {
     enc: Encoding,
     /// RT-9: no `tock` (RoboChart's untimed semantics, see the fixtures `untimed_*`).
     untimed: bool,
+    /// RT-11: a RoboSim operation on its own: the slot saying it is
+    /// between the `endexec` and the `startexec` of an `exec`, and those
+    /// two events.
+    exec: Option<(usize, Event, Event)>,
 }
 
 /// The printed name of a design channel's events.
 pub(crate) fn channel_name(c: &crate::ir::Channel) -> String {
     match (c.is_call, c.dir) {
+        // RoboSim: an output of the output context (a RoboSim operation on
+        // its own writes its register: `registerWrite.o_move.l.a`).
+        _ if c.register_write => format!("registerWrite.o_{}", c.name),
         (true, _) => format!("{}Call", c.name),
         _ if c.internal => c.name.clone(),
         _ if c.var => format!("set_{}", c.name),
@@ -72,7 +79,7 @@ impl<'a> DesignLts<'a> {
     /// The design's LTS, its events numbered by `events` (see
     /// [`shared_events`]).
     pub fn with_events(design: &'a Design, events: &EventTable) -> Result<DesignLts<'a>, String> {
-        let events = events.clone();
+        let mut events = events.clone();
         let mut group = Vec::new();
         for c in &design.channels {
             let name = channel_name(c);
@@ -81,7 +88,19 @@ impl<'a> DesignLts<'a> {
         let ended = design.slots as usize;
         let mut bounds = design.slot_bounds();
         bounds.push((0, 1));
-        Ok(DesignLts { design, group, ended, len: ended + 1, enc: Encoding::new(&bounds, events), untimed: false })
+        let mut len = ended + 1;
+        let mut exec = None;
+        if design.level == Level::Operation {
+            let too_many = |e: crate::events::TooManyEvents| format!("the channel `{}` has too many values", e.0);
+            let g = events.add("endexec", Vec::new()).map_err(too_many)?;
+            let endexec = events.event(g, &[]);
+            let g = events.add("startexec", Vec::new()).map_err(too_many)?;
+            let startexec = events.event(g, &[]);
+            bounds.push((0, 1));
+            exec = Some((len, endexec, startexec));
+            len += 1;
+        }
+        Ok(DesignLts { design, group, ended, len, enc: Encoding::new(&bounds, events), untimed: false, exec })
     }
 
     /// The same LTS without `tock`: time never passes (RT-9). For a design
@@ -112,7 +131,40 @@ impl<'a> DesignLts<'a> {
         })
     }
 
+    /// RT-11: a RoboSim operation on its own, as RoboTool's `OP_…::O__`
+    /// (e.g. the reference's
+    /// `csp-gen/sim/defs/pkg223_aggregation_sim_clone_waitOp_j_2_3_f.csp`):
+    /// an `exec` statement is `endexec -> startexec -> …` inside a timed
+    /// section with no cycle around it, so time may pass before `endexec`
+    /// and between the two (nothing hidden competes there, and τ has
+    /// priority over `tock` only); after `startexec` the operation goes on
+    /// where it stopped. `None` when `st` is not at an `exec`.
+    fn exec_steps(&self, st: &[i32], out: &mut Vectors) -> Result<Option<()>, String> {
+        let Some((slot, endexec, startexec)) = self.exec else { return Ok(None) };
+        let m = &self.design.machines[0];
+        let at_exec = st[slot] == 1 || (m.cycle_ended(st) && !m.terminated(st));
+        if !at_exec {
+            return Ok(None);
+        }
+        let n = out.push_copy(st);
+        if st[slot] == 1 {
+            n[slot] = 0;
+            m.resume(n, &self.design.clocks).map_err(|e| e.0)?;
+            out.set_label(Label::plain(startexec));
+        } else {
+            n[slot] = 1;
+            out.set_label(Label::plain(endexec));
+        }
+        let n = out.push_copy(st);
+        self.design.advance_time(n)?;
+        out.set_label(Label::TOCK);
+        Ok(Some(()))
+    }
+
     fn successors_inner(&self, st: &[i32], out: &mut Vectors) -> Result<(), String> {
+        if self.exec_steps(st, out)?.is_some() {
+            return Ok(());
+        }
         let start = out.len();
         let mut can_tock = true;
         // A buffer reused from state to state.

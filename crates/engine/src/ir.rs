@@ -454,6 +454,9 @@ pub struct Channel {
     /// communication besides the sender: with several, all receive at once
     /// (RT-14: a multi-way synchronisation).
     pub receivers: u8,
+    /// RoboSim: an output of the output context, written to its register
+    /// (`registerWrite.o_x`), not a call of a software operation.
+    pub register_write: bool,
     /// RoboSim: a connection between two machines or controllers of the
     /// design (RT-22): the slot of its memory cell's presence flag (the
     /// value in the next slot). The sender writes the cell in cycle k; at
@@ -478,6 +481,7 @@ impl Channel {
             var: false,
             alone: false,
             receivers: 1,
+            register_write: false,
             cell: None,
         }
     }
@@ -873,6 +877,10 @@ pub enum Level {
     Controller,
     /// A machine on its own: `endexec` and `terminate` visible.
     Machine,
+    /// A RoboSim operation on its own (RT-11, RoboTool's `OP_…::O__`): no
+    /// cycle; each `exec` is the visible `endexec` then `startexec`, time
+    /// passing before either; `terminate` hidden.
+    Operation,
 }
 
 /// A RoboChart module (or controller, or machine) compiled for checking.

@@ -31,7 +31,6 @@ pub use crate::untimed::Semantics;
 
 mod explain;
 mod fdr_error;
-mod params;
 mod robosim;
 mod semantics;
 
@@ -349,7 +348,13 @@ impl Cx<'_> {
             .into_iter()
             .map(|b| ConstValue { name: b.name, of: b.of, value: b.value as Val })
             .collect();
-        out.extend(params::parameter_values(self.a)?);
+        // RT-11: parameters by the operation's declaration, also when the
+        // assertion names it through a reference (`with parameter n of D::o`).
+        out.extend(robosim_hir::target::parameters_in(scope, self.a)?.into_iter().map(|b| ConstValue {
+            name: b.name,
+            of: b.of,
+            value: b.value as Val,
+        }));
         Ok(out)
     }
 
@@ -398,11 +403,11 @@ impl Cx<'_> {
             Target::Constrained { name, loc, period, .. } | Target::Simulation { name, loc, period, .. } => {
                 (name, *loc, *period)
             }
-            // A design on its own has no period.
-            Target::Design { name, loc, .. } => (name, *loc, Some(1)),
+            // A design, or a RoboSim operation (RT-11), on its own has no period.
+            Target::Design { name, loc, .. } | Target::SimOperation { name, loc, .. } => (name, *loc, Some(1)),
         };
         let inner = match target {
-            Target::Design { inner, .. } => inner.as_deref(),
+            Target::Design { inner, .. } | Target::SimOperation { inner, .. } => inner.as_deref(),
             _ => None,
         };
         let Some(period) = period.filter(|p| (1..=1_000).contains(p)) else {
@@ -529,13 +534,22 @@ fn side<'a>(
                 "`{name}` is a RoboChart element: it can be compared with another RoboChart element, or as `simulation S of {name}` with a simulation"
             ))
         }
+        Target::SimOperation { name, .. } => {
+            return Err(format!(
+                "`{name}` is a RoboSim operation: comparing it with another process is not supported by the native \
+                 checker yet (its own properties are: deadlock freedom, determinism, divergence freedom, \
+                 termination, reachability, timelock freedom)"
+            ))
+        }
     })
 }
 
 /// The LTS of `target` on its own (for properties of one element).
 fn single<'a>(target: &Target, design: &'a Design, period: u32, profile: Profile) -> Result<Side<'a>, String> {
     Ok(match target {
-        Target::Design { .. } => Side::Plain(DesignLts::new(design)?),
+        // RT-11: a RoboSim operation is a process of its own (`OP_…::O__`),
+        // without a machine's cycle: see `DesignLts` for its `exec`s.
+        Target::Design { .. } | Target::SimOperation { .. } => Side::Plain(DesignLts::new(design)?),
         _ => {
             let regs = Registers::new(&[design], profile)?;
             side(target, design, period, &regs, profile)?

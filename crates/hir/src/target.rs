@@ -42,6 +42,18 @@ pub enum Subject {
         /// cycleDefs admit ([`simulation_period`]).
         period: Option<i64>,
     },
+    /// RT-11: a RoboSim operation checked on its own, as RoboTool's
+    /// `OP_…::O__(id__, params)`: the top-level operation `loc`, or with
+    /// `inner` the one of that name declared inside the controller `loc`
+    /// (an operation reference is the operation it references).
+    SimOperation {
+        /// The name as written.
+        name: String,
+        /// The operation (the controller, for an inner one).
+        loc: ItemLoc,
+        /// The operation declared inside the controller `loc`, if any.
+        inner: Option<String>,
+    },
     /// A RoboChart module, controller or machine on its own; with `inner`,
     /// the machine of that name declared inside the controller `loc`.
     Design {
@@ -58,7 +70,10 @@ impl Subject {
     /// The name as written in the assertion.
     pub fn name(&self) -> &str {
         match self {
-            Subject::Constrained { name, .. } | Subject::Simulation { name, .. } | Subject::Design { name, .. } => name,
+            Subject::Constrained { name, .. }
+            | Subject::Simulation { name, .. }
+            | Subject::SimOperation { name, .. }
+            | Subject::Design { name, .. } => name,
         }
     }
 }
@@ -358,7 +373,7 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
         let inner = path.last().cloned();
         let is_operation = file_defs(db, ctrl.file).def(machine).kind == DefKind::Operation;
         if is_operation && ctrl.file.kind(db) == FileKind::RoboSim {
-            return Err(robosim_operation(&name));
+            return Ok(Subject::SimOperation { name, loc: ctrl, inner });
         }
         if ctrl.file.kind(db) != FileKind::RoboSim {
             return Ok(Subject::Design { name, loc: ctrl, inner });
@@ -383,9 +398,14 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
     }
     let robosim_op = resolve_item(db, ws, file, path, |k| k == DefKind::Operation)
         .into_iter()
-        .any(|l| l.file.kind(db) == FileKind::RoboSim);
-    if robosim_op && resolve_item(db, ws, file, path, element).is_empty() {
-        return Err(robosim_operation(&name));
+        .find(|l| l.file.kind(db) == FileKind::RoboSim);
+    if let (Some(loc), true) = (robosim_op, resolve_item(db, ws, file, path, element).is_empty()) {
+        return Ok(Subject::SimOperation { name, loc, inner: None });
+    }
+    // RT-11: `C::o`, an operation reference of a RoboSim controller, is the
+    // operation it references.
+    if let Some(loc) = robosim_operation_ref(db, ws, file, path) {
+        return Ok(Subject::SimOperation { name, loc, inner: None });
     }
     let loc = resolve_item(db, ws, file, path, element).into_iter().next().ok_or_else(|| {
         let csp = std::iter::once(read)
@@ -433,14 +453,92 @@ fn robosim_period(
     }
 }
 
-/// Why a RoboSim operation is not checked as a subject.
-fn robosim_operation(name: &str) -> String {
-    format!(
-        "`{name}` is a RoboSim operation: RoboTool checks it as its own process `OP_…::O__(id__, params)`, in which \
-         its `exec` statements are the visible events `endexec` and `startexec` and its clocks let time pass \
-         without the cycle of a machine; the native checker compiles RoboSim operations only inside the machines \
-         that call them so far (check such a machine)"
-    )
+/// The operation `C::o` names when `C` is a RoboSim controller with an
+/// operation reference `opref o = Op` (RoboChart instance paths are read
+/// by [`instance`]).
+fn robosim_operation_ref(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<ItemLoc> {
+    let (last, prefix) = path.split_last()?;
+    let ctrl = resolve_item(db, ws, file, prefix, |k| k == DefKind::Controller)
+        .into_iter()
+        .find(|l| l.file.kind(db) == FileKind::RoboSim)?;
+    let defs = file_defs(db, ctrl.file);
+    let (_, d) =
+        defs.children(Some(ctrl.def(db)?)).find(|(_, d)| d.kind == DefKind::OperationRef && d.name == *last)?;
+    let DefData::Reference { path: target, .. } = &d.data else { return None };
+    resolve_item(db, ws, ctrl.file, target, |k| k == DefKind::Operation).into_iter().next()
+}
+
+/// RT-11: the definition of the operation `path` names (in `with parameter
+/// x of P`): a top-level operation by its (qualified) name, one declared
+/// inside a controller (`C::op`), or the operation an operation reference
+/// references (`D::o` for `opref o = Op`, also through a module's
+/// controller reference, `Mod::c::o`), in RoboChart and RoboSim alike.
+pub fn operation_def(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<(File, DefId)> {
+    if let Some(l) = resolve_item(db, ws, file, path, |k| k == DefKind::Operation).into_iter().next() {
+        return Some((l.file, l.def(db)?));
+    }
+    let container = |k| matches!(k, DefKind::Module | DefKind::Controller);
+    let (start, mut loc) = (1..path.len())
+        .rev()
+        .find_map(|k| resolve_item(db, ws, file, &path[..k], container).into_iter().next().map(|l| (k, l)))?;
+    for (i, seg) in path.iter().enumerate().skip(start) {
+        let last = i + 1 == path.len();
+        let defs = file_defs(db, loc.file);
+        let (cid, child) = defs.children(Some(loc.def(db)?)).find(|(_, d)| d.name == *seg)?;
+        match (child.kind, &child.data) {
+            (DefKind::ControllerRef, DefData::Reference { path: target, .. }) if !last => {
+                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Controller).into_iter().next()?;
+            }
+            (DefKind::Operation, _) if last => return Some((loc.file, cid)),
+            (DefKind::OperationRef, DefData::Reference { path: target, .. }) if last => {
+                let op = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Operation).into_iter().next()?;
+                return Some((op.file, op.def(db)?));
+            }
+            _ => return None,
+        }
+    }
+    None
+}
+
+/// An operation of the workspace declared (anywhere, also inside a
+/// controller) under the one name `of`: the checker binds parameters by
+/// the operation's declared name, as RoboTool's `param_x` of its process.
+fn declared_operation(db: &dyn Db, ws: Workspace, of: &[String]) -> Option<(File, DefId)> {
+    let [name] = of else { return None };
+    ws.files(db).iter().filter(|f| !f.is_library(db)).find_map(|&f| {
+        file_defs(db, f).iter().find(|(_, d)| d.kind == DefKind::Operation && d.name == *name).map(|(id, _)| (f, id))
+    })
+}
+
+/// The values `a` gives operations' parameters (`with parameter x of P
+/// set to v`, RT-11), each named by the operation's declaration (through
+/// references: [`operation_def`]); what `P` or `x` fails to name, in words.
+pub fn parameters_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>, String> {
+    let Scope { db, ws, file, .. } = scope;
+    let mut out = Vec::new();
+    for o in &a.overrides {
+        let Override::Parameter { name, of, value, .. } = o else { continue };
+        let written = of.join("::");
+        let (f, id) = operation_def(db, ws, file, of).or_else(|| declared_operation(db, ws, of)).ok_or_else(|| {
+            format!(
+                "`{written}` is not an operation: `with parameter {name} of {written}` names an operation, an \
+                 operation declared in a controller, or an operation reference"
+            )
+        })?;
+        let defs = file_defs(db, f);
+        let op = defs.def(id).name.clone();
+        if !defs.children(Some(id)).any(|(_, d)| d.kind == DefKind::Parameter && d.name == *name) {
+            let op = if op == written { String::new() } else { format!(" (`{op}`)") };
+            return Err(format!("the operation `{written}`{op} has no parameter `{name}`"));
+        }
+        let value = match value {
+            Value::Int(v) => *v,
+            Value::Bool(b) => i64::from(*b),
+            Value::Other(t) => return Err(format!("the value `{t}` of the parameter `{name}` is not supported")),
+        };
+        out.push(Binding { name: name.clone(), of: vec![op], value });
+    }
+    Ok(out)
 }
 
 /// RT-11: the RoboChart element an instance path names, checked on its

@@ -247,7 +247,7 @@ fn sim_io_section(db: &dyn Db, ws: Workspace, file: File, r: &ResolvedRef, decl:
             ),
             _ => write!(
                 s,
-                "`${name}(…)` records the call when the statement runs. The operation is executed as the registers are written, {when}, {order}. A simulation assumes each operation is called at most once per cycle."
+                "`${name}(…)` calls the platform operation `{name}`: the call is recorded when the statement runs, and the operation is executed as the registers are written, {when}, {order}. A simulation assumes each operation is called at most once per cycle."
             ),
         };
     }

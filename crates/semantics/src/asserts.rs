@@ -185,6 +185,11 @@ fn subject(
         }
         target::Subject::Simulation { loc, inner, period, .. } => (loc, inner, period),
         target::Subject::Design { loc, inner, .. } => (loc, inner, None),
+        target::Subject::SimOperation { name, .. } => {
+            return Err(format!(
+                "`{name}` is a RoboSim operation: its own process (RoboTool's `OP_…::O__`) is not exported yet"
+            ));
+        }
     };
     let Some(def) = ElemDef::at(ex.db, ex.ws, loc) else {
         return Err(format!("`{}` could not be resolved", path.join("::")));

@@ -186,6 +186,13 @@ fn reading(t: &Term, robosim: bool) -> String {
     let text = |e: &Expr| print_expr(e, usize::MAX);
     match t.kind {
         TermKind::Exec => "`exec` ends this machine's cycle (`endexec`, enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6).".into(),
+        TermKind::OperationOutput => {
+            let reg = first_register(&t.expr).unwrap_or_default();
+            let op = reg.strip_prefix("o_").unwrap_or(&reg);
+            format!(
+                "Calls the platform operation `{op}` by writing its actuator register `{reg}` at once: urgent, no time passes (`EDeadline(…, 0)`), and the cycle admits each output register at most once (RoboTool 3). In the paper's semantics (Rule 7) the call is buffered (`stmout!…U.true.… -> SKIP`) and written when the cycle's processing ends."
+            )
+        }
         TermKind::Output => {
             let reg = first_register(&t.expr).unwrap_or_default();
             format!(

@@ -73,7 +73,7 @@ impl<'a> Cx<'a> {
                 Definition::Inline(b) if o.name == m => Some(&**b),
                 _ => None,
             });
-            if let Some(b) = op.filter(|_| !self.robosim) {
+            if let Some(b) = op {
                 return self.operation_subject(file, b);
             }
             return self.inner_machine(file, c, m);
@@ -154,13 +154,13 @@ impl<'a> Cx<'a> {
                 instances.push(Instance::alone(file, b));
                 (b.name.clone(), Top::Machine)
             }
-            Item::Operation(b) if !self.robosim => return self.operation_subject(file, b),
+            Item::Operation(b) => return self.operation_subject(file, b),
             _ => {
                 let range = self.range_of(loc).ok_or_else(not_found)?;
                 return Err(self.unsupported(
                     file,
                     range,
-                    "only RoboChart modules, controllers, state machines and operations can be checked",
+                    "only modules, controllers, state machines and operations can be checked",
                 ));
             }
         };
@@ -175,8 +175,87 @@ impl<'a> Cx<'a> {
     /// terminates), its parameters constants of the process.
     fn operation_subject(&mut self, file: File, b: &'a Behaviour) -> Result<Design, Unsupported> {
         self.op_subject = true;
+        if self.robosim {
+            self.sim_operation_supported(file, b)?;
+        }
         let inst = Instance::alone(file, b);
-        self.build(&b.name, Top::Machine, vec![inst], &[], &HashMap::new(), &BTreeSet::new())
+        let mut design = self.build(&b.name, Top::Machine, vec![inst], &[], &HashMap::new(), &BTreeSet::new())?;
+        if self.robosim {
+            design.level = Level::Operation;
+        }
+        Ok(design)
+    }
+
+    /// RT-11: what the native checker reads of a RoboSim operation on its
+    /// own (RoboTool's `OP_…::O__`, e.g. the reference's
+    /// `csp-gen/sim/defs/pkg223_aggregation_sim_clone_normal_Movement_Turning_RandomTurn_entry.csp`),
+    /// refusing the rest with the reason. That process has no memory for
+    /// what the operation requires or reads (`varMemory = terminate ->
+    /// SKIP`): each step of its `Transitions` starts by reading them with
+    /// visible `get_x?x` events whose values the environment chooses, and
+    /// writes are visible `set_x!v` events; no reference output has an
+    /// `exec`-triggered transition in an operation.
+    fn sim_operation_supported(&self, file: File, b: &'a Behaviour) -> Result<(), Unsupported> {
+        let refuse = |range, what: &str| {
+            Err(self.unsupported(
+                file,
+                range,
+                format!(
+                    "the RoboSim operation `{}` {what}: RoboTool's process for it on its own (`OP_…::O__`) has no \
+                     memory for them, so it reads them with visible events at every step (`get_x?x`, values chosen \
+                     by the environment) and writes or resets them with visible events (`set_x!v`, `clockReset`), \
+                     which the native checker does not model yet (check a machine that calls it)",
+                    b.name
+                ),
+            ))
+        };
+        let has_vars =
+            |d: &model::Decls| d.decls.iter().any(|x| matches!(x, model::Decl::Vars { is_const: false, .. }));
+        let has_clocks = |d: &model::Decls| d.decls.iter().any(|x| matches!(x, model::Decl::Clock { .. }));
+        for u in &b.decls.uses {
+            if self.interface(u.target).is_some_and(|(_, d)| has_vars(d)) {
+                return refuse(u.range, "requires variables");
+            }
+            // Its own clocks are served inside its process (`Clocks`); an
+            // interface's are reset and read with visible events.
+            if self.interface(u.target).is_some_and(|(_, d)| has_clocks(d)) {
+                return refuse(u.range, "requires clocks");
+            }
+        }
+        for (io, ctx) in &b.contexts {
+            let reads = *io == Io::Input && (!ctx.decls.is_empty() || !ctx.uses.is_empty());
+            let vars =
+                has_vars(ctx) || ctx.uses.iter().any(|u| self.interface(u.target).is_some_and(|(_, d)| has_vars(d)));
+            if reads || vars {
+                return refuse(b.name_range, "reads inputs or variables of the platform");
+            }
+        }
+        if let Some(range) = exec_in_composite(&b.region) {
+            return Err(self.unsupported(
+                file,
+                range,
+                format!(
+                    "the RoboSim operation `{}` has an `exec` inside a composite state: in RoboTool's process the \
+                     composite's own transitions may interrupt what runs inside it before `endexec`, which the \
+                     native checker does not model for an operation on its own",
+                    b.name
+                ),
+            ));
+        }
+        if let Some(t) = exec_transition(&b.region) {
+            return Err(self.unsupported(
+                file,
+                t.exec_range.unwrap_or(t.range),
+                format!(
+                    "the RoboSim operation `{}` has an `exec`-triggered transition: how RoboTool's process for the \
+                     operation on its own (`OP_…::O__`) takes one (is `endexec` its trigger, its guard evaluated \
+                     again after time passes?) is not established by any generated output (an `exec` statement \
+                     in an action is: `endexec`, then `startexec`)",
+                    b.name
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The range of the element `loc`'s declaration.
@@ -636,6 +715,36 @@ impl<'a> Cx<'a> {
         }
         Ok(m)
     }
+}
+
+/// A transition of `region` (or of a state inside it) with an `exec`
+/// trigger, if any.
+fn exec_transition(region: &model::Region) -> Option<&model::Transition> {
+    region.transitions.iter().find(|t| t.exec).or_else(|| region.nodes.iter().find_map(|n| exec_transition(&n.region)))
+}
+
+/// The range of an `exec` statement inside a composite state of `region`
+/// (in its substates' actions or its transitions'), if any.
+fn exec_in_composite(region: &model::Region) -> Option<TextRange> {
+    region.nodes.iter().filter(|n| !n.region.is_empty()).find_map(|n| exec_stmt(&n.region))
+}
+
+/// The range of an `exec` statement anywhere in `region`, if any.
+fn exec_stmt(region: &model::Region) -> Option<TextRange> {
+    let mut found = None;
+    let actions = region
+        .nodes
+        .iter()
+        .flat_map(|n| [&n.entry, &n.during, &n.exit])
+        .chain(region.transitions.iter().map(|t| &t.action));
+    for s in actions.filter_map(|a| a.as_ref().and_then(|a| a.stmt.as_ref())) {
+        s.walk(&mut |s| {
+            if matches!(s.kind, model::StmtKind::Exec) {
+                found = found.or(Some(s.range));
+            }
+        });
+    }
+    found.or_else(|| region.nodes.iter().find_map(|n| exec_stmt(&n.region)))
 }
 
 fn rename_ctrl(e: End, top: &str) -> End {

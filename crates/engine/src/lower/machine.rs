@@ -174,6 +174,7 @@ impl<'b> MachineCx<'_, 'b> {
                                 let sim_dir = context.filter(|_| self.cx.robosim && both_ways && !link.internal);
                                 if sim_dir == Some(Dir::Out) {
                                     let out = self.channel(&link.name, Dir::Out, false, shape);
+                                    self.design().channels[out as usize].register_write = true;
                                     self.sends.insert(name.clone(), out);
                                     // The input context's declaration names the
                                     // event for `$e` and `$e?x`.
@@ -243,6 +244,9 @@ impl<'b> MachineCx<'_, 'b> {
                             Ok(None) => None,
                             Err(msg) => return Err(self.err(range, msg)),
                         };
+                        if let (true, Some(Dir::Out), Some((c, Dir::Out))) = (self.cx.robosim, context, chan) {
+                            self.design().channels[c as usize].register_write = true;
+                        }
                         self.names.insert(name, Name::Event { chan, ty });
                     }
                     Decl::OperationSig { name, params: ps, .. } => {
@@ -260,6 +264,9 @@ impl<'b> MachineCx<'_, 'b> {
                             continue;
                         }
                         let chan = self.channel(&name, Dir::Out, true, shape);
+                        if self.cx.robosim && context == Some(Dir::Out) {
+                            self.design().channels[chan as usize].register_write = true;
+                        }
                         self.op_names.insert(name, Name::Op { params, chan });
                     }
                     Decl::Nested { range, .. } => return Err(self.err(

@@ -305,6 +305,14 @@ pub(super) fn out_verb(design: &Design, instr: &Instr) -> Option<&'static str> {
         Instr::Out { chan, urgent: true, .. } if design.channels.get(*chan as usize).is_some_and(|c| !c.is_call) => {
             Some("outputs")
         }
+        // RT-11: in a RoboSim operation on its own, a call of another
+        // operation (not an output) is a call event of its own (`opCall`).
+        Instr::Out { chan, urgent: true, .. }
+            if design.level == crate::ir::Level::Operation
+                && design.channels.get(*chan as usize).is_some_and(|c| !c.register_write) =>
+        {
+            Some("calls the operation")
+        }
         Instr::Out { urgent: true, .. } => Some("calls the platform operation"),
         Instr::Out { .. } => Some("outputs"),
         _ => None,

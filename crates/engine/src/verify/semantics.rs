@@ -68,7 +68,7 @@ fn designs(cx: &Cx<'_>, paths: &[&[String]]) -> Result<(), String> {
         }
         match cx.target(path)? {
             Target::Design { .. } => {}
-            Target::Simulation { .. } => {
+            Target::Simulation { .. } | Target::SimOperation { .. } => {
                 return Err(format!(
                     "`{name}` is a RoboSim element: RoboSim has only a timed semantics (RoboTool generates no \
                      untimed script for it)"

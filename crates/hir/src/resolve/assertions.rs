@@ -1,7 +1,8 @@
 //! Names in the assertions and simulations of `.rsa` and `.assertions`
 //! files: what `simulation S of M` simulates, the sides of an assertion (a
-//! simulation of the file or an element of the model), and the element
-//! and constant of `with constant k of X`. Only names that resolve are
+//! simulation of the file or an element of the model), the element and
+//! constant of `with constant k of X`, and the operation and parameter of
+//! `with parameter x of P`. Only names that resolve are
 //! recorded, for navigation, hover and rename; nothing is reported here
 //! (the assertion's check says what it cannot find).
 
@@ -41,6 +42,9 @@ impl Resolver<'_> {
                     for p in n.descendants().filter(|d| d.kind() == CONSTANT_PARAM) {
                         self.constant_param(&p);
                     }
+                    for p in n.descendants().filter(|d| d.kind() == PARAMETER_PARAM) {
+                        self.parameter_param(&p);
+                    }
                 }
                 _ => {}
             }
@@ -68,6 +72,29 @@ impl Resolver<'_> {
         let loc = resolve_item(self.db, self.ws, self.file, &path, element).first().copied()?;
         self.push(q.text_range(), path.join("::"), RefKind::Type, Some(Target::Item(loc)));
         Some(loc)
+    }
+
+    /// `parameter x of P`: the operation `P` names (through an operation
+    /// reference or an instance path too, RT-11), and its parameter `x`.
+    fn parameter_param(&mut self, p: &SyntaxNode) {
+        let Some(of) = p.children().find(|c| c.kind() == QUALIFIED_NAME) else { return };
+        let path = super::segments(&of);
+        let Some((f, op)) = crate::target::operation_def(self.db, self.ws, self.file, &path) else { return };
+        // Through a reference (`D::o`) the name written is the reference's,
+        // not the operation's: only a direct name is a reference to it
+        // (so that renaming the operation never rewrites `o`).
+        if path.last() == Some(&file_defs(self.db, f).def(op).name) {
+            self.push(of.text_range(), path.join("::"), RefKind::Type, Some(Target::Def(f, op)));
+        }
+        let Some(k) = p.children().find(|c| c.kind() == NAME_REF) else { return };
+        let name = crate::defs::name_text(&k);
+        let param = file_defs(self.db, f)
+            .children(Some(op))
+            .find(|(_, d)| d.kind == DefKind::Parameter && d.name == name)
+            .map(|(id, _)| id);
+        if let Some(id) = param {
+            self.push(k.text_range(), name, RefKind::Type, Some(Target::Def(f, id)));
+        }
     }
 
     /// `constant k of X`: the element `X`, and `k` when `X` declares it.

@@ -39,8 +39,11 @@ pub enum TermKind {
     Transition,
     /// An `exec` trigger or statement (RoboSim).
     Exec,
-    /// A RoboSim output (`$op(…)`, `$e!v`).
+    /// A RoboSim output of an event or a variable (`$e!v`, `$x = v`).
     Output,
+    /// A RoboSim call of a platform operation, written as an output
+    /// (`$op(…)`).
+    OperationOutput,
     /// A call of a platform operation (RoboChart).
     Call,
     /// A communication statement or trigger.

@@ -180,7 +180,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let model = self.ops[o].name.clone();
                 let p = self.output(&model, args, r)?;
                 let p = self.with_reads(&reads, p);
-                self.record_term(s.head, TermKind::Output, || p.clone());
+                self.record_term(s.head, TermKind::OperationOutput, || p.clone());
                 Some(p)
             }
             m::StmtKind::Output(path, value) => {
