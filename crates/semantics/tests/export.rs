@@ -172,9 +172,9 @@ fn robosim_operations_as_subjects_are_not_exported_yet() {
     let model = "operation Op() { initial i final f transition t { from i to f action exec } }
 controller C { cycleDef cycle == 1 opref o = Op }";
     let asserts = "assertion A : Op is deadlock-free\nassertion B : C::o terminates";
-    let db = robosim_hir::RootDatabase::default();
+    let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(
-        &db,
+        &mut db,
         [("m.rst".to_string(), model.to_string()), ("a.rsa".to_string(), asserts.to_string())],
         robosim_hir::RuleSet::Paper,
     );
