@@ -173,15 +173,17 @@ fn csp_assertions_are_decided_or_explained() {
                     let file = r.file.rsplit_once("corpus/").map_or(r.file.as_str(), |(_, f)| f);
                     decided.push(format!("{file} {}: {}", r.name, r.verdict.name()));
                 }
-                // RmGuar reads `radiation_level.in.100`, outside
-                // `core_real`: FDR's evaluator stops on that value
-                // (libcspm's `dotIsNotValidMessage`), so there is no
-                // verdict, and the report says FDR's error.
+                // RmGuar reads `radiation_level.in.29`, the first of its
+                // values outside `core_real = {-2..2}` (the conditions'
+                // 30 and 60 are comparison operands, which widen nothing,
+                // RT-5): FDR's evaluator stops on that value (libcspm's
+                // `dotIsNotValidMessage`), so there is no verdict, and the
+                // report says FDR's error.
                 if a.name == "RadiationMonitorGuarantee" {
                     assert_eq!(r.verdict, Verdict::Unsupported);
                     assert!(
-                        reason.starts_with("`RmGuar` in `csp` block `RmGuar` at line 60: FDR stops with an error: the value `RemoteInspectionController::RadiationMonitor::radiation_level.in.100` is invalid")
-                            && reason.contains("its field 2 `100` is not a member of the set {-2, "),
+                        reason.starts_with("`RmGuar` in `csp` block `RmGuar` at line 60: FDR stops with an error: the value `RemoteInspectionController::RadiationMonitor::radiation_level.in.29` is invalid")
+                            && reason.contains("its field 2 `29` is not a member of the set {-2, -1, 0, 1, 2}"),
                         "{reason}"
                     );
                     errors.push(r.name.clone());

@@ -9,17 +9,29 @@
 //! writes this as `union(base, {calc_type_min(U)..calc_type_max(U)})`,
 //! where `calc_type_max` never goes below 0.
 //!
-//! Our reading of the reference output (`../shared/reference/alpha-algorithm`):
-//! the expressions are the model's maximal ones — values assigned, sent
-//! and waited for, arguments of calls, operands of comparisons (with clocks
-//! too: `since(RCC) >= RC` seems to put `RC` in `core_nat`'s list) and
-//! connectives, initial values, deadlines, indices — not the operands of
-//! arithmetic (`360` in `random() * 360 / av` widens nothing); they come
-//! from every machine and operation of the project, not only the checked
-//! element (RoboTool writes one `instantiations.csp` per project). Inside
-//! `core_real`'s own list the arithmetic is over the base ranges; the other
-//! lists use the widened `core_real` (and `core_int`) for the arithmetic of
-//! those types.
+//! Our reading of the reference output (`../shared/reference/alpha-algorithm`,
+//! its `csp-gen/instantiations.csp` counted entry by entry): the lists
+//! hold the model's values — values assigned, sent and waited for (the
+//! reference's waits are all `floor(…)` calls, so whether a literal
+//! wait counts is not shown; we count it), initial values, deadlines, the
+//! arguments of every call wherever it is
+//! (in a condition too: `f(-3) > i` lists `-3`) — and one entry of the
+//! base range per declared variable, constant and parameter (the bare
+//! `{0..2}` entries: 22 in each RoboChart list, one per `nat`
+//! declaration of the project, events left out), so the least value is
+//! the base's whenever the model declares one. A comparison's operands
+//! and an index are no values: the one `{1}` of each list is
+//! `waitOp(1)`'s argument, not `x[1]`'s index (which occurs twice, in
+//! `communication.rct` and its rc2rs copy, both covered: the three
+//! `card(neighs)` entries are the root's send and the copy's two), and no
+//! list has an entry for `n`, `alpha`, `RC` or `MB` of the conditions
+//! `n > alpha`, `since(RCC) >= RC`, `since(MBC) >= MB`. The operands of
+//! arithmetic are no values either (`360` in `random() * 360 / av`
+//! widens nothing). The values come from every machine and operation of
+//! the project, not only the checked element (RoboTool writes one
+//! `instantiations.csp` per project). Inside `core_real`'s own list the
+//! arithmetic is over the base ranges; the other lists use the widened
+//! `core_real` (and `core_int`) for the arithmetic of those types.
 //!
 //! RoboSim (`.rst` files): RoboTool writes a second file for RoboSim
 //! elements (`sim/instantiations.csp`) whose lists hold the RoboChart
@@ -36,10 +48,8 @@
 //! RoboChart's `waitOp(1)`). The other `{0..2}` and `{-2..2}` entries are
 //! the declared variables, constants and parameters of each type, events
 //! left out (14 more of each in the RoboSim models, 22 of each in the
-//! RoboChart ones), which widen nothing. (Counted so, the RoboChart lists
-//! hold no comparison operand or index either — no `n`, `alpha`, `RC`,
-//! `x[1]` entry — nor the value of a `wait`, only the calls in it; the
-//! RoboChart reading above keeps them, so it can widen more than RoboTool.) So a RoboSim
+//! RoboChart ones), which widen nothing. (The RoboChart lists, counted so,
+//! hold no comparison operand or index either: see above.) So a RoboSim
 //! model's sites are: the arguments of every call, wherever it is (each
 //! evaluated on its own, not taken apart), and — as in RoboChart, with no
 //! RoboSim example either way — initial and assigned values (a platform
@@ -164,9 +174,10 @@ fn rank(t: &Ty) -> Option<usize> {
 struct Site<'a> {
     file: File,
     expr: &'a MExpr,
-    /// Whether the comparisons, connectives, conditionals, calls and
-    /// indices inside it are values too (RoboChart's reading); RoboSim's
-    /// sites list the nested calls' arguments as sites of their own.
+    /// Whether the connectives, conditionals and calls inside it are
+    /// values too, and the calls' arguments inside its comparisons and
+    /// indexed values (RoboChart's reading); RoboSim's sites list the
+    /// nested calls' arguments as sites of their own.
     descend: bool,
 }
 
@@ -189,6 +200,10 @@ pub fn number_domains(
     }
     let mut sites = Vec::new();
     let mut decl_types: Vec<&Ty> = Vec::new();
+    // The variables, constants and parameters: each is an entry of its
+    // type's base range in RoboTool's lists (so the lists' least value is
+    // the base's when the model declares any).
+    let mut held_types: Vec<&Ty> = Vec::new();
     for &f in ws.files(db) {
         let sim = match f.kind(db) {
             FileKind::RoboChart => false,
@@ -199,7 +214,8 @@ pub fn number_domains(
             continue;
         }
         for (_, item) in &model::file_model(db, ws, f).items {
-            item_types(item, &mut decl_types);
+            item_types(item, true, &mut decl_types);
+            item_types(item, false, &mut held_types);
             match item {
                 Item::Machine(b) | Item::Operation(b) => behaviour(f, b, sim, &mut sites),
                 Item::Controller(c) => {
@@ -228,6 +244,8 @@ pub fn number_domains(
     for t in &decl_types {
         mark_ranks(t, &mut declared);
     }
+    // Only plain number types: a record's or a set's entry is not read here.
+    let held: BTreeSet<usize> = held_types.iter().filter_map(|t| rank(t)).collect();
     let mut widened = [false; 3];
     // `real` first (over the base ranges), then `int` and `nat` with the
     // widened `real` (and `int`) for the arithmetic of those types.
@@ -243,6 +261,9 @@ pub fn number_domains(
         let eval = |file: File| Eval { db, ws, inputs: &inputs, types: expr_types(db, ws, file), arith: &own };
         for s in &sites {
             site_values(&eval(s.file), s, r, &mut values)?;
+        }
+        for &k in held.iter().filter(|&&k| k <= r) {
+            values.extend([BASE[k].lo, BASE[k].hi]);
         }
         let max = values.iter().copied().max().unwrap_or(0).max(0);
         let min = values.iter().copied().min().unwrap_or(max).min(max);
@@ -301,17 +322,26 @@ fn site_values(ev: &Eval<'_>, s: &Site<'_>, r: usize, out: &mut BTreeSet<Val>) -
         if !s.descend {
             continue;
         }
-        // Into what is not arithmetic: comparisons, connectives, calls,
-        // conditionals, indices.
+        // Into what is not arithmetic: connectives, calls, conditionals.
+        // A comparison's operands and an index are no values of their own
+        // (RoboTool's lists hold no `n`, `alpha` of `n > alpha`, no `1` of
+        // `x[1]`: see the module doc), but the arguments of the calls in
+        // them are.
         match &e.kind {
+            ExprKind::Binary(op, a, b) if is_comparison(*op) => {
+                for operand in [&**a, &**b] {
+                    operand.walk(&mut |x| {
+                        if let ExprKind::Call { args, .. } = &x.kind {
+                            stack.extend(args.iter());
+                        }
+                    });
+                }
+            }
             ExprKind::Binary(op, a, b) if !is_arith(*op) => stack.extend([&**a, &**b]),
             ExprKind::Unary(UnOp::Not, a) => stack.push(a),
             ExprKind::Call { args, .. } => stack.extend(args.iter()),
             ExprKind::If(c, a, b) => stack.extend([&**c, &**a, &**b]),
-            ExprKind::Index(base, ix) => {
-                stack.push(base);
-                stack.extend(ix.iter());
-            }
+            ExprKind::Index(base, _) => stack.push(base),
             ExprKind::Tuple(xs) => stack.extend(xs.iter()),
             ExprKind::Record(fs) => stack.extend(fs.iter().map(|(_, x)| x)),
             ExprKind::Interval { lo, hi, .. } => stack.extend([&**lo, &**hi]),
@@ -319,6 +349,10 @@ fn site_values(ev: &Eval<'_>, s: &Site<'_>, r: usize, out: &mut BTreeSet<Val>) -
         }
     }
     Ok(())
+}
+
+fn is_comparison(op: BinOp) -> bool {
+    matches!(op, BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::In)
 }
 
 fn is_arith(op: BinOp) -> bool {
@@ -745,14 +779,15 @@ fn mark_ranks(t: &Ty, out: &mut [bool; 3]) {
     }
 }
 
-/// The types of what an item declares: variables, constants, events,
-/// parameters (of its behaviours, interfaces, controllers, platforms).
-fn item_types<'a>(item: &'a Item, out: &mut Vec<&'a Ty>) {
-    fn decls<'a>(d: &'a model::Decls, out: &mut Vec<&'a Ty>) {
+/// The types of what an item declares: variables, constants, events
+/// (with `events`), parameters (of its behaviours, interfaces,
+/// controllers, platforms).
+fn item_types<'a>(item: &'a Item, events: bool, out: &mut Vec<&'a Ty>) {
+    fn decls<'a>(d: &'a model::Decls, events: bool, out: &mut Vec<&'a Ty>) {
         for d in &d.decls {
             match d {
                 model::Decl::Vars { vars, .. } => out.extend(vars.iter().filter_map(|v| v.ty.as_ref()).map(|t| &t.ty)),
-                model::Decl::Event { ty: Some(t), .. } => out.push(&t.ty),
+                model::Decl::Event { ty: Some(t), .. } if events => out.push(&t.ty),
                 model::Decl::OperationSig { params, .. } => {
                     out.extend(params.iter().filter_map(|p| p.ty.as_ref()).map(|t| &t.ty))
                 }
@@ -760,35 +795,35 @@ fn item_types<'a>(item: &'a Item, out: &mut Vec<&'a Ty>) {
             }
         }
     }
-    fn behaviour<'a>(b: &'a Behaviour, out: &mut Vec<&'a Ty>) {
-        decls(&b.decls, out);
+    fn behaviour<'a>(b: &'a Behaviour, events: bool, out: &mut Vec<&'a Ty>) {
+        decls(&b.decls, events, out);
         out.extend(b.params.iter().filter_map(|p| p.ty.as_ref()).map(|t| &t.ty));
     }
-    fn controller<'a>(c: &'a model::Controller, out: &mut Vec<&'a Ty>) {
-        decls(&c.decls, out);
+    fn controller<'a>(c: &'a model::Controller, events: bool, out: &mut Vec<&'a Ty>) {
+        decls(&c.decls, events, out);
         for i in c.machines.iter().chain(&c.operations) {
             if let Definition::Inline(b) = &i.def {
-                behaviour(b, out);
+                behaviour(b, events, out);
             }
         }
     }
     match item {
-        Item::Machine(b) | Item::Operation(b) => behaviour(b, out),
-        Item::Controller(c) => controller(c, out),
-        Item::Interface(p) | Item::Platform(p) => decls(&p.decls, out),
+        Item::Machine(b) | Item::Operation(b) => behaviour(b, events, out),
+        Item::Controller(c) => controller(c, events, out),
+        Item::Interface(p) | Item::Platform(p) => decls(&p.decls, events, out),
         Item::Module(m) => {
             for c in &m.controllers {
                 if let Definition::Inline(c) = &c.def {
-                    controller(c, out);
+                    controller(c, events, out);
                 }
             }
             for p in &m.platforms {
                 if let Definition::Inline(p) = &p.def {
-                    decls(&p.decls, out);
+                    decls(&p.decls, events, out);
                 }
             }
         }
-        Item::Record(_, fields) => out.extend(fields.iter().filter_map(|f| f.ty.as_ref()).map(|t| &t.ty)),
+        Item::Record(_, fields) if events => out.extend(fields.iter().filter_map(|f| f.ty.as_ref()).map(|t| &t.ty)),
         _ => {}
     }
 }

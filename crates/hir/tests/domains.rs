@@ -61,9 +61,19 @@ fn a_divisor_zero_counts_as_one() {
         doms(&machine("const av : real var x : real", "x = 180 / av ; x = av")),
         ([r(0, 2), r(-2, 2), r(-2, 180)], [false, false, true])
     );
-    // On its own, {180} leaves a gap after {-2..2}: RoboTool's type is not
-    // one range, and the computation asks for it.
-    let err = domains(&machine("const av : real var x : real", "x = 180 / av"), &DomainInputs::default());
+    // On its own too: every declared variable, constant and parameter is
+    // an entry of its type's base range in RoboTool's lists (`{-2..2}`
+    // for `av` and `x`: the reference's bare `{0..2}` entries are one per
+    // declaration), so the least value is -2 and there is no gap.
+    assert_eq!(
+        doms(&machine("const av : real var x : real", "x = 180 / av")),
+        ([r(0, 2), r(-2, 2), r(-2, 180)], [false, false, true])
+    );
+    // With no declaration of the type (an event is none), {180} leaves a
+    // gap after {-2..2}: RoboTool's type is not one range, and the
+    // computation asks for it.
+    let events = format!("interface I {{ event e : real }}\n{}", machine("uses I", "e!(180 / 4)"));
+    let err = domains(&events, &DomainInputs::default());
     assert!(err.expect_err("a gap").contains("{-2..2} ∪ {180..180}"));
 }
 
@@ -71,9 +81,18 @@ fn a_divisor_zero_counts_as_one() {
 fn a_nat_value_widens_int_and_real_an_int_one_real_only() {
     assert_eq!(doms(&machine("var n : nat", "n = 3")), ([r(0, 3), r(-2, 3), r(-2, 3)], [true; 3]));
     assert_eq!(doms(&machine("var i : int", "i = -7")), ([r(0, 2), r(-7, 2), r(-7, 2)], [false, true, true]));
-    // A comparison's operands are values too (not the comparison).
+    // A comparison's operands are no values (RoboTool's lists hold no `n`,
+    // `alpha` of `n > alpha`, no `1` of `x[1]`: see the module doc); the
+    // arguments of a call in it are.
     assert_eq!(
         doms("stm M { var i : int initial i0 state S { } transition t { from i0 to S condition i > -3 } }"),
+        (BASE, [false; 3])
+    );
+    assert_eq!(
+        doms(
+            "function f(v : int) : int { }
+             stm M { var i : int initial i0 state S { } transition t { from i0 to S condition f(-3) > i } }"
+        ),
         ([r(0, 2), r(-3, 2), r(-3, 2)], [false, true, true])
     );
 }
@@ -96,8 +115,14 @@ fn an_instantiation_fixes_a_type_and_the_others_compute_with_it() {
 
 #[test]
 fn a_gap_in_a_stored_type_asks_for_the_range() {
-    // RoboTool's `core_nat` would be {0..2} ∪ {10..10}: not one range.
-    let err = domains(&machine("var n : nat", "n = 10"), &DomainInputs::default()).expect_err("a gap");
+    // A declared `nat` variable is an entry {0..2}: `n = 10` gives {0..10}.
+    assert_eq!(doms(&machine("var n : nat", "n = 10")).0, [r(0, 10), r(-2, 10), r(-2, 10)]);
+    // With only an event of the type, RoboTool's `core_nat` would be
+    // {0..2} ∪ {10..10}: not one range, and values of it are communicated
+    // (`real`'s gap does not matter: nothing of that type is stored or
+    // communicated).
+    let model = format!("interface I {{ event e : nat }}\n{}", machine("uses I", "e!10"));
+    let err = domains(&model, &DomainInputs::default()).expect_err("a gap");
     assert_eq!(
         err,
         "RoboTool's `core_nat` here is {0..2} ∪ {10..10} (RT-5), not one range: give it with `nametype core_nat = \
@@ -180,14 +205,17 @@ fn robosim_lists_hold_the_robochart_models_and_not_the_other_way() {
     assert_eq!(chart.domains, [r(0, 3), r(-2, 3), r(-2, 3)]);
 }
 
-/// A gap in a RoboSim list asks for the range, as in RoboChart (`real`,
-/// the first computed, is the first found: `move`'s parameters are reals).
+/// A gap in a RoboSim list asks for the range, as in RoboChart: with no
+/// `nat` variable, constant or parameter (`move`'s parameters are reals,
+/// entries of `real`'s and not `nat`'s list), `$move(10, 10)` gives
+/// `core_nat` {0..2} ∪ {10..10}, and the event `out : nat` communicates
+/// values of it.
 #[test]
 fn robosim_gap_asks_for_the_range() {
-    let err = domains_in(&[("m.rst", &sim_machine("var x : nat", "true", "x = 10"))], "m.rst").expect_err("a gap");
+    let err = domains_in(&[("m.rst", &sim_machine("", "true", "$move(10, 10)"))], "m.rst").expect_err("a gap");
     assert_eq!(
         err,
-        "RoboTool's `core_real` here is {-2..2} ∪ {10..10} (RT-5), not one range: give it with `nametype core_real = \
+        "RoboTool's `core_nat` here is {0..2} ∪ {10..10} (RT-5), not one range: give it with `nametype core_nat = \
          {a..b}` in a `csp` block of an assertion file"
     );
 }
