@@ -165,12 +165,17 @@ fn agree(what: &str, r: &Report, oracle: Option<&str>) {
     }
 }
 
-#[test]
-fn figures_and_mutants_agree_with_the_oracle() {
+/// What `../shared/spec/semantics_oracle.py` prints.
+fn oracle_output() -> String {
     let oracle = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/spec/semantics_oracle.py");
     let out = std::process::Command::new("python3").arg(oracle).output().expect("python3 runs the oracle");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let text = String::from_utf8(out.stdout).expect("utf-8");
+    String::from_utf8(out.stdout).expect("utf-8")
+}
+
+#[test]
+fn figures_and_mutants_agree_with_the_oracle() {
+    let text = oracle_output();
     let section = text.split("== Soundness").nth(1).expect("the soundness section");
     let section = section.split("== rc2rs").next().unwrap_or(section);
     let lines: Vec<&str> = section.lines().skip(1).collect();
@@ -400,10 +405,7 @@ fn oracle_trace(t: &str) -> String {
 /// we run straight-line code in one step.
 #[test]
 fn agrees_with_the_oracle_on_the_running_example() {
-    let oracle = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/spec/semantics_oracle.py");
-    let out = std::process::Command::new("python3").arg(oracle).output().expect("python3 runs the oracle");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let text = String::from_utf8(out.stdout).expect("utf-8");
+    let text = oracle_output();
     let mut compared = 0;
     for line in text.lines().filter(|l| l.starts_with("robotool3 ") || l.starts_with("paper2019 ")) {
         let profile = if line.starts_with("paper2019") { Profile::Paper2019 } else { Profile::RoboTool3 };

@@ -359,42 +359,48 @@ fn is_arith(op: BinOp) -> bool {
     matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Mod)
 }
 
-/// The sites of a machine or operation: RoboSim's or RoboChart's.
+/// The sites of a machine or operation: RoboChart's maximal expressions,
+/// or, with `sim`, RoboSim's (see the module doc: initial values, assigned
+/// values and the arguments of every call, wherever it is; not
+/// conditions, outputs (`$e!v`) or cycle definitions).
 fn behaviour<'a>(file: File, b: &'a Behaviour, sim: bool, out: &mut Vec<Site<'a>>) {
-    match sim {
-        false => behaviour_sites(file, b, out),
-        true => sim_behaviour_sites(file, b, out),
-    }
-}
-
-/// The maximal expressions of a machine or operation.
-fn behaviour_sites<'a>(file: File, b: &'a Behaviour, out: &mut Vec<Site<'a>>) {
     for d in &b.decls.decls {
         if let model::Decl::Vars { vars, .. } = d {
-            out.extend(vars.iter().filter_map(|v| v.init.as_ref()).map(|expr| Site { file, descend: true, expr }));
+            for v in vars.iter().filter_map(|v| v.init.as_ref()) {
+                match sim {
+                    false => out.push(Site { file, descend: true, expr: v }),
+                    true => sim_value(file, v, out),
+                }
+            }
         }
     }
-    region_sites(file, &b.region, out);
+    region_sites(file, &b.region, sim, out);
 }
 
-fn region_sites<'a>(file: File, r: &'a Region, out: &mut Vec<Site<'a>>) {
+fn region_sites<'a>(file: File, r: &'a Region, sim: bool, out: &mut Vec<Site<'a>>) {
+    let stmt = |s: &'a Stmt, out: &mut Vec<Site<'a>>| match sim {
+        false => stmt_sites(file, s, out),
+        true => sim_stmt_sites(file, s, out),
+    };
     for n in &r.nodes {
         for a in [&n.entry, &n.during, &n.exit].into_iter().flatten() {
             if let Some(s) = &a.stmt {
-                stmt_sites(file, s, out);
+                stmt(s, out);
             }
         }
-        region_sites(file, &n.region, out);
+        region_sites(file, &n.region, sim, out);
     }
     for t in &r.transitions {
-        if let Some(c) = t.condition.as_ref().and_then(|c| c.expr.as_ref()) {
-            out.push(Site { file, descend: true, expr: c });
-        }
-        if let Some((_, Some(d))) = &t.deadline {
-            out.push(Site { file, descend: true, expr: d });
+        let condition = t.condition.as_ref().and_then(|c| c.expr.as_ref());
+        let deadline = t.deadline.as_ref().and_then(|(_, d)| d.as_ref());
+        for e in condition.into_iter().chain(deadline) {
+            match sim {
+                false => out.push(Site { file, descend: true, expr: e }),
+                true => sim_calls(file, e, out),
+            }
         }
         if let Some(s) = t.action.as_ref().and_then(|a| a.stmt.as_ref()) {
-            stmt_sites(file, s, out);
+            stmt(s, out);
         }
     }
 }
@@ -416,43 +422,6 @@ fn stmt_sites<'a>(file: File, s: &'a Stmt, out: &mut Vec<Site<'a>>) {
         }
         _ => {}
     });
-}
-
-/// RoboSim (see the module doc): the sites of a machine or operation of a
-/// `.rst` file: initial values, assigned values and the arguments of
-/// every call, wherever it is; not conditions, outputs (`$e!v`) or cycle
-/// definitions.
-fn sim_behaviour_sites<'a>(file: File, b: &'a Behaviour, out: &mut Vec<Site<'a>>) {
-    for d in &b.decls.decls {
-        if let model::Decl::Vars { vars, .. } = d {
-            for v in vars.iter().filter_map(|v| v.init.as_ref()) {
-                sim_value(file, v, out);
-            }
-        }
-    }
-    sim_region_sites(file, &b.region, out);
-}
-
-fn sim_region_sites<'a>(file: File, r: &'a Region, out: &mut Vec<Site<'a>>) {
-    for n in &r.nodes {
-        for a in [&n.entry, &n.during, &n.exit].into_iter().flatten() {
-            if let Some(s) = &a.stmt {
-                sim_stmt_sites(file, s, out);
-            }
-        }
-        sim_region_sites(file, &n.region, out);
-    }
-    for t in &r.transitions {
-        if let Some(c) = t.condition.as_ref().and_then(|c| c.expr.as_ref()) {
-            sim_calls(file, c, out);
-        }
-        if let Some((_, Some(d))) = &t.deadline {
-            sim_calls(file, d, out);
-        }
-        if let Some(s) = t.action.as_ref().and_then(|a| a.stmt.as_ref()) {
-            sim_stmt_sites(file, s, out);
-        }
-    }
 }
 
 fn sim_stmt_sites<'a>(file: File, s: &'a Stmt, out: &mut Vec<Site<'a>>) {

@@ -599,11 +599,7 @@ impl Typer<'_> {
             Target::Item(loc) => {
                 let s = loc.summary(self.db);
                 if s.kind == DefKind::Function {
-                    let params: Vec<Ty> = s
-                        .params
-                        .iter()
-                        .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
-                        .collect();
+                    let params = self.function_params_of(loc);
                     let result = self.function_result_of(loc);
                     if params.is_empty() {
                         return result;
@@ -613,6 +609,12 @@ impl Typer<'_> {
                 Ty::Error
             }
         }
+    }
+
+    /// The parameter types of the function `loc`.
+    fn function_params_of(&self, loc: ItemLoc) -> Vec<Ty> {
+        let s = loc.summary(self.db);
+        s.params.iter().map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error)).collect()
     }
 
     fn function_result_of(&self, loc: ItemLoc) -> Ty {

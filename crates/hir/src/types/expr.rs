@@ -16,6 +16,16 @@ use super::{
 };
 
 impl Typer<'_> {
+    /// The join of the types of a set's or sequence's elements.
+    fn element_type(&mut self, n: &SyntaxNode) -> Ty {
+        let mut el = Ty::Any;
+        for e in operand_exprs(n) {
+            let t = self.expr(&e);
+            el = join(&el, &t);
+        }
+        el
+    }
+
     pub(super) fn expr_type(&mut self, n: &SyntaxNode) -> Ty {
         match n.kind() {
             LITERAL => match n.first_token().map(|t| t.kind()) {
@@ -209,22 +219,8 @@ impl Typer<'_> {
                 self.env.truncate(mark);
                 t
             }
-            SET_EXPR => {
-                let mut el = Ty::Any;
-                for e in operand_exprs(n) {
-                    let t = self.expr(&e);
-                    el = join(&el, &t);
-                }
-                Ty::Set(Box::new(el))
-            }
-            SEQ_EXPR => {
-                let mut el = Ty::Any;
-                for e in operand_exprs(n) {
-                    let t = self.expr(&e);
-                    el = join(&el, &t);
-                }
-                Ty::Seq(Box::new(el))
-            }
+            SET_EXPR => Ty::Set(Box::new(self.element_type(n))),
+            SEQ_EXPR => Ty::Seq(Box::new(self.element_type(n))),
             SET_RANGE_EXPR | INTERVAL_EXPR => {
                 let mut el = Ty::Nat;
                 for e in operand_exprs(n) {
@@ -540,11 +536,7 @@ impl Typer<'_> {
                     let s = loc.summary(self.db);
                     if s.kind == DefKind::Function {
                         let name = s.name.clone();
-                        let params: Vec<Ty> = s
-                            .params
-                            .iter()
-                            .map(|(_, t)| t.as_ref().map(|t| self.lower(loc.file, t)).unwrap_or(Ty::Error))
-                            .collect();
+                        let params = self.function_params_of(loc);
                         let result = self.function_result_of(loc);
                         if params.len() != args.len() {
                             self.problem(
