@@ -402,10 +402,11 @@ pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<S
     if let (Some(loc), true) = (robosim_op, resolve_item(db, ws, file, path, element).is_empty()) {
         return Ok(Subject::SimOperation { name, loc, inner: None });
     }
-    // RT-11: `C::o`, an operation reference of a RoboSim controller, is the
-    // operation it references.
-    if let Some(loc) = robosim_operation_ref(db, ws, file, path) {
-        return Ok(Subject::SimOperation { name, loc, inner: None });
+    // RT-11: `C::o` (an operation reference of a RoboSim controller) is
+    // the operation it references; `Mod::c::o` and `Mod::c::Op` reach it
+    // through the module's controller reference.
+    if let Some((loc, inner)) = robosim_operation_path(db, ws, file, path) {
+        return Ok(Subject::SimOperation { name, loc, inner });
     }
     let loc = resolve_item(db, ws, file, path, element).into_iter().next().ok_or_else(|| {
         let csp = std::iter::once(read)
@@ -453,19 +454,42 @@ fn robosim_period(
     }
 }
 
-/// The operation `C::o` names when `C` is a RoboSim controller with an
-/// operation reference `opref o = Op` (RoboChart instance paths are read
-/// by [`instance`]).
-fn robosim_operation_ref(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<ItemLoc> {
-    let (last, prefix) = path.split_last()?;
-    let ctrl = resolve_item(db, ws, file, prefix, |k| k == DefKind::Controller)
-        .into_iter()
-        .find(|l| l.file.kind(db) == FileKind::RoboSim)?;
-    let defs = file_defs(db, ctrl.file);
-    let (_, d) =
-        defs.children(Some(ctrl.def(db)?)).find(|(_, d)| d.kind == DefKind::OperationRef && d.name == *last)?;
-    let DefData::Reference { path: target, .. } = &d.data else { return None };
-    resolve_item(db, ws, ctrl.file, target, |k| k == DefKind::Operation).into_iter().next()
+/// The RoboSim operation an instance path names, checked on its own
+/// (RT-11): `C::o` for the operation reference `o` of controller `C`, and
+/// `Mod::c::o` or `Mod::c::Op` through the controller reference `c` of
+/// module `Mod`; the operation's location, with the name of the operation
+/// declared inside the controller the path ends at, if it is one. (`C::Op`
+/// itself is read by [`inline_machine`], RoboChart paths by [`instance`].)
+fn robosim_operation_path(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    path: &[String],
+) -> Option<(ItemLoc, Option<String>)> {
+    let container = |k| matches!(k, DefKind::Module | DefKind::Controller);
+    let (start, mut loc) = (1..path.len())
+        .rev()
+        .find_map(|k| resolve_item(db, ws, file, &path[..k], container).into_iter().next().map(|l| (k, l)))?;
+    if loc.file.kind(db) != FileKind::RoboSim {
+        return None;
+    }
+    for (i, seg) in path.iter().enumerate().skip(start) {
+        let last = i + 1 == path.len();
+        let defs = file_defs(db, loc.file);
+        let (_, child) = defs.children(Some(loc.def(db)?)).find(|(_, d)| d.name == *seg)?;
+        match (child.kind, &child.data) {
+            (DefKind::ControllerRef, DefData::Reference { path: target, .. }) if !last => {
+                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Controller).into_iter().next()?;
+            }
+            (DefKind::Operation, _) if last => return Some((loc, Some(seg.clone()))),
+            (DefKind::OperationRef, DefData::Reference { path: target, .. }) if last => {
+                let op = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Operation).into_iter().next()?;
+                return Some((op, None));
+            }
+            _ => return None,
+        }
+    }
+    None
 }
 
 /// RT-11: the definition of the operation `path` names (in `with parameter
