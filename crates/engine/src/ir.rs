@@ -793,6 +793,8 @@ pub struct Transition {
 pub struct Machine {
     /// Its name (the reference's name in its controller).
     pub name: String,
+    /// The name of its declaration (`M` for `sref s = M`).
+    pub decl_name: String,
     /// Nodes; the index is the node id.
     pub nodes: Vec<Node>,
     /// Transitions.

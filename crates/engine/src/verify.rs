@@ -871,7 +871,8 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                 let Side::Plain(plain) = &lts else {
                     return Err("reachability is checked for RoboChart machines only so far".into());
                 };
-                let target_state = |st: &Packed| plain.in_state(&plain.values(st), state);
+                let nodes = plain.state_nodes(state)?;
+                let target_state = |st: &Packed| plain.in_nodes(&plain.values(st), &nodes);
                 let reach = Reach { lts: plain, target: &target_state };
                 let (r, stats) = find_deadlock(&reach, &opts.budget, progress);
                 report.stats = stats;

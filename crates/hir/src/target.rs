@@ -155,11 +155,50 @@ pub fn bindings_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>, 
 /// has `z` is an error (never silently a default); other `X` (RoboSim,
 /// unresolved) are left as written.
 fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
-    let Scope { db, ws, file, .. } = scope;
+    let Scope { db, ws, file, read, others } = scope;
     let element = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
-    let Some(loc) = resolve_item(db, ws, file, &b.of, element).into_iter().next() else { return Ok(vec![b]) };
+    let resolved = resolve_item(db, ws, file, &b.of, element).into_iter().next().or_else(|| {
+        // An instance path (`Mod::c`, `Ctl::s`) names the element it
+        // references.
+        match instance(db, ws, file, &b.of) {
+            Some(Ok((loc, None))) => Some(loc),
+            _ => None,
+        }
+    });
+    // RoboTool also reads a plain name no import reaches (LNK-02), as the
+    // checker matches the binding by the element's name.
+    let resolved = resolved.or_else(|| {
+        let [n] = b.of.as_slice() else { return None };
+        ws.files(db).iter().filter(|f| !f.is_library(db)).find_map(|&file| {
+            let items = &crate::index::file_summary(db, file).items;
+            let index = items.iter().position(|i| element(i.kind) && i.name == *n)?;
+            Some(ItemLoc { file, index: index as u32 })
+        })
+    });
+    let Some(loc) = resolved else {
+        // A simulation of an assertion file is read by the RoboSim
+        // checker; anything else names nothing, and the value would be
+        // silently dropped.
+        let simulation = matches!(b.of.as_slice(), [n]
+            if std::iter::once(read).chain(others.iter().map(|(_, r)| r)).any(|r| r.simulation(n).is_some()));
+        if simulation {
+            return Ok(vec![b]);
+        }
+        return Err(format!(
+            "`{}` is not a module, controller or state machine: `with constant {} of X` names the machine, the \
+             controller that requires `{}`, or the module whose platform provides it",
+            b.of.join("::"),
+            b.name,
+            b.name
+        ));
+    };
     let Some(id) = loc.def(db) else { return Ok(vec![b]) };
     if loc.file.kind(db) != FileKind::RoboChart {
+        // RoboSim: the binding is read by the element's name; one that no
+        // part of the element declares would be silently dropped.
+        if !has_constant(db, ws, loc.file, id, &b.name, 0) {
+            return Err(format!("`{}` has no constant `{}`", b.of.join("::"), b.name));
+        }
         return Ok(vec![b]);
     }
     let of = b.of.join("::");
@@ -213,6 +252,33 @@ fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
             }
             Ok(out)
         }
+    }
+}
+
+/// Whether the element `id` of `file`, or a part of it (its platform, its
+/// controllers' machines), declares a constant `name` or has one through
+/// an interface. `depth` bounds the walk through references (a cycle of
+/// references is a model error reported elsewhere).
+fn has_constant(db: &dyn Db, ws: Workspace, file: File, id: DefId, name: &str, depth: usize) -> bool {
+    let defs = file_defs(db, file);
+    if depth > 8 {
+        return false;
+    }
+    if interface_constant(db, ws, file, id, name, None) {
+        return true;
+    }
+    let own = defs.children(Some(id)).any(|(cid, d)| {
+        (d.kind == DefKind::Constant && d.name == name)
+            || (d.kind == DefKind::Platform && interface_constant(db, ws, file, cid, name, None))
+    });
+    own || match defs.def(id).kind {
+        DefKind::Controller => {
+            machines_of(db, ws, file, id).into_iter().any(|(f, m)| has_constant(db, ws, f, m, name, depth + 1))
+        }
+        DefKind::Module => {
+            controllers_of(db, ws, file, id).into_iter().any(|(f, c)| has_constant(db, ws, f, c, name, depth + 1))
+        }
+        _ => false,
     }
 }
 

@@ -690,6 +690,7 @@ impl<'a> Cx<'a> {
         }
         let m = Machine {
             name: mc.inst_prefix.clone(),
+            decl_name: mc.decl_name.clone(),
             nodes: mc.nodes,
             transitions: mc.transitions,
             code: mc.code,
