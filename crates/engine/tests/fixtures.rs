@@ -410,10 +410,9 @@ fn check_fixture(dir: &Path) -> Vec<String> {
         None => problems.extend(errors.into_iter().map(|e| {
             format!("{}: an error in a well-formed fixture (or `// option ill-formed: REASON`): {e}", dir.display())
         })),
-        Some(reason) if errors.is_empty() => problems.push(format!(
-            "{}: `ill-formed: {reason}`, but no file of the fixture has an error",
-            dir.display()
-        )),
+        Some(reason) if errors.is_empty() => {
+            problems.push(format!("{}: `ill-formed: {reason}`, but no file of the fixture has an error", dir.display()))
+        }
         Some(_) => {}
     }
     let mut snapshot = String::new();
