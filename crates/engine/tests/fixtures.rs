@@ -20,9 +20,7 @@
 //! A line `// option NAME: VALUE` in any file of a fixture sets an option
 //! of the whole check, as the command line would: `profile: paper2019`
 //! (`--profile`), `async-buffer: 2:block` (`--async-buffer`),
-//! `max-states: 3` (`--max-states`); and `well-formed: true` asserts that
-//! no file of the fixture has an error (`robosim check` reports nothing),
-//! for fixtures whose point is a verdict on a correct model. Two options
+//! `max-states: 3` (`--max-states`). Two options
 //! shape the workspace and the reports: `include: examples/paper/design.rct`
 //! adds a file of the repository (under its file name), so that a fixture
 //! can check an example without a copy that would drift from it; and
@@ -52,6 +50,15 @@
 //!   counterexample (kind and trace) as OTHER in the same analysis.
 //!
 //! For example `// expect-trace B untimed: trace: o.out`.
+//!
+//! **Every fixture is well-formed** (no file of it, included files too,
+//! has an error: `robosim check` accepts it): RoboTool generates CSPm only
+//! for models its validator accepts, so a verdict on an ill-formed model
+//! states nothing RoboTool + FDR would say. A fixture whose point is an
+//! ill-formed or unusual input (a reason for refusing something, a name
+//! FDR would not resolve either) says so with `// option ill-formed:
+//! REASON`; the runner then asserts that it does have an error, so the
+//! option cannot outlive its reason.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -250,8 +257,8 @@ fn holds(fact: &Fact, r: &Report, reports: &[Report]) -> Result<(), String> {
 struct Setup {
     /// The options of the check.
     opts: Options,
-    /// Whether the fixture must be well-formed.
-    well_formed: bool,
+    /// Why the fixture is ill-formed (`None`: it must be well-formed).
+    ill_formed: Option<String>,
     /// The one semantics whose reports are kept (`None`: both).
     semantics: Option<Semantics>,
     /// The reports kept: of a file whose name ends with the first, named
@@ -260,7 +267,7 @@ struct Setup {
 }
 
 fn options(files: &[(String, String)]) -> Setup {
-    let mut setup = Setup { opts: Options::default(), well_formed: false, semantics: None, only: None };
+    let mut setup = Setup { opts: Options::default(), ill_formed: None, semantics: None, only: None };
     let opts = &mut setup.opts;
     for (name, text) in files {
         for (i, line) in text.lines().enumerate() {
@@ -284,7 +291,10 @@ fn options(files: &[(String, String)]) -> Setup {
                     let secs = value.parse().unwrap_or_else(|e| panic!("{at}: {e}"));
                     opts.budget.timeout = Some(std::time::Duration::from_secs(secs));
                 }
-                "well-formed" => setup.well_formed = value.parse().unwrap_or_else(|e| panic!("{at}: {e}")),
+                "ill-formed" => {
+                    assert!(!value.is_empty(), "{at}: `// option ill-formed: REASON` needs its reason");
+                    setup.ill_formed = Some(value.to_string())
+                }
                 "semantics" => {
                     setup.semantics = Some(match value {
                         "timed" => Semantics::Timed,
@@ -299,7 +309,7 @@ fn options(files: &[(String, String)]) -> Setup {
                 }
                 "include" => {}
                 other => panic!(
-                    "{at}: `{other}` is not an option (profile, async-buffer, max-states, timeout, well-formed, \
+                    "{at}: `{other}` is not an option (profile, async-buffer, max-states, timeout, ill-formed, \
                      semantics, include, only)"
                 ),
             }
@@ -384,7 +394,7 @@ fn check_fixture(dir: &Path) -> Vec<String> {
     files.extend(included(&files));
     let expected = expectations(&files);
     let facts = facts(&files);
-    let Setup { opts, well_formed, semantics, only } = options(&files);
+    let Setup { opts, ill_formed, semantics, only } = options(&files);
     // As `verify_texts`, with the workspace at hand for its diagnostics.
     let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(&mut db, files.clone(), robosim_hir::RuleSet::Paper);
@@ -395,10 +405,15 @@ fn check_fixture(dir: &Path) -> Vec<String> {
     }
     let texts: BTreeMap<&str, &str> = files.iter().map(|(n, t)| (n.as_str(), t.as_str())).collect();
     let mut problems = Vec::new();
-    if well_formed {
-        problems.extend(
-            errors(&db, ws).into_iter().map(|e| format!("{}: an error in a well-formed fixture: {e}", dir.display())),
-        );
+    let errors = errors(&db, ws);
+    match &ill_formed {
+        None => problems.extend(errors.into_iter().map(|e| {
+            format!("{}: an error in a well-formed fixture (or `// option ill-formed: REASON`): {e}", dir.display())
+        })),
+        Some(reason) if errors.is_empty() => {
+            problems.push(format!("{}: `ill-formed: {reason}`, but no file of the fixture has an error", dir.display()))
+        }
+        Some(_) => {}
     }
     let mut snapshot = String::new();
     for r in &reports {
