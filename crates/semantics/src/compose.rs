@@ -392,7 +392,10 @@ fn inst_args(e: &Elem, robosim: bool) -> Vec<Expr> {
 /// the left group and the next part.
 fn compose(parts: Vec<(Expr, BTreeSet<String>)>, always: &[&str]) -> Expr {
     let mut it = parts.into_iter();
-    let Some((mut acc, mut used)) = it.next() else { return name("TStop") };
+    // No components (a RoboChart controller with operations only): the
+    // parallel composition of none terminates at once, as `robosim verify`
+    // reads it.
+    let Some((mut acc, mut used)) = it.next() else { return Expr::Skip };
     for (p, chans) in it {
         let mut sync: Vec<Expr> = always.iter().map(|s| name(*s)).collect();
         sync.extend(used.intersection(&chans).map(|c| name(c.clone())));
@@ -448,7 +451,21 @@ fn controller<'a>(
         }
     }
     let events = declared_events(ex, file, &c.decls, &mut problems);
-    if insts.is_empty() && problems.is_empty() {
+    if !robosim {
+        // RoboTool exports the operations a controller defines (`pkg::C::OP_op`),
+        // called or not: each may be checked on its own (RT-11). One that
+        // cannot be exported is reported by itself (and by its callers).
+        for o in &c.operations {
+            if let m::Definition::Inline(b) = &o.def {
+                if b.region.nodes.iter().any(|n| n.kind == m::NodeKind::Initial) {
+                    let _ = crate::machine::operation(ex, file, b, path.clone());
+                }
+            }
+        }
+    }
+    // A RoboChart controller with operations only is valid (and RoboTool
+    // exports it): its process terminates at once (see `compose`).
+    if insts.is_empty() && problems.is_empty() && robosim {
         problems.push((file, c.name_range, "a controller without state machines".into()));
     }
     if !problems.is_empty() {

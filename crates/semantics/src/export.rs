@@ -476,7 +476,7 @@ impl<'a> Exporter<'a> {
         self.unique_module(base)
     }
 
-    fn unique_module(&mut self, base: String) -> String {
+    pub(crate) fn unique_module(&mut self, base: String) -> String {
         let mut n = base.clone();
         let mut k = 2;
         while !self.module_names.insert(n.clone()) {

@@ -750,9 +750,9 @@ pub(crate) fn operation<'a>(
         None => {}
     }
     ex.operations.insert(key, None);
+    let module = operation_module(ex, file, &outer, &oname);
     let mut path = outer;
     path.push(oname.clone());
-    let module = ex.module_name(&path);
     let mut g = Gen::new(ex, file, Some(op), path.clone(), op.name_range, false);
     g.is_operation = true;
     let mut params = Vec::new();
@@ -789,6 +789,25 @@ pub(crate) fn operation<'a>(
     };
     ex.operations.insert(key, Some(r.clone()));
     r
+}
+
+/// The CSPm module of the operation `name` declared in `outer` (of
+/// `file`): a top-level one's is its qualified name; one declared inside a
+/// controller is RoboTool's `OP_<name>` inside the controller's module
+/// (`pkg::C::OP_op`, as the reference's `pkg223_::CommunicationC::OP_…`).
+fn operation_module(ex: &mut Exporter<'_>, file: File, outer: &[String], name: &str) -> String {
+    let package = ex.package(file);
+    if outer.len() <= package.len() {
+        let mut path = outer.to_vec();
+        path.push(name.to_string());
+        return ex.module_name(&path);
+    }
+    let named = robosim_hir::csp_names::csp_names(ex.db, ex.ws).element_by_path(outer);
+    let container = match named {
+        Some(e) if e.module.split("::").all(|s| ident(s) == s) => e.module.clone(),
+        _ => crate::util::element_module(&package, outer),
+    };
+    ex.unique_module(format!("{container}::OP_{}", ident(name)))
 }
 
 /// A function of the model exported as a CSPm function.
