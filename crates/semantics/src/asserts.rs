@@ -37,9 +37,11 @@ struct Subject {
     op: Option<OpSubject>,
 }
 
-/// An operation as a subject: its parameters' values and its constants.
+/// An operation as a subject: its name, its parameters' values and its constants.
 #[derive(Clone)]
 struct OpSubject {
+    /// Its declared name.
+    name: String,
     /// Its parameters' values.
     params: Vec<Expr>,
     consts: Vec<ConstParam>,
@@ -204,10 +206,9 @@ fn subject(
         }
         target::Subject::Simulation { loc, inner, period, .. } => (loc, inner, period),
         target::Subject::Design { loc, inner, .. } => (loc, inner, None),
-        target::Subject::SimOperation { name, .. } => {
-            return Err(format!(
-                "`{name}` is a RoboSim operation: its own process (RoboTool's `OP_…::O__`) is not exported yet"
-            ));
+        target::Subject::SimOperation { name, loc, inner } => {
+            return operation_subject(ex, scope, a, loc, inner.as_deref(), path)?
+                .ok_or_else(|| format!("`{name}` could not be resolved"));
         }
     };
     if let Some(s) = operation_subject(ex, scope, a, loc, inner.as_deref(), path)? {
@@ -242,10 +243,11 @@ fn subject(
     })
 }
 
-/// RT-11: the RoboChart operation `loc` names (a top-level one, or the one
-/// an operation reference references), or with `inner` the operation of
-/// that name the controller `loc` declares, as its own process
-/// (`Op::D__`, `C::OP_op::D__`): `None` when `loc` is no operation.
+/// RT-11: the operation `loc` names (a top-level one, or the one an
+/// operation reference references), or with `inner` the operation of that
+/// name the controller `loc` declares, as its own process (RoboChart:
+/// `Op::D__`, `C::OP_op::D__`; RoboSim: RoboTool's `OP_…::D__`, see
+/// `machine::sim_operation`): `None` when `loc` is no operation.
 fn operation_subject(
     ex: &mut Exporter<'_>,
     scope: Scope<'_>,
@@ -272,7 +274,11 @@ fn operation_subject(
     if !b.region.nodes.iter().any(|n| n.kind == m::NodeKind::Initial) {
         return Err(format!("`{written}` is an operation without a body (initial junction): it has no process"));
     }
-    let op = crate::machine::operation(ex, loc.file, b, outer)?;
+    let op = if loc.file.kind(ex.db) == robosim_hir::FileKind::RoboSim {
+        crate::machine::sim_operation(ex, loc.file, b, outer)?
+    } else {
+        crate::machine::operation(ex, loc.file, b, outer)?
+    };
     // `with parameter x of P`, bound by the operation's declared name, as
     // the native checker reads it; a parameter without one is RoboTool's
     // default (`param_x = 0`, `true` for a boolean).
@@ -300,7 +306,11 @@ fn operation_subject(
         simulation: false,
         period: None,
         names: vec![path.to_vec()],
-        op: Some(OpSubject { params, consts: op.consts.iter().map(|(c, _)| c.clone()).collect() }),
+        op: Some(OpSubject {
+            name: b.name.clone(),
+            params,
+            consts: op.consts.iter().map(|(c, _)| c.clone()).collect(),
+        }),
     }))
 }
 
@@ -500,12 +510,19 @@ fn assertion(
         }
         AssertionKind::Reachable { state, machine, .. } => {
             let s = subject(ex, file, read, a, machine, sims, raw)?;
-            let Some(elem) = s.elem.clone() else { return Err("reachability needs a state machine".into()) };
-            if elem.kind != crate::export::ElemKind::Machine {
-                return Err("reachability in controllers and modules is not exported yet (only in state machines)".into());
-            }
-            let mname = elem.path.last().cloned().unwrap_or_default();
-            let pos = state.iter().position(|x| *x == mname).map(|i| i + 1).unwrap_or(0);
+            // The names a state's path may start with: the machine's, or
+            // the operation's (declared, or as the subject is written).
+            let owners: Vec<String> = match (&s.elem, &s.op) {
+                (Some(elem), _) => {
+                    if elem.kind != crate::export::ElemKind::Machine {
+                        return Err("reachability in controllers and modules is not exported yet (only in state machines)".into());
+                    }
+                    elem.path.last().cloned().into_iter().collect()
+                }
+                (None, Some(op)) => [Some(op.name.clone()), machine.last().cloned()].into_iter().flatten().collect(),
+                (None, None) => return Err("reachability needs a state machine".into()),
+            };
+            let pos = state.iter().position(|x| owners.contains(x)).map(|i| i + 1).unwrap_or(0);
             let states = &state[pos..];
             if states.is_empty() {
                 return Err("the state is missing".into());
@@ -513,8 +530,8 @@ fn assertion(
             let tag = states.iter().map(|x| ident(x)).collect::<Vec<_>>().join("_");
             let p = process(ex, file, a, &s, "VS__")?;
             let ev = crate::cspm::dot(vec![
-                name(format!("{}::entered__", elem.module)),
-                name(format!("{}::SID_{tag}", elem.module)),
+                name(format!("{}::entered__", s.module)),
+                name(format!("{}::SID_{tag}", s.module)),
             ]);
             let only = hide(p, call("diff", vec![name("Events"), Expr::Set(vec![ev])]));
             // Reachable iff the entry can happen: STOP does not trace-refine it.

@@ -451,13 +451,15 @@ fn controller<'a>(
         }
     }
     let events = declared_events(ex, file, &c.decls, &mut problems);
-    if !robosim {
-        // RoboTool exports the operations a controller defines (`pkg::C::OP_op`),
-        // called or not: each may be checked on its own (RT-11). One that
-        // cannot be exported is reported by itself (and by its callers).
-        for o in &c.operations {
-            if let m::Definition::Inline(b) = &o.def {
-                if b.region.nodes.iter().any(|n| n.kind == m::NodeKind::Initial) {
+    // RoboTool exports the operations a controller defines (`pkg::C::OP_op`),
+    // called or not: each may be checked on its own (RT-11). One that
+    // cannot be exported is reported by itself (and by its callers).
+    for o in &c.operations {
+        if let m::Definition::Inline(b) = &o.def {
+            if b.region.nodes.iter().any(|n| n.kind == m::NodeKind::Initial) {
+                if robosim && ex.profile == crate::export::Profile::RoboTool3 {
+                    let _ = crate::machine::sim_operation(ex, file, b, path.clone());
+                } else if !robosim {
                     let _ = crate::machine::operation(ex, file, b, path.clone());
                 }
             }

@@ -143,3 +143,153 @@ fn operation_references_are_their_operations() {
     }
     checked(&e, "a_assertions.csp", "");
 }
+
+/// RT-11: a RoboSim operation as a subject is RoboTool's process for it on
+/// its own, `OP_…::D__(id__, params)` (`C::OP_op` for one a controller
+/// declares): no cycle around it, `terminate` (its final state) hidden so
+/// that it ends with ✓, a `$` platform call the urgent register write, an
+/// `exec` statement a visible `endexec -> startexec` with time passing
+/// before either, a call of another operation the urgent call event, its
+/// own clocks and variables in its hidden memory; under `TimedPriority`.
+/// The engine's fixture `rt11_robosim_operations` states each verdict;
+/// every assertion it checks is written, the ones it refuses are left out
+/// with the same reason.
+#[test]
+fn robosim_operations_are_robotools_op_processes() {
+    let e = export_dir(&fixture("rt11_robosim_operations"));
+    let model = text(&e, "m.csp");
+    let once = "-- RoboSim operation Once, on its own (RT-11)
+module OP_Once
+  -- Transition identifiers.
+  datatype TIDS = TID_t
+  channel internal__ : TIDS
+exports
+  -- `exec`: `endexec`, then `startexec`, both visible (RT-11).
+  channel endexec, startexec
+  -- State identifiers; `entered__` marks the entry into a state.
+  datatype SIDS = SID_none
+  channel entered__ : SIDS
+  -- RoboTool's process for the operation on its own: P__ with `terminate` (its final state)
+  -- visible; D__: its semantics, terminating at its final state; VS__: with `entered__`
+  -- visible (reachability); O__: D__ compressed (parameters: id__).
+  P__(id__) =
+    let
+      Behaviour__ = Junction__i
+      Junction__i =
+        internal__.TID_t -> (EDeadline(registerWrite.o_move.1, 0) ; Ending__) [] tock -> Junction__i
+      Ending__ = terminate -> SKIP
+      Memory__ = tock -> Memory__ [] internal__.TID_t -> Memory__ [] terminate -> SKIP
+    within
+      TimedPriority(
+        (Behaviour__ [| {| internal__, tock, terminate |} |] Memory__) \\ {| internal__ |})
+  D__(id__) = TimedPriority(((P__(id__) \\ {| entered__ |}) [| {terminate} |> SKIP) \\ {terminate})
+  VS__(id__) = TimedPriority((P__(id__) [| {terminate} |> SKIP) \\ {terminate})
+  O__(id__) = sbisim(D__(id__))
+endmodule
+";
+    assert!(model.contains(once), "{model}");
+    for piece in [
+        // `exec` in an action: time may pass before `endexec` and `startexec`.
+        "      Exec__ = endexec -> StartExec__ [] tock -> Exec__
+      StartExec__ = startexec -> SKIP [] tock -> StartExec__
+      Junction__i =
+        internal__.TID_t ->
+             reset_C ->
+               (EDeadline(registerWrite.o_move.0, 0)
+                ; Exec__
+                ; EDeadline(registerWrite.o_move.1, 0)
+                ; Enter__S)
+        [] tock -> Junction__i
+",
+        // A call of another operation: the urgent call event.
+        "  -- Calls of other operations (urgent).\n  channel helperCall : core_nat\n",
+        "        internal__.TID_t -> (EDeadline(helperCall.2, 0) ; Ending__) [] tock -> Junction__i\n",
+        // Parameters after `id__`.
+        "  D__(id__, k) =\n    TimedPriority(((P__(id__, k) \\ {| entered__ |}) [| {terminate} |> SKIP) \\ {terminate})\n",
+        // An operation the controller declares, in its module.
+        "  endmodule\n  module OP_Inner\n",
+    ] {
+        assert!(model.contains(piece), "{piece}\nnot in\n{model}");
+    }
+    let asserts = text(&e, "a_assertions.csp");
+    for block in [
+        "-- assertion O1 : Once terminates\nassert not CHAOS(Events) [T= OP_Once::D__(0)\n\
+         assert (OP_Once::D__(0) ; RUN({terminated__})) :[deadlock free [F]]\n",
+        "-- assertion O4 : Once is timelock-free\nassert TimelockFree__(diff(Events, {tock})) [F= OP_Once::D__(0)\n",
+        "-- assertion T5 : Twice::S is reachable in Twice\n\
+         assert not STOP [T= (OP_Twice::VS__(0) \\ diff(Events, {OP_Twice::entered__.OP_Twice::SID_S}))\n",
+        "-- assertion L2 : Loop terminates with parameter k of Loop set to 1\n\
+         assert not CHAOS(Events) [T= OP_Loop::D__(0, 1)\n",
+        "-- assertion L4 : C::o terminates with parameter k of C::o set to 1\n\
+         assert not CHAOS(Events) [T= OP_Loop::D__(0, 1)\n",
+        "-- assertion L9 : Mod::c::o terminates with parameter k of Loop set to 0\n\
+         assert not CHAOS(Events) [T= OP_Loop::D__(0, 0)\n",
+        "-- assertion I2 : Mod::c::Inner terminates\nassert not CHAOS(Events) [T= C::OP_Inner::D__(0)\n",
+        "-- assertion N2 : Count is deterministic\nassert OP_Count::D__(0) :[deterministic [FD]]\n",
+    ] {
+        assert!(asserts.contains(block), "{block}\nnot in\n{asserts}");
+    }
+    // Refused as the engine refuses them, with the reason.
+    let refused: Vec<(&str, &str)> = asserts
+        .split("-- assertion ")
+        .skip(1)
+        .filter_map(|b| {
+            let id = b.split(' ').next()?;
+            let why = b.split("-- NOT EXPORTED: ").nth(1)?;
+            Some((id, why.lines().next()?))
+        })
+        .collect();
+    let ids: Vec<&str> = refused.iter().map(|(id, _)| *id).collect();
+    assert_eq!(ids, ["L6", "L7", "R3", "R4", "R0", "R1", "R2", "I3"], "{refused:#?}");
+    for (id, why) in [
+        ("R3", "the RoboSim operation `Nested` is not exported on its own: it has an `exec` inside a composite state"),
+        ("R4", "the RoboSim operation `Reset` is not exported on its own: it requires clocks: RoboTool's process"),
+        ("R0", "the RoboSim operation `Step` is not exported on its own: it requires variables: RoboTool's process"),
+        ("R1", "the RoboSim operation `ExecTrigger` is not exported on its own: it has an `exec`-triggered transition"),
+        ("R2", "comparing the operation's process with another process is not exported"),
+    ] {
+        assert!(refused.iter().any(|(i, w)| *i == id && w.starts_with(why)), "{id}: {refused:#?}");
+    }
+    assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
+    // The events the engine's fixture states, run with our CSPm evaluator,
+    // on the fixture's operations alone: the evaluator mistakes the
+    // machine `C::M`'s private `endexec : TIDS` for the operations'
+    // `endexec` (a name clash FDR's modules do not have).
+    let src = std::fs::read_to_string(fixture("rt11_robosim_operations/m.rst")).unwrap();
+    let ops_only = src[..src.find("controller C {").expect("the controller")].to_string();
+    let e = export_files(vec![("m.rst".into(), ops_only)]);
+    let m = checked(
+        &e,
+        "main.csp",
+        "Once__ = OP_Once::D__(0)\nTwice__ = OP_Twice::D__(0)\nLoop0__ = OP_Loop::D__(0, 0)\n\
+         Loop1__ = OP_Loop::D__(0, 1)\nCaller__ = OP_Caller::D__(0)\nSignal__ = OP_Signal::D__(0)\n\
+         Count__ = OP_Count::D__(0)\nStuck__ = OP_Stuck::D__(0)",
+    );
+    let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    let once = ev.lts("Once__").unwrap();
+    assert!(terminates_after(&once, &["registerWrite.o_move.1"]), "{:?}", once.events);
+    // Urgent: time does not pass before the write.
+    assert!(!once.has_trace(&["tock"]) && !terminates_after(&once, &[]), "{:?}", once.events);
+    let twice = ev.lts("Twice__").unwrap();
+    let exec = ["registerWrite.o_move.0", "tock", "endexec", "tock", "startexec", "registerWrite.o_move.1"];
+    assert!(twice.has_trace(&exec), "{:?}", twice.events);
+    // Time passed at the `exec` counts for `since(C) >= 1`; without it, S
+    // waits one time unit.
+    assert!(!terminates_after(&twice, &exec[..4]) && terminates_after(&twice, &exec));
+    let fast = ["registerWrite.o_move.0", "endexec", "startexec", "registerWrite.o_move.1"];
+    assert!(!terminates_after(&twice, &fast) && terminates_after(&twice, &[&fast[..], &["tock"]].concat()));
+    assert!(terminates_after(&ev.lts("Loop0__").unwrap(), &[]));
+    let loop1 = ev.lts("Loop1__").unwrap();
+    assert!(loop1.has_trace(&["endexec", "startexec", "endexec", "startexec"]));
+    assert!(!terminates_after(&loop1, &[]) && !terminates_after(&loop1, &["endexec", "startexec"]));
+    assert!(terminates_after(&ev.lts("Caller__").unwrap(), &["helperCall.2"]));
+    assert!(terminates_after(&ev.lts("Signal__").unwrap(), &["registerWrite.o_done.2"]));
+    let count = ev.lts("Count__").unwrap();
+    assert!(terminates_after(&count, &["endexec", "startexec", "endexec", "startexec"]));
+    assert!(!terminates_after(&count, &["endexec", "startexec"]));
+    // Only time passes in S (a timed deadlock, RT-10).
+    let stuck = ev.lts("Stuck__").unwrap();
+    assert!(
+        stuck.has_trace(&["tock", "tock", "tock"]) && !stuck.has_trace(&["endexec"]) && !terminates_after(&stuck, &[])
+    );
+}
