@@ -392,10 +392,7 @@ fn inst_args(e: &Elem, robosim: bool) -> Vec<Expr> {
 /// the left group and the next part.
 fn compose(parts: Vec<(Expr, BTreeSet<String>)>, always: &[&str]) -> Expr {
     let mut it = parts.into_iter();
-    // No components (a RoboChart controller with operations only): the
-    // parallel composition of none terminates at once, as `robosim verify`
-    // reads it.
-    let Some((mut acc, mut used)) = it.next() else { return Expr::Skip };
+    let Some((mut acc, mut used)) = it.next() else { return name("TStop") };
     for (p, chans) in it {
         let mut sync: Vec<Expr> = always.iter().map(|s| name(*s)).collect();
         sync.extend(used.intersection(&chans).map(|c| name(c.clone())));
@@ -465,10 +462,12 @@ fn controller<'a>(
             }
         }
     }
-    // A RoboChart controller with operations only is valid (and RoboTool
-    // exports it): its process terminates at once (see `compose`).
-    if insts.is_empty() && problems.is_empty() && robosim {
-        problems.push((file, c.name_range, "a controller without state machines".into()));
+    if insts.is_empty() && problems.is_empty() {
+        problems.push((
+            file,
+            c.name_range,
+            "a controller without state machines (RC:C1: RoboTool requires at least one)".into(),
+        ));
     }
     if !problems.is_empty() {
         return Err(problems);

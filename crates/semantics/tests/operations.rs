@@ -62,22 +62,21 @@ fn terminates_after(lts: &robosim_cspm::Lts, trace: &[&str]) -> bool {
     cur.iter().any(|&s| lts.transitions[s as usize].iter().any(|(l, _)| *l == robosim_cspm::Label::Tick))
 }
 
-/// A RoboChart controller with operations and no machines is exported
-/// (its process terminates at once, as `robosim verify` reads it), its
-/// operation as RoboTool names it (`C::OP_Op`, with `D__`, `VS__`, `O__`
-/// taking `id__` and the parameters), and so is the module that contains
-/// it. `C::Op` and `Mod::c::Op` are subjects with their parameters
-/// (`with parameter n of C::Op set to 1`, or of `Op`); comparing the
-/// operation with another process is refused with its reason.
+/// A RoboChart controller's operation is exported as RoboTool names it
+/// (`C::OP_Op`, as the reference's `pkg223_::CommunicationC::OP_…`, with
+/// `D__`, `VS__`, `O__` taking `id__` and the parameters), called or not.
+/// `C::Op` and `Mod::c::Op` are subjects with their parameters (`with
+/// parameter n of C::Op set to 1`, or of `Op`); comparing the operation
+/// with another process is refused with its reason.
 #[test]
 fn controller_operations_are_subjects_as_robotool_names_them() {
     let e = export_dir(&fixture("rt11_controller_operations"));
     let model = text(&e, "m.csp");
     for line in [
-        "module C\nexports\n  module OP_Op\n",
+        "  endmodule\n  module OP_Op\n",
         "    D__(id__, n) = TimedPriority(P__(id__, n) \\ {| entered__ |})\n    VS__(id__, n) = P__(id__, n)\n    \
          O__(id__, n) = sbisim(D__(id__, n))\n  endmodule\n",
-        "  D__(id__) = TimedPriority(SKIP)\n",
+        "  D__(id__) = TimedPriority(C::Idle::D__(id__))\n",
         "module Mod\nexports\n  -- Events and operation calls.\n  -- D__: the module's semantics; O__: compressed \
          (parameters: id__).\n  D__(id__) = TimedPriority(C::D__(id__))\n",
     ] {
@@ -106,7 +105,7 @@ fn controller_operations_are_subjects_as_robotool_names_them() {
     );
     assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
     // What the engine's fixture says: n == 0, `a` then ✓; n == 1, `b` forever.
-    let m = checked(&e, "a_assertions.csp", "X0__ = C::OP_Op::D__(0, 0)\nX1__ = C::OP_Op::D__(0, 1)\nC0__ = C::D__(0)");
+    let m = checked(&e, "a_assertions.csp", "X0__ = C::OP_Op::D__(0, 0)\nX1__ = C::OP_Op::D__(0, 1)");
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let x0 = ev.lts("X0__").unwrap();
     assert!(terminates_after(&x0, &["a.out"]), "{:?}", x0.events);
@@ -114,7 +113,6 @@ fn controller_operations_are_subjects_as_robotool_names_them() {
     let x1 = ev.lts("X1__").unwrap();
     assert!(x1.has_trace(&["b.out", "tock", "b.out"]), "{:?}", x1.events);
     assert!(!x1.has_trace(&["a.out"]) && !terminates_after(&x1, &["b.out"]));
-    assert!(terminates_after(&ev.lts("C0__").unwrap(), &[]));
 }
 
 /// An operation reference (`opref o = ops::Count`) is the operation it
@@ -292,4 +290,27 @@ endmodule
     assert!(
         stuck.has_trace(&["tock", "tock", "tock"]) && !stuck.has_trace(&["endexec"]) && !terminates_after(&stuck, &[])
     );
+}
+
+/// RC:C1: a controller without state machines is not a RoboChart
+/// controller RoboTool accepts: it is refused with that reason, but the
+/// operation it declares is still exported and checked on its own.
+#[test]
+fn a_controller_without_machines_is_refused_but_its_operations_are_not() {
+    let model = "interface I { event a }
+controller C { uses I operation Op() { uses I initial i final f transition t { from i to f action a } } }";
+    let e = export_files(vec![
+        ("m.rct".into(), model.into()),
+        ("a.assertions".into(), "assertion T : C::Op terminates".into()),
+    ]);
+    let warnings: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
+    assert_eq!(
+        warnings,
+        ["2:12: controller C is not exported: a controller without state machines (RC:C1: RoboTool requires at least one)"]
+    );
+    let asserts = text(&e, "a_assertions.csp");
+    assert!(asserts.contains("assert not CHAOS(Events) [T= C::OP_Op::D__(0)\n"), "{asserts}");
+    let m = checked(&e, "a_assertions.csp", "X__ = C::OP_Op::D__(0)");
+    let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    assert!(terminates_after(&ev.lts("X__").unwrap(), &["a.out"]));
 }
