@@ -314,3 +314,29 @@ controller C { uses I operation Op() { uses I initial i final f transition t { f
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     assert!(terminates_after(&ev.lts("X__").unwrap(), &["a.out"]));
 }
+
+/// The paper2019 profile (Rules 1–13) gives a RoboSim operation no process
+/// of its own: an assertion on one is left out with that reason, never
+/// exported against the cycle-based machine translation.
+#[test]
+fn paper2019_has_no_robosim_operation_process() {
+    let model = "interface MoveI { move(l : nat) }
+operation Once() { initial i final f transition t { from i to f action $move(1) }
+  output context { requires MoveI } input context { } }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(
+        &mut db,
+        [("m.rst".to_string(), model.to_string()), ("a.rsa".to_string(), "assertion O : Once terminates".to_string())],
+        robosim_hir::RuleSet::Paper,
+    );
+    let e = export_workspace(&db, ws, &Options { profile: Profile::Paper2019 });
+    let asserts = text(&e, "a_assertions.csp");
+    assert!(
+        asserts.contains(
+            "-- NOT EXPORTED: the RoboSim operation `Once` on its own is RoboTool 3's process `OP_…::O__` (RT-11): \
+             the paper2019 profile has none\n"
+        ),
+        "{asserts}"
+    );
+    assert!(!asserts.contains("assert "), "{asserts}");
+}
