@@ -16,7 +16,7 @@ use robosim_hir::{File, TextRange};
 
 use crate::compose::ElemDef;
 use crate::cspm::{call, hide, name, Assert, AssertKind, Decl, Expr, Model};
-use crate::export::{Elem, Exporter};
+use crate::export::{ConstParam, Elem, Exporter, Ty};
 use crate::util::ident;
 
 /// A subject of an assertion: a process to call, with its parameters.
@@ -32,6 +32,19 @@ struct Subject {
     period: Option<i64>,
     /// The model names it can be called by in `cycleDef of X`.
     names: Vec<Vec<String>>,
+    /// RT-11: an operation checked on its own (its process takes its
+    /// parameters after `id__`).
+    op: Option<OpSubject>,
+}
+
+/// An operation as a subject: its name, its parameters' values and its constants.
+#[derive(Clone)]
+struct OpSubject {
+    /// Its declared name.
+    name: String,
+    /// Its parameters' values.
+    params: Vec<Expr>,
+    consts: Vec<ConstParam>,
 }
 
 pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &AssertionFile) -> Vec<Decl> {
@@ -130,6 +143,7 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
                         simulation: true,
                         period: Some(period.unwrap_or(1)),
                         names: vec![vec![s.name.clone()]],
+                        op: None,
                     },
                 );
             }
@@ -173,7 +187,14 @@ fn subject(
             return Ok(s.clone());
         }
         if raw.contains(&path[0]) {
-            return Ok(Subject { module: path[0].clone(), elem: None, simulation: false, period: None, names: vec![] });
+            return Ok(Subject {
+                module: path[0].clone(),
+                elem: None,
+                simulation: false,
+                period: None,
+                names: vec![],
+                op: None,
+            });
         }
     }
     // The export writes one script per assertion file: simulations of the
@@ -185,12 +206,14 @@ fn subject(
         }
         target::Subject::Simulation { loc, inner, period, .. } => (loc, inner, period),
         target::Subject::Design { loc, inner, .. } => (loc, inner, None),
-        target::Subject::SimOperation { name, .. } => {
-            return Err(format!(
-                "`{name}` is a RoboSim operation: its own process (RoboTool's `OP_…::O__`) is not exported yet"
-            ));
+        target::Subject::SimOperation { name, loc, inner } => {
+            return operation_subject(ex, scope, a, loc, inner.as_deref(), path)?
+                .ok_or_else(|| format!("`{name}` could not be resolved"));
         }
     };
+    if let Some(s) = operation_subject(ex, scope, a, loc, inner.as_deref(), path)? {
+        return Ok(s);
+    }
     let Some(def) = ElemDef::at(ex.db, ex.ws, loc) else {
         return Err(format!("`{}` could not be resolved", path.join("::")));
     };
@@ -216,7 +239,79 @@ fn subject(
         simulation: false,
         period,
         names: vec![path.to_vec(), elem.path.clone()],
+        op: None,
     })
+}
+
+/// RT-11: the operation `loc` names (a top-level one, or the one an
+/// operation reference references), or with `inner` the operation of that
+/// name the controller `loc` declares, as its own process (RoboChart:
+/// `Op::D__`, `C::OP_op::D__`; RoboSim: RoboTool's `OP_…::D__`, see
+/// `machine::sim_operation`): `None` when `loc` is no operation.
+fn operation_subject(
+    ex: &mut Exporter<'_>,
+    scope: Scope<'_>,
+    a: &AssertionDecl,
+    loc: robosim_hir::index::ItemLoc,
+    inner: Option<&str>,
+    path: &[String],
+) -> Result<Option<Subject>, String> {
+    let (b, outer) = match (m::item(ex.db, ex.ws, loc), inner) {
+        (Some(m::Item::Operation(b)), None) => (b, ex.package(loc.file)),
+        (Some(m::Item::Controller(c)), Some(inner)) => {
+            let op = c.operations.iter().find_map(|o| match &o.def {
+                m::Definition::Inline(b) if o.name == inner => Some(&**b),
+                _ => None,
+            });
+            match op {
+                Some(b) => (b, ex.path_of_item(loc)),
+                None => return Ok(None),
+            }
+        }
+        _ => return Ok(None),
+    };
+    let written = path.join("::");
+    if !b.region.nodes.iter().any(|n| n.kind == m::NodeKind::Initial) {
+        return Err(format!("`{written}` is an operation without a body (initial junction): it has no process"));
+    }
+    let op = if loc.file.kind(ex.db) == robosim_hir::FileKind::RoboSim {
+        crate::machine::sim_operation(ex, loc.file, b, outer)?
+    } else {
+        crate::machine::operation(ex, loc.file, b, outer)?
+    };
+    // `with parameter x of P`, bound by the operation's declared name, as
+    // the native checker reads it; a parameter without one is RoboTool's
+    // default (`param_x = 0`, `true` for a boolean).
+    let bound = target::parameters_in(scope, a)?;
+    let mut params = Vec::new();
+    for (p, t) in b.params.iter().zip(&op.params) {
+        let given = bound.iter().find(|x| x.name == p.name && x.of.len() == 1 && x.of[0] == b.name);
+        let v = match (t, given) {
+            (Ty::Nat | Ty::Int | Ty::Real, Some(x)) => Expr::Int(x.value),
+            (Ty::Bool, Some(x)) => Expr::Bool(x.value != 0),
+            (Ty::Nat | Ty::Int | Ty::Real | Ty::Bool, None) => t.default_value(),
+            _ => {
+                return Err(format!(
+                    "the parameter `{}` of `{written}` is not a number or a boolean: not supported as a parameter of \
+                     an operation checked on its own",
+                    p.name
+                ))
+            }
+        };
+        params.push(v);
+    }
+    Ok(Some(Subject {
+        module: op.module.clone(),
+        elem: None,
+        simulation: false,
+        period: None,
+        names: vec![path.to_vec()],
+        op: Some(OpSubject {
+            name: b.name.clone(),
+            params,
+            consts: op.consts.iter().map(|(c, _)| c.clone()).collect(),
+        }),
+    }))
 }
 
 fn value(v: &Value) -> Result<Expr, String> {
@@ -230,9 +325,16 @@ fn value(v: &Value) -> Result<Expr, String> {
 /// The call of `process` (`D__`, `TLF`, `VS__`) of a subject with the
 /// assertion's overrides.
 fn process(ex: &mut Exporter<'_>, file: File, a: &AssertionDecl, s: &Subject, process: &str) -> Result<Expr, String> {
-    let Some(elem) = &s.elem else { return Ok(name(s.module.clone())) };
+    let (consts, robosim) = match (&s.elem, &s.op) {
+        (Some(e), _) => (&e.consts, e.robosim),
+        (None, Some(op)) => (&op.consts, false),
+        (None, None) => return Ok(name(s.module.clone())),
+    };
     let mut args = vec![Expr::Int(0)];
-    if s.simulation || elem.robosim {
+    if let Some(op) = &s.op {
+        args.extend(op.params.iter().cloned());
+    }
+    if s.simulation || robosim {
         let mut period = s.period.unwrap_or(1);
         for o in &a.overrides {
             if let Override::CycleDef { of, value: v, .. } = o {
@@ -258,7 +360,7 @@ fn process(ex: &mut Exporter<'_>, file: File, a: &AssertionDecl, s: &Subject, pr
             }
         }
     }
-    for c in &elem.consts {
+    for c in consts {
         let mut arg = name(c.global.clone());
         for o in &a.overrides {
             if let Override::Constant { name: n, of, value: v, .. } = o {
@@ -382,6 +484,17 @@ fn assertion(
             let m = model(*m)?;
             let x = subject(ex, file, read, a, &a.subject, sims, raw)?;
             let y = subject(ex, file, read, a, other, sims, raw)?;
+            // An operation's events are channels of its own module
+            // (`C::OP_op::e`): FDR never identifies them with another
+            // process's, which the native checker compares by name.
+            if (x.op.is_some() || y.op.is_some()) && x.module != y.module {
+                return Err(format!(
+                    "comparing the operation's process with another process is not exported: their events are \
+                     channels of different CSPm modules (`{}`, `{}`), which FDR would never match, while \
+                     `robosim verify` matches them by name",
+                    x.module, y.module
+                ));
+            }
             let px = process(ex, file, a, &x, "D__")?;
             let py = process(ex, file, a, &y, "D__")?;
             let timed = [&x, &y].iter().any(|s| s.simulation || s.elem.as_ref().is_some_and(|e| e.robosim));
@@ -397,12 +510,19 @@ fn assertion(
         }
         AssertionKind::Reachable { state, machine, .. } => {
             let s = subject(ex, file, read, a, machine, sims, raw)?;
-            let Some(elem) = s.elem.clone() else { return Err("reachability needs a state machine".into()) };
-            if elem.kind != crate::export::ElemKind::Machine {
-                return Err("reachability in controllers and modules is not exported yet (only in state machines)".into());
-            }
-            let mname = elem.path.last().cloned().unwrap_or_default();
-            let pos = state.iter().position(|x| *x == mname).map(|i| i + 1).unwrap_or(0);
+            // The names a state's path may start with: the machine's, or
+            // the operation's (declared, or as the subject is written).
+            let owners: Vec<String> = match (&s.elem, &s.op) {
+                (Some(elem), _) => {
+                    if elem.kind != crate::export::ElemKind::Machine {
+                        return Err("reachability in controllers and modules is not exported yet (only in state machines)".into());
+                    }
+                    elem.path.last().cloned().into_iter().collect()
+                }
+                (None, Some(op)) => [Some(op.name.clone()), machine.last().cloned()].into_iter().flatten().collect(),
+                (None, None) => return Err("reachability needs a state machine".into()),
+            };
+            let pos = state.iter().position(|x| owners.contains(x)).map(|i| i + 1).unwrap_or(0);
             let states = &state[pos..];
             if states.is_empty() {
                 return Err("the state is missing".into());
@@ -410,8 +530,8 @@ fn assertion(
             let tag = states.iter().map(|x| ident(x)).collect::<Vec<_>>().join("_");
             let p = process(ex, file, a, &s, "VS__")?;
             let ev = crate::cspm::dot(vec![
-                name(format!("{}::entered__", elem.module)),
-                name(format!("{}::SID_{tag}", elem.module)),
+                name(format!("{}::entered__", s.module)),
+                name(format!("{}::SID_{tag}", s.module)),
             ]);
             let only = hide(p, call("diff", vec![name("Events"), Expr::Set(vec![ev])]));
             // Reachable iff the entry can happen: STOP does not trace-refine it.

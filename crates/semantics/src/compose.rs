@@ -448,8 +448,26 @@ fn controller<'a>(
         }
     }
     let events = declared_events(ex, file, &c.decls, &mut problems);
+    // RoboTool exports the operations a controller defines (`pkg::C::OP_op`),
+    // called or not: each may be checked on its own (RT-11). One that
+    // cannot be exported is reported by itself (and by its callers).
+    for o in &c.operations {
+        if let m::Definition::Inline(b) = &o.def {
+            if b.region.nodes.iter().any(|n| n.kind == m::NodeKind::Initial) {
+                if robosim && ex.profile == crate::export::Profile::RoboTool3 {
+                    let _ = crate::machine::sim_operation(ex, file, b, path.clone());
+                } else if !robosim {
+                    let _ = crate::machine::operation(ex, file, b, path.clone());
+                }
+            }
+        }
+    }
     if insts.is_empty() && problems.is_empty() {
-        problems.push((file, c.name_range, "a controller without state machines".into()));
+        problems.push((
+            file,
+            c.name_range,
+            "a controller without state machines (RC:C1: RoboTool requires at least one)".into(),
+        ));
     }
     if !problems.is_empty() {
         return Err(problems);

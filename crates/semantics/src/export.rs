@@ -406,6 +406,8 @@ pub(crate) struct Exporter<'a> {
     /// Operations of the models: their module or why not (`None` while
     /// being made).
     pub operations: HashMap<Key, Option<Result<Rc<crate::machine::OperationOut>, String>>>,
+    /// RoboSim operations on their own (RT-11), made on first use.
+    pub sim_operations: HashMap<Key, Result<Rc<crate::machine::OperationOut>, String>>,
 }
 
 impl<'a> Exporter<'a> {
@@ -434,6 +436,7 @@ impl<'a> Exporter<'a> {
             helpers: BTreeSet::new(),
             functions: HashMap::new(),
             operations: HashMap::new(),
+            sim_operations: HashMap::new(),
         }
     }
 
@@ -476,7 +479,7 @@ impl<'a> Exporter<'a> {
         self.unique_module(base)
     }
 
-    fn unique_module(&mut self, base: String) -> String {
+    pub(crate) fn unique_module(&mut self, base: String) -> String {
         let mut n = base.clone();
         let mut k = 2;
         while !self.module_names.insert(n.clone()) {
@@ -816,9 +819,15 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
                     }
                 }
                 // Operations with a body (reported, with a NOT EXPORTED comment,
-                // when not exported); calls of the others are call events.
+                // when not exported); calls of the others are call events. A
+                // RoboSim one is RoboTool's process for it on its own (RT-11):
+                // RoboSim machines call operations only as outputs (`$op`).
                 model::Item::Operation(op) if op.region.nodes.iter().any(|n| n.kind == model::NodeKind::Initial) => {
-                    let _ = crate::machine::operation(&mut ex, f, op, package.clone());
+                    if f.kind(db) == FileKind::RoboSim && opts.profile == Profile::RoboTool3 {
+                        let _ = crate::machine::sim_operation(&mut ex, f, op, package.clone());
+                    } else {
+                        let _ = crate::machine::operation(&mut ex, f, op, package.clone());
+                    }
                 }
                 model::Item::Record(..) => {
                     if let Err(m) = ex.record(f, *id) {

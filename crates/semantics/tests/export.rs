@@ -163,32 +163,6 @@ fn terminates_and_timelock_free_follow_rt10() {
     assert!(problems.is_empty(), "{problems:#?}");
 }
 
-/// RT-11: a RoboSim operation as a subject. RoboTool checks it as its own
-/// process `OP_…::O__`, which the export does not generate yet: the
-/// assertion is left out with that reason (the native checker decides
-/// it), never exported against another process.
-#[test]
-fn robosim_operations_as_subjects_are_not_exported_yet() {
-    let model = "operation Op() { initial i final f transition t { from i to f action exec } }
-controller C { cycleDef cycle == 1 opref o = Op }";
-    let asserts = "assertion A : Op is deadlock-free\nassertion B : C::o terminates";
-    let mut db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(
-        &mut db,
-        [("m.rst".to_string(), model.to_string()), ("a.rsa".to_string(), asserts.to_string())],
-        robosim_hir::RuleSet::Paper,
-    );
-    let e = export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 });
-    let text = e.files.iter().find(|f| f.name == "a_assertions.csp").expect("the assertions file").text();
-    for name in ["Op", "C::o"] {
-        let why = format!(
-            "NOT EXPORTED: `{name}` is a RoboSim operation: its own process (RoboTool's `OP_…::O__`) is not exported yet"
-        );
-        assert!(text.contains(&why), "{text}");
-    }
-    assert!(!text.contains("assert "), "{text}");
-}
-
 /// The errors `robosim-cspm` (FDR's language as libcspm reads it) finds
 /// in an export: each file FDR would load (those no other file includes),
 /// with the files it includes, parsed, resolved and type-checked.

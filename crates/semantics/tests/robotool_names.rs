@@ -91,10 +91,12 @@ fn a_machine_calls_its_operations_on_its_own_and_runs_its_controllers() {
     assert!(c.contains("D__(id__, const_app_C_s_k) =") && c.contains("app::C::s::D__(id__, const_app_C_s_k)"), "{c}");
     let inst = file(&e, "instantiations.csp");
     assert!(inst.contains("const_app_C_s_k = 2") && inst.contains("const_app_M_k = 2"), "{inst}");
-    // An inline machine is `app::D::S`, with D's own operation.
+    // An inline machine is `app::D::S`, with D's own operation, which is
+    // RoboTool's `app::D::OP_Stop` (as `pkg223_::CommunicationC::OP_…`).
     let d = module(&app, "D", 2);
     let s = module(&d, "S", 4);
-    assert!(s.contains("CALL__Stop = app_D_Stop::D__(id__)"), "{s}");
+    assert!(s.contains("CALL__Stop = app::D::OP_Stop::D__(id__) [[ app::D::OP_Stop::haltCall <- haltCall ]]"), "{s}");
+    assert!(d.contains("\n    module OP_Stop\n"), "{d}");
 }
 
 /// Assertions reach the same processes: a machine inside a controller by

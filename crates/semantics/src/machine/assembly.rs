@@ -59,10 +59,12 @@ impl<'e, 'a> Gen<'e, 'a> {
             alts.push(self.gate(g));
         }
         if self.robosim {
-            if self.uses_exec_stmt {
-                alts.push(prefix("endexec", vec![Field::Dot(name("TID_exec"))], self.memory_call(same.clone())));
+            if !self.sim_op {
+                if self.uses_exec_stmt {
+                    alts.push(prefix("endexec", vec![Field::Dot(name("TID_exec"))], self.memory_call(same.clone())));
+                }
+                alts.push(prefix("endexec", vec![Field::Dot(name("TID_final"))], self.memory_call(same.clone())));
             }
-            alts.push(prefix("endexec", vec![Field::Dot(name("TID_final"))], self.memory_call(same.clone())));
             alts.push(prefix("terminate", vec![], Expr::Skip));
         } else {
             alts.push(prefix("end__", vec![], Expr::Skip));
@@ -75,7 +77,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut exports = Vec::new();
         // Identifiers.
         let mut tids: Vec<(String, Vec<Expr>)> = self.trans.iter().map(|t| (t.tid.clone(), vec![])).collect();
-        if self.robosim {
+        if self.robosim && !self.sim_op {
             if self.uses_exec_stmt {
                 tids.push(("TID_exec".into(), vec![]));
             }
@@ -126,7 +128,20 @@ impl<'e, 'a> Gen<'e, 'a> {
                 sync.push(name(format!("get_{}", c.csp)));
             }
         }
-        if self.robosim {
+        if self.sim_op {
+            // Visible: RoboTool's process for the operation on its own has
+            // them in its alphabet (`sem__events`).
+            exports.push(Decl::Comment("`exec`: `endexec`, then `startexec`, both visible (RT-11).".into()));
+            exports.push(Decl::Channel(vec!["endexec".into(), "startexec".into()], vec![]));
+            let calls: Vec<usize> = self.sim_op_calls.iter().copied().collect();
+            if !calls.is_empty() {
+                exports.push(Decl::Comment("Calls of other operations (urgent).".into()));
+            }
+            for o in calls {
+                let f: Vec<Expr> = self.ops[o].params.iter().map(|t| t.set()).collect();
+                exports.push(Decl::Channel(vec![format!("{}Call", ident(&self.ops[o].name))], f));
+            }
+        } else if self.robosim {
             private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
             private.push(Decl::Channel(vec!["startexec".into()], vec![]));
             private.push(Decl::Channel(vec!["endexec".into()], vec![name("TIDS")]));
@@ -217,7 +232,22 @@ impl<'e, 'a> Gen<'e, 'a> {
             return Vec::new();
         };
         let start = self.enter(start_node);
-        if self.robosim {
+        if self.sim_op {
+            // No cycle: the operation starts at once.
+            lets.push(Decl::Def("Behaviour__".into(), vec![], start.clone()));
+            if self.uses_exec_stmt {
+                lets.push(Decl::Def(
+                    "Exec__".into(),
+                    vec![],
+                    ext(vec![prefix("endexec", vec![], name("StartExec__")), prefix("tock", vec![], name("Exec__"))]),
+                ));
+                lets.push(Decl::Def(
+                    "StartExec__".into(),
+                    vec![],
+                    ext(vec![prefix("startexec", vec![], Expr::Skip), prefix("tock", vec![], name("StartExec__"))]),
+                ));
+            }
+        } else if self.robosim {
             lets.push(Decl::Def(
                 "StartExec__".into(),
                 vec![],
@@ -229,7 +259,10 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         lets.append(&mut self.defs);
         lets.extend(std::mem::take(&mut self.op_calls).into_iter().map(|(_, d)| d));
-        if self.robosim {
+        if self.sim_op {
+            // Reaching the final state ends the operation (`terminate`, hidden by D__).
+            lets.push(Decl::Def("Ending__".into(), vec![], prefix("terminate", vec![], Expr::Skip)));
+        } else if self.robosim {
             // Rule 13: a finished machine keeps ending its cycles until all agree to terminate.
             lets.push(Decl::Def(
                 "Ending__".into(),
@@ -270,14 +303,21 @@ impl<'e, 'a> Gen<'e, 'a> {
         let memory = self.memory_call(init);
 
         let mut params = vec!["id__".to_string()];
-        if self.robosim {
+        if self.robosim && !self.sim_op {
             params.push("cycle".into());
         }
         params.extend(self.op_params.iter().cloned());
         params.extend(self.consts.iter().map(|c| c.local.clone()));
         let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
 
-        let body = if self.robosim {
+        let body = if self.sim_op {
+            let mut sync = sync.clone();
+            sync.push(name("terminate"));
+            call(
+                "TimedPriority",
+                vec![hide(par(name("Behaviour__"), Expr::Events(sync), memory), Expr::Events(hidden))],
+            )
+        } else if self.robosim {
             let (cycle_defs, has_in, has_out) = self.cycle();
             lets.extend(cycle_defs);
             let mut inner_sync = vec![name("endexec"), name("tock"), name("terminate")];
@@ -368,7 +408,11 @@ impl<'e, 'a> Gen<'e, 'a> {
         };
         let mut doc = vec![Decl::Comment(format!(
             "{} (parameters: {}).",
-            if self.robosim {
+            if self.sim_op {
+                "RoboTool's process for the operation on its own: P__ with `terminate` (its final state)\n\
+                 visible; D__: its semantics, terminating at its final state; VS__: with `entered__`\n\
+                 visible (reachability); O__: D__ compressed"
+            } else if self.robosim {
                 "P__: the machine with `terminate` visible (for composition); D__: its semantics;\n\
                  VS__: with `entered__` visible (reachability); O__: D__ compressed"
             } else if self.is_operation {
@@ -392,8 +436,9 @@ impl<'e, 'a> Gen<'e, 'a> {
         let kind = if self.robosim { "RoboSim" } else { "RoboChart" };
         let path = self.path.clone();
         let what = if self.is_operation { "operation" } else { "state machine" };
+        let alone = if self.sim_op { ", on its own (RT-11)" } else { "" };
         vec![
-            Decl::Comment(format!("{kind} {what} {}", path.join("::"))),
+            Decl::Comment(format!("{kind} {what} {}{alone}", path.join("::"))),
             Decl::Module(module.to_string(), private, exports),
             Decl::Blank,
         ]
@@ -406,8 +451,10 @@ impl<'e, 'a> Gen<'e, 'a> {
                 out.push((self.ex.out_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()));
             }
         }
-        for o in &self.ops {
-            out.push((self.ex.out_reg(&o.name), o.params.iter().map(|t| t.set()).collect()));
+        for (k, o) in self.ops.iter().enumerate() {
+            if !self.sim_op_calls.contains(&k) {
+                out.push((self.ex.out_reg(&o.name), o.params.iter().map(|t| t.set()).collect()));
+            }
         }
         out
     }

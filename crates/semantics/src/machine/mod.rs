@@ -30,7 +30,10 @@ use crate::util::{self, ident};
 mod assembly;
 mod behaviour;
 mod expr;
+mod sim_op;
 mod stmt;
+
+pub(crate) use sim_op::sim_operation;
 
 /// What a term is about, for hovers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -233,6 +236,13 @@ pub(crate) struct Gen<'e, 'a> {
     /// Translating an `operation` of the model (its parameters are those
     /// of `D__`, after `id__`).
     is_operation: bool,
+    /// RT-11: a RoboSim operation checked on its own (RoboTool's
+    /// `OP_…::O__(id__, params)`): no cycle around it, `exec` is a visible
+    /// `endexec -> startexec`, reaching the final state terminates.
+    sim_op: bool,
+    /// With `sim_op`: the operations called as other operations (their
+    /// urgent call events `opCall`), by index in `ops`.
+    sim_op_calls: std::collections::BTreeSet<usize>,
     op_params: Vec<String>,
     /// `CALL__op` of the operations of the model called (their names).
     op_calls: Vec<(String, Decl)>,
@@ -304,6 +314,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             active: Vec::new(),
             activities: Vec::new(),
             is_operation: false,
+            sim_op: false,
+            sim_op_calls: Default::default(),
             op_params: Vec::new(),
             op_calls: Vec::new(),
             required: Vec::new(),
@@ -750,9 +762,9 @@ pub(crate) fn operation<'a>(
         None => {}
     }
     ex.operations.insert(key, None);
+    let module = operation_module(ex, file, &outer, &oname);
     let mut path = outer;
     path.push(oname.clone());
-    let module = ex.module_name(&path);
     let mut g = Gen::new(ex, file, Some(op), path.clone(), op.name_range, false);
     g.is_operation = true;
     let mut params = Vec::new();
@@ -789,6 +801,25 @@ pub(crate) fn operation<'a>(
     };
     ex.operations.insert(key, Some(r.clone()));
     r
+}
+
+/// The CSPm module of the operation `name` declared in `outer` (of
+/// `file`): a top-level one's is its qualified name; one declared inside a
+/// controller is RoboTool's `OP_<name>` inside the controller's module
+/// (`pkg::C::OP_op`, as the reference's `pkg223_::CommunicationC::OP_…`).
+pub(super) fn operation_module(ex: &mut Exporter<'_>, file: File, outer: &[String], name: &str) -> String {
+    let package = ex.package(file);
+    if outer.len() <= package.len() {
+        let mut path = outer.to_vec();
+        path.push(name.to_string());
+        return ex.module_name(&path);
+    }
+    let named = robosim_hir::csp_names::csp_names(ex.db, ex.ws).element_by_path(outer);
+    let container = match named {
+        Some(e) if e.module.split("::").all(|s| ident(s) == s) => e.module.clone(),
+        _ => crate::util::element_module(&package, outer),
+    };
+    ex.unique_module(format!("{container}::OP_{}", ident(name)))
 }
 
 /// A function of the model exported as a CSPm function.

@@ -109,6 +109,16 @@ impl<'e, 'a> Gen<'e, 'a> {
                     );
                     return None;
                 };
+                if self.sim_op && !self.ops[o].defined {
+                    // A call of another operation: the urgent call event.
+                    let (args, reads) = self.arguments(args, r, o)?;
+                    let mut fields = vec![name(format!("{}Call", ident(&self.ops[o].name)))];
+                    fields.extend(args);
+                    self.sim_op_calls.insert(o);
+                    let p = self.with_reads(&reads, call("EDeadline", vec![dot(fields), Expr::Int(0)]));
+                    self.record_term(s.head, TermKind::Call, || p.clone());
+                    return Some(p);
+                }
                 if self.robosim {
                     self.problem(r, format!("`{n}(…)` in a RoboSim machine must be an output: `${n}(…)`"));
                     return None;
@@ -213,6 +223,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                     return None;
                 }
                 self.uses_exec_stmt = true;
+                if self.sim_op {
+                    // `endexec -> startexec` in a timed section: time may
+                    // pass before either (`Exec__`, see `assemble`).
+                    self.record_term(r, TermKind::Exec, || {
+                        prefix("endexec", vec![], prefix("startexec", vec![], Expr::Skip))
+                    });
+                    return Some(name("Exec__"));
+                }
                 let p = prefix("endexec", vec![Field::Dot(name("TID_exec"))], name("StartExec__"));
                 self.record_term(r, TermKind::Exec, || {
                     prefix("endexec", vec![Field::Dot(name("TID_exec"))], prefix("startexec", vec![], Expr::Skip))
