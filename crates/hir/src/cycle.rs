@@ -830,7 +830,8 @@ fn component_defs(
 /// of every component below it (a module's controllers and their machines,
 /// a controller's machines), as RoboTool's generator chooses it. `bound`
 /// gives constants values from outside the model (an assertion's `with
-/// constant`). `None` when nothing in the hierarchy has a `cycleDef`.
+/// constant k of X set to v`, as (the name of `X`'s declaration, `k`,
+/// `v`)). `None` when nothing in the hierarchy has a `cycleDef`.
 ///
 /// This is the one place a period is chosen: the native checker and the
 /// CSPm export both ask here, so `cycle > 2` means period 3 for both.
@@ -839,7 +840,7 @@ pub fn simulation_period(
     ws: Workspace,
     file: File,
     def: DefId,
-    bound: &[(String, i64)],
+    bound: &[(String, String, i64)],
 ) -> Option<Feasibility> {
     let mut specs = Vec::new();
     let mut todo = vec![(file, def)];
@@ -849,7 +850,13 @@ pub fn simulation_period(
             continue;
         }
         seen.push((file, def));
-        specs.extend(spec_bound(db, ws, file, def, bound));
+        // A value binds the constant of the element it names only, as the
+        // lowering reads it (`with constant K of M` is not another
+        // element's `K`).
+        let name = &defs_at(db, file, def).0.def(def).name;
+        let own: Vec<(String, i64)> =
+            bound.iter().filter(|(of, _, _)| of == name).map(|(_, k, v)| (k.clone(), *v)).collect();
+        specs.extend(spec_bound(db, ws, file, def, &own));
         let below = match defs_at(db, file, def).0.def(def).kind {
             DefKind::Module => component_defs(db, ws, file, def, &[DefKind::Controller], DefKind::ControllerRef),
             DefKind::Controller => component_defs(db, ws, file, def, &[DefKind::StateMachine], DefKind::MachineRef),

@@ -196,8 +196,13 @@ fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
     if loc.file.kind(db) != FileKind::RoboChart {
         // RoboSim: the binding is read by the element's name; one that no
         // part of the element declares would be silently dropped.
-        if !has_constant(db, ws, loc.file, id, &b.name, 0) {
-            return Err(format!("`{}` has no constant `{}`", b.of.join("::"), b.name));
+        if !has_constant(db, ws, loc.file, id, &b.name) {
+            return Err(format!(
+                "`{}` has no constant `{}` of its own: in RoboSim, name the element that declares it (or \
+                 requires it)",
+                b.of.join("::"),
+                b.name
+            ));
         }
         return Ok(vec![b]);
     }
@@ -255,31 +260,15 @@ fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
     }
 }
 
-/// Whether the element `id` of `file`, or a part of it (its platform, its
-/// controllers' machines), declares a constant `name` or has one through
-/// an interface. `depth` bounds the walk through references (a cycle of
-/// references is a model error reported elsewhere).
-fn has_constant(db: &dyn Db, ws: Workspace, file: File, id: DefId, name: &str, depth: usize) -> bool {
+/// Whether the element `id` of `file` itself declares a constant `name`
+/// or has one through an interface it uses, provides or requires: the
+/// RoboSim checker binds a value to the element the assertion names by
+/// its declaration's name, so a constant of one of its parts (a machine of
+/// a controller, a platform of a module) would not receive it.
+fn has_constant(db: &dyn Db, ws: Workspace, file: File, id: DefId, name: &str) -> bool {
     let defs = file_defs(db, file);
-    if depth > 8 {
-        return false;
-    }
-    if interface_constant(db, ws, file, id, name, None) {
-        return true;
-    }
-    let own = defs.children(Some(id)).any(|(cid, d)| {
-        (d.kind == DefKind::Constant && d.name == name)
-            || (d.kind == DefKind::Platform && interface_constant(db, ws, file, cid, name, None))
-    });
-    own || match defs.def(id).kind {
-        DefKind::Controller => {
-            machines_of(db, ws, file, id).into_iter().any(|(f, m)| has_constant(db, ws, f, m, name, depth + 1))
-        }
-        DefKind::Module => {
-            controllers_of(db, ws, file, id).into_iter().any(|(f, c)| has_constant(db, ws, f, c, name, depth + 1))
-        }
-        _ => false,
-    }
+    interface_constant(db, ws, file, id, name, None)
+        || defs.children(Some(id)).any(|(_, d)| d.kind == DefKind::Constant && d.name == name)
 }
 
 /// Whether the context `owner` of `file` has a constant `name` through an
@@ -506,7 +495,8 @@ fn robosim_period(
     def: DefId,
     bound: &[Binding],
 ) -> Result<Option<i64>, String> {
-    let bound: Vec<(String, i64)> = bound.iter().map(|b| (b.name.clone(), b.value)).collect();
+    let bound: Vec<(String, String, i64)> =
+        bound.iter().map(|b| (b.of.last().cloned().unwrap_or_default(), b.name.clone(), b.value)).collect();
     match simulation_period(db, ws, file, def, &bound) {
         None => Ok(None),
         Some(Feasibility::Feasible(p)) => Ok(i64::try_from(p).ok()),

@@ -82,7 +82,8 @@ pub fn inspect_element(
     let robosim = loc.file.kind(db) == robosim_hir::FileKind::RoboSim;
     let design = lower_element(db, ws, loc, inner, consts, defaults)?;
     let period = if robosim && inner.is_none() {
-        let bound: Vec<(String, i64)> = consts.iter().map(|c| (c.name.clone(), c.value)).collect();
+        let bound: Vec<(String, String, i64)> =
+            consts.iter().map(|c| (c.of.last().cloned().unwrap_or_default(), c.name.clone(), c.value)).collect();
         loc.def(db).and_then(|def| simulation_period(db, ws, loc.file, def, &bound))
     } else {
         None
