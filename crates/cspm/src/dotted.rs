@@ -7,17 +7,36 @@ use std::collections::BTreeSet;
 use std::rc::Rc;
 
 use crate::ast::{Name, Pat};
-use crate::eval::{err, Evaluator, R};
+use crate::eval::{err, Evaluator, Slot, R};
 use crate::proc::P;
 use crate::resolve::ExternalName;
 use crate::{Code, TextRange, Value};
 
 impl Evaluator<'_> {
-    pub(crate) fn is_ctor(&self, n: &str) -> bool {
-        self.arity.contains_key(n)
-            || matches!(n, "true" | "false")
-            || (self.slot(n, self.global).is_none()
-                && matches!(self.names.lookup(n), Some(ExternalName::Value(Value::Ctor(_)))))
+    /// The constructor or channel the name `n` of a pattern denotes in the
+    /// frame `env` (lexically: a module's own `c` is `M::c`), if any; a
+    /// name bound to something else, or to a constructor of another name
+    /// (a parameter holding an event), is a variable.
+    pub(crate) fn ctor_of(&self, n: &str, env: u32) -> Option<Name> {
+        match self.slot(n, env) {
+            Some(Slot::Val(Value::Ctor(q)))
+                if self.arity.contains_key(&q)
+                    && (*q == *n || q.strip_suffix(n).is_some_and(|m| m.ends_with("::"))) =>
+            {
+                Some(q)
+            }
+            Some(_) => None,
+            None if self.arity.contains_key(n)
+                || matches!(self.names.lookup(n), Some(ExternalName::Value(Value::Ctor(_)))) =>
+            {
+                Some(n.into())
+            }
+            None => None,
+        }
+    }
+
+    fn is_ctor(&self, n: &str) -> bool {
+        matches!(n, "true" | "false") || self.ctor_of(n, self.pat_env).is_some()
     }
 
     /// Matches `v` against `p`, pushing the bindings.
@@ -27,7 +46,7 @@ impl Evaluator<'_> {
             (Pat::Name(n, _), v) if self.is_ctor(n) => match &**n {
                 "true" => *v == Value::Bool(true),
                 "false" => *v == Value::Bool(false),
-                _ => *v == Value::Ctor(n.clone()),
+                _ => self.ctor_of(n, self.pat_env).is_some_and(|q| *v == Value::Ctor(q)),
             },
             (Pat::Name(n, _), v) => {
                 binds.push((n.clone(), v.clone()));

@@ -141,7 +141,11 @@ pub struct Evaluator<'m> {
     /// The number of fields of every channel and constructor.
     pub(crate) arity: FxHashMap<Name, usize>,
     pub(crate) channels: Vec<Name>,
-    pub(crate) datatypes: FxHashMap<Name, Vec<Name>>,
+    /// The constructors of each datatype, by its declaration's address.
+    pub(crate) datatypes: FxHashMap<usize, Vec<Name>>,
+    /// The frame patterns are matched in (see [`Evaluator::ctor_of`]):
+    /// set before each match, to the scope of the pattern's definition.
+    pub(crate) pat_env: u32,
     pub(crate) events: Vec<Value>,
     pub(crate) event_ids: FxHashMap<Value, u32>,
     pub(crate) calls: FxHashMap<(Value, Vec<Value>), Rc<P>>,
@@ -173,6 +177,7 @@ impl<'m> Evaluator<'m> {
             arity: FxHashMap::default(),
             channels: Vec::new(),
             datatypes: FxHashMap::default(),
+            pat_env: 0,
             events: Vec::new(),
             event_ids: FxHashMap::default(),
             calls: FxHashMap::default(),
@@ -269,7 +274,7 @@ impl<'m> Evaluator<'m> {
     /// (declarations may refer to later ones, and datatypes to themselves).
     pub(crate) fn bind_decls(&mut self, decls: &Rc<[Decl]>, env: u32) {
         let mut typed = Vec::new();
-        self.bind_names(decls, env, &mut typed);
+        self.bind_names(decls, env, "", &mut typed);
         // Field types may use each other in any order (`channel c : T.N`
         // before `datatype T`, `nametype N`): evaluated until no progress.
         loop {
@@ -288,8 +293,24 @@ impl<'m> Evaluator<'m> {
     }
 
     /// Binds the names of `decls` (modules recursively), collecting the
-    /// field types of channels and constructors to evaluate.
-    fn bind_names<'d>(&mut self, decls: &'d Rc<[Decl]>, env: u32, typed: &mut Vec<(Name, &'d Expr, Option<u32>, u32)>) {
+    /// field types of channels and constructors to evaluate. A channel or
+    /// constructor declared in module `M` (`prefix` `M::`) is the value
+    /// `M::c`, as FDR prints it, bound as `c` inside the module: two
+    /// modules' `c` are different events, with their own fields.
+    fn bind_names<'d>(
+        &mut self,
+        decls: &'d Rc<[Decl]>,
+        env: u32,
+        prefix: &str,
+        typed: &mut Vec<(Name, &'d Expr, Option<u32>, u32)>,
+    ) {
+        let qualify = |n: &Name| -> Name {
+            if prefix.is_empty() {
+                n.clone()
+            } else {
+                format!("{prefix}{n}").into()
+            }
+        };
         for (i, d) in decls.iter().enumerate() {
             match &d.kind {
                 DeclKind::Fun(name, _) | DeclKind::Nametype(name, _) => {
@@ -300,7 +321,7 @@ impl<'m> Evaluator<'m> {
                     let mut names = Vec::new();
                     crate::resolve::pat_names(p, &mut |n, _| names.push(Name::from(n)));
                     for n in names {
-                        if self.is_ctor(&n) {
+                        if self.ctor_of(&n, env).is_some() {
                             continue;
                         }
                         let t = self.new_thunk(ThunkBody::PatName(decls.clone(), i, n.clone()), env, d.range);
@@ -309,15 +330,16 @@ impl<'m> Evaluator<'m> {
                 }
                 DeclKind::Channel(names, ty) => {
                     for (n, _) in names {
-                        self.arity.insert(n.clone(), ty.as_ref().map_or(0, dot_count));
-                        self.fields.remove(n);
+                        let q = qualify(n);
+                        self.arity.insert(q.clone(), ty.as_ref().map_or(0, dot_count));
+                        self.fields.remove(&q);
                         if ty.is_none() {
-                            self.fields.insert(n.clone(), Rc::from(Vec::new()));
+                            self.fields.insert(q.clone(), Rc::from(Vec::new()));
                         }
-                        self.channels.push(n.clone());
-                        self.bind(env, n.clone(), Slot::Val(Value::Ctor(n.clone())));
+                        self.channels.push(q.clone());
+                        self.bind(env, n.clone(), Slot::Val(Value::Ctor(q.clone())));
                         if let Some(ty) = ty {
-                            typed.push((n.clone(), ty, None, env));
+                            typed.push((q, ty, None, env));
                         }
                     }
                 }
@@ -330,24 +352,26 @@ impl<'m> Evaluator<'m> {
                     }
                     let mut ctors = Vec::new();
                     for (c, _, fe) in clauses {
-                        self.arity.insert(c.clone(), fe.as_ref().map_or(0, dot_count));
-                        self.fields.remove(c);
+                        let q = qualify(c);
+                        self.arity.insert(q.clone(), fe.as_ref().map_or(0, dot_count));
+                        self.fields.remove(&q);
                         match fe {
-                            Some(fe) => typed.push((c.clone(), fe, Some(t), env)),
+                            Some(fe) => typed.push((q.clone(), fe, Some(t), env)),
                             None => {
-                                self.fields.insert(c.clone(), Rc::from(Vec::new()));
+                                self.fields.insert(q.clone(), Rc::from(Vec::new()));
                             }
                         }
-                        self.bind(env, c.clone(), Slot::Val(Value::Ctor(c.clone())));
-                        ctors.push(c.clone());
+                        self.bind(env, c.clone(), Slot::Val(Value::Ctor(q.clone())));
+                        ctors.push(q);
                     }
-                    self.datatypes.insert(name.clone(), ctors);
+                    let _ = name;
+                    self.datatypes.insert(d as *const Decl as usize, ctors);
                 }
                 DeclKind::Module(m, inner) => {
                     // The module's own frame, then its names again as `M::x`
                     // (the same slots: evaluated once, in the module).
                     let fr = self.new_frame(env, None);
-                    self.bind_names(inner, fr, typed);
+                    self.bind_names(inner, fr, &format!("{prefix}{m}::"), typed);
                     let vars = self.frames[fr as usize].vars.clone();
                     for (n, slot) in vars {
                         self.bind(env, format!("{m}::{n}").into(), slot);
@@ -558,6 +582,7 @@ impl<'m> Evaluator<'m> {
                 let fr = self.new_frame(env, d.timed.clone());
                 let v = self.eval_maybe_proc(e, fr)?;
                 let mut binds = Vec::new();
+                self.pat_env = env;
                 if !self.matches(p, &v, &mut binds)? {
                     return Err(err(Code::Runtime, range, format!("the value {v} does not match the pattern")));
                 }
@@ -575,12 +600,14 @@ impl<'m> Evaluator<'m> {
             DeclKind::Subtype(_, clauses) => {
                 let mut out = BTreeSet::new();
                 for (c, _, fe) in clauses {
+                    // The constructor as declared in scope (`M::c` in a module).
+                    let head = self.lookup(c, env, range)?;
                     let Some(fe) = fe else {
-                        out.extend(self.completions(Value::Ctor(c.clone()), range)?);
+                        out.extend(self.completions(head, range)?);
                         continue;
                     };
                     let v = self.eval(fe, env)?;
-                    let mut acc = vec![Value::Ctor(c.clone())];
+                    let mut acc = vec![head];
                     for set in self.type_fields(v, fe.range)? {
                         let mut next = Vec::new();
                         for a in &acc {
@@ -597,7 +624,8 @@ impl<'m> Evaluator<'m> {
             }
             DeclKind::Datatype(name, _) => {
                 let mut out = BTreeSet::new();
-                let ctors = self.datatypes.get(name).cloned().unwrap_or_default();
+                let _ = name;
+                let ctors = self.datatypes.get(&(d as *const Decl as usize)).cloned().unwrap_or_default();
                 for c in ctors {
                     for v in self.completions(Value::Ctor(c), range)? {
                         out.insert(v);
@@ -919,6 +947,7 @@ impl<'m> Evaluator<'m> {
                 for v in items {
                     self.tick(e.range)?;
                     let mut binds = Vec::new();
+                    self.pat_env = env;
                     if self.matches(p, &v, &mut binds)? {
                         let fr = self.new_frame(env, None);
                         for (n, v) in binds {
@@ -1002,6 +1031,7 @@ impl<'m> Evaluator<'m> {
                 }
                 let mut binds = Vec::new();
                 for (p, v) in pats.iter().zip(&args) {
+                    self.pat_env = *env;
                     if !self.matches(p, v, &mut binds)? {
                         return Err(err(Code::Runtime, at, "the arguments do not match the lambda's patterns"));
                     }
@@ -1031,6 +1061,7 @@ impl<'m> Evaluator<'m> {
                     let mut binds = Vec::new();
                     let mut ok = true;
                     for (ps, vs) in c.params.iter().zip(&given) {
+                        self.pat_env = *env;
                         if ps.len() != vs.len() || !self.all_match(ps, vs, &mut binds)? {
                             ok = false;
                             break;

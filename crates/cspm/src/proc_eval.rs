@@ -447,6 +447,7 @@ impl Evaluator<'_> {
                 }
             };
             let mut binds = Vec::new();
+            self.pat_env = env;
             if self.matches(p, &seen, &mut binds)? {
                 let fr = self.frame_with(env, binds, None);
                 self.prefix_fields(v, fields, i + 1, fr, body, out)?;

@@ -160,6 +160,50 @@ x = f(0)",
     assert_eq!(codes, [(Code::Unresolved, 4), (Code::Unresolved, 9)]);
 }
 
+/// Names declared in different modules are different: two modules' `c`
+/// (of different types) and `T` (with the same constructors) do not
+/// share their values, a module's constructor is matched by its short name
+/// inside the module, and a top-level function's parameter named like a
+/// module's channel is a variable (as in the CSPm RoboTool and our export
+/// generate: a `TIDS` and an event `e` per machine, `Delayable(e)`).
+#[test]
+fn modules_keep_their_names_apart() {
+    let text = "
+F(e) = e -> SKIP
+module A
+  exports
+  datatype T = t0 | t1
+  channel c : T
+  channel e
+  first(t0) = true
+  first(_) = false
+  P = c?x -> (if first(x) then e -> STOP else STOP)
+  H = (c?x -> STOP) \\ {| c |}
+endmodule
+module B
+  exports
+  datatype T = t0
+  channel c : T.{0, 1}
+  channel e
+  P = [] x : T @ c.x?y -> F(e)
+  Ts = T
+endmodule
+";
+    let a = lts(text, "A::P");
+    assert_eq!(initials(&a, 0), ["A::c.A::t0", "A::c.A::t1"]);
+    assert!(a.has_trace(&["A::c.A::t0", "A::e"]));
+    assert!(!a.has_trace(&["A::c.A::t1", "A::e"]));
+    let b = lts(text, "B::P");
+    assert_eq!(initials(&b, 0), ["B::c.B::t0.0", "B::c.B::t0.1"]);
+    assert!(b.has_trace(&["B::c.B::t0.1", "B::e"]));
+    // A's hiding hides A's `c` only, all of it.
+    let h = lts(text, "A::H");
+    assert_eq!(initials(&h, 0), ["τ"]);
+    let m = Module::check(text, &NoNames);
+    let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    assert_eq!(ev.value("B::Ts").unwrap().to_string(), "{B::t0}");
+}
+
 #[test]
 fn modules_includes_and_nested_inputs() {
     let text = "
@@ -174,8 +218,9 @@ channel rr : R
 Q = M::P
 S = rr.i_x?b -> (if b then STOP else SKIP)
 ";
+    // FDR prints a module's channel with its module.
     let q = lts(text, "Q");
-    assert_eq!(initials(&q, 0), ["c.0", "c.1"]);
+    assert_eq!(initials(&q, 0), ["M::c.0", "M::c.1"]);
     let s = lts(text, "S");
     assert_eq!(initials(&s, 0), ["rr.i_x.false", "rr.i_x.true"]);
     let load = |f: &str| (f == "defs.csp").then(|| "channel d : {7}\nD = d.7 -> STOP".to_owned());
