@@ -29,8 +29,9 @@
 //! RoboSim parts only (this and the hovers below), `LSP_TYPING=hover` the
 //! hovers only.
 //!
-//! Last, hover after a keystroke on the same RoboSim model: the toggle,
-//! its complete publish awaited (the editor idle), then one hover on a
+//! Last, hover after a keystroke on the same RoboSim model: a space typed
+//! in (or removed from) the middle copy's guard, the complete publish
+//! awaited (the editor idle), then one hover on a
 //! transition of the edited machine, on a transition of another machine,
 //! or on another machine's name (its whole process as a tock-CSP term);
 //! and the same in-process, on an `AnalysisHost`, without the server
@@ -318,8 +319,9 @@ fn robosim_queries() {
     println!("memos re-validated by the last keystroke: {} ({:?} …)", valid.len(), &top[..top.len().min(12)]);
 }
 
-/// Offsets in the generated RoboSim model for the hover benchmark: the
-/// guard toggled (in copy 60), and the hovers: a transition of the edited
+/// Offsets in the generated RoboSim model for the hover benchmark: where
+/// a space is typed and removed (in copy 60's guard, which keeps the
+/// model well-formed, so that every hover has its term), and the hovers: a transition of the edited
 /// machine, a transition of copy 30's machine, copy 30's machine name.
 struct HoverSites {
     guard: usize,
@@ -370,10 +372,10 @@ fn robosim_hover(c: &mut Client) {
         for k in 0..HOVERS + 4 {
             version += 1;
             let change = if version % 2 == 0 {
+                json!({"range": {"start": pos, "end": pos}, "text": " "})
+            } else {
                 let end = json!({"line": pos["line"], "character": pos["character"].as_u64().unwrap() + 1});
                 json!({"range": {"start": pos, "end": end}, "text": ""})
-            } else {
-                json!({"range": {"start": pos, "end": pos}, "text": "$"})
             };
             c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
                 "textDocument": {"uri": uri, "version": version}, "contentChanges": [change]}}));
@@ -398,14 +400,14 @@ fn robosim_hover_in_process() {
     use robosim_ide::{AnalysisHost, Durability, RuleSet, TextSize};
     let good = generated::generated_robosim(120);
     let sites = hover_sites(&good);
-    let bad = format!("{}{}", &good[..sites.guard], &good[sites.guard + 1..]);
+    let spaced = format!("{} {}", &good[..sites.guard], &good[sites.guard..]);
     let mut host = AnalysisHost::new(RuleSet::Paper);
     let file = host.set_file("/w/gen.rst", good.clone(), None, Durability::LOW);
     host.analysis().diagnostics(file).unwrap();
     for (name, at) in sites.targets {
         let mut samples = Vec::new();
         for k in 0..HOVERS + 4 {
-            let (text, at) = if k % 2 == 0 { (&bad, at - usize::from(at > sites.guard)) } else { (&good, at) };
+            let (text, at) = if k % 2 == 0 { (&spaced, at + usize::from(at > sites.guard)) } else { (&good, at) };
             host.set_file("/w/gen.rst", text.clone(), None, Durability::LOW);
             let a = host.analysis();
             a.diagnostics(file).unwrap();
