@@ -72,16 +72,21 @@ fn elements_put_together_are_the_whole_files_model() {
 
 /// An edit inside one machine, then the model of another element (what
 /// a hover there reads): nothing is lowered again, the other element's
-/// model is only moved by the edit's length; the edited machine's model is
+/// model is only moved by the edit's length (or re-validated, a few memos,
+/// when the edit was after it); the edited machine's model is
 /// lowered again only when asked for. Either way it is a fresh lowering's.
 #[test]
 fn the_model_of_an_element_after_an_edit_in_another() {
     let log: Arc<Mutex<Vec<String>>> = Arc::default();
     let sink = log.clone();
+    // Executed queries by name; re-validated memos as `validated`.
     let mut db = RootDatabase::with_event_log(move |e| {
-        if let salsa::EventKind::WillExecute { database_key } = e.kind {
-            sink.lock().unwrap().push(format!("{database_key:?}").split('(').next().unwrap_or("").to_string());
-        }
+        let name = match e.kind {
+            salsa::EventKind::WillExecute { database_key } => format!("{database_key:?}"),
+            salsa::EventKind::DidValidateMemoizedValue { .. } => "validated".to_string(),
+            _ => return,
+        };
+        sink.lock().unwrap().push(name.split('(').next().unwrap_or("").to_string());
     });
     let good = generated::generated_robosim(24);
     let ws = load_workspace(&mut db, [("gen.rst".to_string(), good.clone())], RuleSet::Paper);
@@ -103,7 +108,15 @@ fn the_model_of_an_element_after_an_edit_in_another() {
             assert_eq!(lowered, 0, "edit {k}, {other}: {ran:?}");
             // Moved (the edit was before it) or re-validated as it was.
             assert_eq!(ran.iter().filter(|q| *q == "element_model").count(), usize::from(moved), "{ran:?}");
-            assert!(ran.len() <= 3, "edit {k}, {other}: {ran:?}");
+            // A handful of memos re-validated (the element's model and
+            // what it was computed from, without walking underneath: their
+            // inputs are of medium durability), whatever the number of
+            // elements (120 here).
+            // (The first edit lowers the machine's durability: what is of
+            // medium durability is walked once, as in `durability.rs`.)
+            let validated = ran.iter().filter(|q| *q == "validated").count();
+            assert!(k == 0 || validated <= 4, "edit {k}, {other}: {validated} re-validated: {ran:?}");
+            assert!(ran.len() - validated <= 3, "edit {k}, {other}: {ran:?}");
             let mut fresh = RootDatabase::default();
             let fws = load_workspace(&mut fresh, [("gen.rst".to_string(), text.clone())], RuleSet::Paper);
             let ff = models(&fresh, fws)[0];
