@@ -25,8 +25,18 @@
 //! that counts is that of the complete publish, the one with RS:SM6 after
 //! the bad edit and without it after the fix. The same toggles, replayed
 //! in-process on a database with salsa's event log, give the number of
-//! queries each keystroke re-executes. `LSP_TYPING=robosim` runs this part
-//! only.
+//! queries each keystroke re-executes. `LSP_TYPING=robosim` runs the
+//! RoboSim parts only (this and the hovers below), `LSP_TYPING=hover` the
+//! hovers only.
+//!
+//! Last, hover after a keystroke on the same RoboSim model: a space typed
+//! in (or removed from) the middle copy's guard, the complete publish
+//! awaited (the editor idle), then one hover on a
+//! transition of the edited machine, on a transition of another machine,
+//! or on another machine's name (its whole process as a tock-CSP term);
+//! and the same in-process, on an `AnalysisHost`, without the server
+//! around it. Each hover is the first request after its edit, so nothing
+//! it reads is memoised for the new text.
 
 use framing::{frame, read_message};
 use robosim_test_support::generated;
@@ -149,11 +159,16 @@ fn main() {
         json!({"capabilities": {"textDocument": {"documentSymbol": {"hierarchicalDocumentSymbolSupport": true}}}}),
     );
     c.send(&json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
-    if std::env::var("LSP_TYPING").as_deref() != Ok("robosim") {
+    let only = std::env::var("LSP_TYPING").unwrap_or_default();
+    if only.is_empty() {
         robochart(&mut c, &bin);
     }
-    robosim_toggle(&mut c);
-    robosim_queries();
+    if only != "hover" {
+        robosim_toggle(&mut c);
+        robosim_queries();
+    }
+    robosim_hover(&mut c);
+    robosim_hover_in_process();
 
     c.request("shutdown", Value::Null);
     c.send(&json!({"jsonrpc": "2.0", "method": "exit"}));
@@ -302,6 +317,110 @@ fn robosim_queries() {
     let mut top: Vec<_> = by_name.into_iter().collect();
     top.sort_by_key(|(_, n)| std::cmp::Reverse(*n));
     println!("memos re-validated by the last keystroke: {} ({:?} …)", valid.len(), &top[..top.len().min(12)]);
+}
+
+/// Offsets in the generated RoboSim model for the hover benchmark: where
+/// a space is typed and removed (in copy 60's guard, which keeps the
+/// model well-formed, so that every hover has its term), and the hovers: a transition of the edited
+/// machine, a transition of copy 30's machine, copy 30's machine name.
+struct HoverSites {
+    guard: usize,
+    targets: [(&'static str, usize); 3],
+}
+
+fn hover_sites(text: &str) -> HoverSites {
+    let find = |copy: usize, what: &str| {
+        let at = text.find(&format!("stm SimSMovement{copy} {{")).unwrap();
+        at + text[at..].find(what).unwrap()
+    };
+    HoverSites {
+        guard: find(60, "condition not $obstacle") + "condition not ".len(),
+        targets: [
+            ("transition of the edited machine", find(60, "transition t1") + "transition t".len()),
+            ("transition of another machine", find(30, "transition t1") + "transition t".len()),
+            ("another machine's name", find(30, "SimSMovement30") + 3),
+        ],
+    }
+}
+
+fn position(text: &str, at: usize) -> Value {
+    let line = text[..at].matches('\n').count();
+    let col = at - text[..at].rfind('\n').map_or(0, |i| i + 1);
+    json!({"line": line, "character": col})
+}
+
+/// Hover after a keystroke over LSP (see the module's comment).
+fn robosim_hover(c: &mut Client) {
+    let text = generated::generated_robosim(120);
+    let sites = hover_sites(&text);
+    let uri = "file:///robosim-bench/hover.rst";
+    c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": uri, "languageId": "robosim", "version": 1, "text": text}}}));
+    let published = |version: i64| {
+        move |m: &Value| {
+            m["method"] == "textDocument/publishDiagnostics"
+                && m["params"]["uri"] == uri
+                && m["params"]["version"] == version
+        }
+    };
+    c.settle(published(1), SETTLE);
+    let pos = position(&text, sites.guard);
+    let mut version = 1;
+    for (name, at) in sites.targets {
+        let hover = json!({"textDocument": {"uri": uri}, "position": position(&text, at)});
+        let mut samples = Vec::new();
+        for k in 0..HOVERS + 4 {
+            version += 1;
+            let change = if version % 2 == 0 {
+                json!({"range": {"start": pos, "end": pos}, "text": " "})
+            } else {
+                let end = json!({"line": pos["line"], "character": pos["character"].as_u64().unwrap() + 1});
+                json!({"range": {"start": pos, "end": end}, "text": ""})
+            };
+            c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
+                "textDocument": {"uri": uri, "version": version}, "contentChanges": [change]}}));
+            c.settle(published(version), SETTLE);
+            let took = c.request("textDocument/hover", hover.clone());
+            if k >= 4 {
+                samples.push(took);
+            }
+        }
+        report(&format!("RoboSim hover after a keystroke: {name}"), samples);
+    }
+    c.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didClose", "params": {"textDocument": {"uri": uri}}}));
+}
+
+/// Hovers after each edit.
+const HOVERS: usize = 40;
+
+/// Hover after a keystroke in-process (see the module's comment): the
+/// edit applied to an `AnalysisHost`, its diagnostics computed, then the
+/// hover timed.
+fn robosim_hover_in_process() {
+    use robosim_ide::{AnalysisHost, Durability, RuleSet, TextSize};
+    let good = generated::generated_robosim(120);
+    let sites = hover_sites(&good);
+    let spaced = format!("{} {}", &good[..sites.guard], &good[sites.guard..]);
+    let mut host = AnalysisHost::new(RuleSet::Paper);
+    let file = host.set_file("/w/gen.rst", good.clone(), None, Durability::LOW);
+    host.analysis().diagnostics(file).unwrap();
+    for (name, at) in sites.targets {
+        let mut samples = Vec::new();
+        for k in 0..HOVERS + 4 {
+            let (text, at) = if k % 2 == 0 { (&spaced, at + usize::from(at > sites.guard)) } else { (&good, at) };
+            host.set_file("/w/gen.rst", text.clone(), None, Durability::LOW);
+            let a = host.analysis();
+            a.diagnostics(file).unwrap();
+            let start = Instant::now();
+            let h = a.hover_with_diagnostics(file, TextSize::from(at as u32), &[]).unwrap();
+            let took = start.elapsed();
+            assert!(h.is_some_and(|h| h.markdown.contains("tock-CSP")), "{name}: no term");
+            if k >= 4 {
+                samples.push(took);
+            }
+        }
+        report(&format!("in-process hover after a keystroke: {name}"), samples);
+    }
 }
 
 /// Reads whatever the server still sends until it is quiet for `quiet`.

@@ -231,6 +231,78 @@ pub fn csp_names(db: &dyn Db, ws: Workspace) -> CspNames {
     CspNames { names, elements: b.elements }
 }
 
+/// The path and CSPm module of every element of [`csp_names`], in the
+/// same order ([`CspNames::elements`]), from the elements' definitions
+/// alone: without positions, channels or constants, so that after a
+/// keystroke it is recomputed from memoised definitions (what a hover
+/// reads to name the module of the element it exports).
+#[salsa::tracked(returns(ref))]
+pub fn csp_modules(db: &dyn Db, ws: Workspace) -> Vec<(Vec<String>, String)> {
+    let mut out = Vec::new();
+    for &file in ws.files(db) {
+        // `Builder::file`: library files have no elements in the table.
+        if file.kind(db).is_assertions() || file.is_library(db) {
+            continue;
+        }
+        let package = crate::element::file_package(db, file);
+        let pkg = package_prefix(package);
+        for e in crate::element::element_list(db, file) {
+            for (id, d) in crate::element::element_defs(db, *e).children(None) {
+                if !d.name.is_empty() && matches!(d.kind, DefKind::Module | DefKind::Controller | DefKind::StateMachine)
+                {
+                    let mut path = package.to_vec();
+                    path.push(d.name.clone());
+                    modules_of(db, ws, file, id, path, joined(&pkg, &d.name, "::"), &mut out);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// [`Builder::element`]'s walk, for [`csp_modules`]: the element `id` of
+/// `file` after its components (post-order, as the table has them).
+fn modules_of(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    id: DefId,
+    path: Vec<String>,
+    module: String,
+    out: &mut Vec<(Vec<String>, String)>,
+) {
+    if out.len() > 10_000 || path.len() > 16 {
+        return; // A reference cycle, as in `Builder::element`.
+    }
+    let defs = match crate::element::element_of(db, file, id) {
+        Some(e) => crate::element::element_defs(db, e),
+        None => file_defs(db, file),
+    };
+    for (cid, c) in defs.children(Some(id)) {
+        if c.name.is_empty() {
+            continue;
+        }
+        let mut cpath = path.clone();
+        cpath.push(c.name.clone());
+        let cmodule = format!("{module}::{}", c.name);
+        match (c.kind, &c.data) {
+            (DefKind::Controller | DefKind::StateMachine, _) => modules_of(db, ws, file, cid, cpath, cmodule, out),
+            (DefKind::ControllerRef | DefKind::MachineRef, DefData::Reference { path: target, .. }) => {
+                let accept = if c.kind == DefKind::ControllerRef {
+                    (|k| k == DefKind::Controller) as fn(DefKind) -> bool
+                } else {
+                    |k| k == DefKind::StateMachine
+                };
+                let Some(loc) = resolve_item(db, ws, file, target, accept).first().copied() else { continue };
+                let Some(tid) = loc.def(db) else { continue };
+                modules_of(db, ws, loc.file, tid, cpath, cmodule, out);
+            }
+            _ => {}
+        }
+    }
+    out.push((path, module));
+}
+
 struct Builder<'a> {
     db: &'a dyn Db,
     ws: Workspace,

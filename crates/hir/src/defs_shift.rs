@@ -23,7 +23,7 @@ fn named(n: &mut Option<(String, TextRange)>, by: TextSize) {
     }
 }
 
-fn ty(t: &mut TypeRef, by: TextSize) {
+pub(crate) fn ty(t: &mut TypeRef, by: TextSize) {
     match t {
         TypeRef::Named(_, x) => r(x, by),
         TypeRef::Set(a) | TypeRef::Seq(a) => ty(a, by),

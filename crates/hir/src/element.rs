@@ -271,9 +271,23 @@ pub fn file_elements(db: &dyn Db, file: File) -> Vec<(Element, u32)> {
     out
 }
 
+/// Where `element` starts in its file (0 if it is no longer in it): read
+/// apart from [`file_elements`], so that what depends on one element's
+/// position is not recomputed when an edit after it moves only others.
+#[salsa::tracked(returns(copy))]
+pub fn element_start(db: &dyn Db, element: Element) -> u32 {
+    file_elements(db, element.file(db)).iter().find(|(e, _)| *e == element).map_or(0, |(_, at)| *at)
+}
+
 /// The elements of `file`, in order, without positions.
 pub fn element_list(db: &dyn Db, file: File) -> &Vec<Element> {
     file.elements(db)
+}
+
+/// The package of `file` (as in [`file_defs`], without reading the
+/// file's definitions).
+pub fn file_package(db: &dyn Db, file: File) -> &[String] {
+    &file.header(db).package
 }
 
 /// The package and imports of `file` (as in [`file_defs`]).
@@ -456,7 +470,7 @@ pub(crate) fn element_refs(db: &dyn Db, ws: Workspace, element: Element) -> Vec<
 
 /// The element of `file` that declares `id` (from the ids alone, so that
 /// asking does not depend on the element's positions).
-pub(crate) fn element_of(db: &dyn Db, file: File, id: DefId) -> Option<Element> {
+pub fn element_of(db: &dyn Db, file: File, id: DefId) -> Option<Element> {
     let bases = def_bases(db, file);
     let i = bases.partition_point(|(b, _, _)| *b <= id.0).checked_sub(1)?;
     let (base, e, count) = bases[i];

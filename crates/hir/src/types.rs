@@ -355,13 +355,28 @@ pub fn expr_types(db: &dyn Db, ws: Workspace, file: File) -> FxHashMap<TextRange
         return FxHashMap::default();
     }
     let (decl, body) = (&file_resolution(db, ws, file).refs, &body_resolution(db, ws, file).refs);
+    unit_types(db, ws, &Unit::of_file(db, file), decl, body)
+}
+
+/// [`expr_types`] of a unit (a file or one element), with its resolved
+/// names.
+pub(crate) fn unit_types(
+    db: &dyn Db,
+    ws: Workspace,
+    unit: &Unit<'_>,
+    decl: &[crate::resolve::ResolvedRef],
+    body: &[crate::resolve::ResolvedRef],
+) -> FxHashMap<TextRange, Ty> {
+    let file = unit.file;
+    if file.kind(db).is_assertions() {
+        return FxHashMap::default();
+    }
     let targets = decl.iter().chain(body).filter_map(|r| Some((r.range, r.target?))).collect();
-    let unit = Unit::of_file(db, file);
     let mut t = Typer {
         db,
         ws,
         file,
-        unit: &unit,
+        unit,
         defs: unit.defs,
         rs: file.kind(db) == FileKind::RoboSim,
         targets,

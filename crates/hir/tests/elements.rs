@@ -1,7 +1,8 @@
 //! Per-element diagnostics: an edit inside one machine re-executes that
 //! element's queries only (read from salsa's event log), and after any
 //! sequence of edits the diagnostics of the edited database are those of a
-//! fresh one.
+//! fresh one, and so is its model (`hir::model`, put together from the
+//! elements').
 
 use robosim_test_support::generated;
 
@@ -274,5 +275,11 @@ fn random_edits(path: &str, start: &str, edits: usize, seed: u64) {
         let fws = load_workspace(&mut fresh_db, [(path.to_string(), text.clone())], RuleSet::Paper);
         let fresh = rendered(&fresh_db, file_diagnostics(&fresh_db, fws, user_file(&fresh_db, fws)));
         assert_eq!(incremental, fresh, "edit {k}: {at}..{end} := {insert:?}\n{text}");
+        // The model put together from the elements' (what hovers read, one
+        // element at a time) is a fresh lowering of the whole file.
+        let model = format!("{:?}", robosim_hir::model::file_model(&db, ws, file));
+        let fresh_model =
+            format!("{:?}", robosim_hir::model::lower_file_model(&fresh_db, fws, user_file(&fresh_db, fws)));
+        assert_eq!(model, fresh_model, "edit {k}: {at}..{end} := {insert:?}\n{text}");
     }
 }

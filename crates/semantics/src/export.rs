@@ -8,6 +8,9 @@ use std::fmt;
 use std::rc::Rc;
 
 use robosim_hir::defs::{file_defs, DefId, DefKind, TypeRef};
+// The definitions of one element (a hover exports one element: it must
+// not put the file's definitions together after each keystroke).
+use robosim_hir::element::defs_holding;
 use robosim_hir::index::ItemLoc;
 use robosim_hir::{model, Db, File, FileKind, TextRange, Workspace};
 
@@ -471,9 +474,11 @@ impl<'a> Exporter<'a> {
     /// `A_B::C::S`, printed as nested modules), else
     /// [`util::element_module`]'s.
     pub(crate) fn element_module_name(&mut self, file: File, path: &[String]) -> String {
-        let named = robosim_hir::csp_names::csp_names(self.db, self.ws).element_by_path(path);
+        // The table's module for `path` (`csp_modules`: the same as
+        // `csp_names`'s, without reading positions).
+        let named = robosim_hir::csp_names::csp_modules(self.db, self.ws).iter().find(|(p, _)| p == path);
         let base = match named {
-            Some(e) if e.module.split("::").all(|s| util::ident(s) == s) => e.module.clone(),
+            Some((_, module)) if module.split("::").all(|s| util::ident(s) == s) => module.clone(),
             _ => util::element_module(&self.package(file), path),
         };
         self.unique_module(base)
@@ -489,9 +494,10 @@ impl<'a> Exporter<'a> {
         n
     }
 
-    /// The package of a file.
+    /// The package of a file (from its header: the file's definitions,
+    /// which every edit changes, are not read).
     pub(crate) fn package(&self, file: File) -> Vec<String> {
-        robosim_hir::defs::file_defs(self.db, file).package.clone()
+        robosim_hir::element::file_package(self.db, file).to_vec()
     }
 
     /// The qualified model path of the top-level item `loc`: its package
@@ -630,7 +636,7 @@ impl<'a> Exporter<'a> {
     /// The datatype of the enumeration `id` of `file`, made on first use:
     /// its name and (literal, constructor) pairs.
     pub(crate) fn enumeration(&mut self, file: File, id: DefId) -> (String, Vec<(String, String)>) {
-        let def = file_defs(self.db, file).def(id);
+        let def = defs_holding(self.db, file, id).def(id);
         let key = (file, def.range);
         if let Some(e) = self.enums.get(&key) {
             return e.clone();
@@ -668,7 +674,7 @@ impl<'a> Exporter<'a> {
     /// use: `datatype R = R_rec.T1.T2…` with a reading function
     /// `R_get_f` and an updating function `R_set_f` per field.
     pub(crate) fn record(&mut self, file: File, id: DefId) -> Result<Rc<RecordTy>, String> {
-        let def = file_defs(self.db, file).def(id);
+        let def = defs_holding(self.db, file, id).def(id);
         let (key, rname) = ((file, def.range), def.name.clone());
         match self.records.get(&key) {
             Some(Some(r)) => return Ok(r.clone()),
@@ -731,7 +737,7 @@ impl<'a> Exporter<'a> {
     }
 
     fn abstract_type(&mut self, file: File, id: DefId) -> String {
-        let def = file_defs(self.db, file).def(id);
+        let def = defs_holding(self.db, file, id).def(id);
         let key = (file, def.range);
         if let Some(n) = self.abstract_types.get(&key) {
             return n.clone();

@@ -2,6 +2,7 @@
 //! name, a transition, an `exec`, a RoboSim output or a platform call, the
 //! CSP term the export generates for it and a one-line reading in English.
 
+use robosim_hir::element;
 use robosim_hir::model as m;
 use robosim_hir::{Db, File, FileKind, TextRange, TextSize, Workspace};
 
@@ -23,9 +24,13 @@ pub struct HoverTerm {
 
 const WIDTH: usize = 80;
 
-/// The machines, controllers and modules of `file`, nested ones included,
-/// each with its qualified path.
-fn elements<'a>(db: &'a dyn Db, ws: Workspace, file: File) -> Vec<(ElemDef<'a>, Vec<String>)> {
+/// The machines, controllers and modules of the top-level elements of
+/// `file` around `offset` (one, or two when `offset` is where one ends and
+/// the next starts), nested ones included, each with its qualified path.
+/// Only those elements' models are read ([`m::element_model`]): after an
+/// edit elsewhere they are valid still, and the file's model is not put
+/// together.
+fn elements<'a>(db: &'a dyn Db, ws: Workspace, file: File, offset: TextSize) -> Vec<(ElemDef<'a>, Vec<String>)> {
     fn controller<'a>(c: &'a m::Controller, path: Vec<String>, out: &mut Vec<(ElemDef<'a>, Vec<String>)>) {
         for i in &c.machines {
             if let m::Definition::Inline(b) = &i.def {
@@ -36,10 +41,13 @@ fn elements<'a>(db: &'a dyn Db, ws: Workspace, file: File) -> Vec<(ElemDef<'a>, 
         }
         out.push((ElemDef::Controller(c), path));
     }
-    let model = m::file_model(db, ws, file);
-    let package = model.package.clone();
+    let package = element::file_package(db, file).to_vec();
+    let around = element::file_elements(db, file).iter().filter(|(e, at)| {
+        let start = TextSize::from(*at);
+        start <= offset && offset <= start + e.green(db).0.text_len()
+    });
     let mut out = Vec::new();
-    for (_, item) in &model.items {
+    for (_, item) in around.flat_map(|(e, _)| m::element_model(db, ws, *e)) {
         let mut path = package.clone();
         match item {
             m::Item::Machine(b) => {
@@ -72,7 +80,7 @@ pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> O
     if !matches!(file.kind(db), FileKind::RoboChart | FileKind::RoboSim) {
         return None;
     }
-    let elements = elements(db, ws, file);
+    let elements = elements(db, ws, file, offset);
     // On the name of a machine, controller or module: its process.
     if let Some((def, path)) = elements.iter().find(|(d, _)| d.name_range().contains_inclusive(offset)) {
         return element_term(db, ws, file, *def, path.clone());

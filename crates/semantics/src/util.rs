@@ -3,9 +3,10 @@
 use robosim_hir::model::DefId;
 use robosim_hir::{model, Db, File, Workspace};
 
-/// The top-level element `id` of the model of `file`.
+/// The top-level element `id` of the model of `file` (read from its
+/// element's model alone).
 pub(crate) fn model_item_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<&model::Item> {
-    model::file_model(db, ws, file).items.iter().find(|(d, _)| *d == id).map(|(_, i)| i)
+    model::item_of(db, ws, file, id)
 }
 
 /// CSPm reserved words and the names of its built-in functions and

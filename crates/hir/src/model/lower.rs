@@ -8,6 +8,7 @@ use rustc_hash::FxHashMap;
 use super::*;
 use crate::cycle::CycleInfo;
 use crate::defs::{file_defs, lower_type, DefId, DefKind, Io};
+use crate::element::Element;
 use crate::index::resolve_item;
 use crate::resolve::Target;
 use crate::{parse, Db, File, Workspace};
@@ -27,29 +28,39 @@ pub(super) struct Cx<'a> {
     cycles: FxHashMap<DefId, CycleInfo>,
 }
 
-/// The model of `file`: every top-level element, lowered.
+/// The model of `file`: every top-level element, lowered. Put together
+/// from the elements' ([`element_model`]): after an edit, only the edited
+/// element is lowered again (the others are moved, when the edit moved
+/// them).
 #[salsa::tracked(returns(ref))]
 pub fn file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
     if file.kind(db).is_assertions() {
         return FileModel::default();
     }
+    let items = crate::element::file_elements(db, file)
+        .iter()
+        .flat_map(|(e, _)| element_model(db, ws, *e).iter().cloned())
+        .collect();
+    let root = parse(db, file).syntax_node();
+    finish(db, file, &root, items)
+}
+
+/// The model of `file` lowered in one pass over its whole tree: what
+/// [`file_model`] puts together from the elements (tests compare the two).
+#[doc(hidden)]
+pub fn lower_file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
+    if file.kind(db).is_assertions() {
+        return FileModel::default();
+    }
     let structural = &crate::resolve::file_resolution(db, ws, file).refs;
     let behaviour = &crate::body::body_resolution(db, ws, file).refs;
-    let refs = structural.iter().chain(behaviour).filter_map(|r| Some((r.range, r.target?))).collect();
     let defs = file_defs(db, file);
-    let elements = defs
-        .iter()
-        .filter(|(_, d)| {
-            matches!(d.kind, DefKind::StateMachine | DefKind::Operation | DefKind::Controller | DefKind::Module)
-        })
-        .map(|(id, d)| (d.range, id))
-        .collect();
     let cycles = match file.kind(db) {
         crate::FileKind::RoboSim => crate::cycle::cycle_infos(db, ws, file).iter().copied().collect(),
         _ => FxHashMap::default(),
     };
     let types = crate::types::expr_types(db, ws, file);
-    let mut cx = Cx { db, ws, file, refs, types, elements, cycles };
+    let mut cx = Cx::new(db, ws, file, structural.iter().chain(behaviour), types, defs, cycles);
     let root = parse(db, file).syntax_node();
     let mut items = Vec::new();
     for (id, def) in defs.children(None) {
@@ -62,14 +73,74 @@ pub fn file_model(db: &dyn Db, ws: Workspace, file: File) -> FileModel {
         };
         items.push((id, cx.item(&node)));
     }
-    let literals = int_literals(&root);
+    finish(db, file, &root, items)
+}
+
+/// The model of `file` with `items`: its package, literals and syntax
+/// errors added.
+fn finish(db: &dyn Db, file: File, root: &SyntaxNode, items: Vec<(DefId, Item)>) -> FileModel {
+    let literals = int_literals(root);
     let syntax_errors = parse(db, file)
         .errors()
         .iter()
         .filter(|e| e.severity == robosim_syntax::Severity::Error)
         .map(|e| (e.range, e.message.clone()))
         .collect();
-    FileModel { package: defs.package.clone(), items, literals, syntax_errors }
+    let package = crate::element::file_package(db, file).to_vec();
+    FileModel { package, items, literals, syntax_errors }
+}
+
+/// The model of the top-level element `element` (normally one item; none
+/// for an element that declares nothing, as a stray token), lowered from
+/// its own tree: positions relative to its start, definition ids the
+/// file's. It reads the element's input and what it resolves to (what
+/// other elements publish), never their syntax, so that an edit of
+/// another element leaves it valid without re-validating underneath (see
+/// [`crate::element::Element`]).
+#[salsa::tracked(returns(ref))]
+pub fn element_items(db: &dyn Db, ws: Workspace, element: Element) -> Vec<(DefId, Item)> {
+    let file = element.file(db);
+    if file.kind(db).is_assertions() {
+        return Vec::new();
+    }
+    let unit = crate::element::Unit::of_element(db, element);
+    let structural = crate::element::element_refs(db, ws, element);
+    let behaviour = crate::body::resolve_body(db, ws, &unit).refs;
+    let types = crate::types::unit_types(db, ws, &unit, structural, &behaviour);
+    let cycles = match file.kind(db) {
+        crate::FileKind::RoboSim => crate::element_rules::element_cycles(db, ws, element).1.iter().copied().collect(),
+        _ => FxHashMap::default(),
+    };
+    let mut cx = Cx::new(db, ws, file, structural.iter().chain(&behaviour), &types, unit.defs, cycles);
+    let root = &unit.root;
+    let mut items = Vec::new();
+    for (id, def) in unit.defs.children(None) {
+        let node = if root.text_range() == def.range && root.kind() == def.syntax {
+            Some(root.clone())
+        } else {
+            find_node(root, def.range, def.syntax)
+        };
+        if let Some(node) = node {
+            items.push((id, cx.item(&node)));
+        }
+    }
+    items
+}
+
+/// The model of the top-level element `element` ([`element_items`]) at
+/// its place in the file: what requests about one place read (hover),
+/// instead of the whole file's model. Recomputed (moved, not lowered)
+/// when an edit before the element moves it.
+#[salsa::tracked(returns(ref))]
+pub fn element_model(db: &dyn Db, ws: Workspace, element: Element) -> Vec<(DefId, Item)> {
+    let mut items = element_items(db, ws, element).clone();
+    let at = crate::element::element_start(db, element);
+    if at != 0 {
+        for (_, item) in &mut items {
+            super::shift::item(item, at.into());
+        }
+    }
+    items
 }
 
 /// The integer literals under `n`, in order.
@@ -101,8 +172,17 @@ pub fn assertion_file(db: &dyn Db, file: File) -> crate::assertions::AssertionFi
 
 /// The model of the top-level element `loc`.
 pub fn item(db: &dyn Db, ws: Workspace, loc: ItemLoc) -> Option<&Item> {
-    let id = loc.def(db)?;
-    file_model(db, ws, loc.file).items.iter().find(|(d, _)| *d == id).map(|(_, i)| i)
+    item_of(db, ws, loc.file, loc.def(db)?)
+}
+
+/// The model of the top-level definition `id` of `file` (from its
+/// element's model alone, [`element_model`]).
+pub fn item_of(db: &dyn Db, ws: Workspace, file: File, id: DefId) -> Option<&Item> {
+    if file.kind(db).is_assertions() {
+        return None;
+    }
+    let element = crate::element::element_of(db, file, id)?;
+    element_model(db, ws, element).iter().find(|(d, _)| *d == id).map(|(_, i)| i)
 }
 
 /// The element of kind `kind` that the path `path`, written in `from`,
@@ -156,7 +236,30 @@ fn type_child(n: &SyntaxNode) -> Option<SyntaxNode> {
     n.children().find(|t| ast::is_type_kind(t.kind()))
 }
 
-impl Cx<'_> {
+impl<'a> Cx<'a> {
+    /// A lowering of (part of) `file` with the references `refs` and the
+    /// expression types `types` of its tree, its definitions `defs` and
+    /// its cycle facts `cycles`.
+    fn new<'r>(
+        db: &'a dyn Db,
+        ws: Workspace,
+        file: File,
+        refs: impl Iterator<Item = &'r crate::resolve::ResolvedRef>,
+        types: &'a FxHashMap<TextRange, crate::types::Ty>,
+        defs: &crate::defs::FileDefs,
+        cycles: FxHashMap<DefId, CycleInfo>,
+    ) -> Cx<'a> {
+        let refs = refs.filter_map(|r| Some((r.range, r.target?))).collect();
+        let elements = defs
+            .iter()
+            .filter(|(_, d)| {
+                matches!(d.kind, DefKind::StateMachine | DefKind::Operation | DefKind::Controller | DefKind::Module)
+            })
+            .map(|(id, d)| (d.range, id))
+            .collect();
+        Cx { db, ws, file, refs, types, elements, cycles }
+    }
+
     /// What the name at `n` (its node, or its first name child) resolves to.
     pub(super) fn target_at(&self, n: &SyntaxNode) -> Option<Target> {
         self.refs.get(&n.text_range()).copied().or_else(|| {

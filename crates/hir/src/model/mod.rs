@@ -19,9 +19,12 @@
 mod expr;
 mod lower;
 mod print;
+mod shift;
 
 pub use expr::{BinOp, Comm, CommPart, Expr, ExprKind, Selector, Stmt, StmtKind, UnOp};
-pub use lower::{assertion_file, enum_literals, file_model, item, resolve};
+pub use lower::{
+    assertion_file, element_items, element_model, enum_literals, file_model, item, item_of, lower_file_model, resolve,
+};
 pub use print::render;
 // The definition handles and kinds the model's data carries, so that a
 // back end names them through the model.
