@@ -218,6 +218,29 @@ pub fn verify_assertion(
     out
 }
 
+/// The native LTS of the model element `a`'s subject names, in
+/// `semantics`, with `a`'s constants, explored in full (at most
+/// `max_states` states), its events named as RoboTool's CSPm names them
+/// (`p::M::go.in`, `tock`; a machine's or controller's `M::terminate`
+/// before ✓): the implementation side of the CSPm bridge's checks, for
+/// cross-checking the engine against the CSPm export
+/// (`tests/export_semantics.rs`). RoboChart elements only, as the bridge.
+#[allow(clippy::too_many_arguments)]
+pub fn subject_lts(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    read: &AssertionFile,
+    others: &[(File, AssertionFile)],
+    a: &AssertionDecl,
+    semantics: Semantics,
+    opts: &Options,
+    max_states: usize,
+) -> Result<robosim_cspm::Lts, String> {
+    let cx = Cx { db, ws, file, read, others, a, async_buffer: opts.async_buffer, semantics };
+    crate::csp::subject_lts(&cx, max_states)
+}
+
 /// Runs one assertion in one semantics.
 fn verify_in(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>) -> Report {
     let (db, file, a) = (cx.db, cx.file, cx.a);

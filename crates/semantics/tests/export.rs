@@ -374,3 +374,28 @@ fn robosim_types_cover_the_robochart_ones_and_say_so() {
         assert!(inst.contains(line), "{line} not in {inst}");
     }
 }
+
+/// A machine's triggers are renamed from their tagged channels (`v__.t.d.x`
+/// to `v.d.x`) by a comprehension whose generators are named `t__`, `d__`
+/// and `v__`: for events named `v`, `t` or `d` those would be the tagged
+/// channel's own name and shadow it, so nothing was renamed. Found by the
+/// engine's behavioural cross-check (`tests/export_semantics.rs`).
+#[test]
+fn triggers_named_like_the_renaming_generators_are_renamed() {
+    let model = "interface I { event v : nat event t event d }
+stm M { uses I var x : nat initial i state S { }
+  transition a { from i to S } transition b { from S to S trigger v?x }
+  transition c { from S to S trigger t } transition e { from S to S trigger d } }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let ex = export_workspace(&db, ws, &Options::default());
+    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let lts = ev.eval_text("M::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
+    for trace in [&["M::v.in.1", "M::t.in", "M::d.in"][..], &["M::d.in", "M::v.in.2"]] {
+        assert!(lts.has_trace(trace), "{trace:?}");
+    }
+}

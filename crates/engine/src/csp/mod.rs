@@ -73,6 +73,15 @@ pub(crate) fn refinement(
     }
 }
 
+/// The element `cx`'s assertion names, compiled and explored in full (see
+/// [`crate::verify::subject_lts`]).
+pub(crate) fn subject_lts(cx: &Cx<'_>, max_states: usize) -> Result<robosim_cspm::Lts, String> {
+    let names = csp_names(cx.db, cx.ws);
+    let bindings = cx.constants()?;
+    let mut c = native::compile(cx, names, &cx.a.subject, &bindings, &[])?;
+    native::explicit(&mut c, max_states)
+}
+
 type Outcome = Result<(), (Verdict, String)>;
 
 /// Why a block could not be compiled: the verdict, the reason, and whether

@@ -3,6 +3,17 @@
 use super::*;
 
 impl<'e, 'a> Gen<'e, 'a> {
+    /// `base`, or `base` with `x`s appended, so that it is no tagged
+    /// channel's name (`v__` for an event `v`): a pattern or generator of
+    /// that name would shadow the channel (or, in FDR, be the channel).
+    fn fresh_var(&self, base: &str) -> String {
+        let mut n = base.to_string();
+        while self.events.iter().any(|e| n.strip_suffix("__") == Some(e.csp.as_str())) {
+            n.push('x');
+        }
+        n
+    }
+
     pub(super) fn memory(&mut self) -> Decl {
         let params = self.memory_params();
         let mut alts = Vec::new();
@@ -12,6 +23,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             a[i] = v;
             a
         };
+        let value = self.fresh_var("v__");
         for (i, v) in self.vars.iter().filter(|v| !v.shared).enumerate() {
             alts.push(prefix(
                 format!("get_{}", v.csp),
@@ -20,8 +32,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             ));
             alts.push(prefix(
                 format!("set_{}", v.csp),
-                vec![Field::In("v__".into())],
-                self.memory_call(with(i, name("v__"))),
+                vec![Field::In(value.clone())],
+                self.memory_call(with(i, name(value.clone()))),
             ));
         }
         let nv = self.vars.iter().filter(|v| !v.shared).count();
@@ -359,13 +371,16 @@ impl<'e, 'a> Gen<'e, 'a> {
             let comp = hide(par(beh, Expr::Events(sync), memory), Expr::Events(hidden));
             // Tagged triggers become the machine's events.
             let mut comp = comp;
+            let var = |n: String| self.fresh_var(&n);
             for e in self.events.iter().filter(|e| e.trig) {
-                let mut from = vec![name(format!("{}__", e.csp)), name("t__"), name("d__")];
-                let mut to = vec![name(e.csp.clone()), name("d__")];
-                let mut gens = vec![("t__".to_string(), name("TIDS")), ("d__".to_string(), name("InOut"))];
+                let tagged = format!("{}__", e.csp);
+                let (t, d) = (var("t__".into()), var("d__".into()));
+                let mut from = vec![name(tagged.clone()), name(t.clone()), name(d.clone())];
+                let mut to = vec![name(e.csp.clone()), name(d.clone())];
+                let mut gens = vec![(t, name("TIDS")), (d, name("InOut"))];
                 let sets: Vec<Expr> = e.ty.iter().flat_map(|t| t.field_sets()).collect();
                 for (k, set) in sets.iter().cloned().enumerate() {
-                    let v = if sets.len() == 1 { "v__".to_string() } else { format!("v{k}__") };
+                    let v = var(if sets.len() == 1 { "v__".to_string() } else { format!("v{k}__") });
                     from.push(name(v.clone()));
                     to.push(name(v.clone()));
                     gens.push((v, set));

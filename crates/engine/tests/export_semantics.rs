@@ -1,0 +1,459 @@
+//! The two back ends agree on what a model *does*: for the models of the
+//! engine's verdict fixtures (`test_data/verify/*/`), each element's
+//! process as the CSPm export writes it (the process the export's own
+//! `assert` line checks, e.g. `p::M::D__(0, const_p_M_k)`), compiled to an
+//! explicit LTS by our CSPm evaluator, is equivalent to the element's
+//! native LTS (the one the engine's CSPm bridge checks `csp` blocks
+//! against: events named as RoboTool's CSPm names them, `M::terminate`
+//! before ✓ for machines and controllers): refinement both ways in the
+//! traces, then stable-failures, then failures-divergences models, in the
+//! timed semantics (`tock` an ordinary visible event, as in FDR).
+//!
+//! Each element is `agree`, `disagree` (with the shortest distinguishing
+//! behaviour the refinement check finds) or `not comparable` (why: a side
+//! refuses the element, the evaluator lacks something, a bound). Known
+//! disagreements are listed in [`KNOWN`] with which side is wrong per
+//! RoboTool's generated CSPm (`reference/alpha-algorithm/csp-gen/timed`)
+//! and `robotool-facts.md`: the test fails when a new one appears or a
+//! listed one goes away.
+//!
+//! `XCHECK_VERBOSE=1` prints every element's outcome.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use robosim_cspm::{Evaluator, Label as CspLabel, Limits, Module, NoNames};
+use robosim_engine::algo::explicit::ExplicitLts;
+use robosim_engine::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
+use robosim_engine::budget::Budget;
+use robosim_engine::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use robosim_engine::verify::{subject_lts, Options, Semantics};
+use robosim_hir::defs::DefKind;
+use robosim_hir::index::file_summary;
+
+/// Why each known disagreement is one (see [`KNOWN`]).
+const TERMINATES: &str = "export: a machine's or controller's process hides its end (`end__`) and terminates at once; RoboTool's shows `terminate` (its `sem__events` hold it) and, once a final state is entered, offers it alongside `tock` (final state: `share__choice(terminate -> SKIP [] interrupt -> SKIP)`), as the engine does";
+const MODULE_TERMINATES: &str = "export: a module whose machine has finished terminates at once; in RoboTool time still passes (the controller's `terminate` is hidden in the module but competes with `tock`), as the engine does";
+const NAMED_OUT: &str = "naming, not behaviour: the export writes the event `out` as `out_` (util::ident reserves InOut's `out`), the bridge as RoboTool's `out`";
+const NAMED_SET: &str = "naming, not behaviour: the export writes the call of `set` as `set_Call` (the operation's name escaped before `Call` is added), RoboTool and the bridge `setCall`";
+const RT15: &str = "export: a machine's event connected to nothing stays visible in its controller; RT-15 hides it (τ)";
+const BOUNDARY_DIRECTION: &str = "export: `connection C on i to m on i` gives the controller `C::i.out`; the boundary's input is `C::i.in` (RT-13, a renaming), as the engine has it";
+const RT17: &str = "export: a composite's during action starts before its initial substate's entry action has finished, or outlives the composite's exit; RT-17";
+const RT14: &str = "export: one sender and two receivers: the export connects one receiver only; RT-14 treats it as a multi-way synchronisation, as the engine does";
+const RECORDS: &str = "value representation, not behaviour: the export writes a record value as RoboTool's datatype `R_rec.0.false`, the bridge (hir::csp_names) as a tuple `(0, false)`; the reference has no record to settle it";
+const ENGINE_DURING_ASSIGNMENT: &str = "ENGINE: after the during action's `o`, the trigger `e` may interrupt it before `done = true` (RoboTool renames the trigger to the state's `interrupt`; the assignment is a separate hidden `set_done` step), so ⟨o, e, o⟩ is a trace; the engine makes the assignment atomic with the output";
+
+/// Known disagreements: (fixture, element, the start of the outcome,
+/// which side is wrong and why).
+#[rustfmt::skip]
+const KNOWN: &[(&str, &str, &str, &str)] = &[
+    ("activities_composite_during_alongside_substates", "PS", "traces: the export has trace ⟨PS::o.out, PS::e.in, PS::o.out⟩", ENGINE_DURING_ASSIGNMENT),
+    ("activities_composite_during_interrupted", "Q", "traces: the export has trace ⟨Q::f.in, Q::o.out⟩", RT17),
+    ("rt17_during_actions", "D", "traces: the export has trace ⟨D::o.out⟩", RT17),
+    ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "M", "traces: the engine has trace ⟨tock⟩", RT17),
+    ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "C", "traces: the engine has trace ⟨tock⟩", RT17),
+    ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "Mod", "traces: the engine has trace ⟨tock⟩", RT17),
+    ("composition_machine_alone_calls_operations_as_events", "C", "traces: the engine has trace ⟨C::opCall⟩", RT15),
+    ("reasons_machines_inside_controllers", "C", "traces: the engine has trace ⟨C::opCall⟩", RT15),
+    ("composition_unconnected_events_hidden", "Ctl", "traces: the engine has trace ⟨Ctl::f.out⟩", RT15),
+    ("composition_sender_and_receivers_at_once", "Ctl", "traces: the engine has trace ⟨tock, Ctl::e.out⟩", RT14),
+    ("schedulability_input_with_a_deadline", "C", "traces: the engine has trace ⟨C::i.in⟩", BOUNDARY_DIRECTION),
+    ("schedulability_input_with_a_deadline", "Mod", "traces: the engine has trace ⟨Mod::i.in⟩", BOUNDARY_DIRECTION),
+    ("structured_booleans_and_enumerations_by_name", "M", "traces: the engine has trace ⟨M::mode.in.Mode_Idle, M::flag.out.true, M::setCall", NAMED_SET),
+    ("properties_termination", "Ends", "traces: the engine has trace ⟨Ends::terminate⟩", TERMINATES),
+    ("properties_termination", "Maybe", "traces: the engine has trace ⟨Maybe::e.in, tock⟩", TERMINATES),
+    ("properties_tick_tock_refinement", "Again", "traces: the engine has trace ⟨Again::a.in, tock⟩", TERMINATES),
+    ("properties_tick_tock_refinement", "Once", "traces: the engine has trace ⟨Once::a.in, tock⟩", TERMINATES),
+    ("schedulability_termination", "M", "traces: the engine has trace ⟨M::opCall, M::terminate⟩", TERMINATES),
+    ("schedulability_termination", "C", "traces: the engine has trace ⟨C::opCall, C::terminate⟩", TERMINATES),
+    ("schedulability_termination", "Mod", "traces: the engine has trace ⟨Mod::opCall, tock⟩", MODULE_TERMINATES),
+    ("untimed_rt10_terminates_with_divergence_is_not_decided", "Spin", "traces: the engine has trace ⟨Spin::terminate⟩", TERMINATES),
+    ("untimed_rt9_deadlock_freedom_in_the_failures_divergences_model", "Done", "traces: the engine has trace ⟨Done::o.out, tock⟩", TERMINATES),
+    ("untimed_rt9_wait_is_skip", "Fast", "traces: the engine has trace ⟨Fast::o.out, tock⟩", TERMINATES),
+    ("untimed_rt9_wait_is_skip", "Slow", "traces: the engine has trace ⟨tock, tock, Slow::o.out, tock⟩", TERMINATES),
+    ("model_lowering_a_parenthesised_type_is_its_inner_type", "P", "traces: the engine has trace ⟨P::v.out.1, tock⟩", TERMINATES),
+    ("model_lowering_a_parenthesised_type_is_its_inner_type", "Q", "traces: the engine has trace ⟨Q::v.out.1, tock⟩", TERMINATES),
+    ("subjects_operations_as_subjects", "M", "traces: the engine has trace ⟨M::a.out, tock⟩", TERMINATES),
+    ("connections_async_buffer_1_block", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
+    ("connections_async_buffer_1_block", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
+    ("connections_async_buffer_1_overwrite", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
+    ("connections_async_buffer_1_overwrite", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
+    ("connections_async_buffer_2_overwrite", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
+    ("connections_async_buffer_2_overwrite", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
+    ("connections_async_default_buffer", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
+    ("connections_async_default_buffer", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
+    ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", NAMED_OUT),
+    ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", NAMED_OUT),
+    ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", NAMED_OUT),
+    ("rt5_assertion_constants", "M", "traces: the engine has trace ⟨M::go.in, M::out.out.0⟩", NAMED_OUT),
+    ("structured_records", "M", "traces: the engine has trace ⟨M::e.in.(0, false)⟩", RECORDS),
+    ("rt7_instantiations_give_the_types", "M", "traces: the engine has trace ⟨M::go.in, M::out.out.0⟩", NAMED_OUT),
+];
+
+/// Most states of either side's LTS.
+const MAX_STATES: usize = 20_000;
+
+/// The outcome of one element.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Outcome {
+    /// Equivalent in the failures-divergences model (so in all three):
+    /// the states of the export's and the engine's LTS.
+    Agree(usize, usize),
+    /// Not equivalent: the model and the first distinguishing behaviour.
+    Disagree(String),
+    /// Not compared, and why.
+    NotComparable(String),
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Outcome::Agree(a, b) => write!(f, "agree ({a} / {b} states)"),
+            Outcome::Disagree(why) => write!(f, "disagree: {why}"),
+            Outcome::NotComparable(why) => write!(f, "not comparable: {why}"),
+        }
+    }
+}
+
+/// The fixtures' directories, sorted.
+fn fixtures() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("test_data/verify");
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&root)
+        .expect("fixtures")
+        .filter_map(|e| Some(e.ok()?.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    dirs
+}
+
+/// The fixture's model files (its assertion files left out: both sides then
+/// take RoboTool's default instantiations), or why it is not compared.
+fn model_files(dir: &Path) -> Result<Vec<(String, String)>, String> {
+    let mut out = Vec::new();
+    let mut names: Vec<PathBuf> =
+        std::fs::read_dir(dir).expect("fixture").filter_map(|e| Some(e.ok()?.path())).collect();
+    names.sort();
+    for p in names {
+        let name = p.file_name().unwrap_or_default().to_string_lossy().into_owned();
+        match p.extension().and_then(|e| e.to_str()) {
+            Some("rct") => out.push((name, std::fs::read_to_string(&p).expect("model file"))),
+            Some("rst") => {
+                return Err("a RoboSim model: the engine's CSPm bridge compiles RoboChart elements only".into())
+            }
+            _ => {}
+        }
+    }
+    if out.is_empty() {
+        return Err("no RoboChart model file".into());
+    }
+    Ok(out)
+}
+
+/// The elements of the workspace's model files: (qualified name, kind),
+/// machines first, then controllers, then modules.
+fn elements(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -> Vec<(String, DefKind)> {
+    let mut out = Vec::new();
+    for &f in ws.files(db).iter() {
+        if f.is_library(db) || f.kind(db).is_assertions() {
+            continue;
+        }
+        let s = file_summary(db, f);
+        for it in s.items.iter() {
+            if matches!(it.kind, DefKind::Module | DefKind::Controller | DefKind::StateMachine) {
+                let mut path = s.package.clone();
+                path.push(it.name.clone());
+                out.push((path.join("::"), it.kind));
+            }
+        }
+    }
+    let rank = |k: &DefKind| match k {
+        DefKind::StateMachine => 0,
+        DefKind::Controller => 1,
+        _ => 2,
+    };
+    out.sort_by(|a, b| rank(&a.1).cmp(&rank(&b.1)).then(a.0.cmp(&b.0)));
+    out
+}
+
+/// The name of the assertion about the `i`th element.
+fn assertion_name(i: usize) -> String {
+    format!("xcheck{i}")
+}
+
+/// The assertion file that names every element: `P refines P`, so that the
+/// export writes the element's process in its `assert` line.
+fn assertion_file(elements: &[(String, DefKind)]) -> String {
+    elements
+        .iter()
+        .enumerate()
+        .map(|(i, (path, _))| {
+            format!("timed assertion {} : {path} refines {path} in the failures model\n", assertion_name(i))
+        })
+        .collect()
+}
+
+/// The exported workspace: the CSPm of everything but the assertion
+/// scripts, and each of our assertions' implementation process.
+struct Exported {
+    text: String,
+    /// Assertion name → the process its `assert` line checks.
+    processes: BTreeMap<String, String>,
+    /// Element → why the export refuses it (`-- NOT EXPORTED: …`).
+    refused: BTreeMap<String, String>,
+}
+
+fn export(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -> Exported {
+    let ex = robosim_semantics::export_workspace(db, ws, &robosim_semantics::Options::default());
+    let mut text = String::new();
+    let mut processes = BTreeMap::new();
+    let mut refused = BTreeMap::new();
+    for f in &ex.files {
+        let t = f.text();
+        if let Ok(dir) = std::env::var("XCHECK_DUMP") {
+            let _ = std::fs::write(format!("{dir}/{}", f.name), &t);
+        }
+        if t.contains("\ninclude \"") {
+            // `-- timed assertion xcheck0 : …` then `assert Spec [F= Imp`.
+            let mut current = None;
+            for l in t.lines() {
+                if let Some(rest) = l.strip_prefix("-- timed assertion ") {
+                    current = rest.split(" : ").next().map(str::to_string);
+                } else if let (Some(name), Some((_, imp))) = (&current, l.split_once(" [F= ")) {
+                    if l.starts_with("assert ") {
+                        processes.insert(name.clone(), imp.trim().to_string());
+                    }
+                    current = None;
+                }
+            }
+            continue;
+        }
+        // `-- NOT EXPORTED: state machine p::M` then `--   m.rct:1:2: why`.
+        let mut lines = t.lines().peekable();
+        while let Some(l) = lines.next() {
+            let Some(what) = l.strip_prefix("-- NOT EXPORTED: ") else { continue };
+            let Some(path) = ["state machine ", "controller ", "module "].iter().find_map(|k| what.strip_prefix(k))
+            else {
+                continue;
+            };
+            let why = lines
+                .peek()
+                .and_then(|n| n.strip_prefix("--   "))
+                .map_or("", |w| w.split_once(": ").map_or(w, |(_, w)| w));
+            refused.insert(path.to_string(), why.to_string());
+        }
+        text.push_str(&t);
+        text.push('\n');
+    }
+    Exported { text, processes, refused }
+}
+
+/// Both sides' LTSs over one event numbering.
+struct Pair {
+    export: ExplicitLts,
+    engine: ExplicitLts,
+}
+
+fn explicit(lts: &robosim_cspm::Lts, names: &mut Vec<String>) -> ExplicitLts {
+    let mut id = |n: &str| -> Event {
+        if n == "tock" {
+            return TOCK;
+        }
+        match names.iter().position(|x| x == n) {
+            Some(i) => i as Event,
+            None => {
+                names.push(n.to_string());
+                (names.len() - 1) as Event
+            }
+        }
+    };
+    let map: Vec<Event> = lts.events.iter().map(|e| id(e)).collect();
+    let trans = lts
+        .transitions
+        .iter()
+        .map(|ts| {
+            ts.iter()
+                .map(|(l, t)| {
+                    let e = match l {
+                        CspLabel::Tau => TAU,
+                        CspLabel::Tick => TICK,
+                        CspLabel::Event(i) => map[*i as usize],
+                    };
+                    (Label::plain(e), *t as usize)
+                })
+                .collect()
+        })
+        .collect();
+    ExplicitLts { initial: lts.initial as usize, trans, names: Vec::new() }
+}
+
+impl Pair {
+    fn new(export: &robosim_cspm::Lts, engine: &robosim_cspm::Lts) -> Pair {
+        let mut names: Vec<String> = vec!["τ".into(), "✓".into(), "tock".into()];
+        let mut export = explicit(export, &mut names);
+        let mut engine = explicit(engine, &mut names);
+        export.names = names.clone();
+        engine.names = names;
+        Pair { export, engine }
+    }
+}
+
+/// A refinement counterexample as text: the trace, and what goes wrong
+/// after it.
+fn describe(imp: &ExplicitLts, cex: &RefinementCex<usize>) -> String {
+    let name = |e: &Event| imp.event_name(*e);
+    let set = |es: &[Event]| format!("{{{}}}", es.iter().map(name).collect::<Vec<_>>().join(", "));
+    match cex {
+        RefinementCex::Trace { path, .. } => {
+            format!("trace ⟨{}⟩", path.trace().iter().map(name).collect::<Vec<_>>().join(", "))
+        }
+        RefinementCex::Refusal { path, offered, acceptances } => format!(
+            "after ⟨{}⟩ a stable state offers only {}; the other side must accept one of {}",
+            path.trace().iter().map(name).collect::<Vec<_>>().join(", "),
+            set(offered),
+            acceptances.iter().map(|a| set(a)).collect::<Vec<_>>().join(" or ")
+        ),
+        RefinementCex::TockRefusal { path, offered, .. } => format!(
+            "after ⟨{}⟩ time passes offering only {}",
+            path.trace().iter().map(name).collect::<Vec<_>>().join(", "),
+            set(offered)
+        ),
+        RefinementCex::Divergence { path, .. } => {
+            format!("divergence after ⟨{}⟩", path.trace().iter().map(name).collect::<Vec<_>>().join(", "))
+        }
+    }
+}
+
+/// Refinement both ways in each model, the weakest first: the first
+/// failure, or equivalence.
+fn compare(pair: &Pair) -> Outcome {
+    let budget = Budget {
+        max_states: 4 * MAX_STATES as u64,
+        timeout: Some(Duration::from_secs(10)),
+        threads: 1,
+        ..Budget::default()
+    };
+    for (model, mname) in [
+        (SemanticModel::Traces, "traces"),
+        (SemanticModel::Failures, "failures"),
+        (SemanticModel::FailuresDivergences, "failures-divergences"),
+    ] {
+        for (spec, imp, who) in [(&pair.export, &pair.engine, "the engine"), (&pair.engine, &pair.export, "the export")]
+        {
+            match refines(spec, imp, model, &budget, None).0 {
+                RefinementResult::Holds => {}
+                RefinementResult::Fails(cex) => {
+                    return Outcome::Disagree(format!("{mname}: {who} has {}", describe(imp, &cex)))
+                }
+                RefinementResult::Inconclusive(stop) => {
+                    return Outcome::NotComparable(format!("refinement check out of budget: {}", stop.reason(&budget)))
+                }
+            }
+        }
+    }
+    Outcome::Agree(pair.export.len(), pair.engine.len())
+}
+
+/// Each element of a fixture's models, compared.
+fn check_fixture(dir: &Path) -> Vec<(String, Outcome)> {
+    let fixture = dir.file_name().unwrap_or_default().to_string_lossy().into_owned();
+    let files = match model_files(dir) {
+        Ok(f) => f,
+        Err(why) => return vec![(fixture, Outcome::NotComparable(why))],
+    };
+    // The elements first, then the assertions about them.
+    let elems = {
+        let mut db = robosim_hir::RootDatabase::default();
+        let ws = robosim_hir::load_workspace(&mut db, files.clone(), robosim_hir::RuleSet::Paper);
+        elements(&db, ws)
+    };
+    let mut all = files;
+    all.push(("xcheck.assertions".to_string(), assertion_file(&elems)));
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, all, robosim_hir::RuleSet::Paper);
+    let exported = export(&db, ws);
+    let module = Module::check(&exported.text, &NoNames);
+    if let Some(d) = module.diagnostics().iter().find(|d| d.severity == robosim_cspm::Severity::Error) {
+        return vec![(fixture, Outcome::NotComparable(format!("the export does not load: {d}")))];
+    }
+    let file = *ws.files(&db).iter().find(|f| f.path(&db).ends_with("xcheck.assertions")).expect("the assertion file");
+    let others: Vec<_> = ws
+        .files(&db)
+        .iter()
+        .filter(|f| !f.is_library(&db) && f.kind(&db).is_assertions())
+        .map(|&f| (f, robosim_hir::model::assertion_file(&db, f).clone()))
+        .collect();
+    let read = robosim_hir::model::assertion_file(&db, file).clone();
+    let opts = Options::default();
+    let mut out = Vec::new();
+    for (i, (path, _)) in elems.iter().enumerate() {
+        let name = assertion_name(i);
+        let place = format!("{fixture} {path}");
+        let Some(a) = read.assertions.iter().find(|a| a.name == name) else {
+            out.push((place, Outcome::NotComparable("our assertion was not read".into())));
+            continue;
+        };
+        let outcome = (|| {
+            let engine = subject_lts(&db, ws, file, &read, &others, a, Semantics::Timed, &opts, MAX_STATES)
+                .map_err(|e| format!("the engine: {e}"))?;
+            let process = exported.processes.get(&name).ok_or_else(|| match exported.refused.get(path) {
+                Some(why) => format!("the export refuses it: {why}"),
+                None => "the export writes no refinement for the element".to_string(),
+            })?;
+            let limits = Limits { max_states: MAX_STATES, time: Duration::from_secs(10), ..Limits::default() };
+            let mut ev = Evaluator::new(&module, &NoNames, limits);
+            let export = ev
+                .eval_text(process)
+                .and_then(|v| ev.lts_of(&v))
+                .map_err(|d| format!("the evaluator, on `{process}`: {}", d.message))?;
+            Ok::<_, String>(compare(&Pair::new(&export, &engine)))
+        })()
+        .unwrap_or_else(Outcome::NotComparable);
+        out.push((place, outcome));
+    }
+    out
+}
+
+/// A short reason class for the summary.
+fn class(o: &Outcome) -> String {
+    match o {
+        Outcome::Agree(..) => "agree".into(),
+        Outcome::Disagree(why) => format!("disagree ({})", why.split(':').next().unwrap_or_default()),
+        Outcome::NotComparable(why) => {
+            let w: String = why.chars().take(60).collect();
+            format!("not comparable ({w}…)")
+        }
+    }
+}
+
+#[test]
+fn the_export_and_the_engine_have_the_same_behaviour() {
+    let mut results = Vec::new();
+    for dir in fixtures() {
+        results.extend(check_fixture(&dir));
+    }
+    let verbose = std::env::var("XCHECK_VERBOSE").is_ok();
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut problems = Vec::new();
+    let mut seen = vec![false; KNOWN.len()];
+    for (place, o) in &results {
+        *counts.entry(class(o)).or_default() += 1;
+        if verbose {
+            eprintln!("{place}: {o}");
+        }
+        if let Outcome::Disagree(why) = o {
+            match KNOWN.iter().position(|(f, e, w, _)| place == &format!("{f} {e}") && why.starts_with(w)) {
+                Some(k) => seen[k] = true,
+                None => problems.push(format!("new disagreement: {place}: {why}")),
+            }
+        }
+    }
+    for (k, s) in seen.iter().enumerate() {
+        if !s {
+            problems.push(format!("known disagreement gone (remove it from KNOWN): {:?}", KNOWN[k]));
+        }
+    }
+    eprintln!("{} elements: {counts:#?}", results.len());
+    assert!(problems.is_empty(), "{problems:#?}");
+}
