@@ -779,7 +779,12 @@ impl Machine {
             }
             _ => {}
         }
-        self.run(th, st, clocks, true, sat)
+        // Only the pending write itself runs a shared write at once: after
+        // an event, a write that follows is a hidden step of its own in
+        // RoboTool's CSPm (`set_x`), and another thread, or a transition
+        // interrupting a during action, may come in between.
+        let first = matches!(act, Act::Exec | Act::ActivityExec(_));
+        self.run(th, st, clocks, first, sat)
     }
 
     /// An input `e?x` at `pc` stores the value received, and the update of

@@ -677,6 +677,20 @@ impl<'a> Cx<'a> {
         let exec_transition_pc = mc.code.len() as u32;
         mc.emit(Instr::ExecTransition);
         let caps = std::mem::take(&mut mc.clock_caps);
+        // A simple state's during action is `(action ; SStop) /\ interrupt`
+        // in RoboTool's CSPm, and each write in it a hidden `set_x` step of
+        // its own: the state's transitions may interrupt it before any
+        // write, also right after an event of the action (the reference's
+        // `aggregation_Movement.csp`, node `During`). So each write there
+        // is a step of its own, after which a trigger may come.
+        for n in &mc.nodes {
+            let Some((start, end)) = n.during else { continue };
+            for i in &mut mc.code[start as usize..end as usize] {
+                if let Instr::Assign { shared, .. } = i {
+                    *shared = true;
+                }
+            }
+        }
         if !mc.activities.is_empty() {
             // An activity runs alongside the rest of the machine: every
             // variable write is a step of its own, so that each thread can
