@@ -46,11 +46,31 @@ fn checked(e: &Export, main: &str, extra: &str) -> Module {
     m
 }
 
+/// The event `name` of `lts`, as written or declared in a module (FDR
+/// prints `M::e.out` for a module's channel `e`): the one event whose
+/// name ends with `::name`.
+fn full_name(lts: &robosim_cspm::Lts, name: &str) -> String {
+    if lts.event(name).is_some() {
+        return name.to_string();
+    }
+    let suffix = format!("::{name}");
+    let found: Vec<&String> = lts.events.iter().filter(|e| e.ends_with(&suffix)).collect();
+    assert!(found.len() <= 1, "`{name}` is ambiguous: {found:?}");
+    found.first().map_or_else(|| name.to_string(), |e| e.to_string())
+}
+
+/// Whether the process can do the visible `trace` (names as in
+/// [`full_name`]).
+fn has(lts: &robosim_cspm::Lts, trace: &[&str]) -> bool {
+    let names: Vec<String> = trace.iter().map(|n| full_name(lts, n)).collect();
+    lts.has_trace(&names.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
 /// Whether the process can do the visible `trace` and then terminate (✓).
 fn terminates_after(lts: &robosim_cspm::Lts, trace: &[&str]) -> bool {
     let mut cur = lts.tau_closure(vec![lts.initial]);
     for name in trace {
-        let Some(e) = lts.event(name) else { return false };
+        let Some(e) = lts.event(&full_name(lts, name)) else { return false };
         let next: Vec<u32> = cur
             .iter()
             .flat_map(|&s| {
@@ -109,10 +129,10 @@ fn controller_operations_are_subjects_as_robotool_names_them() {
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let x0 = ev.lts("X0__").unwrap();
     assert!(terminates_after(&x0, &["a.out"]), "{:?}", x0.events);
-    assert!(!x0.has_trace(&["b.out"]), "{:?}", x0.events);
+    assert!(!has(&x0, &["b.out"]), "{:?}", x0.events);
     let x1 = ev.lts("X1__").unwrap();
-    assert!(x1.has_trace(&["b.out", "tock", "b.out"]), "{:?}", x1.events);
-    assert!(!x1.has_trace(&["a.out"]) && !terminates_after(&x1, &["b.out"]));
+    assert!(has(&x1, &["b.out", "tock", "b.out"]), "{:?}", x1.events);
+    assert!(!has(&x1, &["a.out"]) && !terminates_after(&x1, &["b.out"]));
 }
 
 /// An operation reference (`opref o = ops::Count`) is the operation it
@@ -267,28 +287,39 @@ endmodule
     let once = ev.lts("Once__").unwrap();
     assert!(terminates_after(&once, &["registerWrite.o_move.1"]), "{:?}", once.events);
     // Urgent: time does not pass before the write.
-    assert!(!once.has_trace(&["tock"]) && !terminates_after(&once, &[]), "{:?}", once.events);
+    assert!(!has(&once, &["tock"]) && !terminates_after(&once, &[]), "{:?}", once.events);
     let twice = ev.lts("Twice__").unwrap();
-    let exec = ["registerWrite.o_move.0", "tock", "endexec", "tock", "startexec", "registerWrite.o_move.1"];
-    assert!(twice.has_trace(&exec), "{:?}", twice.events);
+    let exec = [
+        "registerWrite.o_move.0",
+        "tock",
+        "OP_Twice::endexec",
+        "tock",
+        "OP_Twice::startexec",
+        "registerWrite.o_move.1",
+    ];
+    assert!(has(&twice, &exec), "{:?}", twice.events);
     // Time passed at the `exec` counts for `since(C) >= 1`; without it, S
     // waits one time unit.
     assert!(!terminates_after(&twice, &exec[..4]) && terminates_after(&twice, &exec));
-    let fast = ["registerWrite.o_move.0", "endexec", "startexec", "registerWrite.o_move.1"];
+    let fast = ["registerWrite.o_move.0", "OP_Twice::endexec", "OP_Twice::startexec", "registerWrite.o_move.1"];
     assert!(!terminates_after(&twice, &fast) && terminates_after(&twice, &[&fast[..], &["tock"]].concat()));
     assert!(terminates_after(&ev.lts("Loop0__").unwrap(), &[]));
     let loop1 = ev.lts("Loop1__").unwrap();
-    assert!(loop1.has_trace(&["endexec", "startexec", "endexec", "startexec"]));
-    assert!(!terminates_after(&loop1, &[]) && !terminates_after(&loop1, &["endexec", "startexec"]));
+    let cycle = ["OP_Loop::endexec", "OP_Loop::startexec"];
+    assert!(has(&loop1, &[&cycle[..], &cycle[..]].concat()));
+    assert!(!terminates_after(&loop1, &[]) && !terminates_after(&loop1, &cycle));
     assert!(terminates_after(&ev.lts("Caller__").unwrap(), &["helperCall.2"]));
     assert!(terminates_after(&ev.lts("Signal__").unwrap(), &["registerWrite.o_done.2"]));
     let count = ev.lts("Count__").unwrap();
-    assert!(terminates_after(&count, &["endexec", "startexec", "endexec", "startexec"]));
-    assert!(!terminates_after(&count, &["endexec", "startexec"]));
+    let cycle = ["OP_Count::endexec", "OP_Count::startexec"];
+    assert!(terminates_after(&count, &[&cycle[..], &cycle[..]].concat()));
+    assert!(!terminates_after(&count, &cycle));
     // Only time passes in S (a timed deadlock, RT-10).
     let stuck = ev.lts("Stuck__").unwrap();
     assert!(
-        stuck.has_trace(&["tock", "tock", "tock"]) && !stuck.has_trace(&["endexec"]) && !terminates_after(&stuck, &[])
+        has(&stuck, &["tock", "tock", "tock"])
+            && !has(&stuck, &["OP_Stuck::endexec"])
+            && !terminates_after(&stuck, &[])
     );
 }
 
