@@ -230,7 +230,7 @@ impl<'a> Cx<'a> {
                 return refuse(b.name_range, "reads inputs or variables of the platform");
             }
         }
-        if let Some(range) = exec_in_composite(&b.region) {
+        if let Some(range) = b.region.exec_in_composite() {
             return Err(self.unsupported(
                 file,
                 range,
@@ -242,7 +242,7 @@ impl<'a> Cx<'a> {
                 ),
             ));
         }
-        if let Some(t) = exec_transition(&b.region) {
+        if let Some(t) = b.region.exec_transition() {
             return Err(self.unsupported(
                 file,
                 t.exec_range.unwrap_or(t.range),
@@ -730,36 +730,6 @@ impl<'a> Cx<'a> {
         }
         Ok(m)
     }
-}
-
-/// A transition of `region` (or of a state inside it) with an `exec`
-/// trigger, if any.
-fn exec_transition(region: &model::Region) -> Option<&model::Transition> {
-    region.transitions.iter().find(|t| t.exec).or_else(|| region.nodes.iter().find_map(|n| exec_transition(&n.region)))
-}
-
-/// The range of an `exec` statement inside a composite state of `region`
-/// (in its substates' actions or its transitions'), if any.
-fn exec_in_composite(region: &model::Region) -> Option<TextRange> {
-    region.nodes.iter().filter(|n| !n.region.is_empty()).find_map(|n| exec_stmt(&n.region))
-}
-
-/// The range of an `exec` statement anywhere in `region`, if any.
-fn exec_stmt(region: &model::Region) -> Option<TextRange> {
-    let mut found = None;
-    let actions = region
-        .nodes
-        .iter()
-        .flat_map(|n| [&n.entry, &n.during, &n.exit])
-        .chain(region.transitions.iter().map(|t| &t.action));
-    for s in actions.filter_map(|a| a.as_ref().and_then(|a| a.stmt.as_ref())) {
-        s.walk(&mut |s| {
-            if matches!(s.kind, model::StmtKind::Exec) {
-                found = found.or(Some(s.range));
-            }
-        });
-    }
-    found.or_else(|| region.nodes.iter().find_map(|n| exec_stmt(&n.region)))
 }
 
 fn rename_ctrl(e: End, top: &str) -> End {

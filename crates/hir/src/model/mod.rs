@@ -313,6 +313,36 @@ impl Behaviour {
 }
 
 impl Region {
+    /// A transition of the region (or of a state inside it) with an `exec`
+    /// trigger, if any (RoboSim).
+    pub fn exec_transition(&self) -> Option<&Transition> {
+        self.transitions.iter().find(|t| t.exec).or_else(|| self.nodes.iter().find_map(|n| n.region.exec_transition()))
+    }
+
+    /// The range of an `exec` statement inside a composite state of the
+    /// region (in its substates' actions or its transitions'), if any.
+    pub fn exec_in_composite(&self) -> Option<TextRange> {
+        self.nodes.iter().filter(|n| !n.region.is_empty()).find_map(|n| n.region.exec_stmt())
+    }
+
+    /// The range of an `exec` statement anywhere in the region, if any.
+    pub fn exec_stmt(&self) -> Option<TextRange> {
+        let mut found = None;
+        let actions = self
+            .nodes
+            .iter()
+            .flat_map(|n| [&n.entry, &n.during, &n.exit])
+            .chain(self.transitions.iter().map(|t| &t.action));
+        for s in actions.filter_map(|a| a.as_ref().and_then(|a| a.stmt.as_ref())) {
+            s.walk(&mut |s| {
+                if matches!(s.kind, StmtKind::Exec) {
+                    found = found.or(Some(s.range));
+                }
+            });
+        }
+        found.or_else(|| self.nodes.iter().find_map(|n| n.region.exec_stmt()))
+    }
+
     fn communications<'a>(&'a self, out: &mut Vec<(&'a Comm, bool)>) {
         fn action<'a>(a: &'a Option<Action>, out: &mut Vec<(&'a Comm, bool)>) {
             if let Some(s) = a.as_ref().and_then(|a| a.stmt.as_ref()) {

@@ -131,7 +131,7 @@ fn sim_operation_supported(ex: &Exporter<'_>, b: &m::Behaviour) -> Result<(), (T
             return refuse(b.name_range, "reads inputs or variables of the platform");
         }
     }
-    if let Some(range) = exec_in_composite(&b.region) {
+    if let Some(range) = b.region.exec_in_composite() {
         return Err((
             range,
             "it has an `exec` inside a composite state: in RoboTool's process the composite's own transitions may \
@@ -140,7 +140,7 @@ fn sim_operation_supported(ex: &Exporter<'_>, b: &m::Behaviour) -> Result<(), (T
                 .into(),
         ));
     }
-    if let Some(t) = exec_transition(&b.region) {
+    if let Some(t) = b.region.exec_transition() {
         return Err((
             t.exec_range.unwrap_or(t.range),
             "it has an `exec`-triggered transition: how RoboTool's process for the operation on its own takes one \
@@ -150,32 +150,4 @@ fn sim_operation_supported(ex: &Exporter<'_>, b: &m::Behaviour) -> Result<(), (T
         ));
     }
     Ok(())
-}
-
-/// A transition of `region` (or of a state inside it) with an `exec` trigger.
-fn exec_transition(region: &m::Region) -> Option<&m::Transition> {
-    region.transitions.iter().find(|t| t.exec).or_else(|| region.nodes.iter().find_map(|n| exec_transition(&n.region)))
-}
-
-/// An `exec` statement inside a composite state of `region`.
-fn exec_in_composite(region: &m::Region) -> Option<TextRange> {
-    region.nodes.iter().filter(|n| !n.region.is_empty()).find_map(|n| exec_stmt(&n.region))
-}
-
-/// An `exec` statement anywhere in `region`.
-fn exec_stmt(region: &m::Region) -> Option<TextRange> {
-    let mut found = None;
-    let actions = region
-        .nodes
-        .iter()
-        .flat_map(|n| [&n.entry, &n.during, &n.exit])
-        .chain(region.transitions.iter().map(|t| &t.action));
-    for s in actions.filter_map(|a| a.as_ref().and_then(|a| a.stmt.as_ref())) {
-        s.walk(&mut |s| {
-            if matches!(s.kind, m::StmtKind::Exec) {
-                found = found.or(Some(s.range));
-            }
-        });
-    }
-    found.or_else(|| region.nodes.iter().find_map(|n| exec_stmt(&n.region)))
 }
