@@ -37,6 +37,38 @@ pub(crate) fn mark_eager_waits(design: &mut Design, shared: &HashSet<u16>) {
     }
 }
 
+/// Marks, in every machine of `design`, the communications whose
+/// continuation is not a confluent τ ([`Machine::paused_comms`]): what the
+/// thread does after them may read or write what another thread (another
+/// machine, through the shared slots; an activity of the same machine) or
+/// an interrupting transition touches, so it is a hidden step of its own,
+/// as in RoboTool's CSPm, where every read and write is an event.
+pub(crate) fn mark_paused_comms(design: &mut Design, shared: &HashSet<u16>) {
+    for m in &mut design.machines {
+        m.paused_comms = paused_comms(m, shared);
+    }
+}
+
+fn paused_comms(m: &Machine, shared: &HashSet<u16>) -> Vec<bool> {
+    let in_during =
+        |pc: usize| m.nodes.iter().filter_map(|n| n.during).any(|(s, e)| (s as usize..e as usize).contains(&pc));
+    let activities = !m.activities.is_empty();
+    let marks: Vec<bool> = m
+        .code
+        .iter()
+        .enumerate()
+        .map(|(pc, i)| {
+            matches!(i, Instr::Out { .. } | Instr::In { .. })
+                && (activities || in_during(pc) || !local_from(m, pc + 1, shared))
+        })
+        .collect();
+    if marks.iter().any(|&b| b) {
+        marks
+    } else {
+        Vec::new()
+    }
+}
+
 fn eager_waits(m: &Machine, shared: &HashSet<u16>) -> Vec<bool> {
     if !m.activities.is_empty() {
         return Vec::new();

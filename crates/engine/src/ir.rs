@@ -824,6 +824,13 @@ pub struct Machine {
     /// `eager.rs`); empty when none. Any other wait ends in a hidden step
     /// of its own (RT-18).
     pub eager_waits: Vec<bool>,
+    /// By instruction: the communications after which the thread stops,
+    /// so that what follows (reading what another thread writes) is a
+    /// hidden step of its own, as RoboTool's `get_x` reads are (RT-16,
+    /// RT-18); empty when none. A communication whose continuation only
+    /// touches the machine's own data goes on in the same step (a
+    /// confluent τ, see `eager.rs`).
+    pub paused_comms: Vec<bool>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,

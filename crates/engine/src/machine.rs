@@ -527,6 +527,25 @@ impl Machine {
             // (and their guards); τ has priority over `tock` only.
             Instr::Wait if waited => out.push(Move { offer: Offer::Tau, act: exec }),
             Instr::Wait => {}
+            // Stopped after a communication ([`Machine::paused_comms`]):
+            // going on is a hidden step.
+            Instr::JumpIfNot(..)
+            | Instr::Jump(_)
+            | Instr::ResetClock(_)
+            | Instr::SetWait(_)
+            | Instr::Deadline(_)
+            | Instr::EndDeadline
+            | Instr::StartTimer { .. }
+            | Instr::Enter(_)
+            | Instr::CallOp { .. }
+            | Instr::Return(_)
+            | Instr::BeginExits
+            | Instr::ExitDone(_)
+            | Instr::StartActivity(_)
+                if !self.paused_comms.is_empty() =>
+            {
+                out.push(Move { offer: Offer::Tau, act: exec })
+            }
             _ => return Ok(false),
         }
         Ok(true)
@@ -770,8 +789,14 @@ impl Machine {
     ) -> Result<(), StepError> {
         match act {
             Act::Comm | Act::ActivityComm(_) => {
-                self.receive(st, st[th.pc] as u32, value, sat)?;
+                let pc = st[th.pc] as u32;
+                self.receive(st, pc, value, sat)?;
                 st[th.pc] += 1;
+                // RT-16/18: what follows is a hidden step of its own (the
+                // thread offers it as a τ where it stopped).
+                if self.paused_comms.get(pc as usize) == Some(&true) {
+                    return Ok(());
+                }
             }
             Act::Choose(n) | Act::ActivityChoose(_, n) => {
                 st[th.wait] = n.max(0) as i32;

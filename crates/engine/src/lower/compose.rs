@@ -561,6 +561,9 @@ impl<'a> Cx<'a> {
         let mut shared: std::collections::HashSet<u16> = self.shared_vars.values().map(|&(s, _)| s).collect();
         self.forwards(&mut design, &mut slot, &mut shared)?;
         crate::eager::mark_eager_waits(&mut design, &shared);
+        if !self.robosim {
+            crate::eager::mark_paused_comms(&mut design, &shared);
+        }
         design.slots = slot;
         design.files = self.files.iter().map(|f| f.path(self.db).clone()).collect();
         Ok(design)
@@ -717,6 +720,7 @@ impl<'a> Cx<'a> {
             activities: std::mem::take(&mut mc.activities),
             timers: std::mem::take(&mut mc.timers),
             eager_waits: Vec::new(),
+            paused_comms: Vec::new(),
             base,
             file: file_ix,
         };
