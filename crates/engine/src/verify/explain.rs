@@ -279,7 +279,11 @@ pub(super) fn describe_act(
         Act::Exec if matches!(m.code.get(pc), Some(Instr::Wait)) => {
             (Some(format!("{}: goes on after its wait, now {}", m.name, m.describe(next))), here)
         }
-        Act::Exec => (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here),
+        Act::Exec if matches!(m.code.get(pc), Some(Instr::Assign { .. })) => {
+            (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here)
+        }
+        // Stopped after a communication (RT-16/18): the rest of the action.
+        Act::Exec => (Some(format!("{}: goes on after its communication, now {}", m.name, m.describe(next))), here),
         Act::ActivityComm(k) | Act::ActivityChoose(k, _) | Act::ActivityExec(k) => {
             let a = &m.activities[k as usize];
             let pc = prev[a.pc_slot as usize] as usize;
@@ -288,7 +292,8 @@ pub(super) fn describe_act(
                 (_, Some(i @ Instr::Out { .. })) => out_verb(design, i).unwrap_or_default().into(),
                 (_, Some(Instr::In { .. })) => "receives".into(),
                 (_, Some(Instr::Wait)) => "goes on after its wait".into(),
-                _ => "writes a variable".into(),
+                (_, Some(Instr::Assign { .. })) => "writes a variable".into(),
+                _ => "goes on after its communication".into(),
             };
             let here = code_location(design, m, pc);
             (Some(format!("{}: {what} in the during action of {}", m.name, at(Some(a.state)))), here)
