@@ -789,13 +789,8 @@ pub(crate) fn operation<'a>(
             Ok(Rc::new(OperationOut { module, params, ..out }))
         }
         Err(problems) => {
-            let mut lines = vec![format!("NOT EXPORTED: operation {}", path.join("::"))];
-            for (f, r, m) in &problems {
-                lines.push(format!("  {}: {m}", ex.loc(*f, *r)));
-                ex.warn(*f, *r, format!("operation {} is not exported: {m}", path.join("::")));
-            }
-            ex.emit(file, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
-            let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+            let what = format!("operation {}", path.join("::"));
+            let why = refuse_operation(ex, file, &what, &format!("{what} is not exported"), &problems);
             Err(format!("the operation `{oname}` is not exported: {why}"))
         }
     };
@@ -836,6 +831,25 @@ pub(crate) struct FunctionOut {
 /// The CSPm function of the model's function `f` of `file`, made on first
 /// use: only explicit definitions (`postcondition result == e`) are
 /// exported.
+/// Leaves an operation out of the export: a `NOT EXPORTED: {what}`
+/// comment listing `problems`, and a warning `{warning}: problem` for
+/// each; the first problem's message.
+pub(crate) fn refuse_operation(
+    ex: &mut Exporter<'_>,
+    file: File,
+    what: &str,
+    warning: &str,
+    problems: &[Problem],
+) -> String {
+    let mut lines = vec![format!("NOT EXPORTED: {what}")];
+    for (f, r, m) in problems {
+        lines.push(format!("  {}: {m}", ex.loc(*f, *r)));
+        ex.warn(*f, *r, format!("{warning}: {m}"));
+    }
+    ex.emit(file, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
+    problems.first().map(|p| p.2.clone()).unwrap_or_default()
+}
+
 pub(crate) fn function(ex: &mut Exporter<'_>, file: File, f: &m::Function) -> Result<Rc<FunctionOut>, String> {
     let key = (file, f.range);
     let fname = f.name.clone();

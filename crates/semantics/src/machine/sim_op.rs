@@ -76,13 +76,9 @@ pub(crate) fn sim_operation<'a>(
                     Ok(Rc::new(OperationOut { module, params, ..out }))
                 }
                 Err(problems) => {
-                    let mut lines = vec![format!("NOT EXPORTED: operation {} on its own", path.join("::"))];
-                    for (f, r, m) in &problems {
-                        lines.push(format!("  {}: {m}", ex.loc(*f, *r)));
-                        ex.warn(*f, *r, format!("operation {} is not exported on its own: {m}", path.join("::")));
-                    }
-                    ex.emit(file, vec![Decl::Comment(lines.join("\n")), Decl::Blank]);
-                    Err(problems.first().map(|p| p.2.clone()).unwrap_or_default())
+                    let op = format!("operation {}", path.join("::"));
+                    let (what, warning) = (format!("{op} on its own"), format!("{op} is not exported on its own"));
+                    Err(refuse_operation(ex, file, &what, &warning, &problems))
                 }
             }
         }
