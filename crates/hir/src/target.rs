@@ -522,25 +522,43 @@ fn robosim_operation_path(
     file: File,
     path: &[String],
 ) -> Option<(ItemLoc, Option<String>)> {
+    let robosim = |l: ItemLoc| l.file.kind(db) == FileKind::RoboSim;
+    match operation_path(db, ws, file, path)? {
+        PathOperation::Declared(ctrl, _) if robosim(ctrl) => Some((ctrl, path.last().cloned())),
+        PathOperation::Referenced(op) if robosim(op) => Some((op, None)),
+        _ => None,
+    }
+}
+
+/// What [`operation_path`] finds.
+enum PathOperation {
+    /// An operation declared in the controller `ItemLoc`, by its definition.
+    Declared(ItemLoc, DefId),
+    /// The operation an operation reference references.
+    Referenced(ItemLoc),
+}
+
+/// The operation an instance path names through controllers and their
+/// references: `C::op` or `C::o` (an operation reference of `C`), also
+/// from a module through its controller reference (`Mod::c::op`,
+/// `Mod::c::o`).
+fn operation_path(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -> Option<PathOperation> {
     let container = |k| matches!(k, DefKind::Module | DefKind::Controller);
     let (start, mut loc) = (1..path.len())
         .rev()
         .find_map(|k| resolve_item(db, ws, file, &path[..k], container).into_iter().next().map(|l| (k, l)))?;
-    if loc.file.kind(db) != FileKind::RoboSim {
-        return None;
-    }
     for (i, seg) in path.iter().enumerate().skip(start) {
         let last = i + 1 == path.len();
         let defs = file_defs(db, loc.file);
-        let (_, child) = defs.children(Some(loc.def(db)?)).find(|(_, d)| d.name == *seg)?;
+        let (cid, child) = defs.children(Some(loc.def(db)?)).find(|(_, d)| d.name == *seg)?;
         match (child.kind, &child.data) {
             (DefKind::ControllerRef, DefData::Reference { path: target, .. }) if !last => {
                 loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Controller).into_iter().next()?;
             }
-            (DefKind::Operation, _) if last => return Some((loc, Some(seg.clone()))),
+            (DefKind::Operation, _) if last => return Some(PathOperation::Declared(loc, cid)),
             (DefKind::OperationRef, DefData::Reference { path: target, .. }) if last => {
                 let op = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Operation).into_iter().next()?;
-                return Some((op, None));
+                return Some(PathOperation::Referenced(op));
             }
             _ => return None,
         }
@@ -557,27 +575,10 @@ pub fn operation_def(db: &dyn Db, ws: Workspace, file: File, path: &[String]) ->
     if let Some(l) = resolve_item(db, ws, file, path, |k| k == DefKind::Operation).into_iter().next() {
         return Some((l.file, l.def(db)?));
     }
-    let container = |k| matches!(k, DefKind::Module | DefKind::Controller);
-    let (start, mut loc) = (1..path.len())
-        .rev()
-        .find_map(|k| resolve_item(db, ws, file, &path[..k], container).into_iter().next().map(|l| (k, l)))?;
-    for (i, seg) in path.iter().enumerate().skip(start) {
-        let last = i + 1 == path.len();
-        let defs = file_defs(db, loc.file);
-        let (cid, child) = defs.children(Some(loc.def(db)?)).find(|(_, d)| d.name == *seg)?;
-        match (child.kind, &child.data) {
-            (DefKind::ControllerRef, DefData::Reference { path: target, .. }) if !last => {
-                loc = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Controller).into_iter().next()?;
-            }
-            (DefKind::Operation, _) if last => return Some((loc.file, cid)),
-            (DefKind::OperationRef, DefData::Reference { path: target, .. }) if last => {
-                let op = resolve_item(db, ws, loc.file, target, |k| k == DefKind::Operation).into_iter().next()?;
-                return Some((op.file, op.def(db)?));
-            }
-            _ => return None,
-        }
+    match operation_path(db, ws, file, path)? {
+        PathOperation::Declared(ctrl, id) => Some((ctrl.file, id)),
+        PathOperation::Referenced(op) => Some((op.file, op.def(db)?)),
     }
-    None
 }
 
 /// An operation of the workspace declared (anywhere, also inside a
