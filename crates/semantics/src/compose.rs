@@ -392,7 +392,10 @@ fn inst_args(e: &Elem, robosim: bool) -> Vec<Expr> {
 /// the left group and the next part.
 fn compose(parts: Vec<(Expr, BTreeSet<String>)>, always: &[&str]) -> Expr {
     let mut it = parts.into_iter();
-    let Some((mut acc, mut used)) = it.next() else { return name("TStop") };
+    // No component: only time passes (untimed, nothing happens).
+    let Some((mut acc, mut used)) = it.next() else {
+        return if always.contains(&"tock") { name("TStop") } else { Expr::Stop };
+    };
     for (p, chans) in it {
         let mut sync: Vec<Expr> = always.iter().map(|s| name(*s)).collect();
         sync.extend(used.intersection(&chans).map(|c| name(c.clone())));
@@ -709,7 +712,7 @@ fn robochart_container(
         }
         parts.push((p, internal[j].clone()));
     }
-    let comp = compose(parts, &["tock"]);
+    let comp = compose(parts, if ex.timed { &["tock"] } else { &[] });
     let body = if hidden.is_empty() {
         comp
     } else {
@@ -725,7 +728,8 @@ fn robochart_container(
         params.join(", ")
     )));
     let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
-    exports.push(Decl::Def("D__".into(), params.clone(), call("TimedPriority", vec![body])));
+    let body = if ex.timed { call("TimedPriority", vec![body]) } else { body };
+    exports.push(Decl::Def("D__".into(), params.clone(), body));
     exports.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
     let decls = vec![
         Decl::Comment(format!("RoboChart {} {}", kind.describe(), path.join("::"))),

@@ -50,7 +50,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
             ticked[i] = call("ClockTick", vec![name(c.csp.clone()), name(format!("ClockMax__{}", c.csp))]);
         }
-        alts.push(prefix("tock", vec![], self.memory_call(ticked)));
+        self.push_tock(&mut alts, self.memory_call(ticked));
         // RoboSim: the cycle's reads update the inputs (Rule 5).
         let mut pos = nv + self.clocks.len();
         for e in self.events.iter().filter(|e| self.is_input(e)) {
@@ -85,6 +85,11 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     pub(super) fn assemble(&mut self, module: &str) -> Vec<Decl> {
+        if !self.timed() {
+            // RT-9: the untimed semantics has no clocks (their resets are
+            // gone; their reads were refused).
+            self.clocks.clear();
+        }
         let mut private = Vec::new();
         let mut exports = Vec::new();
         // Identifiers.
@@ -111,7 +116,10 @@ impl<'e, 'a> Gen<'e, 'a> {
         private.push(Decl::Datatype("TIDS".into(), tids));
         private.push(Decl::Channel(vec!["internal__".into()], vec![name("TIDS")]));
         let mut hidden = vec![name("internal__")];
-        let mut sync = vec![name("internal__"), name("tock")];
+        let mut sync = vec![name("internal__")];
+        if self.timed() {
+            sync.push(name("tock"));
+        }
         for e in &self.events {
             if e.trig {
                 let mut f = vec![name("TIDS"), name("InOut")];
@@ -363,9 +371,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                     .iter()
                     .rev()
                     .map(|a| name(a.clone()))
-                    .reduce(|acc, a| par(a, Expr::Events(vec![name("tock"), name("end__")]), acc))
+                    .reduce(|acc, a| par(a, Expr::Events(self.time_events(&["tock", "end__"])), acc))
                     .expect("an activity");
-                let with = Expr::Events(vec![name("activate__"), name("deactivate__"), name("tock"), name("end__")]);
+                let with = Expr::Events(self.time_events(&["activate__", "deactivate__", "tock", "end__"]));
                 beh = par(beh, with, acts);
             }
             let comp = hide(par(beh, Expr::Events(sync), memory), Expr::Events(hidden));
@@ -387,7 +395,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 comp = Expr::Rename(Box::new(comp), vec![(dot(from), dot(to))], gens);
             }
-            call("TimedPriority", vec![comp])
+            self.prioritised(comp)
         };
         let p_def = Decl::Def("P__".into(), params.clone(), Expr::Let(lets, Box::new(body)));
         let entered = Expr::Events(vec![name("entered__")]);
@@ -404,7 +412,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 )],
             )
         } else {
-            call("TimedPriority", vec![hide(call("P__", args.clone()), entered)])
+            self.prioritised(hide(call("P__", args.clone()), entered))
         };
         let vs_body = if self.robosim {
             call(
