@@ -68,14 +68,16 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         d.push(Decl::Comment("Time: `tock` marks one time unit; `tock'` is its copy in timed deadlock checks.".into()));
         d.push(Decl::Channel(vec!["tock".into(), "tock'".into()], vec![]));
     } else {
-        d.push(Decl::Comment("RoboChart's untimed semantics (robotool-facts RT-9): no `tock`, no clocks.".into()));
+        d.push(Decl::Comment("RoboChart's untimed semantics (robotool-facts RT-9): no time events, no clocks.".into()));
     }
     d.extend([
-        Decl::Comment(
+        Decl::Comment(if ex.timed {
             "`terminate` ends RoboSim cycles and the simulation assumptions together; `timelock` marks\n\
              the escape of a design that can do neither an output nor `tock` (schedulability checks)."
-                .into(),
-        ),
+                .into()
+        } else {
+            "`terminate`, `timelock`: the timed script's names, kept for `csp` blocks.".into()
+        }),
         Decl::Channel(vec!["terminate".into(), "timelock".into()], vec![]),
         Decl::Channel(vec!["deadline_done__".into()], vec![]),
         Decl::Comment("`terminated__` follows termination in `terminates` checks (robotool-facts RT-10).".into()),

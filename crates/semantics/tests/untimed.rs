@@ -56,7 +56,11 @@ stm M {
   transition t1 { from S to T trigger go condition since(C) >= 3 }
   transition t2 { from T to f trigger v?x action #C }
 }
-controller Ctl { uses I requires Ops sref m = M }
+controller Ctl {
+  uses I requires Ops sref m = M
+  connection Ctl on go to m on go
+  connection m on v to Ctl on v
+}
 module Mod {
   robotic platform P { uses I provides Ops }
   cref c = Ctl
@@ -91,7 +95,8 @@ fn the_untimed_script_of_a_machine() {
     expect_test::expect_file!["untimed/m.csp"].assert_eq(&file(&e.untimed, "m.csp").text());
     expect_test::expect_file!["untimed/a_assertions.csp"].assert_eq(&file(&e.untimed, "a_assertions.csp").text());
     for f in &e.untimed {
-        let t = f.text();
+        // The CSPm, comments aside.
+        let t: String = f.text().lines().filter(|l| !l.trim_start().starts_with("--")).collect();
         for timed in ["tock", "TimedPriority", "EDeadline", "Wait(", "TStop", "reset_", "ClockTick"] {
             assert!(!t.contains(timed), "{} has `{timed}`:\n{t}", f.name);
         }
@@ -106,7 +111,7 @@ fn the_untimed_script_of_a_machine() {
     // The timed script keeps the plain and timed assertions.
     let timed = file(&e.files, "a_assertions.csp").text();
     assert!(timed.contains("-- untimed assertion A2 : Mod is deadlock-free\n-- an untimed assertion: in the untimed script"));
-    assert!(timed.contains("assert prioritise(M::D__(0) [[ tock <- tock, tock <- tock' ]]"), "{timed}");
+    assert!(timed.contains("-- assertion A1 : M is deadlock-free\nassert (prioritise(\n   M::D__(0) [[ tock <- tock"), "{timed}");
     assert!(untimed_errors(&e).is_empty(), "{:#?}", untimed_errors(&e));
 }
 
@@ -116,7 +121,7 @@ fn the_untimed_shared_definitions_have_no_time() {
     let e = export(&[("m.rct", MODEL)]);
     let defs = file(&e.untimed, "robosim_defs.csp").text();
     assert!(defs.contains("RoboTool's library (state helpers, core functions), as in its untimed script."), "{defs}");
-    assert!(!defs.contains("tock") && !defs.contains("Timed(OneStep)"), "{defs}");
+    assert!(!defs.contains("tock") && !defs.contains("Timed(OneStep)") && !defs.contains("TimedPriority"), "{defs}");
     // No assertion file: the untimed script's main.csp includes the rest.
     let main = file(&e.untimed, "main.csp").text();
     assert!(main.contains("include \"m.csp\""), "{main}");
@@ -161,33 +166,45 @@ fn constructs_without_an_untimed_reading_are_refused() {
     }
 }
 
-/// RoboSim has only a timed semantics, and so do simulations and `timed
-/// csp` blocks (RT-8): a plain assertion about them is in the timed script
-/// only, without a warning; an `untimed` one is refused with the reason.
+/// RoboSim has only a timed semantics, and so do `timed csp` blocks and
+/// RoboSim assertion files (RT-8): a plain assertion about them is in the
+/// timed script only, without a warning; an `untimed` one is refused with
+/// the reason.
 #[test]
-fn robosim_simulations_and_timed_blocks_are_timed_only() {
+fn robosim_and_timed_blocks_are_timed_only() {
     let rct = "interface I { event go } stm M { uses I initial i state S { } transition t { from i to S } }";
     let rst = "interface J { event go } stm R { cycleDef cycle == 1 input context { uses J } output context { }
         initial i state S { } transition t { from i to S } transition u { from S to S exec } }";
-    let asserts = "simulation Sim of M { cycleDef cycle == 1 }
-timed csp TB csp-begin TB = STOP csp-end
-assertion P1 : Sim is deadlock-free
+    let asserts = "timed csp TB csp-begin TB = STOP csp-end
+assertion P1 : R is deadlock-free
 assertion P2 : TB is deadlock-free
-untimed assertion U1 : Sim is deadlock-free
+untimed assertion U1 : R is deadlock-free
+assertion P3 : M is deadlock-free
 ";
-    let e = export(&[("m.rct", rct), ("r.rst", rst), ("a.assertions", asserts)]);
-    assert!(e.untimed.iter().all(|f| f.name != "r.csp"), "RoboSim files have no untimed script");
+    let rsa = "untimed assertion U2 : R is deadlock-free";
+    let e = export(&[("m.rct", rct), ("r.rst", rst), ("a.assertions", asserts), ("s.rsa", rsa)]);
+    let names: Vec<&str> = e.untimed.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(names, ["robosim_defs.csp", "instantiations.csp", "m.csp", "a_assertions.csp"]);
     let a = file(&e.untimed, "a_assertions.csp").text();
     assert!(!a.contains("TB = STOP"), "a `timed csp` block in the untimed script:\n{a}");
     for line in [
-        "-- checked in the timed semantics only: `Sim` is a simulation of a RoboChart element",
+        "-- checked in the timed semantics only: `R` is a RoboSim element: RoboSim has only a timed semantics",
         "-- checked in the timed semantics only: `TB` is a `timed csp` block",
-        "-- NOT EXPORTED: `Sim` is a simulation of a RoboChart element, which runs in cycles",
+        "-- NOT EXPORTED: `R` is a RoboSim element",
+        "assert M::D__(0) :[deadlock free [FD]]",
     ] {
         assert!(a.contains(line), "no `{line}` in\n{a}");
     }
-    let warnings: Vec<&str> = e.warnings.iter().map(|w| w.message.as_str()).collect();
-    assert_eq!(warnings.len(), 1, "{warnings:#?}");
-    assert!(warnings[0].starts_with("assertion U1 is not exported: `Sim` is a simulation"), "{warnings:#?}");
+    let warnings: Vec<String> = e.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        warnings,
+        [
+            "a.assertions:4:1: assertion U1 is not exported: `R` is a RoboSim element: RoboSim has only a timed \
+             semantics (RoboTool generates no untimed script for it)",
+            "s.rsa:1:1: assertion U2 is not exported: the assertions of a RoboSim assertion file (.rsa) are checked \
+             in the timed semantics only"
+        ],
+        "{warnings:#?}"
+    );
     assert!(untimed_errors(&e).is_empty(), "{:#?}", untimed_errors(&e));
 }
