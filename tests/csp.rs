@@ -183,7 +183,8 @@ fn exports_pass_the_structural_checker() {
     for profile in [Profile::RoboTool3, Profile::Paper2019] {
         for p in [paper(), data("csp/features"), data("csp/types")] {
             let e = export(std::slice::from_ref(&p), profile);
-            let problems = lint::check(&e.files);
+            let mut problems = lint::check(&e.files);
+            problems.extend(lint::check(&e.untimed));
             assert!(problems.is_empty(), "{} ({profile:?}): {problems:#?}", p.display());
         }
     }
