@@ -110,8 +110,12 @@ fn the_untimed_script_of_a_machine() {
     );
     // The timed script keeps the plain and timed assertions.
     let timed = file(&e.files, "a_assertions.csp").text();
-    assert!(timed.contains("-- untimed assertion A2 : Mod is deadlock-free\n-- an untimed assertion: in the untimed script"));
-    assert!(timed.contains("-- assertion A1 : M is deadlock-free\nassert (prioritise(\n   M::D__(0) [[ tock <- tock"), "{timed}");
+    assert!(timed
+        .contains("-- untimed assertion A2 : Mod is deadlock-free\n-- an untimed assertion: in the untimed script"));
+    assert!(
+        timed.contains("-- assertion A1 : M is deadlock-free\nassert (prioritise(\n   M::D__(0) [[ tock <- tock"),
+        "{timed}"
+    );
     assert!(untimed_errors(&e).is_empty(), "{:#?}", untimed_errors(&e));
 }
 
