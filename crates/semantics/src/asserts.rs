@@ -167,7 +167,11 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
         // RT-8: each script holds the assertions checked in its semantics;
         // a plain one is in both, unless it has no untimed reading.
         let here = if ex.timed {
-            timing.timed.then_some(Ok(())).unwrap_or(Err("an untimed assertion: in the untimed script".to_string()))
+            if timing.timed {
+                Ok(())
+            } else {
+                Err("an untimed assertion: in the untimed script".to_string())
+            }
         } else if !timing.untimed {
             Err("a timed assertion: in the timed script".to_string())
         } else {
