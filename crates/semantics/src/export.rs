@@ -783,9 +783,10 @@ impl<'a> Exporter<'a> {
 /// writes both (RT-8, RT-9).
 ///
 /// The warnings are the timed export's and those of the untimed
-/// assertions: a construct with no untimed reading (a deadline, a clock
-/// read outside a guard) is a NOT EXPORTED comment in the untimed files,
-/// and a warning only through an assertion that needs it.
+/// assertions (a plain assertion refused for the same reason in both
+/// scripts, once): a construct with no untimed reading (a deadline, a
+/// clock read outside a guard) is a NOT EXPORTED comment in the untimed
+/// files, and a warning only through an assertion that needs it.
 pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
     let (files, mut warnings) = export_in(db, ws, opts, true);
     let robochart = ws.files(db).iter().any(|f| !f.is_library(db) && f.kind(db) == FileKind::RoboChart);
@@ -795,7 +796,11 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
         untimed = u;
         for w in w {
             let assertions = ws.files(db).iter().any(|f| f.path(db) == &w.path && f.kind(db).is_assertions());
-            if assertions && !warnings.contains(&w) {
+            // A plain assertion refused in both scripts for the same
+            // reason is reported once.
+            let timed_twin =
+                Warning { message: w.message.replacen(" in the untimed semantics: ", ": ", 1), ..w.clone() };
+            if assertions && !warnings.contains(&w) && !warnings.contains(&timed_twin) {
                 warnings.push(w);
             }
         }
