@@ -933,7 +933,9 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
         .chain(model_files.iter().cloned())
         .map(Decl::Include)
         .collect();
-    if assertion_files.is_empty() {
+    // The untimed script has no RoboSim assertion file (RT-8).
+    let scripts = assertion_files.iter().filter(|(f, _)| timed || f.kind(db) != FileKind::SimAssertions).count();
+    if scripts == 0 {
         let mut decls = vec![Decl::Comment("Load this file in FDR: it includes every other file.".into())];
         decls.extend(includes.clone());
         result.push(OutFile { name: "main.csp".into(), title: "The workspace's semantics".into(), decls });

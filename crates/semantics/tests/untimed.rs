@@ -186,6 +186,11 @@ untimed assertion U1 : R is deadlock-free
 assertion P3 : M is deadlock-free
 ";
     let rsa = "untimed assertion U2 : R is deadlock-free";
+    // With no RoboChart assertion file, the untimed script's main.csp
+    // includes the rest.
+    let only_rsa = export(&[("m.rct", rct), ("r.rst", rst), ("s.rsa", rsa)]);
+    let names: Vec<&str> = only_rsa.untimed.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(names, ["robosim_defs.csp", "instantiations.csp", "m.csp", "main.csp"]);
     let e = export(&[("m.rct", rct), ("r.rst", rst), ("a.assertions", asserts), ("s.rsa", rsa)]);
     let names: Vec<&str> = e.untimed.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(names, ["robosim_defs.csp", "instantiations.csp", "m.csp", "a_assertions.csp"]);
