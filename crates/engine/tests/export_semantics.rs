@@ -35,8 +35,6 @@ use robosim_hir::index::file_summary;
 /// Why each known disagreement is one (see [`KNOWN`]).
 const TERMINATES: &str = "export: a machine's or controller's process hides its end (`end__`) and terminates at once; RoboTool's shows `terminate` (its `sem__events` hold it) and, once a final state is entered, offers it alongside `tock` (final state: `share__choice(terminate -> SKIP [] interrupt -> SKIP)`), as the engine does";
 const MODULE_TERMINATES: &str = "export: a module whose machine has finished terminates at once; in RoboTool time still passes (the controller's `terminate` is hidden in the module but competes with `tock`), as the engine does";
-const NAMED_OUT: &str = "naming, not behaviour: the export writes the event `out` as `out_` (util::ident reserves InOut's `out`), the bridge as RoboTool's `out`";
-const NAMED_SET: &str = "naming, not behaviour: the export writes the call of `set` as `set_Call` (the operation's name escaped before `Call` is added), RoboTool and the bridge `setCall`";
 const RT15: &str = "export: a machine's event connected to nothing stays visible in its controller; RT-15 hides it (τ)";
 const RT17: &str = "export: a composite's during action starts before its initial substate's entry action has finished, or outlives the composite's exit; RT-17";
 const RT14: &str = "export: one sender and two receivers: the export connects one receiver only; RT-14 treats it as a multi-way synchronisation, as the engine does";
@@ -59,7 +57,6 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     ("structured_tuples_and_sets", "Sender", "traces: the engine has trace ⟨Sender::pair.out.(2, 0)⟩", TUPLES),
     ("composition_unconnected_events_hidden", "Ctl", "traces: the engine has trace ⟨Ctl::f.out⟩", RT15),
     ("composition_sender_and_receivers_at_once", "Ctl", "traces: the engine has trace ⟨tock, Ctl::e.out⟩", RT14),
-    ("structured_booleans_and_enumerations_by_name", "M", "traces: the engine has trace ⟨M::mode.in.Mode_Idle, M::flag.out.true, M::setCall", NAMED_SET),
     ("properties_termination", "Ends", "traces: the engine has trace ⟨Ends::terminate⟩", TERMINATES),
     ("properties_termination", "Maybe", "traces: the engine has trace ⟨Maybe::e.in, tock⟩", TERMINATES),
     ("properties_tick_tock_refinement", "Again", "traces: the engine has trace ⟨Again::a.in, tock⟩", TERMINATES),
@@ -74,20 +71,10 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     ("model_lowering_a_parenthesised_type_is_its_inner_type", "P", "traces: the engine has trace ⟨P::v.out.1, tock⟩", TERMINATES),
     ("model_lowering_a_parenthesised_type_is_its_inner_type", "Q", "traces: the engine has trace ⟨Q::v.out.1, tock⟩", TERMINATES),
     ("subjects_operations_as_subjects", "M", "traces: the engine has trace ⟨M::a.out, tock⟩", TERMINATES),
-    ("connections_async_buffer_1_block", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_1_block", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_1_overwrite", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_1_overwrite", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_2_overwrite", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_2_overwrite", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("connections_async_default_buffer", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_default_buffer", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", NAMED_OUT),
-    ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", NAMED_OUT),
-    ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", NAMED_OUT),
-    ("rt5_assertion_constants", "M", "traces: the engine has trace ⟨M::go.in, M::out.out.0⟩", NAMED_OUT),
+    ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", RECORDS),
+    ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", TUPLES),
+    ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", TUPLES),
     ("structured_records", "M", "traces: the engine has trace ⟨M::e.in.(0, false)⟩", RECORDS),
-    ("rt7_instantiations_give_the_types", "M", "traces: the engine has trace ⟨M::go.in, M::out.out.0⟩", NAMED_OUT),
 ];
 
 /// Most states of either side's LTS.

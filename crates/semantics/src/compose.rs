@@ -15,7 +15,7 @@ use robosim_hir::{Db, File, FileKind, TextRange, Workspace};
 use crate::cspm::{call, dot, hide, name, par, Decl, Expr};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, ElemState, Exporter, Reg, Ty};
 use crate::machine::{Gen, Problem, ProvidedOp};
-use crate::util::ident;
+use crate::util::event_ident;
 
 /// A machine, controller or module of the model, to export.
 #[derive(Clone, Copy)]
@@ -606,6 +606,25 @@ fn robochart_container(
     let mut chans: Vec<Chan> = Vec::new();
     let mut hidden: Vec<String> = Vec::new();
     let inst_of = |n: &str| insts.iter().position(|i| i.name == n);
+    // InOut's constructors, as this module can name them: its own event
+    // `in` or `out` (RoboTool's name) hides them.
+    let own_events: BTreeSet<String> = connections
+        .iter()
+        .filter_map(|c| match (is_own(&c.from), is_own(&c.to)) {
+            (true, _) => Some(event_ident(&c.efrom)),
+            (_, true) => Some(event_ident(&c.eto)),
+            _ => None,
+        })
+        .collect();
+    let mut direction = |d: &'static str| {
+        if own_events.contains(d) {
+            let alias = if d == "in" { "in'" } else { "out'" };
+            ex.helpers.insert(alias);
+            name(alias)
+        } else {
+            name(d)
+        }
+    };
     let mut k = 0;
     for c in connections {
         let ((a, ea), (b, eb), is_async) =
@@ -628,7 +647,7 @@ fn robochart_container(
                     ));
                     continue;
                 };
-                let csp = ident(cev);
+                let csp = event_ident(cev);
                 renames[j].push((format!("{}::{}", insts[j].elem.module, ch.csp), csp.clone()));
                 if !chans.iter().any(|x| x.csp == csp) {
                     chans.push(event_chan(csp, cev.clone(), ty.as_ref(), dir));
@@ -662,7 +681,7 @@ fn robochart_container(
                 let conn = format!("conn{k}__");
                 private.push(Decl::Channel(vec![conn.clone()], ca.values.clone()));
                 for (x, ch, d) in [(i, &ca, "out"), (j, &cb, "in")] {
-                    let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), name(d)];
+                    let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), direction(d)];
                     let mut to = vec![name(conn.clone())];
                     let mut gens = Vec::new();
                     for (n, v) in ch.values.iter().enumerate() {

@@ -151,7 +151,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             for o in calls {
                 let f: Vec<Expr> = self.ops[o].params.iter().map(|t| t.set()).collect();
-                exports.push(Decl::Channel(vec![format!("{}Call", ident(&self.ops[o].name))], f));
+                exports.push(Decl::Channel(vec![op_event(&self.ops[o].name, "Call")], f));
             }
         } else if self.robosim {
             private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
@@ -199,9 +199,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             for o in self.ops.iter().filter(|o| !o.defined) {
                 let f: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
-                exports.push(Decl::Channel(vec![format!("{}Call", ident(&o.name))], f));
+                exports.push(Decl::Channel(vec![op_event(&o.name, "Call")], f));
                 if self.profile == Profile::Paper2019 {
-                    exports.push(Decl::Channel(vec![format!("{}Ret", ident(&o.name))], vec![]));
+                    exports.push(Decl::Channel(vec![op_event(&o.name, "Ret")], vec![]));
                 }
             }
         } else {
@@ -707,7 +707,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             for o in self.ops.iter().filter(|o| !o.defined) {
                 let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
                 chans.push(Chan {
-                    csp: format!("{}Call", ident(&o.name)),
+                    csp: op_event(&o.name, "Call"),
                     model: o.name.clone(),
                     kind: ChanKind::Call,
                     fields: values.clone(),
@@ -716,7 +716,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 });
                 if self.profile == Profile::Paper2019 {
                     chans.push(Chan {
-                        csp: format!("{}Ret", ident(&o.name)),
+                        csp: op_event(&o.name, "Ret"),
                         model: o.name.clone(),
                         kind: ChanKind::Ret,
                         fields: vec![],

@@ -25,7 +25,7 @@ use robosim_hir::{File, FileKind, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
-use crate::util::{self, ident};
+use crate::util::{self, ident, op_event};
 
 mod assembly;
 mod behaviour;
@@ -378,6 +378,30 @@ impl<'e, 'a> Gen<'e, 'a> {
         s
     }
 
+    /// The channel of the event `n`: as [`Gen::local`], but an event
+    /// called `in` or `out` keeps RoboTool's name (its channel hides
+    /// InOut's constructor in the module, which then writes the direction
+    /// as `in'`/`out'`, see [`Gen::direction`]).
+    fn event_local(&mut self, n: &str) -> String {
+        if !self.robosim && matches!(n, "in" | "out") && self.locals.insert(n.to_string()) {
+            return n.to_string();
+        }
+        self.local(n)
+    }
+
+    /// InOut's constructor `d` (`in` or `out`) as the module can name it:
+    /// `in'`/`out'` (robosim_defs.csp) when an event's channel bears its
+    /// name.
+    fn direction(&mut self, d: &str) -> Expr {
+        if self.events.iter().any(|e| e.csp == d) {
+            let alias: &'static str = if d == "in" { "in'" } else { "out'" };
+            self.ex.helpers.insert(alias);
+            name(alias)
+        } else {
+            name(d)
+        }
+    }
+
     /// Translates the machine: its CSPm module and its interface.
     pub(crate) fn run(mut self, module: String, path: Vec<String>) -> Result<MachineOut, Vec<Problem>> {
         self.declarations();
@@ -449,7 +473,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             for kind in kinds {
                 let suffix = if kind == OpChanKind::Call { "Call" } else { "Ret" };
                 chans.push(OpChan {
-                    csp: format!("{}{suffix}", ident(&o.name)),
+                    csp: op_event(&o.name, suffix),
                     model: o.name.clone(),
                     kind,
                     dir: Dir::Out,
@@ -525,7 +549,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                             },
                             None => None,
                         };
-                        let csp = self.local(n);
+                        let csp = self.event_local(n);
                         self.events.push(EvI { name: n.clone(), csp, ty, io, received: false, trig: false });
                         self.names.insert(n.clone(), Nm::Event(self.events.len() - 1));
                     }
