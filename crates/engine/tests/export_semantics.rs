@@ -33,8 +33,7 @@ use robosim_hir::defs::DefKind;
 use robosim_hir::index::file_summary;
 
 /// Why each known disagreement is one (see [`KNOWN`]).
-const TERMINATES: &str = "export: a machine's or controller's process hides its end (`end__`) and terminates at once; RoboTool's shows `terminate` (its `sem__events` hold it) and, once a final state is entered, offers it alongside `tock` (final state: `share__choice(terminate -> SKIP [] interrupt -> SKIP)`), as the engine does";
-const MODULE_TERMINATES: &str = "export: a module whose machine has finished terminates at once; in RoboTool time still passes (the controller's `terminate` is hidden in the module but competes with `tock`), as the engine does";
+const MODULE_TERMINATES: &str = "engine: a module whose machines have finished lets time pass (its LTS offers `tock` beside ✓, design.rs); RoboTool's module hides its controllers' `terminate` (`(… [|{|terminate|}|> SKIP) \\ {|terminate|}` inside `prioritise(…, <{}, {tock}>)`, reference `timed/defs/main_AggregationSoftware.csp`), a τ that goes before `tock`: the module ends at once, as the export's does";
 const RT15: &str = "export: a machine's event connected to nothing stays visible in its controller; RT-15 hides it (τ)";
 const RT17: &str = "export: a composite's during action starts before its initial substate's entry action has finished, or outlives the composite's exit; RT-17";
 const RT14: &str = "export: one sender and two receivers: the export connects one receiver only; RT-14 treats it as a multi-way synchronisation, as the engine does";
@@ -57,20 +56,7 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     ("structured_tuples_and_sets", "Sender", "traces: the engine has trace ⟨Sender::pair.out.(2, 0)⟩", TUPLES),
     ("composition_unconnected_events_hidden", "Ctl", "traces: the engine has trace ⟨Ctl::f.out⟩", RT15),
     ("composition_sender_and_receivers_at_once", "Ctl", "traces: the engine has trace ⟨tock, Ctl::e.out⟩", RT14),
-    ("properties_termination", "Ends", "traces: the engine has trace ⟨Ends::terminate⟩", TERMINATES),
-    ("properties_termination", "Maybe", "traces: the engine has trace ⟨Maybe::e.in, tock⟩", TERMINATES),
-    ("properties_tick_tock_refinement", "Again", "traces: the engine has trace ⟨Again::a.in, tock⟩", TERMINATES),
-    ("properties_tick_tock_refinement", "Once", "traces: the engine has trace ⟨Once::a.in, tock⟩", TERMINATES),
-    ("schedulability_termination", "M", "traces: the engine has trace ⟨M::opCall, M::terminate⟩", TERMINATES),
-    ("schedulability_termination", "C", "traces: the engine has trace ⟨C::opCall, C::terminate⟩", TERMINATES),
     ("schedulability_termination", "Mod", "traces: the engine has trace ⟨Mod::opCall, tock⟩", MODULE_TERMINATES),
-    ("untimed_rt10_terminates_with_divergence_is_not_decided", "Spin", "traces: the engine has trace ⟨Spin::terminate⟩", TERMINATES),
-    ("untimed_rt9_deadlock_freedom_in_the_failures_divergences_model", "Done", "traces: the engine has trace ⟨Done::o.out, tock⟩", TERMINATES),
-    ("untimed_rt9_wait_is_skip", "Fast", "traces: the engine has trace ⟨Fast::o.out, tock⟩", TERMINATES),
-    ("untimed_rt9_wait_is_skip", "Slow", "traces: the engine has trace ⟨tock, tock, Slow::o.out, tock⟩", TERMINATES),
-    ("model_lowering_a_parenthesised_type_is_its_inner_type", "P", "traces: the engine has trace ⟨P::v.out.1, tock⟩", TERMINATES),
-    ("model_lowering_a_parenthesised_type_is_its_inner_type", "Q", "traces: the engine has trace ⟨Q::v.out.1, tock⟩", TERMINATES),
-    ("subjects_operations_as_subjects", "M", "traces: the engine has trace ⟨M::a.out, tock⟩", TERMINATES),
     ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", RECORDS),
     ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", TUPLES),
     ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", TUPLES),

@@ -1,8 +1,9 @@
 //! Elements: state machines (see `machine`), controllers and modules,
 //! composed as RoboTool does (paper Rules 1, 9, 10 and 11): the
-//! components in parallel, synchronising on `tock` (and, in RoboSim, on
-//! `terminate`), their events renamed to the container's through the
-//! connections, connections between components hidden.
+//! components in parallel, synchronising on `tock` and `terminate` (each
+//! element's own in RoboChart, as RoboTool's `M::terminate`), their events
+//! renamed to the container's through the connections, connections
+//! between components hidden.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::rc::Rc;
@@ -722,19 +723,30 @@ fn robochart_container(
     params.extend(consts.iter().map(|c| c.global.clone()));
     let mut parts = Vec::new();
     for (j, i) in insts.iter().enumerate() {
+        // The components end together, on the container's `terminate`.
+        renames[j].push((format!("{}::terminate", i.elem.module), "terminate".into()));
         let mut p = rename(call(format!("{}::D__", i.elem.module), inst_args(&i.elem, false)), &renames[j]);
         for (from, to, gens) in &conn_renames[j] {
             p = Expr::Rename(Box::new(p), vec![(from.clone(), to.clone())], gens.clone());
         }
         parts.push((p, internal[j].clone()));
     }
-    let comp = compose(parts, &["tock"]);
+    let comp = compose(parts, &["tock", "terminate"]);
     let body = if hidden.is_empty() {
         comp
     } else {
         hide(comp, Expr::Events(hidden.iter().map(|h| name(h.clone())).collect()))
     };
-    let mut exports = vec![Decl::Comment("Events and operation calls.".into())];
+    // RoboTool: `P [|{|terminate|}|> SKIP`; a controller shows its
+    // `terminate`, a module hides it (so it ends at once, τ before `tock`).
+    let end = Expr::Events(vec![name("terminate")]);
+    let body = Expr::Exception(Box::new(body), Box::new(end.clone()), Box::new(Expr::Skip));
+    let body = if kind == ElemKind::Module { hide(body, end) } else { body };
+    let mut exports = vec![
+        Decl::Comment(format!("Its end (RoboTool's `terminate`, per {}).", kind.describe())),
+        Decl::Channel(vec!["terminate".into()], vec![]),
+        Decl::Comment("Events and operation calls.".into()),
+    ];
     for ch in &chans {
         exports.push(Decl::Channel(vec![ch.csp.clone()], ch.fields.clone()));
     }

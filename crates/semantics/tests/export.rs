@@ -399,3 +399,50 @@ stm M { uses I var x : nat initial i state S { }
         assert!(lts.has_trace(trace), "{trace:?}");
     }
 }
+
+/// A finished RoboChart machine or controller offers its own `terminate`
+/// (`M::terminate`, in RoboTool's `sem__events`), time passing until the
+/// environment takes it, then ✓ (RoboTool: `STM = (… \ {terminate} ;
+/// terminate -> SKIP)` in a `Timed` section); a controller's machines end
+/// together on its `terminate`. A module hides its controllers'
+/// `terminate`, a τ that goes before `tock`: it ends at once (reference
+/// `timed/defs/main_AggregationSoftware.csp`).
+#[test]
+fn a_finished_machine_offers_terminate_and_a_module_ends_at_once() {
+    let model = "stm M { initial i final f transition t { from i to f } }
+stm W { initial i state S { } final f transition t { from i to S } transition u { from S to f condition false } }
+controller C { sref m = M }
+controller D { sref m = M sref w = W }
+module Mod { robotic platform P { } cref c = C }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let ex = export_workspace(&db, ws, &Options::default());
+    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let mut lts = |p: &str| ev.eval_text(p).and_then(|p| ev.lts_of(&p)).expect("the LTS");
+    let ends = |lts: &robosim_cspm::Lts, trace: &[&str]| {
+        let mut cur = lts.tau_closure(vec![lts.initial]);
+        for n in trace {
+            let e = lts.event(n).expect("the event");
+            let next = cur
+                .iter()
+                .flat_map(|&s| lts.transitions[s as usize].iter().filter(|(l, _)| *l == robosim_cspm::Label::Event(e)))
+                .map(|(_, t)| *t)
+                .collect();
+            cur = lts.tau_closure(next);
+        }
+        cur.iter().any(|&s| lts.transitions[s as usize].iter().any(|(l, _)| *l == robosim_cspm::Label::Tick))
+    };
+    for (p, end) in [("M::D__(0)", "M::terminate"), ("C::D__(0)", "C::terminate")] {
+        let l = lts(p);
+        assert!(l.has_trace(&["tock", "tock", end]) && ends(&l, &[end]) && !ends(&l, &[]), "{p}");
+    }
+    // D's machine W never finishes: D never terminates, time passes.
+    let d = lts("D::D__(0)");
+    assert!(d.has_trace(&["tock", "tock"]) && !d.has_trace(&["D::terminate"]), "D");
+    let module = lts("Mod::D__(0)");
+    assert!(ends(&module, &[]) && !module.has_trace(&["tock"]), "Mod");
+}

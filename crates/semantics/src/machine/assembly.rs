@@ -403,8 +403,12 @@ impl<'e, 'a> Gen<'e, 'a> {
                     Expr::Set(vec![name("terminate")]),
                 )],
             )
-        } else {
+        } else if self.is_operation {
             call("TimedPriority", vec![hide(call("P__", args.clone()), entered)])
+        } else {
+            // RoboTool's `STM`: the end is hidden inside (`end__`), then the
+            // machine offers its `terminate`, time passing meanwhile.
+            call("TimedPriority", vec![seq(vec![hide(call("P__", args.clone()), entered), terminating()])])
         };
         let vs_body = if self.robosim {
             call(
@@ -418,8 +422,10 @@ impl<'e, 'a> Gen<'e, 'a> {
                     Expr::Set(vec![name("terminate")]),
                 )],
             )
-        } else {
+        } else if self.is_operation {
             call("P__", args.clone())
+        } else {
+            seq(vec![call("P__", args.clone()), terminating()])
         };
         let mut doc = vec![Decl::Comment(format!(
             "{} (parameters: {}).",
@@ -434,8 +440,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                 "D__: the operation's semantics, terminating at its final state (callers rename its\n\
                  channels to theirs); VS__: with `entered__` visible; O__: D__ compressed"
             } else {
-                "D__: the machine's semantics; VS__: with `entered__` visible (reachability);\n\
-                 O__: D__ compressed"
+                "D__: the machine's semantics, offering `terminate` once finished; VS__: with `entered__`\n\
+                 visible (reachability); O__: D__ compressed"
             },
             params.join(", ")
         ))];
@@ -443,6 +449,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             doc.push(p_def);
         } else {
             private.push(p_def);
+            if !self.is_operation {
+                doc.insert(0, Decl::Comment("Its end (RoboTool's `terminate`, per machine).".into()));
+                doc.insert(1, Decl::Channel(vec!["terminate".into()], vec![]));
+            }
         }
         doc.push(Decl::Def("D__".into(), params.clone(), d_body));
         doc.push(Decl::Def("VS__".into(), params.clone(), vs_body));
@@ -740,4 +750,11 @@ impl<'e, 'a> Gen<'e, 'a> {
             required: self.required.clone(),
         }
     }
+}
+
+/// RoboTool's end of a RoboChart machine, controller or module:
+/// `terminate`, its own channel, whenever the environment offers it, time
+/// passing meanwhile (`terminate -> SKIP` in a `Timed` section).
+fn terminating() -> Expr {
+    call("Delayable", vec![name("terminate")])
 }
