@@ -446,3 +446,42 @@ module Mod { robotic platform P { } cref c = C }";
     let module = lts("Mod::D__(0)");
     assert!(ends(&module, &[]) && !module.has_trace(&["tock"]), "Mod");
 }
+
+/// RT-17 in nested composite states, as RoboTool's composites do it (a
+/// composite's `entered`, which starts its `During`, follows a substate's,
+/// reference `timed/defs/pkg223__Communication.csp`, `Broadcast`): both
+/// during actions start after the innermost entry action `a`, in either
+/// order, and a trigger leaving the outer state stops both at once (they
+/// share it), so neither runs after `f`.
+#[test]
+fn nested_during_actions_start_after_the_innermost_entry_and_stop_together() {
+    let model = "interface I { event a event f event o event p }
+stm N { uses I initial i
+  state O { during o
+    initial j
+    state In { during p initial k state B { entry a } transition kb { from k to B } }
+    transition ji { from j to In } }
+  state T { }
+  transition t { from i to O } transition z { from O to T trigger f } }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let ex = export_workspace(&db, ws, &Options::default());
+    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let lts = ev.eval_text("N::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
+    for trace in [&["N::a.out", "N::o.out", "N::p.out", "N::f.in"][..], &["N::a.out", "N::p.out", "tock", "N::o.out"]] {
+        assert!(lts.has_trace(trace), "{trace:?}");
+    }
+    for trace in [
+        &["N::o.out"][..],
+        &["N::p.out"],
+        &["N::a.out", "N::f.in", "N::o.out"],
+        &["N::a.out", "N::f.in", "N::p.out"],
+        &["N::a.out", "N::o.out", "N::f.in", "N::p.out"],
+    ] {
+        assert!(!lts.has_trace(trace), "{trace:?}");
+    }
+}

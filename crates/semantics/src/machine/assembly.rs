@@ -6,7 +6,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// `base`, or `base` with `x`s appended, so that it is no tagged
     /// channel's name (`v__` for an event `v`): a pattern or generator of
     /// that name would shadow the channel (or, in FDR, be the channel).
-    fn fresh_var(&self, base: &str) -> String {
+    pub(super) fn fresh_var(&self, base: &str) -> String {
         let mut n = base.to_string();
         while self.events.iter().any(|e| n.strip_suffix("__") == Some(e.csp.as_str())) {
             n.push('x');
@@ -171,14 +171,19 @@ impl<'e, 'a> Gen<'e, 'a> {
             hidden.push(name("end__"));
             sync.push(name("end__"));
         }
-        if !self.activities.is_empty() {
-            private.push(Decl::Comment(
-                "Start and end of the activities of states (during actions of composite states, deadlines\n\
-                 of transitions)."
-                    .into(),
-            ));
+        if self.active.contains(&true) {
+            private.push(Decl::Comment("Start and end of the timers of states (deadlines of transitions).".into()));
             private.push(Decl::Channel(vec!["activate__".into(), "deactivate__".into()], vec![name("SIDS")]));
             hidden.extend([name("activate__"), name("deactivate__")]);
+        }
+        if self.during.contains(&true) {
+            private.push(Decl::Comment(
+                "A substate has finished its entry action: the during action of its composite state starts\n\
+                 (RT-17)."
+                    .into(),
+            ));
+            private.push(Decl::Channel(vec!["ready__".into()], vec![name("SIDS")]));
+            hidden.push(name("ready__"));
         }
         // Exported interface.
         exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
@@ -358,15 +363,35 @@ impl<'e, 'a> Gen<'e, 'a> {
         } else {
             let mut beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
             if !self.activities.is_empty() {
-                let acts = self
-                    .activities
-                    .iter()
-                    .rev()
-                    .map(|a| name(a.clone()))
-                    .reduce(|acc, a| par(a, Expr::Events(vec![name("tock"), name("end__")]), acc))
-                    .expect("an activity");
-                let with = Expr::Events(vec![name("activate__"), name("deactivate__"), name("tock"), name("end__")]);
-                beh = par(beh, with, acts);
+                // Each in parallel with those after it, sharing the
+                // triggers that stop both (a during action and one around it).
+                let mut acts: Option<(Expr, std::collections::BTreeSet<usize>)> = None;
+                for (a, stops) in std::mem::take(&mut self.activities).into_iter().rev() {
+                    let stops: std::collections::BTreeSet<usize> = stops.into_iter().collect();
+                    acts = Some(match acts {
+                        None => (name(a), stops),
+                        Some((acc, seen)) => {
+                            let mut sync = vec![name("tock"), name("end__")];
+                            for &t in stops.intersection(&seen) {
+                                sync.extend(self.trigger_event(t));
+                            }
+                            (par(name(a), Expr::Events(sync), acc), seen.union(&stops).copied().collect())
+                        }
+                    });
+                }
+                let (acts, stops) = acts.expect("an activity");
+                let mut with = Vec::new();
+                if self.active.contains(&true) {
+                    with.extend([name("activate__"), name("deactivate__")]);
+                }
+                if self.during.contains(&true) {
+                    with.push(name("ready__"));
+                }
+                with.extend([name("tock"), name("end__")]);
+                for t in stops {
+                    with.extend(self.trigger_event(t));
+                }
+                beh = par(beh, Expr::Events(with), acts);
             }
             let comp = hide(par(beh, Expr::Events(sync), memory), Expr::Events(hidden));
             // Tagged triggers become the machine's events.

@@ -231,8 +231,12 @@ pub(crate) struct Gen<'e, 'a> {
     /// [`Gen::activity`]), started when it is entered and stopped by every
     /// transition that leaves it.
     active: Vec<bool>,
-    /// The activity processes (`Activity__S`).
-    activities: Vec<String>,
+    /// Per node: whether it is a composite state with a during action
+    /// (see [`Gen::during_process`]).
+    during: Vec<bool>,
+    /// The processes alongside the behaviour (`Activity__S`, `During__C`),
+    /// with the transitions whose triggers each shares.
+    activities: Vec<(String, Vec<usize>)>,
     /// Translating an `operation` of the model (its parameters are those
     /// of `D__`, after `id__`).
     is_operation: bool,
@@ -312,6 +316,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             counter: 0,
             nesting: 0,
             active: Vec::new(),
+            during: Vec::new(),
             activities: Vec::new(),
             is_operation: false,
             sim_op: false,
