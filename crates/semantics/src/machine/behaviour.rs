@@ -28,8 +28,9 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(super) fn transition(&mut self, t: usize, leaf: Option<usize>) -> Option<Expr> {
         let syn = self.trans[t].m.clone();
         let mut rest = Vec::new();
-        // The activities of the states it leaves stop at once, innermost
-        // first (RoboChart: the trigger interrupts the during actions).
+        // The timers of the states it leaves stop at once, innermost first
+        // (the during actions of composite states stop at the trigger
+        // itself, which they share: see `during_process`).
         let mut cur = Some(leaf.unwrap_or(self.trans[t].source));
         while let Some(c) = cur {
             if self.active.get(c).copied().unwrap_or(false) {

@@ -227,7 +227,7 @@ pub(crate) struct Gen<'e, 'a> {
     counter: usize,
     /// Depth of the statements and expressions being translated.
     nesting: usize,
-    /// Per node: whether it is a state with an activity (see
+    /// Per node: whether it is a state with timers (see
     /// [`Gen::activity`]), started when it is entered and stopped by every
     /// transition that leaves it.
     active: Vec<bool>,
