@@ -33,7 +33,6 @@ use robosim_hir::defs::DefKind;
 use robosim_hir::index::file_summary;
 
 /// Why each known disagreement is one (see [`KNOWN`]).
-const MODULE_TERMINATES: &str = "engine: a module whose machines have finished lets time pass (its LTS offers `tock` beside ✓, design.rs); RoboTool's module hides its controllers' `terminate` (`(… [|{|terminate|}|> SKIP) \\ {|terminate|}` inside `prioritise(…, <{}, {tock}>)`, reference `timed/defs/main_AggregationSoftware.csp`), a τ that goes before `tock`: the module ends at once, as the export's does";
 const RT15: &str = "export: a machine's event connected to nothing stays visible in its controller; RT-15 hides it (τ)";
 const RT17_NESTED: &str = "engine: in nested composite states the outer during action starts once the inner composite's own entry action is done, before the inner one's initial substate has finished its entry; RoboTool's composite emits its `entered` only after a substate's (`During = ([] e : enteredSS @ e -> SKIP) ; entered -> …`, reference `timed/defs/pkg223__Communication.csp`, state `Broadcast`), so the outer during action starts after the innermost entry, as the export's does (RT-17)";
 const RT14: &str = "export: one sender and two receivers: the export connects one receiver only; RT-14 treats it as a multi-way synchronisation, as the engine does";
@@ -52,7 +51,6 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     ("structured_tuples_and_sets", "Sender", "traces: the engine has trace ⟨Sender::pair.out.(2, 0)⟩", TUPLES),
     ("composition_unconnected_events_hidden", "Ctl", "traces: the engine has trace ⟨Ctl::f.out⟩", RT15),
     ("composition_sender_and_receivers_at_once", "Ctl", "traces: the engine has trace ⟨tock, Ctl::e.out⟩", RT14),
-    ("schedulability_termination", "Mod", "traces: the engine has trace ⟨Mod::opCall, tock⟩", MODULE_TERMINATES),
     ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", RECORDS),
     ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", TUPLES),
     ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", TUPLES),
