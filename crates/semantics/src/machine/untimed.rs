@@ -69,6 +69,14 @@ impl Gen<'_, '_> {
         }
     }
 
+    /// RoboTool's end of a RoboChart machine: `terminate`, its own
+    /// channel, whenever the environment offers it, time passing meanwhile
+    /// (`terminate -> SKIP` in a `Timed` section); untimed, `terminate ->
+    /// SKIP`.
+    pub(super) fn terminating(&self) -> Expr {
+        self.delayable(name("terminate"))
+    }
+
     /// Untimed: refuses a deadline `<{d}` at `range` (the native checker's
     /// reason); `true` when timed.
     pub(super) fn deadline_allowed(&mut self, range: TextRange) -> bool {
