@@ -411,11 +411,9 @@ fn class(o: &Outcome) -> String {
 
 /// Known disagreements of the untimed semantics (RT-9), as [`KNOWN`]: the
 /// same elements and causes as the timed ones (the untimed semantics adds
-/// none): the export's RT-14, RT-15, tuples and records, and the engine's
-/// nested during actions (RT17_NESTED), which is not about time.
+/// none): the export's RT-14, RT-15, tuples and records.
 #[rustfmt::skip]
 const KNOWN_UNTIMED: &[(&str, &str, &str, &str)] = &[
-    ("rt17_during_actions_nested_final_and_timers", "N", "traces: the engine has trace ⟨N::o.out⟩", RT17_NESTED),
     ("composition_machine_alone_calls_operations_as_events", "C", "traces: the engine has trace ⟨C::opCall⟩", RT15),
     ("reachability_names_one_state", "Ctl", "traces: the export has trace ⟨Ctl::b::go.in⟩", RT15),
     ("reachability_names_one_state", "Twice", "traces: the export has trace ⟨Twice::a1::go.in⟩", RT15),
