@@ -38,12 +38,11 @@ const RT14: &str = "export: one sender and two receivers: the export connects on
 const TUPLES: &str = "export: an event of a product type is written with one field per component (`pair.out.2.0`); RoboTool declares it as a set of tuples (`channel receive: InOut.{(x0__,x1__) | …}`, reference `csp-gen/defs/Communication.csp`), as the engine names it (`pair.out.(2, 0)`)";
 const RECORDS: &str = "value representation, not behaviour: the export writes a record value as RoboTool's datatype `R_rec.0.false`, the bridge (hir::csp_names) as a tuple `(0, false)`; the reference has no record to settle it";
 
-const SINCE_ENTRY: &str = "export: `sinceEntry(S)` restarts when S is entered, before its entry action (a composite's before its substate's); RoboTool's state clock restarts on `S::entered`, after it (the clock processes of `timed/defs/aggregation_Movement.csp`), as the engine's";
+const SINCE_ENTRY: &str = "export: a composite state's `sinceEntry` restarts when it is entered, before its entry action and its first substate's; RoboTool's state clock restarts on `C::entered` (the clock processes of `timed/defs/aggregation_Movement.csp`), which follows the first substate's `entered` (`During = ([] e : enteredSS @ e -> SKIP) ; entered -> …`), as the engine's";
 /// Known disagreements: (fixture, element, the start of the outcome,
 /// which side is wrong and why).
 #[rustfmt::skip]
 const KNOWN: &[(&str, &str, &str, &str)] = &[
-    ("rt17_entered_follows_the_entry_action", "M", "traces: the engine has trace ⟨tock, tock, M::y.out⟩", SINCE_ENTRY),
     ("rt17_entered_follows_the_entry_action", "N", "traces: the export has trace ⟨tock, tock, N::x.out⟩", SINCE_ENTRY),
     ("composition_machine_alone_calls_operations_as_events", "C", "traces: the engine has trace ⟨C::opCall⟩", RT15),
     ("reasons_machines_inside_controllers", "C", "traces: the engine has trace ⟨C::opCall⟩", RT15),

@@ -281,12 +281,22 @@ impl<'e, 'a> Gen<'e, 'a> {
         match self.nodes[n].kind {
             NodeKind::State => {
                 let mut parts = vec![];
-                if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
-                    parts.push(prefix(format!("reset_{}", c.csp), vec![], Expr::Skip));
-                }
                 let Some(entry) = self.action_of(node_syn.entry.as_ref()) else { return };
                 parts.extend(entry);
                 let composite = self.nodes.iter().any(|c| c.parent == Some(n));
+                // RoboTool's state clock restarts on `S::entered`, after the
+                // entry action. A composite's `entered` follows its first
+                // substate's, which this export does not track for clocks
+                // yet: it restarts before the entry (a known difference,
+                // `SINCE_ENTRY` in the engine's cross-check).
+                if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
+                    let reset = prefix(format!("reset_{}", c.csp), vec![], Expr::Skip);
+                    if composite {
+                        parts.insert(0, reset);
+                    } else {
+                        parts.push(reset);
+                    }
+                }
                 if self.active[n] {
                     if !self.activity(n) {
                         return;
