@@ -37,7 +37,6 @@ const TERMINATES: &str = "export: a machine's or controller's process hides its 
 const MODULE_TERMINATES: &str = "export: a module whose machine has finished terminates at once; in RoboTool time still passes (the controller's `terminate` is hidden in the module but competes with `tock`), as the engine does";
 const NAMED_OUT: &str = "naming, not behaviour: the export writes the event `out` as `out_` (util::ident reserves InOut's `out`), the bridge as RoboTool's `out`";
 const NAMED_SET: &str = "naming, not behaviour: the export writes the call of `set` as `set_Call` (the operation's name escaped before `Call` is added), RoboTool and the bridge `setCall`";
-const RT15: &str = "export: a machine's event connected to nothing stays visible in its controller; RT-15 hides it (τ)";
 const RT17: &str = "export: a composite's during action starts before its initial substate's entry action has finished, or outlives the composite's exit; RT-17";
 const RT14: &str = "export: one sender and two receivers: the export connects one receiver only; RT-14 treats it as a multi-way synchronisation, as the engine does";
 const TUPLES: &str = "export: an event of a product type is written with one field per component (`pair.out.2.0`); RoboTool declares it as a set of tuples (`channel receive: InOut.{(x0__,x1__) | …}`, reference `csp-gen/defs/Communication.csp`), as the engine names it (`pair.out.(2, 0)`)";
@@ -52,12 +51,7 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "M", "traces: the engine has trace ⟨tock⟩", RT17),
     ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "C", "traces: the engine has trace ⟨tock⟩", RT17),
     ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "Mod", "traces: the engine has trace ⟨tock⟩", RT17),
-    ("composition_machine_alone_calls_operations_as_events", "C", "traces: the engine has trace ⟨C::opCall⟩", RT15),
-    ("reasons_machines_inside_controllers", "C", "traces: the engine has trace ⟨C::opCall⟩", RT15),
-    ("reachability_names_one_state", "Ctl", "traces: the export has trace ⟨Ctl::b::go.in⟩", RT15),
-    ("reachability_names_one_state", "Twice", "traces: the export has trace ⟨Twice::a1::go.in⟩", RT15),
     ("structured_tuples_and_sets", "Sender", "traces: the engine has trace ⟨Sender::pair.out.(2, 0)⟩", TUPLES),
-    ("composition_unconnected_events_hidden", "Ctl", "traces: the engine has trace ⟨Ctl::f.out⟩", RT15),
     ("composition_sender_and_receivers_at_once", "Ctl", "traces: the engine has trace ⟨tock, Ctl::e.out⟩", RT14),
     ("structured_booleans_and_enumerations_by_name", "M", "traces: the engine has trace ⟨M::mode.in.Mode_Idle, M::flag.out.true, M::setCall", NAMED_SET),
     ("properties_termination", "Ends", "traces: the engine has trace ⟨Ends::terminate⟩", TERMINATES),

@@ -606,11 +606,18 @@ fn robochart_container(
     let mut chans: Vec<Chan> = Vec::new();
     let mut hidden: Vec<String> = Vec::new();
     let inst_of = |n: &str| insts.iter().position(|i| i.name == n);
+    // The events of each instance some connection names.
+    let mut connected: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); insts.len()];
     let mut k = 0;
     for c in connections {
         let ((a, ea), (b, eb), is_async) =
             ((c.from.clone(), c.efrom.clone()), (c.to.clone(), c.eto.clone()), c.is_async);
         let (ia, ib) = (inst_of(&a), inst_of(&b));
+        for (x, e) in [(ia, &c.efrom), (ib, &c.eto)] {
+            if let Some(x) = x {
+                connected[x].insert(e.as_str());
+            }
+        }
         match (is_own(&a), ia, is_own(&b), ib) {
             // Container ↔ component.
             (true, _, _, Some(j)) | (_, Some(j), true, _) => {
@@ -678,6 +685,19 @@ fn robochart_container(
                 hidden.push(conn);
             }
             _ => problems.push((file, c.range, format!("the connection `{a}` → `{b}` has an unknown end"))),
+        }
+    }
+    // RT-15: a machine's event connected to nothing is hidden by its
+    // controller (no generated example shows RoboTool's text; its
+    // meaning, τ, is the fact's). A controller's such event in a module is
+    // left visible: the facts do not say.
+    if kind == ElemKind::Controller {
+        for (j, i) in insts.iter().enumerate() {
+            for ch in i.elem.chans.iter().filter(|ch| ch.kind == ChanKind::Event) {
+                if !connected[j].contains(ch.model.as_str()) {
+                    hidden.push(format!("{}::{}", i.elem.module, ch.csp));
+                }
+            }
         }
     }
     // Operation calls go to the platform by name.
