@@ -608,7 +608,8 @@ fn robochart_container(
     let inst_of = |n: &str| insts.iter().position(|i| i.name == n);
     // The events of each instance some connection names.
     let mut connected: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); insts.len()];
-    let mut k = 0;
+    // Synchronous links between components: (sender end, receiver end).
+    let mut links: Vec<((usize, Chan), (usize, Chan), TextRange)> = Vec::new();
     for c in connections {
         let ((a, ea), (b, eb), is_async) =
             ((c.from.clone(), c.efrom.clone()), (c.to.clone(), c.eto.clone()), c.is_async);
@@ -665,27 +666,75 @@ fn robochart_container(
                     problems.push((file, c.range, "the connected events have different types".into()));
                     continue;
                 }
-                k += 1;
-                let conn = format!("conn{k}__");
-                private.push(Decl::Channel(vec![conn.clone()], ca.values.clone()));
-                for (x, ch, d) in [(i, &ca, "out"), (j, &cb, "in")] {
-                    let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), name(d)];
-                    let mut to = vec![name(conn.clone())];
-                    let mut gens = Vec::new();
-                    for (n, v) in ch.values.iter().enumerate() {
-                        let var = format!("x{n}__");
-                        from.push(name(var.clone()));
-                        to.push(name(var.clone()));
-                        gens.push((var, v.clone()));
-                    }
-                    conn_renames[x].push((dot(from), dot(to), gens));
-                }
-                internal[i].insert(conn.clone());
-                internal[j].insert(conn.clone());
-                hidden.push(conn);
+                links.push(((i, ca), (j, cb), c.range));
             }
             _ => problems.push((file, c.range, format!("the connection `{a}` → `{b}` has an unknown end"))),
         }
+    }
+    // RT-14: the ends linked (directly or through other links) form one
+    // synchronisation, its one sender's output with every receiver's
+    // input at once, hidden: one channel `connK__` each.
+    let mut classes: Vec<Vec<(usize, &Chan, &'static str)>> = Vec::new();
+    let mut class_range: Vec<TextRange> = Vec::new();
+    for ((i, ca), (j, cb), range) in &links {
+        let ends = [(*i, ca, "out"), (*j, cb, "in")];
+        let found: Vec<usize> = (0..classes.len())
+            .filter(|&x| classes[x].iter().any(|(y, ch, _)| ends.iter().any(|(z, c, _)| y == z && ch.csp == c.csp)))
+            .collect();
+        let target = match found.first() {
+            Some(&t) => {
+                // Merge the other classes the link touches into the first.
+                for &x in found[1..].iter().rev() {
+                    let moved = classes.remove(x);
+                    class_range.remove(x);
+                    classes[t].extend(moved);
+                }
+                t
+            }
+            None => {
+                classes.push(Vec::new());
+                class_range.push(*range);
+                classes.len() - 1
+            }
+        };
+        for e in ends {
+            if !classes[target].iter().any(|(y, ch, d)| *y == e.0 && ch.csp == e.1.csp && *d == e.2) {
+                classes[target].push(e);
+            }
+        }
+    }
+    for (k, (class, range)) in classes.iter().zip(&class_range).enumerate() {
+        let senders: BTreeSet<(usize, &str)> =
+            class.iter().filter(|e| e.2 == "out").map(|(x, ch, _)| (*x, ch.csp.as_str())).collect();
+        if senders.len() != 1 {
+            problems.push((
+                file,
+                *range,
+                format!(
+                    "the event `{}` links {} senders: a synchronisation of several senders is not exported (RT-14 \
+                     reads one sender and several receivers)",
+                    class[0].1.model,
+                    senders.len()
+                ),
+            ));
+            continue;
+        }
+        let conn = format!("conn{}__", k + 1);
+        private.push(Decl::Channel(vec![conn.clone()], class[0].1.values.clone()));
+        for &(x, ch, d) in class {
+            let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), name(d)];
+            let mut to = vec![name(conn.clone())];
+            let mut gens = Vec::new();
+            for (n, v) in ch.values.iter().enumerate() {
+                let var = format!("x{n}__");
+                from.push(name(var.clone()));
+                to.push(name(var.clone()));
+                gens.push((var, v.clone()));
+            }
+            conn_renames[x].push((dot(from), dot(to), gens));
+            internal[x].insert(conn.clone());
+        }
+        hidden.push(conn);
     }
     // RT-15: a machine's event connected to nothing is hidden by its
     // controller (no generated example shows RoboTool's text; its
