@@ -38,7 +38,6 @@ const MODULE_TERMINATES: &str = "export: a module whose machine has finished ter
 const NAMED_OUT: &str = "naming, not behaviour: the export writes the event `out` as `out_` (util::ident reserves InOut's `out`), the bridge as RoboTool's `out`";
 const NAMED_SET: &str = "naming, not behaviour: the export writes the call of `set` as `set_Call` (the operation's name escaped before `Call` is added), RoboTool and the bridge `setCall`";
 const RT17: &str = "export: a composite's during action starts before its initial substate's entry action has finished, or outlives the composite's exit; RT-17";
-const TUPLES: &str = "export: an event of a product type is written with one field per component (`pair.out.2.0`); RoboTool declares it as a set of tuples (`channel receive: InOut.{(x0__,x1__) | …}`, reference `csp-gen/defs/Communication.csp`), as the engine names it (`pair.out.(2, 0)`)";
 const RECORDS: &str = "value representation, not behaviour: the export writes a record value as RoboTool's datatype `R_rec.0.false`, the bridge (hir::csp_names) as a tuple `(0, false)`; the reference has no record to settle it";
 
 /// Known disagreements: (fixture, element, the start of the outcome,
@@ -50,7 +49,6 @@ const KNOWN: &[(&str, &str, &str, &str)] = &[
     ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "M", "traces: the engine has trace ⟨tock⟩", RT17),
     ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "C", "traces: the engine has trace ⟨tock⟩", RT17),
     ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "Mod", "traces: the engine has trace ⟨tock⟩", RT17),
-    ("structured_tuples_and_sets", "Sender", "traces: the engine has trace ⟨Sender::pair.out.(2, 0)⟩", TUPLES),
     ("structured_booleans_and_enumerations_by_name", "M", "traces: the engine has trace ⟨M::mode.in.Mode_Idle, M::flag.out.true, M::setCall", NAMED_SET),
     ("properties_termination", "Ends", "traces: the engine has trace ⟨Ends::terminate⟩", TERMINATES),
     ("properties_termination", "Maybe", "traces: the engine has trace ⟨Maybe::e.in, tock⟩", TERMINATES),

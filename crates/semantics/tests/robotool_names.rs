@@ -147,3 +147,25 @@ assertion a1: Spec refines app::M in the traces model";
     let errors = cspm_errors(&e, "a_assertions.csp");
     assert!(errors.is_empty(), "{errors:#?}");
 }
+
+/// An event of a product type carries one value, a tuple, its channel
+/// declared with RoboTool's set of tuples (reference
+/// `defs/Communication.csp`: `channel receive: InOut.{(x0__,x1__) | x0__
+/// <- main_ID,x1__ <- main_ID}`): an output is `pair.out.(2, 0)`, an input
+/// binds the tuple.
+#[test]
+fn an_event_of_a_product_type_carries_a_tuple() {
+    let model = "interface I { event pair : nat * nat }
+stm M { uses I var p : nat * nat initial i state S { } state T { entry pair!(| 2, 0 |) }
+  transition t0 { from i to S } transition t1 { from S to T trigger pair?p } }";
+    let e = export(&[("m.rct", model)]);
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
+    let m = file(&e, "m.csp");
+    assert!(m.contains("channel pair : InOut.{(x0__, x1__) | x0__ <- core_nat, x1__ <- core_nat}\n"), "{m}");
+    let text: String = e.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let module = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(module.is_ok(), "{:?}", module.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&module, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let lts = ev.eval_text("M::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
+    assert!(lts.has_trace(&["M::pair.in.(1, 2)", "M::pair.out.(2, 0)"]));
+}

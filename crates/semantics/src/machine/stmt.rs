@@ -203,7 +203,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let (args, reads) = match (&ty, value) {
                     (Some(t), Some(v)) => {
                         let (e, reads) = self.bexpr(v, Some(t))?;
-                        (self.fields_of(t, e), reads)
+                        (vec![e], reads)
                     }
                     (None, None) => (Vec::new(), Vec::new()),
                     _ => {
@@ -443,7 +443,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let e = e.as_ref()?;
                 let (v, rd) = self.bexpr(e, Some(&t))?;
                 reads = rd;
-                value = Some(self.fields_of(&t, v));
+                value = Some(vec![v]);
                 dir = if matches!(p, m::CommPart::Sync(_)) { "in" } else { "out" };
             }
             Some(m::CommPart::Input(var, pr)) => {
@@ -468,7 +468,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let csp = self.events[i].csp.clone();
         let mut fields = vec![Field::Dot(name(dir))];
-        // The input fields (one per component of a product) and the value
+        // The input field (a tuple for a product) and the value
         // they make, stored in the variable.
         let bound = match (bind, &ty) {
             (Some(v), Some(t)) => {
@@ -525,15 +525,6 @@ impl<'e, 'a> Gen<'e, 'a> {
                 };
                 Some(self.with_reads(&reads, p))
             }
-        }
-    }
-
-    /// The channel fields carrying value `v` of type `t`: its components
-    /// when `t` is a product (see [`Ty::field_sets`]).
-    pub(super) fn fields_of(&mut self, t: &Ty, v: Expr) -> Vec<Expr> {
-        match t {
-            Ty::Product(ts) => self.ex.components(ts.len(), v),
-            _ => vec![v],
         }
     }
 }
