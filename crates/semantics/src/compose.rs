@@ -770,31 +770,37 @@ fn robochart_container(
     let consts = union_consts(&insts);
     let mut params = vec!["id__".to_string()];
     params.extend(consts.iter().map(|c| c.global.clone()));
-    let mut parts = Vec::new();
-    for (j, i) in insts.iter().enumerate() {
-        let mut p = rename(call(format!("{}::D__", i.elem.module), inst_args(&i.elem, false)), &renames[j]);
-        for (from, to, gens) in &conn_renames[j] {
-            p = Expr::Rename(Box::new(p), vec![(from.clone(), to.clone())], gens.clone());
+    // The composition of the components' `process` (`D__`; `VS__`, with
+    // the entries of states visible, as RoboTool's controllers and
+    // modules compose their components' `VS__`).
+    let body = |process: &str| {
+        let mut parts = Vec::new();
+        for (j, i) in insts.iter().enumerate() {
+            let mut p = rename(call(format!("{}::{process}", i.elem.module), inst_args(&i.elem, false)), &renames[j]);
+            for (from, to, gens) in &conn_renames[j] {
+                p = Expr::Rename(Box::new(p), vec![(from.clone(), to.clone())], gens.clone());
+            }
+            parts.push((p, internal[j].clone()));
         }
-        parts.push((p, internal[j].clone()));
-    }
-    let comp = compose(parts, &["tock"]);
-    let body = if hidden.is_empty() {
-        comp
-    } else {
-        hide(comp, Expr::Events(hidden.iter().map(|h| name(h.clone())).collect()))
+        let comp = compose(parts, &["tock"]);
+        if hidden.is_empty() {
+            comp
+        } else {
+            hide(comp, Expr::Events(hidden.iter().map(|h| name(h.clone())).collect()))
+        }
     };
     let mut exports = vec![Decl::Comment("Events and operation calls.".into())];
     for ch in &chans {
         exports.push(Decl::Channel(vec![ch.csp.clone()], ch.fields.clone()));
     }
     exports.push(Decl::Comment(format!(
-        "D__: the {}'s semantics; O__: compressed (parameters: {}).",
+        "D__: the {}'s semantics; VS__: with its machines' `entered__` visible (reachability);\nO__: D__ compressed (parameters: {}).",
         kind.describe(),
         params.join(", ")
     )));
     let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
-    exports.push(Decl::Def("D__".into(), params.clone(), call("TimedPriority", vec![body])));
+    exports.push(Decl::Def("D__".into(), params.clone(), call("TimedPriority", vec![body("D__")])));
+    exports.push(Decl::Def("VS__".into(), params.clone(), call("TimedPriority", vec![body("VS__")])));
     exports.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
     let decls = vec![
         Decl::Comment(format!("RoboChart {} {}", kind.describe(), path.join("::"))),
@@ -814,6 +820,7 @@ fn robochart_container(
             outputs: vec![],
             period: 1,
             required,
+            parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
         },
         decls,
     ))
@@ -944,7 +951,19 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
     ];
     let period = declared_period(ex.db, ex.ws, file, def).unwrap_or(1);
     Ok((
-        Elem { kind, robosim: true, module, path, consts, chans: vec![], inputs, outputs, period, required: vec![] },
+        Elem {
+            kind,
+            robosim: true,
+            module,
+            path,
+            consts,
+            chans: vec![],
+            inputs,
+            outputs,
+            period,
+            required: vec![],
+            parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
+        },
         decls,
     ))
 }

@@ -340,6 +340,9 @@ pub(crate) struct Elem {
     /// (a machine's required variables; a controller's machines' that it
     /// does not provide).
     pub required: Vec<String>,
+    /// A controller's machines and a module's controllers, by instance
+    /// name (reachability names a state after them).
+    pub parts: Vec<(String, Rc<Elem>)>,
 }
 
 /// A node key: the file and the node's range.

@@ -97,8 +97,9 @@ fn controller_operations_are_subjects_as_robotool_names_them() {
         "    D__(id__, n) = TimedPriority(P__(id__, n) \\ {| entered__ |})\n    VS__(id__, n) = P__(id__, n)\n    \
          O__(id__, n) = sbisim(D__(id__, n))\n  endmodule\n",
         "  D__(id__) = TimedPriority(C::Idle::D__(id__))\n",
-        "module Mod\nexports\n  -- Events and operation calls.\n  -- D__: the module's semantics; O__: compressed \
-         (parameters: id__).\n  D__(id__) = TimedPriority(C::D__(id__))\n",
+        "module Mod\nexports\n  -- Events and operation calls.\n  -- D__: the module's semantics; VS__: with its \
+         machines' `entered__` visible (reachability);\n  -- O__: D__ compressed (parameters: id__).\n  D__(id__) = \
+         TimedPriority(C::D__(id__))\n  VS__(id__) = TimedPriority(C::VS__(id__))\n",
     ] {
         assert!(model.contains(line), "{line}\nnot in\n{model}");
     }
