@@ -250,7 +250,7 @@ fn subject(
 /// RT-11: the operation `loc` names (a top-level one, or the one an
 /// operation reference references), or with `inner` the operation of that
 /// name the controller `loc` declares, as its own process (RoboChart:
-/// `Op::D__`, `C::OP_op::D__`; RoboSim: RoboTool's `OP_…::D__`, see
+/// `pkg::OP_op::D__`, `C::OP_op::D__`; RoboSim: RoboTool's `OP_…::D__`, see
 /// `machine::sim_operation`): `None` when `loc` is no operation.
 fn operation_subject(
     ex: &mut Exporter<'_>,

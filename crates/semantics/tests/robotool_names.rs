@@ -84,7 +84,20 @@ fn a_machine_calls_its_operations_on_its_own_and_runs_its_controllers() {
     // controller's operation, its platform call the machine's.
     let c = module(&app, "C", 2);
     let s = module(&c, "s", 4);
-    assert!(s.contains("CALL__Stop = lib_Stop::D__(id__) [[ lib_Stop::haltCall <- haltCall ]]"), "{s}");
+    // The operation `lib::Stop` is RoboTool's `lib::OP_Stop` (as the
+    // reference's `pkg223_main::OP_tStop`).
+    assert!(s.contains("CALL__Stop = lib::OP_Stop::D__(id__) [[ lib::OP_Stop::haltCall <- haltCall ]]"), "{s}");
+    let lib = file(&e, "lib.csp");
+    assert!(
+        lib.contains(
+            "module lib
+"
+        ) && module(&lib, "OP_Stop", 2).contains(
+            "channel haltCall
+"
+        ),
+        "{lib}"
+    );
     assert!(s.contains("channel haltCall\n") && !s.contains("StopCall"), "{s}");
     // The controller composes that instance; its constants are named
     // after the reference (RoboTool: `const_pkg223__CommunicationC_stm_ref0_id`).

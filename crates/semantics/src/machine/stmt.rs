@@ -245,7 +245,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// A call of an operation defined in the model: its process
-    /// (`Op::D__(id__, args, constants)`, its events renamed to the
+    /// (`pkg::OP_op::D__(id__, args, constants)`, its events renamed to the
     /// caller's), through `CALL__op(args)` as RoboTool names it. The
     /// operation's events and platform calls become the caller's.
     pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
@@ -275,7 +275,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         Some(p)
     }
 
-    /// `CALL__op(x…) = Op::D__(id__, x…, constants) [[ Op::e <- e, … ]]`:
+    /// `CALL__op(x…) = pkg::OP_op::D__(id__, x…, constants) [[ pkg::OP_op::e <- e, … ]]`:
     /// the operation's constants become the caller's, its channels the
     /// caller's channels of the same name.
     pub(super) fn operation_helper(&mut self, op: &OperationOut, helper: &str, r: TextRange) -> Option<Decl> {
