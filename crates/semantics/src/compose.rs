@@ -405,6 +405,10 @@ fn compose(parts: Vec<(Expr, BTreeSet<String>)>, always: &[&str]) -> Expr {
 /// A renaming `from <- to | generators`.
 type CompRename = (Expr, Expr, Vec<(String, Expr)>);
 
+/// A synchronous link between two components: (sender's instance and
+/// event, receiver's, the connection's range).
+type SyncLink = ((usize, Chan), (usize, Chan), TextRange);
+
 /// A register renaming: (component's constructor, container's, value types, input).
 type RegRename = (String, String, Vec<Expr>, bool);
 
@@ -609,7 +613,7 @@ fn robochart_container(
     // The events of each instance some connection names.
     let mut connected: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); insts.len()];
     // Synchronous links between components: (sender end, receiver end).
-    let mut links: Vec<((usize, Chan), (usize, Chan), TextRange)> = Vec::new();
+    let mut links: Vec<SyncLink> = Vec::new();
     for c in connections {
         let ((a, ea), (b, eb), is_async) =
             ((c.from.clone(), c.efrom.clone()), (c.to.clone(), c.eto.clone()), c.is_async);

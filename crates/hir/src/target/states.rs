@@ -110,7 +110,7 @@ pub fn state(
     let (mut found, mut by_name) = (Vec::new(), Vec::new());
     for (inst, decl, region) in machines(db, ws, loc, inner) {
         let names_machine =
-            |prefix: &[String]| names_instance(prefix, &inst) || names_instance(prefix, &[decl.clone()]);
+            |prefix: &[String]| names_instance(prefix, &inst) || names_instance(prefix, std::slice::from_ref(&decl));
         let mut nodes = Vec::new();
         collect(region, &mut Vec::new(), &mut nodes);
         for (inside, kind) in nodes {
