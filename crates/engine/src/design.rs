@@ -283,6 +283,14 @@ impl<'a> DesignLts<'a> {
             let n = out.push_copy(st);
             n[self.ended] = 1;
             out.set_label(Label::plain(TICK));
+            // A module hides its controllers' `terminate`: a τ, which comes
+            // before `tock` (RoboTool's `(… [| {|terminate|} |> SKIP) \
+            // {|terminate|}` under `prioritise`, timed/defs/main_*.csp), so
+            // a finished module ends at once. A machine or a controller
+            // offers its visible `terminate` while time passes.
+            if self.design.level == Level::Module {
+                can_tock = false;
+            }
         }
         // Maximal progress: time passes only when nothing internal can happen.
         let tau = out.labels()[start..].iter().any(|l| l.event == TAU);

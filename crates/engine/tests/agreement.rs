@@ -257,7 +257,8 @@ impl ExportView<'_> {
     }
 
     /// The channels `module` exports (`entered__`, the states' entry
-    /// events, aside).
+    /// events, and `terminate`, the element's end, RoboTool's
+    /// `M::terminate`, which the engine's LTS shows as ✓, aside).
     fn channels(&self, path: &str) -> Vec<String> {
         let Some(text) = self.texts.get(path) else { return Vec::new() };
         // The module's own `exports`, at the indentation of its `module`.
@@ -271,7 +272,7 @@ impl ExportView<'_> {
         for l in exports.lines() {
             let Some(decl) = l.trim_start().strip_prefix("channel ") else { continue };
             let names = decl.split_once(" : ").map_or(decl, |(n, _)| n);
-            out.extend(names.split(',').map(|n| n.trim().to_string()).filter(|n| n != "entered__"));
+            out.extend(names.split(',').map(|n| n.trim().to_string()).filter(|n| n != "entered__" && n != "terminate"));
         }
         out
     }

@@ -33,51 +33,18 @@ use robosim_hir::defs::DefKind;
 use robosim_hir::index::file_summary;
 
 /// Why each known disagreement is one (see [`KNOWN`]).
-const TERMINATES: &str = "export: a machine's or controller's process hides its end (`end__`) and terminates at once; RoboTool's shows `terminate` (its `sem__events` hold it) and, once a final state is entered, offers it alongside `tock` (final state: `share__choice(terminate -> SKIP [] interrupt -> SKIP)`), as the engine does";
-const MODULE_TERMINATES: &str = "export: a module whose machine has finished terminates at once; in RoboTool time still passes (the controller's `terminate` is hidden in the module but competes with `tock`), as the engine does";
-const NAMED_OUT: &str = "naming, not behaviour: the export writes the event `out` as `out_` (util::ident reserves InOut's `out`), the bridge as RoboTool's `out`";
-const NAMED_SET: &str = "naming, not behaviour: the export writes the call of `set` as `set_Call` (the operation's name escaped before `Call` is added), RoboTool and the bridge `setCall`";
-const RT17: &str = "export: a composite's during action starts before its initial substate's entry action has finished, or outlives the composite's exit; RT-17";
+const RT17_NESTED: &str = "engine: in nested composite states the outer during action starts once the inner composite's own entry action is done, before the inner one's initial substate has finished its entry; RoboTool's composite emits its `entered` only after a substate's (`During = ([] e : enteredSS @ e -> SKIP) ; entered -> …`, reference `timed/defs/pkg223__Communication.csp`, state `Broadcast`), so the outer during action starts after the innermost entry, as the export's does (RT-17)";
 const RECORDS: &str = "value representation, not behaviour: the export writes a record value as RoboTool's datatype `R_rec.0.false`, the bridge (hir::csp_names) as a tuple `(0, false)`; the reference has no record to settle it";
 
 /// Known disagreements: (fixture, element, the start of the outcome,
 /// which side is wrong and why).
 #[rustfmt::skip]
 const KNOWN: &[(&str, &str, &str, &str)] = &[
-    ("activities_composite_during_interrupted", "Q", "traces: the export has trace ⟨Q::f.in, Q::o.out⟩", RT17),
-    ("rt17_during_actions", "D", "traces: the export has trace ⟨D::o.out⟩", RT17),
-    ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "M", "traces: the engine has trace ⟨tock⟩", RT17),
-    ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "C", "traces: the engine has trace ⟨tock⟩", RT17),
-    ("schedulability_during_action_of_a_composite_state_alongside_its_substate", "Mod", "traces: the engine has trace ⟨tock⟩", RT17),
-    ("structured_booleans_and_enumerations_by_name", "M", "traces: the engine has trace ⟨M::mode.in.Mode_Idle, M::flag.out.true, M::setCall", NAMED_SET),
-    ("properties_termination", "Ends", "traces: the engine has trace ⟨Ends::terminate⟩", TERMINATES),
-    ("properties_termination", "Maybe", "traces: the engine has trace ⟨Maybe::e.in, tock⟩", TERMINATES),
-    ("properties_tick_tock_refinement", "Again", "traces: the engine has trace ⟨Again::a.in, tock⟩", TERMINATES),
-    ("properties_tick_tock_refinement", "Once", "traces: the engine has trace ⟨Once::a.in, tock⟩", TERMINATES),
-    ("schedulability_termination", "M", "traces: the engine has trace ⟨M::opCall, M::terminate⟩", TERMINATES),
-    ("schedulability_termination", "C", "traces: the engine has trace ⟨C::opCall, C::terminate⟩", TERMINATES),
-    ("schedulability_termination", "Mod", "traces: the engine has trace ⟨Mod::opCall, tock⟩", MODULE_TERMINATES),
-    ("untimed_rt10_terminates_with_divergence_is_not_decided", "Spin", "traces: the engine has trace ⟨Spin::terminate⟩", TERMINATES),
-    ("untimed_rt9_deadlock_freedom_in_the_failures_divergences_model", "Done", "traces: the engine has trace ⟨Done::o.out, tock⟩", TERMINATES),
-    ("untimed_rt9_wait_is_skip", "Fast", "traces: the engine has trace ⟨Fast::o.out, tock⟩", TERMINATES),
-    ("untimed_rt9_wait_is_skip", "Slow", "traces: the engine has trace ⟨tock, tock, Slow::o.out, tock⟩", TERMINATES),
-    ("model_lowering_a_parenthesised_type_is_its_inner_type", "P", "traces: the engine has trace ⟨P::v.out.1, tock⟩", TERMINATES),
-    ("model_lowering_a_parenthesised_type_is_its_inner_type", "Q", "traces: the engine has trace ⟨Q::v.out.1, tock⟩", TERMINATES),
-    ("subjects_operations_as_subjects", "M", "traces: the engine has trace ⟨M::a.out, tock⟩", TERMINATES),
-    ("connections_async_buffer_1_block", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_1_block", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_1_overwrite", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_1_overwrite", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_2_overwrite", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_buffer_2_overwrite", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("connections_async_default_buffer", "S", "traces: the engine has trace ⟨S::out.out.1⟩", NAMED_OUT),
-    ("connections_async_default_buffer", "CS", "traces: the engine has trace ⟨CS::out.out.1⟩", NAMED_OUT),
-    ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", NAMED_OUT),
-    ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", NAMED_OUT),
-    ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", NAMED_OUT),
-    ("rt5_assertion_constants", "M", "traces: the engine has trace ⟨M::go.in, M::out.out.0⟩", NAMED_OUT),
+    ("rt17_during_actions_nested_final_and_timers", "N", "traces: the engine has trace ⟨N::o.out⟩", RT17_NESTED),
+    ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", RECORDS),
+    ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", RECORDS),
+    ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", RECORDS),
     ("structured_records", "M", "traces: the engine has trace ⟨M::e.in.(0, false)⟩", RECORDS),
-    ("rt7_instantiations_give_the_types", "M", "traces: the engine has trace ⟨M::go.in, M::out.out.0⟩", NAMED_OUT),
 ];
 
 /// Most states of either side's LTS.
@@ -454,7 +421,6 @@ const INNER_MACHINE: &str = "undecided: a machine declared inside a controller a
 const REACH_KNOWN: &[(&str, &str, &str)] = &[
     ("reasons_machines_inside_controllers", "A", INNER_MACHINE),
     ("rt07_instantiations_per_file", "Narrow", RT7_FILES),
-    ("rt17_during_actions", "C", RT17),
 ];
 
 /// Whether the export's `assert` line holds, evaluated with our CSPm

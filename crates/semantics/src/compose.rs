@@ -1,8 +1,9 @@
 //! Elements: state machines (see `machine`), controllers and modules,
 //! composed as RoboTool does (paper Rules 1, 9, 10 and 11): the
-//! components in parallel, synchronising on `tock` (and, in RoboSim, on
-//! `terminate`), their events renamed to the container's through the
-//! connections, connections between components hidden.
+//! components in parallel, synchronising on `tock` and `terminate` (each
+//! element's own in RoboChart, as RoboTool's `M::terminate`), their events
+//! renamed to the container's through the connections, connections
+//! between components hidden.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::rc::Rc;
@@ -15,7 +16,7 @@ use robosim_hir::{Db, File, FileKind, TextRange, Workspace};
 use crate::cspm::{call, dot, hide, name, par, Decl, Expr};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, ElemState, Exporter, Reg, Ty};
 use crate::machine::{Gen, Problem, ProvidedOp};
-use crate::util::ident;
+use crate::util::event_ident;
 
 /// A machine, controller or module of the model, to export.
 #[derive(Clone, Copy)]
@@ -610,6 +611,25 @@ fn robochart_container(
     let mut chans: Vec<Chan> = Vec::new();
     let mut hidden: Vec<String> = Vec::new();
     let inst_of = |n: &str| insts.iter().position(|i| i.name == n);
+    // InOut's constructors, as this module can name them: its own event
+    // `in` or `out` (RoboTool's name) hides them.
+    let own_events: BTreeSet<String> = connections
+        .iter()
+        .filter_map(|c| match (is_own(&c.from), is_own(&c.to)) {
+            (true, _) => Some(event_ident(&c.efrom)),
+            (_, true) => Some(event_ident(&c.eto)),
+            _ => None,
+        })
+        .collect();
+    let mut direction = |d: &'static str| {
+        if own_events.contains(d) {
+            let alias = if d == "in" { "in'" } else { "out'" };
+            ex.helpers.insert(alias);
+            name(alias)
+        } else {
+            name(d)
+        }
+    };
     // The events of each instance some connection names.
     let mut connected: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); insts.len()];
     // Synchronous links between components: (sender end, receiver end).
@@ -640,7 +660,7 @@ fn robochart_container(
                     ));
                     continue;
                 };
-                let csp = ident(cev);
+                let csp = event_ident(cev);
                 renames[j].push((format!("{}::{}", insts[j].elem.module, ch.csp), csp.clone()));
                 if !chans.iter().any(|x| x.csp == csp) {
                     chans.push(event_chan(csp, cev.clone(), ty.as_ref(), dir));
@@ -726,7 +746,7 @@ fn robochart_container(
         let conn = format!("conn{}__", k + 1);
         private.push(Decl::Channel(vec![conn.clone()], class[0].1.values.clone()));
         for &(x, ch, d) in class {
-            let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), name(d)];
+            let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), direction(d)];
             let mut to = vec![name(conn.clone())];
             let mut gens = Vec::new();
             for (n, v) in ch.values.iter().enumerate() {
@@ -776,7 +796,11 @@ fn robochart_container(
     params.extend(consts.iter().map(|c| c.global.clone()));
     // The composition of the components' `process` (`D__`; `VS__`, with
     // the entries of states visible, as RoboTool's controllers and
-    // modules compose their components' `VS__`).
+    // modules compose their components' `VS__`), ending together on the
+    // container's `terminate`.
+    for (j, i) in insts.iter().enumerate() {
+        renames[j].push((format!("{}::terminate", i.elem.module), "terminate".into()));
+    }
     let body = |process: &str| {
         let mut parts = Vec::new();
         for (j, i) in insts.iter().enumerate() {
@@ -786,14 +810,27 @@ fn robochart_container(
             }
             parts.push((p, internal[j].clone()));
         }
-        let comp = compose(parts, &["tock"]);
-        if hidden.is_empty() {
+        let comp = compose(parts, &["tock", "terminate"]);
+        let body = if hidden.is_empty() {
             comp
         } else {
             hide(comp, Expr::Events(hidden.iter().map(|h| name(h.clone())).collect()))
+        };
+        // RoboTool: `P [|{|terminate|}|> SKIP`; a controller shows its
+        // `terminate`, a module hides it (so it ends at once, τ before `tock`).
+        let end = Expr::Events(vec![name("terminate")]);
+        let body = Expr::Exception(Box::new(body), Box::new(end.clone()), Box::new(Expr::Skip));
+        if kind == ElemKind::Module {
+            hide(body, end)
+        } else {
+            body
         }
     };
-    let mut exports = vec![Decl::Comment("Events and operation calls.".into())];
+    let mut exports = vec![
+        Decl::Comment(format!("Its end (RoboTool's `terminate`, per {}).", kind.describe())),
+        Decl::Channel(vec!["terminate".into()], vec![]),
+        Decl::Comment("Events and operation calls.".into()),
+    ];
     for ch in &chans {
         exports.push(Decl::Channel(vec![ch.csp.clone()], ch.fields.clone()));
     }

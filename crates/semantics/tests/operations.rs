@@ -96,10 +96,14 @@ fn controller_operations_are_subjects_as_robotool_names_them() {
         "  endmodule\n  module OP_Op\n",
         "    D__(id__, n) = TimedPriority(P__(id__, n) \\ {| entered__ |})\n    VS__(id__, n) = P__(id__, n)\n    \
          O__(id__, n) = sbisim(D__(id__, n))\n  endmodule\n",
-        "  D__(id__) = TimedPriority(C::Idle::D__(id__))\n",
-        "module Mod\nexports\n  -- Events and operation calls.\n  -- D__: the module's semantics; VS__: with its \
-         machines' `entered__` visible (reachability);\n  -- O__: D__ compressed (parameters: id__).\n  D__(id__) = \
-         TimedPriority(C::D__(id__))\n  VS__(id__) = TimedPriority(C::VS__(id__))\n",
+        "    TimedPriority(\n      C::Idle::D__(id__) [[ C::Idle::terminate <- terminate ]] [| {| terminate |} |> SKIP)\n",
+        "module Mod\nexports\n  -- Its end (RoboTool's `terminate`, per module).\n  channel terminate\n  \
+         -- Events and operation calls.\n  -- D__: the module's semantics; VS__: with its machines' `entered__` \
+         visible (reachability);\n  -- O__: D__ compressed (parameters: id__).\n  \
+         D__(id__) =\n    TimedPriority(\n      \
+         (C::D__(id__) [[ C::terminate <- terminate ]] [| {| terminate |} |> SKIP) \\ {| terminate |})\n  \
+         VS__(id__) =\n    TimedPriority(\n      \
+         (C::VS__(id__) [[ C::terminate <- terminate ]] [| {| terminate |} |> SKIP) \\ {| terminate |})\n",
     ] {
         assert!(model.contains(line), "{line}\nnot in\n{model}");
     }

@@ -182,3 +182,41 @@ stm M { uses I var p : nat * nat initial i state S { } state T { entry pair!(| 2
     let lts = ev.eval_text("M::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
     assert!(lts.has_trace(&["M::pair.in.(1, 2)", "M::pair.out.(2, 0)"]));
 }
+
+/// RoboTool names channels by the model's names even where they clash
+/// with CSPm's: an event `out` is `channel out` (not `out_`), the call of
+/// an operation `set` is `setCall` (not `set_Call`), in the machine, its
+/// controller and its module, as `csp` blocks and the engine's CSPm
+/// bridge write them. A module whose own channel is `out` hides InOut's
+/// constructor `out`, so it writes that direction `out'`
+/// (robosim_defs.csp); the script is valid CSPm.
+#[test]
+fn events_and_calls_keep_names_that_clash_with_cspm() {
+    let model = "package p
+interface E { event out : nat event go }
+interface Ops { set(x : nat) }
+stm M { uses E requires Ops
+  initial i state A { }
+  transition t0 { from i to A } transition t1 { from A to A trigger go action out!1 ; set(2) } }
+stm N { uses E event relay : nat var x : nat
+  initial i state A { } transition t0 { from i to A } transition t1 { from A to A trigger out?x action relay!x } }
+controller C { uses E requires Ops sref m = M sref n = N
+  connection C on go to m on go connection m on out to n on out connection n on relay to C on out }
+module Mod { robotic platform P { uses E provides Ops } cref c = C
+  connection P on go to c on go ( _async ) connection c on out to P on out ( _async ) }";
+    let asserts = "assertion a1: p::Mod is deadlock-free";
+    let e = export(&[("m.rct", model), ("a.assertions", asserts)]);
+    let text = file(&e, "m.csp");
+    let m = module(&text, "M", 2);
+    assert!(m.contains("channel out : InOut.core_nat\n") && m.contains("channel setCall : core_nat\n"), "{m}");
+    assert!(m.contains("Delayable(out.out'.1)") && !m.contains("out_ ") && !m.contains("set_Call"), "{m}");
+    let n = module(&text, "N", 2);
+    assert!(n.contains("out__.TID_t1.in?x__in"), "{n}");
+    let c = module(&text, "C", 2);
+    assert!(c.contains("channel out : InOut.core_nat\n") && c.contains("channel setCall : core_nat\n"), "{c}");
+    assert!(c.contains("p::C::m::out.out'.") && c.contains("p::C::n::out.in."), "{c}");
+    let defs = file(&e, "robosim_defs.csp");
+    assert!(defs.contains("\nout' = out\n") && !defs.contains("in' = in"), "{defs}");
+    let errors = cspm_errors(&e, "a_assertions.csp");
+    assert!(errors.is_empty(), "{errors:#?}");
+}

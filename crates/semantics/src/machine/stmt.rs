@@ -112,7 +112,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 if self.sim_op && !self.ops[o].defined {
                     // A call of another operation: the urgent call event.
                     let (args, reads) = self.arguments(args, r, o)?;
-                    let mut fields = vec![name(format!("{}Call", ident(&self.ops[o].name)))];
+                    let mut fields = vec![name(op_event(&self.ops[o].name, "Call"))];
                     fields.extend(args);
                     self.sim_op_calls.insert(o);
                     let p = self.with_reads(&reads, call("EDeadline", vec![dot(fields), Expr::Int(0)]));
@@ -128,11 +128,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 let (args, reads) = self.arguments(args, r, o)?;
                 let op = &self.ops[o];
-                let mut fields = vec![name(format!("{}Call", ident(&op.name)))];
+                let mut fields = vec![name(op_event(&op.name, "Call"))];
                 fields.extend(args);
                 let mut p = call("EDeadline", vec![dot(fields), Expr::Int(0)]);
                 if self.profile == Profile::Paper2019 {
-                    p = seq(vec![p, call("EDeadline", vec![name(format!("{}Ret", ident(&op.name))), Expr::Int(0)])]);
+                    p = seq(vec![p, call("EDeadline", vec![name(op_event(&op.name, "Ret")), Expr::Int(0)])]);
                 }
                 let p = self.with_reads(&reads, p);
                 self.record_term(s.head, TermKind::Call, || p.clone());
@@ -263,7 +263,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
             return None;
         }
-        let helper = format!("CALL__{}", ident(&n));
+        let helper = ident(&format!("CALL__{n}"));
         if !self.op_calls.iter().any(|(h, _)| *h == helper) {
             let def = self.operation_helper(&op, &helper, r)?;
             self.op_calls.push((helper.clone(), def));
@@ -359,7 +359,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                         return None;
                     }
                     let suffix = if ch.kind == OpChanKind::Call { "Call" } else { "Ret" };
-                    format!("{}{suffix}", ident(&ch.model))
+                    op_event(&ch.model, suffix)
                 }
             };
             renames.push((name(format!("{}::{}", op.module, ch.csp)), name(mine)));
@@ -467,7 +467,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.events[i].received = true;
         }
         let csp = self.events[i].csp.clone();
-        let mut fields = vec![Field::Dot(name(dir))];
+        let mut fields = vec![Field::Dot(self.direction(dir))];
         // The input field (a tuple for a product) and the value
         // they make, stored in the variable.
         let bound = match (bind, &ty) {
