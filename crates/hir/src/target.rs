@@ -7,6 +7,10 @@
 //! and the CSPm export both ask here, so they cannot resolve a name or
 //! choose a period differently.
 
+mod states;
+
+pub use states::{machines, state, StateRef};
+
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
 use crate::cycle::{simulation_period, Feasibility};
 use crate::defs::{file_defs, DefData, DefId, DefKind, UseKind};
