@@ -279,11 +279,13 @@ impl Checker<'_> {
         };
         // Any operation of that name with the parameter (the verifier binds
         // it by the operation's name) keeps it from being a linking error.
-        let anywhere = ws.files(db).iter().filter(|g| !g.is_library(db)).any(|&g| {
-            let d = file_defs(db, g);
-            d.iter().any(|(id, o)| o.kind == DefKind::Operation && o.name == *op_name && has(d, id))
-        });
-        if !name.is_empty() && !has(defs, op) && !anywhere {
+        let anywhere = || {
+            ws.files(db).iter().filter(|g| !g.is_library(db)).any(|&g| {
+                let d = file_defs(db, g);
+                d.iter().any(|(id, o)| o.kind == DefKind::Operation && o.name == *op_name && has(d, id))
+            })
+        };
+        if !name.is_empty() && !has(defs, op) && !anywhere() {
             self.report(name_range, format!("cannot resolve parameter `{name}` of the operation `{}`", of.join("::")));
         }
     }
