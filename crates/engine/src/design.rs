@@ -133,11 +133,7 @@ impl<'a> DesignLts<'a> {
                 nodes: m
                     .nodes
                     .iter()
-                    .map(|n| StateNode {
-                        name: n.name.clone(),
-                        parent: n.parent.map(usize::from),
-                        own: n.op.is_none(),
-                    })
+                    .map(|n| StateNode { name: n.name.clone(), parent: n.parent.map(usize::from), own: n.op.is_none() })
                     .collect(),
             })
             .collect();

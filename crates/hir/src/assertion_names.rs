@@ -73,7 +73,9 @@ pub fn assertion_name_problems(db: &dyn Db, ws: Workspace, file: File) -> Vec<Re
         }
         for o in &a.overrides {
             match o {
-                Override::Constant { name, name_range, of, of_range, .. } => c.constant(name, *name_range, of, *of_range),
+                Override::Constant { name, name_range, of, of_range, .. } => {
+                    c.constant(name, *name_range, of, *of_range)
+                }
                 Override::Parameter { name, name_range, of, of_range, .. } => {
                     c.parameter(name, *name_range, of, *of_range)
                 }
@@ -168,7 +170,10 @@ impl Checker<'_> {
         let (code, message) = match missing {
             Some((p, _)) => (
                 "LNK-03",
-                format!("{message}; it may be declared in the package `{}`, which is not in the workspace", p.join("::")),
+                format!(
+                    "{message}; it may be declared in the package `{}`, which is not in the workspace",
+                    p.join("::")
+                ),
             ),
             None => ("LNK-01", message),
         };
@@ -194,7 +199,9 @@ impl Checker<'_> {
         // inside it.
         let (k, named): (usize, Vec<_>) = (0..state.len())
             .rev()
-            .map(|k| (k, machines.iter().filter(|m| k > 0 && target::names_machine(m, &state[..k])).collect::<Vec<_>>()))
+            .map(|k| {
+                (k, machines.iter().filter(|m| k > 0 && target::names_machine(m, &state[..k])).collect::<Vec<_>>())
+            })
             .find(|(_, ms)| !ms.is_empty())
             .unwrap_or((0, machines.iter().collect()));
         let mut level: Vec<(&target::MachineStates, Option<usize>)> = named.iter().map(|m| (*m, None)).collect();
@@ -294,7 +301,14 @@ impl Checker<'_> {
 /// Whether the element `id` of `file`, an interface it uses, provides or
 /// requires, or one of its parts (inline or referenced: machines,
 /// controllers, platforms, operations) declares a constant `name`.
-fn has_constant_within(db: &dyn Db, ws: Workspace, file: File, id: DefId, name: &str, seen: &mut Vec<(File, DefId)>) -> bool {
+fn has_constant_within(
+    db: &dyn Db,
+    ws: Workspace,
+    file: File,
+    id: DefId,
+    name: &str,
+    seen: &mut Vec<(File, DefId)>,
+) -> bool {
     if seen.contains(&(file, id)) {
         return false;
     }
@@ -352,7 +366,8 @@ fn unresolved_segment(db: &dyn Db, ws: Workspace, file: File, path: &[String]) -
     let index = index_for(db, ws, file);
     let here = file_summary(db, file);
     let package = |p: &[String]| {
-        index.packages.contains(p) || index.packages.contains(&here.package.iter().chain(p).cloned().collect::<Vec<_>>())
+        index.packages.contains(p)
+            || index.packages.contains(&here.package.iter().chain(p).cloned().collect::<Vec<_>>())
     };
     Some((1..path.len()).rev().find(|&j| package(&path[..j])).unwrap_or(0))
 }

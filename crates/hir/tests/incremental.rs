@@ -129,7 +129,8 @@ fn editing_a_machine_body_reuses_the_names_of_assertion_files() {
             sink.lock().unwrap().push(format!("{database_key:?}"));
         }
     });
-    let assertions = "import app::*\nimport lib::*\nassertion A : M is deadlock-free\nassertion B : Nothing is deadlock-free\n";
+    let assertions =
+        "import app::*\nimport lib::*\nassertion A : M is deadlock-free\nassertion B : Nothing is deadlock-free\n";
     let ws = load_workspace(
         &mut db,
         [

@@ -149,7 +149,13 @@ pub fn design_machines(db: &dyn Db, ws: Workspace, subject: &Subject) -> Option<
 }
 
 /// The machines of the controller `c`, instance of name `cref`.
-fn controller(db: &dyn Db, ws: Workspace, cref: &str, c: &model::Controller, out: &mut Vec<MachineStates>) -> Option<()> {
+fn controller(
+    db: &dyn Db,
+    ws: Workspace,
+    cref: &str,
+    c: &model::Controller,
+    out: &mut Vec<MachineStates>,
+) -> Option<()> {
     for m in &c.machines {
         let body = match &m.def {
             Definition::Inline(b) => &**b,
