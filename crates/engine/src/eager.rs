@@ -59,10 +59,56 @@ fn paused_comms(m: &Machine, shared: &HashSet<u16>) -> Vec<bool> {
         .enumerate()
         .map(|(pc, i)| {
             matches!(i, Instr::Out { .. } | Instr::In { .. })
-                && (activities || in_during(pc) || !local_from(m, pc + 1, shared))
+                && (activities || in_during(pc) || !local_from(m, pc + 1, shared, true))
         })
         .collect();
     if marks.iter().any(|&b| b) {
+        marks
+    } else {
+        Vec::new()
+    }
+}
+
+/// Marks, in every machine of `design`, the during actions (of simple
+/// states, and of composite ones: activities) that start with a hidden
+/// step of their own
+/// ([`Machine::paused_durings`]): RoboTool's `During = (action ; SStop) /\
+/// interrupt` lets the state's transitions come before the action's first
+/// event, so a clock reset there may not happen, and a read of what
+/// another thread writes may see a later value. A during action whose
+/// first steps (up to where the thread stops) read only what no other
+/// thread writes and reset no clock starts in the step that enters the state: if a
+/// transition comes first, nothing of it remains, and if not, it reads the
+/// same values later (a confluent τ, as for the waits above).
+pub(crate) fn mark_paused_durings(design: &mut Design, shared: &HashSet<u16>) {
+    for m in &mut design.machines {
+        m.paused_durings = paused_durings(m, shared);
+    }
+}
+
+fn paused_durings(m: &Machine, shared: &HashSet<u16>) -> Vec<bool> {
+    // With activities, the machine's own variables are another thread's
+    // too: a read of one of them at the start is not confluent.
+    let mut others = shared.clone();
+    if !m.activities.is_empty() {
+        others.extend(m.code.iter().filter_map(|i| match i {
+            Instr::Assign { slot, .. } => Some(*slot),
+            _ => None,
+        }));
+    }
+    let simple = m.nodes.iter().filter_map(|n| n.during).filter(|(start, end)| start < end).map(|(s, _)| s);
+    // A composite state's during action (an activity) starts after its
+    // substate's entry (RT-17), and its transitions may come first too.
+    let composite = m.activities.iter().map(|a| a.start_pc);
+    let mut marks = vec![false; m.code.len()];
+    let mut any = false;
+    for start in simple.chain(composite) {
+        if !local_from(m, start as usize, &others, false) {
+            marks[start as usize] = true;
+            any = true;
+        }
+    }
+    if any {
         marks
     } else {
         Vec::new()
@@ -79,7 +125,7 @@ fn eager_waits(m: &Machine, shared: &HashSet<u16>) -> Vec<bool> {
         .code
         .iter()
         .enumerate()
-        .map(|(pc, i)| matches!(i, Instr::Wait) && !in_during(pc) && local_from(m, pc + 1, shared))
+        .map(|(pc, i)| matches!(i, Instr::Wait) && !in_during(pc) && local_from(m, pc + 1, shared, true))
         .collect();
     if marks.iter().any(|&b| b) {
         marks
@@ -89,8 +135,9 @@ fn eager_waits(m: &Machine, shared: &HashSet<u16>) -> Vec<bool> {
 }
 
 /// Whether every path of internal code from `start` to a stopping point
-/// touches only the machine's own data.
-fn local_from(m: &Machine, start: usize, shared: &HashSet<u16>) -> bool {
+/// touches only the machine's own data (`resets`: counting a clock reset
+/// as such).
+fn local_from(m: &Machine, start: usize, shared: &HashSet<u16>, resets: bool) -> bool {
     let reads = |e: &Expr| !reads_shared(e, shared);
     let mut todo = vec![start];
     let mut seen = HashSet::new();
@@ -109,6 +156,7 @@ fn local_from(m: &Machine, start: usize, shared: &HashSet<u16>) -> bool {
                 }
                 vec![pc + 1]
             }
+            Instr::ResetClock(_) if !resets => return false,
             Instr::ResetClock(_) | Instr::EndDeadline => vec![pc + 1],
             Instr::SetWait(e) | Instr::Deadline(e) => {
                 if !reads(e) {

@@ -831,6 +831,11 @@ pub struct Machine {
     /// touches the machine's own data goes on in the same step (a
     /// confluent τ, see `eager.rs`).
     pub paused_comms: Vec<bool>,
+    /// By instruction: the first instructions of during actions (of simple
+    /// states, and activities) before which the thread stops, so that starting the action
+    /// is a hidden step the state's transitions may pre-empt, as in
+    /// RoboTool's `During`; empty when none (see `eager.rs`).
+    pub paused_durings: Vec<bool>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,

@@ -199,8 +199,17 @@ impl Machine {
         mut first: bool,
         sat: &mut bool,
     ) -> Result<(), StepError> {
-        for _ in 0..MAX_INTERNAL {
+        // Most machines have no during action that starts with a step of
+        // its own: one test per run, not per instruction.
+        let pauses = !self.paused_durings.is_empty();
+        for i in 0..MAX_INTERNAL {
             let pc = st[th.pc] as usize;
+            // A during action that starts with a hidden step of its own
+            // (`eager.rs`): the thread stops there, unless this step is
+            // that start.
+            if pauses && (i > 0 || !first) && self.paused_durings.get(pc) == Some(&true) {
+                return Ok(());
+            }
             let Some(instr) = self.code.get(pc) else {
                 return Err(StepError(format!("machine `{}` ran off its code", self.name)));
             };
@@ -527,8 +536,9 @@ impl Machine {
             // (and their guards); τ has priority over `tock` only.
             Instr::Wait if waited => out.push(Move { offer: Offer::Tau, act: exec }),
             Instr::Wait => {}
-            // Stopped after a communication ([`Machine::paused_comms`]):
-            // going on is a hidden step.
+            // Stopped after a communication ([`Machine::paused_comms`]) or
+            // before a during action ([`Machine::paused_durings`]): going
+            // on is a hidden step.
             Instr::JumpIfNot(..)
             | Instr::Jump(_)
             | Instr::ResetClock(_)
@@ -542,7 +552,7 @@ impl Machine {
             | Instr::BeginExits
             | Instr::ExitDone(_)
             | Instr::StartActivity(_)
-                if !self.paused_comms.is_empty() =>
+                if !(self.paused_comms.is_empty() && self.paused_durings.is_empty()) =>
             {
                 out.push(Move { offer: Offer::Tau, act: exec })
             }

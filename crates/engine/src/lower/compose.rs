@@ -563,6 +563,7 @@ impl<'a> Cx<'a> {
         crate::eager::mark_eager_waits(&mut design, &shared);
         if !self.robosim {
             crate::eager::mark_paused_comms(&mut design, &shared);
+            crate::eager::mark_paused_durings(&mut design, &shared);
         }
         design.slots = slot;
         design.files = self.files.iter().map(|f| f.path(self.db).clone()).collect();
@@ -721,6 +722,7 @@ impl<'a> Cx<'a> {
             timers: std::mem::take(&mut mc.timers),
             eager_waits: Vec::new(),
             paused_comms: Vec::new(),
+            paused_durings: Vec::new(),
             base,
             file: file_ix,
         };

@@ -282,11 +282,19 @@ pub(super) fn describe_act(
         Act::Exec if matches!(m.code.get(pc), Some(Instr::Assign { .. })) => {
             (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here)
         }
+        Act::Exec if m.paused_durings.get(pc) == Some(&true) => {
+            (Some(format!("{}: starts the during action of {}", m.name, at(m.leaf(prev)))), here)
+        }
         // Stopped after a communication (RT-16/18): the rest of the action.
         Act::Exec => (Some(format!("{}: goes on after its communication, now {}", m.name, m.describe(next))), here),
         Act::ActivityComm(k) | Act::ActivityChoose(k, _) | Act::ActivityExec(k) => {
             let a = &m.activities[k as usize];
             let pc = prev[a.pc_slot as usize] as usize;
+            let here = code_location(design, m, pc);
+            let write = matches!(m.code.get(pc), Some(Instr::Assign { .. }));
+            if matches!(act, Act::ActivityExec(_)) && !write && m.paused_durings.get(pc) == Some(&true) {
+                return (Some(format!("{}: starts the during action of {}", m.name, at(Some(a.state)))), here);
+            }
             let what = match (act, m.code.get(pc)) {
                 (Act::ActivityChoose(_, n), _) => format!("the wait interval resolves to {n}"),
                 (_, Some(i @ Instr::Out { .. })) => out_verb(design, i).unwrap_or_default().into(),
@@ -295,7 +303,6 @@ pub(super) fn describe_act(
                 (_, Some(Instr::Assign { .. })) => "writes a variable".into(),
                 _ => "goes on after its communication".into(),
             };
-            let here = code_location(design, m, pc);
             (Some(format!("{}: {what} in the during action of {}", m.name, at(Some(a.state)))), here)
         }
     }
