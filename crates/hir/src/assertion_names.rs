@@ -22,7 +22,7 @@ use crate::defs::{file_defs, DefData, DefId, DefKind};
 use crate::index::{file_summary, import_matches, index_for, resolve_item, ItemLoc};
 use crate::resolve::ResolveProblem;
 use crate::target::{self, Owner, Scope, StateMatch};
-use crate::{parse, Db, File, Workspace};
+use crate::{parse, Db, File, FileKind, Workspace};
 
 /// The LNK-01 (and LNK-03) problems of the names of the assertion file
 /// `file`; nothing for other files.
@@ -145,7 +145,7 @@ impl Checker<'_> {
     /// it names no element of the model at all.
     fn name(&mut self, path: &[String], range: TextRange, what: &str) {
         let Scope { db, ws, file, .. } = self.scope;
-        let Some(i) = unresolved_segment(db, ws, file, path) else { return };
+        let Some(i) = unresolved_segment(db, ws, file, path).filter(|&i| i < path.len()) else { return };
         let at = self.segment(range, i, path.len());
         let seg = &path[i];
         let mut message = if i == 0 {
@@ -153,10 +153,17 @@ impl Checker<'_> {
         } else {
             format!("cannot resolve `{seg}` in `{}`", path[..i].join("::"))
         };
-        if i == 0 && path.len() == 1 {
-            if let Some(full) = unimported(db, ws, file, seg) {
-                message.push_str(&format!(" (`{full}` is not imported: add `import {full}`)"));
+        if let (0, 1, Some(full)) = (i, path.len(), unimported(db, ws, file, seg)) {
+            if file.kind(db) == FileKind::SimAssertions {
+                // RoboTool's RoboSim scoping also finds some plain names that no
+                // import reaches (LNK-02): not an error here either.
+                let message = format!(
+                    "`{seg}` is not imported here: the verifier does not read it (add `import {full}`, or write `{full}`)"
+                );
+                self.out.push(ResolveProblem { code: "LNK-02", range: at, message });
+                return;
             }
+            message.push_str(&format!(" (`{full}` is not imported: add `import {full}`)"));
         }
         self.report(at, message);
     }
