@@ -391,11 +391,9 @@ fn walk(db: &dyn Db, ws: Workspace, loc: ItemLoc, rest: &[String]) -> Option<usi
             let defs = file_defs(db, f);
             // A reference stands for what it references.
             let (f, id) = match &defs.def(id).data {
+                // One that does not resolve claims nothing.
                 DefData::Reference { path, .. } => {
-                    match resolve_item(db, ws, f, path, |_| true).into_iter().find_map(|l| Some((l.file, l.def(db)?))) {
-                        Some(t) => t,
-                        None => return None,
-                    }
+                    resolve_item(db, ws, f, path, |_| true).into_iter().find_map(|l| Some((l.file, l.def(db)?)))?
                 }
                 _ => (f, id),
             };
