@@ -151,12 +151,22 @@ impl<'a> DesignLts<'a> {
         }
     }
 
-    /// Whether a machine of the design is in (or inside) one of the states
-    /// `nodes` ([`DesignLts::state_nodes`]).
+    /// Whether a machine of the design has entered (and not left) one of
+    /// the states `nodes` ([`DesignLts::state_nodes`]), or a state inside.
     pub fn in_nodes(&self, st: &[i32], nodes: &[(usize, u16)]) -> bool {
         nodes.iter().any(|&(mi, target)| {
             let m = &self.design.machines[mi];
-            let mut node = m.leaf(st);
+            // RoboTool's reachability looks for the state's `entered`, after
+            // its entry action; a composite's follows its first substate's
+            // (timed/defs: `VS__` keeps `entered` visible). So the active
+            // simple or final state must be past its entry action.
+            let Some(leaf) = m.leaf(st) else { return false };
+            let entry = &m.nodes[leaf as usize];
+            let Some(entered_pc) = entry.entered_pc else { return false };
+            if (entry.entry_pc..=entered_pc).contains(&m.pc(st)) {
+                return false;
+            }
+            let mut node = Some(leaf);
             while let Some(n) = node {
                 if n == target {
                     return true;
@@ -257,6 +267,14 @@ impl<'a> DesignLts<'a> {
             let n = out.push_copy(st);
             n[self.ended] = 1;
             out.set_label(Label::plain(TICK));
+            // A module hides its controllers' `terminate`: a τ, which comes
+            // before `tock` (RoboTool's `(… [| {|terminate|} |> SKIP) \
+            // {|terminate|}` under `prioritise`, timed/defs/main_*.csp), so
+            // a finished module ends at once. A machine or a controller
+            // offers its visible `terminate` while time passes.
+            if self.design.level == Level::Module {
+                can_tock = false;
+            }
         }
         // Maximal progress: time passes only when nothing internal can happen.
         let tau = out.labels()[start..].iter().any(|l| l.event == TAU);

@@ -191,7 +191,18 @@ fn local_from(m: &Machine, start: usize, shared: &HashSet<u16>, resets: bool) ->
             },
             // Where these continue is only known at run time.
             Instr::CallOp { .. } | Instr::Return(_) | Instr::BeginExits | Instr::ExitDone(_) => return false,
-            Instr::StartActivity(_) => return false,
+            // Starts an activity, or resets a clock.
+            Instr::Entered(n) => {
+                let mut up = Some(*n);
+                while let Some(a) = up {
+                    let node = &m.nodes[a as usize];
+                    if node.activity.is_some() || (!resets && node.since_entry.is_some()) {
+                        return false;
+                    }
+                    up = node.parent;
+                }
+                vec![pc + 1]
+            }
             // The thread stops: what it offers there is a step of its own.
             Instr::Out { .. }
             | Instr::In { .. }

@@ -657,10 +657,13 @@ pub enum Instr {
         /// The deadlines of the state's transitions.
         limits: Vec<Expr>,
     },
-    /// The end of a substate's entry action: its composite state's during
-    /// action starts as an activity running alongside the substates,
-    /// unless it already runs (RT-17: once per entry of the composite).
-    StartActivity(u16),
+    /// The end of a simple (or final) state's entry action, RoboTool's
+    /// `entered`: the state's `sinceEntry` clock restarts, and so do those
+    /// of the composite states entered with it (their `entered` follows
+    /// the first substate's); their during actions start as activities
+    /// running alongside the substates, innermost first, unless already
+    /// running (RT-17: once per entry of the composite).
+    Entered(u16),
     /// The end of an activity's code: it lets time pass until its state
     /// is left (`TStop`).
     ActivityEnd,
@@ -709,6 +712,13 @@ pub struct Node {
     pub exit_pc: u32,
     /// The clock of `sinceEntry(S)`, if used.
     pub since_entry: Option<u16>,
+    /// A composite state's `sinceEntry` clock restarts at the first
+    /// substate's `entered` after the composite's entry: this slot is 1
+    /// from the composite's entry until then, 0 otherwise.
+    pub entered_flag: Option<u16>,
+    /// Simple and final states: the pc of the [`Instr::Entered`] ending
+    /// the entry action (the state is entered once the thread is past it).
+    pub entered_pc: Option<u32>,
     /// The code of its during action (`start..end`): transitions may
     /// interrupt it.
     pub during: Option<(u32, u32)>,

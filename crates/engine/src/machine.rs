@@ -189,6 +189,45 @@ impl Machine {
         self.run(self.main_thread(), st, clocks, first, sat)
     }
 
+    /// RoboTool's `entered` of the simple or final state `n`, at the end of
+    /// its entry action: its `sinceEntry` clock restarts, and so do those
+    /// of the composite states around it entered with it (whose `entered`
+    /// follows); their during actions start, innermost first, unless
+    /// already running (RT-17). Whether an activity started.
+    fn entered(&self, n: u16, st: &mut [i32], clocks: &[Clock], sat: &mut bool) -> Result<bool, StepError> {
+        let node = &self.nodes[n as usize];
+        if let Some(c) = node.since_entry {
+            st[c as usize] = 0;
+        }
+        let mut started = false;
+        let mut up = node.parent;
+        while let Some(a) = up {
+            let outer = &self.nodes[a as usize];
+            if let (Some(c), Some(f)) = (outer.since_entry, outer.entered_flag) {
+                if st[f as usize] == 1 {
+                    st[c as usize] = 0;
+                    st[f as usize] = 0;
+                }
+            }
+            if let Some(k) = outer.activity {
+                let act = self.activity_thread(k);
+                // Started once per entry of its state: a later substate's
+                // entry leaves it as it is.
+                if st[act.pc] < 0 {
+                    st[act.pc] = self.activities[k as usize].start_pc as i32;
+                    st[act.wait] = 0;
+                    st[act.deadline] = -1;
+                    // Its first internal work runs now; its variable
+                    // writes are steps of their own.
+                    self.run(act, st, clocks, false, sat)?;
+                    started = true;
+                }
+            }
+            up = outer.parent;
+        }
+        Ok(started)
+    }
+
     /// Runs thread `th`'s internal instructions until it offers something
     /// (see [`Machine::settle`]).
     fn run(
@@ -312,22 +351,12 @@ impl Machine {
                     st[*slot as usize] = least.clamp(0, i32::MAX as Val) as i32;
                     st[th.pc] += 1;
                 }
-                Instr::StartActivity(k) => {
-                    let start = self.activities[*k as usize].start_pc;
-                    let act = self.activity_thread(*k);
-                    // Started once per entry of its state (RT-17): a later
-                    // substate's entry leaves it as it is.
-                    if st[act.pc] >= 0 {
-                        st[th.pc] += 1;
+                Instr::Entered(n) => {
+                    st[th.pc] += 1;
+                    // Like passing an ended wait, unless an activity starts.
+                    if !self.entered(*n, st, clocks, sat)? {
                         continue;
                     }
-                    st[act.pc] = start as i32;
-                    st[act.wait] = 0;
-                    st[act.deadline] = -1;
-                    // Its first internal work runs now; its variable writes
-                    // are steps of their own.
-                    self.run(act, st, clocks, false, sat)?;
-                    st[th.pc] += 1;
                 }
                 Instr::Return(op) => {
                     let body = &self.ops[*op as usize];
@@ -341,8 +370,10 @@ impl Machine {
                     match node.kind {
                         NodeKind::State | NodeKind::Final => {
                             st[self.slot(LEAF)] = *n as i32;
-                            if let Some(c) = node.since_entry {
-                                st[c as usize] = 0;
+                            // A composite's clock waits for its first
+                            // substate's `entered` ([`Machine::entered`]).
+                            if let Some(f) = node.entered_flag {
+                                st[f as usize] = 1;
                             }
                         }
                         NodeKind::Junction | NodeKind::Initial => {
@@ -551,7 +582,7 @@ impl Machine {
             | Instr::Return(_)
             | Instr::BeginExits
             | Instr::ExitDone(_)
-            | Instr::StartActivity(_)
+            | Instr::Entered(_)
                 if !(self.paused_comms.is_empty() && self.paused_durings.is_empty()) =>
             {
                 out.push(Move { offer: Offer::Tau, act: exec })

@@ -7,14 +7,17 @@
 //! and the CSPm export both ask here, so they cannot resolve a name or
 //! choose a period differently.
 
+mod states;
+
+pub use states::{
+    design_machines, machines, match_state, names_machine, state, MachineStates, StateMatch, StateNode, StateRef,
+};
+
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
 use crate::cycle::{simulation_period, Feasibility};
 use crate::defs::{file_defs, DefData, DefId, DefKind, UseKind};
 use crate::index::{resolve_item, ItemLoc};
 use crate::{Db, File, FileKind, Workspace};
-
-mod states;
-pub use states::{design_machines, match_state, names_machine, MachineStates, StateMatch, StateNode};
 
 /// An element an assertion names, and how it is checked.
 #[derive(Debug, Clone, PartialEq, Eq)]

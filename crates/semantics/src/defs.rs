@@ -40,6 +40,8 @@ pub const SHARED_PROCESSES: &[&str] = &[
     "Last",
     "Front",
     "Reverse",
+    "in'",
+    "out'",
 ];
 
 fn def(n: &str, params: &[&str], body: Expr) -> Decl {
@@ -265,6 +267,12 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
                     empty(),
                     bin(BinOp::Cat, call("Reverse", vec![tl()]), Expr::SeqLit(vec![hd()])),
                 ),
+            ),
+            "in'" | "out'" => (
+                "InOut's direction by another name, for the modules whose own event bears RoboTool's name\n\
+                 `in` or `out`, which hides the constructor there.",
+                &[],
+                n(&h[..h.len() - 1]),
             ),
             _ => continue,
         };

@@ -141,14 +141,15 @@ fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: ElemDef<'_>, path:
     let what = decl.name();
     let reading = match (elem.kind, robosim) {
         (crate::export::ElemKind::Machine, false) => format!(
-            "The machine `{what}`: its states are processes (`Enter__S` runs the entry action, `Rest__S` offers the transitions while time passes) in parallel with its memory (`Memory__`: variables, clocks, and the guards, which enable each transition's trigger); internal events are hidden and happen before time passes (`TimedPriority`)."
+            "The machine `{what}`: its states are processes (`Enter__S` runs the entry action, `Rest__S` offers the transitions while time passes) in parallel with its memory (`Memory__`: variables, clocks, and the guards, which enable each transition's trigger); internal events are hidden and happen before time passes (`TimedPriority`); once finished, it offers its `terminate` while time passes."
         ),
         (crate::export::ElemKind::Machine, true) => format!(
             "The machine `{what}` (paper Rules 3–7, 13): its behaviour, its memory (inputs, variables, clocks, guards) and its cycle: read every input register, `startexec`, run until an `exec` ends the cycle (`endexec`), each output register written at once and at most once, then `cycle` time units pass."
         ),
-        (_, false) => format!(
-            "The {} `{what}`: its components in parallel, synchronising on `tock`, their events renamed through the connections; connections between components are hidden.",
-            elem.kind.describe()
+        (kind, false) => format!(
+            "The {} `{what}`: its components in parallel, synchronising on `tock` and `terminate` (they end together), their events renamed through the connections; connections between components are hidden{}.",
+            kind.describe(),
+            if kind == crate::export::ElemKind::Module { ", and so is `terminate`: the module ends at once" } else { "" }
         ),
         (_, true) => format!(
             "The {} `{what}` (paper Rules 1, 9–11): its components in parallel, synchronising on `tock` and `terminate`, their registers renamed through the connections.",

@@ -18,6 +18,13 @@ use crate::cspm::{
 use crate::export::{ChanKind, Dir, Elem, Exporter};
 use crate::util::ident;
 
+/// The design's process `m::D__(args)` with its own end, `m::terminate`,
+/// hidden (RoboTool: `design \ {terminate}`): the assumptions end with
+/// the design, on the shared `terminate`.
+fn design_process(m: &str, args: Vec<Expr>) -> Expr {
+    hide(call(format!("{m}::D__"), args), Expr::Events(vec![name(format!("{m}::terminate"))]))
+}
+
 /// The CSPm module of a simulation; `Err` says why it cannot be exported.
 pub(crate) fn simulation(
     ex: &mut Exporter<'_>,
@@ -177,7 +184,7 @@ pub(crate) fn simulation(
     exports.push(Decl::Def(
         "D__".into(),
         sparams.clone(),
-        call("TimedPriority", vec![constrained(call(format!("{m}::D__"), dargs.clone()))]),
+        call("TimedPriority", vec![constrained(design_process(m, dargs.clone()))]),
     ));
     exports.push(Decl::Def("O__".into(), sparams.clone(), call("sbisim", vec![call("D__", sargs)])));
     exports.push(Decl::Def(
@@ -189,7 +196,7 @@ pub(crate) fn simulation(
                 nary(
                     ProcOp::Interrupt,
                     vec![
-                        call(format!("{m}::D__"), dargs.clone()),
+                        design_process(m, dargs.clone()),
                         prefix("timelock", vec![], call("RUN", vec![Expr::Set(vec![name("tock")])])),
                     ],
                 ),
@@ -259,7 +266,7 @@ fn assume_inputs(
         let me = format!("A1_{}", ident(&ch.model));
         let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
         let mut ev = vec![name(csp), name("in")];
-        // One name per value field (products carry one field per component).
+        // One name per value field (a product is one field, a tuple).
         for k in 0..ch.values.len() {
             let x = if ch.values.len() == 1 { "x".to_string() } else { format!("x{k}") };
             rf.push(Field::In(x.clone()));
@@ -493,7 +500,7 @@ fn simulation_paper(ex: &mut Exporter<'_>, module: &str, sim_name: &str, design:
     )));
     let constrained = hide(
         par(
-            seq(vec![call(format!("{m}::D__"), dargs), prefix("terminate", vec![], Expr::Skip)]),
+            seq(vec![design_process(m, dargs), prefix("terminate", vec![], Expr::Skip)]),
             call("union", vec![name("External"), Expr::Set(vec![name("tock"), name("terminate")])]),
             call("TA1A2A3", vec![name("cycle")]),
         ),

@@ -85,6 +85,25 @@ pub(crate) fn ident(s: &str) -> String {
     out
 }
 
+/// The call event of the operation `op` (`suffix` `Call`, or `Ret` in
+/// paper2019) as RoboTool names it: `setCall` for an operation `set`. The
+/// whole name is escaped, not the operation's alone (`set_Call`), since
+/// only the whole needs to avoid CSPm's reserved names.
+pub(crate) fn op_event(op: &str, suffix: &str) -> String {
+    ident(&format!("{op}{suffix}"))
+}
+
+/// The channel of a RoboChart event `e` of a controller or module:
+/// RoboTool's name, the event's own, even `in` or `out` (InOut's
+/// constructors, which the container then writes as `in'`/`out'`).
+pub(crate) fn event_ident(e: &str) -> String {
+    if matches!(e, "in" | "out") {
+        e.to_string()
+    } else {
+        ident(e)
+    }
+}
+
 /// `a::b::c` as one identifier `a_b_c`.
 pub(crate) fn qualified(path: &[String]) -> String {
     ident(&path.join("_"))

@@ -399,3 +399,113 @@ stm M { uses I var x : nat initial i state S { }
         assert!(lts.has_trace(trace), "{trace:?}");
     }
 }
+
+/// RT-14 reads a synchronous link of one sender and several receivers as
+/// one multi-way synchronisation (the engine's cross-check,
+/// `composition_sender_and_receivers_at_once`, compares its behaviour);
+/// two senders on one linked event it does not read: refused with the
+/// reason, never exported as some other synchronisation.
+#[test]
+fn a_link_of_two_senders_is_refused() {
+    let model = "interface I { event o }
+stm P { uses I initial i state S { entry o } transition t { from i to S } }
+stm R { uses I initial i state S { } state T { } transition t { from i to S } transition u { from S to T trigger o } }
+controller C { uses I sref p = P sref q = P sref r = R
+  connection p on o to r on o connection q on o to r on o }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let e = export_workspace(&db, ws, &Options::default());
+    let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
+    assert_eq!(
+        messages,
+        ["5:3: controller C is not exported: the event `o` links 2 senders: a synchronisation of several senders is \
+          not exported (RT-14 reads one sender and several receivers)"],
+    );
+}
+
+/// A finished RoboChart machine or controller offers its own `terminate`
+/// (`M::terminate`, in RoboTool's `sem__events`), time passing until the
+/// environment takes it, then ✓ (RoboTool: `STM = (… \ {terminate} ;
+/// terminate -> SKIP)` in a `Timed` section); a controller's machines end
+/// together on its `terminate`. A module hides its controllers'
+/// `terminate`, a τ that goes before `tock`: it ends at once (reference
+/// `timed/defs/main_AggregationSoftware.csp`).
+#[test]
+fn a_finished_machine_offers_terminate_and_a_module_ends_at_once() {
+    let model = "stm M { initial i final f transition t { from i to f } }
+stm W { initial i state S { } final f transition t { from i to S } transition u { from S to f condition false } }
+controller C { sref m = M }
+controller D { sref m = M sref w = W }
+module Mod { robotic platform P { } cref c = C }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let ex = export_workspace(&db, ws, &Options::default());
+    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let mut lts = |p: &str| ev.eval_text(p).and_then(|p| ev.lts_of(&p)).expect("the LTS");
+    let ends = |lts: &robosim_cspm::Lts, trace: &[&str]| {
+        let mut cur = lts.tau_closure(vec![lts.initial]);
+        for n in trace {
+            let e = lts.event(n).expect("the event");
+            let next = cur
+                .iter()
+                .flat_map(|&s| lts.transitions[s as usize].iter().filter(|(l, _)| *l == robosim_cspm::Label::Event(e)))
+                .map(|(_, t)| *t)
+                .collect();
+            cur = lts.tau_closure(next);
+        }
+        cur.iter().any(|&s| lts.transitions[s as usize].iter().any(|(l, _)| *l == robosim_cspm::Label::Tick))
+    };
+    for (p, end) in [("M::D__(0)", "M::terminate"), ("C::D__(0)", "C::terminate")] {
+        let l = lts(p);
+        assert!(l.has_trace(&["tock", "tock", end]) && ends(&l, &[end]) && !ends(&l, &[]), "{p}");
+    }
+    // D's machine W never finishes: D never terminates, time passes.
+    let d = lts("D::D__(0)");
+    assert!(d.has_trace(&["tock", "tock"]) && !d.has_trace(&["D::terminate"]), "D");
+    let module = lts("Mod::D__(0)");
+    assert!(ends(&module, &[]) && !module.has_trace(&["tock"]), "Mod");
+}
+
+/// RT-17 in nested composite states, as RoboTool's composites do it (a
+/// composite's `entered`, which starts its `During`, follows a substate's,
+/// reference `timed/defs/pkg223__Communication.csp`, `Broadcast`): both
+/// during actions start after the innermost entry action `a`, in either
+/// order, and a trigger leaving the outer state stops both at once (they
+/// share it), so neither runs after `f`.
+#[test]
+fn nested_during_actions_start_after_the_innermost_entry_and_stop_together() {
+    let model = "interface I { event a event f event o event p }
+stm N { uses I initial i
+  state O { during o
+    initial j
+    state In { during p initial k state B { entry a } transition kb { from k to B } }
+    transition ji { from j to In } }
+  state T { }
+  transition t { from i to O } transition z { from O to T trigger f } }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let ex = export_workspace(&db, ws, &Options::default());
+    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let lts = ev.eval_text("N::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
+    for trace in [&["N::a.out", "N::o.out", "N::p.out", "N::f.in"][..], &["N::a.out", "N::p.out", "tock", "N::o.out"]] {
+        assert!(lts.has_trace(trace), "{trace:?}");
+    }
+    for trace in [
+        &["N::o.out"][..],
+        &["N::p.out"],
+        &["N::a.out", "N::f.in", "N::o.out"],
+        &["N::a.out", "N::f.in", "N::p.out"],
+        &["N::a.out", "N::o.out", "N::f.in", "N::p.out"],
+    ] {
+        assert!(!lts.has_trace(trace), "{trace:?}");
+    }
+}

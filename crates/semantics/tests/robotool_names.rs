@@ -84,7 +84,20 @@ fn a_machine_calls_its_operations_on_its_own_and_runs_its_controllers() {
     // controller's operation, its platform call the machine's.
     let c = module(&app, "C", 2);
     let s = module(&c, "s", 4);
-    assert!(s.contains("CALL__Stop = lib_Stop::D__(id__) [[ lib_Stop::haltCall <- haltCall ]]"), "{s}");
+    // The operation `lib::Stop` is RoboTool's `lib::OP_Stop` (as the
+    // reference's `pkg223_main::OP_tStop`).
+    assert!(s.contains("CALL__Stop = lib::OP_Stop::D__(id__) [[ lib::OP_Stop::haltCall <- haltCall ]]"), "{s}");
+    let lib = file(&e, "lib.csp");
+    assert!(
+        lib.contains(
+            "module lib
+"
+        ) && module(&lib, "OP_Stop", 2).contains(
+            "channel haltCall
+"
+        ),
+        "{lib}"
+    );
     assert!(s.contains("channel haltCall\n") && !s.contains("StopCall"), "{s}");
     // The controller composes that instance; its constants are named
     // after the reference (RoboTool: `const_pkg223__CommunicationC_stm_ref0_id`).
@@ -144,6 +157,66 @@ assertion a1: Spec refines app::M in the traces model";
     ] {
         assert!(script.contains(commented), "{commented} {script}");
     }
+    let errors = cspm_errors(&e, "a_assertions.csp");
+    assert!(errors.is_empty(), "{errors:#?}");
+}
+
+/// An event of a product type carries one value, a tuple, its channel
+/// declared with RoboTool's set of tuples (reference
+/// `defs/Communication.csp`: `channel receive: InOut.{(x0__,x1__) | x0__
+/// <- main_ID,x1__ <- main_ID}`): an output is `pair.out.(2, 0)`, an input
+/// binds the tuple.
+#[test]
+fn an_event_of_a_product_type_carries_a_tuple() {
+    let model = "interface I { event pair : nat * nat }
+stm M { uses I var p : nat * nat initial i state S { } state T { entry pair!(| 2, 0 |) }
+  transition t0 { from i to S } transition t1 { from S to T trigger pair?p } }";
+    let e = export(&[("m.rct", model)]);
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
+    let m = file(&e, "m.csp");
+    assert!(m.contains("channel pair : InOut.{(x0__, x1__) | x0__ <- core_nat, x1__ <- core_nat}\n"), "{m}");
+    let text: String = e.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let module = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(module.is_ok(), "{:?}", module.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&module, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let lts = ev.eval_text("M::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
+    assert!(lts.has_trace(&["M::pair.in.(1, 2)", "M::pair.out.(2, 0)"]));
+}
+
+/// RoboTool names channels by the model's names even where they clash
+/// with CSPm's: an event `out` is `channel out` (not `out_`), the call of
+/// an operation `set` is `setCall` (not `set_Call`), in the machine, its
+/// controller and its module, as `csp` blocks and the engine's CSPm
+/// bridge write them. A module whose own channel is `out` hides InOut's
+/// constructor `out`, so it writes that direction `out'`
+/// (robosim_defs.csp); the script is valid CSPm.
+#[test]
+fn events_and_calls_keep_names_that_clash_with_cspm() {
+    let model = "package p
+interface E { event out : nat event go }
+interface Ops { set(x : nat) }
+stm M { uses E requires Ops
+  initial i state A { }
+  transition t0 { from i to A } transition t1 { from A to A trigger go action out!1 ; set(2) } }
+stm N { uses E event relay : nat var x : nat
+  initial i state A { } transition t0 { from i to A } transition t1 { from A to A trigger out?x action relay!x } }
+controller C { uses E requires Ops sref m = M sref n = N
+  connection C on go to m on go connection m on out to n on out connection n on relay to C on out }
+module Mod { robotic platform P { uses E provides Ops } cref c = C
+  connection P on go to c on go ( _async ) connection c on out to P on out ( _async ) }";
+    let asserts = "assertion a1: p::Mod is deadlock-free";
+    let e = export(&[("m.rct", model), ("a.assertions", asserts)]);
+    let text = file(&e, "m.csp");
+    let m = module(&text, "M", 2);
+    assert!(m.contains("channel out : InOut.core_nat\n") && m.contains("channel setCall : core_nat\n"), "{m}");
+    assert!(m.contains("Delayable(out.out'.1)") && !m.contains("out_ ") && !m.contains("set_Call"), "{m}");
+    let n = module(&text, "N", 2);
+    assert!(n.contains("out__.TID_t1.in?x__in"), "{n}");
+    let c = module(&text, "C", 2);
+    assert!(c.contains("channel out : InOut.core_nat\n") && c.contains("channel setCall : core_nat\n"), "{c}");
+    assert!(c.contains("p::C::m::out.out'.") && c.contains("p::C::n::out.in."), "{c}");
+    let defs = file(&e, "robosim_defs.csp");
+    assert!(defs.contains("\nout' = out\n") && !defs.contains("in' = in"), "{defs}");
     let errors = cspm_errors(&e, "a_assertions.csp");
     assert!(errors.is_empty(), "{errors:#?}");
 }

@@ -92,6 +92,9 @@ impl MachineCx<'_, '_> {
                     None => {
                         let s = self.new_slot();
                         self.nodes[node].since_entry = Some(s);
+                        if self.nodes.iter().any(|x| x.parent == Some(node as u16)) {
+                            self.nodes[node].entered_flag = Some(self.new_slot());
+                        }
                         let q = format!("{}::sinceEntry({n})", self.inst_prefix);
                         self.design().clocks.push(Clock { name: q, slot: s, cap: 0 });
                         self.clock_caps.insert(s, 0);

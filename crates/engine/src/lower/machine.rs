@@ -439,6 +439,8 @@ impl<'b> MachineCx<'_, 'b> {
                 entry_pc: 0,
                 exit_pc: 0,
                 since_entry: None,
+                entered_flag: None,
+                entered_pc: None,
                 during: None,
                 timer: None,
                 activity: None,
@@ -503,8 +505,13 @@ impl<'b> MachineCx<'_, 'b> {
                         self.action_stmt(a)?;
                     }
                     self.at = self.nodes[id].range;
-                    self.start_parent_activity(id);
                     let has_children = self.nodes.iter().any(|n| n.parent == Some(node_id));
+                    // RoboTool's `entered` follows the entry action; a
+                    // composite's follows its first substate's.
+                    if !has_children {
+                        self.nodes[id].entered_pc = Some(self.code.len() as u32);
+                        self.emit(Instr::Entered(node_id));
+                    }
                     // The state's activity starts when its entry action ends
                     // (the exporter's `activate__`): the deadline timer of
                     // its transitions. A composite state's during action is
@@ -556,7 +563,8 @@ impl<'b> MachineCx<'_, 'b> {
                 }
                 NodeKind::Final => {
                     self.nodes[id].entry_pc = self.code.len() as u32;
-                    self.start_parent_activity(id);
+                    self.nodes[id].entered_pc = Some(self.code.len() as u32);
+                    self.emit(Instr::Entered(node_id));
                     // A final state ends the machine, or returns from an
                     // operation's body; in a composite state it just rests.
                     self.emit(match (self.nodes[id].parent, self.cur_op) {
@@ -582,15 +590,9 @@ impl<'b> MachineCx<'_, 'b> {
     /// substate entered later finds it running (or done) and leaves it.
     /// Parents come before their substates in `nodes`, so the parent's
     /// activity is known here.
-    fn start_parent_activity(&mut self, id: usize) {
-        if let Some(k) = self.nodes[id].parent.and_then(|p| self.nodes[p as usize].activity) {
-            self.emit(Instr::StartActivity(k));
-        }
-    }
-
     /// A composite state's during action: an activity of the machine,
-    /// started by its substates' entry code (see
-    /// [`MachineCx::start_parent_activity`]), its code out of line.
+    /// started when a substate is entered ([`Instr::Entered`]), its code
+    /// out of line.
     fn activity(&mut self, state: u16, during: &model::Action) -> Result<(), Unsupported> {
         if self.cx.robosim {
             return Err(self.err(

@@ -6,7 +6,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// `base`, or `base` with `x`s appended, so that it is no tagged
     /// channel's name (`v__` for an event `v`): a pattern or generator of
     /// that name would shadow the channel (or, in FDR, be the channel).
-    fn fresh_var(&self, base: &str) -> String {
+    pub(super) fn fresh_var(&self, base: &str) -> String {
         let mut n = base.to_string();
         while self.events.iter().any(|e| n.strip_suffix("__") == Some(e.csp.as_str())) {
             n.push('x');
@@ -151,7 +151,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             for o in calls {
                 let f: Vec<Expr> = self.ops[o].params.iter().map(|t| t.set()).collect();
-                exports.push(Decl::Channel(vec![format!("{}Call", ident(&self.ops[o].name))], f));
+                exports.push(Decl::Channel(vec![op_event(&self.ops[o].name, "Call")], f));
             }
         } else if self.robosim {
             private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
@@ -171,14 +171,19 @@ impl<'e, 'a> Gen<'e, 'a> {
             hidden.push(name("end__"));
             sync.push(name("end__"));
         }
-        if !self.activities.is_empty() {
-            private.push(Decl::Comment(
-                "Start and end of the activities of states (during actions of composite states, deadlines\n\
-                 of transitions)."
-                    .into(),
-            ));
+        if self.active.contains(&true) {
+            private.push(Decl::Comment("Start and end of the timers of states (deadlines of transitions).".into()));
             private.push(Decl::Channel(vec!["activate__".into(), "deactivate__".into()], vec![name("SIDS")]));
             hidden.extend([name("activate__"), name("deactivate__")]);
+        }
+        if self.during.contains(&true) {
+            private.push(Decl::Comment(
+                "A substate has finished its entry action: the during action of its composite state starts\n\
+                 (RT-17)."
+                    .into(),
+            ));
+            private.push(Decl::Channel(vec!["ready__".into()], vec![name("SIDS")]));
+            hidden.push(name("ready__"));
         }
         // Exported interface.
         exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
@@ -199,9 +204,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             for o in self.ops.iter().filter(|o| !o.defined) {
                 let f: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
-                exports.push(Decl::Channel(vec![format!("{}Call", ident(&o.name))], f));
+                exports.push(Decl::Channel(vec![op_event(&o.name, "Call")], f));
                 if self.profile == Profile::Paper2019 {
-                    exports.push(Decl::Channel(vec![format!("{}Ret", ident(&o.name))], vec![]));
+                    exports.push(Decl::Channel(vec![op_event(&o.name, "Ret")], vec![]));
                 }
             }
         } else {
@@ -358,15 +363,35 @@ impl<'e, 'a> Gen<'e, 'a> {
         } else {
             let mut beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
             if !self.activities.is_empty() {
-                let acts = self
-                    .activities
-                    .iter()
-                    .rev()
-                    .map(|a| name(a.clone()))
-                    .reduce(|acc, a| par(a, Expr::Events(vec![name("tock"), name("end__")]), acc))
-                    .expect("an activity");
-                let with = Expr::Events(vec![name("activate__"), name("deactivate__"), name("tock"), name("end__")]);
-                beh = par(beh, with, acts);
+                // Each in parallel with those after it, sharing the
+                // triggers that stop both (a during action and one around it).
+                let mut acts: Option<(Expr, std::collections::BTreeSet<usize>)> = None;
+                for (a, stops) in std::mem::take(&mut self.activities).into_iter().rev() {
+                    let stops: std::collections::BTreeSet<usize> = stops.into_iter().collect();
+                    acts = Some(match acts {
+                        None => (name(a), stops),
+                        Some((acc, seen)) => {
+                            let mut sync = vec![name("tock"), name("end__")];
+                            for &t in stops.intersection(&seen) {
+                                sync.extend(self.trigger_event(t));
+                            }
+                            (par(name(a), Expr::Events(sync), acc), seen.union(&stops).copied().collect())
+                        }
+                    });
+                }
+                let (acts, stops) = acts.expect("an activity");
+                let mut with = Vec::new();
+                if self.active.contains(&true) {
+                    with.extend([name("activate__"), name("deactivate__")]);
+                }
+                if self.during.contains(&true) {
+                    with.push(name("ready__"));
+                }
+                with.extend([name("tock"), name("end__")]);
+                for t in stops {
+                    with.extend(self.trigger_event(t));
+                }
+                beh = par(beh, Expr::Events(with), acts);
             }
             let comp = hide(par(beh, Expr::Events(sync), memory), Expr::Events(hidden));
             // Tagged triggers become the machine's events.
@@ -403,8 +428,12 @@ impl<'e, 'a> Gen<'e, 'a> {
                     Expr::Set(vec![name("terminate")]),
                 )],
             )
-        } else {
+        } else if self.is_operation {
             call("TimedPriority", vec![hide(call("P__", args.clone()), entered)])
+        } else {
+            // RoboTool's `STM`: the end is hidden inside (`end__`), then the
+            // machine offers its `terminate`, time passing meanwhile.
+            call("TimedPriority", vec![seq(vec![hide(call("P__", args.clone()), entered), terminating()])])
         };
         let vs_body = if self.robosim {
             call(
@@ -418,8 +447,10 @@ impl<'e, 'a> Gen<'e, 'a> {
                     Expr::Set(vec![name("terminate")]),
                 )],
             )
-        } else {
+        } else if self.is_operation {
             call("P__", args.clone())
+        } else {
+            seq(vec![call("P__", args.clone()), terminating()])
         };
         let mut doc = vec![Decl::Comment(format!(
             "{} (parameters: {}).",
@@ -434,8 +465,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                 "D__: the operation's semantics, terminating at its final state (callers rename its\n\
                  channels to theirs); VS__: with `entered__` visible; O__: D__ compressed"
             } else {
-                "D__: the machine's semantics; VS__: with `entered__` visible (reachability);\n\
-                 O__: D__ compressed"
+                "D__: the machine's semantics, offering `terminate` once finished; VS__: with `entered__`\n\
+                 visible (reachability); O__: D__ compressed"
             },
             params.join(", ")
         ))];
@@ -443,6 +474,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             doc.push(p_def);
         } else {
             private.push(p_def);
+            if !self.is_operation {
+                doc.insert(0, Decl::Comment("Its end (RoboTool's `terminate`, per machine).".into()));
+                doc.insert(1, Decl::Channel(vec!["terminate".into()], vec![]));
+            }
         }
         doc.push(Decl::Def("D__".into(), params.clone(), d_body));
         doc.push(Decl::Def("VS__".into(), params.clone(), vs_body));
@@ -707,7 +742,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             for o in self.ops.iter().filter(|o| !o.defined) {
                 let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
                 chans.push(Chan {
-                    csp: format!("{}Call", ident(&o.name)),
+                    csp: op_event(&o.name, "Call"),
                     model: o.name.clone(),
                     kind: ChanKind::Call,
                     fields: values.clone(),
@@ -716,7 +751,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 });
                 if self.profile == Profile::Paper2019 {
                     chans.push(Chan {
-                        csp: format!("{}Ret", ident(&o.name)),
+                        csp: op_event(&o.name, "Ret"),
                         model: o.name.clone(),
                         kind: ChanKind::Ret,
                         fields: vec![],
@@ -738,6 +773,14 @@ impl<'e, 'a> Gen<'e, 'a> {
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, self.model.and_then(|b| b.def))
                 .unwrap_or(1),
             required: self.required.clone(),
+            parts: Vec::new(),
         }
     }
+}
+
+/// RoboTool's end of a RoboChart machine, controller or module:
+/// `terminate`, its own channel, whenever the environment offers it, time
+/// passing meanwhile (`terminate -> SKIP` in a `Timed` section).
+fn terminating() -> Expr {
+    call("Delayable", vec![name("terminate")])
 }

@@ -8,7 +8,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         match node.kind {
             NodeKind::State => name(format!("Enter__{}", node.tag)),
             NodeKind::Junction | NodeKind::Initial => name(format!("Junction__{}", node.tag)),
-            NodeKind::Final if node.parent.is_some() => name(format!("Rest__{}", node.tag)),
+            NodeKind::Final if node.parent.is_some() => self.ready(n, name(format!("Rest__{}", node.tag))),
             NodeKind::Final if self.robosim => name("Ending__"),
             NodeKind::Final => Expr::Skip,
         }
@@ -28,8 +28,9 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(super) fn transition(&mut self, t: usize, leaf: Option<usize>) -> Option<Expr> {
         let syn = self.trans[t].m.clone();
         let mut rest = Vec::new();
-        // The activities of the states it leaves stop at once, innermost
-        // first (RoboChart: the trigger interrupts the during actions).
+        // The timers of the states it leaves stop at once, innermost first
+        // (the during actions of composite states stop at the trigger
+        // itself, which they share: see `during_process`).
         let mut cur = Some(leaf.unwrap_or(self.trans[t].source));
         while let Some(c) = cur {
             if self.active.get(c).copied().unwrap_or(false) {
@@ -110,14 +111,20 @@ impl<'e, 'a> Gen<'e, 'a> {
                 self.gates.push(g);
             }
         }
-        // States with an activity: a composite state's during action, the
-        // deadlines of the transitions from a state.
+        // States with an activity: the deadlines of the transitions from a
+        // state; with a during action run alongside their substates.
         self.active = (0..self.nodes.len())
+            .map(|n| {
+                self.nodes[n].kind == NodeKind::State
+                    && self.trans.iter().any(|t| t.source == n && t.m.deadline.is_some())
+            })
+            .collect();
+        self.during = (0..self.nodes.len())
             .map(|n| {
                 let node = &self.nodes[n];
                 node.kind == NodeKind::State
-                    && ((self.nodes.iter().any(|c| c.parent == Some(n)) && node.m.during.is_some())
-                        || self.trans.iter().any(|t| t.source == n && t.m.deadline.is_some()))
+                    && self.nodes.iter().any(|c| c.parent == Some(n))
+                    && node.m.during.as_ref().is_some_and(|a| a.stmt.is_some())
             })
             .collect();
         // States, junctions and finals.
@@ -274,17 +281,30 @@ impl<'e, 'a> Gen<'e, 'a> {
         match self.nodes[n].kind {
             NodeKind::State => {
                 let mut parts = vec![];
-                if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
-                    parts.push(prefix(format!("reset_{}", c.csp), vec![], Expr::Skip));
-                }
                 let Some(entry) = self.action_of(node_syn.entry.as_ref()) else { return };
                 parts.extend(entry);
                 let composite = self.nodes.iter().any(|c| c.parent == Some(n));
+                // RoboTool's state clock restarts on `S::entered`, after the
+                // entry action. A composite's `entered` follows its first
+                // substate's, which this export does not track for clocks
+                // yet: it restarts before the entry (a known difference,
+                // `SINCE_ENTRY` in the engine's cross-check).
+                if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
+                    let reset = prefix(format!("reset_{}", c.csp), vec![], Expr::Skip);
+                    if composite {
+                        parts.insert(0, reset);
+                    } else {
+                        parts.push(reset);
+                    }
+                }
                 if self.active[n] {
-                    if !self.activity(n, composite) {
+                    if !self.activity(n) {
                         return;
                     }
                     parts.push(prefix("activate__", vec![Field::Dot(name(format!("SID_{tag}")))], Expr::Skip));
+                }
+                if self.during[n] && !self.during_process(n) {
+                    return;
                 }
                 if composite {
                     let Some(init) = self.nodes.iter().position(|c| c.parent == Some(n) && c.kind == NodeKind::Initial)
@@ -294,7 +314,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     };
                     parts.push(self.enter(init));
                 } else {
-                    parts.push(name(format!("Rest__{tag}")));
+                    parts.push(self.ready(n, name(format!("Rest__{tag}"))));
                     self.rest(n);
                 }
                 let body = prefix("entered__", vec![Field::Dot(name(format!("SID_{tag}")))], fold_seq(parts));
@@ -320,34 +340,14 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    /// `Activity__S`: what state `S` does alongside its substates and
-    /// transitions, from the end of its entry action until a transition
-    /// leaves it (`activate__.SID_S` … `deactivate__.SID_S`): the during
-    /// action of a composite state (RoboChart: it runs in parallel with the
-    /// substates and is interrupted by the exit), and one timer per
-    /// transition from `S` with a deadline `<{d}`, which refuses time after
-    /// `d` time units (the transition must be taken by then). Returns false
-    /// when something is not exported.
-    pub(super) fn activity(&mut self, n: usize, composite: bool) -> bool {
-        let syn = self.nodes[n].m.clone();
+    /// `Activity__S`: the timers of state `S`, from the end of its entry
+    /// action until a transition leaves it (`activate__.SID_S` …
+    /// `deactivate__.SID_S`): one per transition from `S` with a deadline
+    /// `<{d}`, which refuses time after `d` time units (the transition must
+    /// be taken by then). Returns false when something is not exported.
+    pub(super) fn activity(&mut self, n: usize) -> bool {
         let tag = self.nodes[n].tag.clone();
         let mut parts = Vec::new();
-        if self.robosim {
-            // RoboSim has no transition deadlines: only a composite's during action gets here.
-            self.problem(
-                syn.name_range,
-                "during actions of composite RoboSim states are not exported: how they share the \
-                 cycle with the substates (`exec`) is not pinned down",
-            );
-            return false;
-        }
-        if composite && syn.during.is_some() {
-            match self.action_of(syn.during.as_ref()) {
-                Some(Some(d)) => parts.push(seq(vec![d, name("TStop")])),
-                Some(None) => {}
-                None => return false,
-            }
-        }
         for t in 0..self.trans.len() {
             if self.trans[t].source != n {
                 continue;
@@ -382,8 +382,104 @@ impl<'e, 'a> Gen<'e, 'a> {
             prefix("end__", vec![], Expr::Skip),
         ]);
         self.defs.push(Decl::Def(me.clone(), vec![], body));
-        self.activities.push(me);
+        self.activities.push((me, Vec::new()));
         true
+    }
+
+    /// `During__C`: the during action of the composite state `C` (RT-17,
+    /// RoboTool's `During` of a composite): it starts once a substate has
+    /// finished its entry action (`ready__.SID_C`, RoboTool's `entered` of
+    /// a substate, which the substates' own entries repeat: ignored until
+    /// it has stopped), runs alongside the substates, and stops at the
+    /// trigger of a transition that leaves `C` (one from `C` or from a
+    /// state around it), which it shares (RoboTool renames those triggers
+    /// to `C`'s `interrupt`), so that it never outlives `C`. Returns false
+    /// when something is not exported.
+    pub(super) fn during_process(&mut self, n: usize) -> bool {
+        let syn = self.nodes[n].m.clone();
+        if self.robosim {
+            self.problem(
+                syn.name_range,
+                "during actions of composite RoboSim states are not exported: how they share the \
+                 cycle with the substates (`exec`) is not pinned down",
+            );
+            return false;
+        }
+        let Some(Some(d)) = self.action_of(syn.during.as_ref()) else { return false };
+        let tag = self.nodes[n].tag.clone();
+        let me = format!("During__{tag}");
+        let ready = dot(vec![name("ready__"), name(format!("SID_{tag}"))]);
+        let mut stops = Vec::new();
+        let mut events = Vec::new();
+        let mut cur = Some(n);
+        while let Some(c) = cur {
+            let from: Vec<usize> = (0..self.trans.len()).filter(|&t| self.trans[t].source == c).collect();
+            for t in from {
+                let Some(e) = self.trigger_event(t) else { return false };
+                stops.push(t);
+                events.push(e);
+            }
+            cur = self.nodes[c].parent;
+        }
+        let v = self.fresh_var("ev__");
+        let stop = (!events.is_empty()).then(|| {
+            Expr::Repl(
+                crate::cspm::ReplOp::ExtChoice,
+                vec![(v.clone(), Expr::Events(events))],
+                Box::new(prefix(v.clone(), vec![], name(me.clone()))),
+            )
+        });
+        let run = nary(
+            ProcOp::Interleave,
+            vec![seq(vec![d, name("TStop")]), call("RUN", vec![Expr::Set(vec![ready.clone()])])],
+        );
+        let running = match &stop {
+            Some(s) => nary(ProcOp::Interrupt, vec![run, s.clone()]),
+            None => run,
+        };
+        let mut alts = vec![prefix("ready__", vec![Field::Dot(name(format!("SID_{tag}")))], running)];
+        alts.extend(stop);
+        alts.push(prefix("tock", vec![], name(me.clone())));
+        alts.push(prefix("end__", vec![], Expr::Skip));
+        self.defs.push(Decl::Def(me.clone(), vec![], ext(alts)));
+        self.activities.push((me, stops));
+        true
+    }
+
+    /// The event that takes transition `t` (its trigger, tagged with the
+    /// transition: `e__.TID_t`, or `internal__.TID_t`), `None` when its
+    /// trigger is not an event (reported where the transition is made).
+    pub(super) fn trigger_event(&mut self, t: usize) -> Option<Expr> {
+        let tid = name(self.trans[t].tid.clone());
+        match &self.trans[t].m.trigger {
+            None => Some(dot(vec![name("internal__"), tid])),
+            Some(comm) => match self.names.get(&comm.event) {
+                Some(Nm::Event(i)) => {
+                    let i = *i;
+                    self.events[i].trig = true;
+                    Some(dot(vec![name(format!("{}__", self.events[i].csp)), tid]))
+                }
+                _ => None,
+            },
+        }
+    }
+
+    /// `then` after the hidden `ready__.SID_A` of each state `A` around the
+    /// node `n` with a during action (innermost first): `n` has finished
+    /// its entry, so the during actions around it start (RT-17).
+    pub(super) fn ready(&self, n: usize, then: Expr) -> Expr {
+        let mut around = Vec::new();
+        let mut cur = self.nodes[n].parent;
+        while let Some(c) = cur {
+            if self.during.get(c).copied().unwrap_or(false) {
+                around.push(c);
+            }
+            cur = self.nodes[c].parent;
+        }
+        around
+            .into_iter()
+            .rev()
+            .fold(then, |acc, c| prefix("ready__", vec![Field::Dot(name(format!("SID_{}", self.nodes[c].tag)))], acc))
     }
 
     /// `Rest__L`: the leaf `L` offers its transitions and those of its

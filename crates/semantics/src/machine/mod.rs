@@ -25,7 +25,7 @@ use robosim_hir::{File, FileKind, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
-use crate::util::{self, ident};
+use crate::util::{self, ident, op_event};
 
 mod assembly;
 mod behaviour;
@@ -227,12 +227,16 @@ pub(crate) struct Gen<'e, 'a> {
     counter: usize,
     /// Depth of the statements and expressions being translated.
     nesting: usize,
-    /// Per node: whether it is a state with an activity (see
+    /// Per node: whether it is a state with timers (see
     /// [`Gen::activity`]), started when it is entered and stopped by every
     /// transition that leaves it.
     active: Vec<bool>,
-    /// The activity processes (`Activity__S`).
-    activities: Vec<String>,
+    /// Per node: whether it is a composite state with a during action
+    /// (see [`Gen::during_process`]).
+    during: Vec<bool>,
+    /// The processes alongside the behaviour (`Activity__S`, `During__C`),
+    /// with the transitions whose triggers each shares.
+    activities: Vec<(String, Vec<usize>)>,
     /// Translating an `operation` of the model (its parameters are those
     /// of `D__`, after `id__`).
     is_operation: bool,
@@ -312,6 +316,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             counter: 0,
             nesting: 0,
             active: Vec::new(),
+            during: Vec::new(),
             activities: Vec::new(),
             is_operation: false,
             sim_op: false,
@@ -376,6 +381,30 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         self.locals.insert(s.clone());
         s
+    }
+
+    /// The channel of the event `n`: as [`Gen::local`], but an event
+    /// called `in` or `out` keeps RoboTool's name (its channel hides
+    /// InOut's constructor in the module, which then writes the direction
+    /// as `in'`/`out'`, see [`Gen::direction`]).
+    fn event_local(&mut self, n: &str) -> String {
+        if !self.robosim && matches!(n, "in" | "out") && self.locals.insert(n.to_string()) {
+            return n.to_string();
+        }
+        self.local(n)
+    }
+
+    /// InOut's constructor `d` (`in` or `out`) as the module can name it:
+    /// `in'`/`out'` (robosim_defs.csp) when an event's channel bears its
+    /// name.
+    fn direction(&mut self, d: &str) -> Expr {
+        if self.events.iter().any(|e| e.csp == d) {
+            let alias: &'static str = if d == "in" { "in'" } else { "out'" };
+            self.ex.helpers.insert(alias);
+            name(alias)
+        } else {
+            name(d)
+        }
     }
 
     /// Translates the machine: its CSPm module and its interface.
@@ -449,7 +478,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             for kind in kinds {
                 let suffix = if kind == OpChanKind::Call { "Call" } else { "Ret" };
                 chans.push(OpChan {
-                    csp: format!("{}{suffix}", ident(&o.name)),
+                    csp: op_event(&o.name, suffix),
                     model: o.name.clone(),
                     kind,
                     dir: Dir::Out,
@@ -525,7 +554,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                             },
                             None => None,
                         };
-                        let csp = self.local(n);
+                        let csp = self.event_local(n);
                         self.events.push(EvI { name: n.clone(), csp, ty, io, received: false, trig: false });
                         self.names.insert(n.clone(), Nm::Event(self.events.len() - 1));
                     }
@@ -799,15 +828,18 @@ pub(crate) fn operation<'a>(
 }
 
 /// The CSPm module of the operation `name` declared in `outer` (of
-/// `file`): a top-level one's is its qualified name; one declared inside a
-/// controller is RoboTool's `OP_<name>` inside the controller's module
-/// (`pkg::C::OP_op`, as the reference's `pkg223_::CommunicationC::OP_…`).
+/// `file`), RoboTool's `OP_<name>`: a top-level one's inside its
+/// package's module (`pkg::OP_op`, as the reference's
+/// `pkg223_main::OP_tStop`; `OP_op` in the default package), one declared
+/// inside a controller inside the controller's module (`pkg::C::OP_op`, as
+/// the reference's `pkg223_::CommunicationC::OP_…`).
 pub(super) fn operation_module(ex: &mut Exporter<'_>, file: File, outer: &[String], name: &str) -> String {
     let package = ex.package(file);
     if outer.len() <= package.len() {
         let mut path = outer.to_vec();
-        path.push(name.to_string());
-        return ex.module_name(&path);
+        path.push(format!("OP_{}", ident(name)));
+        let module = crate::util::element_module(outer, &path);
+        return ex.unique_module(module);
     }
     let named = robosim_hir::csp_names::csp_names(ex.db, ex.ws).element_by_path(outer);
     let container = match named {

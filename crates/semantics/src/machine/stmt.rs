@@ -112,7 +112,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 if self.sim_op && !self.ops[o].defined {
                     // A call of another operation: the urgent call event.
                     let (args, reads) = self.arguments(args, r, o)?;
-                    let mut fields = vec![name(format!("{}Call", ident(&self.ops[o].name)))];
+                    let mut fields = vec![name(op_event(&self.ops[o].name, "Call"))];
                     fields.extend(args);
                     self.sim_op_calls.insert(o);
                     let p = self.with_reads(&reads, call("EDeadline", vec![dot(fields), Expr::Int(0)]));
@@ -128,11 +128,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 let (args, reads) = self.arguments(args, r, o)?;
                 let op = &self.ops[o];
-                let mut fields = vec![name(format!("{}Call", ident(&op.name)))];
+                let mut fields = vec![name(op_event(&op.name, "Call"))];
                 fields.extend(args);
                 let mut p = call("EDeadline", vec![dot(fields), Expr::Int(0)]);
                 if self.profile == Profile::Paper2019 {
-                    p = seq(vec![p, call("EDeadline", vec![name(format!("{}Ret", ident(&op.name))), Expr::Int(0)])]);
+                    p = seq(vec![p, call("EDeadline", vec![name(op_event(&op.name, "Ret")), Expr::Int(0)])]);
                 }
                 let p = self.with_reads(&reads, p);
                 self.record_term(s.head, TermKind::Call, || p.clone());
@@ -203,7 +203,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let (args, reads) = match (&ty, value) {
                     (Some(t), Some(v)) => {
                         let (e, reads) = self.bexpr(v, Some(t))?;
-                        (self.fields_of(t, e), reads)
+                        (vec![e], reads)
                     }
                     (None, None) => (Vec::new(), Vec::new()),
                     _ => {
@@ -245,7 +245,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// A call of an operation defined in the model: its process
-    /// (`Op::D__(id__, args, constants)`, its events renamed to the
+    /// (`pkg::OP_op::D__(id__, args, constants)`, its events renamed to the
     /// caller's), through `CALL__op(args)` as RoboTool names it. The
     /// operation's events and platform calls become the caller's.
     pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
@@ -263,7 +263,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
             return None;
         }
-        let helper = format!("CALL__{}", ident(&n));
+        let helper = ident(&format!("CALL__{n}"));
         if !self.op_calls.iter().any(|(h, _)| *h == helper) {
             let def = self.operation_helper(&op, &helper, r)?;
             self.op_calls.push((helper.clone(), def));
@@ -275,7 +275,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         Some(p)
     }
 
-    /// `CALL__op(x…) = Op::D__(id__, x…, constants) [[ Op::e <- e, … ]]`:
+    /// `CALL__op(x…) = pkg::OP_op::D__(id__, x…, constants) [[ pkg::OP_op::e <- e, … ]]`:
     /// the operation's constants become the caller's, its channels the
     /// caller's channels of the same name.
     pub(super) fn operation_helper(&mut self, op: &OperationOut, helper: &str, r: TextRange) -> Option<Decl> {
@@ -359,7 +359,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                         return None;
                     }
                     let suffix = if ch.kind == OpChanKind::Call { "Call" } else { "Ret" };
-                    format!("{}{suffix}", ident(&ch.model))
+                    op_event(&ch.model, suffix)
                 }
             };
             renames.push((name(format!("{}::{}", op.module, ch.csp)), name(mine)));
@@ -443,7 +443,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let e = e.as_ref()?;
                 let (v, rd) = self.bexpr(e, Some(&t))?;
                 reads = rd;
-                value = Some(self.fields_of(&t, v));
+                value = Some(vec![v]);
                 dir = if matches!(p, m::CommPart::Sync(_)) { "in" } else { "out" };
             }
             Some(m::CommPart::Input(var, pr)) => {
@@ -467,8 +467,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.events[i].received = true;
         }
         let csp = self.events[i].csp.clone();
-        let mut fields = vec![Field::Dot(name(dir))];
-        // The input fields (one per component of a product) and the value
+        let mut fields = vec![Field::Dot(self.direction(dir))];
+        // The input field (a tuple for a product) and the value
         // they make, stored in the variable.
         let bound = match (bind, &ty) {
             (Some(v), Some(t)) => {
@@ -525,15 +525,6 @@ impl<'e, 'a> Gen<'e, 'a> {
                 };
                 Some(self.with_reads(&reads, p))
             }
-        }
-    }
-
-    /// The channel fields carrying value `v` of type `t`: its components
-    /// when `t` is a product (see [`Ty::field_sets`]).
-    pub(super) fn fields_of(&mut self, t: &Ty, v: Expr) -> Vec<Expr> {
-        match t {
-            Ty::Product(ts) => self.ex.components(ts.len(), v),
-            _ => vec![v],
         }
     }
 }
