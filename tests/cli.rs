@@ -105,3 +105,39 @@ fn invalid_utf8_is_reported_not_fatal() {
     assert!(msgs[0].starts_with("the file is not valid UTF-8"), "{msgs:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An assertion file's names that denote nothing are LNK-01 errors of
+/// `check`, on the name that fails; `verify` refuses the same assertions
+/// (the two read names through the same resolution), and decides the one
+/// whose names resolve.
+#[test]
+fn assertion_names_check_and_verify_agree() {
+    let dir = data("assertion_names");
+    let out = robosim().args(["check", "--format", "json"]).arg(&dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let found: Vec<(String, serde_json::Value, String)> = v["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| {
+            (d["code"].as_str().unwrap().to_string(), d["range"].clone(), d["message"].as_str().unwrap().to_string())
+        })
+        .collect();
+    let at = |line: u32, start: u32, end: u32| serde_json::json!({"start": {"line": line, "character": start}, "end": {"line": line, "character": end}});
+    let expected = [
+        (at(0, 14, 21), "cannot resolve `Nothing`: no simulation, module, controller, state machine, operation or `csp` block of that name is in scope"),
+        (at(1, 17, 18), "cannot resolve state `Q` in `M`"),
+        (at(2, 47, 54), "cannot resolve constant `nothere` of the state machine `M`: neither it, its interfaces nor its parts declare one"),
+    ];
+    assert_eq!(found.len(), expected.len(), "{found:#?}");
+    for ((code, range, message), (want_range, want)) in found.iter().zip(&expected) {
+        assert_eq!((code.as_str(), range, message.as_str()), ("LNK-01", want_range, *want));
+    }
+    let out = robosim().args(["verify", "--format", "json"]).arg(&dir).output().unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for a in v["assertions"].as_array().unwrap() {
+        let want = if a["name"] == "G" { "pass" } else { "unsupported" };
+        assert_eq!(a["verdict"], want, "{a:#}");
+    }
+}

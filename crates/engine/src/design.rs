@@ -116,58 +116,32 @@ impl<'a> DesignLts<'a> {
     }
 
     /// The states the path `path` of a reachability assertion names, as
-    /// (machine, node) pairs: the path ends with the state's path inside
-    /// its machine (`S`, or `C::S` for `S` inside the composite `C`), and
-    /// what comes before names the machine's instance (`M` alone, `q` or
-    /// `Ctl::q` in a controller, `c::q` or `Mod::c::q` in a module) or its
-    /// declaration (`M` for `sref q = M`); an
-    /// empty prefix names any machine. So `M::S` is never a substate `S`
-    /// of a composite of `M` when `M` has a state `S` of its own, nor a
-    /// state `S` of another machine. A path that leaves out the
-    /// composites around the state (`M::B` for `M::C::B`) names it when
-    /// the machine has only one state of that name. An error when the
-    /// path names no state, or several (a verdict on the wrong state would
-    /// be wrong).
+    /// (machine, node) pairs, read by hir's one reading of state paths
+    /// ([`robosim_hir::target::match_state`], which the checker's LNK-01
+    /// uses too). An error when the path names no state, or several (a
+    /// verdict on the wrong state would be wrong).
     pub fn state_nodes(&self, path: &[String]) -> Result<Vec<(usize, u16)>, String> {
+        use robosim_hir::target::{match_state, MachineStates, StateMatch, StateNode};
         let written = path.join("::");
-        let names_instance = |prefix: &[String], instance: &[&str]| {
-            prefix.is_empty()
-                || (prefix.len() >= instance.len()
-                    && prefix[prefix.len() - instance.len()..].iter().zip(instance).all(|(a, b)| a == b))
-        };
-        let (mut found, mut by_name) = (Vec::new(), Vec::new());
-        for (mi, m) in self.design.machines.iter().enumerate() {
-            let instance: Vec<&str> = m.name.split("::").collect();
-            let names_machine = |prefix: &[String]| {
-                names_instance(prefix, &instance) || names_instance(prefix, &[m.decl_name.as_str()])
-            };
-            for (ni, n) in m.nodes.iter().enumerate() {
-                if n.op.is_some() {
-                    continue;
-                }
-                let mut inner = vec![n.name.as_str()];
-                let mut up = n.parent;
-                while let Some(p) = up {
-                    inner.push(m.nodes[p as usize].name.as_str());
-                    up = m.nodes[p as usize].parent;
-                }
-                inner.reverse();
-                if path.last().map(String::as_str) == Some(n.name.as_str()) && names_machine(&path[..path.len() - 1]) {
-                    by_name.push((mi, ni as u16));
-                }
-                let Some(prefix) = path.len().checked_sub(inner.len()).map(|k| &path[..k]) else { continue };
-                if path[prefix.len()..].iter().zip(&inner).all(|(a, b)| a == b) && names_machine(prefix) {
-                    found.push((mi, ni as u16));
-                }
-            }
-        }
-        if found.is_empty() && by_name.len() == 1 {
-            found = by_name;
-        }
-        match found.len() {
-            0 => Err(format!("`{written}` names no state of the machines checked")),
-            1 => Ok(found),
-            _ => {
+        let machines: Vec<MachineStates> = self
+            .design
+            .machines
+            .iter()
+            .map(|m| MachineStates {
+                instance: m.name.clone(),
+                decl: m.decl_name.clone(),
+                nodes: m
+                    .nodes
+                    .iter()
+                    .map(|n| StateNode { name: n.name.clone(), parent: n.parent.map(usize::from), own: n.op.is_none() })
+                    .collect(),
+            })
+            .collect();
+        let pairs = |found: Vec<(usize, usize)>| found.into_iter().map(|(mi, ni)| (mi, ni as u16)).collect();
+        match match_state(path, &machines) {
+            StateMatch::None => Err(format!("`{written}` names no state of the machines checked")),
+            StateMatch::Found(found) => Ok(pairs(found)),
+            StateMatch::Several(found) => {
                 let names: Vec<&str> = found.iter().map(|&(mi, _)| self.design.machines[mi].name.as_str()).collect();
                 Err(format!(
                     "`{written}` names a state of several machines ({}): qualify it with the machine's name",

@@ -279,7 +279,8 @@ impl ExportView<'_> {
 }
 
 /// An event as both sides can print it: a record's constructor left out
-/// (`R_rec.1.true` is the engine's tuple `1.1`), booleans as numbers, an
+/// (`R_rec.1.true` is the engine's tuple `1.1`), a tuple's brackets too
+/// (`(1, 2)` is the engine's `1.2`), booleans as numbers, an
 /// enumeration literal written as one of `known` (the engine's
 /// `Side_Left` for RoboTool's `pkg_Side_Left`: the same value, see the
 /// module documentation), and a set's elements in one order (the engine
@@ -302,6 +303,13 @@ fn normalise(event: &str, known: &BTreeSet<String>) -> String {
                 elems.sort();
                 format!("{{{}}}", elems.join(", "))
             }
+            // A tuple `(a, b)`, RoboTool's one field (`channel receive:
+            // InOut.{(x0__,x1__) | …}`), is the engine's `a.b`.
+            c if c.starts_with('(') && c.ends_with(')') => top_level(&c[1..c.len() - 1], ',')
+                .into_iter()
+                .map(|e| normalise(e.trim(), known))
+                .collect::<Vec<_>>()
+                .join("."),
             c if known.is_empty() || known.contains(c) => c.to_string(),
             c => known.iter().find(|k| c.ends_with(&format!("_{k}"))).cloned().unwrap_or_else(|| c.to_string()),
         })

@@ -109,7 +109,14 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: File) -> Vec<Di
         if file.kind(db).is_assertions() {
             let body = &crate::body::body_resolution(db, workspace, file).problems;
             let typing = crate::types::type_checks(db, workspace, file);
-            for p in crate::resolve::file_resolution(db, workspace, file).problems.iter().chain(body).chain(typing) {
+            let names = crate::assertion_names::assertion_name_problems(db, workspace, file);
+            for p in crate::resolve::file_resolution(db, workspace, file)
+                .problems
+                .iter()
+                .chain(body)
+                .chain(typing)
+                .chain(names)
+            {
                 out.push(make(p.code, p.range, p.message.clone(), Vec::new()));
             }
         } else {

@@ -7,6 +7,7 @@
 //! results are plain values, so the CLI, the language server and tests read
 //! them the same way.
 
+pub mod assertion_names;
 pub mod assertions;
 pub mod body;
 mod checks;

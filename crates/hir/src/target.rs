@@ -7,6 +7,12 @@
 //! and the CSPm export both ask here, so they cannot resolve a name or
 //! choose a period differently.
 
+mod states;
+
+pub use states::{
+    design_machines, machines, match_state, names_machine, state, MachineStates, StateMatch, StateNode, StateRef,
+};
+
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
 use crate::cycle::{simulation_period, Feasibility};
 use crate::defs::{file_defs, DefData, DefId, DefKind, UseKind};
@@ -148,19 +154,25 @@ pub fn bindings_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>, 
     Ok(out)
 }
 
-/// RT-11: in `with constant z of X`, `X` may be the machine, the
-/// controller that requires `z`, or the module whose platform provides it.
-/// The binding as the checker reads it: one per machine that has `z` from
-/// `X`, named by its declaration. A RoboChart `X` through which no machine
-/// has `z` is an error (never silently a default); other `X` (RoboSim,
-/// unresolved) are left as written.
-fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
+/// What the `X` of `with constant z of X` names.
+pub enum Owner {
+    /// A module, controller or state machine (also through an instance
+    /// path, or by a simple name no import reaches).
+    Element(ItemLoc),
+    /// A `simulation` of an assertion file.
+    Simulation,
+}
+
+/// The element `of` names in `with constant z of of` ([`spread`] reads
+/// it; the checker's LNK-01 asks it too); `None` when it names nothing
+/// the checker reads.
+pub fn constant_owner(scope: Scope<'_>, of: &[String]) -> Option<Owner> {
     let Scope { db, ws, file, read, others } = scope;
     let element = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
-    let resolved = resolve_item(db, ws, file, &b.of, element).into_iter().next().or_else(|| {
+    let resolved = resolve_item(db, ws, file, of, element).into_iter().next().or_else(|| {
         // An instance path (`Mod::c`, `Ctl::s`) names the element it
         // references.
-        match instance(db, ws, file, &b.of) {
+        match instance(db, ws, file, of) {
             Some(Ok((loc, None))) => Some(loc),
             _ => None,
         }
@@ -168,29 +180,45 @@ fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
     // RoboTool also reads a plain name no import reaches (LNK-02), as the
     // checker matches the binding by the element's name.
     let resolved = resolved.or_else(|| {
-        let [n] = b.of.as_slice() else { return None };
+        let [n] = of else { return None };
         ws.files(db).iter().filter(|f| !f.is_library(db)).find_map(|&file| {
             let items = &crate::index::file_summary(db, file).items;
             let index = items.iter().position(|i| element(i.kind) && i.name == *n)?;
             Some(ItemLoc { file, index: index as u32 })
         })
     });
-    let Some(loc) = resolved else {
+    if let Some(loc) = resolved {
+        return Some(Owner::Element(loc));
+    }
+    let simulation = matches!(of, [n]
+        if std::iter::once(read).chain(others.iter().map(|(_, r)| r)).any(|r| r.simulation(n).is_some()));
+    simulation.then_some(Owner::Simulation)
+}
+
+/// RT-11: in `with constant z of X`, `X` may be the machine, the
+/// controller that requires `z`, or the module whose platform provides it.
+/// The binding as the checker reads it: one per machine that has `z` from
+/// `X`, named by its declaration. A RoboChart `X` through which no machine
+/// has `z` is an error (never silently a default); other `X` (RoboSim,
+/// unresolved) are left as written.
+fn spread(scope: Scope<'_>, b: Binding) -> Result<Vec<Binding>, String> {
+    let Scope { db, ws, .. } = scope;
+    let loc = match constant_owner(scope, &b.of) {
+        Some(Owner::Element(loc)) => loc,
         // A simulation of an assertion file is read by the RoboSim
-        // checker; anything else names nothing, and the value would be
-        // silently dropped.
-        let simulation = matches!(b.of.as_slice(), [n]
-            if std::iter::once(read).chain(others.iter().map(|(_, r)| r)).any(|r| r.simulation(n).is_some()));
-        if simulation {
-            return Ok(vec![b]);
+        // checker.
+        Some(Owner::Simulation) => return Ok(vec![b]),
+        // Anything else names nothing, and the value would be silently
+        // dropped.
+        None => {
+            return Err(format!(
+                "`{}` is not a module, controller or state machine: `with constant {} of X` names the machine, \
+                 the controller that requires `{}`, or the module whose platform provides it",
+                b.of.join("::"),
+                b.name,
+                b.name
+            ))
         }
-        return Err(format!(
-            "`{}` is not a module, controller or state machine: `with constant {} of X` names the machine, the \
-             controller that requires `{}`, or the module whose platform provides it",
-            b.of.join("::"),
-            b.name,
-            b.name
-        ));
     };
     let Some(id) = loc.def(db) else { return Ok(vec![b]) };
     if loc.file.kind(db) != FileKind::RoboChart {
@@ -401,84 +429,138 @@ pub struct Scope<'a> {
     pub others: &'a [(File, AssertionFile)],
 }
 
-/// What `path`, one side of assertion `a`, denotes; or why it cannot be
-/// checked, in words for the user.
-pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<Subject, String> {
+/// What a side of an assertion resolves to, before it is read as a
+/// [`Subject`]: the one resolution of assertion names, which
+/// [`subject`] reads and the checker's LNK-01 asks ([`resolves`]).
+enum Side<'a> {
+    /// A `simulation` of the assertion file (by its name) or of another
+    /// assertion file (by the path's last segment).
+    Simulation(File, &'a crate::assertions::SimulationDecl),
+    /// `C::M`: a machine or operation declared in the controller `C`.
+    Inline(ItemLoc, DefId),
+    /// A RoboChart instance path ([`instance`]).
+    Instance(Result<(ItemLoc, Option<String>), String>),
+    /// A RoboChart operation (not also a module, controller or machine).
+    ChartOperation(ItemLoc),
+    /// A RoboSim operation: top-level, or reached through a path.
+    SimOperation(ItemLoc, Option<String>),
+    /// A module, controller or state machine.
+    Element(ItemLoc),
+    /// A `csp` block of an assertion file.
+    CspBlock,
+}
+
+/// Resolves `path`, one side of an assertion (also the `of` of a
+/// `cycleDef of`), in the order [`subject`] reads it.
+fn side<'a>(scope: Scope<'a>, path: &[String]) -> Option<Side<'a>> {
     let Scope { db, ws, file, read, others } = scope;
     let name = path.join("::");
     let sim = read
         .simulation(&name)
         .map(|s| (file, s))
         .or_else(|| others.iter().find_map(|(f, r)| r.simulation(path.last()?).map(|s| (*f, s))));
-    let overridden = a.overrides.iter().find_map(|o| match o {
-        Override::CycleDef { of, value, .. } if of.last() == path.last() => Some(value.as_int()),
-        _ => None,
-    });
-    let element = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
     if let Some((sim_file, sim)) = sim {
-        let loc = resolve_item(db, ws, sim_file, &sim.of, element)
-            .into_iter()
-            .next()
-            .ok_or_else(|| format!("`{}` is not a RoboChart module, controller or machine", sim.of.join("::")))?;
-        let period = overridden.unwrap_or_else(|| sim.cycle.as_ref().and_then(Value::as_int));
-        return Ok(Subject::Constrained { name: sim.name.clone(), sim_file, loc, period });
+        return Some(Side::Simulation(sim_file, sim));
     }
-    let bound = bindings_in(scope, a).unwrap_or_default();
     if let Some((ctrl, machine)) = inline_machine(db, ws, file, path) {
-        let inner = path.last().cloned();
-        let is_operation = file_defs(db, ctrl.file).def(machine).kind == DefKind::Operation;
-        if is_operation && ctrl.file.kind(db) == FileKind::RoboSim {
-            return Ok(Subject::SimOperation { name, loc: ctrl, inner });
-        }
-        if ctrl.file.kind(db) != FileKind::RoboSim {
-            return Ok(Subject::Design { name, loc: ctrl, inner });
-        }
-        let period = match overridden {
-            Some(p) => p,
-            None => robosim_period(db, ws, &name, ctrl.file, machine, &bound)?,
-        };
-        return Ok(Subject::Simulation { name, loc: ctrl, inner, period });
+        return Some(Side::Inline(ctrl, machine));
     }
     if let Some(found) = instance(db, ws, file, path) {
-        let (loc, inner) = found?;
-        return Ok(Subject::Design { name, loc, inner });
+        return Some(Side::Instance(found));
     }
+    let element = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
     // RT-11: a RoboChart operation, checked as its own process with its
     // parameters.
-    let operation = resolve_item(db, ws, file, path, |k| k == DefKind::Operation)
-        .into_iter()
-        .find(|l| l.file.kind(db) == FileKind::RoboChart);
-    if let (Some(loc), true) = (operation, resolve_item(db, ws, file, path, element).is_empty()) {
-        return Ok(Subject::Design { name, loc, inner: None });
+    let operations = resolve_item(db, ws, file, path, |k| k == DefKind::Operation);
+    let elements = resolve_item(db, ws, file, path, element);
+    let operation = |kind| operations.iter().copied().find(|l| l.file.kind(db) == kind);
+    if let (Some(loc), true) = (operation(FileKind::RoboChart), elements.is_empty()) {
+        return Some(Side::ChartOperation(loc));
     }
-    let robosim_op = resolve_item(db, ws, file, path, |k| k == DefKind::Operation)
-        .into_iter()
-        .find(|l| l.file.kind(db) == FileKind::RoboSim);
-    if let (Some(loc), true) = (robosim_op, resolve_item(db, ws, file, path, element).is_empty()) {
-        return Ok(Subject::SimOperation { name, loc, inner: None });
+    if let (Some(loc), true) = (operation(FileKind::RoboSim), elements.is_empty()) {
+        return Some(Side::SimOperation(loc, None));
     }
     // RT-11: `C::o` (an operation reference of a RoboSim controller) is
     // the operation it references; `Mod::c::o` and `Mod::c::Op` reach it
     // through the module's controller reference.
     if let Some((loc, inner)) = robosim_operation_path(db, ws, file, path) {
-        return Ok(Subject::SimOperation { name, loc, inner });
+        return Some(Side::SimOperation(loc, inner));
     }
-    let loc = resolve_item(db, ws, file, path, element).into_iter().next().ok_or_else(|| {
-        let csp = std::iter::once(read)
-            .chain(others.iter().map(|(_, r)| r))
-            .any(|r| path.last().is_some_and(|n| r.csp_block(n).is_some()));
-        if csp {
-            format!("`{name}` is defined in a `csp` block: raw CSPm is not verifiable natively (check it with FDR)")
-        } else {
-            format!("`{name}` is not a simulation, module, controller or machine")
+    if let Some(loc) = elements.first() {
+        return Some(Side::Element(*loc));
+    }
+    let csp = std::iter::once(read)
+        .chain(others.iter().map(|(_, r)| r))
+        .any(|r| path.last().is_some_and(|n| r.csp_block(n).is_some()));
+    csp.then_some(Side::CspBlock)
+}
+
+/// Whether `path`, one side of an assertion (or the element of a `cycleDef
+/// of`), names something [`subject`] reads: a simulation, an element, an
+/// operation, an instance path or a `csp` block, even one the checker then
+/// refuses. The checker's LNK-01 asks this, so that it and the verifier
+/// cannot disagree on what a name means.
+pub fn resolves(scope: Scope<'_>, path: &[String]) -> bool {
+    !path.is_empty() && side(scope, path).is_some()
+}
+
+/// What `path`, one side of assertion `a`, denotes; or why it cannot be
+/// checked, in words for the user.
+pub fn subject(scope: Scope<'_>, a: &AssertionDecl, path: &[String]) -> Result<Subject, String> {
+    let Scope { db, ws, .. } = scope;
+    let name = path.join("::");
+    let overridden = a.overrides.iter().find_map(|o| match o {
+        Override::CycleDef { of, value, .. } if of.last() == path.last() => Some(value.as_int()),
+        _ => None,
+    });
+    let element = |k| matches!(k, DefKind::Module | DefKind::Controller | DefKind::StateMachine);
+    let Some(found) = side(scope, path) else {
+        return Err(format!("`{name}` is not a simulation, module, controller or machine"));
+    };
+    let bound = || bindings_in(scope, a).unwrap_or_default();
+    let loc = match found {
+        Side::Simulation(sim_file, sim) => {
+            let loc = resolve_item(db, ws, sim_file, &sim.of, element)
+                .into_iter()
+                .next()
+                .ok_or_else(|| format!("`{}` is not a RoboChart module, controller or machine", sim.of.join("::")))?;
+            let period = overridden.unwrap_or_else(|| sim.cycle.as_ref().and_then(Value::as_int));
+            return Ok(Subject::Constrained { name: sim.name.clone(), sim_file, loc, period });
         }
-    })?;
+        Side::Inline(ctrl, machine) => {
+            let inner = path.last().cloned();
+            let is_operation = file_defs(db, ctrl.file).def(machine).kind == DefKind::Operation;
+            if is_operation && ctrl.file.kind(db) == FileKind::RoboSim {
+                return Ok(Subject::SimOperation { name, loc: ctrl, inner });
+            }
+            if ctrl.file.kind(db) != FileKind::RoboSim {
+                return Ok(Subject::Design { name, loc: ctrl, inner });
+            }
+            let period = match overridden {
+                Some(p) => p,
+                None => robosim_period(db, ws, &name, ctrl.file, machine, &bound())?,
+            };
+            return Ok(Subject::Simulation { name, loc: ctrl, inner, period });
+        }
+        Side::Instance(found) => {
+            let (loc, inner) = found?;
+            return Ok(Subject::Design { name, loc, inner });
+        }
+        Side::ChartOperation(loc) => return Ok(Subject::Design { name, loc, inner: None }),
+        Side::SimOperation(loc, inner) => return Ok(Subject::SimOperation { name, loc, inner }),
+        Side::CspBlock => {
+            return Err(format!(
+                "`{name}` is defined in a `csp` block: raw CSPm is not verifiable natively (check it with FDR)"
+            ))
+        }
+        Side::Element(loc) => loc,
+    };
     if loc.file.kind(db) != FileKind::RoboSim {
         return Ok(Subject::Design { name, loc, inner: None });
     }
     let period = match (overridden, loc.def(db)) {
         (Some(p), _) => p,
-        (None, Some(def)) => robosim_period(db, ws, &name, loc.file, def, &bound)?,
+        (None, Some(def)) => robosim_period(db, ws, &name, loc.file, def, &bound())?,
         (None, None) => None,
     };
     Ok(Subject::Simulation { name, loc, inner: None, period })
@@ -591,16 +673,31 @@ fn declared_operation(db: &dyn Db, ws: Workspace, of: &[String]) -> Option<(File
     })
 }
 
+/// The operation `of` names in `with parameter x of of` (read by
+/// [`parameters_in`]; the checker's LNK-01 asks it too): through
+/// [`operation_def`], else an operation of the workspace declared under
+/// that one name.
+pub fn parameter_operation(scope: Scope<'_>, of: &[String]) -> Option<(File, DefId)> {
+    let Scope { db, ws, file, .. } = scope;
+    operation_def(db, ws, file, of).or_else(|| declared_operation(db, ws, of))
+}
+
+/// Whether the checker reads `with constant name of of` ([`bindings_in`]
+/// gives it a value rather than refusing it).
+pub fn constant_reads(scope: Scope<'_>, name: &str, of: &[String]) -> bool {
+    spread(scope, Binding { name: name.to_string(), of: of.to_vec(), value: 0 }).is_ok()
+}
+
 /// The values `a` gives operations' parameters (`with parameter x of P
 /// set to v`, RT-11), each named by the operation's declaration (through
 /// references: [`operation_def`]); what `P` or `x` fails to name, in words.
 pub fn parameters_in(scope: Scope<'_>, a: &AssertionDecl) -> Result<Vec<Binding>, String> {
-    let Scope { db, ws, file, .. } = scope;
+    let db = scope.db;
     let mut out = Vec::new();
     for o in &a.overrides {
         let Override::Parameter { name, of, value, .. } = o else { continue };
         let written = of.join("::");
-        let (f, id) = operation_def(db, ws, file, of).or_else(|| declared_operation(db, ws, of)).ok_or_else(|| {
+        let (f, id) = parameter_operation(scope, of).ok_or_else(|| {
             format!(
                 "`{written}` is not an operation: `with parameter {name} of {written}` names an operation, an \
                  operation declared in a controller, or an operation reference"

@@ -119,3 +119,46 @@ fn a_file_with_a_prior_parse_reparses_only_the_edited_member() {
     robosim_hir::set_text(db, file, text.clone(), prior, robosim_hir::Durability::LOW);
     assert_eq!(*parse(db, file), robosim_syntax::parse(&text, robosim_syntax::FileKind::RoboChart));
 }
+
+#[test]
+fn editing_a_machine_body_reuses_the_names_of_assertion_files() {
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let sink = log.clone();
+    let mut db = RootDatabase::with_event_log(move |e| {
+        if let salsa::EventKind::WillExecute { database_key } = e.kind {
+            sink.lock().unwrap().push(format!("{database_key:?}"));
+        }
+    });
+    let assertions =
+        "import app::*\nimport lib::*\nassertion A : M is deadlock-free\nassertion B : Nothing is deadlock-free\n";
+    let ws = load_workspace(
+        &mut db,
+        [
+            ("types.rct".to_string(), TYPES.to_string()),
+            ("machine.rct".to_string(), MACHINE.to_string()),
+            ("a.assertions".to_string(), assertions.to_string()),
+        ],
+        RuleSet::Paper,
+    );
+    let user: Vec<File> = ws.files(&db).iter().copied().filter(|f| !f.is_library(&db)).collect();
+    let lnk = |db: &RootDatabase| -> Vec<String> {
+        user.iter().flat_map(|f| file_diagnostics(db, ws, *f)).map(|d| format!("{} {}", d.code, d.message)).collect()
+    };
+    let first = lnk(&db);
+    assert_eq!(first.len(), 1, "{first:?}");
+    assert!(first[0].starts_with("LNK-01 cannot resolve `Nothing`"), "{first:?}");
+    let machine = user[1];
+    assert_eq!(machine.path(&db), "machine.rct");
+    // As above: the first edit lowers the durability.
+    let warm = MACHINE.replace("speed = speed + 1", "speed = speed + 2");
+    robosim_hir::set_text(&mut db, machine, warm, None, robosim_hir::Durability::LOW);
+    lnk(&db);
+    executions(&log);
+    let edited = MACHINE.replace("speed = speed + 1", "speed = speed * 2 + 1");
+    robosim_hir::set_text(&mut db, machine, edited, None, robosim_hir::Durability::LOW);
+    assert_eq!(lnk(&db), first);
+    let after = executions(&log);
+    // The assertion file's names read the machine's position-free summary
+    // only: they are not looked up again.
+    assert_eq!(count(&after, "assertion_name_problems"), 0, "{after:?}");
+}

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use robosim_hir::assertions::{
     AssertionDecl, AssertionFile, AssertionKind, CspLineKind, Override, SemanticModelName, Value,
 };
-use robosim_hir::index::resolve_item;
+use robosim_hir::index::{resolve_item, ItemLoc};
 use robosim_hir::model as m;
 use robosim_hir::model::DefKind;
 use robosim_hir::target::{self, Scope};
@@ -35,13 +35,14 @@ struct Subject {
     /// RT-11: an operation checked on its own (its process takes its
     /// parameters after `id__`).
     op: Option<OpSubject>,
+    /// The model element (with the machine or operation declared inside
+    /// the controller `loc`): where reachability resolves a state.
+    at: Option<(ItemLoc, Option<String>)>,
 }
 
-/// An operation as a subject: its name, its parameters' values and its constants.
+/// An operation as a subject: its parameters' values and its constants.
 #[derive(Clone)]
 struct OpSubject {
-    /// Its declared name.
-    name: String,
     /// Its parameters' values.
     params: Vec<Expr>,
     consts: Vec<ConstParam>,
@@ -150,6 +151,7 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
                         period: Some(period.unwrap_or(1)),
                         names: vec![vec![s.name.clone()]],
                         op: None,
+                        at: None,
                     },
                 );
             }
@@ -236,6 +238,7 @@ fn subject(
                 period: None,
                 names: vec![],
                 op: None,
+                at: None,
             });
         }
     }
@@ -260,14 +263,14 @@ fn subject(
         return Err(format!("`{}` could not be resolved", path.join("::")));
     };
     let qualified = ex.path_of_item(loc);
-    let elem = match (inner, def) {
+    let elem = match (inner.as_deref(), def) {
         (None, def) => crate::compose::element(ex, loc.file, def, qualified),
         // A machine declared inside the controller, as the controller has it.
         (Some(inner), ElemDef::Controller(c)) => {
             if !c.machines.iter().any(|i| matches!(&i.def, m::Definition::Inline(b) if b.name == inner)) {
                 return Err(format!("`{}` could not be resolved", path.join("::")));
             }
-            crate::compose::inner_machine(ex, loc.file, c, &inner, &qualified)
+            crate::compose::inner_machine(ex, loc.file, c, inner, &qualified)
         }
         (Some(_), _) => return Err(format!("`{}` could not be resolved", path.join("::"))),
     };
@@ -282,13 +285,14 @@ fn subject(
         period,
         names: vec![path.to_vec(), elem.path.clone()],
         op: None,
+        at: Some((loc, inner)),
     })
 }
 
 /// RT-11: the operation `loc` names (a top-level one, or the one an
 /// operation reference references), or with `inner` the operation of that
 /// name the controller `loc` declares, as its own process (RoboChart:
-/// `Op::D__`, `C::OP_op::D__`; RoboSim: RoboTool's `OP_…::D__`, see
+/// `pkg::OP_op::D__`, `C::OP_op::D__`; RoboSim: RoboTool's `OP_…::D__`, see
 /// `machine::sim_operation`): `None` when `loc` is no operation.
 fn operation_subject(
     ex: &mut Exporter<'_>,
@@ -348,11 +352,8 @@ fn operation_subject(
         simulation: false,
         period: None,
         names: vec![path.to_vec()],
-        op: Some(OpSubject {
-            name: b.name.clone(),
-            params,
-            consts: op.consts.iter().map(|(c, _)| c.clone()).collect(),
-        }),
+        at: Some((loc, inner.map(str::to_string))),
+        op: Some(OpSubject { params, consts: op.consts.iter().map(|(c, _)| c.clone()).collect() }),
     }))
 }
 
@@ -366,7 +367,14 @@ fn value(v: &Value) -> Result<Expr, String> {
 
 /// The call of `process` (`D__`, `TLF`, `VS__`) of a subject with the
 /// assertion's overrides.
-fn process(ex: &mut Exporter<'_>, file: File, a: &AssertionDecl, s: &Subject, process: &str) -> Result<Expr, String> {
+fn process(
+    ex: &mut Exporter<'_>,
+    file: File,
+    read: &AssertionFile,
+    a: &AssertionDecl,
+    s: &Subject,
+    process: &str,
+) -> Result<Expr, String> {
     let (consts, robosim) = match (&s.elem, &s.op) {
         (Some(e), _) => (&e.consts, e.robosim),
         (None, Some(op)) => (&op.consts, false),
@@ -388,7 +396,47 @@ fn process(ex: &mut Exporter<'_>, file: File, a: &AssertionDecl, s: &Subject, pr
         }
         args.push(Expr::Int(period));
     }
-    // Constants: the override whose element is the constant's machine.
+    if !(s.simulation || robosim) {
+        // RoboChart: hir's one reading of `with constant z of X` (RT-11: X
+        // the machine, the controller that requires z, or the module whose
+        // platform provides it), one binding per machine by its
+        // declaration's name, as the native checker matches them.
+        let scope = Scope { db: ex.db, ws: ex.ws, file, read, others: &[] };
+        let bound = target::bindings_in(scope, a)?;
+        for c in consts {
+            let b = bound.iter().find(|b| b.name == c.name && b.of.last() == c.owner.last());
+            let arg = match b {
+                None => name(c.global.clone()),
+                Some(b) => {
+                    // The value as written: a boolean, an integer; an
+                    // enumeration literal is refused below.
+                    let written: Vec<&Value> = a
+                        .overrides
+                        .iter()
+                        .filter_map(|o| match o {
+                            Override::Constant { name: n, value: v, .. } if *n == b.name => Some(v),
+                            _ => None,
+                        })
+                        .collect();
+                    // An enumeration literal (or other value) is refused.
+                    for v in &written {
+                        value(v)?;
+                    }
+                    if written.iter().all(|v| matches!(v, Value::Bool(_))) {
+                        Expr::Bool(b.value != 0)
+                    } else if written.iter().all(|v| matches!(v, Value::Int(_))) {
+                        Expr::Int(b.value)
+                    } else {
+                        return Err(format!("the constants named `{}` are given both booleans and integers", b.name));
+                    }
+                }
+            };
+            args.push(arg);
+        }
+        return Ok(call(format!("{}::{process}", s.module), args));
+    }
+    // RoboSim and simulations: the override whose element is the
+    // constant's machine.
     let mut owners: HashMap<Vec<String>, Vec<String>> = HashMap::new();
     for o in &a.overrides {
         if let Override::Constant { of, .. } = o {
@@ -451,18 +499,18 @@ fn assertion(
             if !s.simulation {
                 return Err(format!("`{}` is not a simulation: only simulations are (not) schedulable", a.subject.join("::")));
             }
-            let p = process(ex, file, a, &s, "TLF")?;
+            let p = process(ex, file, read, a, &s, "TLF")?;
             Ok(vec![Assert { negated: a.negated, kind: AssertKind::DeadlockFree(p, Model::Failures), tau_priority: tau_priority() }])
         }
         AssertionKind::DeadlockFree if !ex.timed => {
             // RT-9: FDR's plain deadlock freedom, failures-divergences model.
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
-            let p = process(ex, file, a, &s, "D__")?;
+            let p = process(ex, file, read, a, &s, "D__")?;
             one(AssertKind::DeadlockFree(p, Model::FailuresDivergences))
         }
         AssertionKind::DeadlockFree => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
-            let p = process(ex, file, a, &s, "D__")?;
+            let p = process(ex, file, read, a, &s, "D__")?;
             // Timed deadlock (semantics.md §7.4): a state from which only
             // time passes, forever.
             let renamed = Expr::Rename(
@@ -484,17 +532,17 @@ fn assertion(
         }
         AssertionKind::DivergenceFree => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
-            let p = process(ex, file, a, &s, "D__")?;
+            let p = process(ex, file, read, a, &s, "D__")?;
             one(AssertKind::DivergenceFree(p, Model::FailuresDivergences))
         }
         AssertionKind::Deterministic => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
-            let p = process(ex, file, a, &s, "D__")?;
+            let p = process(ex, file, read, a, &s, "D__")?;
             one(AssertKind::Deterministic(p, Model::FailuresDivergences))
         }
         AssertionKind::TimelockFree => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
-            let p = process(ex, file, a, &s, "D__")?;
+            let p = process(ex, file, read, a, &s, "D__")?;
             // RT-10, as the native checker reads it: after any trace, with
             // every other event refusable (urgent ones included), `tock` is
             // never refused; termination counts as a timelock.
@@ -503,7 +551,7 @@ fn assertion(
         }
         AssertionKind::Terminates => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
-            let p = process(ex, file, a, &s, "D__")?;
+            let p = process(ex, file, read, a, &s, "D__")?;
             // RT-10, as the native checker reads it: ✓ is reachable (P
             // has a trace outside CHAOS(Events), whose traces never end in
             // ✓), and P deadlocks only after ✓ (followed by endless
@@ -540,8 +588,8 @@ fn assertion(
                     x.module, y.module
                 ));
             }
-            let px = process(ex, file, a, &x, "D__")?;
-            let py = process(ex, file, a, &y, "D__")?;
+            let px = process(ex, file, read, a, &x, "D__")?;
+            let py = process(ex, file, read, a, &y, "D__")?;
             let timed = [&x, &y].iter().any(|s| s.simulation || s.elem.as_ref().is_some_and(|e| e.robosim));
             let tp = if timed { tau_priority() } else { None };
             let mut v = vec![Assert { negated: a.negated, kind: AssertKind::Refines(m, py.clone(), px.clone()), tau_priority: tp.clone() }];
@@ -555,28 +603,42 @@ fn assertion(
         }
         AssertionKind::Reachable { state, machine, .. } => {
             let s = subject(ex, file, read, a, machine, sims, raw)?;
-            // The names a state's path may start with: the machine's, or
-            // the operation's (declared, or as the subject is written).
-            let owners: Vec<String> = match (&s.elem, &s.op) {
-                (Some(elem), _) => {
-                    if elem.kind != crate::export::ElemKind::Machine {
-                        return Err("reachability in controllers and modules is not exported yet (only in state machines)".into());
-                    }
-                    elem.path.last().cloned().into_iter().collect()
-                }
-                (None, Some(op)) => [Some(op.name.clone()), machine.last().cloned()].into_iter().flatten().collect(),
-                (None, None) => return Err("reachability needs a state machine".into()),
+            let Some((loc, inner)) = &s.at else {
+                return Err("reachability needs a state machine, controller or module".into());
             };
-            let pos = state.iter().position(|x| owners.contains(x)).map(|i| i + 1).unwrap_or(0);
-            let states = &state[pos..];
-            if states.is_empty() {
-                return Err("the state is missing".into());
+            if s.elem.as_ref().is_some_and(|e| e.robosim && e.kind != crate::export::ElemKind::Machine) {
+                return Err("reachability in RoboSim controllers and modules is not exported yet".into());
             }
-            let tag = states.iter().map(|x| ident(x)).collect::<Vec<_>>().join("_");
-            let p = process(ex, file, a, &s, "VS__")?;
+            // hir's one reading of the state's path, as the native checker's.
+            let st = target::state(ex.db, ex.ws, *loc, inner.as_deref(), state)?;
+            if st.kind != m::NodeKind::State {
+                return Err(format!(
+                    "`{}` is not a state (a junction or a final state): the export marks the entries of states \
+                     only (`entered__`)",
+                    state.join("::")
+                ));
+            }
+            // The module of the state's machine: a controller's machine
+            // `Ctl::a` is its part `a`; a module's `c::a` its part `c`'s `a`.
+            let module = match &s.elem {
+                None => s.module.clone(),
+                Some(elem) => {
+                    let skip = usize::from(elem.kind == crate::export::ElemKind::Controller);
+                    let mut at = elem.clone();
+                    if elem.kind != crate::export::ElemKind::Machine {
+                        for part in &st.machine[skip..] {
+                            let next = at.parts.iter().find(|(n, _)| n == part).map(|(_, e)| e.clone());
+                            at = next.ok_or_else(|| format!("the machine `{}` is not exported", st.machine.join("::")))?;
+                        }
+                    }
+                    at.module.clone()
+                }
+            };
+            let tag = st.state.iter().map(|x| ident(x)).collect::<Vec<_>>().join("_");
+            let p = process(ex, file, read, a, &s, "VS__")?;
             let ev = crate::cspm::dot(vec![
-                name(format!("{}::entered__", s.module)),
-                name(format!("{}::SID_{tag}", s.module)),
+                name(format!("{module}::entered__")),
+                name(format!("{module}::SID_{tag}")),
             ]);
             let only = hide(p, call("diff", vec![name("Events"), Expr::Set(vec![ev])]));
             // Reachable iff the entry can happen: STOP does not trace-refine it.

@@ -409,6 +409,10 @@ fn compose(parts: Vec<(Expr, BTreeSet<String>)>, always: &[&str]) -> Expr {
 /// A renaming `from <- to | generators`.
 type CompRename = (Expr, Expr, Vec<(String, Expr)>);
 
+/// A synchronous link between two components: (sender's instance and
+/// event, receiver's, the connection's range).
+type SyncLink = ((usize, Chan), (usize, Chan), TextRange);
+
 /// A register renaming: (component's constructor, container's, value types, input).
 type RegRename = (String, String, Vec<Expr>, bool);
 
@@ -629,11 +633,19 @@ fn robochart_container(
             name(d)
         }
     };
-    let mut k = 0;
+    // The events of each instance some connection names.
+    let mut connected: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); insts.len()];
+    // Synchronous links between components: (sender end, receiver end).
+    let mut links: Vec<SyncLink> = Vec::new();
     for c in connections {
         let ((a, ea), (b, eb), is_async) =
             ((c.from.clone(), c.efrom.clone()), (c.to.clone(), c.eto.clone()), c.is_async);
         let (ia, ib) = (inst_of(&a), inst_of(&b));
+        for (x, e) in [(ia, &c.efrom), (ib, &c.eto)] {
+            if let Some(x) = x {
+                connected[x].insert(e.as_str());
+            }
+        }
         match (is_own(&a), ia, is_own(&b), ib) {
             // Container ↔ component.
             (true, _, _, Some(j)) | (_, Some(j), true, _) => {
@@ -681,26 +693,87 @@ fn robochart_container(
                     problems.push((file, c.range, "the connected events have different types".into()));
                     continue;
                 }
-                k += 1;
-                let conn = format!("conn{k}__");
-                private.push(Decl::Channel(vec![conn.clone()], ca.values.clone()));
-                for (x, ch, d) in [(i, &ca, "out"), (j, &cb, "in")] {
-                    let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), direction(d)];
-                    let mut to = vec![name(conn.clone())];
-                    let mut gens = Vec::new();
-                    for (n, v) in ch.values.iter().enumerate() {
-                        let var = format!("x{n}__");
-                        from.push(name(var.clone()));
-                        to.push(name(var.clone()));
-                        gens.push((var, v.clone()));
-                    }
-                    conn_renames[x].push((dot(from), dot(to), gens));
-                }
-                internal[i].insert(conn.clone());
-                internal[j].insert(conn.clone());
-                hidden.push(conn);
+                links.push(((i, ca), (j, cb), c.range));
             }
             _ => problems.push((file, c.range, format!("the connection `{a}` → `{b}` has an unknown end"))),
+        }
+    }
+    // RT-14: the ends linked (directly or through other links) form one
+    // synchronisation, its one sender's output with every receiver's
+    // input at once, hidden: one channel `connK__` each.
+    let mut classes: Vec<Vec<(usize, &Chan, &'static str)>> = Vec::new();
+    let mut class_range: Vec<TextRange> = Vec::new();
+    for ((i, ca), (j, cb), range) in &links {
+        let ends = [(*i, ca, "out"), (*j, cb, "in")];
+        let found: Vec<usize> = (0..classes.len())
+            .filter(|&x| classes[x].iter().any(|(y, ch, _)| ends.iter().any(|(z, c, _)| y == z && ch.csp == c.csp)))
+            .collect();
+        let target = match found.first() {
+            Some(&t) => {
+                // Merge the other classes the link touches into the first.
+                for &x in found[1..].iter().rev() {
+                    let moved = classes.remove(x);
+                    class_range.remove(x);
+                    classes[t].extend(moved);
+                }
+                t
+            }
+            None => {
+                classes.push(Vec::new());
+                class_range.push(*range);
+                classes.len() - 1
+            }
+        };
+        for e in ends {
+            if !classes[target].iter().any(|(y, ch, d)| *y == e.0 && ch.csp == e.1.csp && *d == e.2) {
+                classes[target].push(e);
+            }
+        }
+    }
+    for (k, (class, range)) in classes.iter().zip(&class_range).enumerate() {
+        let senders: BTreeSet<(usize, &str)> =
+            class.iter().filter(|e| e.2 == "out").map(|(x, ch, _)| (*x, ch.csp.as_str())).collect();
+        if senders.len() != 1 {
+            problems.push((
+                file,
+                *range,
+                format!(
+                    "the event `{}` links {} senders: a synchronisation of several senders is not exported (RT-14 \
+                     reads one sender and several receivers)",
+                    class[0].1.model,
+                    senders.len()
+                ),
+            ));
+            continue;
+        }
+        let conn = format!("conn{}__", k + 1);
+        private.push(Decl::Channel(vec![conn.clone()], class[0].1.values.clone()));
+        for &(x, ch, d) in class {
+            let mut from = vec![name(format!("{}::{}", insts[x].elem.module, ch.csp)), direction(d)];
+            let mut to = vec![name(conn.clone())];
+            let mut gens = Vec::new();
+            for (n, v) in ch.values.iter().enumerate() {
+                let var = format!("x{n}__");
+                from.push(name(var.clone()));
+                to.push(name(var.clone()));
+                gens.push((var, v.clone()));
+            }
+            conn_renames[x].push((dot(from), dot(to), gens));
+            internal[x].insert(conn.clone());
+        }
+        hidden.push(conn);
+    }
+    // RT-15: a machine's event connected to nothing is hidden by its
+    // controller (no generated example shows RoboTool's text; its
+    // meaning, τ, is the fact's). A controller's such event in a module is
+    // left visible: the facts do not say.
+    if kind == ElemKind::Controller {
+        for (j, i) in insts.iter().enumerate() {
+            for ch in i.elem.chans.iter().filter(|ch| ch.kind == ChanKind::Event) {
+                if !connected[j].contains(ch.model.as_str()) {
+                    hidden.push(format!("{}::{}", i.elem.module, ch.csp));
+                }
+            }
         }
     }
     // Operation calls go to the platform by name.
@@ -724,27 +797,39 @@ fn robochart_container(
     let consts = union_consts(&insts);
     let mut params = vec!["id__".to_string()];
     params.extend(consts.iter().map(|c| c.global.clone()));
-    let mut parts = Vec::new();
+    // The composition of the components' `process` (`D__`; `VS__`, with
+    // the entries of states visible, as RoboTool's controllers and
+    // modules compose their components' `VS__`), ending together on the
+    // container's `terminate`.
     for (j, i) in insts.iter().enumerate() {
-        // The components end together, on the container's `terminate`.
         renames[j].push((format!("{}::terminate", i.elem.module), "terminate".into()));
-        let mut p = rename(call(format!("{}::D__", i.elem.module), inst_args(&i.elem, false)), &renames[j]);
-        for (from, to, gens) in &conn_renames[j] {
-            p = Expr::Rename(Box::new(p), vec![(from.clone(), to.clone())], gens.clone());
-        }
-        parts.push((p, internal[j].clone()));
     }
-    let comp = compose(parts, if ex.timed { &["tock", "terminate"] } else { &["terminate"] });
-    let body = if hidden.is_empty() {
-        comp
-    } else {
-        hide(comp, Expr::Events(hidden.iter().map(|h| name(h.clone())).collect()))
+    let timed = ex.timed;
+    let body = |process: &str| {
+        let mut parts = Vec::new();
+        for (j, i) in insts.iter().enumerate() {
+            let mut p = rename(call(format!("{}::{process}", i.elem.module), inst_args(&i.elem, false)), &renames[j]);
+            for (from, to, gens) in &conn_renames[j] {
+                p = Expr::Rename(Box::new(p), vec![(from.clone(), to.clone())], gens.clone());
+            }
+            parts.push((p, internal[j].clone()));
+        }
+        let comp = compose(parts, if timed { &["tock", "terminate"] } else { &["terminate"] });
+        let body = if hidden.is_empty() {
+            comp
+        } else {
+            hide(comp, Expr::Events(hidden.iter().map(|h| name(h.clone())).collect()))
+        };
+        // RoboTool: `P [|{|terminate|}|> SKIP`; a controller shows its
+        // `terminate`, a module hides it (so it ends at once, τ before `tock`).
+        let end = Expr::Events(vec![name("terminate")]);
+        let body = Expr::Exception(Box::new(body), Box::new(end.clone()), Box::new(Expr::Skip));
+        if kind == ElemKind::Module {
+            hide(body, end)
+        } else {
+            body
+        }
     };
-    // RoboTool: `P [|{|terminate|}|> SKIP`; a controller shows its
-    // `terminate`, a module hides it (so it ends at once, τ before `tock`).
-    let end = Expr::Events(vec![name("terminate")]);
-    let body = Expr::Exception(Box::new(body), Box::new(end.clone()), Box::new(Expr::Skip));
-    let body = if kind == ElemKind::Module { hide(body, end) } else { body };
     let mut exports = vec![
         Decl::Comment(format!("Its end (RoboTool's `terminate`, per {}).", kind.describe())),
         Decl::Channel(vec!["terminate".into()], vec![]),
@@ -754,13 +839,15 @@ fn robochart_container(
         exports.push(Decl::Channel(vec![ch.csp.clone()], ch.fields.clone()));
     }
     exports.push(Decl::Comment(format!(
-        "D__: the {}'s semantics; O__: compressed (parameters: {}).",
+        "D__: the {}'s semantics; VS__: with its machines' `entered__` visible (reachability);\nO__: D__ compressed (parameters: {}).",
         kind.describe(),
         params.join(", ")
     )));
     let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
-    let body = if ex.timed { call("TimedPriority", vec![body]) } else { body };
-    exports.push(Decl::Def("D__".into(), params.clone(), body));
+    // Untimed (RT-9), no `TimedPriority`: there is no `tock`.
+    let prioritised = |p: Expr| if timed { call("TimedPriority", vec![p]) } else { p };
+    exports.push(Decl::Def("D__".into(), params.clone(), prioritised(body("D__"))));
+    exports.push(Decl::Def("VS__".into(), params.clone(), prioritised(body("VS__"))));
     exports.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
     let decls = vec![
         Decl::Comment(format!("RoboChart {} {}", kind.describe(), path.join("::"))),
@@ -780,6 +867,7 @@ fn robochart_container(
             outputs: vec![],
             period: 1,
             required,
+            parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
         },
         decls,
     ))
@@ -910,7 +998,19 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
     ];
     let period = declared_period(ex.db, ex.ws, file, def).unwrap_or(1);
     Ok((
-        Elem { kind, robosim: true, module, path, consts, chans: vec![], inputs, outputs, period, required: vec![] },
+        Elem {
+            kind,
+            robosim: true,
+            module,
+            path,
+            consts,
+            chans: vec![],
+            inputs,
+            outputs,
+            period,
+            required: vec![],
+            parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
+        },
         decls,
     ))
 }

@@ -129,7 +129,7 @@ pub struct Export {
 /// A bounded type of the semantics.
 ///
 /// Values are encoded as RoboTool does in spirit: products are CSPm
-/// tuples (but events carry one channel field per component), records a
+/// tuples (events carry them as one channel field, a set of tuples), records a
 /// datatype with one constructor `R_rec.f1.f2…`, sets CSPm sets (`Set(T)`,
 /// all subsets of a bounded type) and sequences CSPm sequences of length at
 /// most `core_seq_max` (`LSeq(T, core_seq_max)`).
@@ -185,7 +185,8 @@ impl Ty {
             Ty::Bool => name("Bool"),
             Ty::Named(n, _) => name(n.clone()),
             Ty::Product(ts) => {
-                let xs: Vec<String> = (1..=ts.len()).map(|i| format!("x{i}__")).collect();
+                // RoboTool's generators: `{(x0__,x1__) | x0__ <- A,x1__ <- B}`.
+                let xs: Vec<String> = (0..ts.len()).map(|i| format!("x{i}__")).collect();
                 Expr::SetComp(
                     Box::new(Expr::Tuple(xs.iter().map(|x| name(x.clone())).collect())),
                     xs.iter().cloned().zip(ts.iter().map(Ty::set)).collect(),
@@ -218,33 +219,17 @@ impl Ty {
     }
 
     /// The channel fields of an event (or register) carrying a value of
-    /// this type: one per component of a product, as RoboTool does, else
-    /// one.
+    /// this type: one, its set of values; a product's is a set of tuples,
+    /// as RoboTool declares it (`channel receive: InOut.{(x0__,x1__) | …}`,
+    /// reference `csp-gen/defs/Communication.csp`).
     pub(crate) fn field_sets(&self) -> Vec<Expr> {
-        match self {
-            Ty::Product(ts) => ts.iter().map(Ty::set).collect(),
-            t => vec![t.set()],
-        }
+        vec![self.set()]
     }
 
-    /// Input fields binding a value of this type on a channel (`?x` or
-    /// `?x_1?x_2`, see [`Ty::field_sets`]) and the value they make.
+    /// Input fields binding a value of this type on a channel (`?x`, a
+    /// tuple for a product, see [`Ty::field_sets`]) and the value they make.
     pub(crate) fn input_fields(&self, base: &str) -> (Vec<Field>, Expr) {
-        match self {
-            Ty::Product(ts) => {
-                let xs: Vec<String> = (1..=ts.len())
-                    .map(|i| match base.strip_suffix("__") {
-                        Some(stem) => format!("{stem}{i}__"),
-                        None => format!("{base}_{i}"),
-                    })
-                    .collect();
-                (
-                    xs.iter().map(|x| Field::In(x.clone())).collect(),
-                    Expr::Tuple(xs.iter().map(|x| name(x.clone())).collect()),
-                )
-            }
-            _ => (vec![Field::In(base.to_string())], name(base)),
-        }
+        (vec![Field::In(base.to_string())], name(base))
     }
 
     /// Whether it is numeric.
@@ -363,6 +348,9 @@ pub(crate) struct Elem {
     /// (a machine's required variables; a controller's machines' that it
     /// does not provide).
     pub required: Vec<String>,
+    /// A controller's machines and a module's controllers, by instance
+    /// name (reachability names a state after them).
+    pub parts: Vec<(String, Rc<Elem>)>,
 }
 
 /// A node key: the file and the node's range.

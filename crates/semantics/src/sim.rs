@@ -266,7 +266,7 @@ fn assume_inputs(
         let me = format!("A1_{}", ident(&ch.model));
         let mut rf = vec![Field::Dot(name(reg)), Field::In("b".into())];
         let mut ev = vec![name(csp), name("in")];
-        // One name per value field (products carry one field per component).
+        // One name per value field (a product is one field, a tuple).
         for k in 0..ch.values.len() {
             let x = if ch.values.len() == 1 { "x".to_string() } else { format!("x{k}") };
             rf.push(Field::In(x.clone()));

@@ -405,6 +405,30 @@ stm M { uses I var x : nat initial i state S { }
     }
 }
 
+/// RT-14 reads a synchronous link of one sender and several receivers as
+/// one multi-way synchronisation (the engine's cross-check,
+/// `composition_sender_and_receivers_at_once`, compares its behaviour);
+/// two senders on one linked event it does not read: refused with the
+/// reason, never exported as some other synchronisation.
+#[test]
+fn a_link_of_two_senders_is_refused() {
+    let model = "interface I { event o }
+stm P { uses I initial i state S { entry o } transition t { from i to S } }
+stm R { uses I initial i state S { } state T { } transition t { from i to S } transition u { from S to T trigger o } }
+controller C { uses I sref p = P sref q = P sref r = R
+  connection p on o to r on o connection q on o to r on o }";
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let e = export_workspace(&db, ws, &Options::default());
+    let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
+    assert_eq!(
+        messages,
+        ["5:3: controller C is not exported: the event `o` links 2 senders: a synchronisation of several senders is \
+          not exported (RT-14 reads one sender and several receivers)"],
+    );
+}
+
 /// A finished RoboChart machine or controller offers its own `terminate`
 /// (`M::terminate`, in RoboTool's `sem__events`), time passing until the
 /// environment takes it, then ✓ (RoboTool: `STM = (… \ {terminate} ;

@@ -98,9 +98,12 @@ fn controller_operations_are_subjects_as_robotool_names_them() {
          O__(id__, n) = sbisim(D__(id__, n))\n  endmodule\n",
         "    TimedPriority(\n      C::Idle::D__(id__) [[ C::Idle::terminate <- terminate ]] [| {| terminate |} |> SKIP)\n",
         "module Mod\nexports\n  -- Its end (RoboTool's `terminate`, per module).\n  channel terminate\n  \
-         -- Events and operation calls.\n  -- D__: the module's semantics; O__: compressed (parameters: id__).\n  \
+         -- Events and operation calls.\n  -- D__: the module's semantics; VS__: with its machines' `entered__` \
+         visible (reachability);\n  -- O__: D__ compressed (parameters: id__).\n  \
          D__(id__) =\n    TimedPriority(\n      \
-         (C::D__(id__) [[ C::terminate <- terminate ]] [| {| terminate |} |> SKIP) \\ {| terminate |})\n",
+         (C::D__(id__) [[ C::terminate <- terminate ]] [| {| terminate |} |> SKIP) \\ {| terminate |})\n  \
+         VS__(id__) =\n    TimedPriority(\n      \
+         (C::VS__(id__) [[ C::terminate <- terminate ]] [| {| terminate |} |> SKIP) \\ {| terminate |})\n",
     ] {
         assert!(model.contains(line), "{line}\nnot in\n{model}");
     }
@@ -122,7 +125,7 @@ fn controller_operations_are_subjects_as_robotool_names_them() {
     assert_eq!(
         warnings,
         ["13:1: assertion E0 is not exported: comparing the operation's process with another process is not \
-          exported: their events are channels of different CSPm modules (`C::OP_Op`, `Top`), which FDR would never \
+          exported: their events are channels of different CSPm modules (`C::OP_Op`, `OP_Top`), which FDR would never \
           match, while `robosim verify` matches them by name"]
     );
     assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
@@ -147,13 +150,13 @@ fn operation_references_are_their_operations() {
     let e = export_dir(&fixture("rt11_parameters_through_references"));
     let asserts = text(&e, "a_assertions.csp");
     for block in [
-        "-- assertion T0 : D::o terminates\nassert not CHAOS(Events) [T= ops_Count::D__(0, 0)\n",
+        "-- assertion T0 : D::o terminates\nassert not CHAOS(Events) [T= ops::OP_Count::D__(0, 0)\n",
         "-- assertion T1 : D::o terminates with parameter n of D::o set to 1\n\
-         assert not CHAOS(Events) [T= ops_Count::D__(0, 1)\n",
+         assert not CHAOS(Events) [T= ops::OP_Count::D__(0, 1)\n",
         "-- assertion T2 : Mod::d::o terminates with parameter n of Mod::d::o set to 1\n\
-         assert not CHAOS(Events) [T= ops_Count::D__(0, 1)\n",
+         assert not CHAOS(Events) [T= ops::OP_Count::D__(0, 1)\n",
         "-- assertion T3 : D::o terminates with parameter n of ops::Count set to 1\n\
-         assert not CHAOS(Events) [T= ops_Count::D__(0, 1)\n",
+         assert not CHAOS(Events) [T= ops::OP_Count::D__(0, 1)\n",
         "-- assertion T4 : D::o terminates with parameter m of D::o set to 1\n\
          -- NOT EXPORTED: the operation `D::o` (`Count`) has no parameter `m`\n",
         "-- assertion T5 : D::o terminates with parameter n of D::p set to 1\n-- NOT EXPORTED: `D::p` is not an \

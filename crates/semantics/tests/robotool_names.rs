@@ -84,7 +84,20 @@ fn a_machine_calls_its_operations_on_its_own_and_runs_its_controllers() {
     // controller's operation, its platform call the machine's.
     let c = module(&app, "C", 2);
     let s = module(&c, "s", 4);
-    assert!(s.contains("CALL__Stop = lib_Stop::D__(id__) [[ lib_Stop::haltCall <- haltCall ]]"), "{s}");
+    // The operation `lib::Stop` is RoboTool's `lib::OP_Stop` (as the
+    // reference's `pkg223_main::OP_tStop`).
+    assert!(s.contains("CALL__Stop = lib::OP_Stop::D__(id__) [[ lib::OP_Stop::haltCall <- haltCall ]]"), "{s}");
+    let lib = file(&e, "lib.csp");
+    assert!(
+        lib.contains(
+            "module lib
+"
+        ) && module(&lib, "OP_Stop", 2).contains(
+            "channel haltCall
+"
+        ),
+        "{lib}"
+    );
     assert!(s.contains("channel haltCall\n") && !s.contains("StopCall"), "{s}");
     // The controller composes that instance; its constants are named
     // after the reference (RoboTool: `const_pkg223__CommunicationC_stm_ref0_id`).
@@ -146,6 +159,28 @@ assertion a1: Spec refines app::M in the traces model";
     }
     let errors = cspm_errors(&e, "a_assertions.csp");
     assert!(errors.is_empty(), "{errors:#?}");
+}
+
+/// An event of a product type carries one value, a tuple, its channel
+/// declared with RoboTool's set of tuples (reference
+/// `defs/Communication.csp`: `channel receive: InOut.{(x0__,x1__) | x0__
+/// <- main_ID,x1__ <- main_ID}`): an output is `pair.out.(2, 0)`, an input
+/// binds the tuple.
+#[test]
+fn an_event_of_a_product_type_carries_a_tuple() {
+    let model = "interface I { event pair : nat * nat }
+stm M { uses I var p : nat * nat initial i state S { } state T { entry pair!(| 2, 0 |) }
+  transition t0 { from i to S } transition t1 { from S to T trigger pair?p } }";
+    let e = export(&[("m.rct", model)]);
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
+    let m = file(&e, "m.csp");
+    assert!(m.contains("channel pair : InOut.{(x0__, x1__) | x0__ <- core_nat, x1__ <- core_nat}\n"), "{m}");
+    let text: String = e.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let module = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(module.is_ok(), "{:?}", module.diagnostics());
+    let mut ev = robosim_cspm::Evaluator::new(&module, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
+    let lts = ev.eval_text("M::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
+    assert!(lts.has_trace(&["M::pair.in.(1, 2)", "M::pair.out.(2, 0)"]));
 }
 
 /// RoboTool names channels by the model's names even where they clash

@@ -781,6 +781,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, self.model.and_then(|b| b.def))
                 .unwrap_or(1),
             required: self.required.clone(),
+            parts: Vec::new(),
         }
     }
 }

@@ -289,12 +289,37 @@ impl<'e, 'a> Gen<'e, 'a> {
         match self.nodes[n].kind {
             NodeKind::State => {
                 let mut parts = vec![];
-                if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
-                    parts.push(prefix(format!("reset_{}", c.csp), vec![], Expr::Skip));
-                }
                 let Some(entry) = self.action_of(node_syn.entry.as_ref()) else { return };
                 parts.extend(entry);
                 let composite = self.nodes.iter().any(|c| c.parent == Some(n));
+                // RoboTool's `entered` (what reachability watches) follows
+                // the entry action, and a composite's its first substate's:
+                // a simple state marks itself and the states around it
+                // (again on later substates' entries, which reachability
+                // does not tell apart). RoboSim and the 2019 paper's
+                // semantics keep the mark at the start.
+                let after_entry = !self.robosim && self.profile != Profile::Paper2019;
+                if after_entry && !composite {
+                    let mut cur = Some(n);
+                    while let Some(c) = cur {
+                        let sid = Field::Dot(name(format!("SID_{}", self.nodes[c].tag)));
+                        parts.push(prefix("entered__", vec![sid], Expr::Skip));
+                        cur = self.nodes[c].parent;
+                    }
+                }
+                // RoboTool's state clock restarts on `S::entered`, after the
+                // entry action. A composite's `entered` follows its first
+                // substate's, which this export does not track for clocks
+                // yet: it restarts before the entry (a known difference,
+                // `SINCE_ENTRY` in the engine's cross-check).
+                if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
+                    let reset = prefix(format!("reset_{}", c.csp), vec![], Expr::Skip);
+                    if composite {
+                        parts.insert(0, reset);
+                    } else {
+                        parts.push(reset);
+                    }
+                }
                 if self.active[n] {
                     if !self.activity(n) {
                         return;
@@ -315,7 +340,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                     parts.push(self.ready(n, name(format!("Rest__{tag}"))));
                     self.rest(n);
                 }
-                let body = prefix("entered__", vec![Field::Dot(name(format!("SID_{tag}")))], fold_seq(parts));
+                let body = if after_entry {
+                    fold_seq(parts)
+                } else {
+                    prefix("entered__", vec![Field::Dot(name(format!("SID_{tag}")))], fold_seq(parts))
+                };
                 self.defs.push(Decl::Def(format!("Enter__{tag}"), vec![], body));
             }
             NodeKind::Final if self.nodes[n].parent.is_some() => self.rest(n),

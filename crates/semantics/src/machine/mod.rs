@@ -829,15 +829,18 @@ pub(crate) fn operation<'a>(
 }
 
 /// The CSPm module of the operation `name` declared in `outer` (of
-/// `file`): a top-level one's is its qualified name; one declared inside a
-/// controller is RoboTool's `OP_<name>` inside the controller's module
-/// (`pkg::C::OP_op`, as the reference's `pkg223_::CommunicationC::OP_…`).
+/// `file`), RoboTool's `OP_<name>`: a top-level one's inside its
+/// package's module (`pkg::OP_op`, as the reference's
+/// `pkg223_main::OP_tStop`; `OP_op` in the default package), one declared
+/// inside a controller inside the controller's module (`pkg::C::OP_op`, as
+/// the reference's `pkg223_::CommunicationC::OP_…`).
 pub(super) fn operation_module(ex: &mut Exporter<'_>, file: File, outer: &[String], name: &str) -> String {
     let package = ex.package(file);
     if outer.len() <= package.len() {
         let mut path = outer.to_vec();
-        path.push(name.to_string());
-        return ex.module_name(&path);
+        path.push(format!("OP_{}", ident(name)));
+        let module = crate::util::element_module(outer, &path);
+        return ex.unique_module(module);
     }
     let named = robosim_hir::csp_names::csp_names(ex.db, ex.ws).element_by_path(outer);
     let container = match named {

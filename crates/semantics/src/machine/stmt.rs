@@ -211,7 +211,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let (args, reads) = match (&ty, value) {
                     (Some(t), Some(v)) => {
                         let (e, reads) = self.bexpr(v, Some(t))?;
-                        (self.fields_of(t, e), reads)
+                        (vec![e], reads)
                     }
                     (None, None) => (Vec::new(), Vec::new()),
                     _ => {
@@ -253,7 +253,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// A call of an operation defined in the model: its process
-    /// (`Op::D__(id__, args, constants)`, its events renamed to the
+    /// (`pkg::OP_op::D__(id__, args, constants)`, its events renamed to the
     /// caller's), through `CALL__op(args)` as RoboTool names it. The
     /// operation's events and platform calls become the caller's.
     pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
@@ -283,7 +283,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         Some(p)
     }
 
-    /// `CALL__op(x…) = Op::D__(id__, x…, constants) [[ Op::e <- e, … ]]`:
+    /// `CALL__op(x…) = pkg::OP_op::D__(id__, x…, constants) [[ pkg::OP_op::e <- e, … ]]`:
     /// the operation's constants become the caller's, its channels the
     /// caller's channels of the same name.
     pub(super) fn operation_helper(&mut self, op: &OperationOut, helper: &str, r: TextRange) -> Option<Decl> {
@@ -451,7 +451,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let e = e.as_ref()?;
                 let (v, rd) = self.bexpr(e, Some(&t))?;
                 reads = rd;
-                value = Some(self.fields_of(&t, v));
+                value = Some(vec![v]);
                 dir = if matches!(p, m::CommPart::Sync(_)) { "in" } else { "out" };
             }
             Some(m::CommPart::Input(var, pr)) => {
@@ -476,7 +476,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let csp = self.events[i].csp.clone();
         let mut fields = vec![Field::Dot(self.direction(dir))];
-        // The input fields (one per component of a product) and the value
+        // The input field (a tuple for a product) and the value
         // they make, stored in the variable.
         let bound = match (bind, &ty) {
             (Some(v), Some(t)) => {
@@ -535,15 +535,6 @@ impl<'e, 'a> Gen<'e, 'a> {
                 };
                 Some(self.with_reads(&reads, p))
             }
-        }
-    }
-
-    /// The channel fields carrying value `v` of type `t`: its components
-    /// when `t` is a product (see [`Ty::field_sets`]).
-    pub(super) fn fields_of(&mut self, t: &Ty, v: Expr) -> Vec<Expr> {
-        match t {
-            Ty::Product(ts) => self.ex.components(ts.len(), v),
-            _ => vec![v],
         }
     }
 }

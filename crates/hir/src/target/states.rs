@@ -1,0 +1,336 @@
+//! The state a reachability assertion (`S is reachable in X`) names: one
+//! state of one machine of `X`, by its path inside the machine (`C::S` for
+//! the substate `S` of `C`), after the machine's name (its instance path,
+//! `Ctl::a`, or a suffix of it, or its declaration's name), or by its own
+//! name when that alone names one node. A path naming no node, or nodes of
+//! several machines, is refused: a verdict about another state would be
+//! wrong. The native checker and the CSPm export both resolve here.
+
+use crate::index::ItemLoc;
+use crate::model::{self as m, Definition, Item, NodeKind, Region};
+use crate::{Db, Workspace};
+
+/// A node a reachability assertion names.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StateRef {
+    /// Its machine's instance path in the subject: `["Ctl", "a"]` for the
+    /// machine `a` of the controller `Ctl`, `["c", "a"]` for the machine
+    /// `a` of a module's controller instance `c`, `["M"]` for a machine or
+    /// an operation checked on its own or declared inside the controller
+    /// checked.
+    pub machine: Vec<String>,
+    /// The machine's declared name.
+    pub decl: String,
+    /// The node's path inside its machine (`["C", "S"]`).
+    pub state: Vec<String>,
+    /// What the node is (a state, a junction, …).
+    pub kind: NodeKind,
+}
+
+/// One machine of a subject: instance path, declared name, its region.
+pub type Machine<'a> = (Vec<String>, String, &'a Region);
+
+/// The machines the subject `loc` (with `inner`, the machine or operation
+/// of that name declared inside the controller `loc`) consists of, named as
+/// the native checker names them; an operation is one machine.
+pub fn machines<'a>(db: &'a dyn Db, ws: Workspace, loc: ItemLoc, inner: Option<&str>) -> Vec<Machine<'a>> {
+    let machine = |i: &'a m::Instance<m::Behaviour>| -> Option<&'a m::Behaviour> {
+        match &i.def {
+            Definition::Inline(b) => Some(&**b),
+            Definition::Ref { target, .. } => match m::item(db, ws, (*target)?)? {
+                Item::Machine(b) => Some(b),
+                _ => None,
+            },
+        }
+    };
+    let of_controller = |prefix: &str, c: &'a m::Controller, out: &mut Vec<Machine<'a>>| {
+        for i in &c.machines {
+            if let Some(b) = machine(i) {
+                out.push((vec![prefix.to_string(), i.name.clone()], b.name.clone(), &b.region));
+            }
+        }
+    };
+    let mut out = Vec::new();
+    match (m::item(db, ws, loc), inner) {
+        (Some(Item::Machine(b) | Item::Operation(b)), None) => {
+            out.push((vec![b.name.clone()], b.name.clone(), &b.region))
+        }
+        (Some(Item::Controller(c)), None) => of_controller(&c.name, c, &mut out),
+        (Some(Item::Controller(c)), Some(inner)) => {
+            let inline = c.machines.iter().find_map(|i| match &i.def {
+                Definition::Inline(b) if b.name == inner => Some(&**b),
+                _ => None,
+            });
+            let op = c.operations.iter().find_map(|o| match &o.def {
+                Definition::Inline(b) if o.name == inner => Some(&**b),
+                _ => None,
+            });
+            if let Some(b) = inline.or(op) {
+                out.push((vec![b.name.clone()], b.name.clone(), &b.region));
+            }
+        }
+        (Some(Item::Module(x)), None) => {
+            for i in &x.controllers {
+                let c = match &i.def {
+                    Definition::Inline(c) => Some(&**c),
+                    Definition::Ref { target, .. } => match target.and_then(|t| m::item(db, ws, t)) {
+                        Some(Item::Controller(c)) => Some(c),
+                        _ => None,
+                    },
+                };
+                if let Some(c) = c {
+                    of_controller(&i.name, c, &mut out);
+                }
+            }
+        }
+        _ => {}
+    }
+    out
+}
+
+/// Whether `prefix` names the instance `instance`: empty, or ending with
+/// it.
+fn names_instance(prefix: &[String], instance: &[String]) -> bool {
+    prefix.is_empty() || prefix.ends_with(instance)
+}
+
+/// The node `path` names in the subject `loc` (see [`machines`]), or why
+/// it names none, or several.
+pub fn state(
+    db: &dyn Db,
+    ws: Workspace,
+    loc: ItemLoc,
+    inner: Option<&str>,
+    path: &[String],
+) -> Result<StateRef, String> {
+    let written = path.join("::");
+    if path.is_empty() {
+        return Err("the state is missing".into());
+    }
+    let (mut found, mut by_name) = (Vec::new(), Vec::new());
+    for (inst, decl, region) in machines(db, ws, loc, inner) {
+        let names_machine =
+            |prefix: &[String]| names_instance(prefix, &inst) || names_instance(prefix, std::slice::from_ref(&decl));
+        let mut nodes = Vec::new();
+        collect(region, &mut Vec::new(), &mut nodes);
+        for (inside, kind) in nodes {
+            let r = || StateRef { machine: inst.clone(), decl: decl.clone(), state: inside.clone(), kind };
+            if path.last() == inside.last() && names_machine(&path[..path.len() - 1]) {
+                by_name.push(r());
+            }
+            let Some(k) = path.len().checked_sub(inside.len()) else { continue };
+            if path[k..] == inside[..] && names_machine(&path[..k]) {
+                found.push(r());
+            }
+        }
+    }
+    if found.is_empty() && by_name.len() == 1 {
+        found = by_name;
+    }
+    match found.len() {
+        0 => Err(format!("`{written}` names no state of the machines checked")),
+        1 => Ok(found.remove(0)),
+        _ => Err(format!(
+            "`{written}` names a state of several machines ({}): qualify it with the machine's name",
+            found.iter().map(|s| s.machine.join("::")).collect::<Vec<_>>().join(", ")
+        )),
+    }
+}
+
+/// The nodes of `region` and of its states' regions, with their paths
+/// (probabilistic junctions left out, as the native checker refuses them).
+fn collect(region: &Region, at: &mut Vec<String>, out: &mut Vec<(Vec<String>, NodeKind)>) {
+    for n in &region.nodes {
+        if n.kind == NodeKind::Probabilistic {
+            continue;
+        }
+        at.push(n.name.clone());
+        out.push((at.clone(), n.kind));
+        if n.kind == NodeKind::State {
+            collect(&n.region, at, out);
+        }
+        at.pop();
+    }
+}
+
+// The reading of a state path the engine's compiled design and the
+// checker's LNK-01 share ([`match_state`]). TODO(lead): the export's
+// [`state`] above reads paths on its own; one of the two should go.
+
+use super::Subject;
+use crate::model::{Behaviour, Node};
+
+/// A machine of a design, as a state path names it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MachineStates {
+    /// Its instance name: `c::q` for the machine `q` of the controller
+    /// (reference) `c`, the machine's own name when it is checked alone.
+    pub instance: String,
+    /// The name of its declaration (`M` for `sref q = M`).
+    pub decl: String,
+    /// Its nodes, by index.
+    pub nodes: Vec<StateNode>,
+}
+
+/// A node of a machine.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StateNode {
+    /// Its name.
+    pub name: String,
+    /// The index of the enclosing state.
+    pub parent: Option<usize>,
+    /// Whether it belongs to the machine's own body (not to the body of an
+    /// operation inlined into it, whose states a path cannot name).
+    pub own: bool,
+}
+
+/// What a state path names ([`match_state`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum StateMatch {
+    /// One state: its (machine, node) pair.
+    Found(Vec<(usize, usize)>),
+    /// No state.
+    None,
+    /// States of several machines: (machine, node) pairs.
+    Several(Vec<(usize, usize)>),
+}
+
+/// The states the path `path` of a reachability assertion names among
+/// `machines`: the path ends with the state's path inside its machine
+/// (`S`, or `C::S` for `S` inside the composite `C`), and what comes
+/// before names the machine's instance (`M` alone, `q` or `Ctl::q` in a
+/// controller, `c::q` or `Mod::c::q` in a module) or its declaration (`M`
+/// for `sref q = M`); an empty prefix names any machine. So `M::S` is
+/// never a substate `S` of a composite of `M` when `M` has a state `S` of
+/// its own, nor a state `S` of another machine. A path that leaves out the
+/// composites around the state (`M::B` for `M::C::B`) names it when the
+/// machine has only one state of that name.
+pub fn match_state(path: &[String], machines: &[MachineStates]) -> StateMatch {
+    let (mut found, mut by_name) = (Vec::new(), Vec::new());
+    for (mi, m) in machines.iter().enumerate() {
+        for (ni, n) in m.nodes.iter().enumerate().filter(|(_, n)| n.own) {
+            let inner = inner_path(m, ni);
+            if path.last() == Some(&n.name) && names_machine(m, &path[..path.len() - 1]) {
+                by_name.push((mi, ni));
+            }
+            let Some(prefix) = path.len().checked_sub(inner.len()).map(|k| &path[..k]) else { continue };
+            if path[prefix.len()..].iter().zip(&inner).all(|(a, b)| a == *b) && names_machine(m, prefix) {
+                found.push((mi, ni));
+            }
+        }
+    }
+    if found.is_empty() && by_name.len() == 1 {
+        found = by_name;
+    }
+    match found.len() {
+        0 => StateMatch::None,
+        1 => StateMatch::Found(found),
+        _ => StateMatch::Several(found),
+    }
+}
+
+/// The names of node `ni` and the states around it, outermost first.
+fn inner_path(m: &MachineStates, ni: usize) -> Vec<&str> {
+    let mut inner = vec![m.nodes[ni].name.as_str()];
+    let mut up = m.nodes[ni].parent;
+    while let Some(p) = up {
+        inner.push(m.nodes[p].name.as_str());
+        up = m.nodes[p].parent;
+    }
+    inner.reverse();
+    inner
+}
+
+/// Whether `prefix` (the part of a state path before the state's own
+/// path) names the machine `m`: empty, ending with its instance name or
+/// its declaration's name, or the end of its instance name (`q` for
+/// `Ctl::q`: a machine of the same name in another controller makes the
+/// path name several states, which [`match_state`] says).
+pub fn names_machine(m: &MachineStates, prefix: &[String]) -> bool {
+    let ends_with = |names: &[&str]| {
+        prefix.len() >= names.len() && prefix[prefix.len() - names.len()..].iter().zip(names).all(|(a, b)| a == b)
+    };
+    let instance: Vec<&str> = m.instance.split("::").collect();
+    let ends_instance = prefix.len() <= instance.len()
+        && instance[instance.len() - prefix.len()..].iter().zip(prefix).all(|(a, b)| *a == b.as_str());
+    prefix.is_empty() || ends_with(&instance) || ends_with(&[m.decl.as_str()]) || ends_instance
+}
+
+/// The machines of the design `subject` stands for, named as the checker
+/// composes them (a module's controllers' machines, a controller's
+/// machines, a machine alone); `None` when that is not known from the
+/// model (an operation, a reference that does not resolve), so that no
+/// state path is judged against an incomplete list.
+pub fn design_machines(db: &dyn Db, ws: Workspace, subject: &Subject) -> Option<Vec<MachineStates>> {
+    let (loc, inner) = match subject {
+        Subject::Design { loc, inner, .. } | Subject::Simulation { loc, inner, .. } => (*loc, inner.as_deref()),
+        Subject::Constrained { loc, .. } => (*loc, None),
+        Subject::SimOperation { .. } => return None,
+    };
+    let item = m::item(db, ws, loc)?;
+    let mut out = Vec::new();
+    match (item, inner) {
+        (Item::Controller(c), Some(m)) => {
+            if c.operations.iter().any(|o| o.name == m) {
+                return None;
+            }
+            let b = c.machines.iter().find_map(|i| match &i.def {
+                Definition::Inline(b) if i.name == m => Some(&**b),
+                _ => None,
+            })?;
+            out.push(machine(m.to_string(), b));
+        }
+        (_, Some(_)) => return None,
+        (Item::Module(m), None) => {
+            for c in &m.controllers {
+                let ctrl = match &c.def {
+                    Definition::Inline(c) => &**c,
+                    Definition::Ref { target, .. } => match m::item(db, ws, (*target)?)? {
+                        Item::Controller(c) => c,
+                        _ => return None,
+                    },
+                };
+                controller_machines(db, ws, &c.name, ctrl, &mut out)?;
+            }
+        }
+        (Item::Controller(c), None) => controller_machines(db, ws, &c.name, c, &mut out)?,
+        (Item::Machine(b), None) => out.push(machine(b.name.clone(), b)),
+        _ => return None,
+    }
+    Some(out)
+}
+
+/// The machines of the controller `c`, instance of name `cref`.
+fn controller_machines(
+    db: &dyn Db,
+    ws: Workspace,
+    cref: &str,
+    c: &m::Controller,
+    out: &mut Vec<MachineStates>,
+) -> Option<()> {
+    for m in &c.machines {
+        let body = match &m.def {
+            Definition::Inline(b) => &**b,
+            Definition::Ref { target, .. } => match m::item(db, ws, (*target)?)? {
+                Item::Machine(b) => b,
+                _ => return None,
+            },
+        };
+        out.push(machine(format!("{cref}::{}", m.name), body));
+    }
+    Some(())
+}
+
+/// The machine `body` under the instance name `instance`.
+fn machine(instance: String, body: &Behaviour) -> MachineStates {
+    fn add(nodes: &[Node], parent: Option<usize>, out: &mut Vec<StateNode>) {
+        for n in nodes {
+            out.push(StateNode { name: n.name.clone(), parent, own: true });
+            let me = out.len() - 1;
+            add(&n.region.nodes, Some(me), out);
+        }
+    }
+    let mut nodes = Vec::new();
+    add(&body.region.nodes, None, &mut nodes);
+    MachineStates { instance, decl: body.name.clone(), nodes }
+}
