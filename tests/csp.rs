@@ -33,11 +33,16 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
-/// Compares every file written in `dir` with `tests/data/csp/<snapshots>/`,
+/// Compares every file written in `dir` (the timed script is in the output
+/// folder's `timed/`, as RoboTool writes it) with `tests/data/csp/<snapshots>/`,
 /// and checks that no snapshot is left without a file.
 fn compare(dir: &Path, snapshots: &str) -> Vec<String> {
-    let mut names: Vec<String> =
-        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
     names.sort();
     for n in &names {
         let got = std::fs::read_to_string(dir.join(n)).unwrap();
@@ -67,8 +72,20 @@ fn paper_example_export() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("design.assertions:54:1: assertion D6 is not exported"), "{stderr}");
     assert_eq!(stderr.matches("warning:").count(), 1, "{stderr}");
-    assert!(stderr.contains("wrote 7 files to"), "{stderr}");
-    let names = compare(&dir, "paper");
+    assert!(stderr.contains("wrote 11 files to") && stderr.contains("(4 untimed, 7 timed in timed/)"), "{stderr}");
+    // RoboTool's layout: the untimed script (RT-9) of the RoboChart files
+    // in the folder, the timed one in `timed/`.
+    let mut untimed: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    untimed.sort();
+    assert_eq!(untimed, ["design.csp", "design_assertions.csp", "instantiations.csp", "robosim_defs.csp"]);
+    let u = std::fs::read_to_string(dir.join("design_assertions.csp")).unwrap();
+    assert!(u.contains("assert paper_design::CFootBot::D__(0, 45, 1, 15) :[deadlock free [FD]]"), "{u}");
+    let names = compare(&dir.join("timed"), "paper");
     assert_eq!(
         names,
         [
@@ -81,7 +98,7 @@ fn paper_example_export() {
             "simulation_alt.csp"
         ]
     );
-    let design = std::fs::read_to_string(dir.join("design_assertions.csp")).unwrap();
+    let design = std::fs::read_to_string(dir.join("timed").join("design_assertions.csp")).unwrap();
     assert!(design.contains("-- NOT EXPORTED: clock initialisation checks"), "{design}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -91,7 +108,7 @@ fn paper_example_assertions() {
     let dir = out_dir("paper-asserts");
     let out = run(&["-o", dir.to_str().unwrap()], &[paper()]);
     assert_eq!(out.status.code(), Some(1));
-    let a = std::fs::read_to_string(dir.join("assertions_assertions.csp")).unwrap();
+    let a = std::fs::read_to_string(dir.join("timed").join("assertions_assertions.csp")).unwrap();
     // Schedulability (§6.2) with the constants of the assertion and the
     // simulation's period; soundness as FD refinement of the constrained
     // design by the simulation; timed deadlock freedom (§7.4).
@@ -104,7 +121,7 @@ fn paper_example_assertions() {
     ] {
         assert!(a.contains(needle), "missing `{needle}` in\n{a}");
     }
-    let sim = std::fs::read_to_string(dir.join("simulation.csp")).unwrap();
+    let sim = std::fs::read_to_string(dir.join("timed").join("simulation.csp")).unwrap();
     // Rule 6: exec as trigger; robotool3 outputs: urgent register writes.
     assert!(sim.contains("endexec.TID_t2 -> (StartExec__ ; Junction__j0)"), "{sim}");
     assert!(sim.contains("EDeadline(registerWrite.o_move.lv.0, 0)"), "{sim}");
@@ -119,12 +136,12 @@ fn features_export_and_stdout() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
     for f in ["robosim_defs.csp", "instantiations.csp", "features.csp", "features_sim.csp", "main.csp"] {
-        assert!(stdout.contains(&format!("-- ==== {f} ====\n")), "no {f} in\n{stdout}");
+        assert!(stdout.contains(&format!("-- ==== timed/{f} ====\n")), "no {f} in\n{stdout}");
     }
     let dir = out_dir("features");
     let out = run(&["-o", dir.to_str().unwrap()], &[data("csp/features")]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    compare(&dir, "features_out");
+    compare(&dir.join("timed"), "features_out");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -134,7 +151,7 @@ fn data_types_export() {
     let dir = out_dir("types");
     let out = run(&["-o", dir.to_str().unwrap()], &[data("csp/types")]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    compare(&dir, "types_out");
+    compare(&dir.join("timed"), "types_out");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -166,7 +183,8 @@ fn exports_pass_the_structural_checker() {
     for profile in [Profile::RoboTool3, Profile::Paper2019] {
         for p in [paper(), data("csp/features"), data("csp/types")] {
             let e = export(std::slice::from_ref(&p), profile);
-            let problems = lint::check(&e.files);
+            let mut problems = lint::check(&e.files);
+            problems.extend(lint::check(&e.untimed));
             assert!(problems.is_empty(), "{} ({profile:?}): {problems:#?}", p.display());
         }
     }
@@ -212,7 +230,7 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
         "{stderr}"
     );
     assert_eq!(stderr.matches("warning:").count(), 6, "{stderr}");
-    let csp = std::fs::read_to_string(dir.join("unsupported.csp")).unwrap();
+    let csp = std::fs::read_to_string(dir.join("timed").join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
     assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");
     // The machine that is supported is exported, in its package's module
@@ -245,13 +263,13 @@ fn paper_example_export_paper2019() {
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert_eq!(stderr.matches("warning:").count(), 1, "{stderr}");
-    compare(&dir, "paper2019");
-    let sim = std::fs::read_to_string(dir.join("simulation.csp")).unwrap();
+    compare(&dir.join("timed"), "paper2019");
+    let sim = std::fs::read_to_string(dir.join("timed").join("simulation.csp")).unwrap();
     // Rule 7: outputs go to the buffer; Rule 4: written at the cycle's end,
     // true ones in order, the others false.
     assert!(sim.contains("entered__.SID_SMoving -> stmout.moveU.true.lv.0 -> Rest__SMoving"), "{sim}");
     assert!(sim.contains("registerWrite.moveU.false?x0__?x1__ -> SKIP"), "{sim}");
-    let a = std::fs::read_to_string(dir.join("assertions_assertions.csp")).unwrap();
+    let a = std::fs::read_to_string(dir.join("timed").join("assertions_assertions.csp")).unwrap();
     assert!(a.contains("<External, union(Writes, {tock})>"), "{a}");
     let _ = std::fs::remove_dir_all(&dir);
 }

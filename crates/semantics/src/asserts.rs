@@ -56,6 +56,10 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
     let mut raw_names = Vec::new();
     let ours = generated_names(ex);
     for b in &read.csp_blocks {
+        // RT-8: `timed csp` blocks exist only in the timed script.
+        if b.timed && !ex.timed {
+            continue;
+        }
         let Some(tr) = b.text_range else { continue };
         let body = &text[usize::from(tr.start())..usize::from(tr.end())];
         let mut lines = Vec::new();
@@ -113,7 +117,9 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
     }
     // Simulations.
     let mut sims: HashMap<String, Subject> = HashMap::new();
-    for s in &read.simulations {
+    // Simulations run in cycles: the untimed script has none.
+    let timed = ex.timed;
+    for s in read.simulations.iter().filter(|_| timed) {
         if s.name.is_empty() || s.of.is_empty() {
             continue;
         }
@@ -159,10 +165,46 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
     // Assertions.
     for a in &read.assertions {
         out.push(Decl::Comment(a.text.clone()));
+        let timing = target::timing(a);
+        // RT-8: each script holds the assertions checked in its semantics;
+        // a plain one is in both, unless it has no untimed reading.
+        let here = if ex.timed {
+            if timing.timed {
+                Ok(())
+            } else {
+                Err("an untimed assertion: in the untimed script".to_string())
+            }
+        } else if !timing.untimed {
+            Err("a timed assertion: in the timed script".to_string())
+        } else {
+            match untimed_reading(ex, file, read, a) {
+                Ok(()) => Ok(()),
+                Err(m) if timing.timed => Err(format!("checked in the timed semantics only: {m}")),
+                Err(m) => {
+                    ex.warn(file, a.range, format!("assertion {} is not exported: {m}", a.name));
+                    Err(format!("NOT EXPORTED: {m}"))
+                }
+            }
+        };
+        // Refused alike in both scripts: the timed one warns.
+        let both = matches!(
+            a.kind,
+            AssertionKind::ClockInitialised { .. } | AssertionKind::Probabilistic { .. } | AssertionKind::Other(_)
+        );
+        let here = match here {
+            Ok(()) if !ex.timed && timing.timed && both => Err("NOT EXPORTED, as in the timed script".to_string()),
+            h => h,
+        };
+        if let Err(m) = here {
+            out.push(Decl::Comment(m));
+            out.push(Decl::Blank);
+            continue;
+        }
+        let semantics = if ex.timed { "" } else { " in the untimed semantics" };
         match assertion(ex, file, read, a, &sims, &raw_names) {
             Ok(asserts) => out.extend(asserts.into_iter().map(Decl::Assert)),
             Err(m) => {
-                ex.warn(file, a.range, format!("assertion {} is not exported: {m}", a.name));
+                ex.warn(file, a.range, format!("assertion {} is not exported{semantics}: {m}", a.name));
                 out.push(Decl::Comment(format!("NOT EXPORTED: {m}")));
             }
         }
@@ -447,9 +489,6 @@ fn assertion(
     sims: &HashMap<String, Subject>,
     raw: &[String],
 ) -> Result<Vec<Assert>, String> {
-    if !target::timing(a).timed {
-        return Err("untimed assertions need RoboTool's untimed semantics, which the export does not generate".into());
-    }
     if let Some(p) = a.problems.first() {
         return Err(p.message.clone());
     }
@@ -462,6 +501,12 @@ fn assertion(
             }
             let p = process(ex, file, read, a, &s, "TLF")?;
             Ok(vec![Assert { negated: a.negated, kind: AssertKind::DeadlockFree(p, Model::Failures), tau_priority: tau_priority() }])
+        }
+        AssertionKind::DeadlockFree if !ex.timed => {
+            // RT-9: FDR's plain deadlock freedom, failures-divergences model.
+            let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
+            let p = process(ex, file, read, a, &s, "D__")?;
+            one(AssertKind::DeadlockFree(p, Model::FailuresDivergences))
         }
         AssertionKind::DeadlockFree => {
             let s = subject(ex, file, read, a, &a.subject, sims, raw)?;
@@ -607,6 +652,75 @@ fn assertion(
         }
         AssertionKind::Other(t) => Err(format!("the assertion `{t}` could not be read")),
     }
+}
+
+/// Whether `a` means something in RoboChart's untimed semantics (RT-8,
+/// RT-9), as the native checker decides it (`has_untimed_reading`): `Ok`
+/// for properties of RoboChart elements and refinements between them in a
+/// `.assertions` file, the reason otherwise (RoboSim and simulations are
+/// timed only; schedulability is about cycles, timelock freedom and the
+/// tick-tock model about time).
+fn untimed_reading(ex: &Exporter<'_>, file: File, read: &AssertionFile, a: &AssertionDecl) -> Result<(), String> {
+    if file.kind(ex.db) == robosim_hir::FileKind::SimAssertions {
+        return Err("the assertions of a RoboSim assertion file (.rsa) are checked in the timed semantics only".into());
+    }
+    let subjects: Vec<&[String]> = match &a.kind {
+        AssertionKind::DeadlockFree
+        | AssertionKind::DivergenceFree
+        | AssertionKind::Deterministic
+        | AssertionKind::Terminates => vec![&a.subject],
+        AssertionKind::Reachable { machine, .. } => vec![machine],
+        AssertionKind::Refines { other, model, .. } | AssertionKind::Equals { other, model, .. } => {
+            if *model == SemanticModelName::TickTock {
+                return Err("the tick-tock model is about `tock`, which the untimed semantics does not have".into());
+            }
+            vec![&a.subject, other]
+        }
+        AssertionKind::Schedulable => {
+            return Err("schedulability is a property of cycles: it is checked in the timed semantics only".into())
+        }
+        AssertionKind::TimelockFree => {
+            return Err("timelock freedom is about time passing: the untimed semantics has no `tock`, so it is \
+                        checked timed only"
+                .into())
+        }
+        // Refused alike in both semantics, for reasons of their own.
+        AssertionKind::ClockInitialised { .. } | AssertionKind::Probabilistic { .. } | AssertionKind::Other(_) => {
+            return Ok(())
+        }
+    };
+    for path in subjects {
+        let name = path.join("::");
+        if let [one] = path {
+            if let Some(b) = read.csp_blocks.iter().find(|b| b.name == *one) {
+                if b.timed {
+                    return Err(format!(
+                        "`{name}` is a `timed csp` block: it exists only in RoboTool's timed script (RT-8), so it is \
+                         checked in the timed semantics only"
+                    ));
+                }
+                continue;
+            }
+        }
+        let scope = Scope { db: ex.db, ws: ex.ws, file, read, others: &[] };
+        match target::subject(scope, a, path) {
+            Ok(target::Subject::Simulation { .. } | target::Subject::SimOperation { .. }) => {
+                return Err(format!(
+                    "`{name}` is a RoboSim element: RoboSim has only a timed semantics (RoboTool generates no untimed \
+                     script for it)"
+                ))
+            }
+            Ok(target::Subject::Constrained { .. }) => {
+                return Err(format!(
+                    "`{name}` is a simulation of a RoboChart element, which runs in cycles: it is checked in the \
+                     timed semantics only"
+                ))
+            }
+            // Unresolved subjects are refused by the export itself.
+            Ok(target::Subject::Design { .. }) | Err(_) => {}
+        }
+    }
+    Ok(())
 }
 
 /// Names the export defines in the shared files and as modules.

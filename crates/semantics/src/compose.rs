@@ -393,7 +393,10 @@ fn inst_args(e: &Elem, robosim: bool) -> Vec<Expr> {
 /// the left group and the next part.
 fn compose(parts: Vec<(Expr, BTreeSet<String>)>, always: &[&str]) -> Expr {
     let mut it = parts.into_iter();
-    let Some((mut acc, mut used)) = it.next() else { return name("TStop") };
+    // No component: only time passes (untimed, nothing happens).
+    let Some((mut acc, mut used)) = it.next() else {
+        return if always.contains(&"tock") { name("TStop") } else { Expr::Stop };
+    };
     for (p, chans) in it {
         let mut sync: Vec<Expr> = always.iter().map(|s| name(*s)).collect();
         sync.extend(used.intersection(&chans).map(|c| name(c.clone())));
@@ -801,6 +804,7 @@ fn robochart_container(
     for (j, i) in insts.iter().enumerate() {
         renames[j].push((format!("{}::terminate", i.elem.module), "terminate".into()));
     }
+    let timed = ex.timed;
     let body = |process: &str| {
         let mut parts = Vec::new();
         for (j, i) in insts.iter().enumerate() {
@@ -810,7 +814,7 @@ fn robochart_container(
             }
             parts.push((p, internal[j].clone()));
         }
-        let comp = compose(parts, &["tock", "terminate"]);
+        let comp = compose(parts, if timed { &["tock", "terminate"] } else { &["terminate"] });
         let body = if hidden.is_empty() {
             comp
         } else {
@@ -840,8 +844,10 @@ fn robochart_container(
         params.join(", ")
     )));
     let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
-    exports.push(Decl::Def("D__".into(), params.clone(), call("TimedPriority", vec![body("D__")])));
-    exports.push(Decl::Def("VS__".into(), params.clone(), call("TimedPriority", vec![body("VS__")])));
+    // Untimed (RT-9), no `TimedPriority`: there is no `tock`.
+    let prioritised = |p: Expr| if timed { call("TimedPriority", vec![p]) } else { p };
+    exports.push(Decl::Def("D__".into(), params.clone(), prioritised(body("D__"))));
+    exports.push(Decl::Def("VS__".into(), params.clone(), prioritised(body("VS__"))));
     exports.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
     let decls = vec![
         Decl::Comment(format!("RoboChart {} {}", kind.describe(), path.join("::"))),

@@ -65,14 +65,21 @@ fn sticky(op: BinOp) -> Expr {
 }
 
 pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
-    let mut d = vec![
-        Decl::Comment("Time: `tock` marks one time unit; `tock'` is its copy in timed deadlock checks.".into()),
-        Decl::Channel(vec!["tock".into(), "tock'".into()], vec![]),
-        Decl::Comment(
+    let mut d = Vec::new();
+    if ex.timed {
+        d.push(Decl::Comment("Time: `tock` marks one time unit; `tock'` is its copy in timed deadlock checks.".into()));
+        d.push(Decl::Channel(vec!["tock".into(), "tock'".into()], vec![]));
+    } else {
+        d.push(Decl::Comment("RoboChart's untimed semantics (robotool-facts RT-9): no time events, no clocks.".into()));
+    }
+    d.extend([
+        Decl::Comment(if ex.timed {
             "`terminate` ends RoboSim cycles and the simulation assumptions together; `timelock` marks\n\
              the escape of a design that can do neither an output nor `tock` (schedulability checks)."
-                .into(),
-        ),
+                .into()
+        } else {
+            "`terminate`, `timelock`: the timed script's names, kept for `csp` blocks.".into()
+        }),
         Decl::Channel(vec!["terminate".into(), "timelock".into()], vec![]),
         Decl::Channel(vec!["deadline_done__".into()], vec![]),
         Decl::Comment("`terminated__` follows termination in `terminates` checks (robotool-facts RT-10).".into()),
@@ -81,7 +88,7 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         Decl::Datatype("InOut".into(), vec![("in".into(), vec![]), ("out".into(), vec![])]),
         Decl::Transparent(vec!["sbisim".into()]),
         Decl::Blank,
-    ];
+    ]);
     // Registers.
     let regs = |m: &std::collections::BTreeMap<String, Vec<Expr>>, input: bool| -> Vec<(String, Vec<Expr>)> {
         m.iter()
@@ -110,6 +117,36 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         d.push(Decl::Channel(vec!["registerWrite".into()], vec![n("OutputRegister")]));
     }
     d.push(Decl::Blank);
+    if ex.timed {
+        time_defs(&mut d);
+    }
+    // RoboTool's library as RoboTool defines it, the same text the model
+    // checker's CSPm bridge loads (`EDeadline` for urgent events, `EndBy`
+    // for statement deadlines `P <{d}`, `StartBy`, `CRUN`, … for users'
+    // `csp` blocks); its untimed script has the untimed one.
+    d.push(Decl::Blank);
+    d.push(Decl::Comment(format!(
+        "RoboTool's library ({}state helpers, core functions), as in its {} script.",
+        if ex.timed { "tock-CSP operators, " } else { "" },
+        if ex.timed { "timed" } else { "untimed" }
+    )));
+    d.push(Decl::Raw(robosim_hir::csp_defs::text(ex.timed).trim_end().to_string(), String::new()));
+    arithmetic(&mut d, ex.timed);
+    helpers(ex, &mut d);
+    OutFile {
+        name: "robosim_defs.csp".into(),
+        title: if ex.timed {
+            "Shared definitions: time, helper processes, sticky arithmetic and registers".into()
+        } else {
+            "Shared definitions of the untimed semantics: sticky arithmetic and registers".into()
+        },
+        decls: d,
+    }
+}
+
+/// The processes of time: `TimedPriority`, `TStop`, `Wait`, … (the timed
+/// semantics only).
+fn time_defs(d: &mut Vec<Decl>) {
     d.push(Decl::Comment("Maximal progress: internal events happen before time passes.".into()));
     d.push(def(
         "TimedPriority",
@@ -161,15 +198,10 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             ),
         ]),
     ));
-    // RoboTool's library as RoboTool defines it, the same text the model
-    // checker's CSPm bridge loads (`EDeadline` for urgent events, `EndBy`
-    // for statement deadlines `P <{d}`, `StartBy`, `CRUN`, … for users'
-    // `csp` blocks).
-    d.push(Decl::Blank);
-    d.push(Decl::Comment(
-        "RoboTool's library (tock-CSP operators, state helpers, core functions), as in its timed script.".into(),
-    ));
-    d.push(Decl::Raw(robosim_hir::csp_defs::text(true).trim_end().to_string(), String::new()));
+}
+
+/// RoboTool's sticky arithmetic, `Max__`, `Min__` and (timed) `ClockTick`.
+fn arithmetic(d: &mut Vec<Decl>, timed: bool) {
     d.push(Decl::Blank);
     d.push(Decl::Comment(
         "RoboTool's arithmetic on the bounded types: a result outside the type T keeps the left operand.".into(),
@@ -202,16 +234,22 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         &["a", "b"],
         Expr::If(Box::new(bin(BinOp::Lt, n("a"), n("b"))), Box::new(n("a")), Box::new(n("b"))),
     ));
-    d.push(Decl::Comment("Clocks count time units and stop at their bound m.".into()));
-    d.push(def(
-        "ClockTick",
-        &["c", "m"],
-        Expr::If(
-            Box::new(bin(BinOp::Lt, n("c"), n("m"))),
-            Box::new(bin(BinOp::Add, n("c"), Expr::Int(1))),
-            Box::new(n("c")),
-        ),
-    ));
+    if timed {
+        d.push(Decl::Comment("Clocks count time units and stop at their bound m.".into()));
+        d.push(def(
+            "ClockTick",
+            &["c", "m"],
+            Expr::If(
+                Box::new(bin(BinOp::Lt, n("c"), n("m"))),
+                Box::new(bin(BinOp::Add, n("c"), Expr::Int(1))),
+                Box::new(n("c")),
+            ),
+        ));
+    }
+}
+
+/// The sequence helpers in use and the tuple projections.
+fn helpers(ex: &Exporter<'_>, d: &mut Vec<Decl>) {
     let s = || n("s");
     let empty = || Expr::SeqLit(vec![]);
     let hd = || call("head", vec![n("s")]);
@@ -288,11 +326,6 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         for (i, x) in xs.iter().enumerate() {
             d.push(Decl::Def(format!("Proj{k}_{}", i + 1), vec![pat.clone()], n(x)));
         }
-    }
-    OutFile {
-        name: "robosim_defs.csp".into(),
-        title: "Shared definitions: time, helper processes, sticky arithmetic and registers".into(),
-        decls: d,
     }
 }
 

@@ -110,9 +110,17 @@ impl fmt::Display for Warning {
 /// The result of an export.
 #[derive(Debug, Clone)]
 pub struct Export {
-    /// The files, in a stable order: shared definitions, instantiations,
-    /// the model files, the assertion files.
+    /// The files of the timed semantics (tock-CSP), in a stable order:
+    /// shared definitions, instantiations, the model files, the assertion
+    /// files.
     pub files: Vec<OutFile>,
+    /// The files of RoboChart's untimed semantics (robotool-facts RT-9), as
+    /// [`Export::files`] and with the same names: RoboTool writes them in
+    /// its output folder, the timed ones in its `timed/` subfolder. Its
+    /// assertion files hold the `untimed` and plain assertions of the
+    /// RoboChart assertion files (RT-8). Empty when the workspace has no
+    /// RoboChart model (RoboSim has only a timed semantics).
+    pub untimed: Vec<OutFile>,
     /// Every construct that was not exported (each also a comment in the
     /// output).
     pub warnings: Vec<Warning>,
@@ -359,6 +367,10 @@ pub(crate) struct Exporter<'a> {
     pub db: &'a dyn Db,
     pub ws: Workspace,
     pub profile: Profile,
+    /// Whether the semantics written is the timed one (tock-CSP), else
+    /// RoboChart's untimed semantics (RT-9: no `tock`, `wait` is `SKIP`,
+    /// clock guards `true`, calls plain events).
+    pub timed: bool,
     /// Declarations per model file.
     pub out: HashMap<File, Vec<Decl>>,
     pub elems: HashMap<Key, ElemState>,
@@ -407,6 +419,7 @@ impl<'a> Exporter<'a> {
             db,
             ws,
             profile,
+            timed: true,
             out: HashMap::new(),
             elems: HashMap::new(),
             module_names: HashSet::new(),
@@ -753,9 +766,41 @@ impl<'a> Exporter<'a> {
     }
 }
 
-/// Exports the workspace's user files.
+/// Exports the workspace's user files: the timed semantics and, when the
+/// workspace has a RoboChart model, RoboChart's untimed one, as RoboTool
+/// writes both (RT-8, RT-9).
+///
+/// The warnings are the timed export's and those of the untimed
+/// assertions (a plain assertion refused for the same reason in both
+/// scripts, once): a construct with no untimed reading (a deadline, a
+/// clock read outside a guard) is a NOT EXPORTED comment in the untimed
+/// files, and a warning only through an assertion that needs it.
 pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
+    let (files, mut warnings) = export_in(db, ws, opts, true);
+    let robochart = ws.files(db).iter().any(|f| !f.is_library(db) && f.kind(db) == FileKind::RoboChart);
+    let mut untimed = Vec::new();
+    if robochart {
+        let (u, w) = export_in(db, ws, opts, false);
+        untimed = u;
+        for w in w {
+            let assertions = ws.files(db).iter().any(|f| f.path(db) == &w.path && f.kind(db).is_assertions());
+            // A plain assertion refused in both scripts for the same
+            // reason is reported once.
+            let timed_twin =
+                Warning { message: w.message.replacen(" in the untimed semantics: ", ": ", 1), ..w.clone() };
+            if assertions && !warnings.contains(&w) && !warnings.contains(&timed_twin) {
+                warnings.push(w);
+            }
+        }
+    }
+    Export { files, untimed, warnings }
+}
+
+/// The files of one semantics (`timed`, or RoboChart's untimed one) and
+/// the warnings.
+fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<OutFile>, Vec<Warning>) {
     let mut ex = Exporter::new(db, ws, opts.profile);
+    ex.timed = timed;
     let files: Vec<File> = ws.files(db).iter().copied().filter(|f| !f.is_library(db)).collect();
     // The assertion files first read: their `csp` blocks may fix the
     // core types (the values they give constants widen nothing, RT-5).
@@ -783,6 +828,10 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
             let msg = format!("the file has syntax errors and is not exported: {message}");
             ex.warn(f, *range, msg.clone());
             ex.emit(f, vec![Decl::Comment(format!("NOT EXPORTED: {msg}"))]);
+            continue;
+        }
+        if !timed && f.kind(db) == FileKind::RoboSim {
+            // RoboTool generates no untimed script for RoboSim (RT-9).
             continue;
         }
         let package = ex.package(f);
@@ -853,9 +902,13 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
         }
         let decls = ex.out.remove(&f).unwrap_or_default();
         let name = unique_file_name(&mut used, f.path(db), "");
+        if !timed && f.kind(db) == FileKind::RoboSim {
+            continue;
+        }
         model_files.push(name.clone());
         let title = format!(
-            "tock-CSP semantics of {} ({}, profile {})",
+            "{} semantics of {} ({}, profile {})",
+            if timed { "tock-CSP" } else { "Untimed CSP" },
             base_name(f.path(db)),
             if f.kind(db) == FileKind::RoboSim { "RoboSim" } else { "RoboChart" },
             opts.profile.name()
@@ -868,22 +921,31 @@ pub fn export_workspace(db: &dyn Db, ws: Workspace, opts: &Options) -> Export {
         .chain(model_files.iter().cloned())
         .map(Decl::Include)
         .collect();
-    if assertion_files.is_empty() {
+    // The untimed script has no RoboSim assertion file (RT-8).
+    let scripts = assertion_files.iter().filter(|(f, _)| timed || f.kind(db) != FileKind::SimAssertions).count();
+    if scripts == 0 {
         let mut decls = vec![Decl::Comment("Load this file in FDR: it includes every other file.".into())];
         decls.extend(includes.clone());
         result.push(OutFile { name: "main.csp".into(), title: "The workspace's semantics".into(), decls });
     }
     for ((f, _), decls) in assertion_files.iter().zip(out_assertions) {
         let name = unique_file_name(&mut used, f.path(db), "_assertions");
+        if !timed && f.kind(db) == FileKind::SimAssertions {
+            // RoboTool's RoboSim scripts are timed only (RT-8).
+            continue;
+        }
         let mut all = vec![Decl::Comment("Load this file in FDR: it includes every other file.".into())];
         all.extend(includes.clone());
         all.push(Decl::Blank);
         all.extend(decls);
-        let title =
-            format!("Simulations and assertions of {} (profile {})", base_name(f.path(db)), opts.profile.name());
+        let title = if timed {
+            format!("Simulations and assertions of {} (profile {})", base_name(f.path(db)), opts.profile.name())
+        } else {
+            format!("Untimed assertions of {} (profile {})", base_name(f.path(db)), opts.profile.name())
+        };
         result.push(OutFile { name, title, decls: all });
     }
-    Export { files: result, warnings: ex.warnings }
+    (result, ex.warnings)
 }
 
 fn base_name(path: &str) -> String {

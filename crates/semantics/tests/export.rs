@@ -29,7 +29,8 @@ fn examples() -> PathBuf {
 fn examples_export_is_well_formed() {
     for profile in [Profile::RoboTool3, Profile::Paper2019] {
         let e = export_dir(&examples(), profile);
-        let problems = lint::check(&e.files);
+        let mut problems = lint::check(&e.files);
+        problems.extend(lint::check(&e.untimed));
         assert!(problems.is_empty(), "{profile:?}: {problems:#?}");
     }
 }
@@ -58,7 +59,7 @@ fn corpus_exports_without_panic_and_is_well_formed() {
         for w in &e.warnings {
             println!("  {w}");
         }
-        for p in lint::check(&e.files) {
+        for p in lint::check(&e.files).into_iter().chain(lint::check(&e.untimed)) {
             all_problems.push(format!("{}: {p}", project.display()));
         }
     }
@@ -164,23 +165,27 @@ fn terminates_and_timelock_free_follow_rt10() {
 }
 
 /// The errors `robosim-cspm` (FDR's language as libcspm reads it) finds
-/// in an export: each file FDR would load (those no other file includes),
+/// in an export, timed and untimed: each file FDR would load (those no other file includes),
 /// with the files it includes, parsed, resolved and type-checked.
 fn cspm_errors(e: &robosim_semantics::Export) -> Vec<String> {
-    let files: std::collections::HashMap<String, String> = e.files.iter().map(|f| (f.name.clone(), f.text())).collect();
-    let load = |name: &str| files.get(name).cloned();
-    let included = |name: &str| files.values().any(|t| t.contains(&format!("include \"{name}\"")));
-    let mut names: Vec<&String> = files.keys().filter(|n| !included(n)).collect();
-    names.sort();
+    // Both scripts: the timed one and the untimed one (RT-9), each
+    // including the files beside it.
     let mut errors = Vec::new();
-    for name in names {
-        let m = robosim_cspm::Module::check_with_includes(&files[name], &robosim_cspm::NoNames, &load);
-        errors.extend(
-            m.diagnostics()
-                .iter()
-                .filter(|d| d.severity == robosim_cspm::Severity::Error)
-                .map(|d| format!("{name}: {d:?}")),
-        );
+    for (script, out) in [("", &e.files), ("untimed ", &e.untimed)] {
+        let files: std::collections::HashMap<String, String> = out.iter().map(|f| (f.name.clone(), f.text())).collect();
+        let load = |name: &str| files.get(name).cloned();
+        let included = |name: &str| files.values().any(|t| t.contains(&format!("include \"{name}\"")));
+        let mut names: Vec<&String> = files.keys().filter(|n| !included(n)).collect();
+        names.sort();
+        for name in names {
+            let m = robosim_cspm::Module::check_with_includes(&files[name], &robosim_cspm::NoNames, &load);
+            errors.extend(
+                m.diagnostics()
+                    .iter()
+                    .filter(|d| d.severity == robosim_cspm::Severity::Error)
+                    .map(|d| format!("{script}{name}: {d:?}")),
+            );
+        }
     }
     errors
 }

@@ -50,7 +50,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
             ticked[i] = call("ClockTick", vec![name(c.csp.clone()), name(format!("ClockMax__{}", c.csp))]);
         }
-        alts.push(prefix("tock", vec![], self.memory_call(ticked)));
+        self.push_tock(&mut alts, self.memory_call(ticked));
         // RoboSim: the cycle's reads update the inputs (Rule 5).
         let mut pos = nv + self.clocks.len();
         for e in self.events.iter().filter(|e| self.is_input(e)) {
@@ -85,6 +85,11 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     pub(super) fn assemble(&mut self, module: &str) -> Vec<Decl> {
+        if !self.timed() {
+            // RT-9: the untimed semantics has no clocks (their resets are
+            // gone; their reads were refused).
+            self.clocks.clear();
+        }
         let mut private = Vec::new();
         let mut exports = Vec::new();
         // Identifiers.
@@ -111,7 +116,10 @@ impl<'e, 'a> Gen<'e, 'a> {
         private.push(Decl::Datatype("TIDS".into(), tids));
         private.push(Decl::Channel(vec!["internal__".into()], vec![name("TIDS")]));
         let mut hidden = vec![name("internal__")];
-        let mut sync = vec![name("internal__"), name("tock")];
+        let mut sync = vec![name("internal__")];
+        if self.timed() {
+            sync.push(name("tock"));
+        }
         for e in &self.events {
             if e.trig {
                 let mut f = vec![name("TIDS"), name("InOut")];
@@ -371,7 +379,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     acts = Some(match acts {
                         None => (name(a), stops),
                         Some((acc, seen)) => {
-                            let mut sync = vec![name("tock"), name("end__")];
+                            let mut sync = self.time_events(&["tock", "end__"]);
                             for &t in stops.intersection(&seen) {
                                 sync.extend(self.trigger_event(t));
                             }
@@ -387,7 +395,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 if self.during.contains(&true) {
                     with.push(name("ready__"));
                 }
-                with.extend([name("tock"), name("end__")]);
+                with.extend(self.time_events(&["tock", "end__"]));
                 for t in stops {
                     with.extend(self.trigger_event(t));
                 }
@@ -412,7 +420,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
                 comp = Expr::Rename(Box::new(comp), vec![(dot(from), dot(to))], gens);
             }
-            call("TimedPriority", vec![comp])
+            self.prioritised(comp)
         };
         let p_def = Decl::Def("P__".into(), params.clone(), Expr::Let(lets, Box::new(body)));
         let entered = Expr::Events(vec![name("entered__")]);
@@ -429,11 +437,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                 )],
             )
         } else if self.is_operation {
-            call("TimedPriority", vec![hide(call("P__", args.clone()), entered)])
+            self.prioritised(hide(call("P__", args.clone()), entered))
         } else {
             // RoboTool's `STM`: the end is hidden inside (`end__`), then the
             // machine offers its `terminate`, time passing meanwhile.
-            call("TimedPriority", vec![seq(vec![hide(call("P__", args.clone()), entered), terminating()])])
+            self.prioritised(seq(vec![hide(call("P__", args.clone()), entered), self.terminating()]))
         };
         let vs_body = if self.robosim {
             call(
@@ -450,7 +458,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         } else if self.is_operation {
             call("P__", args.clone())
         } else {
-            seq(vec![call("P__", args.clone()), terminating()])
+            seq(vec![call("P__", args.clone()), self.terminating()])
         };
         let mut doc = vec![Decl::Comment(format!(
             "{} (parameters: {}).",
@@ -776,11 +784,4 @@ impl<'e, 'a> Gen<'e, 'a> {
             parts: Vec::new(),
         }
     }
-}
-
-/// RoboTool's end of a RoboChart machine, controller or module:
-/// `terminate`, its own channel, whenever the environment offers it, time
-/// passing meanwhile (`terminate -> SKIP` in a `Timed` section).
-fn terminating() -> Expr {
-    call("Delayable", vec![name("terminate")])
 }

@@ -60,6 +60,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         for (n, cr) in &syn.resets {
             match self.names.get(n) {
+                // RT-9: untimed, a clock reset vanishes.
+                Some(Nm::Clock(_)) if !self.timed() => {}
                 Some(Nm::Clock(k)) => rest.push(prefix(format!("reset_{}", self.clocks[*k].csp), vec![], Expr::Skip)),
                 _ => {
                     self.problem(*cr, format!("`{n}` is not a clock"));
@@ -171,7 +173,10 @@ impl<'e, 'a> Gen<'e, 'a> {
         let cond = match &syn.condition {
             Some(c) if c.is_else => self.else_condition(t)?,
             Some(c) => match &c.expr {
-                Some(e) => self.expr(e, ECtx::Memory, None)?.e,
+                Some(e) => match self.untimed_guard(t, e) {
+                    Some(g) => g?,
+                    None => self.expr(e, ECtx::Memory, None)?.e,
+                },
                 None => Expr::Bool(true),
             },
             None => Expr::Bool(true),
@@ -206,6 +211,9 @@ impl<'e, 'a> Gen<'e, 'a> {
         for u in 0..self.trans.len() {
             if u == t || self.trans[u].source != self.trans[t].source {
                 continue;
+            }
+            if !self.else_allowed(t, u) {
+                return None;
             }
             let syn = self.trans[u].m.clone();
             match &syn.condition {
@@ -353,7 +361,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let me = format!("Junction__{tag}");
                 // RoboChart: time passes until a guard holds; RoboSim: the
                 // cycle forbids it, so a dead end is stuck.
-                alts.push(prefix("tock", vec![], name(me.clone())));
+                self.push_tock(&mut alts, name(me.clone()));
                 self.defs.push(Decl::Def(me, vec![], ext(alts)));
             }
         }
@@ -372,6 +380,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                 continue;
             }
             let Some(limit) = self.trans[t].m.deadline.as_ref().and_then(|(_, d)| d.clone()) else { continue };
+            if !self.deadline_allowed(limit.range) {
+                return false;
+            }
             let Some((d, reads)) = self.bexpr(&limit, None) else { return false };
             let p = self.with_reads(&reads, call("Timer__", vec![d]));
             parts.push(p);
@@ -388,18 +399,17 @@ impl<'e, 'a> Gen<'e, 'a> {
             .into_iter()
             .rev()
             .reduce(|acc, p| par(p, Expr::Set(vec![name("tock")]), acc))
-            .unwrap_or_else(|| name("TStop"));
+            .unwrap_or_else(|| self.tstop());
         let me = format!("Activity__{tag}");
         let sid = Field::Dot(name(format!("SID_{tag}")));
-        let body = ext(vec![
-            prefix(
-                "activate__",
-                vec![sid.clone()],
-                nary(ProcOp::Interrupt, vec![run, prefix("deactivate__", vec![sid], name(me.clone()))]),
-            ),
-            prefix("tock", vec![], name(me.clone())),
-            prefix("end__", vec![], Expr::Skip),
-        ]);
+        let mut alts = vec![prefix(
+            "activate__",
+            vec![sid.clone()],
+            nary(ProcOp::Interrupt, vec![run, prefix("deactivate__", vec![sid], name(me.clone()))]),
+        )];
+        self.push_tock(&mut alts, name(me.clone()));
+        alts.push(prefix("end__", vec![], Expr::Skip));
+        let body = ext(alts);
         self.defs.push(Decl::Def(me.clone(), vec![], body));
         self.activities.push((me, Vec::new()));
         true
@@ -450,7 +460,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         });
         let run = nary(
             ProcOp::Interleave,
-            vec![seq(vec![d, name("TStop")]), call("RUN", vec![Expr::Set(vec![ready.clone()])])],
+            vec![seq(vec![d, self.tstop()]), call("RUN", vec![Expr::Set(vec![ready.clone()])])],
         );
         let running = match &stop {
             Some(s) => nary(ProcOp::Interrupt, vec![run, s.clone()]),
@@ -458,7 +468,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         };
         let mut alts = vec![prefix("ready__", vec![Field::Dot(name(format!("SID_{tag}")))], running)];
         alts.extend(stop);
-        alts.push(prefix("tock", vec![], name(me.clone())));
+        self.push_tock(&mut alts, name(me.clone()));
         alts.push(prefix("end__", vec![], Expr::Skip));
         self.defs.push(Decl::Def(me.clone(), vec![], ext(alts)));
         self.activities.push((me, stops));
@@ -528,9 +538,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             None
         };
         let body = match during {
-            Some(d) => nary(ProcOp::Interrupt, vec![seq(vec![d, name("TStop")]), ext(alts)]),
+            Some(d) => nary(ProcOp::Interrupt, vec![seq(vec![d, self.tstop()]), ext(alts)]),
             None => {
-                alts.push(prefix("tock", vec![], name(me.clone())));
+                self.push_tock(&mut alts, name(me.clone()));
                 ext(alts)
             }
         };

@@ -92,6 +92,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             }
             m::ExprKind::Since(_) | m::ExprKind::SinceEntry(_) => {
+                if !self.timed() {
+                    let clock = match &e.kind {
+                        m::ExprKind::Since(n) => n.clone(),
+                        m::ExprKind::SinceEntry(p) => format!("sinceEntry({})", p.join("::")),
+                        _ => String::new(),
+                    };
+                    self.clock_read_refused(r, &clock);
+                    return None;
+                }
                 let i = match &e.kind {
                     m::ExprKind::Since(n) => match self.names.get(n) {
                         Some(Nm::Clock(i)) => *i,

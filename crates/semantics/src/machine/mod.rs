@@ -32,6 +32,7 @@ mod behaviour;
 mod expr;
 mod sim_op;
 mod stmt;
+mod untimed;
 
 pub(crate) use sim_op::sim_operation;
 

@@ -77,6 +77,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                 Some(self.with_reads(&reads, set))
             }
             m::StmtKind::ClockReset(n) => match self.names.get(n) {
+                // RT-9: untimed, a clock reset vanishes.
+                Some(Nm::Clock(_)) if !self.timed() => Some(Expr::Skip),
                 Some(Nm::Clock(c)) => Some(prefix(format!("reset_{}", self.clocks[*c].csp), vec![], Expr::Skip)),
                 _ => {
                     self.problem(r, format!("`{n}` is not a clock"));
@@ -115,7 +117,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     let mut fields = vec![name(op_event(&self.ops[o].name, "Call"))];
                     fields.extend(args);
                     self.sim_op_calls.insert(o);
-                    let p = self.with_reads(&reads, call("EDeadline", vec![dot(fields), Expr::Int(0)]));
+                    let p = self.with_reads(&reads, self.urgent(dot(fields)));
                     self.record_term(s.head, TermKind::Call, || p.clone());
                     return Some(p);
                 }
@@ -130,9 +132,10 @@ impl<'e, 'a> Gen<'e, 'a> {
                 let op = &self.ops[o];
                 let mut fields = vec![name(op_event(&op.name, "Call"))];
                 fields.extend(args);
-                let mut p = call("EDeadline", vec![dot(fields), Expr::Int(0)]);
+                let ret = name(op_event(&op.name, "Ret"));
+                let mut p = self.urgent(dot(fields));
                 if self.profile == Profile::Paper2019 {
-                    p = seq(vec![p, call("EDeadline", vec![name(op_event(&op.name, "Ret")), Expr::Int(0)])]);
+                    p = seq(vec![p, self.urgent(ret)]);
                 }
                 let p = self.with_reads(&reads, p);
                 self.record_term(s.head, TermKind::Call, || p.clone());
@@ -140,6 +143,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             m::StmtKind::Wait(e) => match &e.kind {
                 m::ExprKind::Missing => None,
+                // RT-9: untimed, `wait(e)` is `SKIP` (`e` is not evaluated).
+                _ if !self.timed() => Some(Expr::Skip),
                 m::ExprKind::Interval { lo, hi, open_lo, open_hi } => {
                     if matches!(lo.kind, m::ExprKind::Missing) || matches!(hi.kind, m::ExprKind::Missing) {
                         self.problem(e.range, "an interval needs two bounds");
@@ -167,6 +172,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             },
             m::StmtKind::Timed(body, limit) => {
+                if !self.deadline_allowed(r) {
+                    return None;
+                }
                 let body = body.as_ref()?;
                 let limit = limit.as_ref()?;
                 let (d, reads) = self.bexpr(limit, None)?;
@@ -502,6 +510,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             None => {
                 let p = match (bind, &bound) {
+                    // Untimed, nothing else happens while it waits.
+                    (Some(_), Some(_)) if !self.timed() => prefix(csp.clone(), fields, store(Expr::Skip)),
                     (Some(_), Some(_)) => {
                         // An input: wait for it, then store it.
                         self.counter += 1;
@@ -520,7 +530,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                                 f.push(e);
                             }
                         }
-                        call("Delayable", vec![dot(f)])
+                        self.delayable(dot(f))
                     }
                 };
                 Some(self.with_reads(&reads, p))
