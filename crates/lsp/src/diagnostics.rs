@@ -39,6 +39,10 @@ use crate::state::{Phase, Shared};
 /// Starts diagnostics for `primary` (the file just changed), then, when
 /// `others`, for every other file whose diagnostics may depend on it.
 pub(crate) fn schedule(shared: &Arc<Shared>, primary: Option<(String, u64)>, others: bool) {
+    // The load of the workspace folders ends with a pass over every file.
+    if shared.lock().diagnostics_wait() {
+        return;
+    }
     let job = shared.clone();
     crate::background::spawn(shared, "robosim-engine", move || run(&job, primary, others));
     // Results of verification dropped by the change: titles to update.

@@ -178,6 +178,10 @@ impl LanguageServer for Backend {
         {
             let mut st = self.shared.lock();
             st.caps = caps.clone();
+            // `initialized` loads them (`workspace::load_roots`).
+            if !roots.is_empty() {
+                st.begin_load();
+            }
             st.roots = roots;
         }
         if let Some(rules) = params.initialization_options.as_ref().and_then(workspace::rules_from_settings) {
@@ -253,6 +257,7 @@ impl LanguageServer for Backend {
         }
         if !added.is_empty() {
             let shared = self.shared.clone();
+            shared.lock().begin_load();
             tokio::spawn(workspace::load_roots(shared, added));
         }
     }

@@ -172,6 +172,10 @@ pub(crate) struct State {
     pub(crate) files: HashMap<String, FileEntry>,
     next_seq: u64,
     pub(crate) roots: Vec<PathBuf>,
+    /// Workspace folders being read from disk, and until when diagnostics
+    /// wait for them: before the load, a name from a file not read yet
+    /// would show as unresolved; the load ends with a pass over every file.
+    pub(crate) loading: (u32, Option<std::time::Instant>),
     pub(crate) caps: ClientCaps,
     /// What was last published for files that are not open, to avoid
     /// sending the same list again when another file changes.
@@ -179,6 +183,27 @@ pub(crate) struct State {
     pub(crate) published: HashMap<String, (Option<i32>, Vec<lsp::Diagnostic>)>,
     /// Verification jobs and results (`verify.rs`).
     pub(crate) verify: crate::verify::Verification,
+}
+
+impl State {
+    /// A load of workspace folders starts.
+    pub(crate) fn begin_load(&mut self) {
+        // Diagnostics wait at most this long (a client that never answers
+        // the load's requests must not silence them).
+        const WAIT: std::time::Duration = std::time::Duration::from_secs(20);
+        self.loading = (self.loading.0 + 1, Some(std::time::Instant::now() + WAIT));
+    }
+
+    /// A load of workspace folders ended.
+    pub(crate) fn end_load(&mut self) {
+        let n = self.loading.0.saturating_sub(1);
+        self.loading = (n, if n == 0 { None } else { self.loading.1 });
+    }
+
+    /// Whether diagnostics wait for a load.
+    pub(crate) fn diagnostics_wait(&self) -> bool {
+        self.loading.0 > 0 && self.loading.1.is_some_and(|t| std::time::Instant::now() < t)
+    }
 }
 
 /// The key of a URI: its path for `file:` URIs (so that a file opened in

@@ -44,12 +44,17 @@ fn scan(roots: &[PathBuf]) -> (Vec<(String, String)>, Vec<String>) {
 }
 
 /// Loads every model file under `roots`, reporting progress when the
-/// client supports it, then checks the whole workspace.
+/// client supports it, then checks the whole workspace. The caller began
+/// a load ([`State::begin_load`](crate::state::State::begin_load)) for a
+/// non-empty `roots`.
 pub(crate) async fn load_roots(shared: Arc<Shared>, roots: Vec<PathBuf>) {
-    let Some(client) = shared.client().cloned() else { return };
     if roots.is_empty() {
         return;
     }
+    let Some(client) = shared.client().cloned() else {
+        shared.lock().end_load();
+        return;
+    };
     let supports_progress = shared.lock().caps.work_done_progress;
     let token = NumberOrString::String(format!("robosim/load/{}", roots[0].display()));
     let progress = if supports_progress && client.create_work_done_progress(token.clone()).await.is_ok() {
@@ -82,6 +87,7 @@ pub(crate) async fn load_roots(shared: Arc<Shared>, roots: Vec<PathBuf>) {
         shared.log(MessageType::WARNING, p);
     }
     shared.log(MessageType::INFO, format!("loaded {n} model file{}", if n == 1 { "" } else { "s" }));
+    shared.lock().end_load();
     diagnostics::schedule(&shared, None, true);
     if let Some(p) = progress {
         p.finish_with_message(format!("{n} model file{}", if n == 1 { "" } else { "s" })).await;
