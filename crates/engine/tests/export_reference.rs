@@ -15,12 +15,11 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::time::Duration;
 
-use robosim_cspm::{Evaluator, Label as CspLabel, Limits, Module, NoNames};
+use robosim_cspm::{Evaluator, Limits, Module, NoNames};
 use robosim_engine::algo::explicit::ExplicitLts;
 use robosim_engine::algo::{check_determinism, find_deadlock, find_divergence};
 use robosim_engine::algo::{DeadlockResult, DeterminismResult, DivergenceResult};
 use robosim_engine::budget::Budget;
-use robosim_engine::lts::{Event, Label, TAU, TICK, TOCK};
 use robosim_semantics::OutFile;
 
 /// Most states of an exported process's LTS.
@@ -63,39 +62,6 @@ fn asserts(files: &[OutFile]) -> Vec<(String, Result<String, String>)> {
     out
 }
 
-/// The explicit LTS of an evaluated process (`tock` as the engine's).
-fn explicit(lts: &robosim_cspm::Lts) -> ExplicitLts {
-    let mut names: Vec<String> = vec!["τ".into(), "✓".into(), "tock".into()];
-    let map: Vec<Event> = lts
-        .events
-        .iter()
-        .map(|n| {
-            if n == "tock" {
-                return TOCK;
-            }
-            names.push(n.clone());
-            (names.len() - 1) as Event
-        })
-        .collect();
-    let trans = lts
-        .transitions
-        .iter()
-        .map(|ts| {
-            ts.iter()
-                .map(|(l, t)| {
-                    let e = match l {
-                        CspLabel::Tau => TAU,
-                        CspLabel::Tick => TICK,
-                        CspLabel::Event(i) => map[*i as usize],
-                    };
-                    (Label::plain(e), *t as usize)
-                })
-                .collect()
-        })
-        .collect();
-    ExplicitLts { initial: lts.initial as usize, trans, names }
-}
-
 /// FDR's verdict on one `assert` line: `assert [not] P :[property [FD]]`.
 fn verdict(module: &Module, line: &str) -> Result<bool, String> {
     let line = line.strip_prefix("assert ").ok_or("not an assert")?;
@@ -107,7 +73,7 @@ fn verdict(module: &Module, line: &str) -> Result<bool, String> {
     let limits = Limits { max_states: MAX_STATES, time: Duration::from_secs(120), ..Limits::default() };
     let mut ev = Evaluator::new(module, &NoNames, limits);
     let lts = ev.eval_text(process).and_then(|v| ev.lts_of(&v)).map_err(|d| format!("`{process}`: {}", d.message))?;
-    let lts = explicit(&lts);
+    let lts = ExplicitLts::from_cspm(&lts, &mut vec!["τ".into(), "✓".into(), "tock".into()]);
     let budget =
         Budget { max_states: 4 * MAX_STATES as u64, timeout: Some(Duration::from_secs(120)), ..Budget::default() };
     let divergence_free = || match find_divergence(&lts, &budget, None).0 {

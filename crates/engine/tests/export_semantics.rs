@@ -29,7 +29,7 @@ use robosim_cspm::{Evaluator, Label as CspLabel, Limits, Module, NoNames};
 use robosim_engine::algo::explicit::ExplicitLts;
 use robosim_engine::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
 use robosim_engine::budget::Budget;
-use robosim_engine::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use robosim_engine::lts::{Event, Lts};
 use robosim_engine::verify::{subject_lts, Options, Semantics};
 use robosim_hir::defs::DefKind;
 use robosim_hir::index::file_summary;
@@ -226,44 +226,11 @@ struct Pair {
     engine: ExplicitLts,
 }
 
-fn explicit(lts: &robosim_cspm::Lts, names: &mut Vec<String>) -> ExplicitLts {
-    let mut id = |n: &str| -> Event {
-        if n == "tock" {
-            return TOCK;
-        }
-        match names.iter().position(|x| x == n) {
-            Some(i) => i as Event,
-            None => {
-                names.push(n.to_string());
-                (names.len() - 1) as Event
-            }
-        }
-    };
-    let map: Vec<Event> = lts.events.iter().map(|e| id(e)).collect();
-    let trans = lts
-        .transitions
-        .iter()
-        .map(|ts| {
-            ts.iter()
-                .map(|(l, t)| {
-                    let e = match l {
-                        CspLabel::Tau => TAU,
-                        CspLabel::Tick => TICK,
-                        CspLabel::Event(i) => map[*i as usize],
-                    };
-                    (Label::plain(e), *t as usize)
-                })
-                .collect()
-        })
-        .collect();
-    ExplicitLts { initial: lts.initial as usize, trans, names: Vec::new() }
-}
-
 impl Pair {
     fn new(export: &robosim_cspm::Lts, engine: &robosim_cspm::Lts) -> Pair {
         let mut names: Vec<String> = vec!["τ".into(), "✓".into(), "tock".into()];
-        let mut export = explicit(export, &mut names);
-        let mut engine = explicit(engine, &mut names);
+        let mut export = ExplicitLts::from_cspm(export, &mut names);
+        let mut engine = ExplicitLts::from_cspm(engine, &mut names);
         export.names = names.clone();
         engine.names = names;
         Pair { export, engine }

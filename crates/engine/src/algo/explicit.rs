@@ -16,6 +16,44 @@ pub struct ExplicitLts {
 }
 
 impl ExplicitLts {
+    /// The LTS our CSPm evaluator compiled: each event numbered by its
+    /// position in `names` (added when new; `names` starts with τ, ✓ and
+    /// `tock`, which map to the engine's [`TAU`], [`TICK`], [`TOCK`]), so
+    /// that LTSs built on one `names` agree on event ids. The result's
+    /// `names` is `names` as it then is.
+    pub fn from_cspm(lts: &robosim_cspm::Lts, names: &mut Vec<String>) -> ExplicitLts {
+        let mut id = |n: &str| -> Event {
+            if n == "tock" {
+                return TOCK;
+            }
+            match names.iter().position(|x| x == n) {
+                Some(i) => i as Event,
+                None => {
+                    names.push(n.to_string());
+                    (names.len() - 1) as Event
+                }
+            }
+        };
+        let map: Vec<Event> = lts.events.iter().map(|e| id(e)).collect();
+        let trans = lts
+            .transitions
+            .iter()
+            .map(|ts| {
+                ts.iter()
+                    .map(|(l, t)| {
+                        let e = match l {
+                            robosim_cspm::Label::Tau => TAU,
+                            robosim_cspm::Label::Tick => TICK,
+                            robosim_cspm::Label::Event(i) => map[*i as usize],
+                        };
+                        (Label::plain(e), *t as usize)
+                    })
+                    .collect()
+            })
+            .collect();
+        ExplicitLts { initial: lts.initial as usize, trans, names: names.clone() }
+    }
+
     /// The LTS with initial state 0 and the edges `(from, event, to)`, where
     /// `event` is `"tau"` (or `"τ"`), `"tick"` (or `"✓"`), `"tock"` or the
     /// name of a visible event. Visible events are numbered from
