@@ -10,7 +10,7 @@
 mod states;
 
 pub use states::{
-    design_machines, machines, match_state, names_machine, state, MachineStates, StateMatch, StateNode, StateRef,
+    design_machines, match_state, names_machine, state, MachineStates, StateMatch, StateNode, StateRef,
 };
 
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
