@@ -66,10 +66,17 @@ pub fn assertion_name_problems(db: &dyn Db, ws: Workspace, file: File) -> Vec<Re
             | AssertionKind::Terminates => {
                 c.side(&a.subject, a.subject_range);
             }
-            // A clock is not an element the checker reads (RT-10); the
-            // names of a PRISM property are the resolver's; a broken
-            // assertion is the parser's.
-            AssertionKind::ClockInitialised { .. } | AssertionKind::Probabilistic { .. } | AssertionKind::Other(_) => {}
+            // A clock is reached through its element (`M::T`, `Mod::c::m::T`):
+            // a path that names nothing is reported; a bare clock name is
+            // left alone (what RoboTool's scoping finds for it is not
+            // established). The names of a PRISM property are the
+            // resolver's; a broken assertion is the parser's.
+            AssertionKind::ClockInitialised { clock, clock_range } => {
+                if clock.len() >= 2 {
+                    c.name(clock, *clock_range, "module, controller or state machine");
+                }
+            }
+            AssertionKind::Probabilistic { .. } | AssertionKind::Other(_) => {}
         }
         for o in &a.overrides {
             match o {
