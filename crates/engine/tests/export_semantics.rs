@@ -421,13 +421,11 @@ fn cross_check(sem: Semantics, known: &[(&str, &str, &str, &str)]) {
 }
 
 const RT7_FILES: &str = "export: another assertion file's `Instantiations` block sets the one instantiations.csp every script includes (`core_nat` = {0..3}), so this file, which has no block, is checked with it; RT-7 gives each file its own (here RoboTool's generated defaults), as the engine does";
-const INNER_MACHINE: &str = "undecided: a machine declared inside a controller as the subject (`C::M`): the engine checks it on its own (RT-19: the controller's operation `turn` is a visible call `turnCall`), the export as RoboTool's one module for it, `C::M`, the machine inside its controller (`turn` inlined, its `wait(1) <{0}` a timelock); the reference has no inline machine to settle which RoboTool means";
 
 const ENTERED: &str = "export: a composite state's `sinceEntry` restarts before its entry action and its first substate's, RoboTool's on its `entered`, after them (SINCE_ENTRY): X is reached in the export only";
 
 /// Known reachability disagreements: (fixture, assertion, why).
 const REACH_KNOWN: &[(&str, &str, &str)] = &[
-    ("reasons_machines_inside_controllers", "A", INNER_MACHINE),
     ("rt07_instantiations_per_file", "Narrow", RT7_FILES),
     ("rt17_entered_follows_the_entry_action", "N1", ENTERED),
 ];
