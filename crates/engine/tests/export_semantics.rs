@@ -425,6 +425,7 @@ const RT7_FILES: &str = "export: another assertion file's `Instantiations` block
 const ENTERED: &str = "export: a composite state's `sinceEntry` restarts before its entry action and its first substate's, RoboTool's on its `entered`, after them (SINCE_ENTRY): X is reached in the export only";
 
 /// Known reachability disagreements: (fixture, assertion, why).
+#[rustfmt::skip]
 const REACH_KNOWN: &[(&str, &str, &str)] = &[
     ("rt07_instantiations_per_file", "Narrow", RT7_FILES),
     ("rt17_entered_follows_the_entry_action", "N1", ENTERED),

@@ -292,8 +292,10 @@ impl Checker<'_> {
     /// are no names: the verifier says why it refuses them.
     fn value(&mut self, text: &str, range: TextRange) {
         let path: Vec<String> = text.split("::").map(|p| p.trim().to_string()).collect();
-        let ident = |p: &String| p.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
-            && p.chars().all(|c| c.is_alphanumeric() || c == '_');
+        let ident = |p: &String| {
+            p.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
+                && p.chars().all(|c| c.is_alphanumeric() || c == '_')
+        };
         if path.len() >= 2 && path.iter().all(ident) {
             // Written without spaces (as usual), the segments' ranges follow
             // from the text: the squiggle goes under the one not found.
