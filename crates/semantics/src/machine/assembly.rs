@@ -50,6 +50,20 @@ impl<'e, 'a> Gen<'e, 'a> {
             alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
             ticked[i] = call("ClockTick", vec![name(c.csp.clone()), name(format!("ClockMax__{}", c.csp))]);
         }
+        // A composite's clock: armed when it is entered, restarted by the
+        // first substate's `entered` after that.
+        let first_flag = params.len() - self.armed_clocks().len();
+        for (j, k) in self.armed_clocks().into_iter().enumerate() {
+            let (clock, flag) = (nv + k, first_flag + j);
+            let mut armed = same.clone();
+            armed[flag] = Expr::Bool(true);
+            alts.push(prefix(format!("arm_{}", self.clocks[k].csp), vec![], self.memory_call(armed)));
+            let mut restarted = same.clone();
+            restarted[clock] =
+                Expr::If(Box::new(same[flag].clone()), Box::new(Expr::Int(0)), Box::new(same[clock].clone()));
+            restarted[flag] = Expr::Bool(false);
+            alts.push(prefix(format!("restart_{}", self.clocks[k].csp), vec![], self.memory_call(restarted)));
+        }
         self.push_tock(&mut alts, self.memory_call(ticked));
         // RoboSim: the cycle's reads update the inputs (Rule 5).
         let mut pos = nv + self.clocks.len();
@@ -138,10 +152,18 @@ impl<'e, 'a> Gen<'e, 'a> {
                 sync.push(name(c));
             }
         }
+        let armed = self.armed_clocks();
         for c in &self.clocks {
             private.push(Decl::Channel(vec![format!("reset_{}", c.csp)], vec![]));
             hidden.push(name(format!("reset_{}", c.csp)));
             sync.push(name(format!("reset_{}", c.csp)));
+            if c.state.is_some_and(|s| armed.iter().any(|&k| self.clocks[k].state == Some(s))) {
+                for ch in [format!("arm_{}", c.csp), format!("restart_{}", c.csp)] {
+                    private.push(Decl::Channel(vec![ch.clone()], vec![]));
+                    hidden.push(name(ch.clone()));
+                    sync.push(name(ch));
+                }
+            }
             if c.read {
                 private.push(Decl::Channel(vec![format!("get_{}", c.csp)], vec![name("core_clock_type")]));
                 hidden.push(name(format!("get_{}", c.csp)));
@@ -324,6 +346,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     })
                     .collect::<Vec<_>>(),
             )
+            .chain(self.armed_clocks().into_iter().map(|_| Expr::Bool(false)))
             .collect();
         let memory = self.memory_call(init);
 
