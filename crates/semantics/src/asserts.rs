@@ -611,10 +611,12 @@ fn assertion(
             }
             // hir's one reading of the state's path, as the native checker's.
             let st = target::state(ex.db, ex.ws, *loc, inner.as_deref(), state)?;
-            if st.kind != m::NodeKind::State {
+            // RoboTool's states and final states have `entered`; junctions
+            // have none.
+            if !matches!(st.kind, m::NodeKind::State | m::NodeKind::Final) {
                 return Err(format!(
-                    "`{}` is not a state (a junction or a final state): the export marks the entries of states \
-                     only (`entered__`)",
+                    "`{}` is a junction, not a state: RoboTool's semantics marks the entries of states and final \
+                     states only (`entered`)",
                     state.join("::")
                 ));
             }

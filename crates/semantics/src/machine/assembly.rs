@@ -120,7 +120,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut sids: Vec<(String, Vec<Expr>)> = self
             .nodes
             .iter()
-            .filter(|n| n.kind == NodeKind::State)
+            .filter(|n| matches!(n.kind, NodeKind::State | NodeKind::Final))
             .map(|n| (format!("SID_{}", n.tag), vec![]))
             .collect();
         if sids.is_empty() {
@@ -216,7 +216,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             hidden.push(name("ready__"));
         }
         // Exported interface.
-        exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
+        exports.push(Decl::Comment(
+            "State identifiers (final states too); `entered__` marks the entry into a state.".into(),
+        ));
         exports.push(Decl::Datatype("SIDS".into(), sids));
         exports.push(Decl::Channel(vec!["entered__".into()], vec![name("SIDS")]));
         let shared: Vec<&VarI> = self.vars.iter().filter(|v| v.shared).collect();

@@ -8,13 +8,22 @@ impl<'e, 'a> Gen<'e, 'a> {
         match node.kind {
             NodeKind::State => name(format!("Enter__{}", node.tag)),
             NodeKind::Junction | NodeKind::Initial => name(format!("Junction__{}", node.tag)),
-            NodeKind::Final if node.parent.is_some() => {
-                let mut parts = if self.after_entry() { self.entered_marks(n) } else { Vec::new() };
-                parts.push(self.ready(n, name(format!("Rest__{}", node.tag))));
+            // RoboTool's final state has an `entered` of its own (`Entering
+            // = entered -> SKIP ; Active`), which its composite's waits for
+            // as a substate's.
+            NodeKind::Final => {
+                let mut parts = if self.after_entry() {
+                    self.entered_marks(n)
+                } else {
+                    vec![prefix("entered__", vec![Field::Dot(name(format!("SID_{}", node.tag)))], Expr::Skip)]
+                };
+                parts.push(match node.parent {
+                    Some(_) => self.ready(n, name(format!("Rest__{}", node.tag))),
+                    None if self.robosim => name("Ending__"),
+                    None => Expr::Skip,
+                });
                 fold_seq(parts)
             }
-            NodeKind::Final if self.robosim => name("Ending__"),
-            NodeKind::Final => Expr::Skip,
         }
     }
 
@@ -36,7 +45,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut parts = Vec::new();
         let mut cur = Some(n);
         while let Some(c) = cur {
-            if self.nodes[c].kind == NodeKind::State {
+            if matches!(self.nodes[c].kind, NodeKind::State | NodeKind::Final) {
                 let sid = Field::Dot(name(format!("SID_{}", self.nodes[c].tag)));
                 parts.push(prefix("entered__", vec![sid], Expr::Skip));
             }
