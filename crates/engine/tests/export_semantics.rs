@@ -416,14 +416,10 @@ fn cross_check(sem: Semantics, known: &[(&str, &str, &str, &str)]) {
     assert!(problems.is_empty(), "{problems:#?}");
 }
 
-const RT7_FILES: &str = "export: another assertion file's `Instantiations` block sets the one instantiations.csp every script includes (`core_nat` = {0..3}), so this file, which has no block, is checked with it; RT-7 gives each file its own (here RoboTool's generated defaults), as the engine does";
 const INNER_MACHINE: &str = "undecided: a machine declared inside a controller as the subject (`C::M`): the engine checks it on its own (RT-19: the controller's operation `turn` is a visible call `turnCall`), the export as RoboTool's one module for it, `C::M`, the machine inside its controller (`turn` inlined, its `wait(1) <{0}` a timelock); the reference has no inline machine to settle which RoboTool means";
 
 /// Known reachability disagreements: (fixture, assertion, why).
-const REACH_KNOWN: &[(&str, &str, &str)] = &[
-    ("reasons_machines_inside_controllers", "A", INNER_MACHINE),
-    ("rt07_instantiations_per_file", "Narrow", RT7_FILES),
-];
+const REACH_KNOWN: &[(&str, &str, &str)] = &[("reasons_machines_inside_controllers", "A", INNER_MACHINE)];
 
 /// Whether the export's `assert` line holds, evaluated with our CSPm
 /// evaluator: reachability is `assert not STOP [T= P \ diff(Events,

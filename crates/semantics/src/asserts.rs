@@ -51,7 +51,7 @@ struct OpSubject {
 pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &AssertionFile) -> Vec<Decl> {
     let mut out = Vec::new();
     // `csp` blocks, copied; what the export already defines is commented
-    // out (constant values are applied to instantiations.csp).
+    // out (constant values are applied to this file's instantiations).
     let text = file.text(ex.db).clone();
     let mut raw_names = Vec::new();
     let ours = generated_names(ex);
@@ -78,18 +78,18 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
             // from the block; `Plus`): old-style names (`nametype ID`,
             // `nametype nat`) define exactly those names, which specs use.
             if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) && !clash.is_empty() {
-                lines.push(format!("-- (in instantiations.csp or robosim_defs.csp) {}", l.trim()));
+                lines.push(format!("-- (in this script's instantiations or robosim_defs.csp) {}", l.trim()));
             } else if let Some(n) = clash.first() {
                 let n = n.to_string();
                 let value = read.instantiations.constants.iter().find(|(c, _, r)| *c == n && lr.contains_range(*r));
                 match value.map(|(_, v, _)| v) {
                     Some(Value::Int(v)) if ex.const_names.contains(&n) => {
                         ex.set_constant(&n, Expr::Int(*v), format!("set by `csp {}` in {}", b.name, ex.loc(file, lr)));
-                        lines.push(format!("-- (set in instantiations.csp) {}", l.trim()));
+                        lines.push(format!("-- (set in this script's instantiations) {}", l.trim()));
                     }
                     Some(Value::Bool(v)) if ex.const_names.contains(&n) => {
                         ex.set_constant(&n, Expr::Bool(*v), format!("set by `csp {}` in {}", b.name, ex.loc(file, lr)));
-                        lines.push(format!("-- (set in instantiations.csp) {}", l.trim()));
+                        lines.push(format!("-- (set in this script's instantiations) {}", l.trim()));
                     }
                     _ => {
                         ex.warn(
