@@ -606,9 +606,6 @@ fn assertion(
             let Some((loc, inner)) = &s.at else {
                 return Err("reachability needs a state machine, controller or module".into());
             };
-            if s.elem.as_ref().is_some_and(|e| e.robosim && e.kind != crate::export::ElemKind::Machine) {
-                return Err("reachability in RoboSim controllers and modules is not exported yet".into());
-            }
             // hir's one reading of the state's path, as the native checker's.
             let st = target::state(ex.db, ex.ws, *loc, inner.as_deref(), state)?;
             // RoboTool's states and final states have `entered`; junctions

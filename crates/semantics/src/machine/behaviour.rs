@@ -28,10 +28,13 @@ impl<'e, 'a> Gen<'e, 'a> {
     }
 
     /// Whether a state's `entered` follows its entry action (and a
-    /// composite's its first substate's), as in RoboTool 3's semantics;
-    /// RoboSim and the 2019 paper's semantics mark the entry at its start.
+    /// composite's its first substate's), as in RoboTool 3's semantics,
+    /// RoboChart's and RoboSim's alike (`Active = entry ; Behaviour`,
+    /// `Behaviour = entered -> During` in `csp-gen/timed` and
+    /// `csp-gen/sim`); the 2019 paper's semantics marks the entry at its
+    /// start.
     pub(super) fn after_entry(&self) -> bool {
-        !self.robosim && self.profile != Profile::Paper2019
+        self.profile != Profile::Paper2019
     }
 
     /// What follows the entry action of the simple or final state `n`
@@ -369,8 +372,8 @@ impl<'e, 'a> Gen<'e, 'a> {
                 // the entry action, and a composite's its first substate's:
                 // a simple state marks itself and the states around it
                 // (again on later substates' entries, which reachability
-                // does not tell apart). RoboSim and the 2019 paper's
-                // semantics keep the mark at the start.
+                // does not tell apart). The 2019 paper's semantics keeps
+                // the mark at the start.
                 let after_entry = self.after_entry();
                 if after_entry && !composite {
                     parts.extend(self.entered_marks(n));
