@@ -17,7 +17,6 @@ use robosim_hir::{File, TextRange};
 use crate::compose::ElemDef;
 use crate::cspm::{call, hide, name, Assert, AssertKind, Decl, Expr, Model};
 use crate::export::{ConstParam, Elem, Exporter, Ty};
-use crate::util::ident;
 
 /// A subject of an assertion: a process to call, with its parameters.
 #[derive(Clone)]
@@ -46,6 +45,8 @@ struct OpSubject {
     /// Its parameters' values.
     params: Vec<Expr>,
     consts: Vec<ConstParam>,
+    /// Its states' paths and tags.
+    states: Vec<(Vec<String>, String)>,
 }
 
 pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &AssertionFile) -> Vec<Decl> {
@@ -353,7 +354,11 @@ fn operation_subject(
         period: None,
         names: vec![path.to_vec()],
         at: Some((loc, inner.map(str::to_string))),
-        op: Some(OpSubject { params, consts: op.consts.iter().map(|(c, _)| c.clone()).collect() }),
+        op: Some(OpSubject {
+            params,
+            consts: op.consts.iter().map(|(c, _)| c.clone()).collect(),
+            states: op.states.clone(),
+        }),
     }))
 }
 
@@ -617,23 +622,28 @@ fn assertion(
                     state.join("::")
                 ));
             }
-            // The module of the state's machine: a controller's machine
+            // The state's machine (or operation): a controller's machine
             // `Ctl::a` is its part `a`; a module's `c::a` its part `c`'s `a`.
-            let module = match &s.elem {
-                None => s.module.clone(),
-                Some(elem) => {
+            let (module, states) = match (&s.elem, &s.op) {
+                (Some(elem), _) => {
                     let skip = usize::from(elem.kind == crate::export::ElemKind::Controller);
                     let mut at = elem.clone();
                     if elem.kind != crate::export::ElemKind::Machine {
                         for part in &st.machine[skip..] {
                             let next = at.parts.iter().find(|(n, _)| n == part).map(|(_, e)| e.clone());
-                            at = next.ok_or_else(|| format!("the machine `{}` is not exported", st.machine.join("::")))?;
+                            at = next
+                                .ok_or_else(|| format!("the machine `{}` is not exported", st.machine.join("::")))?;
                         }
                     }
-                    at.module.clone()
+                    (at.module.clone(), at.states.clone())
                 }
+                (None, Some(op)) => (s.module.clone(), op.states.clone()),
+                (None, None) => return Err("reachability needs a state machine, controller or module".into()),
             };
-            let tag = st.state.iter().map(|x| ident(x)).collect::<Vec<_>>().join("_");
+            // The machine's own tag for the state (tags are made unique).
+            let tag = states.iter().find(|(p, _)| *p == st.state).map(|(_, t)| t.clone()).ok_or_else(|| {
+                format!("the state `{}` is not exported in `{}`", st.state.join("::"), st.machine.join("::"))
+            })?;
             let p = process(ex, file, read, a, &s, "VS__")?;
             let ev = crate::cspm::dot(vec![
                 name(format!("{module}::entered__")),

@@ -868,6 +868,7 @@ fn robochart_container(
             period: 1,
             required,
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
+            states: Vec::new(),
         },
         decls,
     ))
@@ -1026,6 +1027,7 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
             period,
             required: vec![],
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
+            states: Vec::new(),
         },
         decls,
     ))

@@ -351,6 +351,10 @@ pub(crate) struct Elem {
     /// A controller's machines and a module's controllers, by instance
     /// name (reachability names a state after them).
     pub parts: Vec<(String, Rc<Elem>)>,
+    /// A machine's states and final states: their path in it (`A`, `B`
+    /// for a state `B` in `A`) and their tag (`SID_tag`), unique in the
+    /// machine.
+    pub states: Vec<(Vec<String>, String)>,
 }
 
 /// A node key: the file and the node's range.

@@ -111,3 +111,30 @@ fn reachability_in_robosim_controllers_and_modules() {
         assert_eq!(entries, shows, "{process}: {done:?}\n{text}");
     }
 }
+
+/// The export's node names share one namespace per machine (`SID_A_B`
+/// for a state B in A, `Junction__A_j` for A's junction `j`), where
+/// RoboTool nests a module per state: a state named `A_B`, a junction
+/// named `A_j`, a state `Events_` beside `Events` (escaped as `Events_`)
+/// get names of their own, and reachability finds each state by its own
+/// (the engine's fixture `export_state_names_are_distinct`, whose
+/// verdicts `export_semantics.rs` compares with the engine's too).
+#[test]
+fn states_whose_flat_names_would_meet_get_distinct_names() {
+    let e = export_fixture("export_state_names_are_distinct");
+    let text = e.files.iter().find(|f| f.name == "m.csp").expect("m.csp").text();
+    for distinct in [
+        "datatype SIDS = SID_A | SID_A_B | SID_A_B_2\n",
+        "Junction__A_j =",
+        "Junction__A_j_2 =",
+        "Enter__A_B =",
+        "Enter__A_B_2 =",
+        "datatype SIDS = SID_Events_ | SID_Events__2\n",
+    ] {
+        assert!(text.contains(distinct), "{distinct}\nnot in\n{text}");
+    }
+    let got = verdicts(&e, "a_assertions.csp");
+    for (name, verdict) in [("N1", true), ("N2", false), ("N3", true), ("K1", false), ("K2", true)] {
+        assert_eq!(got.get(name), Some(&Ok(verdict)), "{name}: {got:#?}");
+    }
+}

@@ -807,6 +807,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 .unwrap_or(1),
             required: self.required.clone(),
             parts: Vec::new(),
+            states: self.state_tags(),
         }
     }
 }
