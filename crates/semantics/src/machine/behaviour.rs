@@ -178,7 +178,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             })
             .collect();
         // States, junctions and finals. A `sinceEntry(S)` first read in an
-        // action (guards are translated before) makes S's clock only now,
+        // action (RC:TE1 forbids it, but an ill-formed model is still
+        // written; guards are translated before) makes S's clock only now,
         // perhaps after S's entry was written without its restart: then
         // they are all written again, every clock known.
         let clocks = self.clocks.len();
