@@ -69,10 +69,11 @@ impl Param {
                 None => s.push_str(&format!(".{v}")),
             },
             Param::Num(_) => s.push_str(&format!(".{v}")),
+            // FDR writes a tuple-typed field as one value, `e.(1, 2)` (RoboTool
+            // declares a product-typed event over a tuple set).
             Param::Tuple(ds) => {
-                for x in tuple_values(ds, v) {
-                    s.push_str(&format!(".{x}"));
-                }
+                let xs: Vec<String> = tuple_values(ds, v).iter().map(Val::to_string).collect();
+                s.push_str(&format!(".({})", xs.join(", ")));
             }
         }
     }

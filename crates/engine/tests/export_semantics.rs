@@ -416,10 +416,8 @@ fn cross_check(sem: Semantics, known: &[(&str, &str, &str, &str)]) {
     assert!(problems.is_empty(), "{problems:#?}");
 }
 
-const INNER_MACHINE: &str = "undecided: a machine declared inside a controller as the subject (`C::M`): the engine checks it on its own (RT-19: the controller's operation `turn` is a visible call `turnCall`), the export as RoboTool's one module for it, `C::M`, the machine inside its controller (`turn` inlined, its `wait(1) <{0}` a timelock); the reference has no inline machine to settle which RoboTool means";
-
 /// Known reachability disagreements: (fixture, assertion, why).
-const REACH_KNOWN: &[(&str, &str, &str)] = &[("reasons_machines_inside_controllers", "A", INNER_MACHINE)];
+const REACH_KNOWN: &[(&str, &str, &str)] = &[];
 
 /// Whether the export's `assert` line holds, evaluated with our CSPm
 /// evaluator: reachability is `assert not STOP [T= P \ diff(Events,

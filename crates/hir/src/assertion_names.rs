@@ -15,7 +15,7 @@
 
 use std::collections::HashMap;
 
-use robosim_syntax::{ast, ast::AstNode, SyntaxKind::*, SyntaxNode, TextRange};
+use robosim_syntax::{ast, ast::AstNode, SyntaxKind::*, SyntaxNode, TextRange, TextSize};
 
 use crate::assertions::{AssertionFile, AssertionKind, Override};
 use crate::defs::{file_defs, DefData, DefId, DefKind};
@@ -66,15 +66,25 @@ pub fn assertion_name_problems(db: &dyn Db, ws: Workspace, file: File) -> Vec<Re
             | AssertionKind::Terminates => {
                 c.side(&a.subject, a.subject_range);
             }
-            // A clock is not an element the checker reads (RT-10); the
-            // names of a PRISM property are the resolver's; a broken
-            // assertion is the parser's.
-            AssertionKind::ClockInitialised { .. } | AssertionKind::Probabilistic { .. } | AssertionKind::Other(_) => {}
+            // A clock is reached through its element (`M::T`, `Mod::c::m::T`):
+            // a path that names nothing is reported; a bare clock name is
+            // left alone (what RoboTool's scoping finds for it is not
+            // established). The names of a PRISM property are the
+            // resolver's; a broken assertion is the parser's.
+            AssertionKind::ClockInitialised { clock, clock_range } => {
+                if clock.len() >= 2 {
+                    c.name(clock, *clock_range, "module, controller or state machine");
+                }
+            }
+            AssertionKind::Probabilistic { .. } | AssertionKind::Other(_) => {}
         }
         for o in &a.overrides {
             match o {
-                Override::Constant { name, name_range, of, of_range, .. } => {
-                    c.constant(name, *name_range, of, *of_range)
+                Override::Constant { name, name_range, of, of_range, value, value_range, .. } => {
+                    c.constant(name, *name_range, of, *of_range);
+                    if let crate::assertions::Value::Other(text) = value {
+                        c.value(text, *value_range);
+                    }
                 }
                 Override::Parameter { name, name_range, of, of_range, .. } => {
                     c.parameter(name, *name_range, of, *of_range)
@@ -274,6 +284,34 @@ impl Checker<'_> {
                     of.join("::")
                 ),
             );
+        }
+    }
+
+    /// The value of `set to E::L` (RT-11: an enumeration literal): reported
+    /// when the path names nothing. Other values (an expression, a real)
+    /// are no names: the verifier says why it refuses them.
+    fn value(&mut self, text: &str, range: TextRange) {
+        let path: Vec<String> = text.split("::").map(|p| p.trim().to_string()).collect();
+        let ident = |p: &String| {
+            p.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
+                && p.chars().all(|c| c.is_alphanumeric() || c == '_')
+        };
+        if path.len() >= 2 && path.iter().all(ident) {
+            // Written without spaces (as usual), the segments' ranges follow
+            // from the text: the squiggle goes under the one not found.
+            if usize::from(range.len()) == text.len() && !self.segments.contains_key(&range) {
+                let mut at = range.start();
+                let ranges = text
+                    .split("::")
+                    .map(|seg| {
+                        let r = TextRange::at(at, TextSize::of(seg));
+                        at = r.end() + TextSize::of("::");
+                        r
+                    })
+                    .collect();
+                self.segments.insert(range, ranges);
+            }
+            self.name(&path, range, "enumeration");
         }
     }
 

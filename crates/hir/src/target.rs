@@ -9,9 +9,7 @@
 
 mod states;
 
-pub use states::{
-    design_machines, machines, match_state, names_machine, state, MachineStates, StateMatch, StateNode, StateRef,
-};
+pub use states::{design_machines, match_state, names_machine, state, MachineStates, StateMatch, StateNode, StateRef};
 
 use crate::assertions::{AssertionDecl, AssertionFile, Override, Value};
 use crate::cycle::{simulation_period, Feasibility};

@@ -265,9 +265,13 @@ impl<'a> Cx<'a> {
     }
 
     /// The machine `name` declared inside the controller `ctrl`, on its own
-    /// (every event faces the environment). The controller's operations
-    /// are undefined for it: calls of them are urgent visible call events
-    /// (`opCall`), as for platform operations (RT-19).
+    /// (every event faces the environment). RoboTool generates such a
+    /// machine only inside its controller's module, "in the context of a
+    /// controller": the operations the controller defines are inlined, the
+    /// others are urgent visible call events (`opCall`) (RT-19; the comment
+    /// on "Operation calls" in the reference's `defs/pkg223__MovementC.csp`).
+    /// Only a machine declared at package level is ever "in isolation",
+    /// with every required operation undefined.
     fn inner_machine(&mut self, file: File, ctrl: &'a Controller, name: &str) -> Result<Design, Unsupported> {
         let (mut instances, mut links, mut async_links) = (Vec::new(), Vec::new(), Vec::new());
         self.controller(&ctrl.name, file, ctrl, &mut instances, &mut links, &mut async_links)?;
@@ -275,7 +279,6 @@ impl<'a> Cx<'a> {
             self.unsupported(file, ctrl.range, format!("the controller declares no state machine `{name}`"))
         })?;
         inst.ctrl = String::new();
-        inst.ops.clear();
         self.build(name, Top::Machine, vec![inst], &[], &HashMap::new(), &BTreeSet::new())
     }
 

@@ -1,13 +1,19 @@
 //! The state a reachability assertion (`S is reachable in X`) names: one
-//! state of one machine of `X`, by its path inside the machine (`C::S` for
+//! node of one machine of `X`, by its path inside the machine (`C::S` for
 //! the substate `S` of `C`), after the machine's name (its instance path,
 //! `Ctl::a`, or a suffix of it, or its declaration's name), or by its own
 //! name when that alone names one node. A path naming no node, or nodes of
 //! several machines, is refused: a verdict about another state would be
-//! wrong. The native checker and the CSPm export both resolve here.
+//! wrong.
+//!
+//! This is the one reading of a state path: the native checker (over the
+//! machines of its compiled design), the checker's LNK-01 and the CSPm
+//! export (over the machines of the model, [`design_machines`],
+//! [`state`]) all read paths with [`match_state`].
 
+use super::Subject;
 use crate::index::ItemLoc;
-use crate::model::{self as m, Definition, Item, NodeKind, Region};
+use crate::model::{self as m, Behaviour, Definition, Item, Node, NodeKind};
 use crate::{Db, Workspace};
 
 /// A node a reachability assertion names.
@@ -26,139 +32,6 @@ pub struct StateRef {
     /// What the node is (a state, a junction, …).
     pub kind: NodeKind,
 }
-
-/// One machine of a subject: instance path, declared name, its region.
-pub type Machine<'a> = (Vec<String>, String, &'a Region);
-
-/// The machines the subject `loc` (with `inner`, the machine or operation
-/// of that name declared inside the controller `loc`) consists of, named as
-/// the native checker names them; an operation is one machine.
-pub fn machines<'a>(db: &'a dyn Db, ws: Workspace, loc: ItemLoc, inner: Option<&str>) -> Vec<Machine<'a>> {
-    let machine = |i: &'a m::Instance<m::Behaviour>| -> Option<&'a m::Behaviour> {
-        match &i.def {
-            Definition::Inline(b) => Some(&**b),
-            Definition::Ref { target, .. } => match m::item(db, ws, (*target)?)? {
-                Item::Machine(b) => Some(b),
-                _ => None,
-            },
-        }
-    };
-    let of_controller = |prefix: &str, c: &'a m::Controller, out: &mut Vec<Machine<'a>>| {
-        for i in &c.machines {
-            if let Some(b) = machine(i) {
-                out.push((vec![prefix.to_string(), i.name.clone()], b.name.clone(), &b.region));
-            }
-        }
-    };
-    let mut out = Vec::new();
-    match (m::item(db, ws, loc), inner) {
-        (Some(Item::Machine(b) | Item::Operation(b)), None) => {
-            out.push((vec![b.name.clone()], b.name.clone(), &b.region))
-        }
-        (Some(Item::Controller(c)), None) => of_controller(&c.name, c, &mut out),
-        (Some(Item::Controller(c)), Some(inner)) => {
-            let inline = c.machines.iter().find_map(|i| match &i.def {
-                Definition::Inline(b) if b.name == inner => Some(&**b),
-                _ => None,
-            });
-            let op = c.operations.iter().find_map(|o| match &o.def {
-                Definition::Inline(b) if o.name == inner => Some(&**b),
-                _ => None,
-            });
-            if let Some(b) = inline.or(op) {
-                out.push((vec![b.name.clone()], b.name.clone(), &b.region));
-            }
-        }
-        (Some(Item::Module(x)), None) => {
-            for i in &x.controllers {
-                let c = match &i.def {
-                    Definition::Inline(c) => Some(&**c),
-                    Definition::Ref { target, .. } => match target.and_then(|t| m::item(db, ws, t)) {
-                        Some(Item::Controller(c)) => Some(c),
-                        _ => None,
-                    },
-                };
-                if let Some(c) = c {
-                    of_controller(&i.name, c, &mut out);
-                }
-            }
-        }
-        _ => {}
-    }
-    out
-}
-
-/// Whether `prefix` names the instance `instance`: empty, or ending with
-/// it.
-fn names_instance(prefix: &[String], instance: &[String]) -> bool {
-    prefix.is_empty() || prefix.ends_with(instance)
-}
-
-/// The node `path` names in the subject `loc` (see [`machines`]), or why
-/// it names none, or several.
-pub fn state(
-    db: &dyn Db,
-    ws: Workspace,
-    loc: ItemLoc,
-    inner: Option<&str>,
-    path: &[String],
-) -> Result<StateRef, String> {
-    let written = path.join("::");
-    if path.is_empty() {
-        return Err("the state is missing".into());
-    }
-    let (mut found, mut by_name) = (Vec::new(), Vec::new());
-    for (inst, decl, region) in machines(db, ws, loc, inner) {
-        let names_machine =
-            |prefix: &[String]| names_instance(prefix, &inst) || names_instance(prefix, std::slice::from_ref(&decl));
-        let mut nodes = Vec::new();
-        collect(region, &mut Vec::new(), &mut nodes);
-        for (inside, kind) in nodes {
-            let r = || StateRef { machine: inst.clone(), decl: decl.clone(), state: inside.clone(), kind };
-            if path.last() == inside.last() && names_machine(&path[..path.len() - 1]) {
-                by_name.push(r());
-            }
-            let Some(k) = path.len().checked_sub(inside.len()) else { continue };
-            if path[k..] == inside[..] && names_machine(&path[..k]) {
-                found.push(r());
-            }
-        }
-    }
-    if found.is_empty() && by_name.len() == 1 {
-        found = by_name;
-    }
-    match found.len() {
-        0 => Err(format!("`{written}` names no state of the machines checked")),
-        1 => Ok(found.remove(0)),
-        _ => Err(format!(
-            "`{written}` names a state of several machines ({}): qualify it with the machine's name",
-            found.iter().map(|s| s.machine.join("::")).collect::<Vec<_>>().join(", ")
-        )),
-    }
-}
-
-/// The nodes of `region` and of its states' regions, with their paths
-/// (probabilistic junctions left out, as the native checker refuses them).
-fn collect(region: &Region, at: &mut Vec<String>, out: &mut Vec<(Vec<String>, NodeKind)>) {
-    for n in &region.nodes {
-        if n.kind == NodeKind::Probabilistic {
-            continue;
-        }
-        at.push(n.name.clone());
-        out.push((at.clone(), n.kind));
-        if n.kind == NodeKind::State {
-            collect(&n.region, at, out);
-        }
-        at.pop();
-    }
-}
-
-// The reading of a state path the engine's compiled design and the
-// checker's LNK-01 share ([`match_state`]). TODO(lead): the export's
-// [`state`] above reads paths on its own; one of the two should go.
-
-use super::Subject;
-use crate::model::{Behaviour, Node};
 
 /// A machine of a design, as a state path names it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -256,33 +129,92 @@ pub fn names_machine(m: &MachineStates, prefix: &[String]) -> bool {
     prefix.is_empty() || ends_with(&instance) || ends_with(&[m.decl.as_str()]) || ends_instance
 }
 
+/// A machine of the model with its nodes' kinds, index for index.
+struct ModelMachine {
+    states: MachineStates,
+    kinds: Vec<NodeKind>,
+}
+
 /// The machines of the design `subject` stands for, named as the checker
 /// composes them (a module's controllers' machines, a controller's
-/// machines, a machine alone); `None` when that is not known from the
-/// model (an operation, a reference that does not resolve), so that no
-/// state path is judged against an incomplete list.
+/// machines, a machine or an operation alone); `None` when that is not
+/// known from the model (a RoboSim operation, a reference that does not
+/// resolve), so that no state path is judged against an incomplete list.
 pub fn design_machines(db: &dyn Db, ws: Workspace, subject: &Subject) -> Option<Vec<MachineStates>> {
     let (loc, inner) = match subject {
         Subject::Design { loc, inner, .. } | Subject::Simulation { loc, inner, .. } => (*loc, inner.as_deref()),
         Subject::Constrained { loc, .. } => (*loc, None),
         Subject::SimOperation { .. } => return None,
     };
-    let item = m::item(db, ws, loc)?;
-    let mut out = Vec::new();
-    match (item, inner) {
-        (Item::Controller(c), Some(m)) => {
-            if c.operations.iter().any(|o| o.name == m) {
-                return None;
+    Some(model_machines(db, ws, loc, inner)?.into_iter().map(|m| m.states).collect())
+}
+
+/// The node `path` names in the subject `loc` (with `inner`, the machine
+/// or operation of that name declared inside the controller `loc`), read
+/// by [`match_state`] over [`design_machines`], or why it names none, or
+/// several.
+pub fn state(
+    db: &dyn Db,
+    ws: Workspace,
+    loc: ItemLoc,
+    inner: Option<&str>,
+    path: &[String],
+) -> Result<StateRef, String> {
+    let written = path.join("::");
+    if path.is_empty() {
+        return Err("the state is missing".into());
+    }
+    let machines = model_machines(db, ws, loc, inner)
+        .ok_or_else(|| "a machine of the element checked could not be resolved".to_string())?;
+    let states: Vec<MachineStates> = machines.iter().map(|m| m.states.clone()).collect();
+    match match_state(path, &states) {
+        StateMatch::None => Err(format!("`{written}` names no state of the machines checked")),
+        StateMatch::Several(found) => Err(format!(
+            "`{written}` names a state of several machines ({}): qualify it with the machine's name",
+            found.iter().map(|&(mi, _)| states[mi].instance.as_str()).collect::<Vec<_>>().join(", ")
+        )),
+        StateMatch::Found(found) => {
+            let (mi, ni) = found[0];
+            let m = &machines[mi];
+            if m.kinds[ni] == NodeKind::Probabilistic {
+                return Err(format!(
+                    "`{written}` is a probabilistic junction, which has no meaning in the tock-CSP semantics"
+                ));
             }
-            let b = c.machines.iter().find_map(|i| match &i.def {
-                Definition::Inline(b) if i.name == m => Some(&**b),
+            Ok(StateRef {
+                machine: m.states.instance.split("::").map(str::to_string).collect(),
+                decl: m.states.decl.clone(),
+                state: inner_path(&m.states, ni).into_iter().map(str::to_string).collect(),
+                kind: m.kinds[ni],
+            })
+        }
+    }
+}
+
+/// The machines of the subject `loc` (with `inner`, see [`state`]), named
+/// as the native checker names them: `None` when a reference does not
+/// resolve or `inner` names nothing.
+fn model_machines(db: &dyn Db, ws: Workspace, loc: ItemLoc, inner: Option<&str>) -> Option<Vec<ModelMachine>> {
+    let mut out = Vec::new();
+    match (m::item(db, ws, loc)?, inner) {
+        (Item::Controller(c), Some(inner)) => {
+            // The checker's reading (RT-11): an operation declared in the
+            // controller's body comes first, checked as a top-level one.
+            let op = c.operations.iter().find_map(|o| match &o.def {
+                Definition::Inline(b) if o.name == inner => Some(&**b),
                 _ => None,
+            });
+            let b = op.or_else(|| {
+                c.machines.iter().find_map(|i| match &i.def {
+                    Definition::Inline(b) if i.name == inner => Some(&**b),
+                    _ => None,
+                })
             })?;
-            out.push(machine(m.to_string(), b));
+            out.push(machine(inner.to_string(), b));
         }
         (_, Some(_)) => return None,
-        (Item::Module(m), None) => {
-            for c in &m.controllers {
+        (Item::Module(x), None) => {
+            for c in &x.controllers {
                 let ctrl = match &c.def {
                     Definition::Inline(c) => &**c,
                     Definition::Ref { target, .. } => match m::item(db, ws, (*target)?)? {
@@ -294,7 +226,7 @@ pub fn design_machines(db: &dyn Db, ws: Workspace, subject: &Subject) -> Option<
             }
         }
         (Item::Controller(c), None) => controller_machines(db, ws, &c.name, c, &mut out)?,
-        (Item::Machine(b), None) => out.push(machine(b.name.clone(), b)),
+        (Item::Machine(b) | Item::Operation(b), None) => out.push(machine(b.name.clone(), b)),
         _ => return None,
     }
     Some(out)
@@ -306,7 +238,7 @@ fn controller_machines(
     ws: Workspace,
     cref: &str,
     c: &m::Controller,
-    out: &mut Vec<MachineStates>,
+    out: &mut Vec<ModelMachine>,
 ) -> Option<()> {
     for m in &c.machines {
         let body = match &m.def {
@@ -322,15 +254,16 @@ fn controller_machines(
 }
 
 /// The machine `body` under the instance name `instance`.
-fn machine(instance: String, body: &Behaviour) -> MachineStates {
-    fn add(nodes: &[Node], parent: Option<usize>, out: &mut Vec<StateNode>) {
+fn machine(instance: String, body: &Behaviour) -> ModelMachine {
+    fn add(nodes: &[Node], parent: Option<usize>, out: &mut Vec<StateNode>, kinds: &mut Vec<NodeKind>) {
         for n in nodes {
             out.push(StateNode { name: n.name.clone(), parent, own: true });
+            kinds.push(n.kind);
             let me = out.len() - 1;
-            add(&n.region.nodes, Some(me), out);
+            add(&n.region.nodes, Some(me), out, kinds);
         }
     }
-    let mut nodes = Vec::new();
-    add(&body.region.nodes, None, &mut nodes);
-    MachineStates { instance, decl: body.name.clone(), nodes }
+    let (mut nodes, mut kinds) = (Vec::new(), Vec::new());
+    add(&body.region.nodes, None, &mut nodes, &mut kinds);
+    ModelMachine { states: MachineStates { instance, decl: body.name.clone(), nodes }, kinds }
 }
