@@ -37,6 +37,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             ));
         }
         let nv = self.vars.iter().filter(|v| !v.shared).count();
+        let armed = self.armed_clocks();
         let mut ticked = same.clone();
         for (k, c) in self.clocks.iter().enumerate() {
             let i = nv + k;
@@ -47,13 +48,16 @@ impl<'e, 'a> Gen<'e, 'a> {
                     self.memory_call(same.clone()),
                 ));
             }
-            alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
+            // A composite's clock restarts only through `restart_` (below).
+            if !armed.contains(&k) {
+                alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
+            }
             ticked[i] = call("ClockTick", vec![name(c.csp.clone()), name(format!("ClockMax__{}", c.csp))]);
         }
         // A composite's clock: armed when it is entered, restarted by the
         // first substate's `entered` after that.
-        let first_flag = params.len() - self.armed_clocks().len();
-        for (j, k) in self.armed_clocks().into_iter().enumerate() {
+        let first_flag = params.len() - armed.len();
+        for (j, &k) in armed.iter().enumerate() {
             let (clock, flag) = (nv + k, first_flag + j);
             let mut armed = same.clone();
             armed[flag] = Expr::Bool(true);
@@ -153,16 +157,16 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
         }
         let armed = self.armed_clocks();
-        for c in &self.clocks {
-            private.push(Decl::Channel(vec![format!("reset_{}", c.csp)], vec![]));
-            hidden.push(name(format!("reset_{}", c.csp)));
-            sync.push(name(format!("reset_{}", c.csp)));
-            if c.state.is_some_and(|s| armed.iter().any(|&k| self.clocks[k].state == Some(s))) {
-                for ch in [format!("arm_{}", c.csp), format!("restart_{}", c.csp)] {
-                    private.push(Decl::Channel(vec![ch.clone()], vec![]));
-                    hidden.push(name(ch.clone()));
-                    sync.push(name(ch));
-                }
+        for (k, c) in self.clocks.iter().enumerate() {
+            // A composite's clock is armed and restarted, never reset.
+            let chans = match armed.contains(&k) {
+                true => vec![format!("arm_{}", c.csp), format!("restart_{}", c.csp)],
+                false => vec![format!("reset_{}", c.csp)],
+            };
+            for ch in chans {
+                private.push(Decl::Channel(vec![ch.clone()], vec![]));
+                hidden.push(name(ch.clone()));
+                sync.push(name(ch));
             }
             if c.read {
                 private.push(Decl::Channel(vec![format!("get_{}", c.csp)], vec![name("core_clock_type")]));
