@@ -71,6 +71,11 @@ pub fn shared_events(designs: &[&Design]) -> Result<EventTable, String> {
 }
 
 impl<'a> DesignLts<'a> {
+    /// The design this LTS runs: its slots come first in every state.
+    pub fn design(&self) -> &'a Design {
+        self.design
+    }
+
     /// The design's LTS.
     pub fn new(design: &'a Design) -> Result<DesignLts<'a>, String> {
         DesignLts::with_events(design, &shared_events(&[design])?)
@@ -113,68 +118,6 @@ impl<'a> DesignLts<'a> {
     /// The first run-time error met during exploration, if any.
     pub fn error(&self) -> Option<String> {
         self.enc.error.get()
-    }
-
-    /// The states the path `path` of a reachability assertion names, as
-    /// (machine, node) pairs, read by hir's one reading of state paths
-    /// ([`robosim_hir::target::match_state`], which the checker's LNK-01
-    /// uses too). An error when the path names no state, or several (a
-    /// verdict on the wrong state would be wrong).
-    pub fn state_nodes(&self, path: &[String]) -> Result<Vec<(usize, u16)>, String> {
-        use robosim_hir::target::{match_state, MachineStates, StateMatch, StateNode};
-        let written = path.join("::");
-        let machines: Vec<MachineStates> = self
-            .design
-            .machines
-            .iter()
-            .map(|m| MachineStates {
-                instance: m.name.clone(),
-                decl: m.decl_name.clone(),
-                nodes: m
-                    .nodes
-                    .iter()
-                    .map(|n| StateNode { name: n.name.clone(), parent: n.parent.map(usize::from), own: n.op.is_none() })
-                    .collect(),
-            })
-            .collect();
-        let pairs = |found: Vec<(usize, usize)>| found.into_iter().map(|(mi, ni)| (mi, ni as u16)).collect();
-        match match_state(path, &machines) {
-            StateMatch::None => Err(format!("`{written}` names no state of the machines checked")),
-            StateMatch::Found(found) => Ok(pairs(found)),
-            StateMatch::Several(found) => {
-                let names: Vec<&str> = found.iter().map(|&(mi, _)| self.design.machines[mi].name.as_str()).collect();
-                Err(format!(
-                    "`{written}` names a state of several machines ({}): qualify it with the machine's name",
-                    names.join(", ")
-                ))
-            }
-        }
-    }
-
-    /// Whether a machine of the design has entered (and not left) one of
-    /// the states `nodes` ([`DesignLts::state_nodes`]), or a state inside.
-    pub fn in_nodes(&self, st: &[i32], nodes: &[(usize, u16)]) -> bool {
-        nodes.iter().any(|&(mi, target)| {
-            let m = &self.design.machines[mi];
-            // RoboTool's reachability looks for the state's `entered`, after
-            // its entry action; a composite's follows its first substate's
-            // (timed/defs: `VS__` keeps `entered` visible). So the active
-            // simple or final state must be past its entry action.
-            let Some(leaf) = m.leaf(st) else { return false };
-            let entry = &m.nodes[leaf as usize];
-            let Some(entered_pc) = entry.entered_pc else { return false };
-            if (entry.entry_pc..=entered_pc).contains(&m.pc(st)) {
-                return false;
-            }
-            let mut node = Some(leaf);
-            while let Some(n) = node {
-                if n == target {
-                    return true;
-                }
-                node = m.nodes[n as usize].parent;
-            }
-            false
-        })
     }
 
     /// RT-11: a RoboSim operation on its own, as RoboTool's `OP_…::O__`
@@ -355,5 +298,72 @@ impl<L: Lts> Lts for Reach<'_, L> {
 
     fn decode(&self, row: &[u8]) -> L::State {
         self.lts.decode(row)
+    }
+}
+
+/// Reachability ([`Design::state_nodes`], [`Design::in_nodes`]) reads the
+/// design alone, so every LTS built on it (plain, RoboSim cycles, the
+/// simulation constraints) answers it the same way.
+impl Design {
+    /// The states the path `path` of a reachability assertion names, as
+    /// (machine, node) pairs, read by hir's one reading of state paths
+    /// ([`robosim_hir::target::match_state`], which the checker's LNK-01
+    /// uses too). An error when the path names no state, or several (a
+    /// verdict on the wrong state would be wrong).
+    pub fn state_nodes(&self, path: &[String]) -> Result<Vec<(usize, u16)>, String> {
+        use robosim_hir::target::{match_state, MachineStates, StateMatch, StateNode};
+        let written = path.join("::");
+        let machines: Vec<MachineStates> = self
+            .machines
+            .iter()
+            .map(|m| MachineStates {
+                instance: m.name.clone(),
+                decl: m.decl_name.clone(),
+                nodes: m
+                    .nodes
+                    .iter()
+                    .map(|n| StateNode { name: n.name.clone(), parent: n.parent.map(usize::from), own: n.op.is_none() })
+                    .collect(),
+            })
+            .collect();
+        let pairs = |found: Vec<(usize, usize)>| found.into_iter().map(|(mi, ni)| (mi, ni as u16)).collect();
+        match match_state(path, &machines) {
+            StateMatch::None => Err(format!("`{written}` names no state of the machines checked")),
+            StateMatch::Found(found) => Ok(pairs(found)),
+            StateMatch::Several(found) => {
+                let names: Vec<&str> = found.iter().map(|&(mi, _)| self.machines[mi].name.as_str()).collect();
+                Err(format!(
+                    "`{written}` names a state of several machines ({}): qualify it with the machine's name",
+                    names.join(", ")
+                ))
+            }
+        }
+    }
+
+    /// Whether a machine of the design, in the state `st` (whose first
+    /// slots are the design's, in every LTS built on it), has entered (and
+    /// not left) one of the states `nodes` ([`Design::state_nodes`]), or a state inside.
+    pub fn in_nodes(&self, st: &[i32], nodes: &[(usize, u16)]) -> bool {
+        nodes.iter().any(|&(mi, target)| {
+            let m = &self.machines[mi];
+            // RoboTool's reachability looks for the state's `entered`, after
+            // its entry action; a composite's follows its first substate's
+            // (timed/defs: `VS__` keeps `entered` visible). So the active
+            // simple or final state must be past its entry action.
+            let Some(leaf) = m.leaf(st) else { return false };
+            let entry = &m.nodes[leaf as usize];
+            let Some(entered_pc) = entry.entered_pc else { return false };
+            if (entry.entry_pc..=entered_pc).contains(&m.pc(st)) {
+                return false;
+            }
+            let mut node = Some(leaf);
+            while let Some(n) = node {
+                if n == target {
+                    return true;
+                }
+                node = m.nodes[n as usize].parent;
+            }
+            false
+        })
     }
 }

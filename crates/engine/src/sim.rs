@@ -52,6 +52,11 @@ pub struct SimModule<'a> {
 }
 
 impl<'a> SimModule<'a> {
+    /// The design this LTS runs: its slots come first in every state.
+    pub fn design(&self) -> &'a Design {
+        self.design
+    }
+
     /// The module with period `period`, its register events numbered by
     /// `registers`.
     pub fn new(design: &'a Design, period: u32, registers: &Registers) -> Result<SimModule<'a>, String> {

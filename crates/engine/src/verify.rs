@@ -891,12 +891,24 @@ fn property(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report: &
                 }
             }
             AssertionKind::Reachable { state, .. } => {
-                let Side::Plain(plain) = &lts else {
-                    return Err("reachability is checked for RoboChart machines only so far".into());
+                // The design's slots come first in the states of every LTS
+                // built on it: a RoboSim cycle or the simulation
+                // constraints around it change when the states are
+                // entered, not how a state is recognised.
+                let d = match &lts {
+                    Side::Plain(l) => l.design(),
+                    Side::Sim(l) => l.design(),
+                    // No generated example shows what RoboTool makes of a
+                    // state of a `simulation` of a RoboChart design.
+                    Side::Design(_) => {
+                        return Err("reachability under a `simulation`'s assumptions is not established: check the \
+                                    RoboChart design or the RoboSim model"
+                            .into())
+                    }
                 };
-                let nodes = plain.state_nodes(state)?;
-                let target_state = |st: &Packed| plain.in_nodes(&plain.values(st), &nodes);
-                let reach = Reach { lts: plain, target: &target_state };
+                let nodes = d.state_nodes(state)?;
+                let target_state = |st: &Packed| d.in_nodes(&lts.values(st), &nodes);
+                let reach = Reach { lts: &lts, target: &target_state };
                 let (r, stats) = find_deadlock(&reach, &opts.budget, progress);
                 report.stats = stats;
                 let sname = state.join("::");
