@@ -15,9 +15,10 @@ pub enum Param {
     /// A value with a name: an enumeration's literal (`Level_Mid`, the
     /// CSPm constructor RoboTool writes), by position.
     Named(Vec<String>),
-    /// A tuple encoded in one value (see [`crate::ir::Expr::Tuple`]),
-    /// printed as one field per component, as CSPm's `e.a.b`.
-    Tuple(Vec<Dom>),
+    /// A tuple (or a record) of scalar components encoded in one value
+    /// (see [`crate::ir::Expr::Tuple`]), printed as CSPm prints a tuple,
+    /// `(1, true)`: each component as its own parameter would be.
+    Tuple(Vec<Param>),
     /// A finite set of values of the element parameter, encoded as a
     /// bitmask over the element's values (see [`crate::ir::Expr::Elem`]),
     /// printed as CSPm prints a set (`{Skills_MOVE, Skills_EXPLORE}`).
@@ -31,7 +32,7 @@ impl Param {
             Param::Num(d) => *d,
             Param::Bool => Dom::BOOL,
             Param::Named(names) => Dom { lo: 0, hi: names.len().saturating_sub(1) as Val },
-            Param::Tuple(ds) => Dom { lo: 0, hi: tuple_size(ds).saturating_sub(1) as Val },
+            Param::Tuple(ps) => Dom { lo: 0, hi: tuple_size(&leaf_doms(ps)).saturating_sub(1) as Val },
             Param::Set(el) => Dom { lo: 0, hi: (1i64 << el.dom().size().min(62)) - 1 },
         }
     }
@@ -71,8 +72,16 @@ impl Param {
             Param::Num(_) => s.push_str(&format!(".{v}")),
             // FDR writes a tuple-typed field as one value, `e.(1, 2)` (RoboTool
             // declares a product-typed event over a tuple set).
-            Param::Tuple(ds) => {
-                let xs: Vec<String> = tuple_values(ds, v).iter().map(Val::to_string).collect();
+            Param::Tuple(ps) => {
+                let xs: Vec<String> = tuple_values(&leaf_doms(ps), v)
+                    .into_iter()
+                    .zip(ps)
+                    .map(|(x, p)| {
+                        let mut one = String::new();
+                        p.print(x, &mut one);
+                        one.trim_start_matches('.').to_string()
+                    })
+                    .collect();
                 s.push_str(&format!(".({})", xs.join(", ")));
             }
         }
@@ -93,6 +102,11 @@ impl Param {
             .collect();
         format!("{{{}}}", items.join(", "))
     }
+}
+
+/// The domains of a tuple's components.
+pub fn leaf_doms(ps: &[Param]) -> Vec<Dom> {
+    ps.iter().map(Param::dom).collect()
 }
 
 /// The number of tuples of components `ds`.

@@ -11,7 +11,7 @@ use robosim_hir::csp_names::{CspKind, CspNames, CspType, TypeDef};
 use rustc_hash::FxHashMap;
 
 use crate::design::channel_name;
-use crate::events::{tuple_values, EventTable, Param};
+use crate::events::{leaf_doms, tuple_values, EventTable, Param};
 use crate::ir::{Design, Val};
 use crate::lts::{Event, FIRST_VISIBLE, TAU, TICK, TOCK};
 
@@ -130,13 +130,13 @@ fn value(names: &CspNames, p: &Param, t: &CspType, v: Val) -> Option<Value> {
                 .collect::<Option<BTreeSet<Value>>>()?;
             Some(Value::Set(std::rc::Rc::new(items)))
         }
-        Param::Tuple(ds) => {
+        Param::Tuple(ps) => {
             // The flat numbers, nested again by the channel's type (a
             // tuple whose components are records: `((1, 0), 2)`).
             if !matches!(structure(names, t), Some(Some(_))) {
                 return None;
             }
-            let mut vs = tuple_values(ds, v).into_iter();
+            let mut vs = tuple_values(&leaf_doms(ps), v).into_iter();
             let out = nest(names, t, &mut vs, &scalar)?;
             vs.next().is_none().then_some(out)
         }

@@ -670,6 +670,7 @@ impl<'a> Cx<'a> {
             timers: Vec::new(),
             deadlines: Vec::new(),
             caller: None,
+            inlining: 0,
         };
         if mc.cx.op_subject {
             mc.parameters_as_constants(inst.body)?;

@@ -264,6 +264,10 @@ impl MachineCx<'_, '_> {
             }
             ExprKind::Call { function: f, args, res } => {
                 if !self.cx.defaults.functions.iter().any(|c| c.name == *f) {
+                    // RT-2: RoboTool's function `f(x) = e` of `result == e`.
+                    if let Some(inlined) = self.defined_call(range, f, res.as_ref(), args)? {
+                        return Ok(inlined);
+                    }
                     // RT-2: RoboTool's default for a function without a body.
                     return match self.bodiless_call(range, f, res.as_ref())? {
                         (v, Layout::Num(_)) => Ok(Expr::Const(v)),

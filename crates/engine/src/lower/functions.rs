@@ -1,9 +1,10 @@
-//! Calls of functions the model declares without a body (robotool-facts
-//! RT-2): RoboTool's generated instantiations define each as returning its
-//! result type's default — 0, `true`, the first literal, the empty set,
-//! component-wise for tuples and records — whatever its postconditions
-//! say, unless a `csp` block defines it (then [`super::expr`] inlines that
-//! definition).
+//! Calls of functions the model declares (robotool-facts RT-2): one
+//! defined by a postcondition `result == e` is RoboTool's CSPm function
+//! `f(x) = e`, inlined at the call; one without such a definition returns
+//! its result type's default — 0, `true`, the first literal, the empty
+//! set, component-wise for tuples and records — whatever its other
+//! postconditions say, unless a `csp` block defines it (then
+//! [`super::expr`] inlines that definition).
 
 use robosim_hir::index::resolve_item;
 use robosim_hir::model::DefKind;
@@ -72,9 +73,65 @@ impl MachineCx<'_, '_> {
         }
         Ok((v, ty))
     }
+}
+
+impl<'b> MachineCx<'_, 'b> {
+    /// A call of `f` (at `at`, resolved to `res`) on `args`, when `f` is
+    /// defined by one postcondition `result == e` (or `result iff e`), the
+    /// form RoboTool generates a CSPm function from (`f(x) = e`): `e`
+    /// inlined with the arguments' values for the parameters, each
+    /// operation in the type of its expression, as RoboTool's; `None` when
+    /// `f` has no such definition. `e` sees only the parameters (a
+    /// function cannot read a machine's variables); numeric parameters
+    /// only.
+    pub(super) fn defined_call(
+        &mut self,
+        at: TextRange,
+        f: &str,
+        res: Option<&Target>,
+        args: &[model::Expr],
+    ) -> Result<Option<Expr>, Unsupported> {
+        let Some((file, func)) = self.function_decl(f, res) else { return Ok(None) };
+        let Some(body) = result_definition(func) else { return Ok(None) };
+        if args.len() != func.params.len() {
+            return Err(self.err(at, format!("`{f}` takes {} arguments", func.params.len())));
+        }
+        if self.inlining >= 16 {
+            return Err(self.err(at, format!("`{f}` calls itself too deeply to inline")));
+        }
+        let mut bound = HashMap::new();
+        for (p, a) in func.params.iter().zip(args) {
+            if !self.ty_of(file, p.ty.as_ref(), p.range)?.is_num() {
+                return Err(self.err(
+                    at,
+                    format!(
+                        "`{f}` has a parameter `{}` that is a tuple, a record or a set: inlining its definition                          is supported for numbers, booleans and enumerations",
+                        p.name
+                    ),
+                ));
+            }
+            let v = self.expr(a)?;
+            bound.insert(p.name.clone(), Name::Bound(v));
+        }
+        if !self.ty_of(file, func.result.as_ref(), func.range)?.is_num() {
+            return Ok(None);
+        }
+        // The body in the function's own scope and file (its types, and
+        // where an error points).
+        let names = std::mem::replace(&mut self.names, bound);
+        let types = std::mem::take(&mut self.types);
+        let here = std::mem::replace(&mut self.file, file);
+        self.inlining += 1;
+        let out = self.expr(body);
+        self.inlining -= 1;
+        self.file = here;
+        self.types = types;
+        self.names = names;
+        out.map(Some)
+    }
 
     /// The declaration of the function `f` called here.
-    fn function_decl(&self, f: &str, res: Option<&Target>) -> Option<(File, &'_ Function)> {
+    fn function_decl(&self, f: &str, res: Option<&Target>) -> Option<(File, &'b Function)> {
         let loc = match res {
             Some(Target::Item(loc)) => Some(*loc),
             _ => None,
@@ -88,6 +145,18 @@ impl MachineCx<'_, '_> {
             _ => None,
         }
     }
+}
+
+/// The `e` of the one postcondition `result == e` (or `result iff e`)
+/// of `f`, the definition RoboTool's CSPm function is made of (as the
+/// export reads it); `None` when there is none, or several.
+fn result_definition(f: &Function) -> Option<&model::Expr> {
+    let mut defining = f.postconditions.iter().filter_map(|x| match &x.kind {
+        ExprKind::Binary(BinOp::Eq | BinOp::Iff, l, r) if matches!(l.kind, ExprKind::Result) => Some(&**r),
+        _ => None,
+    });
+    let e = defining.next()?;
+    (defining.next().is_none() && !matches!(e.kind, ExprKind::Missing)).then_some(e)
 }
 
 /// Whether a postcondition defines the result (`result == e`, either way

@@ -109,7 +109,7 @@ impl<'b> MachineCx<'_, 'b> {
                                 if from_interface {
                                     // A variable the machine requires: shared
                                     // by every machine of the design.
-                                    let shape = self.param_of(tnode).unwrap_or_else(|| ty.param());
+                                    let shape = self.shape_of(tnode, &ty);
                                     self.shared_variable(*range, &name, (&ty, shape), init, context)?;
                                     continue;
                                 }
@@ -157,8 +157,7 @@ impl<'b> MachineCx<'_, 'b> {
                             ));
                         }
                         let ty = full.as_ref().map(Layout::dom);
-                        let shape: Vec<Param> =
-                            full.iter().map(|t| self.param_of(tnode).unwrap_or_else(|| t.param())).collect();
+                        let shape: Vec<Param> = full.iter().map(|t| self.shape_of(tnode, t)).collect();
                         if let Some(t) = &full {
                             self.bind_ty(&name, t);
                         }

@@ -312,6 +312,8 @@ enum Name {
     /// An operation defined in the model: its index in the machine's
     /// operations.
     Defined(u16),
+    /// A parameter of a function being inlined: the argument's value.
+    Bound(Expr),
 }
 
 struct MachineCx<'a, 'b> {
@@ -366,6 +368,9 @@ struct MachineCx<'a, 'b> {
     /// calling machine's names (its `requires` resolve to the caller's
     /// copies).
     caller: Option<HashMap<String, Name>>,
+    /// How deep calls of functions defined by `result == e` are inlined
+    /// at the moment (a recursive definition is refused past a bound).
+    inlining: u8,
 }
 
 impl MachineCx<'_, '_> {
@@ -374,6 +379,7 @@ impl MachineCx<'_, '_> {
         match self.names.get(n) {
             Some(Name::Var { slot, .. }) => Ok(Expr::Slot(*slot)),
             Some(Name::Const(v)) => Ok(Expr::Const(*v)),
+            Some(Name::Bound(e)) => Ok(e.clone()),
             _ => Err(self.err(at, format!("`{n}` is not a variable or constant"))),
         }
     }

@@ -138,8 +138,8 @@ impl Layout {
     /// How an event parameter of this type is named.
     pub(super) fn param(&self) -> Param {
         match self {
-            Layout::Tuple(ds) | Layout::Record(_, ds) => Param::Tuple(ds.clone()),
-            Layout::Product(_) => Param::Tuple(self.leaves()),
+            Layout::Tuple(ds) | Layout::Record(_, ds) => Param::Tuple(ds.iter().map(|d| Param::Num(*d)).collect()),
+            Layout::Product(_) => Param::Tuple(self.leaves().into_iter().map(Param::Num).collect()),
             Layout::Set(el) => Param::Set(Box::new(el.param())),
             t => Param::Num(t.dom()),
         }
@@ -331,6 +331,33 @@ impl MachineCx<'_, '_> {
         match &node?.ty {
             Ty::Set(inner) => Some(Param::Set(Box::new(self.scalar_param(inner)?))),
             t => self.scalar_param(t),
+        }
+    }
+
+    /// How event values of the type `node`, laid out as `ty`, are named:
+    /// [`Self::param_of`], and a tuple's or a record's boolean and
+    /// enumeration components by name (`(1, true)`).
+    pub(super) fn shape_of(&self, node: Option<&TyRef>, ty: &Layout) -> Param {
+        if let Some(p) = self.param_of(node) {
+            return p;
+        }
+        let kinds: Option<Vec<Option<Param>>> = match (node.map(|n| &n.ty), ty) {
+            (Some(Ty::Product(parts)), Layout::Tuple(ds)) if parts.len() == ds.len() => {
+                Some(parts.iter().map(|t| self.scalar_param(t)).collect())
+            }
+            (Some(Ty::Named(loc, _, DefKind::Record)), Layout::Record(_, ds)) => match self.cx.item(Some(*loc)) {
+                Some(Item::Record(_, fields)) if fields.len() == ds.len() => {
+                    Some(fields.iter().map(|f| f.ty.as_ref().and_then(|t| self.scalar_param(&t.ty))).collect())
+                }
+                _ => None,
+            },
+            _ => None,
+        };
+        match (kinds, ty) {
+            (Some(kinds), Layout::Tuple(ds) | Layout::Record(_, ds)) => {
+                Param::Tuple(kinds.into_iter().zip(ds).map(|(k, d)| k.unwrap_or(Param::Num(*d))).collect())
+            }
+            _ => ty.param(),
         }
     }
 
