@@ -163,3 +163,22 @@ controller C { uses I sref p = P sref q = Q connection p on e to q on e ( _async
         assert_eq!(messages, [why], "{model}");
     }
 }
+
+/// A value of several components goes through the buffer whole, and is
+/// overwritten whole.
+#[test]
+fn a_tuple_goes_through_the_buffer() {
+    let model = MODEL
+        .replace("event out : nat", "event out : nat * boolean")
+        .replace("event inp : nat", "event inp : nat * boolean")
+        .replace("event got : nat", "event got : nat * boolean")
+        .replace("var x : nat", "var x : nat * boolean")
+        .replace("entry out!1 ; out!2", "entry out!(| 1, true |) ; out!(| 2, false |)");
+    let e = export(&model);
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| &w.message).collect::<Vec<_>>());
+    let m = load(&e.files);
+    let d = lts(&m, "Mod::D__(0)");
+    assert!(d.has_trace(&["tock", "Mod::got.out.(2, false)", "tock"]), "{:?}", d.events);
+    let first = d.event("Mod::got.out.(1, true)").expect("the event");
+    assert!(!d.transitions.iter().flatten().any(|(l, _)| *l == Label::Event(first)));
+}
