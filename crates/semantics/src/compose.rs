@@ -684,9 +684,9 @@ fn robochart_container(
                     problems.push((
                         file,
                         c.range,
-                        "asynchronous connections between two machines of a controller are not exported: \
-                         robotool-facts.md pins RoboTool's buffer between two controllers only (RT-12), and no \
-                         generated example shows one between machines"
+                        "asynchronous connections between two machines of a controller are not exported: they \
+                         have no semantics (RC:Cn11), and RoboTool's buffer is pinned down between two \
+                         controllers only (RT-12)"
                             .into(),
                     ));
                     continue;

@@ -148,8 +148,8 @@ controller C { uses I sref p = P sref q = Q connection p on e to q on e ( _async
         (
             machines.to_string(),
             "4:45: controller C is not exported: asynchronous connections between two machines of a controller are \
-             not exported: robotool-facts.md pins RoboTool's buffer between two controllers only (RT-12), and no \
-             generated example shows one between machines",
+             not exported: they have no semantics (RC:Cn11), and RoboTool's buffer is pinned down between two \
+             controllers only (RT-12)",
         ),
         (
             twice,
