@@ -58,6 +58,9 @@ fn the_module_composes_robotools_buffer_on_both_whole_channels() {
     let e = export(MODEL);
     assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| &w.message).collect::<Vec<_>>());
     for files in [&e.files, &e.untimed] {
+        // Every name defined and every prefix with its channel's fields.
+        let problems = robosim_semantics::lint::check(files);
+        assert!(problems.is_empty(), "{problems:#?}");
         let t = module_text(files);
         for line in [
             "Buffer1__ = CS::out.out?x0__ -> Buffer1Full__(x0__)",
