@@ -691,6 +691,16 @@ fn robochart_container(
                     ));
                     continue;
                 }
+                if is_async && c.is_mult {
+                    problems.push((
+                        file,
+                        c.range,
+                        "a bidirectional (`[ mult ]`) asynchronous connection between controllers is not exported: \
+                         RoboTool's buffer is known one way only, from the connection's source (RT-12)"
+                            .into(),
+                    ));
+                    continue;
+                }
                 let find = |x: usize, e: &str| {
                     insts[x].elem.chans.iter().find(|ch| ch.kind == ChanKind::Event && ch.model == e).cloned()
                 };

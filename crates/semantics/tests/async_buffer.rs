@@ -146,6 +146,7 @@ controller C { uses I sref p = P sref q = Q connection p on e to q on e ( _async
         "connection cr on got to P on got ( _async ) }",
         "connection cr on got to P on got ( _async ) connection cs on out to P on got ( _async ) }",
     );
+    let mult = MODEL.replace("cr on inp ( _async )", "cr on inp ( _async ) [ mult ]");
     let types = MODEL.replace("interface In { event inp : nat }", "interface In { event inp : int }");
     for (model, why) in [
         (
@@ -160,6 +161,12 @@ controller C { uses I sref p = P sref q = Q connection p on e to q on e ( _async
              RoboTool's buffer is known for an event connected once only (RT-12)",
         ),
         (types, "12:3: module Mod is not exported: the connected events have different types"),
+        (
+            mult,
+            "12:3: module Mod is not exported: a bidirectional (`[ mult ]`) asynchronous connection between \
+             controllers is not exported: RoboTool's buffer is known one way only, from the connection's source \
+             (RT-12)",
+        ),
     ] {
         let e = export(&model);
         let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
