@@ -39,12 +39,10 @@ use robosim_hir::index::file_summary;
 /// Why each known disagreement is one (see [`KNOWN`]).
 const RECORDS: &str = "value representation, not behaviour: the export writes a record value as RoboTool's datatype `R_rec.0.false`, the bridge (hir::csp_names) as a tuple `(0, false)`; the reference has no record to settle it";
 
-const SINCE_ENTRY: &str = "export: a composite state's `sinceEntry` restarts when it is entered, before its entry action and its first substate's; RoboTool's state clock restarts on `C::entered` (the clock processes of `timed/defs/aggregation_Movement.csp`), which follows the first substate's `entered` (`During = ([] e : enteredSS @ e -> SKIP) ; entered -> …`), as the engine's";
 /// Known disagreements: (fixture, element, the start of the outcome,
 /// which side is wrong and why).
 #[rustfmt::skip]
 const KNOWN: &[(&str, &str, &str, &str)] = &[
-    ("rt17_entered_follows_the_entry_action", "N", "traces: the export has trace ⟨tock, tock, N::x.out⟩", SINCE_ENTRY),
     ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", RECORDS),
     ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", RECORDS),
     ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", RECORDS),
@@ -424,9 +422,7 @@ fn class(o: &Outcome) -> String {
 
 /// Known disagreements of the untimed semantics (RT-9), as [`KNOWN`]: the
 /// same elements and cause as the timed ones (the untimed semantics adds
-/// none): how a record value is written, not behaviour. The timed
-/// `SINCE_ENTRY` one has no untimed counterpart: `sinceEntry` has no
-/// established untimed reading, and both sides refuse it.
+/// none): how a record value is written, not behaviour.
 #[rustfmt::skip]
 const KNOWN_UNTIMED: &[(&str, &str, &str, &str)] = &[
     ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", RECORDS),
@@ -477,16 +473,8 @@ fn cross_check(sem: Semantics, known: &[(&str, &str, &str, &str)]) {
     assert!(problems.is_empty(), "{problems:#?}");
 }
 
-const RT7_FILES: &str = "export: another assertion file's `Instantiations` block sets the one instantiations.csp every script includes (`core_nat` = {0..3}), so this file, which has no block, is checked with it; RT-7 gives each file its own (here RoboTool's generated defaults), as the engine does";
-
-const ENTERED: &str = "export: a composite state's `sinceEntry` restarts before its entry action and its first substate's, RoboTool's on its `entered`, after them (SINCE_ENTRY): X is reached in the export only";
-
 /// Known reachability disagreements: (fixture, assertion, why).
-#[rustfmt::skip]
-const REACH_KNOWN: &[(&str, &str, &str)] = &[
-    ("rt07_instantiations_per_file", "Narrow", RT7_FILES),
-    ("rt17_entered_follows_the_entry_action", "N1", ENTERED),
-];
+const REACH_KNOWN: &[(&str, &str, &str)] = &[];
 
 /// Whether the export's `assert` line holds, evaluated with our CSPm
 /// evaluator: reachability is `assert not STOP [T= P \ diff(Events,

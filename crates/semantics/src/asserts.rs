@@ -17,7 +17,6 @@ use robosim_hir::{File, TextRange};
 use crate::compose::ElemDef;
 use crate::cspm::{call, hide, name, Assert, AssertKind, Decl, Expr, Model};
 use crate::export::{ConstParam, Elem, Exporter, Ty};
-use crate::util::ident;
 
 /// A subject of an assertion: a process to call, with its parameters.
 #[derive(Clone)]
@@ -46,12 +45,14 @@ struct OpSubject {
     /// Its parameters' values.
     params: Vec<Expr>,
     consts: Vec<ConstParam>,
+    /// Its states' paths and tags.
+    states: Vec<(Vec<String>, String)>,
 }
 
 pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &AssertionFile) -> Vec<Decl> {
     let mut out = Vec::new();
     // `csp` blocks, copied; what the export already defines is commented
-    // out (constant values are applied to instantiations.csp).
+    // out (constant values are applied to this file's instantiations).
     let text = file.text(ex.db).clone();
     let mut raw_names = Vec::new();
     let ours = generated_names(ex);
@@ -78,18 +79,18 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
             // from the block; `Plus`): old-style names (`nametype ID`,
             // `nametype nat`) define exactly those names, which specs use.
             if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) && !clash.is_empty() {
-                lines.push(format!("-- (in instantiations.csp or robosim_defs.csp) {}", l.trim()));
+                lines.push(format!("-- (in this script's instantiations or robosim_defs.csp) {}", l.trim()));
             } else if let Some(n) = clash.first() {
                 let n = n.to_string();
                 let value = read.instantiations.constants.iter().find(|(c, _, r)| *c == n && lr.contains_range(*r));
                 match value.map(|(_, v, _)| v) {
                     Some(Value::Int(v)) if ex.const_names.contains(&n) => {
                         ex.set_constant(&n, Expr::Int(*v), format!("set by `csp {}` in {}", b.name, ex.loc(file, lr)));
-                        lines.push(format!("-- (set in instantiations.csp) {}", l.trim()));
+                        lines.push(format!("-- (set in this script's instantiations) {}", l.trim()));
                     }
                     Some(Value::Bool(v)) if ex.const_names.contains(&n) => {
                         ex.set_constant(&n, Expr::Bool(*v), format!("set by `csp {}` in {}", b.name, ex.loc(file, lr)));
-                        lines.push(format!("-- (set in instantiations.csp) {}", l.trim()));
+                        lines.push(format!("-- (set in this script's instantiations) {}", l.trim()));
                     }
                     _ => {
                         ex.warn(
@@ -353,7 +354,11 @@ fn operation_subject(
         period: None,
         names: vec![path.to_vec()],
         at: Some((loc, inner.map(str::to_string))),
-        op: Some(OpSubject { params, consts: op.consts.iter().map(|(c, _)| c.clone()).collect() }),
+        op: Some(OpSubject {
+            params,
+            consts: op.consts.iter().map(|(c, _)| c.clone()).collect(),
+            states: op.states.clone(),
+        }),
     }))
 }
 
@@ -606,35 +611,39 @@ fn assertion(
             let Some((loc, inner)) = &s.at else {
                 return Err("reachability needs a state machine, controller or module".into());
             };
-            if s.elem.as_ref().is_some_and(|e| e.robosim && e.kind != crate::export::ElemKind::Machine) {
-                return Err("reachability in RoboSim controllers and modules is not exported yet".into());
-            }
             // hir's one reading of the state's path, as the native checker's.
             let st = target::state(ex.db, ex.ws, *loc, inner.as_deref(), state)?;
-            if st.kind != m::NodeKind::State {
+            // RoboTool's states and final states have `entered`; junctions
+            // have none.
+            if !matches!(st.kind, m::NodeKind::State | m::NodeKind::Final) {
                 return Err(format!(
-                    "`{}` is not a state (a junction or a final state): the export marks the entries of states \
-                     only (`entered__`)",
+                    "`{}` is a junction, not a state: RoboTool's semantics marks the entries of states and final \
+                     states only (`entered`)",
                     state.join("::")
                 ));
             }
-            // The module of the state's machine: a controller's machine
+            // The state's machine (or operation): a controller's machine
             // `Ctl::a` is its part `a`; a module's `c::a` its part `c`'s `a`.
-            let module = match &s.elem {
-                None => s.module.clone(),
-                Some(elem) => {
+            let (module, states) = match (&s.elem, &s.op) {
+                (Some(elem), _) => {
                     let skip = usize::from(elem.kind == crate::export::ElemKind::Controller);
                     let mut at = elem.clone();
                     if elem.kind != crate::export::ElemKind::Machine {
                         for part in &st.machine[skip..] {
                             let next = at.parts.iter().find(|(n, _)| n == part).map(|(_, e)| e.clone());
-                            at = next.ok_or_else(|| format!("the machine `{}` is not exported", st.machine.join("::")))?;
+                            at = next
+                                .ok_or_else(|| format!("the machine `{}` is not exported", st.machine.join("::")))?;
                         }
                     }
-                    at.module.clone()
+                    (at.module.clone(), at.states.clone())
                 }
+                (None, Some(op)) => (s.module.clone(), op.states.clone()),
+                (None, None) => return Err("reachability needs a state machine, controller or module".into()),
             };
-            let tag = st.state.iter().map(|x| ident(x)).collect::<Vec<_>>().join("_");
+            // The machine's own tag for the state (tags are made unique).
+            let tag = states.iter().find(|(p, _)| *p == st.state).map(|(_, t)| t.clone()).ok_or_else(|| {
+                format!("the state `{}` is not exported in `{}`", st.state.join("::"), st.machine.join("::"))
+            })?;
             let p = process(ex, file, read, a, &s, "VS__")?;
             let ev = crate::cspm::dot(vec![
                 name(format!("{module}::entered__")),

@@ -911,9 +911,20 @@ fn robochart_container(
             period: 1,
             required,
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
+            states: Vec::new(),
         },
         decls,
     ))
+}
+
+/// The CSPm modules of the machines inside `e` (itself when a machine).
+fn machine_modules(e: &Elem, out: &mut Vec<String>) {
+    if e.kind == ElemKind::Machine {
+        out.push(e.module.clone());
+    }
+    for (_, p) in &e.parts {
+        machine_modules(p, out);
+    }
 }
 
 fn rename(p: Expr, pairs: &[(String, String)]) -> Expr {
@@ -1010,28 +1021,34 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
     }
     let comp = compose(parts, &["tock", "terminate"]);
     let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
+    // The machines' `P__` show their `entered__`: D__ hides them, VS__
+    // keeps them (reachability), as RoboTool's `VS__` of a container.
+    let mut machines = Vec::new();
+    for i in &insts {
+        machine_modules(&i.elem, &mut machines);
+    }
+    let entered = Expr::Events(machines.iter().map(|m| name(format!("{m}::entered__"))).collect());
+    let ending = |p: Expr| {
+        call(
+            "TimedPriority",
+            vec![hide(
+                Expr::Exception(Box::new(p), Box::new(Expr::Set(vec![name("terminate")])), Box::new(Expr::Skip)),
+                Expr::Set(vec![name("terminate")]),
+            )],
+        )
+    };
+    let p_call = call("P__", args.clone());
+    let d_body = if machines.is_empty() { ending(p_call.clone()) } else { ending(hide(p_call.clone(), entered)) };
     let exports = vec![
         Decl::Comment(format!(
-            "P__: the {} with `terminate` visible; D__: its semantics; O__: compressed\n(parameters: {}).",
+            "P__: the {} with `terminate` and its machines' `entered__` visible; D__: its semantics;\n\
+             VS__: with the machines' `entered__` visible (reachability); O__: D__ compressed\n(parameters: {}).",
             kind.describe(),
             params.join(", ")
         )),
         Decl::Def("P__".into(), params.clone(), call("TimedPriority", vec![comp])),
-        Decl::Def(
-            "D__".into(),
-            params.clone(),
-            call(
-                "TimedPriority",
-                vec![hide(
-                    Expr::Exception(
-                        Box::new(call("P__", args.clone())),
-                        Box::new(Expr::Set(vec![name("terminate")])),
-                        Box::new(Expr::Skip),
-                    ),
-                    Expr::Set(vec![name("terminate")]),
-                )],
-            ),
-        ),
+        Decl::Def("D__".into(), params.clone(), d_body),
+        Decl::Def("VS__".into(), params.clone(), ending(p_call)),
         Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])),
     ];
     let decls = vec![
@@ -1053,6 +1070,7 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
             period,
             required: vec![],
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
+            states: Vec::new(),
         },
         decls,
     ))

@@ -430,14 +430,34 @@ pub(crate) fn number_types(
     (doms.unwrap_or([(0, 2), (-2, 2), (-2, 2)]), note)
 }
 
+/// RoboTool's default `core_clock_type` is `{0..10}`; a `csp` block may
+/// set it.
+pub(crate) const CLOCK_MAX: i64 = 10;
+
+/// instantiations.csp: the generated defaults, which the scripts of
+/// assertion files that set nothing include (RT-7).
 pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
-    let (doms, note) = &ex.number_types;
+    OutFile {
+        name: "instantiations.csp".into(),
+        title: "Instantiations: bounded types and constant values".into(),
+        decls: instantiation_decls(ex, &ex.number_types, CLOCK_MAX, &BTreeMap::new()),
+    }
+}
+
+/// The bounded types (`numbers`, `clock_max`) and constant values (the
+/// defaults, with `overrides`) of one script.
+pub(crate) fn instantiation_decls(
+    ex: &Exporter<'_>,
+    numbers: &([(i64, i64); 3], String),
+    clock_max: i64,
+    overrides: &BTreeMap<String, (Expr, String)>,
+) -> Vec<Decl> {
+    let (doms, note) = numbers;
     let mut d = vec![Decl::Comment(note.clone())];
     for (t, (lo, hi)) in ["nat", "int", "real"].iter().zip(doms) {
         d.push(Decl::Nametype(format!("core_{t}"), Expr::Range(Box::new(Expr::Int(*lo)), Box::new(Expr::Int(*hi)))));
     }
     d.push(Decl::Nametype("core_boolean".into(), n("Bool")));
-    let clock_max = ex.fixed_types.get("clock_type").map(|&(_, hi)| hi).unwrap_or(10);
     d.push(Decl::Comment(
         "Clocks stop one above the greatest value they are compared with, and at most at core_clock_max + 1.".into(),
     ));
@@ -472,15 +492,12 @@ pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
                 .into(),
         ));
         for (c, v, comment) in &ex.constants {
+            let (v, comment) = overrides.get(c).map_or((v, comment), |(v, w)| (v, w));
             if !comment.is_empty() {
                 d.push(Decl::Comment(comment.clone()));
             }
             d.push(Decl::Def(c.clone(), vec![], v.clone()));
         }
     }
-    OutFile {
-        name: "instantiations.csp".into(),
-        title: "Instantiations: bounded types and constant values".into(),
-        decls: d,
-    }
+    d
 }

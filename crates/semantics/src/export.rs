@@ -351,6 +351,10 @@ pub(crate) struct Elem {
     /// A controller's machines and a module's controllers, by instance
     /// name (reachability names a state after them).
     pub parts: Vec<(String, Rc<Elem>)>,
+    /// A machine's states and final states: their path in it (`A`, `B`
+    /// for a state `B` in `A`) and their tag (`SID_tag`), unique in the
+    /// machine.
+    pub states: Vec<(Vec<String>, String)>,
 }
 
 /// A node key: the file and the node's range.
@@ -389,8 +393,9 @@ pub(crate) struct Exporter<'a> {
     /// Abstract primitive types (`type T`): nametype name.
     pub abstract_types: HashMap<Key, String>,
     pub warnings: Vec<Warning>,
-    /// User overrides of the core types from `csp` blocks.
-    pub fixed_types: BTreeMap<String, (i64, i64)>,
+    /// The constant values the `csp` blocks of the assertion file being
+    /// written set (RT-7: they hold in that file's script only).
+    pub const_overrides: BTreeMap<String, (Expr, String)>,
     /// Records: their encoding, once made (`None` while being made).
     pub records: HashMap<Key, Option<Rc<RecordTy>>>,
     /// Arities of the tuples whose components are projected
@@ -431,7 +436,7 @@ impl<'a> Exporter<'a> {
             enums: HashMap::new(),
             abstract_types: HashMap::new(),
             warnings: Vec::new(),
-            fixed_types: BTreeMap::new(),
+            const_overrides: BTreeMap::new(),
             records: HashMap::new(),
             tuple_arities: BTreeSet::new(),
             uses_seq: false,
@@ -750,11 +755,11 @@ impl<'a> Exporter<'a> {
         n
     }
 
-    /// Replaces the value of a constant of instantiations.csp.
+    /// Replaces the value of a constant in the instantiations of the
+    /// assertion file being written (RT-7).
     pub(crate) fn set_constant(&mut self, global: &str, value: Expr, comment: String) {
-        if let Some(c) = self.constants.iter_mut().find(|c| c.0 == global) {
-            c.1 = value;
-            c.2 = comment;
+        if self.const_names.contains(global) {
+            self.const_overrides.insert(global.to_string(), (value, comment));
         }
     }
 
@@ -802,22 +807,17 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
     let mut ex = Exporter::new(db, ws, opts.profile);
     ex.timed = timed;
     let files: Vec<File> = ws.files(db).iter().copied().filter(|f| !f.is_library(db)).collect();
-    // The assertion files first read: their `csp` blocks may fix the
-    // core types (the values they give constants widen nothing, RT-5).
+    // The assertion files. RT-7: each has its own instantiations, the
+    // generated defaults (instantiations.csp, the types widened by the
+    // models' expressions alone) unless its `csp` blocks set core types
+    // or constants (the values they give constants widen nothing, RT-5).
     let mut assertion_files = Vec::new();
     for &f in &files {
         if f.kind(db).is_assertions() {
-            let read = model::assertion_file(db, f);
-            // Only RoboTool's own names set the shared types (RT-7).
-            for (n, lo, hi, _) in &read.instantiations.types {
-                if let Some(t) = n.strip_prefix("core_") {
-                    ex.fixed_types.insert(t.to_string(), (*lo, *hi));
-                }
-            }
-            assertion_files.push((f, read));
+            assertion_files.push((f, model::assertion_file(db, f)));
         }
     }
-    ex.number_types = crate::defs::number_types(&ex, &files, &assertion_files);
+    ex.number_types = crate::defs::number_types(&ex, &files, &[]);
     // Every element of every model file, in file order.
     for &f in &files {
         if f.kind(db).is_assertions() {
@@ -885,7 +885,25 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
     }
     let mut out_assertions = Vec::new();
     for (f, read) in &assertion_files {
-        out_assertions.push(crate::asserts::assertion_file(&mut ex, *f, read));
+        ex.const_overrides.clear();
+        let decls = crate::asserts::assertion_file(&mut ex, *f, read);
+        let overrides = std::mem::take(&mut ex.const_overrides);
+        // Only RoboTool's own names set the core types (RT-7).
+        let fixed: BTreeMap<String, (i64, i64)> = read
+            .instantiations
+            .types
+            .iter()
+            .filter_map(|(n, lo, hi, _)| Some((n.strip_prefix("core_")?.to_string(), (*lo, *hi))))
+            .collect();
+        let own = (!fixed.is_empty() || !overrides.is_empty()).then(|| {
+            let numbers = match ["nat", "int", "real"].iter().any(|t| fixed.contains_key(*t)) {
+                true => crate::defs::number_types(&ex, &files, &[(*f, read)]),
+                false => ex.number_types.clone(),
+            };
+            let clock_max = fixed.get("clock_type").map_or(crate::defs::CLOCK_MAX, |&(_, hi)| hi);
+            crate::defs::instantiation_decls(&ex, &numbers, clock_max, &overrides)
+        });
+        out_assertions.push((decls, own));
     }
 
     // Assemble the files.
@@ -928,14 +946,29 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
         decls.extend(includes.clone());
         result.push(OutFile { name: "main.csp".into(), title: "The workspace's semantics".into(), decls });
     }
-    for ((f, _), decls) in assertion_files.iter().zip(out_assertions) {
+    for ((f, _), (decls, own)) in assertion_files.iter().zip(out_assertions) {
         let name = unique_file_name(&mut used, f.path(db), "_assertions");
         if !timed && f.kind(db) == FileKind::SimAssertions {
             // RoboTool's RoboSim scripts are timed only (RT-8).
             continue;
         }
         let mut all = vec![Decl::Comment("Load this file in FDR: it includes every other file.".into())];
-        all.extend(includes.clone());
+        match own {
+            // RT-7: as RoboTool's script of a file with an `Instantiations`
+            // block, which it includes instead of instantiations.csp.
+            Some(inst) => {
+                all.extend(
+                    includes.iter().filter(|d| !matches!(d, Decl::Include(n) if n == "instantiations.csp")).cloned(),
+                );
+                all.push(Decl::Blank);
+                all.push(Decl::Comment(
+                    "Instantiations of this assertion file (RT-7): instantiations.csp with what its `csp` blocks set."
+                        .into(),
+                ));
+                all.extend(inst);
+            }
+            None => all.extend(includes.clone()),
+        }
         all.push(Decl::Blank);
         all.extend(decls);
         let title = if timed {

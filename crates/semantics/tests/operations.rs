@@ -189,8 +189,8 @@ module OP_Once
 exports
   -- `exec`: `endexec`, then `startexec`, both visible (RT-11).
   channel endexec, startexec
-  -- State identifiers; `entered__` marks the entry into a state.
-  datatype SIDS = SID_none
+  -- State identifiers (final states too); `entered__` marks the entry into a state.
+  datatype SIDS = SID_f
   channel entered__ : SIDS
   -- RoboTool's process for the operation on its own: P__ with `terminate` (its final state)
   -- visible; D__: its semantics, terminating at its final state; VS__: with `entered__`
@@ -199,7 +199,8 @@ exports
     let
       Behaviour__ = Junction__i
       Junction__i =
-        internal__.TID_t -> (EDeadline(registerWrite.o_move.1, 0) ; Ending__) [] tock -> Junction__i
+        internal__.TID_t -> (EDeadline(registerWrite.o_move.1, 0) ; entered__.SID_f -> Ending__)
+        [] tock -> Junction__i
       Ending__ = terminate -> SKIP
       Memory__ = tock -> Memory__ [] internal__.TID_t -> Memory__ [] terminate -> SKIP
     within
@@ -226,7 +227,7 @@ endmodule
 ",
         // A call of another operation: the urgent call event.
         "  -- Calls of other operations (urgent).\n  channel helperCall : core_nat\n",
-        "        internal__.TID_t -> (EDeadline(helperCall.2, 0) ; Ending__) [] tock -> Junction__i\n",
+        "        internal__.TID_t -> (EDeadline(helperCall.2, 0) ; entered__.SID_f -> Ending__)\n        [] tock -> Junction__i\n",
         // Parameters after `id__`.
         "  D__(id__, k) =\n    TimedPriority(((P__(id__, k) \\ {| entered__ |}) [| {terminate} |> SKIP) \\ {terminate})\n",
         // An operation the controller declares, in its module.

@@ -132,7 +132,7 @@ assertion a3: app::D::S is deadlock-free";
 /// RT-7: a block is copied whole. Definitions of names the export does not
 /// make (old-style `nametype ID`, `nametype nat`) stay, so that the specs
 /// using them resolve; those the export makes (`core_nat`, whose bounds
-/// instantiations.csp takes from the block, and `Plus`) stay commented, as
+/// the script's own instantiations take from the block, and `Plus`) stay commented, as
 /// a second definition would be an error.
 #[test]
 fn instantiations_blocks_keep_the_names_the_export_does_not_define() {
@@ -152,8 +152,8 @@ assertion a1: Spec refines app::M in the traces model";
         assert!(script.contains(kept), "{kept} {script}");
     }
     for commented in [
-        "-- (in instantiations.csp or robosim_defs.csp) nametype core_nat = {0..3}",
-        "-- (in instantiations.csp or robosim_defs.csp) Plus(",
+        "-- (in this script's instantiations or robosim_defs.csp) nametype core_nat = {0..3}",
+        "-- (in this script's instantiations or robosim_defs.csp) Plus(",
     ] {
         assert!(script.contains(commented), "{commented} {script}");
     }

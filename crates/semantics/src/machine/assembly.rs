@@ -37,6 +37,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             ));
         }
         let nv = self.vars.iter().filter(|v| !v.shared).count();
+        let armed = self.armed_clocks();
         let mut ticked = same.clone();
         for (k, c) in self.clocks.iter().enumerate() {
             let i = nv + k;
@@ -47,8 +48,25 @@ impl<'e, 'a> Gen<'e, 'a> {
                     self.memory_call(same.clone()),
                 ));
             }
-            alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
+            // A composite's clock restarts only through `restart_` (below).
+            if !armed.contains(&k) {
+                alts.push(prefix(format!("reset_{}", c.csp), vec![], self.memory_call(with(i, Expr::Int(0)))));
+            }
             ticked[i] = call("ClockTick", vec![name(c.csp.clone()), name(format!("ClockMax__{}", c.csp))]);
+        }
+        // A composite's clock: armed when it is entered, restarted by the
+        // first substate's `entered` after that.
+        let first_flag = params.len() - armed.len();
+        for (j, &k) in armed.iter().enumerate() {
+            let (clock, flag) = (nv + k, first_flag + j);
+            let mut armed = same.clone();
+            armed[flag] = Expr::Bool(true);
+            alts.push(prefix(format!("arm_{}", self.clocks[k].csp), vec![], self.memory_call(armed)));
+            let mut restarted = same.clone();
+            restarted[clock] =
+                Expr::If(Box::new(same[flag].clone()), Box::new(Expr::Int(0)), Box::new(same[clock].clone()));
+            restarted[flag] = Expr::Bool(false);
+            alts.push(prefix(format!("restart_{}", self.clocks[k].csp), vec![], self.memory_call(restarted)));
         }
         self.push_tock(&mut alts, self.memory_call(ticked));
         // RoboSim: the cycle's reads update the inputs (Rule 5).
@@ -106,7 +124,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut sids: Vec<(String, Vec<Expr>)> = self
             .nodes
             .iter()
-            .filter(|n| n.kind == NodeKind::State)
+            .filter(|n| matches!(n.kind, NodeKind::State | NodeKind::Final))
             .map(|n| (format!("SID_{}", n.tag), vec![]))
             .collect();
         if sids.is_empty() {
@@ -138,10 +156,18 @@ impl<'e, 'a> Gen<'e, 'a> {
                 sync.push(name(c));
             }
         }
-        for c in &self.clocks {
-            private.push(Decl::Channel(vec![format!("reset_{}", c.csp)], vec![]));
-            hidden.push(name(format!("reset_{}", c.csp)));
-            sync.push(name(format!("reset_{}", c.csp)));
+        let armed = self.armed_clocks();
+        for (k, c) in self.clocks.iter().enumerate() {
+            // A composite's clock is armed and restarted, never reset.
+            let chans = match armed.contains(&k) {
+                true => vec![format!("arm_{}", c.csp), format!("restart_{}", c.csp)],
+                false => vec![format!("reset_{}", c.csp)],
+            };
+            for ch in chans {
+                private.push(Decl::Channel(vec![ch.clone()], vec![]));
+                hidden.push(name(ch.clone()));
+                sync.push(name(ch));
+            }
             if c.read {
                 private.push(Decl::Channel(vec![format!("get_{}", c.csp)], vec![name("core_clock_type")]));
                 hidden.push(name(format!("get_{}", c.csp)));
@@ -194,7 +220,9 @@ impl<'e, 'a> Gen<'e, 'a> {
             hidden.push(name("ready__"));
         }
         // Exported interface.
-        exports.push(Decl::Comment("State identifiers; `entered__` marks the entry into a state.".into()));
+        exports.push(Decl::Comment(
+            "State identifiers (final states too); `entered__` marks the entry into a state.".into(),
+        ));
         exports.push(Decl::Datatype("SIDS".into(), sids));
         exports.push(Decl::Channel(vec!["entered__".into()], vec![name("SIDS")]));
         let shared: Vec<&VarI> = self.vars.iter().filter(|v| v.shared).collect();
@@ -324,6 +352,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     })
                     .collect::<Vec<_>>(),
             )
+            .chain(self.armed_clocks().into_iter().map(|_| Expr::Bool(false)))
             .collect();
         let memory = self.memory_call(init);
 
@@ -782,6 +811,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 .unwrap_or(1),
             required: self.required.clone(),
             parts: Vec::new(),
+            states: self.state_tags(),
         }
     }
 }

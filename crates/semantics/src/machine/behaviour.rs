@@ -8,10 +8,58 @@ impl<'e, 'a> Gen<'e, 'a> {
         match node.kind {
             NodeKind::State => name(format!("Enter__{}", node.tag)),
             NodeKind::Junction | NodeKind::Initial => name(format!("Junction__{}", node.tag)),
-            NodeKind::Final if node.parent.is_some() => self.ready(n, name(format!("Rest__{}", node.tag))),
-            NodeKind::Final if self.robosim => name("Ending__"),
-            NodeKind::Final => Expr::Skip,
+            // RoboTool's final state has an `entered` of its own (`Entering
+            // = entered -> SKIP ; Active`), which its composite's waits for
+            // as a substate's.
+            NodeKind::Final => {
+                let mut parts = if self.after_entry() {
+                    self.entered_marks(n)
+                } else {
+                    vec![prefix("entered__", vec![Field::Dot(name(format!("SID_{}", node.tag)))], Expr::Skip)]
+                };
+                parts.push(match node.parent {
+                    Some(_) => self.ready(n, name(format!("Rest__{}", node.tag))),
+                    None if self.robosim => name("Ending__"),
+                    None => Expr::Skip,
+                });
+                fold_seq(parts)
+            }
         }
+    }
+
+    /// Whether a state's `entered` follows its entry action (and a
+    /// composite's its first substate's), as in RoboTool 3's semantics,
+    /// RoboChart's and RoboSim's alike (`Active = entry ; Behaviour`,
+    /// `Behaviour = entered -> During` in `csp-gen/timed` and
+    /// `csp-gen/sim`); the 2019 paper's semantics marks the entry at its
+    /// start.
+    pub(super) fn after_entry(&self) -> bool {
+        self.profile != Profile::Paper2019
+    }
+
+    /// What follows the entry action of the simple or final state `n`
+    /// (`after_entry`): `entered__` of `n` and of each state around it,
+    /// innermost first; after each composite's, the restart of its
+    /// `sinceEntry` clock, which takes effect only on the first substate
+    /// entry since the composite was entered (RoboTool's composite
+    /// `entered` comes once per entry: `During = ([] e : enteredSS @ e ->
+    /// SKIP) ; entered -> …`, and the state clock restarts on it).
+    pub(super) fn entered_marks(&self, n: usize) -> Vec<Expr> {
+        let mut parts = Vec::new();
+        let mut cur = Some(n);
+        while let Some(c) = cur {
+            if matches!(self.nodes[c].kind, NodeKind::State | NodeKind::Final) {
+                let sid = Field::Dot(name(format!("SID_{}", self.nodes[c].tag)));
+                parts.push(prefix("entered__", vec![sid], Expr::Skip));
+            }
+            if c != n {
+                if let Some(k) = self.clocks.iter().find(|k| k.state == Some(c)) {
+                    parts.push(prefix(format!("restart_{}", k.csp), vec![], Expr::Skip));
+                }
+            }
+            cur = self.nodes[c].parent;
+        }
+        parts
     }
 
     /// The process of an action clause (none when absent or empty);
@@ -129,9 +177,25 @@ impl<'e, 'a> Gen<'e, 'a> {
                     && node.m.during.as_ref().is_some_and(|a| a.stmt.is_some())
             })
             .collect();
-        // States, junctions and finals.
+        // States, junctions and finals. A `sinceEntry(S)` first read in an
+        // action (RC:TE1 forbids it, but an ill-formed model is still
+        // written; guards are translated before) makes S's clock only now,
+        // perhaps after S's entry was written without its restart: then
+        // they are all written again, every clock known.
+        let clocks = self.clocks.len();
+        let saved = (self.defs.len(), self.activities.len(), self.terms.len(), self.problems.len(), self.counter);
         for n in 0..self.nodes.len() {
             self.node_process(n);
+        }
+        if self.clocks.len() > clocks {
+            self.defs.truncate(saved.0);
+            self.activities.truncate(saved.1);
+            self.terms.truncate(saved.2);
+            self.problems.truncate(saved.3);
+            self.counter = saved.4;
+            for n in 0..self.nodes.len() {
+                self.node_process(n);
+            }
         }
         // Hover terms of the transitions, with triggers as the machine's events.
         if self.record {
@@ -268,7 +332,20 @@ impl<'e, 'a> Gen<'e, 'a> {
                 p.push(format!("{}_value", e.csp));
             }
         }
+        p.extend(self.armed_clocks().into_iter().map(|k| format!("armed__{}", self.clocks[k].csp)));
         p
+    }
+
+    /// The clocks restarted by their composite state's own `entered`
+    /// (see [`Gen::entered_marks`]): the memory keeps, for each, whether
+    /// the composite has been entered and its first substate not yet.
+    pub(super) fn armed_clocks(&self) -> Vec<usize> {
+        if !self.after_entry() {
+            return Vec::new();
+        }
+        (0..self.clocks.len())
+            .filter(|&k| self.clocks[k].state.is_some_and(|s| self.nodes.iter().any(|c| c.parent == Some(s))))
+            .collect()
     }
 
     pub(super) fn is_input(&self, e: &EvI) -> bool {
@@ -296,28 +373,23 @@ impl<'e, 'a> Gen<'e, 'a> {
                 // the entry action, and a composite's its first substate's:
                 // a simple state marks itself and the states around it
                 // (again on later substates' entries, which reachability
-                // does not tell apart). RoboSim and the 2019 paper's
-                // semantics keep the mark at the start.
-                let after_entry = !self.robosim && self.profile != Profile::Paper2019;
+                // does not tell apart). The 2019 paper's semantics keeps
+                // the mark at the start.
+                let after_entry = self.after_entry();
                 if after_entry && !composite {
-                    let mut cur = Some(n);
-                    while let Some(c) = cur {
-                        let sid = Field::Dot(name(format!("SID_{}", self.nodes[c].tag)));
-                        parts.push(prefix("entered__", vec![sid], Expr::Skip));
-                        cur = self.nodes[c].parent;
-                    }
+                    parts.extend(self.entered_marks(n));
                 }
-                // RoboTool's state clock restarts on `S::entered`, after the
-                // entry action. A composite's `entered` follows its first
-                // substate's, which this export does not track for clocks
-                // yet: it restarts before the entry (a known difference,
-                // `SINCE_ENTRY` in the engine's cross-check).
+                // RoboTool's state clock restarts on `S::entered`: a simple
+                // state's after its entry action; a composite's is armed
+                // here and restarts at its first substate's `entered`
+                // (`entered_marks`), once per entry of the composite.
                 if let Some(c) = self.clocks.iter().find(|c| c.state == Some(n)) {
-                    let reset = prefix(format!("reset_{}", c.csp), vec![], Expr::Skip);
-                    if composite {
-                        parts.insert(0, reset);
+                    if composite && after_entry {
+                        parts.insert(0, prefix(format!("arm_{}", c.csp), vec![], Expr::Skip));
+                    } else if composite {
+                        parts.insert(0, prefix(format!("reset_{}", c.csp), vec![], Expr::Skip));
                     } else {
-                        parts.push(reset);
+                        parts.push(prefix(format!("reset_{}", c.csp), vec![], Expr::Skip));
                     }
                 }
                 if self.active[n] {

@@ -489,7 +489,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
         }
         let consts = self.consts.iter().cloned().zip(self.const_ty.iter().cloned()).collect();
-        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans }))
+        let states = self.state_tags();
+        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans, states }))
     }
 
     // ------------------------------------------------------ declarations
@@ -685,16 +686,44 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             };
             let name = c.name.clone();
-            let tag = match parent {
+            let base = match parent {
                 Some(p) => format!("{}_{}", self.nodes[p].tag, ident(&name)),
                 None => ident(&name),
             };
+            // Tags share one namespace (`A_B` for B in A, and for a state
+            // named `A_B`), where RoboTool nests a module per state: a
+            // taken one gets a suffix, so that every node's is its own.
+            let mut tag = base.clone();
+            let mut k = 2;
+            while self.nodes.iter().any(|n| n.tag == tag) {
+                tag = format!("{base}_{k}");
+                k += 1;
+            }
             self.nodes.push(NodeI { name, kind, parent, m: c.clone(), tag });
             if kind == NodeKind::State {
                 let id = self.nodes.len() - 1;
                 self.collect_nodes(&c.region, Some(id));
             }
         }
+    }
+
+    /// The states and final states: their paths and tags (`SID_tag`).
+    pub(crate) fn state_tags(&self) -> Vec<(Vec<String>, String)> {
+        (0..self.nodes.len())
+            .filter(|&i| matches!(self.nodes[i].kind, NodeKind::State | NodeKind::Final))
+            .map(|i| (self.node_path(i), self.nodes[i].tag.clone()))
+            .collect()
+    }
+
+    /// The names of node `n` and of the states around it, outermost first.
+    fn node_path(&self, n: usize) -> Vec<String> {
+        let mut path = vec![self.nodes[n].name.clone()];
+        let mut cur = self.nodes[n].parent;
+        while let Some(c) = cur {
+            path.insert(0, self.nodes[c].name.clone());
+            cur = self.nodes[c].parent;
+        }
+        path
     }
 
     fn sibling(&self, parent: Option<usize>, name: &str) -> Option<usize> {
@@ -747,6 +776,8 @@ pub(crate) struct OperationOut {
     pub consts: Vec<(ConstParam, Ty)>,
     /// Its channels: events, platform calls (and returns, paper2019).
     pub chans: Vec<OpChan>,
+    /// Its states' paths and tags, as [`Elem::states`](crate::export::Elem).
+    pub states: Vec<(Vec<String>, String)>,
 }
 
 /// What a channel of an exported operation is.
