@@ -207,9 +207,13 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
         "{stderr}"
     );
     assert!(
-        stderr.contains("module unsupported::WithAsync is not exported: asynchronous connections between machines or controllers are not exported: the size of RoboTool's buffer"),
+        stderr.contains(
+            "controller unsupported::AsyncMachines is not exported: asynchronous connections between two machines \
+             of a controller are not exported"
+        ),
         "{stderr}"
     );
+    assert!(!stderr.contains("WithAsync"), "{stderr}");
     assert!(
         stderr.contains(
             "module unsupported::WithVars is not exported: platform variables (`battery`) are not exported yet"
@@ -233,6 +237,11 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
     let csp = std::fs::read_to_string(dir.join("timed").join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
     assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");
+    // RT-12: the module's controllers linked by RoboTool's buffer.
+    assert!(
+        csp.contains("  module WithAsync\n") && csp.contains("Buffer1__ = unsupported::CS::p.out -> Buffer1Full__"),
+        "{csp}"
+    );
     // The machine that is supported is exported, in its package's module
     // (RoboTool's `unsupported::Fine`).
     assert!(csp.contains("module unsupported\n") && csp.contains("  module Fine\n"), "{csp}");

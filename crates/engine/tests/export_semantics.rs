@@ -13,7 +13,9 @@
 //!
 //! Each element is `agree`, `disagree` (with the shortest distinguishing
 //! behaviour the refinement check finds) or `not comparable` (why: a side
-//! refuses the element, the evaluator lacks something, a bound). Known
+//! refuses the element, the evaluator lacks something, a bound, or a
+//! fixture assuming another asynchronous buffer than RoboTool's, which is
+//! the only one the export writes: its buffered elements). Known
 //! disagreements are listed in [`KNOWN`] with which side is wrong per
 //! RoboTool's generated CSPm (`reference/alpha-algorithm/csp-gen/timed`)
 //! and `robotool-facts.md`: the test fails when a new one appears or a
@@ -21,7 +23,7 @@
 //!
 //! `XCHECK_VERBOSE=1` prints every element's outcome.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -30,7 +32,7 @@ use robosim_engine::algo::explicit::ExplicitLts;
 use robosim_engine::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
 use robosim_engine::budget::Budget;
 use robosim_engine::lts::{Event, Lts};
-use robosim_engine::verify::{subject_lts, Options, Semantics};
+use robosim_engine::verify::{subject_lts, AsyncBuffer, Options, Semantics};
 use robosim_hir::defs::DefKind;
 use robosim_hir::index::file_summary;
 
@@ -131,6 +133,56 @@ fn elements(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -> Vec<(
     };
     out.sort_by(|a, b| rank(&a.1).cmp(&rank(&b.1)).then(a.0.cmp(&b.0)));
     out
+}
+
+/// The buffer a fixture assumes for asynchronous connections with a line
+/// `// option async-buffer: …` (read as `tests/fixtures.rs` reads it), if
+/// it is not RoboTool's (RT-12, one place that overwrites).
+fn assumed_buffer(dir: &Path) -> Option<String> {
+    let mut names: Vec<PathBuf> =
+        std::fs::read_dir(dir).expect("fixture").filter_map(|e| Some(e.ok()?.path())).collect();
+    names.sort();
+    names.iter().filter_map(|p| std::fs::read_to_string(p).ok()).find_map(|text| {
+        text.lines().find_map(|l| {
+            let value = l.trim_start().strip_prefix("// option async-buffer:")?.trim();
+            (AsyncBuffer::parse(value).ok()? != AsyncBuffer::ROBOTOOL).then(|| value.to_string())
+        })
+    })
+}
+
+/// The controllers and modules (qualified names) with an asynchronous
+/// connection between two of their components: those the buffer is part
+/// of.
+fn buffered_elements(db: &robosim_hir::RootDatabase, ws: robosim_hir::Workspace) -> BTreeSet<String> {
+    use robosim_hir::model::{item, End, Item};
+    let mut out = BTreeSet::new();
+    for &f in ws.files(db).iter().filter(|f| !f.is_library(db) && !f.kind(db).is_assertions()) {
+        let s = file_summary(db, f);
+        for (index, it) in s.items.iter().enumerate() {
+            let loc = robosim_hir::index::ItemLoc { file: f, index: index as u32 };
+            let component = |e: &End| matches!(e, End::Controller(_) | End::Machine(_));
+            let connections = match item(db, ws, loc) {
+                Some(Item::Module(x)) => &x.connections,
+                Some(Item::Controller(c)) => &c.connections,
+                _ => continue,
+            };
+            if connections.iter().any(|c| c.is_async && component(&c.from_end) && component(&c.to_end)) {
+                let mut path = s.package.clone();
+                path.push(it.name.clone());
+                out.insert(path.join("::"));
+            }
+        }
+    }
+    out
+}
+
+/// Why an element of a fixture that assumes the buffer `buffer` is not
+/// compared.
+fn another_buffer(buffer: &str) -> String {
+    format!(
+        "the fixture assumes the buffer `{buffer}` (`// option async-buffer`); the export writes RoboTool's only \
+         (RT-12: one place, overwritten)"
+    )
 }
 
 /// The name of the assertion about the `i`th element.
@@ -322,10 +374,15 @@ fn check_fixture(dir: &Path, sem: Semantics) -> Vec<(String, Outcome)> {
         .collect();
     let read = robosim_hir::model::assertion_file(&db, file).clone();
     let opts = Options::default();
+    let (buffer, buffered) = (assumed_buffer(dir), buffered_elements(&db, ws));
     let mut out = Vec::new();
     for (i, (path, _)) in elems.iter().enumerate() {
         let name = assertion_name(i);
         let place = format!("{fixture} {path}");
+        if let Some(b) = buffer.as_ref().filter(|_| buffered.contains(path)) {
+            out.push((place, Outcome::NotComparable(another_buffer(b))));
+            continue;
+        }
         let Some(a) = read.assertions.iter().find(|a| a.name == name) else {
             out.push((place, Outcome::NotComparable("our assertion was not read".into())));
             continue;
@@ -470,6 +527,7 @@ fn reachability_verdicts_agree() {
         let mut db = robosim_hir::RootDatabase::default();
         let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
         let reports = robosim_engine::verify::verify_workspace(&db, ws, &Options::default(), None);
+        let (buffer, buffered) = (assumed_buffer(&dir), buffered_elements(&db, ws));
         let ex = robosim_semantics::export_workspace(&db, ws, &robosim_semantics::Options::default());
         let texts: BTreeMap<String, String> = ex.files.iter().map(|f| (f.name.clone(), f.text())).collect();
         for script in texts.keys().filter(|n| texts[*n].contains("\ninclude \"")) {
@@ -494,6 +552,11 @@ fn reachability_verdicts_agree() {
                     lines.next();
                 }
                 let place = format!("{fixture} {name}");
+                let subject = rest.rsplit(" in ").next().unwrap_or_default().trim();
+                if buffer.is_some() && buffered.contains(subject) {
+                    *counts.entry("not compared: the fixture assumes another buffer").or_default() += 1;
+                    continue;
+                }
                 let Some(r) = reports.iter().find(|r| r.name == name && r.semantics == Semantics::Timed) else {
                     problems.push(format!("{place}: the engine has no timed report"));
                     continue;

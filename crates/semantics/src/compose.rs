@@ -3,7 +3,8 @@
 //! components in parallel, synchronising on `tock` and `terminate` (each
 //! element's own in RoboChart, as RoboTool's `M::terminate`), their events
 //! renamed to the container's through the connections, connections
-//! between components hidden.
+//! between components hidden; an asynchronous one between controllers is
+//! RoboTool's one-place buffer (RT-12, `buffer`).
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::rc::Rc;
@@ -17,6 +18,8 @@ use crate::cspm::{call, dot, hide, name, par, Decl, Expr};
 use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, ElemState, Exporter, Reg, Ty};
 use crate::machine::{Gen, Problem, ProvidedOp};
 use crate::util::event_ident;
+
+mod buffer;
 
 /// A machine, controller or module of the model, to export.
 #[derive(Clone, Copy)]
@@ -637,6 +640,10 @@ fn robochart_container(
     let mut connected: Vec<BTreeSet<&str>> = vec![BTreeSet::new(); insts.len()];
     // Synchronous links between components: (sender end, receiver end).
     let mut links: Vec<SyncLink> = Vec::new();
+    // Asynchronous links between controllers, and how many connections
+    // name each (instance, event).
+    let mut async_links: Vec<buffer::AsyncLink> = Vec::new();
+    let mut uses: BTreeMap<(usize, String), usize> = BTreeMap::new();
     for c in connections {
         let ((a, ea), (b, eb), is_async) =
             ((c.from.clone(), c.efrom.clone()), (c.to.clone(), c.eto.clone()), c.is_async);
@@ -644,6 +651,7 @@ fn robochart_container(
         for (x, e) in [(ia, &c.efrom), (ib, &c.eto)] {
             if let Some(x) = x {
                 connected[x].insert(e.as_str());
+                *uses.entry((x, e.clone())).or_default() += 1;
             }
         }
         match (is_own(&a), ia, is_own(&b), ib) {
@@ -669,15 +677,26 @@ fn robochart_container(
                     chans.push(event_chan(csp, cev.clone(), ty.as_ref(), dir));
                 }
             }
-            // Component ↔ component: a hidden synchronisation.
+            // Component ↔ component: a hidden synchronisation (RT-14), or
+            // between controllers, a buffer (RT-12).
             (_, Some(i), _, Some(j)) => {
-                if is_async {
+                if is_async && kind != ElemKind::Module {
                     problems.push((
                         file,
                         c.range,
-                        "asynchronous connections between machines or controllers are not exported: the size of \
-                         RoboTool's buffer and what it does when full are not pinned down (semantics.md §11, \
-                         item 3)"
+                        "asynchronous connections between two machines of a controller are not exported: they \
+                         have no semantics (RC:Cn11), and RoboTool's buffer is pinned down between two \
+                         controllers only (RT-12)"
+                            .into(),
+                    ));
+                    continue;
+                }
+                if is_async && c.is_mult {
+                    problems.push((
+                        file,
+                        c.range,
+                        "a bidirectional (`[ mult ]`) asynchronous connection between controllers is not exported: \
+                         RoboTool's buffer is known one way only, from the connection's source (RT-12)"
                             .into(),
                     ));
                     continue;
@@ -693,7 +712,11 @@ fn robochart_container(
                     problems.push((file, c.range, "the connected events have different types".into()));
                     continue;
                 }
-                links.push(((i, ca), (j, cb), c.range));
+                if is_async {
+                    async_links.push(((i, ca), (j, cb), c.range));
+                } else {
+                    links.push(((i, ca), (j, cb), c.range));
+                }
             }
             _ => problems.push((file, c.range, format!("the connection `{a}` → `{b}` has an unknown end"))),
         }
@@ -763,6 +786,22 @@ fn robochart_container(
         }
         hidden.push(conn);
     }
+    // RT-12: each asynchronous link is a buffer in parallel with the
+    // components on both ends' whole channels, which are hidden.
+    buffer::check_ends(file, &async_links, &uses, &mut problems);
+    let mut buffers: Vec<Expr> = Vec::new();
+    let mut buffered: Vec<Expr> = Vec::new();
+    for (k, ((i, ca), (j, cb), _)) in async_links.iter().enumerate() {
+        let sender = format!("{}::{}", insts[*i].elem.module, ca.csp);
+        let receiver = format!("{}::{}", insts[*j].elem.module, cb.csp);
+        let (decls, p) = buffer::buffer(k + 1, &sender, &receiver, &ca.values, direction("out"), direction("in"));
+        private.extend(decls);
+        buffers.push(p);
+        for ch in [sender, receiver] {
+            buffered.push(name(ch.clone()));
+            hidden.push(ch);
+        }
+    }
     // RT-15: a machine's event connected to nothing is hidden by its
     // controller (no generated example shows RoboTool's text; its
     // meaning, τ, is the fact's). A controller's such event in a module is
@@ -814,7 +853,11 @@ fn robochart_container(
             }
             parts.push((p, internal[j].clone()));
         }
-        let comp = compose(parts, if timed { &["tock", "terminate"] } else { &["terminate"] });
+        let mut comp = compose(parts, if timed { &["tock", "terminate"] } else { &["terminate"] });
+        if !buffers.is_empty() {
+            let all = crate::cspm::nary(crate::cspm::ProcOp::Interleave, buffers.clone());
+            comp = par(all, Expr::Events(buffered.clone()), comp);
+        }
         let body = if hidden.is_empty() {
             comp
         } else {
