@@ -559,7 +559,10 @@ fn async_buffer_setting() {
         .notify("workspace/didChangeConfiguration", json!({"settings": {"robosim": {"verify": {"asyncBuffer": ""}}}}));
     verify(&mut server, &checks, json!("Lost"));
     let h = hover_when(&mut server, &checks, position(&checks_text, "Lost :"), "pass");
-    assert!(h.contains("when full, a new value replaces the oldest (RoboTool's default buffer)"), "{h}");
+    assert!(
+        h.contains("when full, a new value replaces the oldest (RoboTool's buffer between controllers, RT-12)"),
+        "{h}"
+    );
     assert!(title_at(&mut server, &checks, &json!("Lost")).starts_with("✔ pass · 6 states"));
     server.shutdown();
     let _ = std::fs::remove_dir_all(&root);

@@ -235,14 +235,16 @@ fn asynchronous_connections_under_an_assumed_buffer() {
         let lost = find(&v, "checks.assertions", "Lost");
         assert_eq!(lost["verdict"], "pass", "{lost:#}");
         let note = lost["notes"][0].as_str().unwrap();
-        assert!(note.contains("buffer 1 value; when full, a new value replaces the oldest (RoboTool's default"));
+        assert!(note.contains(
+            "buffer 1 value; when full, a new value replaces the oldest (RoboTool's buffer between controllers"
+        ));
         let out = robosim().arg("verify").args(flag).arg(&dir).output().unwrap();
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(
             text.ends_with(
                 "verified 2 assertions (robotool3): 2 pass, 0 fail, 0 inconclusive, 0 unsupported\n\
                  assumed: asynchronous connections buffer 1 value; when full, a new value replaces the oldest \
-                 (RoboTool's default buffer)\n"
+                 (RoboTool's buffer between controllers, RT-12)\n"
             ),
             "{text}"
         );

@@ -533,9 +533,9 @@ impl AsyncBuffer {
             if self.overwrite { "a new value replaces the oldest" } else { "the sender waits" }
         );
         if self == AsyncBuffer::ROBOTOOL {
-            format!("{what} (RoboTool's default buffer)")
+            format!("{what} (RoboTool's buffer between controllers, RT-12)")
         } else {
-            format!("{what} (assumed with `--async-buffer`; RoboTool's default buffer is `1:overwrite`)")
+            format!("{what} (assumed with `--async-buffer`; RoboTool's buffer between controllers is `1:overwrite`)")
         }
     }
 }

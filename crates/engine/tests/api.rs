@@ -910,11 +910,11 @@ fn buffer_assumptions_are_read_strictly() {
 /// is RoboTool's own buffer or one the user assumed.
 #[test]
 fn buffer_assumptions_are_described() {
-    assert!(buffer("1:overwrite")
-        .describe()
-        .contains("buffer 1 value; when full, a new value replaces the oldest (RoboTool's default buffer)"));
+    assert!(buffer("1:overwrite").describe().contains(
+        "buffer 1 value; when full, a new value replaces the oldest (RoboTool's buffer between controllers, RT-12)"
+    ));
     assert!(buffer("2:block").describe().ends_with(
-        "when full, the sender waits (assumed with `--async-buffer`; RoboTool's default buffer is `1:overwrite`)"
+        "when full, the sender waits (assumed with `--async-buffer`; RoboTool's buffer between controllers is `1:overwrite`)"
     ));
 }
 

@@ -351,6 +351,19 @@ impl<'a> Cx<'a> {
             };
             let (a, b) = (qualify(a), qualify(b));
             if is_async && a.0.contains('.') && b.0.contains('.') {
+                // RoboTool gives an asynchronous link between two machines
+                // no semantics (its warning Cn11, RC:Cn11; RT-12 pins the
+                // buffer between controllers): checked only under a
+                // buffer the user assumes.
+                if !self.robosim && self.defaults.async_buffer.is_none() {
+                    return Err(self.unsupported(
+                        file,
+                        c.range,
+                        "an asynchronous connection between two machines of a controller has no semantics in \
+                         RoboTool (RC:Cn11; RT-12 gives its buffer between controllers only): assume a buffer \
+                         with `--async-buffer` (e.g. `1:overwrite`, RoboTool's between controllers) to check it",
+                    ));
+                }
                 async_links.push((file, c.range, a.clone(), b.clone()));
             }
             links.push((a, b));
