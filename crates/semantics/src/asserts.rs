@@ -78,7 +78,14 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
             // (`nametype core_nat`, whose bounds instantiations.csp takes
             // from the block; `Plus`): old-style names (`nametype ID`,
             // `nametype nat`) define exactly those names, which specs use.
-            if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) && !clash.is_empty() {
+            // RT-7: a block's definition of a function without a body
+            // (by RoboTool's name) replaces its generated default (RT-2) in
+            // this file's script.
+            let bodiless = defined.iter().find(|n| ex.fn_defaults.iter().any(|f| f.csp == **n)).cloned();
+            if let (Some(n), Some(CspLineKind::Function)) = (bodiless, kind) {
+                ex.fn_overrides.insert(n);
+                lines.push(l.to_string());
+            } else if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) && !clash.is_empty() {
                 lines.push(format!("-- (in this script's instantiations or robosim_defs.csp) {}", l.trim()));
             } else if let Some(n) = clash.first() {
                 let n = n.to_string();

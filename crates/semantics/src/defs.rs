@@ -3,7 +3,7 @@
 //! types and the constants' default values).
 
 use crate::cspm::{bin, call, ext, name, prefix, BinOp, Decl, Expr, ReplOp};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use robosim_hir::assertions::AssertionFile;
 use robosim_hir::domains::{number_domains, DomainInputs, NumRange, BASE, NAMES};
@@ -348,6 +348,12 @@ pub(crate) fn number_types(
     // define exactly those names: the shared types are RoboTool's generated
     // ones, unless a block gives `core_nat`, `core_int` or `core_real`.
     let mut inputs = DomainInputs::default();
+    // The functions a file's blocks define give the values of the calls of
+    // them (RoboTool's instantiations widen by the calls, evaluated in the
+    // script, RT-5); the other calls return their defaults (RT-2).
+    for (_, read) in assertion_files {
+        inputs.functions.extend(read.instantiations.functions.iter().cloned());
+    }
     for (_, read) in assertion_files {
         for (name, lo, hi, _) in &read.instantiations.types {
             if let Some(r) = NAMES.iter().position(|n| n == name) {
@@ -440,17 +446,31 @@ pub(crate) fn instantiations(ex: &Exporter<'_>) -> OutFile {
     OutFile {
         name: "instantiations.csp".into(),
         title: "Instantiations: bounded types and constant values".into(),
-        decls: instantiation_decls(ex, &ex.number_types, CLOCK_MAX, &BTreeMap::new()),
+        decls: instantiation_decls(ex, &ex.number_types, CLOCK_MAX, &BTreeMap::new(), &Functions::default()),
     }
 }
 
-/// The bounded types (`numbers`, `clock_max`) and constant values (the
-/// defaults, with `overrides`) of one script.
+/// What one script's `csp` blocks do to the defaults of the functions
+/// without a body (RT-2, RT-7).
+#[derive(Debug, Default)]
+pub(crate) struct Functions {
+    /// The functions a block defines (the default is left out).
+    pub defined: BTreeSet<String>,
+    /// Whether a block named `Instantiations` replaces the generated
+    /// defaults: then the functions no block defines have no definition.
+    pub replaced: bool,
+}
+
+/// The bounded types (`numbers`, `clock_max`), constant values (the
+/// defaults, with `overrides`) and the defaults of functions without a
+/// body (but those `functions` says a block defines, or replaces) of one
+/// script.
 pub(crate) fn instantiation_decls(
     ex: &Exporter<'_>,
     numbers: &([(i64, i64); 3], String),
     clock_max: i64,
     overrides: &BTreeMap<String, (Expr, String)>,
+    functions: &Functions,
 ) -> Vec<Decl> {
     let (doms, note) = numbers;
     let mut d = vec![Decl::Comment(note.clone())];
@@ -497,6 +517,28 @@ pub(crate) fn instantiation_decls(
                 d.push(Decl::Comment(comment.clone()));
             }
             d.push(Decl::Def(c.clone(), vec![], v.clone()));
+        }
+    }
+    if !ex.fn_defaults.is_empty() {
+        d.push(Decl::Blank);
+        d.push(Decl::Comment(
+            "Functions without a body return their result type's default (RT-2), unless a `csp` block of the\n\
+             assertion file defines them (RT-7)."
+                .into(),
+        ));
+        for f in &ex.fn_defaults {
+            if functions.defined.contains(&f.csp) {
+                d.push(Decl::Comment(format!("{}: defined by a `csp` block of this assertion file", f.comment)));
+            } else if functions.replaced {
+                d.push(Decl::Comment(format!(
+                    "{}: NOT DEFINED: this assertion file's `csp Instantiations` block replaces the generated\n\
+                     defaults (RT-7) and does not define `{}`, so FDR stops on the undefined name, as with RoboTool's script",
+                    f.comment, f.csp
+                )));
+            } else {
+                d.push(Decl::Comment(f.comment.clone()));
+                d.push(Decl::Def(f.csp.clone(), f.params.clone(), f.value.clone()));
+            }
         }
     }
     d

@@ -416,6 +416,27 @@ pub(crate) struct Exporter<'a> {
     pub operations: HashMap<Key, Option<Result<Rc<crate::machine::OperationOut>, String>>>,
     /// RoboSim operations on their own (RT-11), made on first use.
     pub sim_operations: HashMap<Key, Result<Rc<crate::machine::OperationOut>, String>>,
+    /// RT-2: the defaults of the functions without a body that are
+    /// called, written into the instantiations by RoboTool's name.
+    pub fn_defaults: Vec<FnDefault>,
+    /// The functions whose default a `csp` block of the assertion file
+    /// being written defines instead (RT-7: in that file's script only).
+    pub fn_overrides: BTreeSet<String>,
+}
+
+/// RoboTool's definition of a function without a body (RT-2): its result
+/// type's default, in the generated instantiations (as the reference's
+/// `Mathematics_random() = 0`).
+#[derive(Debug, Clone)]
+pub(crate) struct FnDefault {
+    /// RoboTool's CSPm name (`Mathematics_random`, `scale`).
+    pub csp: String,
+    /// Its parameters (CSPm names).
+    pub params: Vec<String>,
+    /// The default of its result type.
+    pub value: Expr,
+    /// What it is (`function M::f`, with where it is declared).
+    pub comment: String,
 }
 
 impl<'a> Exporter<'a> {
@@ -446,6 +467,8 @@ impl<'a> Exporter<'a> {
             functions: HashMap::new(),
             operations: HashMap::new(),
             sim_operations: HashMap::new(),
+            fn_defaults: Vec::new(),
+            fn_overrides: BTreeSet::new(),
         }
     }
 
@@ -886,8 +909,33 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
     let mut out_assertions = Vec::new();
     for (f, read) in &assertion_files {
         ex.const_overrides.clear();
+        ex.fn_overrides.clear();
         let decls = crate::asserts::assertion_file(&mut ex, *f, read);
         let overrides = std::mem::take(&mut ex.const_overrides);
+        // RT-7: a block named `Instantiations` (one of this script's, RT-8)
+        // replaces the generated defaults, those of functions included.
+        let functions = crate::defs::Functions {
+            defined: std::mem::take(&mut ex.fn_overrides),
+            replaced: read.csp_blocks.iter().any(|b| b.name == "Instantiations" && (timed || !b.timed)),
+        };
+        if functions.replaced {
+            for d in ex.fn_defaults.clone().iter().filter(|d| !functions.defined.contains(&d.csp)) {
+                let at = read
+                    .csp_blocks
+                    .iter()
+                    .find(|b| b.name == "Instantiations")
+                    .map_or(TextRange::default(), |b| b.range);
+                ex.warn(
+                    *f,
+                    at,
+                    format!(
+                        "the `csp Instantiations` block replaces the generated defaults (RT-7) and does not define `{}` \
+                         ({}): FDR stops on the undefined name; define it here (`{}(…) = …`)",
+                        d.csp, d.comment, d.csp
+                    ),
+                );
+            }
+        }
         // Only RoboTool's own names set the core types (RT-7).
         let fixed: BTreeMap<String, (i64, i64)> = read
             .instantiations
@@ -895,13 +943,15 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
             .iter()
             .filter_map(|(n, lo, hi, _)| Some((n.strip_prefix("core_")?.to_string(), (*lo, *hi))))
             .collect();
-        let own = (!fixed.is_empty() || !overrides.is_empty()).then(|| {
-            let numbers = match ["nat", "int", "real"].iter().any(|t| fixed.contains_key(*t)) {
+        let own_functions = !functions.defined.is_empty() || (functions.replaced && !ex.fn_defaults.is_empty());
+        let own = (!fixed.is_empty() || !overrides.is_empty() || own_functions).then(|| {
+            let widened = !functions.defined.is_empty();
+            let numbers = match widened || ["nat", "int", "real"].iter().any(|t| fixed.contains_key(*t)) {
                 true => crate::defs::number_types(&ex, &files, &[(*f, read)]),
                 false => ex.number_types.clone(),
             };
             let clock_max = fixed.get("clock_type").map_or(crate::defs::CLOCK_MAX, |&(_, hi)| hi);
-            crate::defs::instantiation_decls(&ex, &numbers, clock_max, &overrides)
+            crate::defs::instantiation_decls(&ex, &numbers, clock_max, &overrides, &functions)
         });
         out_assertions.push((decls, own));
     }
