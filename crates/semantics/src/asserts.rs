@@ -82,8 +82,24 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
             // (by RoboTool's name) replaces its generated default (RT-2) in
             // this file's script.
             let bodiless = defined.iter().find(|n| ex.fn_defaults.iter().any(|f| f.csp == **n)).cloned();
+            // A package's function is `pkg_f` in RoboTool's CSPm: a block's
+            // `f(x) = …` defines another name, which the calls do not use.
+            let misnamed = defined
+                .iter()
+                .find_map(|n| ex.fn_defaults.iter().find(|f| f.name == *n && f.csp != *n && !ours.contains(n.as_str())))
+                .map(|f| (f.name.clone(), f.csp.clone()));
             if let (Some(n), Some(CspLineKind::Function)) = (bodiless, kind) {
                 ex.fn_overrides.insert(n);
+                lines.push(l.to_string());
+            } else if let (Some((n, csp)), Some(CspLineKind::Function)) = (misnamed, kind) {
+                ex.warn(
+                    file,
+                    lr,
+                    format!(
+                        "this defines `{n}`, but RoboTool's CSPm calls the model's function `{csp}` (its package's \
+                         name first, RT-2): the calls keep its default; write `{csp}(…) = …` to define it"
+                    ),
+                );
                 lines.push(l.to_string());
             } else if matches!(kind, Some(CspLineKind::Type) | Some(CspLineKind::Standard)) && !clash.is_empty() {
                 lines.push(format!("-- (in this script's instantiations or robosim_defs.csp) {}", l.trim()));

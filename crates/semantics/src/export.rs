@@ -431,6 +431,8 @@ pub(crate) struct Exporter<'a> {
 pub(crate) struct FnDefault {
     /// RoboTool's CSPm name (`Mathematics_random`, `scale`).
     pub csp: String,
+    /// The function's name in the model (`random`).
+    pub name: String,
     /// Its parameters (CSPm names).
     pub params: Vec<String>,
     /// The default of its result type.

@@ -1052,6 +1052,7 @@ fn bodiless(
     );
     ex.fn_defaults.push(crate::export::FnDefault {
         csp: csp.clone(),
+        name: fname.clone(),
         params: names,
         value: result.default_value(),
         comment,

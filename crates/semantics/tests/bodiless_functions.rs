@@ -1,0 +1,171 @@
+//! RT-2: a function declared without a body (or with pre- and
+//! postconditions but no `result == e`) returns its result type's default
+//! — 0, `true`, the first literal, the empty set, component-wise for
+//! tuples — which RoboTool writes into the generated instantiations under
+//! its CSPm name, the package's name first (the reference's
+//! `instantiations.csp`: `Mathematics_random() = 0`). RT-7: a `csp` block
+//! of an assertion file defining that name replaces the default in that
+//! file's script; a block named `Instantiations` replaces the generated
+//! defaults, so a function it does not define has no definition there.
+//! The exported scripts load and evaluate with robosim-cspm; the engine's
+//! fixture `export_rt02_bodiless_functions_of_a_package` states the
+//! verdicts, which `export_semantics.rs` compares with the export's.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use robosim_cspm::{Evaluator, Limits, Module, NoNames, Severity};
+use robosim_semantics::{export_workspace, Export, Options, OutFile, Profile};
+
+const FIXTURE: &str = "export_rt02_bodiless_functions_of_a_package";
+
+/// The fixture's files, with `extra` assertion files beside them.
+fn export_with(extra: &[(&str, &str)]) -> Export {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../engine/test_data/verify").join(FIXTURE);
+    let mut paths = Vec::new();
+    robosim_test_support::inputs::model_files(&dir, &mut paths);
+    let mut files: Vec<(String, String)> =
+        paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).expect("a model file"))).collect();
+    files.extend(extra.iter().map(|(n, t)| (n.to_string(), t.to_string())));
+    export_files(files)
+}
+
+fn export_files(files: Vec<(String, String)>) -> Export {
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
+    export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 })
+}
+
+fn text(files: &[OutFile], name: &str) -> String {
+    files.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("no {name}")).text()
+}
+
+/// The script `name` of `files` with its includes, and the errors
+/// robosim-cspm finds in it.
+fn load(files: &[OutFile], name: &str) -> (Module, Vec<String>) {
+    let texts: HashMap<String, String> = files.iter().map(|f| (f.name.clone(), f.text())).collect();
+    let get = |n: &str| texts.get(n).cloned();
+    let script = texts.get(name).unwrap_or_else(|| panic!("no {name} in {:?}", texts.keys()));
+    let m = Module::check_with_includes(script, &NoNames, &get);
+    let errors = m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{d}")).collect();
+    (m, errors)
+}
+
+/// The value of `expr` in the script, printed.
+fn eval(m: &Module, expr: &str) -> String {
+    let mut ev = Evaluator::new(m, &NoNames, Limits::default());
+    ev.eval_text(expr).map(|v| v.to_string()).unwrap_or_else(|d| format!("error: {}", d.message))
+}
+
+#[test]
+fn the_generated_instantiations_define_the_defaults_by_robotool_s_names() {
+    let e = export_with(&[]);
+    assert!(e.warnings.is_empty(), "{:#?}", e.warnings);
+    for files in [&e.files, &e.untimed] {
+        let inst = text(files, "instantiations.csp");
+        for line in
+            ["\np_random() = 0\n", "\np_pick(x) = p_Mode_Idle\n", "\np_flag() = true\n", "\np_origin() = (0, 0)\n"]
+        {
+            assert!(inst.contains(line), "{line:?} in {inst}");
+        }
+        // The machine calls them by those names.
+        let model = text(files, "m.csp");
+        assert!(model.contains("p_random() == 0") && model.contains("p_pick(1) == p_Mode_Busy"), "{model}");
+        let (m, errors) = load(files, "a_assertions.csp");
+        assert!(errors.is_empty(), "{errors:#?}");
+        assert_eq!(eval(&m, "p_random()"), "0");
+        assert_eq!(eval(&m, "p_pick(1)"), "p_Mode_Idle");
+        // `postcondition not result` does not change RoboTool's default.
+        assert_eq!(eval(&m, "p_flag()"), "true");
+        assert_eq!(eval(&m, "p_origin()"), "(0, 0)");
+    }
+}
+
+#[test]
+fn a_block_defining_robotool_s_name_replaces_the_default_in_its_file_only() {
+    let b = "import p::*\ncsp Defs csp-begin\np_random() = 1\ncsp-end\nassertion R : M::R is reachable in M\n";
+    let e = export_with(&[("b.assertions", b)]);
+    assert!(e.warnings.is_empty(), "{:#?}", e.warnings);
+    for files in [&e.files, &e.untimed] {
+        let (m, errors) = load(files, "b_assertions.csp");
+        assert!(errors.is_empty(), "{errors:#?}");
+        let script = text(files, "b_assertions.csp");
+        // Its own instantiations, without the default of `p_random`.
+        assert!(!script.contains("include \"instantiations.csp\""), "{script}");
+        assert!(!script.contains("p_random() = 0"), "{script}");
+        assert!(script.contains("-- function p::random (m.rct:9:1): no body, its result type's default (RT-2): defined by a `csp` block of this assertion file"), "{script}");
+        assert!(script.contains("\np_random() = 1\n"), "{script}");
+        assert_eq!(eval(&m, "p_random()"), "1");
+        assert_eq!(eval(&m, "p_flag()"), "true");
+        // The other file keeps the generated default.
+        let (m, errors) = load(files, "a_assertions.csp");
+        assert!(errors.is_empty(), "{errors:#?}");
+        assert_eq!(eval(&m, "p_random()"), "0");
+    }
+}
+
+#[test]
+fn an_instantiations_block_leaves_what_it_does_not_define_undefined() {
+    let c =
+        "import p::*\ncsp Instantiations csp-begin\np_random() = 2\ncsp-end\nassertion R : M::R is reachable in M\n";
+    let e = export_with(&[("c.assertions", c)]);
+    for f in ["p_pick", "p_flag", "p_origin"] {
+        let w = e.warnings.iter().find(|w| w.message.contains(&format!("does not define `{f}`")));
+        let w = w.unwrap_or_else(|| panic!("no warning about {f}: {:#?}", e.warnings));
+        assert!(w.path.ends_with("c.assertions") && w.line == 2 && w.col == 1, "{w:?}");
+        assert!(w.message.contains("FDR stops on the undefined name") && w.message.contains("RT-7"), "{w:?}");
+    }
+    assert!(!e.warnings.iter().any(|w| w.message.contains("`p_random`")), "{:#?}", e.warnings);
+    let script = text(&e.files, "c_assertions.csp");
+    assert!(!script.contains("include \"instantiations.csp\""), "{script}");
+    assert!(
+        script.contains("(RT-2): NOT DEFINED: this assertion file's `csp Instantiations` block replaces"),
+        "{script}"
+    );
+    // As in RoboTool's script, the model calls `p_flag`, which nothing
+    // defines: FDR stops on it, our evaluator too.
+    let (m, _) = load(&e.files, "c_assertions.csp");
+    assert_eq!(eval(&m, "p_random()"), "2");
+    assert_eq!(eval(&m, "p_flag()"), "error: `p_flag` is not defined");
+}
+
+#[test]
+fn a_block_defining_the_bare_name_of_a_package_s_function_is_not_used() {
+    let d = "import p::*\ncsp Defs csp-begin\nrandom() = 1\ncsp-end\nassertion R : M::R is reachable in M\n";
+    let e = export_with(&[("d.assertions", d)]);
+    let [w] = e.warnings.as_slice() else { panic!("{:#?}", e.warnings) };
+    assert!(w.path.ends_with("d.assertions") && w.line == 3, "{w:?}");
+    assert!(
+        w.message.starts_with("this defines `random`, but RoboTool's CSPm calls the model's function `p_random`"),
+        "{w:?}"
+    );
+    let (m, errors) = load(&e.files, "d_assertions.csp");
+    assert!(errors.is_empty(), "{errors:#?}");
+    // The block's `random` is copied, and the calls keep the default.
+    assert_eq!(eval(&m, "random()"), "1");
+    assert_eq!(eval(&m, "p_random()"), "0");
+}
+
+#[test]
+fn functions_of_no_arguments_and_of_the_default_package() {
+    let model = "interface I { event e }\n\
+        function two() : nat { postcondition result == 2 }\n\
+        function none() : Set(nat) { }\n\
+        function scale(x : nat) : nat { precondition x > 0 postcondition result in {1, 2} }\n\
+        stm M { uses I initial i state S { } transition t { from i to S condition two() == 2 action e } }\n";
+    let e = export_files(vec![
+        ("m.rct".into(), model.into()),
+        ("a.assertions".into(), "assertion D : M is deadlock-free\n".into()),
+    ]);
+    assert!(e.warnings.is_empty(), "{:#?}", e.warnings);
+    let inst = text(&e.files, "instantiations.csp");
+    assert!(inst.contains("\nnone() = {}\n") && inst.contains("\nscale(x) = 0\n"), "{inst}");
+    // A function defined by `result == e` stays RoboTool's `f() = e`, in
+    // the model's file.
+    assert!(text(&e.files, "m.csp").contains("\ntwo() = 2\n"), "{}", text(&e.files, "m.csp"));
+    let (m, errors) = load(&e.files, "a_assertions.csp");
+    assert!(errors.is_empty(), "{errors:#?}");
+    assert_eq!(eval(&m, "two()"), "2");
+    assert_eq!(eval(&m, "none()"), "{}");
+    assert_eq!(eval(&m, "scale(2)"), "0");
+}
