@@ -88,7 +88,9 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
                 .iter()
                 .find_map(|n| ex.fn_defaults.iter().find(|f| f.name == *n && f.csp != *n && !ours.contains(n.as_str())))
                 .map(|f| (f.name.clone(), f.csp.clone()));
-            if let (Some(n), Some(CspLineKind::Function)) = (bodiless, kind) {
+            // (Any definition of the name: also one beyond the subset hir
+            // reads, `f(x) = let … within …`, as RoboTool copies it.)
+            if let Some(n) = bodiless {
                 ex.fn_overrides.insert(n);
                 lines.push(l.to_string());
             } else if let (Some((n, csp)), Some(CspLineKind::Function)) = (misnamed, kind) {

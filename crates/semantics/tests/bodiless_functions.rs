@@ -169,3 +169,41 @@ fn functions_of_no_arguments_and_of_the_default_package() {
     assert_eq!(eval(&m, "none()"), "{}");
     assert_eq!(eval(&m, "scale(2)"), "0");
 }
+
+#[test]
+fn a_definition_beyond_what_hir_reads_replaces_the_default_too() {
+    // RoboTool copies the block whole: `let … within` is CSPm all the same.
+    let b = "import p::*\ncsp Defs csp-begin\np_pick(x) = let y = p_Mode_Busy within y\ncsp-end\n\
+             assertion P : M::P is reachable in M\n";
+    let e = export_with(&[("b.assertions", b)]);
+    assert!(e.warnings.is_empty(), "{:#?}", e.warnings);
+    let (m, errors) = load(&e.files, "b_assertions.csp");
+    assert!(errors.is_empty(), "{errors:#?}");
+    assert_eq!(eval(&m, "p_pick(1)"), "p_Mode_Busy");
+    assert_eq!(eval(&m, "p_random()"), "0");
+}
+
+#[test]
+fn the_values_a_block_gives_widen_its_script_s_types() {
+    // RT-5: RoboTool's types cover the values of the model's expressions,
+    // `random()` among them, evaluated with the script's definitions.
+    let model = "package p\nfunction random() : real { }\ninterface I { event e }\n\
+                 stm M { uses I var x : real initial i state S { }\n\
+                 transition t { from i to S action x = random() ; e } }\n";
+    let b = "import p::*\ncsp Defs csp-begin\np_random() = 5\ncsp-end\nassertion D : M is deadlock-free\n";
+    let d = "import p::*\ncsp Defs csp-begin\nrandom() = 5\ncsp-end\nassertion D : M is deadlock-free\n";
+    let e = export_files(vec![
+        ("m.rct".into(), model.into()),
+        ("b.assertions".into(), b.into()),
+        ("d.assertions".into(), d.into()),
+    ]);
+    let script = text(&e.files, "b_assertions.csp");
+    assert!(script.contains("\nnametype core_real = { -2..5}\n"), "{script}");
+    let (m, errors) = load(&e.files, "b_assertions.csp");
+    assert!(errors.is_empty(), "{errors:#?}");
+    assert_eq!(eval(&m, "p_random()"), "5");
+    // `random` is not what the model calls: no widening, the shared types.
+    let script = text(&e.files, "d_assertions.csp");
+    assert!(script.contains("include \"instantiations.csp\""), "{script}");
+    assert!(text(&e.files, "instantiations.csp").contains("\nnametype core_real = { -2..2}\n"));
+}
