@@ -99,7 +99,7 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
                     lr,
                     format!(
                         "this defines `{n}`, but RoboTool's CSPm calls the model's function `{csp}` (its package's \
-                         name first, RT-2): the calls keep its default; write `{csp}(…) = …` to define it"
+                         name first, RT-2), so the calls do not use it: write `{csp}(…) = …` to define it"
                     ),
                 );
                 lines.push(l.to_string());
