@@ -1,0 +1,184 @@
+//! Functions of the model as CSPm functions: one defined by a
+//! postcondition `result == e` is RoboTool's `f(x) = e`; one without a body
+//! returns its result type's default (RT-2), defined in the instantiations
+//! by RoboTool's name.
+
+use std::rc::Rc;
+
+use robosim_hir::model as m;
+use robosim_hir::File;
+
+use super::{ECtx, Gen, Nm};
+use crate::cspm::Decl;
+use crate::export::{Exporter, Ty};
+
+/// A function of the model exported as a CSPm function.
+#[derive(Debug, Clone)]
+pub(crate) struct FunctionOut {
+    /// Its CSPm name.
+    pub csp: String,
+    /// The types of its parameters.
+    pub params: Vec<Ty>,
+    /// The type of its result.
+    pub result: Ty,
+}
+
+/// The CSPm function of the model's function `f` of `file`, made on first
+/// use: one defined by a postcondition `result == e` is RoboTool's
+/// function `f(x) = e` (in the model's file); one without a body returns
+/// its result type's default (RT-2), written into the instantiations by
+/// RoboTool's name (`Mathematics_random() = 0`), which a `csp` block of an
+/// assertion file may define instead (RT-7).
+pub(crate) fn function(ex: &mut Exporter<'_>, file: File, f: &m::Function) -> Result<Rc<FunctionOut>, String> {
+    let key = (file, f.range);
+    let fname = f.name.clone();
+    match ex.functions.get(&key) {
+        Some(Some(f)) => return Ok(f.clone()),
+        Some(None) => return Err(format!("the function `{fname}` is recursive: not supported by the export yet")),
+        None => {}
+    }
+    ex.functions.insert(key, None);
+    let r = function_inner(ex, file, f);
+    match &r {
+        Ok(f) => {
+            ex.functions.insert(key, Some(f.clone()));
+        }
+        Err(_) => {
+            ex.functions.remove(&key);
+        }
+    }
+    r
+}
+
+fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Result<Rc<FunctionOut>, String> {
+    let fname = model.name.clone();
+    let mut params = Vec::new();
+    for p in &model.params {
+        let t = ex.ty_ref(file, p.ty.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+        params.push((p.name.clone(), t));
+    }
+    let result = ex.ty_ref(file, model.result.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
+    // The one postcondition `result == e` (or `result iff e`) defines it.
+    let defining: Vec<&m::Expr> = model
+        .postconditions
+        .iter()
+        .filter_map(|x| match &x.kind {
+            m::ExprKind::Binary(m::BinOp::Eq | m::BinOp::Iff, l, r) if l.kind == m::ExprKind::Result => Some(&**r),
+            _ => None,
+        })
+        .collect();
+    let body = match defining.as_slice() {
+        [body] => *body,
+        [] if !model.postconditions.iter().any(defines_result) => {
+            return bodiless(ex, file, model, params, result);
+        }
+        _ => {
+            return Err(format!(
+                "the function `{fname}` is defined by its postconditions in a form other than one `result == …`, \
+                 whose CSPm RoboTool's is not established: calls of it are not exported"
+            ))
+        }
+    };
+    if body.kind == m::ExprKind::Missing {
+        return Err(format!("function `{fname}`: an incomplete postcondition"));
+    }
+    let mut path = ex.package(file);
+    path.push(fname.clone());
+    let csp = ex.module_name(&path);
+    let mut g = Gen::new(ex, file, None, path.clone(), model.range, false);
+    let mut names = Vec::new();
+    for (n, t) in &params {
+        let local = g.local(n);
+        g.names.insert(n.clone(), Nm::Param(local.clone(), t.clone()));
+        names.push(local);
+    }
+    // `f() = e`, called `f()` (see `bodiless`).
+    if names.is_empty() {
+        names.push(String::new());
+    }
+    let out = g.expr(body, ECtx::Const, Some(&result));
+    let problems = std::mem::take(&mut g.problems);
+    let Some(out) = out else {
+        let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
+        return Err(format!("function `{fname}` is not exported: {why}"));
+    };
+    ex.emit(
+        file,
+        vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
+    );
+    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
+}
+
+/// Whether a postcondition says what the result is (`result == e`,
+/// either way round, alone or in a conjunction): then the function is not
+/// bodiless, and RoboTool's CSPm is its definition, not the default.
+fn defines_result(e: &m::Expr) -> bool {
+    match &e.kind {
+        m::ExprKind::Binary(m::BinOp::Eq | m::BinOp::Iff, a, b) => {
+            a.kind == m::ExprKind::Result || b.kind == m::ExprKind::Result
+        }
+        m::ExprKind::Binary(m::BinOp::And, a, b) => defines_result(a) || defines_result(b),
+        _ => false,
+    }
+}
+
+/// RT-2: the function `model` of `file` has no body (no postcondition
+/// `result == e`), so RoboTool's CSPm returns its result type's default,
+/// whatever else its pre- and postconditions say; the definition is
+/// registered for the instantiations under RoboTool's name, the package's
+/// path and the function's name joined by `_` (`Mathematics_random`).
+fn bodiless(
+    ex: &mut Exporter<'_>,
+    file: File,
+    model: &m::Function,
+    params: Vec<(String, Ty)>,
+    result: Ty,
+) -> Result<Rc<FunctionOut>, String> {
+    let fname = &model.name;
+    if let Some(t) = abstract_part(ex, &result) {
+        return Err(format!(
+            "the function `{fname}` has no body and returns a value of the primitive type `{t}`, whose default \
+             in RoboTool's CSPm is not established (RT-2): calls of it are not exported"
+        ));
+    }
+    let mut path = ex.package(file);
+    path.push(fname.clone());
+    let csp = crate::util::qualified(&path);
+    if ex.module_name(&path) != csp {
+        return Err(format!(
+            "RoboTool's CSPm name `{csp}` of the function `{fname}` is taken by another element of the export: \
+             calls of it are not exported"
+        ));
+    }
+    let mut g = Gen::new(ex, file, None, path.clone(), model.range, false);
+    let mut names: Vec<String> = params.iter().map(|(n, _)| g.local(n)).collect();
+    // `f() = e`: a function of no arguments, called `f()` (RT-2's
+    // `Mathematics_random() = 0`), not the constant `f = e`.
+    if names.is_empty() {
+        names.push(String::new());
+    }
+    let comment = format!(
+        "function {} ({}): no body, its result type's default (RT-2)",
+        path.join("::"),
+        ex.loc(file, model.range)
+    );
+    ex.fn_defaults.push(crate::export::FnDefault {
+        csp: csp.clone(),
+        name: fname.clone(),
+        params: names,
+        value: result.default_value(),
+        comment,
+    });
+    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
+}
+
+/// The name of an abstract primitive type (`type T`) in `t` where the
+/// default depends on it (not inside a set or a sequence, empty anyway).
+fn abstract_part(ex: &Exporter<'_>, t: &Ty) -> Option<String> {
+    match t {
+        Ty::Named(n, _) => ex.abstract_types.values().any(|a| a == n).then(|| n.clone()),
+        Ty::Product(ts) => ts.iter().find_map(|t| abstract_part(ex, t)),
+        Ty::Record(r) => r.fields.iter().find_map(|(_, t)| abstract_part(ex, t)),
+        _ => None,
+    }
+}
