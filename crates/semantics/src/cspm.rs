@@ -180,7 +180,8 @@ pub enum Decl {
     Datatype(String, Vec<(String, Vec<Expr>)>),
     /// `nametype T = S`.
     Nametype(String, Expr),
-    /// `f(x, y) = e` (no parameters: `f = e`).
+    /// `f(x, y) = e` (no parameters: `f = e`; one empty parameter: the
+    /// function of no arguments `f() = e`).
     Def(String, Vec<String>, Expr),
     /// `module M … exports … endmodule`: private, then exported declarations.
     Module(String, Vec<Decl>, Vec<Decl>),

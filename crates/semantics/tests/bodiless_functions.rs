@@ -207,3 +207,39 @@ fn the_values_a_block_gives_widen_its_script_s_types() {
     assert!(script.contains("include \"instantiations.csp\""), "{script}");
     assert!(text(&e.files, "instantiations.csp").contains("\nnametype core_real = { -2..2}\n"));
 }
+
+#[test]
+fn a_function_named_as_a_cspm_builtin_is_refused() {
+    // RoboTool would write `card(s) = 0` beside CSPm's own `card`.
+    let model = "interface I { event e }\nfunction card(x : nat) : nat { }\n\
+                 stm M { uses I initial i state S { } transition t { from i to S condition card(1) == 0 action e } }\n";
+    let e = export_files(vec![
+        ("m.rct".into(), model.into()),
+        ("a.assertions".into(), "assertion D : M is deadlock-free\n".into()),
+    ]);
+    let w = e.warnings.iter().find(|w| w.message.contains("reserved in CSPm"));
+    let w = w.unwrap_or_else(|| panic!("{:#?}", e.warnings));
+    assert!(w.message.contains("RoboTool's CSPm name `card` of the function `card` is reserved in CSPm"), "{w:?}");
+    assert!(!text(&e.files, "instantiations.csp").contains("card"));
+}
+
+#[test]
+fn a_function_returning_a_primitive_type_is_refused() {
+    // RT-2 gives no default for a primitive type (`type ID`).
+    let model = "type ID\ninterface I { event e }\nfunction who() : ID { }\nfunction pair() : nat * ID { }\n\
+                 stm M { uses I var x : ID initial i state S { } transition t { from i to S action x = who() ; e } }\n\
+                 stm N { uses I var y : nat * ID initial i state S { } transition t { from i to S action y = pair() ; e } }\n";
+    let e = export_files(vec![
+        ("m.rct".into(), model.into()),
+        ("a.assertions".into(), "assertion D : M is deadlock-free\n".into()),
+    ]);
+    for f in ["who", "pair"] {
+        let w = e.warnings.iter().find(|w| w.message.contains(&format!("the function `{f}` has no body")));
+        let w = w.unwrap_or_else(|| panic!("{f}: {:#?}", e.warnings));
+        assert!(
+            w.message.contains("the primitive type `ID`, whose default in RoboTool's CSPm is not established"),
+            "{w:?}"
+        );
+    }
+    assert!(!text(&e.files, "instantiations.csp").contains("who"));
+}

@@ -144,6 +144,14 @@ fn bodiless(
     let mut path = ex.package(file);
     path.push(fname.clone());
     let csp = crate::util::qualified(&path);
+    // A name CSPm reserves (`card`, `union`…) is RoboTool's all the same,
+    // and clashes in its script: what FDR makes of it is not established.
+    if csp != path.join("_") {
+        return Err(format!(
+            "RoboTool's CSPm name `{}` of the function `{fname}` is reserved in CSPm: calls of it are not exported",
+            path.join("_")
+        ));
+    }
     if ex.module_name(&path) != csp {
         return Err(format!(
             "RoboTool's CSPm name `{csp}` of the function `{fname}` is taken by another element of the export: \
