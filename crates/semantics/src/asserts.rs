@@ -47,6 +47,8 @@ struct OpSubject {
     consts: Vec<ConstParam>,
     /// Its states' paths and tags.
     states: Vec<(Vec<String>, String)>,
+    /// The functions without a body it calls.
+    functions: std::collections::BTreeSet<String>,
 }
 
 pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &AssertionFile) -> Vec<Decl> {
@@ -140,6 +142,14 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
         )));
         out.push(Decl::Raw(joined.trim_matches('\n').to_string(), b.name.clone()));
         out.push(Decl::Blank);
+    }
+    // RT-7: an `Instantiations` block (one of this script's, RT-8)
+    // replaces the generated defaults: the functions without a body it does
+    // not define have no definition in RoboTool's script.
+    ex.fn_undefined.clear();
+    if read.csp_blocks.iter().any(|b| b.name == "Instantiations" && (ex.timed || !b.timed)) {
+        let defined = &ex.fn_overrides;
+        ex.fn_undefined = ex.fn_defaults.iter().map(|d| d.csp.clone()).filter(|c| !defined.contains(c)).collect();
     }
     // Simulations.
     let mut sims: HashMap<String, Subject> = HashMap::new();
@@ -242,8 +252,47 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
 /// The subject named `path` in assertion `a` of `file`: a simulation of
 /// the file or a `csp` block by name, else the element hir's one reading
 /// of assertions resolves (`robosim_hir::target`, as the native checker).
-#[allow(clippy::too_many_arguments)]
 fn subject(
+    ex: &mut Exporter<'_>,
+    file: File,
+    read: &AssertionFile,
+    a: &AssertionDecl,
+    path: &[String],
+    sims: &HashMap<String, Subject>,
+    raw: &[String],
+) -> Result<Subject, String> {
+    let s = subject_of(ex, file, read, a, path, sims, raw)?;
+    // RT-7: this file's `Instantiations` block replaces the generated
+    // defaults and leaves a function the subject calls undefined: FDR
+    // stops on RoboTool's script, so no verdict (as the native checker).
+    let mut calls = std::collections::BTreeSet::new();
+    if let Some(e) = &s.elem {
+        element_functions(e, &mut calls);
+    }
+    if let Some(op) = &s.op {
+        calls.extend(op.functions.iter().cloned());
+    }
+    if let Some(f) = calls.iter().find(|f| ex.fn_undefined.contains(*f)) {
+        return Err(format!(
+            "`{}` calls `{f}`, a function without a body that this file's `csp Instantiations` block does not \
+             define: the block replaces RoboTool's generated defaults (RT-7), so FDR stops on the undefined name; \
+             define it there (`{f}(…) = …`)",
+            path.join("::")
+        ));
+    }
+    Ok(s)
+}
+
+/// The functions without a body `e` and its parts call.
+fn element_functions(e: &Elem, out: &mut std::collections::BTreeSet<String>) {
+    out.extend(e.functions.iter().cloned());
+    for (_, p) in &e.parts {
+        element_functions(p, out);
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn subject_of(
     ex: &mut Exporter<'_>,
     file: File,
     read: &AssertionFile,
@@ -383,6 +432,7 @@ fn operation_subject(
             params,
             consts: op.consts.iter().map(|(c, _)| c.clone()).collect(),
             states: op.states.clone(),
+            functions: op.functions.clone(),
         }),
     }))
 }

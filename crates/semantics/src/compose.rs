@@ -912,6 +912,7 @@ fn robochart_container(
             required,
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
             states: Vec::new(),
+            functions: Default::default(),
         },
         decls,
     ))
@@ -1071,6 +1072,7 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
             required: vec![],
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
             states: Vec::new(),
+            functions: Default::default(),
         },
         decls,
     ))

@@ -530,11 +530,15 @@ pub(crate) fn instantiation_decls(
             if functions.defined.contains(&f.csp) {
                 d.push(Decl::Comment(format!("{}: defined by a `csp` block of this assertion file", f.comment)));
             } else if functions.replaced {
+                // Written so that the rest of the script loads; the
+                // assertions about elements that call it are not exported.
                 d.push(Decl::Comment(format!(
-                    "{}: NOT DEFINED: this assertion file's `csp Instantiations` block replaces the generated\n\
-                     defaults (RT-7) and does not define `{}`, so FDR stops on the undefined name, as with RoboTool's script",
+                    "{}: NOT IN ROBOTOOL'S SCRIPT: this assertion file's `csp Instantiations` block replaces the\n\
+                     generated defaults (RT-7) and does not define `{}`, so FDR stops on it there; written here so that\n\
+                     the rest loads, the assertions about elements that call it are not exported",
                     f.comment, f.csp
                 )));
+                d.push(Decl::Def(f.csp.clone(), f.params.clone(), f.value.clone()));
             } else {
                 d.push(Decl::Comment(f.comment.clone()));
                 d.push(Decl::Def(f.csp.clone(), f.params.clone(), f.value.clone()));

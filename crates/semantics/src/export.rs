@@ -356,6 +356,10 @@ pub(crate) struct Elem {
     /// for a state `B` in `A`) and their tag (`SID_tag`), unique in the
     /// machine.
     pub states: Vec<(Vec<String>, String)>,
+    /// A machine's calls of functions without a body (RoboTool's names),
+    /// its operations' included; a controller's and a module's are their
+    /// parts'.
+    pub functions: BTreeSet<String>,
 }
 
 /// A node key: the file and the node's range.
@@ -423,6 +427,12 @@ pub(crate) struct Exporter<'a> {
     /// The functions whose default a `csp` block of the assertion file
     /// being written defines instead (RT-7: in that file's script only).
     pub fn_overrides: BTreeSet<String>,
+    /// The functions without a body that the assertion file being written
+    /// leaves undefined: its `Instantiations` block replaces the generated
+    /// defaults and does not define them (RT-7).
+    pub fn_undefined: BTreeSet<String>,
+    /// The functions without a body some element calls.
+    pub fn_called: BTreeSet<String>,
 }
 
 /// RoboTool's definition of a function without a body (RT-2): its result
@@ -472,6 +482,8 @@ impl<'a> Exporter<'a> {
             sim_operations: HashMap::new(),
             fn_defaults: Vec::new(),
             fn_overrides: BTreeSet::new(),
+            fn_undefined: BTreeSet::new(),
+            fn_called: BTreeSet::new(),
         }
     }
 
@@ -922,23 +934,23 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
             replaced: read.csp_blocks.iter().any(|b| b.name == "Instantiations" && (timed || !b.timed)),
         };
         if functions.replaced {
-            for d in ex.fn_defaults.clone().iter().filter(|d| !functions.defined.contains(&d.csp)) {
-                let at = read
-                    .csp_blocks
-                    .iter()
-                    .find(|b| b.name == "Instantiations")
-                    .map_or(TextRange::default(), |b| b.range);
+            let at =
+                read.csp_blocks.iter().find(|b| b.name == "Instantiations").map_or(TextRange::default(), |b| b.range);
+            let undefined: Vec<String> =
+                ex.fn_undefined.iter().filter(|f| ex.fn_called.contains(*f)).cloned().collect();
+            for n in undefined {
                 ex.warn(
                     *f,
                     at,
                     format!(
-                        "the `csp Instantiations` block replaces the generated defaults (RT-7) and does not define `{}` \
-                         ({}): FDR stops on the undefined name; define it here (`{}(…) = …`)",
-                        d.csp, d.comment, d.csp
+                        "the `csp Instantiations` block replaces the generated defaults (RT-7) and does not define `{n}`, \
+                         a function without a body: FDR stops on the undefined name, so the assertions about elements \
+                         that call it are not exported; define it here (`{n}(…) = …`)"
                     ),
                 );
             }
         }
+        ex.fn_undefined.clear();
         // Only RoboTool's own names set the core types (RT-7).
         let fixed: BTreeMap<String, (i64, i64)> = read
             .instantiations

@@ -812,6 +812,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             required: self.required.clone(),
             parts: Vec::new(),
             states: self.state_tags(),
+            functions: self.fn_calls.clone(),
         }
     }
 }

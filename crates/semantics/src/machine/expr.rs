@@ -482,6 +482,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.problem(r, format!("`{fname}` takes {} arguments", f.params.len()));
             return None;
         }
+        if f.bodiless {
+            self.fn_calls.insert(f.csp.clone());
+            self.ex.fn_called.insert(f.csp.clone());
+        }
         let mut es = Vec::new();
         let mut pure = true;
         for (a, t) in args.iter().zip(&f.params) {

@@ -21,6 +21,9 @@ pub(crate) struct FunctionOut {
     pub params: Vec<Ty>,
     /// The type of its result.
     pub result: Ty,
+    /// Whether it has no body: its definition is RT-2's default, in the
+    /// instantiations.
+    pub bodiless: bool,
 }
 
 /// The CSPm function of the model's function `f` of `file`, made on first
@@ -106,7 +109,7 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Res
         file,
         vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
     );
-    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
+    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result, bodiless: false }))
 }
 
 /// Whether a postcondition says what the result is (`result == e`,
@@ -177,7 +180,7 @@ fn bodiless(
         value: result.default_value(),
         comment,
     });
-    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result }))
+    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result, bodiless: true }))
 }
 
 /// The name of an abstract primitive type (`type T`) in `t` where the

@@ -250,6 +250,10 @@ pub(crate) struct Gen<'e, 'a> {
     /// With `sim_op`: the operations called as other operations (their
     /// urgent call events `opCall`), by index in `ops`.
     sim_op_calls: std::collections::BTreeSet<usize>,
+    /// The functions without a body it calls (RoboTool's names), its
+    /// operations' included: a script whose `Instantiations` block leaves
+    /// one undefined cannot check it (RT-7).
+    fn_calls: std::collections::BTreeSet<String>,
     op_params: Vec<String>,
     /// `CALL__op` of the operations of the model called (their names).
     op_calls: Vec<(String, Decl)>,
@@ -324,6 +328,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             is_operation: false,
             sim_op: false,
             sim_op_calls: Default::default(),
+            fn_calls: Default::default(),
             op_params: Vec::new(),
             op_calls: Vec::new(),
             required: Vec::new(),
@@ -492,7 +497,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let consts = self.consts.iter().cloned().zip(self.const_ty.iter().cloned()).collect();
         let states = self.state_tags();
-        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans, states }))
+        let functions = self.fn_calls.clone();
+        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans, states, functions }))
     }
 
     // ------------------------------------------------------ declarations
@@ -780,6 +786,8 @@ pub(crate) struct OperationOut {
     pub chans: Vec<OpChan>,
     /// Its states' paths and tags, as [`Elem::states`](crate::export::Elem).
     pub states: Vec<(Vec<String>, String)>,
+    /// The functions without a body it calls, as [`Elem::functions`](crate::export::Elem).
+    pub functions: std::collections::BTreeSet<String>,
 }
 
 /// What a channel of an exported operation is.

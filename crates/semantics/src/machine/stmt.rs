@@ -271,6 +271,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
             return None;
         }
+        self.fn_calls.extend(op.functions.iter().cloned());
         let helper = ident(&format!("CALL__{n}"));
         if !self.op_calls.iter().any(|(h, _)| *h == helper) {
             let def = self.operation_helper(&op, &helper, r)?;
