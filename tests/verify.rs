@@ -281,8 +281,8 @@ fn plain_assertions_in_both_semantics() {
     let text = String::from_utf8_lossy(&out.stdout);
     let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("  pass") || l.starts_with("  fail")).collect();
     assert_eq!(lines.len(), 3, "{text}");
-    assert!(lines[0].starts_with("  fail          W [timed]: Fast refines Slow in the traces model"), "{text}");
-    assert!(lines[1].starts_with("  pass          W [untimed]: Fast refines Slow in the traces model"), "{text}");
+    assert!(lines[0].starts_with("  fail          W [timed]: Fast refines SlowAsFast in the traces model"), "{text}");
+    assert!(lines[1].starts_with("  pass          W [untimed]: Fast refines SlowAsFast in the traces model"), "{text}");
     assert!(lines[2].starts_with("  pass          T: Slow terminates"), "{text}");
     assert!(
         text.ends_with(

@@ -625,6 +625,15 @@ fn schedulable(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>, report
 }
 
 /// `X refines Y` (Y ⊑ X), `X equals Y` (both), in the named model.
+/// Names the channels of `d` after the element, as RoboTool's module
+/// does (`M::e`).
+fn qualify_events(d: &mut crate::ir::Design) {
+    let element = d.name.clone();
+    for c in &mut d.channels {
+        c.name = format!("{element}::{}", c.name);
+    }
+}
+
 fn refinement(
     cx: &Cx<'_>,
     other: &[String],
@@ -651,10 +660,28 @@ fn refinement(
         let spec_t = cx.target(other)?;
         let (imp_d, imp_p) = cx.compile(&imp_t, &consts)?;
         let (spec_d, spec_p) = cx.compile(&spec_t, &consts)?;
-        let (imp_d, spec_d) = (cx.in_semantics(imp_d)?, cx.in_semantics(spec_d)?);
+        let (mut imp_d, mut spec_d) = (cx.in_semantics(imp_d)?, cx.in_semantics(spec_d)?);
         let (imp, spec) = match (&imp_t, &spec_t) {
-            // Two RoboChart designs: their own events, matched by name.
-            (Target::Design { .. }, Target::Design { .. }) => {
+            // Two RoboChart designs. RoboTool declares each element's events
+            // in the element's own CSPm module (`M::e`, `N::e`; the
+            // reference's `defs/aggregation_Movement.csp`): FDR identifies
+            // the events of two processes only when they are the same
+            // element's. So the events of two different elements are told
+            // apart by the element's name; `tock` and ✓ stay shared. (To
+            // compare two elements' behaviours, rename one's events in a
+            // `csp` block: `N::D__(0) [[ N::e <- M::e ]]`.)
+            (Target::Design { loc: li, inner: ii, .. }, Target::Design { loc: ls, inner: is, .. }) => {
+                if (li, ii) != (ls, is) {
+                    qualify_events(&mut imp_d);
+                    qualify_events(&mut spec_d);
+                    report.notes.push(format!(
+                        "`{}` and `{}` are different elements: RoboTool declares each one's events in its own \
+                         CSPm module, so FDR never identifies an event of one with an event of the other (rename \
+                         them in a `csp` block to compare their behaviours)",
+                        a.subject.join("::"),
+                        other.join("::")
+                    ));
+                }
                 let events = shared_events(&[&spec_d, &imp_d])?;
                 (
                     Side::Plain(cx.plain(DesignLts::with_events(&imp_d, &events)?)),

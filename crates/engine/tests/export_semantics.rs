@@ -513,10 +513,6 @@ fn reachability_verdicts_agree() {
     verdicts_agree("reachability", &is_reach, &subject, &export_reachability, REACH_KNOWN);
 }
 
-/// Why the engine's refinement verdicts between two RoboChart elements
-/// differ from FDR's on the export.
-const BY_NAME: &str = "engine: it matches the two elements' events by name (`e.in` of both); RoboTool declares each element's events in the element's own CSPm module (`M::e`, `N::e`: reference `csp-gen/defs/aggregation_Movement.csp`), so FDR, given the export's `assert N::D__(0) [T= M::D__(0)`, identifies none of them: the refinement fails as soon as the implementation performs an event";
-
 /// Why the harness and the engine differ on a `Timed(OneStep)` block's
 /// process.
 const TIMED_SECTION: &str = "undetermined: the engine (its CSPm bridge) reads `Quick`, defined in the block's `Timed(OneStep)` section, as forcing a `tock` after each event, as FDR does, and fails `Fast`, which answers at once; our evaluator, given the export's script, lets the refinement hold: to investigate (the script's names, or the evaluator's timed sections)";
@@ -524,29 +520,6 @@ const TIMED_SECTION: &str = "undetermined: the engine (its CSPm bridge) reads `Q
 /// Known refinement disagreements: (fixture, assertion, why).
 #[rustfmt::skip]
 const REFINE_KNOWN: &[(&str, &str, &str)] = &[
-    ("activities_composite_during_alongside_substates", "A", BY_NAME),
-    ("activities_composite_during_interrupted", "A", BY_NAME),
-    ("activities_composite_during_interrupted", "B", BY_NAME),
-    ("activities_deadline_timer_lives_with_state", "A", BY_NAME),
-    ("activities_deadline_timer_lives_with_state", "B", BY_NAME),
-    ("activities_transition_deadline_on_trigger", "A", BY_NAME),
-    ("activities_transition_deadline_on_trigger", "B", BY_NAME),
-    ("composition_async_to_boundary_is_renaming", "B", BY_NAME),
-    ("composition_async_to_boundary_is_renaming", "C", BY_NAME),
-    ("model_lowering_a_parenthesised_type_is_its_inner_type", "A", BY_NAME),
-    ("model_lowering_a_parenthesised_type_is_its_inner_type", "B", BY_NAME),
-    ("properties_refinement_between_designs", "A", BY_NAME),
-    ("properties_tick_tock_refinement", "FD1", BY_NAME),
-    ("properties_tick_tock_refinement", "FD2", BY_NAME),
-    ("rt17_during_actions", "A", BY_NAME),
-    ("rt17_during_actions", "B", BY_NAME),
-    ("rt17_during_actions_nested_final_and_timers", "N1", BY_NAME),
-    ("rt17_during_actions_nested_final_and_timers", "N2", BY_NAME),
-    ("rt17_during_actions_nested_final_and_timers", "F1", BY_NAME),
-    ("rt17_during_actions_nested_final_and_timers", "F2", BY_NAME),
-    ("rt17_during_actions_nested_final_and_timers", "L1", BY_NAME),
-    ("rt17_during_actions_nested_final_and_timers", "L2", BY_NAME),
-    ("untimed_rt9_wait_is_skip", "A", BY_NAME),
     ("csp_bridge_time_windows_inside_timed_one_step", "W2", TIMED_SECTION),
 ];
 

@@ -232,7 +232,7 @@ fn both_semantics_side_by_side() {
     let messages: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
     assert_eq!(
         messages,
-        ["timed semantics: refinement fails: the implementation can perform o.out where the specification cannot"]
+        ["timed semantics: refinement fails: the model can perform `Fast::o.out` where the specification cannot"]
     );
     let at = offset_of(ASSERTIONS, "W :");
     let h = a.hover_with_verification(checks, at, None, &verified).unwrap().unwrap();
