@@ -250,3 +250,19 @@ fn a_function_returning_a_primitive_type_is_refused() {
     }
     assert!(!text(&e.files, "instantiations.csp").contains("who"));
 }
+
+#[test]
+fn a_call_through_a_defined_function_counts_too() {
+    // `twice` is RoboTool's `p_twice(x) = p_scale(x) + p_scale(x)`: a
+    // machine calling it calls `p_scale`, which the block leaves undefined.
+    let model = "package p\ninterface I { event e }\nfunction scale(x : nat) : nat { }\n\
+                 function twice(x : nat) : nat { postcondition result == scale(x) + scale(x) }\n\
+                 stm M { uses I initial i state S { } transition t { from i to S condition twice(1) == 0 action e } }\n";
+    let a = "import p::*\ncsp Instantiations csp-begin\nnametype core_nat = {0..3}\ncsp-end\n\
+             assertion D : M is deadlock-free\n";
+    let e = export_files(vec![("m.rct".into(), model.into()), ("a.assertions".into(), a.into())]);
+    let w = e.warnings.iter().find(|w| w.message.starts_with("assertion D is not exported: "));
+    let w = w.unwrap_or_else(|| panic!("{:#?}", e.warnings));
+    assert!(w.message.contains("`M` calls `p_scale`"), "{w:?}");
+    assert!(text(&e.files, "m.csp").contains("p_twice(x) ="), "{}", text(&e.files, "m.csp"));
+}

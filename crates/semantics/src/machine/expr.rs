@@ -486,6 +486,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.fn_calls.insert(f.csp.clone());
             self.ex.fn_called.insert(f.csp.clone());
         }
+        self.fn_calls.extend(f.calls.iter().cloned());
         let mut es = Vec::new();
         let mut pure = true;
         for (a, t) in args.iter().zip(&f.params) {

@@ -24,6 +24,9 @@ pub(crate) struct FunctionOut {
     /// Whether it has no body: its definition is RT-2's default, in the
     /// instantiations.
     pub bodiless: bool,
+    /// The functions without a body its definition calls (through others
+    /// too).
+    pub calls: std::collections::BTreeSet<String>,
 }
 
 /// The CSPm function of the model's function `f` of `file`, made on first
@@ -101,6 +104,7 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Res
     }
     let out = g.expr(body, ECtx::Const, Some(&result));
     let problems = std::mem::take(&mut g.problems);
+    let calls = std::mem::take(&mut g.fn_calls);
     let Some(out) = out else {
         let why = problems.first().map(|p| p.2.clone()).unwrap_or_default();
         return Err(format!("function `{fname}` is not exported: {why}"));
@@ -109,7 +113,13 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Res
         file,
         vec![Decl::Comment(format!("function {}", path.join("::"))), Decl::Def(csp.clone(), names, out.e), Decl::Blank],
     );
-    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result, bodiless: false }))
+    Ok(Rc::new(FunctionOut {
+        csp,
+        params: params.into_iter().map(|(_, t)| t).collect(),
+        result,
+        bodiless: false,
+        calls,
+    }))
 }
 
 /// Whether a postcondition says what the result is (`result == e`,
@@ -180,7 +190,13 @@ fn bodiless(
         value: result.default_value(),
         comment,
     });
-    Ok(Rc::new(FunctionOut { csp, params: params.into_iter().map(|(_, t)| t).collect(), result, bodiless: true }))
+    Ok(Rc::new(FunctionOut {
+        csp,
+        params: params.into_iter().map(|(_, t)| t).collect(),
+        result,
+        bodiless: true,
+        calls: Default::default(),
+    }))
 }
 
 /// The name of an abstract primitive type (`type T`) in `t` where the
