@@ -28,10 +28,7 @@ const MAX_STATES: usize = 200_000;
 /// The export of the reference project, every model and assertion file.
 fn export_reference() -> robosim_semantics::Export {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/alpha-algorithm");
-    let mut paths = Vec::new();
-    robosim_test_support::inputs::model_files(&dir, &mut paths);
-    let files: Vec<(String, String)> =
-        paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).expect("a model file"))).collect();
+    let files = robosim_test_support::inputs::read_model_files(&dir);
     let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
     robosim_semantics::export_workspace(&db, ws, &robosim_semantics::Options::default())

@@ -13,10 +13,7 @@ use robosim_semantics::{export_workspace, Export, Options, Profile};
 
 fn export_fixture(name: &str) -> Export {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../engine/test_data/verify").join(name);
-    let mut paths = Vec::new();
-    robosim_test_support::inputs::model_files(&dir, &mut paths);
-    let files: Vec<(String, String)> =
-        paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).expect("a model file"))).collect();
+    let files = robosim_test_support::inputs::read_model_files(&dir);
     export_files(files)
 }
 

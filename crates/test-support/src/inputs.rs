@@ -23,6 +23,14 @@ pub fn model_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// The model and assertion files under `dir` ([`model_files`]), each as
+/// (its path as text, its contents), to load as one workspace.
+pub fn read_model_files(dir: &Path) -> Vec<(String, String)> {
+    let mut paths = Vec::new();
+    model_files(dir, &mut paths);
+    paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).expect("a model file"))).collect()
+}
+
 /// The RoboTool projects of the corpus repository `repo` (a folder of
 /// `../shared/corpus`), as the corpus's `MANIFEST.md` records them: the
 /// `.project` files were not copied, so the manifest's "Files:" entry names
