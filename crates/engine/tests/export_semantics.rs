@@ -513,15 +513,9 @@ fn reachability_verdicts_agree() {
     verdicts_agree("reachability", &is_reach, &subject, &export_reachability, REACH_KNOWN);
 }
 
-/// Why the harness and the engine differ on a `Timed(OneStep)` block's
-/// process.
-const TIMED_SECTION: &str = "undetermined: the engine (its CSPm bridge) reads `Quick`, defined in the block's `Timed(OneStep)` section, as forcing a `tock` after each event, as FDR does, and fails `Fast`, which answers at once; our evaluator, given the export's script, lets the refinement hold: to investigate (the script's names, or the evaluator's timed sections)";
-
 /// Known refinement disagreements: (fixture, assertion, why).
 #[rustfmt::skip]
-const REFINE_KNOWN: &[(&str, &str, &str)] = &[
-    ("csp_bridge_time_windows_inside_timed_one_step", "W2", TIMED_SECTION),
-];
+const REFINE_KNOWN: &[(&str, &str, &str)] = &[];
 
 /// Refinement verdicts: for every timed refinement or equivalence
 /// assertion of the fixtures' own assertion files (RoboChart), FDR's

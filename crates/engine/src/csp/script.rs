@@ -5,8 +5,8 @@
 //! ([`robosim_hir::csp_defs`], shared with the CSPm export: the tock-CSP
 //! operators in the timed script, the state helpers and core functions in
 //! both) and the sticky arithmetic when no `Instantiations` block replaces
-//! the defaults; a library definition is added only when no block defines
-//! the name itself.
+//! the defaults (a generated default only when no block defines the name
+//! itself; a library name a block defines again is FDR's error).
 
 use robosim_cspm::{Module, NoNames, TextRange};
 use robosim_hir::csp_defs;
@@ -60,11 +60,14 @@ impl Script {
         let mut text = String::new();
         let is_defined = |name: &str| defined.iter().any(|d| d == name);
         let mut library = Vec::new();
+        // RoboTool's script includes its library files whatever the
+        // blocks define (core_timed_defs.csp's `OneStep(_) = 0`): a block
+        // defining one of their names again makes FDR stop on the script
+        // (libcspm: "has multiple definitions"), which checking the script
+        // then reports.
         for def in csp_defs::definitions(timed) {
-            if !def.names.iter().any(|n| is_defined(n)) {
-                text.push_str(def.text);
-                library.push((def.names, def.text));
-            }
+            text.push_str(def.text);
+            library.push((def.names, def.text));
         }
         for (name, def) in if replaced { &[][..] } else { DEFAULTS } {
             if !is_defined(name) {
