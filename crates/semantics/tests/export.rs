@@ -167,6 +167,19 @@ fn terminates_and_timelock_free_follow_rt10() {
 /// The errors `robosim-cspm` (FDR's language as libcspm reads it) finds
 /// in an export, timed and untimed: each file FDR would load (those no other file includes),
 /// with the files it includes, parsed, resolved and type-checked.
+/// The timed export of the model file text `model`, checked as one CSPm
+/// module (its per-assertion-file scripts left out): no error.
+fn exported_module(model: &str) -> robosim_cspm::Module {
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let ex = export_workspace(&db, ws, &Options::default());
+    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
+    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    m
+}
+
 fn cspm_errors(e: &robosim_semantics::Export) -> Vec<String> {
     // Both scripts: the timed one and the untimed one (RT-9), each
     // including the files beside it.
@@ -391,13 +404,7 @@ fn triggers_named_like_the_renaming_generators_are_renamed() {
 stm M { uses I var x : nat initial i state S { }
   transition a { from i to S } transition b { from S to S trigger v?x }
   transition c { from S to S trigger t } transition e { from S to S trigger d } }";
-    let mut db = robosim_hir::RootDatabase::default();
-    let ws =
-        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
-    let ex = export_workspace(&db, ws, &Options::default());
-    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
-    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
-    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let m = exported_module(model);
     let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
     let lts = ev.eval_text("M::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
     for trace in [&["M::v.in.1", "M::t.in", "M::d.in"][..], &["M::d.in", "M::v.in.2"]] {
@@ -443,13 +450,7 @@ stm W { initial i state S { } final f transition t { from i to S } transition u 
 controller C { sref m = M }
 controller D { sref m = M sref w = W }
 module Mod { robotic platform P { } cref c = C }";
-    let mut db = robosim_hir::RootDatabase::default();
-    let ws =
-        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
-    let ex = export_workspace(&db, ws, &Options::default());
-    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
-    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
-    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let m = exported_module(model);
     let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
     let mut lts = |p: &str| ev.eval_text(p).and_then(|p| ev.lts_of(&p)).expect("the LTS");
     let ends = |lts: &robosim_cspm::Lts, trace: &[&str]| {
@@ -492,13 +493,7 @@ stm N { uses I initial i
     transition ji { from j to In } }
   state T { }
   transition t { from i to O } transition z { from O to T trigger f } }";
-    let mut db = robosim_hir::RootDatabase::default();
-    let ws =
-        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
-    let ex = export_workspace(&db, ws, &Options::default());
-    let text: String = ex.files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
-    let m = robosim_cspm::Module::check(&text, &robosim_cspm::NoNames);
-    assert!(m.is_ok(), "{:?}", m.diagnostics());
+    let m = exported_module(model);
     let mut ev = robosim_cspm::Evaluator::new(&m, &robosim_cspm::NoNames, robosim_cspm::Limits::default());
     let lts = ev.eval_text("N::D__(0)").and_then(|p| ev.lts_of(&p)).expect("the machine's LTS");
     for trace in [&["N::a.out", "N::o.out", "N::p.out", "N::f.in"][..], &["N::a.out", "N::p.out", "tock", "N::o.out"]] {

@@ -15,6 +15,17 @@ pub struct ExplicitLts {
     pub names: Vec<String>,
 }
 
+/// The engine's label of a transition of an LTS our CSPm evaluator
+/// compiled, its events numbered by `map` (the evaluator's event index →
+/// the engine's event).
+pub fn label_of_cspm(l: &robosim_cspm::Label, map: &[Event]) -> Label {
+    Label::plain(match l {
+        robosim_cspm::Label::Tau => TAU,
+        robosim_cspm::Label::Tick => TICK,
+        robosim_cspm::Label::Event(i) => map[*i as usize],
+    })
+}
+
 impl ExplicitLts {
     /// The LTS our CSPm evaluator compiled: each event numbered by its
     /// position in `names` (added when new; `names` starts with τ, ✓ and
@@ -38,18 +49,7 @@ impl ExplicitLts {
         let trans = lts
             .transitions
             .iter()
-            .map(|ts| {
-                ts.iter()
-                    .map(|(l, t)| {
-                        let e = match l {
-                            robosim_cspm::Label::Tau => TAU,
-                            robosim_cspm::Label::Tick => TICK,
-                            robosim_cspm::Label::Event(i) => map[*i as usize],
-                        };
-                        (Label::plain(e), *t as usize)
-                    })
-                    .collect()
-            })
+            .map(|ts| ts.iter().map(|(l, t)| (label_of_cspm(l, &map), *t as usize)).collect())
             .collect();
         ExplicitLts { initial: lts.initial as usize, trans, names: names.clone() }
     }

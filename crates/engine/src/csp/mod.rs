@@ -33,14 +33,14 @@ mod lts;
 mod native;
 mod script;
 
-use robosim_cspm::{Code, Evaluator, Label as CspLabel, Limits, Module, Severity};
+use robosim_cspm::{Code, Evaluator, Limits, Module, Severity};
 use robosim_hir::csp_names::csp_names;
 use robosim_hir::TextRange;
 
 use crate::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
 use crate::budget::ProgressFn;
 use crate::design::DesignLts;
-use crate::lts::{Event, Label, Lts, TAU, TICK, TOCK};
+use crate::lts::{Event, Label, Lts, TAU, TOCK};
 use crate::pack::VectorLts;
 use crate::untimed::Semantics;
 use crate::verify::{Counterexample, Cx, Options, Report, Step, Verdict};
@@ -240,18 +240,7 @@ fn run(
         let trans = lts
             .transitions
             .iter()
-            .map(|ts| {
-                ts.iter()
-                    .map(|(l, t)| {
-                        let e = match l {
-                            CspLabel::Tau => TAU,
-                            CspLabel::Tick => TICK,
-                            CspLabel::Event(i) => map[*i as usize],
-                        };
-                        (Label::plain(e), *t)
-                    })
-                    .collect()
-            })
+            .map(|ts| ts.iter().map(|(l, t)| (crate::algo::explicit::label_of_cspm(l, &map), *t)).collect())
             .collect();
         Ok((trans, at))
     };

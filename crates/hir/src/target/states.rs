@@ -215,13 +215,10 @@ fn model_machines(db: &dyn Db, ws: Workspace, loc: ItemLoc, inner: Option<&str>)
         (_, Some(_)) => return None,
         (Item::Module(x), None) => {
             for c in &x.controllers {
-                let ctrl = match &c.def {
-                    Definition::Inline(c) => &**c,
-                    Definition::Ref { target, .. } => match m::item(db, ws, (*target)?)? {
-                        Item::Controller(c) => c,
-                        _ => return None,
-                    },
-                };
+                let ctrl = definition(db, ws, &c.def, |i| match i {
+                    Item::Controller(c) => Some(c),
+                    _ => None,
+                })?;
                 controller_machines(db, ws, &c.name, ctrl, &mut out)?;
             }
         }
@@ -230,6 +227,20 @@ fn model_machines(db: &dyn Db, ws: Workspace, loc: ItemLoc, inner: Option<&str>)
         _ => return None,
     }
     Some(out)
+}
+
+/// What an instance's definition is: declared inline, or the item its
+/// reference resolves to, when `pick` takes it (`None` otherwise).
+fn definition<'a, T>(
+    db: &'a dyn Db,
+    ws: Workspace,
+    def: &'a Definition<T>,
+    pick: impl Fn(&'a Item) -> Option<&'a T>,
+) -> Option<&'a T> {
+    match def {
+        Definition::Inline(x) => Some(&**x),
+        Definition::Ref { target, .. } => pick(m::item(db, ws, (*target)?)?),
+    }
 }
 
 /// The machines of the controller `c`, instance of name `cref`.
@@ -241,13 +252,10 @@ fn controller_machines(
     out: &mut Vec<ModelMachine>,
 ) -> Option<()> {
     for m in &c.machines {
-        let body = match &m.def {
-            Definition::Inline(b) => &**b,
-            Definition::Ref { target, .. } => match m::item(db, ws, (*target)?)? {
-                Item::Machine(b) => b,
-                _ => return None,
-            },
-        };
+        let body = definition(db, ws, &m.def, |i| match i {
+            Item::Machine(b) => Some(b),
+            _ => None,
+        })?;
         out.push(machine(format!("{cref}::{}", m.name), body));
     }
     Some(())
