@@ -8,7 +8,7 @@
 
 use robosim_hir::index::resolve_item;
 use robosim_hir::model::DefKind;
-use robosim_hir::model::{BinOp, ExprKind, Function, Item};
+use robosim_hir::model::{ExprKind, Function, Item};
 use robosim_hir::resolve::Target;
 
 use super::types::Layout;
@@ -29,7 +29,7 @@ impl MachineCx<'_, '_> {
         let (file, func) = self
             .function_decl(f, res)
             .ok_or_else(|| self.err(at, format!("the function `{f}` could not be resolved")))?;
-        if func.postconditions.iter().any(defines_result) {
+        if func.pins_result() {
             return Err(self.err(
                 at,
                 format!(
@@ -148,24 +148,12 @@ impl<'b> MachineCx<'_, 'b> {
 }
 
 /// The `e` of the one postcondition `result == e` (or `result iff e`)
-/// of `f`, the definition RoboTool's CSPm function is made of (as the
-/// export reads it); `None` when there is none, or several.
+/// of `f` ([`Function::result_definitions`]); `None` when there is none,
+/// or several.
 fn result_definition(f: &Function) -> Option<&model::Expr> {
-    let mut defining = f.postconditions.iter().filter_map(|x| match &x.kind {
-        ExprKind::Binary(BinOp::Eq | BinOp::Iff, l, r) if matches!(l.kind, ExprKind::Result) => Some(&**r),
+    match f.result_definitions().as_slice() {
+        [e] if !matches!(e.kind, ExprKind::Missing) => Some(e),
         _ => None,
-    });
-    let e = defining.next()?;
-    (defining.next().is_none() && !matches!(e.kind, ExprKind::Missing)).then_some(e)
-}
-
-/// Whether a postcondition defines the result (`result == e`, either way
-/// round): RoboTool then generates the function from `e`.
-fn defines_result(e: &model::Expr) -> bool {
-    match &e.kind {
-        ExprKind::Binary(BinOp::Eq, a, b) => matches!(a.kind, ExprKind::Result) || matches!(b.kind, ExprKind::Result),
-        ExprKind::Binary(BinOp::And, a, b) => defines_result(a) || defines_result(b),
-        _ => false,
     }
 }
 

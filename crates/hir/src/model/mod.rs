@@ -522,6 +522,37 @@ pub struct Function {
     pub postconditions: Vec<Expr>,
 }
 
+impl Function {
+    /// The `e` of each postcondition `result == e` (or `result iff e`),
+    /// written that way round: one is the definition RoboTool's CSPm
+    /// function is made of (`f(x) = e`, RT-2). Both back ends read it here.
+    pub fn result_definitions(&self) -> Vec<&Expr> {
+        self.postconditions
+            .iter()
+            .filter_map(|x| match &x.kind {
+                ExprKind::Binary(BinOp::Eq | BinOp::Iff, l, r) if l.kind == ExprKind::Result => Some(&**r),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Whether a postcondition pins the result (`result == e` or
+    /// `e == result`, `iff`, also inside a conjunction): a function that
+    /// does has a body, in a form or another.
+    pub fn pins_result(&self) -> bool {
+        fn pins(e: &Expr) -> bool {
+            match &e.kind {
+                ExprKind::Binary(BinOp::Eq | BinOp::Iff, a, b) => {
+                    a.kind == ExprKind::Result || b.kind == ExprKind::Result
+                }
+                ExprKind::Binary(BinOp::And, a, b) => pins(a) || pins(b),
+                _ => false,
+            }
+        }
+        self.postconditions.iter().any(pins)
+    }
+}
+
 /// A top-level element of a file.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Item {

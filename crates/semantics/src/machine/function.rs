@@ -65,17 +65,9 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Res
     }
     let result = ex.ty_ref(file, model.result.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
     // The one postcondition `result == e` (or `result iff e`) defines it.
-    let defining: Vec<&m::Expr> = model
-        .postconditions
-        .iter()
-        .filter_map(|x| match &x.kind {
-            m::ExprKind::Binary(m::BinOp::Eq | m::BinOp::Iff, l, r) if l.kind == m::ExprKind::Result => Some(&**r),
-            _ => None,
-        })
-        .collect();
-    let body = match defining.as_slice() {
+    let body = match model.result_definitions().as_slice() {
         [body] => *body,
-        [] if !model.postconditions.iter().any(defines_result) => {
+        [] if !model.pins_result() => {
             return bodiless(ex, file, model, params, result);
         }
         _ => {
@@ -120,19 +112,6 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Res
         bodiless: false,
         calls,
     }))
-}
-
-/// Whether a postcondition says what the result is (`result == e`,
-/// either way round, alone or in a conjunction): then the function is not
-/// bodiless, and RoboTool's CSPm is its definition, not the default.
-fn defines_result(e: &m::Expr) -> bool {
-    match &e.kind {
-        m::ExprKind::Binary(m::BinOp::Eq | m::BinOp::Iff, a, b) => {
-            a.kind == m::ExprKind::Result || b.kind == m::ExprKind::Result
-        }
-        m::ExprKind::Binary(m::BinOp::And, a, b) => defines_result(a) || defines_result(b),
-        _ => false,
-    }
 }
 
 /// RT-2: the function `model` of `file` has no body (no postcondition
