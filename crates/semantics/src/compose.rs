@@ -20,6 +20,7 @@ use crate::machine::{Gen, Problem, ProvidedOp};
 use crate::util::event_ident;
 
 mod buffer;
+mod shared;
 
 /// A machine, controller or module of the model, to export.
 #[derive(Clone, Copy)]
@@ -583,29 +584,38 @@ fn robochart_container(
 ) -> Result2 {
     let Container { file, name_range, module, path, kind, insts, own, events, connections } = k;
     let mut problems: Vec<Problem> = Vec::new();
-    // Each machine keeps the variables it requires in its own memory, so a
-    // variable two components require would not be shared (as it is in
-    // the model, and in `robosim verify`): refused rather than exported
-    // wrongly.
     let mut requirers: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
     for i in &insts {
         for v in &i.elem.required {
             requirers.entry(v.as_str()).or_default().push(i.name.as_str());
         }
     }
-    for (v, users) in &requirers {
-        if users.len() > 1 {
-            problems.push((
-                file,
-                name_range,
-                format!(
-                    "`{v}` is required by {}: variables shared between machines or controllers are not exported \
-                     yet (each would keep its own copy; `robosim verify` shares them)",
-                    users.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(" and ")
-                ),
-            ));
+    // RT-16: a controller shares a variable between its machines through
+    // its memory (`shared`). Between the controllers of a module, each
+    // controller's memory would keep its own, while `robosim verify`
+    // shares one variable of that name between all the module's machines:
+    // refused rather than exported with another meaning.
+    if kind == ElemKind::Module {
+        for (v, users) in &requirers {
+            if users.len() > 1 {
+                problems.push((
+                    file,
+                    name_range,
+                    format!(
+                        "`{v}` is required by the machines of {}: a variable shared between controllers is not \
+                         exported yet (each controller would keep its own; `robosim verify` shares one)",
+                        users.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(" and ")
+                    ),
+                ));
+            }
         }
     }
+    let mut machines = Vec::new();
+    for i in &insts {
+        machine_modules(&i.elem, &mut machines);
+    }
+    let sharing = shared::share((file, name_range), &insts, machines.len(), ex.timed, &mut problems);
+    let receives: Vec<(String, File, TextRange)> = insts.iter().flat_map(|i| i.elem.receives.clone()).collect();
     let required: Vec<String> = requirers.keys().filter(|v| !provided.contains(**v)).map(|v| v.to_string()).collect();
     let is_own = |n: &str| n == own || platforms.iter().any(|p| p == n);
     // Renamings per instance: whole channels, and directed events of
@@ -833,6 +843,8 @@ fn robochart_container(
     if !problems.is_empty() {
         return Err(problems);
     }
+    private.extend(sharing.decls.iter().cloned());
+    hidden.extend(sharing.hidden.iter().cloned());
     let consts = union_consts(&insts);
     let mut params = vec!["id__".to_string()];
     params.extend(consts.iter().map(|c| c.global.clone()));
@@ -847,12 +859,21 @@ fn robochart_container(
     let body = |process: &str| {
         let mut parts = Vec::new();
         for (j, i) in insts.iter().enumerate() {
+            // RT-16: with its writes of the shared variables visible.
+            let process = match (sharing.open(j), process) {
+                (true, "D__") => "DS__",
+                (true, _) => "VSS__",
+                (false, p) => p,
+            };
             let mut p = rename(call(format!("{}::{process}", i.elem.module), inst_args(&i.elem, false)), &renames[j]);
             for (from, to, gens) in &conn_renames[j] {
                 p = Expr::Rename(Box::new(p), vec![(from.clone(), to.clone())], gens.clone());
             }
-            parts.push((p, internal[j].clone()));
+            let mut chans = internal[j].clone();
+            chans.extend(sharing.chans[j].iter().cloned());
+            parts.push((p, chans));
         }
+        parts.extend(sharing.parts.iter().cloned());
         let mut comp = compose(parts, if timed { &["tock", "terminate"] } else { &["terminate"] });
         if !buffers.is_empty() {
             let all = crate::cspm::nary(crate::cspm::ProcOp::Interleave, buffers.clone());
@@ -910,6 +931,8 @@ fn robochart_container(
             outputs: vec![],
             period: 1,
             required,
+            shared: vec![],
+            receives,
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
             states: Vec::new(),
             functions: Default::default(),
@@ -1070,6 +1093,8 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
             outputs,
             period,
             required: vec![],
+            shared: vec![],
+            receives: vec![],
             parts: insts.into_iter().map(|i| (i.name, i.elem)).collect(),
             states: Vec::new(),
             functions: Default::default(),

@@ -349,6 +349,13 @@ pub(crate) struct Elem {
     /// (a machine's required variables; a controller's machines' that it
     /// does not provide).
     pub required: Vec<String>,
+    /// A RoboChart machine's required variables, which a controller
+    /// sharing them between machines writes and updates through its
+    /// `DS__` and `VSS__` (RT-16, `compose::shared`).
+    pub shared: Vec<SharedVar>,
+    /// A RoboChart machine's required variables it receives into (`e?x`),
+    /// with the communication's place.
+    pub receives: Vec<(String, File, TextRange)>,
     /// A controller's machines and a module's controllers, by instance
     /// name (reachability names a state after them).
     pub parts: Vec<(String, Rc<Elem>)>,
@@ -360,6 +367,21 @@ pub(crate) struct Elem {
     /// its operations' included; a controller's and a module's are their
     /// parts'.
     pub functions: BTreeSet<String>,
+}
+
+/// A variable a RoboChart machine requires (RT-16): kept in its own
+/// memory, written by `set_x` (visible in its `DS__` and `VSS__`) and
+/// updated by its controller with `set_EXT_x`.
+#[derive(Debug, Clone)]
+pub(crate) struct SharedVar {
+    /// Its name in the model.
+    pub model: String,
+    /// Its name in the machine's CSPm (`set_<csp>`, `set_EXT_<csp>`).
+    pub csp: String,
+    /// Its type.
+    pub ty: Ty,
+    /// Its initial value in the machine's memory.
+    pub init: Expr,
 }
 
 /// A node key: the file and the node's range.

@@ -24,6 +24,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             a
         };
         let value = self.fresh_var("v__");
+        let sharable = self.sharable();
         for (i, v) in self.vars.iter().filter(|v| !v.shared).enumerate() {
             alts.push(prefix(
                 format!("get_{}", v.csp),
@@ -35,6 +36,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                 vec![Field::In(value.clone())],
                 self.memory_call(with(i, name(value.clone()))),
             ));
+            // RT-16: the controller forwards another machine's write.
+            if sharable.contains(&i) {
+                alts.push(prefix(
+                    format!("set_EXT_{}", v.csp),
+                    vec![Field::In(value.clone())],
+                    self.memory_call(with(i, name(value.clone()))),
+                ));
+            }
         }
         let nv = self.vars.iter().filter(|v| !v.shared).count();
         let armed = self.armed_clocks();
@@ -149,9 +158,21 @@ impl<'e, 'a> Gen<'e, 'a> {
         if !self.vars.is_empty() || !self.clocks.is_empty() {
             private.push(Decl::Comment("Memory: variables and clocks.".into()));
         }
-        for v in self.vars.iter().filter(|v| !v.shared) {
-            private.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
-            for c in [format!("get_{}", v.csp), format!("set_{}", v.csp)] {
+        let sharable = self.sharable();
+        let mut shared_chans = Vec::new();
+        for (i, v) in self.vars.iter().filter(|v| !v.shared).enumerate() {
+            let (get, set) = (format!("get_{}", v.csp), format!("set_{}", v.csp));
+            if sharable.contains(&i) {
+                // RT-16: its writes left visible in P__, for a controller
+                // that shares it (`DS__`); `D__` hides them.
+                private.push(Decl::Channel(vec![get.clone()], vec![v.ty.set()]));
+                hidden.push(name(get.clone()));
+                shared_chans.push(Decl::Channel(vec![set.clone(), format!("set_EXT_{}", v.csp)], vec![v.ty.set()]));
+                sync.extend([name(get), name(set)]);
+                continue;
+            }
+            private.push(Decl::Channel(vec![get.clone(), set.clone()], vec![v.ty.set()]));
+            for c in [get, set] {
                 hidden.push(name(c.clone()));
                 sync.push(name(c));
             }
@@ -231,6 +252,14 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         for v in shared {
             exports.push(Decl::Channel(vec![format!("get_{}", v.csp), format!("set_{}", v.csp)], vec![v.ty.set()]));
+        }
+        if !shared_chans.is_empty() {
+            exports.push(Decl::Comment(
+                "Its required variables (RT-16): its writes, and the updates of its copy by its controller\n\
+                 (RoboTool's `shared_variable_events`)."
+                    .into(),
+            ));
+            exports.append(&mut shared_chans);
         }
         if !self.robosim {
             for e in &self.events {
@@ -470,7 +499,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         } else {
             // RoboTool's `STM`: the end is hidden inside (`end__`), then the
             // machine offers its `terminate`, time passing meanwhile.
-            self.prioritised(seq(vec![hide(call("P__", args.clone()), entered), self.terminating()]))
+            self.prioritised(seq(vec![hide(self.closed(call("P__", args.clone())), entered), self.terminating()]))
         };
         let vs_body = if self.robosim {
             call(
@@ -487,7 +516,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         } else if self.is_operation {
             call("P__", args.clone())
         } else {
-            seq(vec![call("P__", args.clone()), self.terminating()])
+            seq(vec![self.closed(call("P__", args.clone())), self.terminating()])
         };
         let mut doc = vec![Decl::Comment(format!(
             "{} (parameters: {}).",
@@ -518,7 +547,18 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         doc.push(Decl::Def("D__".into(), params.clone(), d_body));
         doc.push(Decl::Def("VS__".into(), params.clone(), vs_body));
-        doc.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])));
+        doc.push(Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args.clone())])));
+        if !self.robosim && !self.is_operation && !self.sharable().is_empty() {
+            let (ended, ds, vss) = self.sharing(&args);
+            private.push(ended);
+            doc.push(Decl::Comment(
+                "DS__ and VSS__: D__ and VS__ with its writes of its required variables visible, and its\n\
+                 copies updated by its controller, also once it has finished (RT-16)."
+                    .into(),
+            ));
+            doc.push(Decl::Def("DS__".into(), params.clone(), ds));
+            doc.push(Decl::Def("VSS__".into(), params.clone(), vss));
+        }
         exports.extend(doc);
         let kind = if self.robosim { "RoboSim" } else { "RoboChart" };
         let path = self.path.clone();
@@ -529,6 +569,87 @@ impl<'e, 'a> Gen<'e, 'a> {
             Decl::Module(module.to_string(), private, exports),
             Decl::Blank,
         ]
+    }
+
+    /// The indices of the variables the machine requires (among its
+    /// memory's): those a controller may share with its other machines
+    /// (RT-16). A RoboSim machine's and an operation's have none.
+    pub(super) fn sharable(&self) -> Vec<usize> {
+        if self.robosim || self.is_operation {
+            return Vec::new();
+        }
+        let mut out: Vec<usize> = self
+            .required
+            .iter()
+            .filter_map(|n| match self.names.get(n) {
+                Some(Nm::Var(i)) if !self.vars[*i].shared => Some(*i),
+                _ => None,
+            })
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// `p` with the writes of its required variables hidden and their
+    /// updates from a controller refused: the machine on its own, or in a
+    /// controller that does not share them (RoboTool's `HEXT__` blocks its
+    /// `shared_variable_events` likewise).
+    pub(super) fn closed(&self, p: Expr) -> Expr {
+        let sharable = self.sharable();
+        if self.robosim || self.is_operation || sharable.is_empty() {
+            return p;
+        }
+        let writes = sharable.iter().map(|&i| name(format!("set_{}", self.vars[i].csp))).collect();
+        let updates = sharable.iter().map(|&i| name(format!("set_EXT_{}", self.vars[i].csp))).collect();
+        par(hide(p, Expr::Events(writes)), Expr::Events(updates), Expr::Skip)
+    }
+
+    /// RT-16: `Ended__` (once finished, the machine still takes its
+    /// controller's updates until `terminate`), and the bodies of `DS__`
+    /// and `VSS__` (`args`: their parameters).
+    fn sharing(&self, args: &[Expr]) -> (Decl, Expr, Expr) {
+        let value = self.fresh_var("v__");
+        let mut alts = vec![prefix("terminate", vec![], Expr::Skip)];
+        self.push_tock(&mut alts, name("Ended__"));
+        for i in self.sharable() {
+            alts.push(prefix(format!("set_EXT_{}", self.vars[i].csp), vec![Field::In(value.clone())], name("Ended__")));
+        }
+        let ended = Decl::Def("Ended__".into(), vec![], ext(alts));
+        let p = call("P__", args.to_vec());
+        let ds = self.prioritised(seq(vec![hide(p.clone(), Expr::Events(vec![name("entered__")])), name("Ended__")]));
+        (ended, ds, seq(vec![p, name("Ended__")]))
+    }
+
+    /// The variables the machine requires, as a controller shares them
+    /// (RT-16), and those it receives into (`e?x`).
+    pub(super) fn shared_vars(&self) -> (Vec<SharedVar>, Vec<(String, File, TextRange)>) {
+        let sharable = self.sharable();
+        let model: Vec<String> = self
+            .required
+            .iter()
+            .filter(|n| matches!(self.names.get(*n), Some(Nm::Var(i)) if sharable.contains(i)))
+            .cloned()
+            .collect();
+        let mut shared: Vec<SharedVar> = Vec::new();
+        for n in &model {
+            let Some(Nm::Var(i)) = self.names.get(n) else { continue };
+            if shared.iter().any(|s| s.model == *n) {
+                continue;
+            }
+            let v = &self.vars[*i];
+            shared.push(SharedVar { model: n.clone(), csp: v.csp.clone(), ty: v.ty.clone(), init: v.init.clone() });
+        }
+        let mut receives = Vec::new();
+        for (c, _) in self.model.map(|b| b.communications()).unwrap_or_default() {
+            if let Some(m::CommPart::Input(var, _)) = &c.part {
+                let var = var.join("::");
+                if model.contains(&var) {
+                    receives.push((var, self.file, c.range));
+                }
+            }
+        }
+        (shared, receives)
     }
 
     pub(super) fn output_regs(&self) -> Vec<(String, Vec<Expr>)> {
@@ -737,6 +858,7 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     /// The machine's interface for its users.
     pub(super) fn interface(&self, module: String, path: Vec<String>) -> Elem {
+        let (shared, receives) = self.shared_vars();
         let mut chans = Vec::new();
         let mut inputs = Vec::new();
         let mut outputs = Vec::new();
@@ -810,6 +932,8 @@ impl<'e, 'a> Gen<'e, 'a> {
             period: crate::compose::declared_period(self.ex.db, self.ex.ws, self.file, self.model.and_then(|b| b.def))
                 .unwrap_or(1),
             required: self.required.clone(),
+            shared,
+            receives,
             parts: Vec::new(),
             states: self.state_tags(),
             functions: self.fn_calls.clone(),

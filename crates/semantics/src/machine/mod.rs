@@ -24,7 +24,7 @@ use robosim_hir::model::{DefKind, Io};
 use robosim_hir::{File, FileKind, TextRange};
 
 use crate::cspm::{bin, call, dot, ext, guard, hide, name, nary, par, prefix, seq, BinOp, Decl, Expr, Field, ProcOp};
-use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, Ty};
+use crate::export::{Chan, ChanKind, ConstParam, Dir, Elem, ElemKind, Exporter, Profile, RecordTy, Reg, SharedVar, Ty};
 use crate::util::{self, ident, op_event};
 
 mod assembly;

@@ -1,0 +1,127 @@
+//! RT-16 in the export: a variable a controller provides to several
+//! machines lives in the controller's memory; a machine's write is
+//! forwarded to every other machine's own copy by hidden steps, one
+//! machine after another, and a machine reads its own copy, so it may see
+//! the old value meanwhile. The exported CSPm is loaded and run by our
+//! evaluator (the engine's cross-check, `export_semantics.rs`, compares it
+//! with `robosim verify` on the fixtures `rt16_*`, `rt18_race_after_time`,
+//! `schedulability_shared_variables` and `platform_variables_*`).
+
+use robosim_cspm::{Evaluator, Limits, Lts, Module, NoNames};
+use robosim_semantics::{export_workspace, Export, Options, OutFile};
+
+/// `p` writes 1 into `x`, then sends `o` to `q` and `r`, which report
+/// the value of their copy on `seen` and `heard`.
+const MODEL: &str = "interface I { event o event seen : nat event heard : nat }
+interface V { var x : nat }
+stm P { uses I requires V initial i state S { entry x = 1 ; o } transition t { from i to S } }
+stm Q { uses I requires V initial i state S { } state T { entry seen!x }
+  transition t { from i to S } transition u { from S to T trigger o } }
+stm R { uses I requires V initial i state S { } state T { entry heard!x }
+  transition t { from i to S } transition u { from S to T trigger o } }
+controller C { uses I var x : nat sref p = P sref q = Q sref r = R
+  connection p on o to q on o connection p on o to r on o
+  connection q on seen to C on seen connection r on heard to C on heard }
+";
+
+fn export(model: &str) -> Export {
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws =
+        robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    export_workspace(&db, ws, &Options::default())
+}
+
+/// The definitions of `files` (the scripts left out), loaded without an
+/// error.
+fn load(files: &[OutFile]) -> Module {
+    let text: String = files.iter().map(|f| f.text()).filter(|t| !t.contains("\ninclude \"")).collect();
+    let m = Module::check(&text, &NoNames);
+    assert!(m.is_ok(), "{:?}\n{text}", m.diagnostics());
+    m
+}
+
+fn lts(m: &Module, process: &str) -> Lts {
+    let mut ev = Evaluator::new(m, &NoNames, Limits::default());
+    ev.eval_text(process).and_then(|p| ev.lts_of(&p)).unwrap_or_else(|d| panic!("{process}: {}", d.message))
+}
+
+/// The text of the file holding `what` in `files`.
+fn text_of(files: &[OutFile], what: &str) -> String {
+    files.iter().map(|f| f.text()).find(|t| t.contains(what)).unwrap_or_else(|| panic!("no {what}"))
+}
+
+#[test]
+fn the_controller_forwards_each_write_to_the_other_machines_one_after_another() {
+    let e = export(MODEL);
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| &w.message).collect::<Vec<_>>());
+    for (files, tock) in [(&e.files, " [] tock -> Memory__x"), (&e.untimed, "")] {
+        let problems = robosim_semantics::lint::check(files);
+        assert!(problems.is_empty(), "{problems:#?}");
+        let t = text_of(files, "RoboChart controller C");
+        let flat: String = t.split_whitespace().collect::<Vec<_>>().join(" ");
+        // Each machine's write, then the others' copies in order.
+        let memory = format!(
+            "Memory__x = C::p::set_x?w__ -> C::q::set_EXT_x!w__ -> C::r::set_EXT_x!w__ -> Memory__x \
+             [] C::q::set_x?w__ -> C::p::set_EXT_x!w__ -> C::r::set_EXT_x!w__ -> Memory__x \
+             [] C::r::set_x?w__ -> C::p::set_EXT_x!w__ -> C::q::set_EXT_x!w__ -> Memory__x{tock} [] terminate -> SKIP"
+        );
+        assert!(flat.contains(&memory), "{memory}\n{t}");
+        // The machines with their writes visible, the memory's channels hidden.
+        for m in ["p", "q", "r"] {
+            assert!(flat.contains(&format!("C::{m}::DS__(id__)")), "{t}");
+            assert!(flat.contains(&format!("C::{m}::set_x, C::{m}::set_EXT_x")), "{t}");
+        }
+        // A machine's own module: its writes and its copy's updates exported.
+        let p = text_of(files, "RoboChart state machine C::p");
+        assert!(p.contains("channel set_x, set_EXT_x : core_nat"), "{p}");
+        assert!(p.contains("set_EXT_x?v__ -> Memory__(v__)"), "{p}");
+    }
+}
+
+#[test]
+fn timed_a_machine_may_read_its_old_copy_until_the_write_reaches_it() {
+    let e = export(MODEL);
+    let m = load(&e.files);
+    let d = lts(&m, "C::D__(0)");
+    // `q` and `r` see 1, or 0 while the write is still on its way; all
+    // before time passes (the forwarding is urgent).
+    for trace in [
+        &["C::seen.out.1", "C::heard.out.1"][..],
+        &["C::seen.out.0", "C::heard.out.0"],
+        &["C::seen.out.0", "C::heard.out.1"],
+        &["C::heard.out.1", "C::seen.out.0"],
+        &["C::heard.out.0", "C::seen.out.1"],
+    ] {
+        assert!(d.has_trace(trace), "{trace:?}");
+    }
+    // On its own, a machine keeps its variable: nothing visible of it.
+    let p = lts(&m, "C::p::D__(0)");
+    assert!(p.event("C::p::set_x.1").is_none(), "{:?}", p.events);
+}
+
+#[test]
+fn untimed_the_same_interleavings() {
+    let e = export(MODEL);
+    let m = load(&e.untimed);
+    let d = lts(&m, "C::D__(0)");
+    for trace in [&["C::seen.out.1", "C::heard.out.1"][..], &["C::seen.out.0", "C::heard.out.0"]] {
+        assert!(d.has_trace(trace), "{trace:?}");
+    }
+}
+
+/// What `robosim verify` refuses, refused with its reasons.
+#[test]
+fn receiving_into_a_shared_variable_and_two_types_are_refused() {
+    let receive = "interface I { event e : nat }
+interface V { var x : nat }
+stm P { uses I requires V initial i state S { entry e!1 } transition t { from i to S } }
+stm Q { uses I requires V initial i state S { } transition t { from i to S } transition u { from S to S trigger e?x } }
+controller C { uses I var x : nat sref p = P sref q = Q connection p on e to q on e }";
+    let e = export(receive);
+    let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
+    assert_eq!(
+        messages,
+        ["4:98: controller C is not exported: receiving into `x`, which the controller provides to several machines, \
+          is not supported yet"]
+    );
+}
