@@ -498,7 +498,9 @@ fn controller<'a>(
     if robosim {
         return robosim_container(ex, k, c.def);
     }
-    let provided = variables_of_interfaces(ex, &c.decls, |k| k == UseKind::Provides);
+    // What it declares or provides is in its own memory (RT-16).
+    let mut provided = variables_of_interfaces(ex, &c.decls, |k| k == UseKind::Provides);
+    provided.extend(variables(&c.decls));
     robochart_container(ex, k, &[], &provided)
 }
 
@@ -584,39 +586,18 @@ fn robochart_container(
 ) -> Result2 {
     let Container { file, name_range, module, path, kind, insts, own, events, connections } = k;
     let mut problems: Vec<Problem> = Vec::new();
-    let mut requirers: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
-    for i in &insts {
-        for v in &i.elem.required {
-            requirers.entry(v.as_str()).or_default().push(i.name.as_str());
-        }
-    }
     // RT-16: a controller shares a variable between its machines through
-    // its memory (`shared`). Between the controllers of a module, each
-    // controller's memory would keep its own, while `robosim verify`
-    // shares one variable of that name between all the module's machines:
-    // refused rather than exported with another meaning.
-    if kind == ElemKind::Module {
-        for (v, users) in &requirers {
-            if users.len() > 1 {
-                problems.push((
-                    file,
-                    name_range,
-                    format!(
-                        "`{v}` is required by the machines of {}: a variable shared between controllers is not \
-                         exported yet (each controller would keep its own; `robosim verify` shares one)",
-                        users.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(" and ")
-                    ),
-                ));
-            }
-        }
-    }
+    // its memory (`shared`); two controllers of a module each keep their
+    // own (as `robosim verify` does). A variable of the platform several
+    // controllers require is refused with the platform's variables.
     let mut machines = Vec::new();
     for i in &insts {
         machine_modules(&i.elem, &mut machines);
     }
     let sharing = shared::share((file, name_range), &insts, machines.len(), ex.timed, &mut problems);
     let receives: Vec<(String, File, TextRange)> = insts.iter().flat_map(|i| i.elem.receives.clone()).collect();
-    let required: Vec<String> = requirers.keys().filter(|v| !provided.contains(**v)).map(|v| v.to_string()).collect();
+    let required: BTreeSet<&String> = insts.iter().flat_map(|i| &i.elem.required).collect();
+    let required: Vec<String> = required.into_iter().filter(|v| !provided.contains(*v)).cloned().collect();
     let is_own = |n: &str| n == own || platforms.iter().any(|p| p == n);
     // Renamings per instance: whole channels, and directed events of
     // internal connections (with the generators of their values).

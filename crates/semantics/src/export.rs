@@ -347,7 +347,7 @@ pub(crate) struct Elem {
     pub period: i64,
     /// RoboChart: the variables it requires and keeps in its own memory
     /// (a machine's required variables; a controller's machines' that it
-    /// does not provide).
+    /// neither declares nor provides).
     pub required: Vec<String>,
     /// A RoboChart machine's required variables, which a controller
     /// sharing them between machines writes and updates through its

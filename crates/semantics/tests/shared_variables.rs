@@ -116,17 +116,64 @@ fn untimed_the_same_interleavings() {
 
 /// What `robosim verify` refuses, refused with its reasons.
 #[test]
-fn receiving_into_a_shared_variable_and_two_types_are_refused() {
+fn receiving_into_a_shared_variable_two_types_and_two_initial_values_are_refused() {
     let receive = "interface I { event e : nat }
 interface V { var x : nat }
 stm P { uses I requires V initial i state S { entry e!1 } transition t { from i to S } }
 stm Q { uses I requires V initial i state S { } transition t { from i to S } transition u { from S to S trigger e?x } }
 controller C { uses I var x : nat sref p = P sref q = Q connection p on e to q on e }";
-    let e = export(receive);
-    let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
-    assert_eq!(
-        messages,
-        ["4:113: controller C is not exported: receiving into `x`, which the controller provides to several machines, \
-          is not supported yet"]
-    );
+    let two = |w: &str| {
+        format!(
+            "interface V {{ var x : nat }}
+interface W {{ {w} }}
+stm P {{ requires V initial i state S {{ entry x = 1 }} transition t {{ from i to S }} }}
+stm Q {{ requires W initial i state S {{ }} transition t {{ from i to S }} }}
+controller C {{ var x : nat sref p = P sref q = Q }}"
+        )
+    };
+    for (model, why) in [
+        (
+            receive.to_string(),
+            "4:113: controller C is not exported: receiving into `x`, which the controller provides to several \
+             machines, is not supported yet",
+        ),
+        (two("var x : int"), "5:12: controller C is not exported: `x` is required with two different types"),
+        (
+            two("var x : nat = 1"),
+            "5:12: controller C is not exported: `x` is required with different initial values: `robosim verify` \
+             starts every copy with the first machine's, the export each machine with its own",
+        ),
+    ] {
+        let e = export(&model);
+        let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
+        assert_eq!(messages, [why], "{model}");
+    }
+}
+
+/// Two controllers of a module each keep their own `x`, even of the same
+/// name: `a`'s write reaches `d` (beside it in `C1`), never `b` (in `C2`).
+#[test]
+fn each_controller_keeps_its_own_variable() {
+    let model = "interface V { var x : nat }
+stm A { requires V initial i state S { entry x = 1 } transition t { from i to S } }
+stm B { requires V initial i state S { } state Seen { }
+  transition t { from i to S } transition u { from S to Seen condition x == 1 } }
+controller C1 { var x : nat sref a = A sref d = B }
+controller C2 { var x : nat sref b = B }
+module Mod { robotic platform P { } cref c1 = C1 cref c2 = C2 }";
+    let e = export(model);
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings.iter().map(|w| &w.message).collect::<Vec<_>>());
+    let m = load(&e.files);
+    let c1 = text_of(&e.files, "RoboChart controller C1");
+    let c1: String = c1.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(c1.contains("Memory__x = C1::a::set_x?w__ -> C1::d::set_EXT_x!w__ -> Memory__x"), "{c1}");
+    // `C2` has one machine: its memory is `b`'s own.
+    assert_eq!(c1.matches("Memory__x =").count(), 1, "{c1}");
+    let vs = lts(&m, "Mod::VS__(0)");
+    let entered = |e: &str| {
+        let e = vs.event(e);
+        vs.transitions.iter().flatten().any(|(l, _)| e.is_some_and(|e| *l == Label::Event(e)))
+    };
+    assert!(entered("C1::d::entered__.C1::d::SID_Seen"), "{:?}", vs.events);
+    assert!(!entered("C2::b::entered__.C2::b::SID_Seen"), "{:?}", vs.events);
 }

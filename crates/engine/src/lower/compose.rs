@@ -596,8 +596,10 @@ impl<'a> Cx<'a> {
         slot: &mut u16,
         shared: &mut std::collections::HashSet<u16>,
     ) -> Result<(), Unsupported> {
-        for (name, copies) in std::mem::take(&mut self.copies) {
-            let Some(&(ctrl, _)) = self.shared_vars.get(&name) else { continue };
+        for (key, copies) in std::mem::take(&mut self.copies) {
+            let Some(&(ctrl, _)) = self.shared_vars.get(&key) else { continue };
+            // Keyed `controller::x` (`Cx::shared_variable`).
+            let name = key.rsplit("::").next().unwrap_or(&key);
             let pending = *slot;
             *slot += 1;
             shared.extend(copies.iter().map(|&(_, c)| c));

@@ -313,7 +313,14 @@ impl<'b> MachineCx<'_, 'b> {
                 ),
             ));
         }
-        let slot = match self.cx.shared_vars.get(name) {
+        // RT-16: a variable a controller provides lives in that
+        // controller's memory: two controllers of a module each keep their
+        // own, even of the same name; the platform's is one for all.
+        let key = match self.inst_prefix.rsplit_once("::") {
+            Some((ctrl, _)) if !platform => format!("{ctrl}::{name}"),
+            _ => name.to_string(),
+        };
+        let slot = match self.cx.shared_vars.get(&key) {
             Some(&(slot, d)) if d == dom => slot,
             Some(_) => return Err(self.err(decl, format!("`{name}` is required with two different types"))),
             None => {
@@ -331,7 +338,7 @@ impl<'b> MachineCx<'_, 'b> {
                     None => ty.default_value(),
                 };
                 self.design().vars.push(Var { name: name.to_string(), slot, dom, init: value });
-                self.cx.shared_vars.insert(name.to_string(), (slot, dom));
+                self.cx.shared_vars.insert(key.clone(), (slot, dom));
                 slot
             }
         };
@@ -340,12 +347,12 @@ impl<'b> MachineCx<'_, 'b> {
         // variable its controller provides (see `Cx::forwards`).
         let slot = if shared && !platform {
             let machine = self.design().machines.len();
-            let copies = self.cx.copies.entry(name.to_string()).or_default();
+            let copies = self.cx.copies.entry(key.clone()).or_default();
             match copies.iter().find(|(m, _)| *m == machine) {
                 Some(&(_, copy)) => copy,
                 None => {
                     let copy = self.new_slot();
-                    self.cx.copies.get_mut(name).expect("made above").push((machine, copy));
+                    self.cx.copies.get_mut(&key).expect("made above").push((machine, copy));
                     let init = self.design().vars.iter().find(|v| v.slot == slot).map_or(0, |v| v.init);
                     let var = format!("{name} ({}'s copy)", self.inst_prefix);
                     self.design().vars.push(Var { name: var, slot: copy, dom, init });

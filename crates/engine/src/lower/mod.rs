@@ -191,10 +191,12 @@ struct Cx<'a> {
     files: Vec<File>,
     /// Whether the element is a RoboSim one (`$` references, `exec`).
     robosim: bool,
-    /// Variables shared by the machines (required through interfaces).
+    /// Variables shared by the machines (required through interfaces):
+    /// the platform's by name, a controller's as `controller::name` (each
+    /// controller its own, RT-16).
     shared_vars: HashMap<String, (u16, Dom)>,
     /// RT-16: each machine's copy of a variable its controller provides
-    /// (by variable: machine index and copy slot).
+    /// (by variable, keyed as `shared_vars`: machine index and copy slot).
     copies: BTreeMap<String, Vec<(usize, u16)>>,
     /// Variables of the robotic platform (by name).
     platform_vars: BTreeSet<String>,
