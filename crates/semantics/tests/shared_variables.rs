@@ -131,7 +131,22 @@ stm Q {{ requires W initial i state S {{ }} transition t {{ from i to S }} }}
 controller C {{ var x : nat sref p = P sref q = Q }}"
         )
     };
+    // Through an operation the controller defines: it writes the caller's
+    // copy (RT-23).
+    let through_an_operation = "interface I { event e : nat }
+interface V { var x : nat }
+interface Ops { take() }
+stm P { uses I requires V initial i state S { entry e!1 } transition t { from i to S } }
+stm Q { uses I requires V requires Ops initial i state S { entry take() } transition t { from i to S } }
+controller C { uses I var x : nat sref p = P sref q = Q connection p on e to q on e
+  operation take() { uses I requires V initial i state W { } final f
+    transition t { from i to W } transition u { from W to f trigger e?x } } }";
     for (model, why) in [
+        (
+            through_an_operation.to_string(),
+            "8:69: controller C is not exported: receiving into `x`, which the controller provides to several \
+             machines, is not supported yet",
+        ),
         (
             receive.to_string(),
             "4:113: controller C is not exported: receiving into `x`, which the controller provides to several \

@@ -640,12 +640,29 @@ impl<'e, 'a> Gen<'e, 'a> {
             let v = &self.vars[*i];
             shared.push(SharedVar { model: n.clone(), csp: v.csp.clone(), ty: v.ty.clone(), init: v.init.clone() });
         }
+        // Its own communications, and those of the operations it calls
+        // that its controller defines (they write the caller's copy, RT-23),
+        // unless one declares a variable of that name itself.
+        let mut bodies: Vec<(File, &m::Behaviour)> = self.model.map(|b| (self.file, b)).into_iter().collect();
+        for o in self.ops.iter().filter(|o| o.defined) {
+            if let Some((_, f, b, _)) = self.op_definition(&o.name) {
+                bodies.push((f, b));
+            }
+        }
         let mut receives = Vec::new();
-        for (c, _) in self.model.map(|b| b.communications()).unwrap_or_default() {
-            if let Some(m::CommPart::Input(var, _)) = &c.part {
-                let var = var.join("::");
-                if model.contains(&var) {
-                    receives.push((var, self.file, c.range));
+        for (k, (f, b)) in bodies.into_iter().enumerate() {
+            let own = |v: &str| {
+                k > 0
+                    && b.decls.decls.iter().any(
+                        |d| matches!(d, m::Decl::Vars { vars, .. } if vars.iter().any(|x| x.name == v)),
+                    )
+            };
+            for (c, _) in b.communications() {
+                if let Some(m::CommPart::Input(var, _)) = &c.part {
+                    let var = var.join("::");
+                    if model.contains(&var) && !own(&var) {
+                        receives.push((var, f, c.range));
+                    }
                 }
             }
         }
