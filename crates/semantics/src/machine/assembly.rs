@@ -653,9 +653,10 @@ impl<'e, 'a> Gen<'e, 'a> {
         for (k, (f, b)) in bodies.into_iter().enumerate() {
             let own = |v: &str| {
                 k > 0
-                    && b.decls.decls.iter().any(
-                        |d| matches!(d, m::Decl::Vars { vars, .. } if vars.iter().any(|x| x.name == v)),
-                    )
+                    && b.decls
+                        .decls
+                        .iter()
+                        .any(|d| matches!(d, m::Decl::Vars { vars, .. } if vars.iter().any(|x| x.name == v)))
             };
             for (c, _) in b.communications() {
                 if let Some(m::CommPart::Input(var, _)) = &c.part {
