@@ -141,7 +141,21 @@ stm Q { uses I requires V requires Ops initial i state S { entry take() } transi
 controller C { uses I var x : nat sref p = P sref q = Q connection p on e to q on e
   operation take() { uses I requires V initial i state W { } final f
     transition t { from i to W } transition u { from W to f trigger e?x } } }";
+    // A module's machines count together: `a` alone in `C1` is exported,
+    // the module of `C1` and `C2` is not.
+    let in_a_module = "interface I { event e : nat }
+interface V { var x : nat }
+stm A { uses I requires V initial i state S { } transition t { from i to S } transition u { from S to S trigger e?x } }
+stm B { initial i state S { } transition t { from i to S } }
+controller C1 { uses I var x : nat sref a = A connection C1 on e to a on e }
+controller C2 { sref b = B }
+module Mod { robotic platform P { uses I } cref c1 = C1 cref c2 = C2 connection P on e to c1 on e ( _async ) }";
     for (model, why) in [
+        (
+            in_a_module.to_string(),
+            "3:113: module Mod is not exported: receiving into `x`, which the controller provides to several \
+             machines, is not supported yet",
+        ),
         (
             through_an_operation.to_string(),
             "8:69: controller C is not exported: receiving into `x`, which the controller provides to several \
