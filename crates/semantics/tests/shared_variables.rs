@@ -10,24 +10,39 @@
 use robosim_cspm::{Evaluator, Label, Limits, Lts, Module, NoNames};
 use robosim_semantics::{export_workspace, Export, Options, OutFile};
 
-/// `p` writes 1 into `x`, then sends `o` to `q` and `r`, which report
-/// the value of their copy on `seen` and `heard`.
-const MODEL: &str = "interface I { event o event seen : nat event heard : nat }
+/// `p` writes 1 into `x`, then sends `o` to `q` and `o2` to `r`, which
+/// report the value of their copy on `seen` and `heard`.
+const MODEL: &str = "interface I { event o event o2 event seen : nat event heard : nat }
 interface V { var x : nat }
-stm P { uses I requires V initial i state S { entry x = 1 ; o } transition t { from i to S } }
+stm P { uses I requires V initial i state S { entry x = 1 ; o ; o2 } transition t { from i to S } }
 stm Q { uses I requires V initial i state S { } state T { entry seen!x }
   transition t { from i to S } transition u { from S to T trigger o } }
 stm R { uses I requires V initial i state S { } state T { entry heard!x }
-  transition t { from i to S } transition u { from S to T trigger o } }
+  transition t { from i to S } transition u { from S to T trigger o2 } }
 controller C { uses I var x : nat sref p = P sref q = Q sref r = R
-  connection p on o to q on o connection p on o to r on o
+  connection p on o to q on o connection p on o2 to r on o2
   connection q on seen to C on seen connection r on heard to C on heard }
 ";
 
+/// The export of `model`, which is well-formed (RoboTool generates CSPm
+/// only for models it accepts).
 fn export(model: &str) -> Export {
+    export_checked(model, true)
+}
+
+/// The export of `model`, well-formed if `well_formed`.
+fn export_checked(model: &str, well_formed: bool) -> Export {
     let mut db = robosim_hir::RootDatabase::default();
     let ws =
         robosim_hir::load_workspace(&mut db, [("m.rct".to_string(), model.to_string())], robosim_hir::RuleSet::Paper);
+    let errors: Vec<String> = ws
+        .files(&db)
+        .iter()
+        .flat_map(|&f| robosim_hir::file_diagnostics(&db, ws, f))
+        .filter(|d| d.severity == robosim_hir::Severity::Error)
+        .map(|d| format!("{} {}", d.code, d.message))
+        .collect();
+    assert_eq!(errors.is_empty(), well_formed, "{errors:?}\n{model}");
     export_workspace(&db, ws, &Options::default())
 }
 
@@ -173,7 +188,8 @@ module Mod { robotic platform P { uses I } cref c1 = C1 cref c2 = C2 connection 
              starts every copy with the first machine's, the export each machine with its own",
         ),
     ] {
-        let e = export(&model);
+        // Two types are ill-formed (RC:C3), refused all the same.
+        let e = export_checked(&model, !why.contains("two different types"));
         let messages: Vec<String> = e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect();
         assert_eq!(messages, [why], "{model}");
     }
