@@ -257,8 +257,10 @@ impl ExportView<'_> {
     }
 
     /// The channels `module` exports (`entered__`, the states' entry
-    /// events, and `terminate`, the element's end, RoboTool's
-    /// `M::terminate`, which the engine's LTS shows as ✓, aside).
+    /// events, `terminate`, the element's end, RoboTool's
+    /// `M::terminate`, which the engine's LTS shows as ✓, and a machine's
+    /// writes and updates of its required variables, `set_x` and
+    /// `set_EXT_x`, which its `D__` hides and refuses, RT-16, aside).
     fn channels(&self, path: &str) -> Vec<String> {
         let Some(text) = self.texts.get(path) else { return Vec::new() };
         // The module's own `exports`, at the indentation of its `module`.
@@ -272,7 +274,15 @@ impl ExportView<'_> {
         for l in exports.lines() {
             let Some(decl) = l.trim_start().strip_prefix("channel ") else { continue };
             let names = decl.split_once(" : ").map_or(decl, |(n, _)| n);
-            out.extend(names.split(',').map(|n| n.trim().to_string()).filter(|n| n != "entered__" && n != "terminate"));
+            let names: Vec<&str> = names.split(',').map(str::trim).collect();
+            let shared = |n: &str| {
+                n.strip_prefix("set_EXT_")
+                    .or_else(|| n.strip_prefix("set_").filter(|v| names.contains(&format!("set_EXT_{v}").as_str())))
+                    .is_some()
+            };
+            out.extend(
+                names.iter().filter(|n| **n != "entered__" && **n != "terminate" && !shared(n)).map(|n| n.to_string()),
+            );
         }
         out
     }
