@@ -228,8 +228,8 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
     );
     assert!(
         stderr.contains(
-            "controller unsupported::SharesLevel is not exported: `level` is required by `w` and `r`: variables \
-             shared between machines or controllers are not exported yet"
+            "controller unsupported::SharesLevel is not exported: receiving into `level`, which the controller \
+             provides to several machines, is not supported yet"
         ),
         "{stderr}"
     );
