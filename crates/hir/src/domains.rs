@@ -122,6 +122,9 @@ pub struct DomainInputs {
     pub constants: Vec<(String, i64)>,
     /// Functions written in CSPm, for the model's functions without a body.
     pub functions: Vec<CspFunction>,
+    /// Whether an `Instantiations` block replaces RoboTool's generated
+    /// defaults (RT-7).
+    pub replaced: bool,
 }
 
 /// The number types of a project.
@@ -524,13 +527,13 @@ impl Eval<'_> {
                 self.free(a, out)?;
                 self.free(b, out)?;
             }
-            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
+            ExprKind::Call { function, args, res } if !matches!(function.as_str(), "size" | "card") => {
                 for a in args {
                     // Arguments that are not numbers only matter to CSPm
                     // definitions, which would need them: not evaluated.
                     if self.base_of(a).is_some() {
                         self.free(a, out)?;
-                    } else if self.csp_defined(function) {
+                    } else if self.csp_defined(function, res.as_ref()).is_some() {
                         return None;
                     }
                 }
@@ -569,8 +572,18 @@ impl Eval<'_> {
         })
     }
 
-    fn csp_defined(&self, f: &str) -> bool {
-        self.inputs.functions.iter().any(|c| c.name == f)
+    /// The `csp` block definition a call of `f` (resolved to `res`) reads,
+    /// by name ([`crate::csp_fn::block_definition`], as the engine reads it).
+    fn csp_defined(&self, f: &str, res: Option<&crate::resolve::Target>) -> Option<String> {
+        let robotool = match res {
+            Some(crate::resolve::Target::Item(loc)) => Some(crate::csp_fn::robotool_function_name(
+                crate::element::file_package(self.db, loc.file),
+                &loc.summary(self.db).name,
+            )),
+            _ => None,
+        };
+        crate::csp_fn::block_definition(&self.inputs.functions, robotool.as_deref(), f, self.inputs.replaced)
+            .map(|(n, _)| n.to_string())
     }
 
     /// The sticky domain of the arithmetic at `e` (its type's).
@@ -632,13 +645,13 @@ impl Eval<'_> {
                     self.eval(b, env)?
                 }
             }
-            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
-                if self.csp_defined(function) {
+            ExprKind::Call { function, args, res } if !matches!(function.as_str(), "size" | "card") => {
+                if let Some(name) = self.csp_defined(function, res.as_ref()) {
                     let mut vs = Vec::new();
                     for a in args {
                         vs.push(self.eval(a, env)?);
                     }
-                    csp_apply(&self.inputs.functions, &self.inputs.constants, function, &vs, 0)?
+                    csp_apply(&self.inputs.functions, &self.inputs.constants, &name, &vs, 0)?
                 } else {
                     // RT-2: the default of its result type (0, `true`).
                     match self.types.get(&e.range)? {
