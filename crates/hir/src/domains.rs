@@ -261,7 +261,8 @@ pub fn number_domains(
         let mut own = arith;
         own[r] = BASE[r];
         let mut values = BTreeSet::new();
-        let eval = |file: File| Eval { db, ws, inputs: &inputs, types: expr_types(db, ws, file), arith: &own };
+        let eval =
+            |file: File| Eval { db, ws, inputs: &inputs, types: expr_types(db, ws, file), arith: &own, depth: 0 };
         for s in &sites {
             site_values(&eval(s.file), s, r, &mut values)?;
         }
@@ -467,6 +468,8 @@ struct Eval<'c> {
     inputs: &'c DomainInputs,
     types: &'c rustc_hash::FxHashMap<TextRange, Ty>,
     arith: &'c [NumRange; 3],
+    /// How deep in the bodies of functions `result == e` it evaluates.
+    depth: usize,
 }
 
 impl Eval<'_> {
@@ -533,7 +536,8 @@ impl Eval<'_> {
                     // definitions, which would need them: not evaluated.
                     if self.base_of(a).is_some() {
                         self.free(a, out)?;
-                    } else if self.csp_defined(function, res.as_ref()).is_some() {
+                    } else if self.csp_defined(function, res.as_ref()).is_some() || self.body_of(res.as_ref()).is_some()
+                    {
                         return None;
                     }
                 }
@@ -570,6 +574,16 @@ impl Eval<'_> {
             }
             t => BASE[rank(t)?].size() as Val,
         })
+    }
+
+    /// The function a call resolved to `res` calls, when a postcondition
+    /// pins its result (a body, in RoboTool's CSPm `pkg_f(x) = e`).
+    fn body_of(&self, res: Option<&crate::resolve::Target>) -> Option<(File, &'_ crate::model::Function)> {
+        let Some(crate::resolve::Target::Item(loc)) = res else { return None };
+        match item(self.db, self.ws, *loc)? {
+            Item::Function(f) if f.pins_result() => Some((loc.file, f)),
+            _ => None,
+        }
     }
 
     /// The `csp` block definition a call of `f` (resolved to `res`) reads,
@@ -652,6 +666,19 @@ impl Eval<'_> {
                         vs.push(self.eval(a, env)?);
                     }
                     csp_apply(&self.inputs.functions, &self.inputs.constants, &name, &vs, 0)?
+                } else if let Some((file, func)) = self.body_of(res.as_ref()) {
+                    // RT-2: RoboTool's `pkg_f(x) = e`, which FDR evaluates
+                    // where the instantiations' sets apply it.
+                    let [body] = func.result_definitions()[..] else { return None };
+                    if self.depth >= 16 || args.len() != func.params.len() {
+                        return None;
+                    }
+                    let mut bound = BTreeMap::new();
+                    for (p, a) in func.params.iter().zip(args) {
+                        bound.insert(p.name.clone(), self.eval(a, env)?);
+                    }
+                    let types = expr_types(self.db, self.ws, file);
+                    Eval { types, depth: self.depth + 1, ..*self }.eval(body, &bound)?
                 } else {
                     // RT-2: the default of its result type (0, `true`).
                     match self.types.get(&e.range)? {
