@@ -642,7 +642,7 @@ impl<'a> Exporter<'a> {
             (None, TypeRef::Named(_, r)) => {
                 file.text(self.db).get(usize::from(r.start())..usize::from(r.end())).unwrap_or("").trim().to_string()
             }
-            (None, t) => format!("{t:?}"),
+            (None, t) => robosim_hir::nav::type_ref_text(t),
         };
         Err(format!(
             "the type `{text}` is not supported by the export yet (booleans, numbers, enumerations, primitive types, records, products, sets and sequences are)"
