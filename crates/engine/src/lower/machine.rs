@@ -102,7 +102,11 @@ impl<'b> MachineCx<'_, 'b> {
                                         }
                                     }
                                 };
-                                let shown = ty.show(value);
+                                // A sequence of literals by their names (`<Skills_MOVE>`).
+                                let shown = match ty {
+                                    Layout::Seq(_) => self.value_text(tnode, &ty, value),
+                                    _ => ty.show(value),
+                                };
                                 self.design().constants.push((q, value, shown));
                                 self.names.insert(name, Name::Const(value));
                             } else {
