@@ -122,11 +122,6 @@ pub struct DomainInputs {
     pub constants: Vec<(String, i64)>,
     /// Functions written in CSPm, for the model's functions without a body.
     pub functions: Vec<CspFunction>,
-    /// Whether the file's `Instantiations` block replaces RoboTool's
-    /// generated defaults: a package's function is then read by its bare
-    /// name when its RoboTool name is not defined, as the older generators
-    /// named it ([`crate::model::csp_definition_name`]).
-    pub replaced: bool,
 }
 
 /// The number types of a project.
@@ -529,14 +524,13 @@ impl Eval<'_> {
                 self.free(a, out)?;
                 self.free(b, out)?;
             }
-            ExprKind::Call { function, args, res } if !matches!(function.as_str(), "size" | "card") => {
-                let csp = self.csp_name(function, res.as_ref());
+            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
                 for a in args {
                     // Arguments that are not numbers only matter to CSPm
                     // definitions, which would need them: not evaluated.
                     if self.base_of(a).is_some() {
                         self.free(a, out)?;
-                    } else if self.csp_defined(&csp) {
+                    } else if self.csp_defined(function) {
                         return None;
                     }
                 }
@@ -577,20 +571,6 @@ impl Eval<'_> {
 
     fn csp_defined(&self, f: &str) -> bool {
         self.inputs.functions.iter().any(|c| c.name == f)
-    }
-
-    /// The name a `csp` block defines the function called `f` (resolved
-    /// to `res`) by ([`crate::model::csp_definition_name`]).
-    fn csp_name(&self, f: &str, res: Option<&crate::resolve::Target>) -> String {
-        let Some(crate::resolve::Target::Item(loc)) = res else { return f.to_string() };
-        let (fs, replaced) = (&self.inputs.functions, self.inputs.replaced);
-        match crate::model::item(self.db, self.ws, *loc) {
-            Some(crate::model::Item::Function(func)) => {
-                crate::model::csp_definition_name(self.db, loc.file, &func.name, fs, replaced)
-                    .map_or_else(|| crate::model::function_csp_name(self.db, loc.file, &func.name), |(n, _)| n)
-            }
-            _ => f.to_string(),
-        }
     }
 
     /// The sticky domain of the arithmetic at `e` (its type's).
@@ -652,14 +632,13 @@ impl Eval<'_> {
                     self.eval(b, env)?
                 }
             }
-            ExprKind::Call { function, args, res } if !matches!(function.as_str(), "size" | "card") => {
-                let csp = self.csp_name(function, res.as_ref());
-                if self.csp_defined(&csp) {
+            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
+                if self.csp_defined(function) {
                     let mut vs = Vec::new();
                     for a in args {
                         vs.push(self.eval(a, env)?);
                     }
-                    csp_apply(&self.inputs.functions, &self.inputs.constants, &csp, &vs, 0)?
+                    csp_apply(&self.inputs.functions, &self.inputs.constants, function, &vs, 0)?
                 } else {
                     // RT-2: the default of its result type (0, `true`).
                     match self.types.get(&e.range)? {

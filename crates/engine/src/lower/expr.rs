@@ -263,8 +263,7 @@ impl MachineCx<'_, '_> {
                 return Err(self.err(range, "a tuple or set where a number is expected"));
             }
             ExprKind::Call { function: f, args, res } => {
-                let csp = self.csp_function_name(f, res.as_ref());
-                if !self.cx.defaults.functions.iter().any(|c| c.name == csp) {
+                if !self.cx.defaults.functions.iter().any(|c| c.name == *f) {
                     // RT-2: RoboTool's function `f(x) = e` of `result == e`.
                     if let Some(inlined) = self.defined_call(range, f, res.as_ref(), args)? {
                         return Ok(inlined);
@@ -279,7 +278,7 @@ impl MachineCx<'_, '_> {
                 for a in args {
                     values.push(self.expr(a)?);
                 }
-                self.csp_call(range, &csp, values, 0)?
+                self.csp_call(range, f, values, 0)?
             }
             ExprKind::Missing => return Err(self.err(range, "an incomplete expression")),
             other => {
@@ -604,7 +603,9 @@ impl MachineCx<'_, '_> {
             }
             // RT-2: a function without a body returns the default of its
             // (tuple, record or set) result type.
-            (ExprKind::Call { function: f, res, .. }, _) if !self.csp_defined(f, res.as_ref()) => {
+            (ExprKind::Call { function: f, res, .. }, _)
+                if !self.cx.defaults.functions.iter().any(|c| c.name == *f) =>
+            {
                 let (v, ty) = self.bodiless_call(range, f, res.as_ref())?;
                 if ty != *want {
                     return Err(self.err(range, format!("`{f}` does not return the type expected here")));

@@ -138,45 +138,6 @@ impl<'b> MachineCx<'_, 'b> {
         out.map(Some)
     }
 
-    /// The name a `csp` block defines the model's function `f` (called
-    /// here, resolved to `res`) by: RoboTool's CSPm name, its package's
-    /// path and its name joined by `_` (`Mathematics_random`; `random` in
-    /// the default package), which RoboTool's script calls, so a block's
-    /// definition of that name replaces the default (RT-2, RT-7) and one of
-    /// another name (`random` for `Mathematics::random`) does not — unless
-    /// an `Instantiations` block leaves RoboTool's name undefined, where
-    /// the bare name is read as older generators named it, noted
-    /// ([`robosim_hir::model::csp_definition_name`]).
-    pub(super) fn csp_function_name(&mut self, f: &str, res: Option<&Target>) -> String {
-        let Some((file, func)) = self.function_decl(f, res) else { return f.to_string() };
-        let d = &self.cx.defaults;
-        match robosim_hir::model::csp_definition_name(self.cx.db, file, &func.name, &d.functions, d.replaced) {
-            Some((name, false)) => name,
-            Some((name, true)) => {
-                let csp = robosim_hir::model::function_csp_name(self.cx.db, file, &func.name);
-                let note = format!(
-                    "function `{}` read from the `csp Instantiations` block's `{name}`, as the older RoboTool \
-                     generators whose FDR results are recorded named it (RT-7); RoboTool 3's script calls `{csp}`, \
-                     which the block does not define (FDR stops): write `{csp}(…) = …` for RoboTool 3",
-                    func.name
-                );
-                let design = self.design();
-                if !design.defaults.contains(&note) {
-                    design.defaults.push(note);
-                }
-                name
-            }
-            None => robosim_hir::model::function_csp_name(self.cx.db, file, &func.name),
-        }
-    }
-
-    /// Whether a `csp` block defines the function `f` called here (by
-    /// [`Self::csp_function_name`]).
-    pub(super) fn csp_defined(&mut self, f: &str, res: Option<&Target>) -> bool {
-        let name = self.csp_function_name(f, res);
-        self.cx.defaults.functions.iter().any(|c| c.name == name)
-    }
-
     /// The declaration of the function `f` called here.
     fn function_decl(&self, f: &str, res: Option<&Target>) -> Option<(File, &'b Function)> {
         let loc = match res {

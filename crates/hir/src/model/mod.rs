@@ -587,48 +587,6 @@ impl Function {
     }
 }
 
-/// RoboTool's CSPm name of the function `name` declared in `file`: its
-/// package's path and its name joined by `_` (`Mathematics_random`,
-/// RT-2; `random` in the default package), the name RoboTool's script
-/// calls, so the one a `csp` block's definition replaces the default by
-/// (RT-7). The library's functions keep their names. The back ends and
-/// the RT-5 widening ([`crate::domains`]) read it here.
-pub fn function_csp_name(db: &dyn crate::Db, file: crate::File, name: &str) -> String {
-    if file.is_library(db) {
-        return name.to_string();
-    }
-    let mut path = crate::element::file_package(db, file).to_vec();
-    path.push(name.to_string());
-    path.join("_")
-}
-
-/// The name by which the `csp` blocks' definitions `functions` give the
-/// function `name` of `file` a meaning, if they do: RoboTool's
-/// ([`function_csp_name`]); else, when an `Instantiations` block replaces
-/// RoboTool's generated defaults (`replaced`), so that RoboTool 3's script
-/// defines no such function and FDR stops, its bare name, as the older
-/// RoboTool generators whose FDR results are recorded (the Alpha
-/// Algorithm's `floor(x) = x`) named a package's functions (RT-7); the flag
-/// says that older name was read. Without `replaced`, a definition of the
-/// bare name is not RoboTool's: the call keeps its default (RT-2).
-pub fn csp_definition_name(
-    db: &dyn crate::Db,
-    file: crate::File,
-    name: &str,
-    functions: &[crate::csp_fn::CspFunction],
-    replaced: bool,
-) -> Option<(String, bool)> {
-    let defined = |n: &str| functions.iter().any(|c| c.name == n);
-    let csp = function_csp_name(db, file, name);
-    if defined(&csp) {
-        Some((csp, false))
-    } else if replaced && csp != name && defined(name) {
-        Some((name.to_string(), true))
-    } else {
-        None
-    }
-}
-
 /// A top-level element of a file.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Item {
