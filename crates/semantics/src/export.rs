@@ -7,7 +7,6 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt;
 use std::rc::Rc;
 
-use robosim_hir::assertions::AssertionFile;
 use robosim_hir::defs::{file_defs, DefId, DefKind, TypeRef};
 // The definitions of one element (a hover exports one element: it must
 // not put the file's definitions together after each keystroke).
@@ -962,7 +961,7 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
         let own = (!fixed.is_empty() || !overrides.is_empty() || own_functions).then(|| {
             let widened = !functions.defined.is_empty();
             let numbers = match widened || ["nat", "int", "real"].iter().any(|t| fixed.contains_key(*t)) {
-                true => crate::defs::number_types(&ex, &files, &[(*f, &by_call_names(&ex, read))]),
+                true => crate::defs::number_types(&ex, &files, &[(*f, read)]),
                 false => ex.number_types.clone(),
             };
             let clock_max = fixed.get("clock_type").map_or(crate::defs::CLOCK_MAX, |&(_, hi)| hi);
@@ -1044,28 +1043,6 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
         result.push(OutFile { name, title, decls: all });
     }
     (result, ex.warnings)
-}
-
-/// `read` with its blocks' function definitions named as the model's
-/// calls name them, for hir's RT-5 widening, which evaluates a call `f(…)`
-/// of a function without a body by a definition named `f`: RoboTool's
-/// CSPm calls a package's function `pkg_f`, so a block's `pkg_f` gives the
-/// calls' values and a block's `f` none.
-fn by_call_names(ex: &Exporter<'_>, read: &AssertionFile) -> AssertionFile {
-    let mut read = read.clone();
-    let renamed = ex.fn_defaults.iter().filter(|d| d.csp != d.name);
-    let misnamed: HashSet<&str> = renamed.clone().map(|d| d.name.as_str()).collect();
-    let mut functions = Vec::new();
-    for mut c in std::mem::take(&mut read.instantiations.functions) {
-        if let Some(d) = renamed.clone().find(|d| d.csp == c.name) {
-            c.name = d.name.clone();
-        } else if misnamed.contains(c.name.as_str()) {
-            continue;
-        }
-        functions.push(c);
-    }
-    read.instantiations.functions = functions;
-    read
 }
 
 fn base_name(path: &str) -> String {
