@@ -36,6 +36,7 @@ mod stmt;
 mod untimed;
 
 pub(crate) use function::{function, FunctionOut};
+use sim_op::inlined_sim_operation;
 pub(crate) use sim_op::sim_operation;
 
 /// What a term is about, for hovers.
@@ -153,6 +154,10 @@ struct OpI {
     /// Defined in the model (an `operation` with its own body): calls run
     /// it (`CALL__op`) instead of calling the platform.
     defined: bool,
+    /// The RoboSim I/O context it comes through: `Some(Output)` for a
+    /// platform operation (`$op(…)`, a register write), `None` for a
+    /// software operation (`op(…)`, run or called).
+    io: Option<Io>,
 }
 
 struct GateI {
@@ -250,6 +255,9 @@ pub(crate) struct Gen<'e, 'a> {
     /// With `sim_op`: the operations called as other operations (their
     /// urgent call events `opCall`), by index in `ops`.
     sim_op_calls: std::collections::BTreeSet<usize>,
+    /// RoboSim: the outputs it writes (model names), see
+    /// [`OperationOut::outputs`].
+    written: std::collections::BTreeSet<String>,
     /// The functions without a body it calls (RoboTool's names), its
     /// operations' included: a script whose `Instantiations` block leaves
     /// one undefined cannot check it (RT-7).
@@ -328,6 +336,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             is_operation: false,
             sim_op: false,
             sim_op_calls: Default::default(),
+            written: Default::default(),
             fn_calls: Default::default(),
             op_params: Vec::new(),
             op_calls: Vec::new(),
@@ -451,7 +460,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let _ = path;
         let mut chans = Vec::new();
-        for e in &self.events {
+        // RoboSim: its events are registers (`registerWrite`, shared by name).
+        for e in self.events.iter().filter(|_| !self.robosim) {
             chans.push(OpChan {
                 csp: e.csp.clone(),
                 model: e.name.clone(),
@@ -478,7 +488,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                 params: Vec::new(),
             });
         }
-        for o in self.ops.iter().filter(|o| !o.defined) {
+        // RoboSim: its platform operations are registers; its calls of
+        // others, the call events it declares.
+        let calls =
+            self.ops.iter().enumerate().filter(|(k, o)| !o.defined && (!self.robosim || self.sim_op_calls.contains(k)));
+        for (_, o) in calls {
             let mut kinds = vec![OpChanKind::Call];
             if self.profile == Profile::Paper2019 {
                 kinds.push(OpChanKind::Ret);
@@ -498,7 +512,18 @@ impl<'e, 'a> Gen<'e, 'a> {
         let consts = self.consts.iter().cloned().zip(self.const_ty.iter().cloned()).collect();
         let states = self.state_tags();
         let functions = self.fn_calls.clone();
-        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans, states, functions }))
+        let (uses_exec, outputs) = (self.robosim && self.uses_exec_stmt, self.written.clone());
+        let out = OperationOut {
+            module: String::new(),
+            params: Vec::new(),
+            consts,
+            chans,
+            states,
+            functions,
+            uses_exec,
+            outputs,
+        };
+        Ok((decls, out))
     }
 
     // ------------------------------------------------------ declarations
@@ -582,12 +607,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                         // An operation of the model with this name and a body (RoboTool
                         // matches a required operation and its definition by name); one
                         // with a contract only (`terminates`) stays a call event. A
-                        // machine's definitions are its controller's (RT-19).
-                        let defined = !self.robosim
+                        // machine's definitions are its controller's (RT-19). A RoboSim
+                        // machine's software operations (not of its output context) are
+                        // too; a RoboSim operation on its own calls others as events (RT-11).
+                        let robosim_ok = !self.robosim || (!self.sim_op && io.is_none() && self.provided.is_some());
+                        let defined = robosim_ok
                             && self.op_definition(n).is_some_and(|(_, _, b, _)| {
                                 b.region.nodes.iter().any(|x| x.kind == m::NodeKind::Initial)
                             });
-                        self.ops.push(OpI { name: n.clone(), params, defined });
+                        self.ops.push(OpI { name: n.clone(), params, defined, io });
                         self.op_names.insert(n.clone(), self.ops.len() - 1);
                     }
                     m::Decl::Nested { range, .. } => self.problem(
@@ -788,6 +816,12 @@ pub(crate) struct OperationOut {
     pub states: Vec<(Vec<String>, String)>,
     /// The functions without a body it calls, as [`Elem::functions`](crate::export::Elem).
     pub functions: std::collections::BTreeSet<String>,
+    /// RoboSim: it has an `exec` statement (its own `endexec` and
+    /// `startexec`, which a calling machine renames to its cycle's).
+    pub uses_exec: bool,
+    /// RoboSim: the outputs it writes (model names of events and platform
+    /// operations): registers its caller must have.
+    pub outputs: std::collections::BTreeSet<String>,
 }
 
 /// What a channel of an exported operation is.
