@@ -180,3 +180,36 @@ controller C {{ cycleDef cycle == 1 requires MoveI
     // Written as it must be, it is exported.
     assert_eq!(refusal(model(plain, "step()"), Profile::RoboTool3), "");
 }
+
+/// An event of both I/O contexts of a RoboSim machine is read from its
+/// input register and written to its output register (as the native
+/// checker reads it, and as RoboTool's reference `Communication` has
+/// `broadcast`): both registers are declared, the machine's own write
+/// and its controller's operation's go to `o_b` (the export used to
+/// write `registerWrite.o_b` without declaring `o_b`).
+#[test]
+fn an_event_of_both_contexts_is_read_and_written() {
+    let model = "interface E { event b : nat }
+interface SoftI { notify() }
+stm M { cycleDef cycle == 1 requires SoftI
+  input context { uses E } output context { uses E }
+  initial i state A { entry $b!1 ; exec ; notify() } final F
+  transition t0 { from i to A } transition t1 { from A to F exec } }
+controller C { cycleDef cycle == 1 uses E
+  operation notify() { input context { } output context { uses E }
+    initial j final f transition t { from j to f action $b!2 } }
+  sref m = M }";
+    let e = export_files(vec![("m.rst".into(), model.into())], Profile::RoboTool3);
+    assert_eq!(warnings(&e), Vec::<String>::new());
+    let defs = text(&e, "robosim_defs.csp");
+    assert!(defs.contains("datatype InputRegister = i_b.Bool.core_nat\n"), "{defs}");
+    assert!(defs.contains("datatype OutputRegister = o_b.core_nat\n"), "{defs}");
+    let m = checked(&e, "main.csp", "InC__ = C::D__(0, 1)\nAlone__ = M::D__(0, 1)");
+    let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    let in_c = ev.lts("InC__").unwrap();
+    let cycles = ["registerRead.i_b.false.0", "registerWrite.o_b.1", "tock", "registerRead.i_b.true.2"];
+    assert!(!after(&in_c, &[&cycles[..], &["registerWrite.o_b.2", "tock"]].concat()).is_empty(), "{:?}", in_c.events);
+    let alone = ev.lts("Alone__").unwrap();
+    assert!(!after(&alone, &[&cycles[..], &["M::notifyCall", "tock"]].concat()).is_empty(), "{:?}", alone.events);
+    assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
+}

@@ -542,8 +542,8 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     pub(super) fn output_regs(&self) -> Vec<(String, Vec<Expr>)> {
         let mut out = Vec::new();
-        for e in self.events.iter().filter(|e| !self.is_input(e)) {
-            if e.io == Some(robosim_hir::model::Io::Output) || e.io.is_none() {
+        for e in self.events.iter().filter(|e| e.both || !self.is_input(e)) {
+            if e.io == Some(robosim_hir::model::Io::Output) || e.io.is_none() || e.both {
                 out.push((self.ex.out_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()));
             }
         }
@@ -756,7 +756,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
                 });
             }
-            for e in self.events.iter().filter(|e| !self.is_input(e)) {
+            for e in self.events.iter().filter(|e| e.both || !self.is_input(e)) {
                 outputs.push(Reg {
                     ctor: self.ex.out_reg(&e.name),
                     model: e.name.clone(),

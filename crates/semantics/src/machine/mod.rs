@@ -146,6 +146,9 @@ struct EvI {
     received: bool,
     /// Tagged trigger channel in use.
     trig: bool,
+    /// RoboSim: in both I/O contexts, read from its input register and
+    /// written to its output register (`io` says `Input`).
+    both: bool,
 }
 
 struct OpI {
@@ -576,6 +579,17 @@ impl<'e, 'a> Gen<'e, 'a> {
                         self.names.insert(n.clone(), Nm::Clock(self.clocks.len() - 1));
                     }
                     m::Decl::Event { name: n, ty, range, .. } => {
+                        if let Some(Nm::Event(i)) = self.names.get(n).cloned() {
+                            // RoboSim: an event of both I/O contexts is read from
+                            // its input register and written to its output one.
+                            let e = &mut self.events[i];
+                            match (e.io, io) {
+                                (Some(Io::Input), Some(Io::Output)) => e.both = true,
+                                (Some(Io::Output), Some(Io::Input)) => (e.io, e.both) = (Some(Io::Input), true),
+                                _ => {}
+                            }
+                            continue;
+                        }
                         if self.names.contains_key(n) {
                             continue;
                         }
@@ -590,7 +604,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                             None => None,
                         };
                         let csp = self.event_local(n);
-                        self.events.push(EvI { name: n.clone(), csp, ty, io, received: false, trig: false });
+                        self.events.push(EvI {
+                            name: n.clone(),
+                            csp,
+                            ty,
+                            io,
+                            received: false,
+                            trig: false,
+                            both: false,
+                        });
                         self.names.insert(n.clone(), Nm::Event(self.events.len() - 1));
                     }
                     m::Decl::OperationSig { name: n, params: ps, .. } => {

@@ -313,7 +313,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             return None;
         }
         for out in &op.outputs {
-            let event = self.events.iter().any(|e| e.name == *out && !self.is_input(e));
+            let event = self.events.iter().any(|e| e.name == *out && (e.both || !self.is_input(e)));
             let platform = self.ops.iter().any(|x| x.name == *out && x.io == Some(Io::Output));
             if !event && !platform {
                 self.problem(r, format!("the operation `{n}` writes `${out}`, which is no output of the machine"));
@@ -387,6 +387,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                                 io: None,
                                 received: false,
                                 trig: false,
+                                both: false,
                             });
                             self.names.insert(ch.model.clone(), Nm::Event(self.events.len() - 1));
                             self.events.len() - 1
