@@ -186,7 +186,8 @@ controller C {{ cycleDef cycle == 1 requires MoveI
 /// checker reads it, and as RoboTool's reference `Communication` has
 /// `broadcast`): both registers are declared, the machine's own write
 /// and its controller's operation's go to `o_b` (the export used to
-/// write `registerWrite.o_b` without declaring `o_b`).
+/// write `registerWrite.o_b` without declaring `o_b`). The paper2019
+/// profile cannot name both registers.
 #[test]
 fn an_event_of_both_contexts_is_read_and_written() {
     let model = "interface E { event b : nat }
@@ -199,6 +200,16 @@ controller C { cycleDef cycle == 1 uses E
   operation notify() { input context { } output context { uses E }
     initial j final f transition t { from j to f action $b!2 } }
   sref m = M }";
+    // The paper's registers are `bU` both ways: refused, with the reason.
+    let paper = export_files(vec![("m.rst".into(), model.into())], Profile::Paper2019);
+    assert!(
+        warnings(&paper).iter().any(|w| w.ends_with(
+            "state machine M is not exported: `b` is an event of both I/O contexts: the paper2019 profile names its \
+             input and output registers alike (`bU`), which CSPm cannot declare twice"
+        )),
+        "{:#?}",
+        warnings(&paper)
+    );
     let e = export_files(vec![("m.rst".into(), model.into())], Profile::RoboTool3);
     assert_eq!(warnings(&e), Vec::<String>::new());
     let defs = text(&e, "robosim_defs.csp");

@@ -588,6 +588,14 @@ impl<'e, 'a> Gen<'e, 'a> {
                                 (Some(Io::Output), Some(Io::Input)) => (e.io, e.both) = (Some(Io::Input), true),
                                 _ => {}
                             }
+                            if e.both && self.profile == Profile::Paper2019 {
+                                let msg = format!(
+                                    "`{n}` is an event of both I/O contexts: the paper2019 profile names its input \
+                                     and output registers alike (`{}`), which CSPm cannot declare twice",
+                                    self.ex.in_reg(n)
+                                );
+                                self.problems.push((f, *range, msg));
+                            }
                             continue;
                         }
                         if self.names.contains_key(n) {
