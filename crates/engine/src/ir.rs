@@ -692,6 +692,10 @@ pub struct Operation {
     pub ret_slot: u16,
     /// The caller's active state, while the body runs.
     pub leaf_slot: u16,
+    /// Its own variables and clocks: (slot, initial value), set again at
+    /// each call: a call runs a fresh process (RoboTool's `CALL__op =
+    /// OP_op::O__(id__)`, the reference's `pkg223__MovementC.csp`).
+    pub locals: Vec<(u16, i32)>,
 }
 
 /// A state, junction, initial or final node.

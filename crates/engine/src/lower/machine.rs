@@ -122,6 +122,9 @@ impl<'b> MachineCx<'_, 'b> {
                                     None => self.uninitialised(&q, tnode, &ty),
                                 };
                                 self.design().vars.push(Var { name: q, slot, dom, init: initv });
+                                if let Some(k) = self.cur_op {
+                                    self.ops[k as usize].locals.push((slot, initv as i32));
+                                }
                                 self.names.insert(name, Name::Var { slot, dom, shared: false, update: None });
                             }
                         }
@@ -131,6 +134,9 @@ impl<'b> MachineCx<'_, 'b> {
                         let slot = self.new_slot();
                         let q = format!("{}::{name}", self.inst_prefix);
                         self.design().clocks.push(Clock { name: q, slot, cap: 0 });
+                        if let Some(k) = self.cur_op {
+                            self.ops[k as usize].locals.push((slot, 0));
+                        }
                         self.clock_caps.insert(slot, 0);
                         self.names.insert(name, Name::Clock(slot));
                     }
@@ -821,7 +827,14 @@ impl<'b> MachineCx<'_, 'b> {
         let ret_slot = self.new_slot();
         let leaf_slot = self.new_slot();
         let k = self.ops.len() as u16;
-        self.ops.push(Operation { name: name.clone(), params: slots, start_pc: 0, ret_slot, leaf_slot });
+        self.ops.push(Operation {
+            name: name.clone(),
+            params: slots,
+            start_pc: 0,
+            ret_slot,
+            leaf_slot,
+            locals: Vec::new(),
+        });
         self.op_of_def.insert(i, k);
         self.pending_ops.push((k, i));
         Ok(k)
