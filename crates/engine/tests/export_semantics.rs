@@ -22,9 +22,11 @@
 //! listed one goes away.
 //!
 //! Verdicts too: the reachability and the refinement assertions of the
-//! fixtures, as FDR would answer the export's `assert` lines (each side
-//! evaluated by our CSPm evaluator) and as the engine answers them
-//! ([`REACH_KNOWN`], [`REFINE_KNOWN`]).
+//! fixtures, RoboChart's and RoboSim's (whose elements the bridge does not
+//! compile, so that verdicts are their only comparison), as FDR would
+//! answer the export's `assert` lines (each side evaluated by our CSPm
+//! evaluator, RoboSim's `:[tau priority]: {tock}` applied) and as the
+//! engine answers them ([`REACH_KNOWN`], [`REFINE_KNOWN`]).
 //!
 //! `XCHECK_VERBOSE=1` prints every element's outcome.
 
@@ -499,7 +501,7 @@ fn export_reachability(module: &Module, line: &str) -> Result<bool, String> {
 }
 
 /// Reachability verdicts: for every timed reachability assertion of the
-/// fixtures' own assertion files (RoboChart), the export's `assert` (the
+/// fixtures' own assertion files (RoboChart and RoboSim), the export's `assert` (the
 /// state's path resolved by hir, `robosim_hir::target::state`, in the
 /// subject's `VS__` — a controller's or module's composes its machines')
 /// and the engine decide alike; one side refusing where the other decides
@@ -520,7 +522,7 @@ const REFINE_KNOWN: &[(&str, &str, &str)] = &[
 ];
 
 /// Refinement verdicts: for every timed refinement or equivalence
-/// assertion of the fixtures' own assertion files (RoboChart), FDR's
+/// assertion of the fixtures' own assertion files (RoboChart and RoboSim), FDR's
 /// answer to the export's `assert` lines (each side's process evaluated
 /// with our CSPm evaluator, the refinement decided by the engine's
 /// algorithm on those LTSs) and the engine's verdict agree; as
