@@ -134,7 +134,9 @@ impl<'b> MachineCx<'_, 'b> {
                         let slot = self.new_slot();
                         let q = format!("{}::{name}", self.inst_prefix);
                         self.design().clocks.push(Clock { name: q, slot, cap: 0 });
-                        if let Some(k) = self.cur_op {
+                        // Its own clock restarts with each call; one it requires
+                        // is its caller's in RoboTool (`clockReset` events).
+                        if let (Some(k), false) = (self.cur_op, from_interface) {
                             self.ops[k as usize].locals.push((slot, 0));
                         }
                         self.clock_caps.insert(slot, 0);
