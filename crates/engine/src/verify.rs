@@ -297,6 +297,14 @@ fn verify_in(cx: &Cx<'_>, opts: &Options, progress: Option<ProgressFn>) -> Repor
         if let Some(note) = old_style_types_note(cx.read) {
             report.notes.push(note);
         }
+        // An assertion that uses the blocks stops at their error itself.
+        if let Some(error) = crate::csp::script_error(cx) {
+            report.notes.push(format!(
+                "FDR stops on RoboTool's script of this file ({error}) and, as it loads a script whole, checks \
+                 none of the file's assertions until that is fixed; this verdict does not depend on the `csp` \
+                 blocks: it is FDR's once they are fixed"
+            ));
+        }
     }
     if report.stats.seconds == 0.0 {
         report.stats.seconds = started.elapsed().as_secs_f64();

@@ -92,8 +92,25 @@ pub(crate) fn assertion_file(ex: &mut Exporter<'_>, file: File, read: &Assertion
                 .map(|f| (f.name.clone(), f.csp.clone()));
             // (Any definition of the name: also one beyond the subset hir
             // reads, `f(x) = let … within …`, as RoboTool copies it.)
+            // RoboTool's script includes its library whatever the blocks
+            // define: a block defining one of its names again makes FDR stop
+            // on the script ("multiple definitions"). Copied as it is, so FDR
+            // says so on the export's script too: leaving it out would check
+            // another specification than the one written.
+            let library = defined.iter().find(|n| robosim_hir::csp_defs::defines(n, ex.timed)).cloned();
             if let Some(n) = bodiless {
                 ex.fn_overrides.insert(n);
+                lines.push(l.to_string());
+            } else if let Some(n) = library {
+                ex.warn(
+                    file,
+                    lr,
+                    format!(
+                        "`{n}` is defined by RoboTool's library, which RoboTool's script includes whatever the `csp` \
+                         blocks define: FDR stops on the script of this file (\"multiple definitions\") and checks \
+                         none of its assertions; give the block's definition a name of its own"
+                    ),
+                );
                 lines.push(l.to_string());
             } else if let (Some((n, csp)), Some(CspLineKind::Function)) = (misnamed, kind) {
                 ex.warn(

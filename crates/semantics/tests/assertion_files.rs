@@ -64,3 +64,31 @@ fn a_block_s_constant_values_hold_in_its_own_script_only() {
     assert!(set.contains("\nconst_M_k = 1\n"), "{set}");
     assert!(set.contains("-- (set in this script's instantiations) const_M_k = 1"), "{set}");
 }
+
+/// A block defining a name of RoboTool's library again (`OneStep`, which
+/// RoboTool's timed script includes from core_timed_defs.csp whatever the
+/// blocks say) makes FDR stop on RoboTool's script: the export copies the
+/// line as written, so FDR stops on its script too, and says why in a
+/// warning (leaving the line out would check another specification). The
+/// engine's fixture `csp_bridge_errors_a_block_redefining_a_library_name`
+/// reports the same error.
+#[test]
+fn a_block_redefining_a_library_name_is_copied_and_fdr_s_error_reported() {
+    let e = export_fixture("csp_bridge_errors_a_block_redefining_a_library_name");
+    let warning = e
+        .warnings
+        .iter()
+        .find(|w| w.message.contains("`OneStep` is defined by RoboTool's library"))
+        .unwrap_or_else(|| panic!("{:#?}", e.warnings));
+    assert!(warning.message.contains("FDR stops on the script of this file"), "{}", warning.message);
+    assert!(warning.path.ends_with("a.assertions"), "{}", warning.path);
+    assert_eq!((warning.line, warning.col), (9, 1));
+    let texts: HashMap<String, String> = e.files.iter().map(|f| (f.name.clone(), f.text())).collect();
+    let script = &texts["a_assertions.csp"];
+    assert!(script.contains("\nOneStep(_) = 1\n"), "{script}");
+    let load = |n: &str| texts.get(n).cloned();
+    let m = Module::check_with_includes(script, &NoNames, &load);
+    let errors: Vec<String> =
+        m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| d.message.clone()).collect();
+    assert!(errors.iter().any(|m| m.contains("`OneStep` is defined more than once")), "{errors:#?}");
+}

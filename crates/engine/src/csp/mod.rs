@@ -520,6 +520,31 @@ fn bounded_types(module: &Module, host: &Host<'_>, limits: &Limits) -> Result<Ve
 
 /// The file's blocks read with the model's names, or why they cannot be
 /// (an unknown name, a type error: FDR would not load the script either).
+/// Where FDR stops on RoboTool's script of the assertion's file in the
+/// semantics checked, if it does: an error of the file's `csp` blocks (an
+/// unresolved name, a library name defined again, …) that FDR reports too.
+/// FDR loads a script whole, so such an error stands for every assertion
+/// of the file, whether it uses the blocks or not.
+pub(crate) fn script_error(cx: &Cx<'_>) -> Option<String> {
+    let timed = cx.semantics == Semantics::Timed;
+    // RT-8: `timed csp` blocks are in the timed script only.
+    if !cx.read.csp_blocks.iter().any(|b| timed || !b.timed) {
+        return None;
+    }
+    let script = Script::of(cx);
+    let host = Host::resolving(csp_names(cx.db, cx.ws), timed);
+    let module = Module::check(&script.text, &host);
+    let text = |d: &robosim_cspm::Diagnostic| script.text.get(std::ops::Range::<usize>::from(d.range)).unwrap_or("");
+    // Not FDR's errors: what only our CSPm engine does not support, and
+    // names RoboTool generates that the bridge does not give.
+    let d = module.diagnostics().iter().find(|d| {
+        d.severity == Severity::Error
+            && d.code != Code::Unsupported
+            && !(d.code == Code::Unresolved && host.unsupported(text(d)).is_some())
+    })?;
+    Some(format!("{}, {}: {}", script.locate(cx, d.range), d.code.as_str(), d.message))
+}
+
 fn check_script(cx: &Cx<'_>, script: &Script, host: &Host<'_>) -> Result<Module, (Verdict, String)> {
     let module = Module::check(&script.text, host);
     if let Some(d) = module.diagnostics().iter().find(|d| d.severity == Severity::Error) {
