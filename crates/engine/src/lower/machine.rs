@@ -271,6 +271,9 @@ impl<'b> MachineCx<'_, 'b> {
                             continue;
                         }
                         let chan = self.channel(&name, Dir::Out, true, shape);
+                        if self.cx.robosim && context.is_none() {
+                            self.design().channels[chan as usize].soft_call = true;
+                        }
                         if self.cx.robosim && context == Some(Dir::Out) {
                             self.design().channels[chan as usize].register_write = true;
                         }

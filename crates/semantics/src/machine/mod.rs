@@ -430,6 +430,13 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// Translates the machine: its CSPm module and its interface.
     pub(crate) fn run(mut self, module: String, path: Vec<String>) -> Result<MachineOut, Vec<Problem>> {
         self.declarations();
+        if self.robosim {
+            // RT-19: every software operation nothing defines for it has its
+            // call event, called or not (the reference's `Movement` declares
+            // them all: "all required operations will be undefined").
+            let undefined = self.ops.iter().enumerate().filter(|(_, o)| o.io.is_none() && !o.defined);
+            self.sim_op_calls.extend(undefined.map(|(k, _)| k).collect::<Vec<_>>());
+        }
         self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
