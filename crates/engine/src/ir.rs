@@ -945,6 +945,9 @@ pub struct Design {
     /// The values the model takes from RoboTool's defaults because it
     /// gives none (robotool-facts RT-1, RT-4), described for the report.
     pub defaults: Vec<String>,
+    /// How `csp` block definitions were read where RoboTool's generators
+    /// differ (RT-7: a function by the name the model's call writes).
+    pub readings: Vec<String>,
     /// Variables forwarded from a controller to its machines' copies.
     pub forwards: Vec<Forward>,
 }

@@ -162,6 +162,7 @@ rules! {
     "CSP-N01" E W "Every name a `csp` block uses is defined: by the block, another block of its file, the model (as RoboTool names it), RoboTool's library or FDR.";
     "CSP-N02" E W "A name is defined at most once in the same scope of a `csp` block.";
     "CSP-N03" E W "The left-hand side of a `csp` block definition is a name, a pattern or a function with patterns.";
+    "CSP-N04" W W "A `csp` block defines a model's function by RoboTool 3's CSPm name, its package first (`Mathematics_floor`).";
     "CSP-T01" E W "The CSPm of a `csp` block is well typed.";
 }
 

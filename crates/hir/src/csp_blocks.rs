@@ -174,9 +174,50 @@ pub fn csp_blocks(db: &dyn Db, ws: Workspace, file: File) -> CspBlocks {
                 });
             }
         }
+        problems.extend(misnamed_functions(db, ws, file, &defs[i], &defs));
         blocks.push(CspBlock { name: raw.name, range: raw.range, body: raw.body, defs: defs[i].clone(), problems });
     }
     CspBlocks { blocks }
+}
+
+/// CSP-N04: a block's function named as the model's function of a package
+/// (`floor` for `Mathematics::floor`) defines another name than the one
+/// RoboTool 3's CSPm calls (`Mathematics_floor`, RT-2), unless the file's
+/// blocks define that one too.
+fn misnamed_functions(db: &dyn Db, ws: Workspace, file: File, own: &[CspDef], all: &[Vec<CspDef>]) -> Vec<CspProblem> {
+    let index = crate::index::index_for(db, ws, file);
+    let defined = |n: &str| all.iter().flatten().any(|d| d.name == n);
+    let mut out = Vec::new();
+    for d in own.iter().filter(|d| d.kind == CspDefKind::Function) {
+        let mut functions: Vec<&Vec<String>> = index
+            .items
+            .iter()
+            .filter(|(path, locs)| {
+                path.len() > 1
+                    && path.last() == Some(&d.name)
+                    && locs.iter().any(|l| l.summary(db).kind == crate::defs::DefKind::Function)
+            })
+            .map(|(path, _)| path)
+            .collect();
+        functions.sort();
+        let Some(path) = functions.first() else { continue };
+        let robotool = crate::csp_fn::robotool_function_name(&path[..path.len() - 1], &d.name);
+        if defined(&robotool) {
+            continue;
+        }
+        out.push(CspProblem {
+            code: "CSP-N04",
+            range: d.name_range,
+            message: format!(
+                "`{}` is not the name RoboTool 3's CSPm gives the model's function `{}`: its calls use `{robotool}`, \
+                 so they do not read this definition (RoboTool's default holds, RT-2, or FDR stops if an \
+                 `Instantiations` block leaves `{robotool}` undefined); write `{robotool}(…) = …`",
+                d.name,
+                path.join("::")
+            ),
+        });
+    }
+    out
 }
 
 impl CspBlocks {

@@ -274,6 +274,38 @@ impl Parser {
     }
 }
 
+/// RoboTool 3's CSPm name of the model's function `name` declared in a file
+/// of `package`: the package's path and the name joined by `_`
+/// (`Mathematics_floor`; the name alone in the default package), as its
+/// generated calls and instantiations write it (RT-2).
+pub fn robotool_function_name(package: &[String], name: &str) -> String {
+    package.iter().map(String::as_str).chain([name]).collect::<Vec<_>>().join("_")
+}
+
+/// The name under which a `csp` block's definition gives a call of the
+/// model's function its value (RT-7), if a block defines one:
+/// RoboTool 3's CSPm name (`robotool`, `Mathematics_floor`). When an
+/// `Instantiations` block replaces the generated defaults (`replaced`) and
+/// leaves that name undefined, RoboTool 3's script cannot load; then the
+/// name as the call writes it (`floor`) is read, as the older RoboTool
+/// generators whose FDR results are recorded called it (the Alpha
+/// Algorithm's `floor(x) = x`) — `true` with it. Otherwise a block's `f`
+/// is not the model's function: RoboTool 3's default (RT-2) holds.
+pub fn block_definition<'a>(
+    functions: &[CspFunction],
+    robotool: Option<&'a str>,
+    written: &'a str,
+    replaced: bool,
+) -> Option<(&'a str, bool)> {
+    let defined = |n: &str| functions.iter().any(|c| c.name == n);
+    match robotool {
+        Some(r) if defined(r) => Some((r, false)),
+        Some(r) if r != written && !replaced => None,
+        _ if defined(written) => Some((written, robotool.is_some_and(|r| r != written))),
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -283,6 +315,28 @@ mod tests {
     }
     fn name(n: &str) -> CspExpr {
         CspExpr::Name(n.into())
+    }
+
+    #[test]
+    fn a_block_defines_a_function_by_robotool_s_name_first() {
+        let f = |n: &str| CspFunction {
+            name: n.into(),
+            params: vec![],
+            body: CspExpr::Int(0),
+            range: TextRange::default(),
+        };
+        assert_eq!(robotool_function_name(&["Mathematics".into()], "floor"), "Mathematics_floor");
+        assert_eq!(robotool_function_name(&[], "floor"), "floor");
+        let (rt, written) = (Some("Mathematics_floor"), "floor");
+        let both = [f("floor"), f("Mathematics_floor")];
+        assert_eq!(block_definition(&both, rt, written, false), Some(("Mathematics_floor", false)));
+        // The name the call writes: another function for RoboTool 3 …
+        assert_eq!(block_definition(&[f("floor")], rt, written, false), None);
+        // … read as the older generators did where RoboTool 3's script
+        // cannot load.
+        assert_eq!(block_definition(&[f("floor")], rt, written, true), Some(("floor", true)));
+        assert_eq!(block_definition(&[f("floor")], Some("floor"), written, false), Some(("floor", false)));
+        assert_eq!(block_definition(&[], rt, written, true), None);
     }
 
     #[test]

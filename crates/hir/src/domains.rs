@@ -122,6 +122,9 @@ pub struct DomainInputs {
     pub constants: Vec<(String, i64)>,
     /// Functions written in CSPm, for the model's functions without a body.
     pub functions: Vec<CspFunction>,
+    /// Whether an `Instantiations` block replaces RoboTool's generated
+    /// defaults (RT-7).
+    pub replaced: bool,
 }
 
 /// The number types of a project.
@@ -258,7 +261,8 @@ pub fn number_domains(
         let mut own = arith;
         own[r] = BASE[r];
         let mut values = BTreeSet::new();
-        let eval = |file: File| Eval { db, ws, inputs: &inputs, types: expr_types(db, ws, file), arith: &own };
+        let eval =
+            |file: File| Eval { db, ws, inputs: &inputs, types: expr_types(db, ws, file), arith: &own, depth: 0 };
         for s in &sites {
             site_values(&eval(s.file), s, r, &mut values)?;
         }
@@ -464,6 +468,8 @@ struct Eval<'c> {
     inputs: &'c DomainInputs,
     types: &'c rustc_hash::FxHashMap<TextRange, Ty>,
     arith: &'c [NumRange; 3],
+    /// How deep in the bodies of functions `result == e` it evaluates.
+    depth: usize,
 }
 
 impl Eval<'_> {
@@ -524,13 +530,14 @@ impl Eval<'_> {
                 self.free(a, out)?;
                 self.free(b, out)?;
             }
-            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
+            ExprKind::Call { function, args, res } if !matches!(function.as_str(), "size" | "card") => {
                 for a in args {
                     // Arguments that are not numbers only matter to CSPm
                     // definitions, which would need them: not evaluated.
                     if self.base_of(a).is_some() {
                         self.free(a, out)?;
-                    } else if self.csp_defined(function) {
+                    } else if self.csp_defined(function, res.as_ref()).is_some() || self.body_of(res.as_ref()).is_some()
+                    {
                         return None;
                     }
                 }
@@ -569,8 +576,28 @@ impl Eval<'_> {
         })
     }
 
-    fn csp_defined(&self, f: &str) -> bool {
-        self.inputs.functions.iter().any(|c| c.name == f)
+    /// The function a call resolved to `res` calls, when a postcondition
+    /// pins its result (a body, in RoboTool's CSPm `pkg_f(x) = e`).
+    fn body_of(&self, res: Option<&crate::resolve::Target>) -> Option<(File, &'_ crate::model::Function)> {
+        let Some(crate::resolve::Target::Item(loc)) = res else { return None };
+        match item(self.db, self.ws, *loc)? {
+            Item::Function(f) if f.pins_result() => Some((loc.file, f)),
+            _ => None,
+        }
+    }
+
+    /// The `csp` block definition a call of `f` (resolved to `res`) reads,
+    /// by name ([`crate::csp_fn::block_definition`], as the engine reads it).
+    fn csp_defined(&self, f: &str, res: Option<&crate::resolve::Target>) -> Option<String> {
+        let robotool = match res {
+            Some(crate::resolve::Target::Item(loc)) => Some(crate::csp_fn::robotool_function_name(
+                crate::element::file_package(self.db, loc.file),
+                &loc.summary(self.db).name,
+            )),
+            _ => None,
+        };
+        crate::csp_fn::block_definition(&self.inputs.functions, robotool.as_deref(), f, self.inputs.replaced)
+            .map(|(n, _)| n.to_string())
     }
 
     /// The sticky domain of the arithmetic at `e` (its type's).
@@ -632,13 +659,26 @@ impl Eval<'_> {
                     self.eval(b, env)?
                 }
             }
-            ExprKind::Call { function, args, .. } if !matches!(function.as_str(), "size" | "card") => {
-                if self.csp_defined(function) {
+            ExprKind::Call { function, args, res } if !matches!(function.as_str(), "size" | "card") => {
+                if let Some(name) = self.csp_defined(function, res.as_ref()) {
                     let mut vs = Vec::new();
                     for a in args {
                         vs.push(self.eval(a, env)?);
                     }
-                    csp_apply(&self.inputs.functions, &self.inputs.constants, function, &vs, 0)?
+                    csp_apply(&self.inputs.functions, &self.inputs.constants, &name, &vs, 0)?
+                } else if let Some((file, func)) = self.body_of(res.as_ref()) {
+                    // RT-2: RoboTool's `pkg_f(x) = e`, which FDR evaluates
+                    // where the instantiations' sets apply it.
+                    let [body] = func.result_definitions()[..] else { return None };
+                    if self.depth >= 16 || args.len() != func.params.len() {
+                        return None;
+                    }
+                    let mut bound = BTreeMap::new();
+                    for (p, a) in func.params.iter().zip(args) {
+                        bound.insert(p.name.clone(), self.eval(a, env)?);
+                    }
+                    let types = expr_types(self.db, self.ws, file);
+                    Eval { types, depth: self.depth + 1, ..*self }.eval(body, &bound)?
                 } else {
                     // RT-2: the default of its result type (0, `true`).
                     match self.types.get(&e.range)? {

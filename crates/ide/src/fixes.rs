@@ -8,7 +8,10 @@
 //! - `REQ-01`: add `cycleDef cycle == 1`, or an empty `input context { }` or
 //!   `output context { }`;
 //! - `LNK-01`, unresolved event of a RoboChart trigger or communication:
-//!   declare `event e` in the machine (typed after the variable of `e?x`).
+//!   declare `event e` in the machine (typed after the variable of `e?x`);
+//! - `CSP-N04`: name a block's function as RoboTool 3's CSPm calls the
+//!   model's (`floor` → `Mathematics_floor`), in every clause and use of
+//!   the block.
 
 use robosim_hir::defs::{file_defs, Def, DefKind, Io, UseKind};
 use robosim_hir::nav::type_ref_text;
@@ -47,6 +50,7 @@ pub(crate) fn code_actions(db: &dyn Db, ws: Workspace, file: File, range: TextRa
             "RS:SM5" => move_requires(db, file, &d),
             "REQ-01" => required_part(db, file, &d),
             "LNK-01" if d.message.starts_with("cannot resolve event `") => declare_event(db, ws, file, &d),
+            "CSP-N04" => robotool_function_name(db, ws, file, &d),
             _ => None,
         };
         if let Some((title, change)) = fix {
@@ -286,4 +290,25 @@ fn declare_event(db: &dyn Db, ws: Workspace, file: File, d: &Diagnostic) -> Fix 
     let member = format!("event {name}{ty}");
     let edit = insert_member(text, &node, after.as_ref(), &member)?;
     single(db, file, format!("Declare `{member}` in {} `{}`", od.kind.describe(), od.name), vec![edit])
+}
+
+/// CSP-N04: renames the block's function (at the diagnostic) to the name
+/// the message gives (`its calls use `X``), wherever the block writes it:
+/// a name a block defines is that definition throughout the block.
+fn robotool_function_name(db: &dyn Db, ws: Workspace, file: File, d: &Diagnostic) -> Fix {
+    let text = file.text(db);
+    let old = slice(text, d.range);
+    let new = d.message.split("its calls use `").nth(1)?.split('`').next()?;
+    let block = robosim_hir::csp_blocks::csp_blocks(db, ws, file).at(d.range.start())?;
+    let body = block.body?;
+    let bytes = text.as_bytes();
+    let ident = |i: usize| bytes.get(i).is_some_and(|c| c.is_ascii_alphanumeric() || *c == b'_' || *c == b'\'');
+    let (start, end) = (usize::from(body.start()), usize::from(body.end()).min(text.len()));
+    let edits = text[start..end]
+        .match_indices(old)
+        .map(|(i, _)| start + i)
+        .filter(|&i| !ident(i.wrapping_sub(1)) && !ident(i + old.len()))
+        .map(|i| TextEdit::replace(TextRange::at((i as u32).into(), TextSize::of(old)), new.to_string()))
+        .collect();
+    single(db, file, format!("Rename `{old}` to `{new}`, RoboTool 3's name of the model's function"), edits)
 }

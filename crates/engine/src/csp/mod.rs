@@ -116,9 +116,6 @@ fn run(
     let timed = cx.semantics == Semantics::Timed;
     let resolving = Host::resolving(names, timed);
     let checked = check_script(cx, &script, &resolving)?;
-    if model == SemanticModel::TickTock {
-        return Err(unsupported("the tick-tock model with a CSPm specification is not supported yet"));
-    }
     let (imp_block, spec_block) = (is_block(cx, &a.subject), is_block(cx, other));
     let bindings = cx.constants().map_err(unsupported)?;
     if imp_block && !bindings.is_empty() {

@@ -425,6 +425,7 @@ impl<'a> Cx<'a> {
             ],
             constants: Vec::new(),
             defaults: widened,
+            readings: Vec::new(),
             forwards: Vec::new(),
         });
         // Union-find over connection ends: a machine event is external when

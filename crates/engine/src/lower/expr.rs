@@ -263,7 +263,7 @@ impl MachineCx<'_, '_> {
                 return Err(self.err(range, "a tuple or set where a number is expected"));
             }
             ExprKind::Call { function: f, args, res } => {
-                if !self.cx.defaults.functions.iter().any(|c| c.name == *f) {
+                let Some(name) = self.block_function(f, res.as_ref()) else {
                     // RT-2: RoboTool's function `f(x) = e` of `result == e`.
                     if let Some(inlined) = self.defined_call(range, f, res.as_ref(), args)? {
                         return Ok(inlined);
@@ -273,12 +273,12 @@ impl MachineCx<'_, '_> {
                         (v, Layout::Num(_)) => Ok(Expr::Const(v)),
                         _ => Err(self.err(range, format!("`{f}` returns a tuple or a set, used here as a number"))),
                     };
-                }
+                };
                 let mut values = Vec::new();
                 for a in args {
                     values.push(self.expr(a)?);
                 }
-                self.csp_call(range, f, values, 0)?
+                self.csp_call(range, &name, values, 0)?
             }
             ExprKind::Missing => return Err(self.err(range, "an incomplete expression")),
             other => {
@@ -603,9 +603,7 @@ impl MachineCx<'_, '_> {
             }
             // RT-2: a function without a body returns the default of its
             // (tuple, record or set) result type.
-            (ExprKind::Call { function: f, res, .. }, _)
-                if !self.cx.defaults.functions.iter().any(|c| c.name == *f) =>
-            {
+            (ExprKind::Call { function: f, res, .. }, _) if self.block_function(f, res.as_ref()).is_none() => {
                 let (v, ty) = self.bodiless_call(range, f, res.as_ref())?;
                 if ty != *want {
                     return Err(self.err(range, format!("`{f}` does not return the type expected here")));

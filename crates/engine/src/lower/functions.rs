@@ -6,6 +6,7 @@
 //! postconditions say, unless a `csp` block defines it (then
 //! [`super::expr`] inlines that definition).
 
+use robosim_hir::csp_fn::block_definition;
 use robosim_hir::index::resolve_item;
 use robosim_hir::model::DefKind;
 use robosim_hir::model::{ExprKind, Function, Item};
@@ -105,7 +106,8 @@ impl<'b> MachineCx<'_, 'b> {
                 return Err(self.err(
                     at,
                     format!(
-                        "`{f}` has a parameter `{}` that is a tuple, a record or a set: inlining its definition                          is supported for numbers, booleans and enumerations",
+                        "`{f}` has a parameter `{}` that is a tuple, a record or a set: inlining its definition \
+                         is supported for numbers, booleans and enumerations",
                         p.name
                     ),
                 ));
@@ -128,6 +130,34 @@ impl<'b> MachineCx<'_, 'b> {
         self.types = types;
         self.names = names;
         out.map(Some)
+    }
+
+    /// The name of the `csp` block definition a call of `f` (resolved to
+    /// `res`) reads, if a block defines it (RT-7,
+    /// [`robosim_hir::csp_fn::block_definition`], as hir's domains read
+    /// it); reading the older generators' name is noted.
+    pub(super) fn block_function(&mut self, f: &str, res: Option<&Target>) -> Option<String> {
+        let decl = self.function_decl(f, res);
+        let robotool = decl.map(|(file, func)| {
+            robosim_hir::csp_fn::robotool_function_name(
+                robosim_hir::element::file_package(self.cx.db, file),
+                &func.name,
+            )
+        });
+        let (name, older) =
+            block_definition(&self.cx.defaults.functions, robotool.as_deref(), f, self.cx.defaults.replaced)?;
+        if let (true, Some(r)) = (older, &robotool) {
+            let note = format!(
+                "the `csp` block's `{name}` was read as the definition of the model's function (RT-7), as the older \
+                 RoboTool generators whose FDR results are recorded named it; RoboTool 3's script calls it `{r}`, \
+                 which the block does not define (FDR stops): write `{r}(…) = …` for RoboTool 3"
+            );
+            let design = self.design();
+            if !design.readings.contains(&note) {
+                design.readings.push(note);
+            }
+        }
+        Some(name.to_string())
     }
 
     /// The declaration of the function `f` called here.

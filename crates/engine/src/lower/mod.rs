@@ -120,6 +120,7 @@ impl DomainDefaults {
             types: self.types.iter().map(|(n, d)| (n.clone(), r(*d))).collect(),
             constants: self.constants.clone(),
             functions: self.functions.clone(),
+            replaced: self.replaced,
         }
     }
 

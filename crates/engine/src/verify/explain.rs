@@ -181,6 +181,9 @@ pub(crate) fn domains_note(design: &Design) -> String {
     if !design.defaults.is_empty() {
         s.push_str(&format!("; RoboTool's defaults, as the model gives no value: {}", design.defaults.join(", ")));
     }
+    for r in &design.readings {
+        s.push_str(&format!("; {r}"));
+    }
     s
 }
 
