@@ -368,7 +368,10 @@ fn compare_events(ex: &mut ExportView<'_>, place: &str, e: &EngineElement, v: &E
         }
     }
     for ev in &v.events {
-        let expr = if v.robosim { format!("{{| {} |}}", ev.label) } else { format!("{{| {module}::{} |}}", ev.label) };
+        // RoboSim's registers are global; its call events (`opCall`, RT-19)
+        // are the machine module's channels, as RoboChart's events.
+        let register = v.robosim && ev.label.starts_with("register");
+        let expr = if register { format!("{{| {} |}}", ev.label) } else { format!("{{| {module}::{} |}}", ev.label) };
         let export = match ex.events(&expr, &strip) {
             Ok(s) => s,
             Err(why) => {

@@ -420,6 +420,9 @@ pub(crate) struct Exporter<'a> {
     pub operations: HashMap<Key, Option<Result<Rc<crate::machine::OperationOut>, String>>>,
     /// RoboSim operations on their own (RT-11), made on first use.
     pub sim_operations: HashMap<Key, Result<Rc<crate::machine::OperationOut>, String>>,
+    /// RoboSim operations run by the machines that call them (RT-19) when
+    /// they cannot share the module of [`Exporter::sim_operations`].
+    pub inlined_sim_operations: HashMap<Key, Result<Rc<crate::machine::OperationOut>, String>>,
     /// RT-2: the defaults of the functions without a body that are
     /// called, written into the instantiations by RoboTool's name.
     pub fn_defaults: Vec<FnDefault>,
@@ -479,6 +482,7 @@ impl<'a> Exporter<'a> {
             functions: HashMap::new(),
             operations: HashMap::new(),
             sim_operations: HashMap::new(),
+            inlined_sim_operations: HashMap::new(),
             fn_defaults: Vec::new(),
             fn_overrides: BTreeSet::new(),
             fn_undefined: BTreeSet::new(),
