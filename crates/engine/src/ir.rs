@@ -457,6 +457,11 @@ pub struct Channel {
     /// RoboSim: an output of the output context, written to its register
     /// (`registerWrite.o_x`), not a call of a software operation.
     pub register_write: bool,
+    /// RoboSim: a call of a software operation nothing defines for the
+    /// machine (RT-19): the urgent visible event `opCall.args` (RoboTool's
+    /// `CALL__op = EDeadline(opCall, 0)`), no register: any number of
+    /// calls per cycle.
+    pub soft_call: bool,
     /// RoboSim: a connection between two machines or controllers of the
     /// design (RT-22): the slot of its memory cell's presence flag (the
     /// value in the next slot). The sender writes the cell in cycle k; at
@@ -482,6 +487,7 @@ impl Channel {
             alone: false,
             receivers: 1,
             register_write: false,
+            soft_call: false,
             cell: None,
         }
     }
@@ -692,6 +698,10 @@ pub struct Operation {
     pub ret_slot: u16,
     /// The caller's active state, while the body runs.
     pub leaf_slot: u16,
+    /// Its own variables and clocks: (slot, initial value), set again at
+    /// each call: a call runs a fresh process (RoboTool's `CALL__op =
+    /// OP_op::O__(id__)`, the reference's `pkg223__MovementC.csp`).
+    pub locals: Vec<(u16, i32)>,
 }
 
 /// A state, junction, initial or final node.

@@ -324,6 +324,9 @@ impl Machine {
                             st[slot as usize] = v as i32;
                         }
                     }
+                    for &(slot, init) in &body.locals {
+                        st[slot as usize] = init;
+                    }
                     st[body.ret_slot as usize] = pc as i32 + 1;
                     st[body.leaf_slot as usize] = st[self.slot(LEAF)];
                     st[th.pc] = body.start_pc as i32;

@@ -65,6 +65,9 @@ pub struct Registers {
     pub false_writes: Vec<(String, usize)>,
     /// The ids of all writes.
     pub write_range: (Event, Event),
+    /// RoboSim: the call event of each software operation nothing defines
+    /// (`opCall`, RT-19), by name: not a register.
+    pub calls: Vec<(String, usize)>,
 }
 
 impl Registers {
@@ -75,8 +78,16 @@ impl Registers {
         // Per register: its name, parameters, and whether it is a variable.
         let mut ins: Vec<(String, Vec<Param>, bool)> = Vec::new();
         let mut outs: Vec<(String, Vec<Param>, bool)> = Vec::new();
+        // RoboSim: calls of software operations (no register).
+        let mut calls: Vec<(String, Vec<Param>)> = Vec::new();
         for d in designs {
             for c in d.channels.iter().filter(|c| !c.internal) {
+                if c.soft_call {
+                    if !calls.iter().any(|(n, _)| *n == c.name) {
+                        calls.push((c.name.clone(), c.shape.clone()));
+                    }
+                    continue;
+                }
                 let list = if c.dir == Dir::In { &mut ins } else { &mut outs };
                 let disagree = || format!("the two sides disagree on the arguments of `{}`", c.name);
                 match list.iter_mut().find(|(n, ..)| *n == c.name) {
@@ -125,7 +136,11 @@ impl Registers {
             }
         }
         let write_range = (first_write, table.next_event());
-        Ok(Registers { table, reads, writes, false_writes, write_range })
+        let mut call_groups = Vec::new();
+        for (name, params) in &calls {
+            call_groups.push((name.clone(), table.add(format!("{name}Call"), params.clone()).map_err(too_many)?));
+        }
+        Ok(Registers { table, reads, writes, false_writes, write_range, calls: call_groups })
     }
 
     /// The read event of input `name` (`present` is ignored for a

@@ -29,6 +29,8 @@ pub struct SimModule<'a> {
     outputs: Vec<u16>,
     read_group: Vec<usize>,
     write_group: Vec<usize>,
+    /// RT-19: the calls of software operations: (channel, event group).
+    calls: Vec<(u16, usize)>,
     /// `paper2019`: `registerWrite.o.false` per output.
     false_group: Vec<usize>,
     profile: Profile,
@@ -74,7 +76,15 @@ impl<'a> SimModule<'a> {
         registers: &Registers,
         profile: Profile,
     ) -> Result<SimModule<'a>, String> {
-        let (inputs, outputs) = (design.platform_channels(Dir::In), design.platform_channels(Dir::Out));
+        let (inputs, mut outputs) = (design.platform_channels(Dir::In), design.platform_channels(Dir::Out));
+        // RT-19: a call of a software operation is an event, not a register.
+        let mut calls = Vec::new();
+        for &o in outputs.iter().filter(|&&o| design.channels[o as usize].soft_call) {
+            let name = &design.channels[o as usize].name;
+            let g = registers.calls.iter().find(|(n, _)| n == name).map(|(_, g)| *g);
+            calls.push((o, g.ok_or_else(|| format!("no call event for `{name}`"))?));
+        }
+        outputs.retain(|&o| !design.channels[o as usize].soft_call);
         if inputs.len() > 30 || outputs.len() > 30 {
             return Err("at most 30 inputs and 30 outputs are supported".into());
         }
@@ -120,6 +130,7 @@ impl<'a> SimModule<'a> {
             outputs,
             read_group,
             write_group,
+            calls,
             false_group,
             profile,
             terminate,
@@ -258,6 +269,14 @@ impl<'a> SimModule<'a> {
                                 out.set_label(Label::TAU);
                             }
                             Offer::Out { chan, args } => {
+                                if let Some(&(_, g)) = self.calls.iter().find(|(c, _)| c == chan) {
+                                    // RT-19: an urgent visible event, as often as called.
+                                    let call = self.enc.events.event(g, args);
+                                    let n = out.push_copy(st);
+                                    self.design.apply(m, n, mv.act, None)?;
+                                    out.set_label(Label::plain(call));
+                                    continue;
+                                }
                                 let Some(o) = self.outputs.iter().position(|c| c == chan) else { continue };
                                 let write = self.enc.events.event(self.write_group[o], args);
                                 if self.profile == Profile::Paper2019 {

@@ -378,7 +378,10 @@ fn compare_events(ex: &mut ExportView<'_>, place: &str, e: &EngineElement, v: &E
         }
     }
     for ev in &v.events {
-        let expr = if v.robosim { format!("{{| {} |}}", ev.label) } else { format!("{{| {module}::{} |}}", ev.label) };
+        // RoboSim's registers are global; its call events (`opCall`, RT-19)
+        // are the machine module's channels, as RoboChart's events.
+        let register = v.robosim && ev.label.starts_with("register");
+        let expr = if register { format!("{{| {} |}}", ev.label) } else { format!("{{| {module}::{} |}}", ev.label) };
         let export = match ex.events(&expr, &strip) {
             Ok(s) => s,
             Err(why) => {
@@ -507,8 +510,14 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
             vs.sort();
             vs.dedup();
         }
-        // An enumeration literal: RoboTool's `pkg_Mode_Idle` is `Mode_Idle`.
-        let same = e.len() == x.len() && e.iter().zip(&x).all(|(a, b)| a == b || b.ends_with(&format!("_{a}")));
+        // An enumeration literal: RoboTool's `pkg_Mode_Idle` is `Mode_Idle`,
+        // also inside a sequence (`<pkg_Mode_Idle>`).
+        let literal = |a: &str, b: &str| a == b || b.ends_with(&format!("_{a}"));
+        let value = |a: &str, b: &str| match (seq_elems(a), seq_elems(b)) {
+            (Some(xs), Some(ys)) => xs.len() == ys.len() && xs.iter().zip(&ys).all(|(x, y)| literal(x, y)),
+            _ => literal(a, b),
+        };
+        let same = e.len() == x.len() && e.iter().zip(&x).all(|(a, b)| value(a, b));
         if !same {
             let default = if default { " (RT-1 default)" } else { "" };
             out.push(Finding {
@@ -518,6 +527,12 @@ fn compare_constants(ex: &mut ExportView<'_>, here: &str, e: &EngineElement, v: 
             });
         }
     }
+}
+
+/// The elements of a sequence value `<a, b>`, as printed.
+fn seq_elems(v: &str) -> Option<Vec<String>> {
+    let inner = v.strip_prefix('<')?.strip_suffix('>')?;
+    Some(top_level(inner, ',').into_iter().map(|e| e.trim().to_string()).filter(|e| !e.is_empty()).collect())
 }
 
 /// A constant's value as the engine writes it, comparable with the

@@ -93,6 +93,17 @@ impl fmt::Display for Ty {
 }
 
 impl Ty {
+    /// The first generic parameter (`?X`) the type mentions, if any.
+    pub fn type_variable(&self) -> Option<&str> {
+        match self {
+            Ty::Var(n) => Some(n),
+            Ty::Set(t) | Ty::Seq(t) | Ty::Vector(t, _) | Ty::Matrix(t, _, _) => t.type_variable(),
+            Ty::Product(ts) => ts.iter().find_map(Ty::type_variable),
+            Ty::Function(a, b) | Ty::Relation(a, b) => a.type_variable().or_else(|| b.type_variable()),
+            _ => None,
+        }
+    }
+
     fn is_numeric(&self) -> bool {
         matches!(self, Ty::Nat | Ty::Int | Ty::Real | Ty::Error | Ty::Any | Ty::Var(_))
     }

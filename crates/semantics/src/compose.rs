@@ -186,7 +186,7 @@ fn instance<'a, T>(
     }
 }
 
-/// The operations a RoboChart controller defines for its machines, by the
+/// The operations a controller defines for its machines, by the
 /// name they call them with: an inline one by its own, a reference
 /// (`opref r = P::op`) by the operation's (RT-19, as the engine matches
 /// them).
@@ -212,7 +212,7 @@ fn controller_operations<'a>(
     ops
 }
 
-/// A machine of a RoboChart controller, as RoboTool translates it inside
+/// A machine of a controller, as RoboTool translates it inside
 /// the controller: with the controller's operations inlined (RT-19), as
 /// the module `<controller>::<instance>` (`pkg::C::stm_ref0`, whose
 /// constants are `const_pkg_C_stm_ref0_k`) for a reference, or the inline
@@ -264,10 +264,10 @@ pub(crate) fn inner_machine<'a>(
 ) -> Option<Rc<Elem>> {
     let inst = c.machines.iter().find(|i| matches!(&i.def, m::Definition::Inline(b) if b.name == inner))?;
     let mut problems = Vec::new();
-    if file.kind(ex.db) == FileKind::RoboSim {
+    let ops = controller_operations(ex, file, c, ctrl_path, &mut problems);
+    if file.kind(ex.db) == FileKind::RoboSim && ops.is_empty() {
         return instance(ex, file, inst, ctrl_path, ElemDef::Machine, &mut problems);
     }
-    let ops = controller_operations(ex, file, c, ctrl_path, &mut problems);
     machine_instance(ex, file, inst, ctrl_path, &ops, &mut problems)
 }
 
@@ -448,9 +448,11 @@ fn controller<'a>(
     let robosim = file.kind(ex.db) == FileKind::RoboSim;
     let mut problems = Vec::new();
     let mut insts = Vec::new();
-    let ops = if robosim { Vec::new() } else { controller_operations(ex, file, c, &path, &mut problems) };
+    let ops = controller_operations(ex, file, c, &path, &mut problems);
     for i in &c.machines {
-        let e = if robosim {
+        // A RoboSim controller defining no operation has its machines as they
+        // are on their own.
+        let e = if robosim && ops.is_empty() {
             instance(ex, file, i, &path, ElemDef::Machine, &mut problems)
         } else {
             machine_instance(ex, file, i, &path, &ops, &mut problems)

@@ -7,7 +7,6 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::fmt;
 use std::rc::Rc;
 
-use robosim_hir::assertions::AssertionFile;
 use robosim_hir::defs::{file_defs, DefId, DefKind, TypeRef};
 // The definitions of one element (a hover exports one element: it must
 // not put the file's definitions together after each keystroke).
@@ -443,6 +442,9 @@ pub(crate) struct Exporter<'a> {
     pub operations: HashMap<Key, Option<Result<Rc<crate::machine::OperationOut>, String>>>,
     /// RoboSim operations on their own (RT-11), made on first use.
     pub sim_operations: HashMap<Key, Result<Rc<crate::machine::OperationOut>, String>>,
+    /// RoboSim operations run by the machines that call them (RT-19) when
+    /// they cannot share the module of [`Exporter::sim_operations`].
+    pub inlined_sim_operations: HashMap<Key, Result<Rc<crate::machine::OperationOut>, String>>,
     /// RT-2: the defaults of the functions without a body that are
     /// called, written into the instantiations by RoboTool's name.
     pub fn_defaults: Vec<FnDefault>,
@@ -502,6 +504,7 @@ impl<'a> Exporter<'a> {
             functions: HashMap::new(),
             operations: HashMap::new(),
             sim_operations: HashMap::new(),
+            inlined_sim_operations: HashMap::new(),
             fn_defaults: Vec::new(),
             fn_overrides: BTreeSet::new(),
             fn_undefined: BTreeSet::new(),
@@ -664,7 +667,7 @@ impl<'a> Exporter<'a> {
             (None, TypeRef::Named(_, r)) => {
                 file.text(self.db).get(usize::from(r.start())..usize::from(r.end())).unwrap_or("").trim().to_string()
             }
-            (None, t) => format!("{t:?}"),
+            (None, t) => robosim_hir::nav::type_ref_text(t),
         };
         Err(format!(
             "the type `{text}` is not supported by the export yet (booleans, numbers, enumerations, primitive types, records, products, sets and sequences are)"
@@ -984,7 +987,7 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
         let own = (!fixed.is_empty() || !overrides.is_empty() || own_functions).then(|| {
             let widened = !functions.defined.is_empty();
             let numbers = match widened || ["nat", "int", "real"].iter().any(|t| fixed.contains_key(*t)) {
-                true => crate::defs::number_types(&ex, &files, &[(*f, &by_call_names(&ex, read))]),
+                true => crate::defs::number_types(&ex, &files, &[(*f, read)]),
                 false => ex.number_types.clone(),
             };
             let clock_max = fixed.get("clock_type").map_or(crate::defs::CLOCK_MAX, |&(_, hi)| hi);
@@ -1066,28 +1069,6 @@ fn export_in(db: &dyn Db, ws: Workspace, opts: &Options, timed: bool) -> (Vec<Ou
         result.push(OutFile { name, title, decls: all });
     }
     (result, ex.warnings)
-}
-
-/// `read` with its blocks' function definitions named as the model's
-/// calls name them, for hir's RT-5 widening, which evaluates a call `f(…)`
-/// of a function without a body by a definition named `f`: RoboTool's
-/// CSPm calls a package's function `pkg_f`, so a block's `pkg_f` gives the
-/// calls' values and a block's `f` none.
-fn by_call_names(ex: &Exporter<'_>, read: &AssertionFile) -> AssertionFile {
-    let mut read = read.clone();
-    let renamed = ex.fn_defaults.iter().filter(|d| d.csp != d.name);
-    let misnamed: HashSet<&str> = renamed.clone().map(|d| d.name.as_str()).collect();
-    let mut functions = Vec::new();
-    for mut c in std::mem::take(&mut read.instantiations.functions) {
-        if let Some(d) = renamed.clone().find(|d| d.csp == c.name) {
-            c.name = d.name.clone();
-        } else if misnamed.contains(c.name.as_str()) {
-            continue;
-        }
-        functions.push(c);
-    }
-    read.instantiations.functions = functions;
-    read
 }
 
 fn base_name(path: &str) -> String {

@@ -476,7 +476,15 @@ impl Checker {
                 }
             }
             Some(Kind::Value) | None => {}
-            Some(k) => self.problem(file, format!("`{chan}` is used as a channel but is a {k:?}")),
+            Some(k) => {
+                let what = match k {
+                    Kind::Datatype => "datatype",
+                    Kind::Ctor(_) => "constructor",
+                    Kind::Module => "module",
+                    _ => "name of another kind",
+                };
+                self.problem(file, format!("`{chan}` is used as a channel but is a {what}"))
+            }
         }
     }
 

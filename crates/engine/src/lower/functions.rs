@@ -30,6 +30,11 @@ impl MachineCx<'_, '_> {
         let (file, func) = self
             .function_decl(f, res)
             .ok_or_else(|| self.err(at, format!("the function `{f}` could not be resolved")))?;
+        // Generic parameters alone do not matter: the default is the
+        // result's, whatever the arguments (RT-2).
+        if let Some(why) = func.generic_refusal() {
+            return Err(self.err(at, why));
+        }
         if func.pins_result() {
             return Err(self.err(
                 at,
@@ -94,6 +99,9 @@ impl<'b> MachineCx<'_, 'b> {
     ) -> Result<Option<Expr>, Unsupported> {
         let Some((file, func)) = self.function_decl(f, res) else { return Ok(None) };
         let Some(body) = result_definition(func) else { return Ok(None) };
+        if let Some(why) = func.generic_refusal() {
+            return Err(self.err(at, why));
+        }
         if args.len() != func.params.len() {
             return Err(self.err(at, format!("`{f}` takes {} arguments", func.params.len())));
         }

@@ -114,6 +114,7 @@ fn visible_events(design: &Design, robosim: bool) -> Vec<EventView> {
                     fields.extend(c.shape.iter().cloned());
                     (format!("registerRead.i_{}", c.name), fields)
                 }
+                Dir::Out if c.soft_call => (format!("{}Call", c.name), c.shape.clone()),
                 Dir::Out => (format!("registerWrite.o_{}", c.name), c.shape.clone()),
             }
         } else {

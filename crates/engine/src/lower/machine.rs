@@ -102,7 +102,11 @@ impl<'b> MachineCx<'_, 'b> {
                                         }
                                     }
                                 };
-                                let shown = ty.show(value);
+                                // A sequence of literals by their names (`<Skills_MOVE>`).
+                                let shown = match ty {
+                                    Layout::Seq(_) => self.value_text(tnode, &ty, value),
+                                    _ => ty.show(value),
+                                };
                                 self.design().constants.push((q, value, shown));
                                 self.names.insert(name, Name::Const(value));
                             } else {
@@ -122,6 +126,9 @@ impl<'b> MachineCx<'_, 'b> {
                                     None => self.uninitialised(&q, tnode, &ty),
                                 };
                                 self.design().vars.push(Var { name: q, slot, dom, init: initv });
+                                if let Some(k) = self.cur_op {
+                                    self.ops[k as usize].locals.push((slot, initv as i32));
+                                }
                                 self.names.insert(name, Name::Var { slot, dom, shared: false, update: None });
                             }
                         }
@@ -131,6 +138,11 @@ impl<'b> MachineCx<'_, 'b> {
                         let slot = self.new_slot();
                         let q = format!("{}::{name}", self.inst_prefix);
                         self.design().clocks.push(Clock { name: q, slot, cap: 0 });
+                        // Its own clock restarts with each call; one it requires
+                        // is its caller's in RoboTool (`clockReset` events).
+                        if let (Some(k), false) = (self.cur_op, from_interface) {
+                            self.ops[k as usize].locals.push((slot, 0));
+                        }
                         self.clock_caps.insert(slot, 0);
                         self.names.insert(name, Name::Clock(slot));
                     }
@@ -263,6 +275,9 @@ impl<'b> MachineCx<'_, 'b> {
                             continue;
                         }
                         let chan = self.channel(&name, Dir::Out, true, shape);
+                        if self.cx.robosim && context.is_none() {
+                            self.design().channels[chan as usize].soft_call = true;
+                        }
                         if self.cx.robosim && context == Some(Dir::Out) {
                             self.design().channels[chan as usize].register_write = true;
                         }
@@ -828,7 +843,14 @@ impl<'b> MachineCx<'_, 'b> {
         let ret_slot = self.new_slot();
         let leaf_slot = self.new_slot();
         let k = self.ops.len() as u16;
-        self.ops.push(Operation { name: name.clone(), params: slots, start_pc: 0, ret_slot, leaf_slot });
+        self.ops.push(Operation {
+            name: name.clone(),
+            params: slots,
+            start_pc: 0,
+            ret_slot,
+            leaf_slot,
+            locals: Vec::new(),
+        });
         self.op_of_def.insert(i, k);
         self.pending_ops.push((k, i));
         Ok(k)

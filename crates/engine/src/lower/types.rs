@@ -404,6 +404,18 @@ impl MachineCx<'_, '_> {
     /// A value of the type `node` (laid out as `ty`) as the modeller
     /// writes it.
     pub(super) fn value_text(&self, node: Option<&TyRef>, ty: &Layout, v: Val) -> String {
+        // A sequence of booleans or literals, by their names
+        // (`<Skills_MOVE>`), as CSPm prints it.
+        if let (Some(Ty::Seq(inner)), Layout::Seq(d)) = (node.map(|n| &n.ty), ty) {
+            if let Some(p) = self.scalar_param(inner) {
+                let name = |x: Val| match &p {
+                    Param::Named(names) => names.get(x as usize).cloned().unwrap_or_else(|| x.to_string()),
+                    _ => (x != 0).to_string(),
+                };
+                let xs: Vec<String> = d.decode(v).into_iter().map(name).collect();
+                return format!("<{}>", xs.join(", "));
+            }
+        }
         match self.param_of(node) {
             Some(Param::Bool) => (v != 0).to_string(),
             Some(Param::Named(names)) => names.get(v as usize).cloned().unwrap_or_else(|| v.to_string()),

@@ -322,9 +322,12 @@ pub(super) fn out_verb(design: &Design, instr: &Instr) -> Option<&'static str> {
         }
         // RT-11: in a RoboSim operation on its own, a call of another
         // operation (not an output) is a call event of its own (`opCall`).
+        // RT-19: so is a RoboSim machine's call of one nothing defines.
         Instr::Out { chan, urgent: true, .. }
-            if design.level == crate::ir::Level::Operation
-                && design.channels.get(*chan as usize).is_some_and(|c| !c.register_write) =>
+            if design
+                .channels
+                .get(*chan as usize)
+                .is_some_and(|c| c.soft_call || (design.level == crate::ir::Level::Operation && !c.register_write)) =>
         {
             Some("calls the operation")
         }

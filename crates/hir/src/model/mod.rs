@@ -551,6 +551,40 @@ impl Function {
         }
         self.postconditions.iter().any(pins)
     }
+
+    /// Why a call of this function has no meaning the back ends can give,
+    /// because of a generic type (`?X`) in its signature; `None` when its
+    /// types do not stand in the way. A CSPm function is untyped, so one
+    /// without a body over generic parameters is RoboTool's default all
+    /// the same (`p_f(x, y) = true`, RT-2), whatever the arguments; but
+    /// the default of a generic result depends on the type each call
+    /// gives `?X`, which RoboTool's CSPm does not establish, and a body
+    /// over generic types is evaluated at the types of each call, which
+    /// neither back end does yet. Both refuse with this reason.
+    pub fn generic_refusal(&self) -> Option<String> {
+        fn var(t: &Option<TyRef>) -> Option<(&str, &str)> {
+            t.as_ref().and_then(|t| Some((t.ty.type_variable()?, t.text.trim())))
+        }
+        let name = &self.name;
+        if !self.result_definitions().is_empty() || self.pins_result() {
+            let generic = self
+                .params
+                .iter()
+                .find_map(|p| var(&p.ty).map(|(_, t)| format!("the parameter `{}` has the generic type `{t}`", p.name)))
+                .or_else(|| var(&self.result).map(|(_, t)| format!("its result has the generic type `{t}`")));
+            return Some(format!(
+                "the function `{name}` is defined by its postconditions and {}: calls of a function defined \
+                 over generic types are not supported yet",
+                generic?
+            ));
+        }
+        let (v, t) = var(&self.result)?;
+        Some(format!(
+            "the function `{name}` has no body and its result type `{t}` is generic: its default (RT-2) depends \
+             on the type `?{v}` stands for in each call, which RoboTool's CSPm does not establish; calls of it are \
+             not supported yet"
+        ))
+    }
 }
 
 /// A top-level element of a file.

@@ -209,6 +209,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                 exports.push(Decl::Channel(vec![op_event(&self.ops[o].name, "Call")], f));
             }
         } else if self.robosim {
+            // RT-19: the software operations nothing defines for it.
+            let calls: Vec<usize> = self.sim_op_calls.iter().copied().collect();
+            if !calls.is_empty() {
+                exports.push(Decl::Comment("Calls of operations its controller does not define (urgent).".into()));
+            }
+            for o in calls {
+                let f: Vec<Expr> = self.ops[o].params.iter().map(|t| t.set()).collect();
+                exports.push(Decl::Channel(vec![op_event(&self.ops[o].name, "Call")], f));
+            }
             private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
             private.push(Decl::Channel(vec!["startexec".into()], vec![]));
             private.push(Decl::Channel(vec!["endexec".into()], vec![name("TIDS")]));
@@ -672,15 +681,14 @@ impl<'e, 'a> Gen<'e, 'a> {
 
     pub(super) fn output_regs(&self) -> Vec<(String, Vec<Expr>)> {
         let mut out = Vec::new();
-        for e in self.events.iter().filter(|e| !self.is_input(e)) {
-            if e.io == Some(robosim_hir::model::Io::Output) || e.io.is_none() {
+        for e in self.events.iter().filter(|e| e.both || !self.is_input(e)) {
+            if e.io == Some(robosim_hir::model::Io::Output) || e.io.is_none() || e.both {
                 out.push((self.ex.out_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()));
             }
         }
-        for (k, o) in self.ops.iter().enumerate() {
-            if !self.sim_op_calls.contains(&k) {
-                out.push((self.ex.out_reg(&o.name), o.params.iter().map(|t| t.set()).collect()));
-            }
+        // Platform operations only: a software operation is run or called (RT-19).
+        for o in self.ops.iter().filter(|o| o.io == Some(Io::Output)) {
+            out.push((self.ex.out_reg(&o.name), o.params.iter().map(|t| t.set()).collect()));
         }
         out
     }
@@ -888,18 +896,30 @@ impl<'e, 'a> Gen<'e, 'a> {
                     values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
                 });
             }
-            for e in self.events.iter().filter(|e| !self.is_input(e)) {
+            for e in self.events.iter().filter(|e| e.both || !self.is_input(e)) {
                 outputs.push(Reg {
                     ctor: self.ex.out_reg(&e.name),
                     model: e.name.clone(),
                     values: e.ty.iter().flat_map(|t| t.field_sets()).collect(),
                 });
             }
-            for o in &self.ops {
+            for o in self.ops.iter().filter(|o| o.io == Some(Io::Output)) {
                 outputs.push(Reg {
                     ctor: self.ex.out_reg(&o.name),
                     model: o.name.clone(),
                     values: o.params.iter().map(|t| t.set()).collect(),
+                });
+            }
+            for &k in &self.sim_op_calls {
+                let o = &self.ops[k];
+                let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
+                chans.push(Chan {
+                    csp: op_event(&o.name, "Call"),
+                    model: o.name.clone(),
+                    kind: ChanKind::Call,
+                    fields: values.clone(),
+                    dir: Dir::Out,
+                    values,
                 });
             }
         } else {

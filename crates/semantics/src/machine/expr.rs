@@ -490,7 +490,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         let mut es = Vec::new();
         let mut pure = true;
         for (a, t) in args.iter().zip(&f.params) {
-            let o = self.expr(a, cx, Some(t))?;
+            let o = self.expr(a, cx, t.as_ref())?;
             pure &= o.pure;
             es.push(o.e);
         }

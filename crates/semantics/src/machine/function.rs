@@ -17,8 +17,10 @@ use crate::export::{Exporter, Ty};
 pub(crate) struct FunctionOut {
     /// Its CSPm name.
     pub csp: String,
-    /// The types of its parameters.
-    pub params: Vec<Ty>,
+    /// The types of its parameters; `None` for a generic one (`?X`): a
+    /// CSPm function is untyped, so its argument is written at its own
+    /// type.
+    pub params: Vec<Option<Ty>>,
     /// The type of its result.
     pub result: Ty,
     /// Whether it has no body: its definition is RT-2's default, in the
@@ -58,10 +60,21 @@ pub(crate) fn function(ex: &mut Exporter<'_>, file: File, f: &m::Function) -> Re
 
 fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Result<Rc<FunctionOut>, String> {
     let fname = model.name.clone();
+    // The engine refuses for the same reason (a generic result, or a body
+    // over generic types).
+    if let Some(why) = model.generic_refusal() {
+        return Err(why);
+    }
     let mut params = Vec::new();
     for p in &model.params {
+        // RoboTool's `p_f(x, y) = true` needs no type for a generic
+        // parameter: a function without a body ignores its arguments.
+        if p.ty.as_ref().is_some_and(|t| t.ty.type_variable().is_some()) {
+            params.push((p.name.clone(), None));
+            continue;
+        }
         let t = ex.ty_ref(file, p.ty.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
-        params.push((p.name.clone(), t));
+        params.push((p.name.clone(), Some(t)));
     }
     let result = ex.ty_ref(file, model.result.as_ref()).map_err(|m| format!("function `{fname}`: {m}"))?;
     // The one postcondition `result == e` (or `result iff e`) defines it.
@@ -86,6 +99,10 @@ fn function_inner(ex: &mut Exporter<'_>, file: File, model: &m::Function) -> Res
     let mut g = Gen::new(ex, file, None, path.clone(), model.range, false);
     let mut names = Vec::new();
     for (n, t) in &params {
+        // (`generic_refusal` leaves no generic parameter to a body.)
+        let Some(t) = t else {
+            return Err(format!("function `{fname}`: the parameter `{n}` has a generic type"));
+        };
         let local = g.local(n);
         g.names.insert(n.clone(), Nm::Param(local.clone(), t.clone()));
         names.push(local);
@@ -123,7 +140,7 @@ fn bodiless(
     ex: &mut Exporter<'_>,
     file: File,
     model: &m::Function,
-    params: Vec<(String, Ty)>,
+    params: Vec<(String, Option<Ty>)>,
     result: Ty,
 ) -> Result<Rc<FunctionOut>, String> {
     let fname = &model.name;

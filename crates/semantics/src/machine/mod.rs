@@ -36,6 +36,7 @@ mod stmt;
 mod untimed;
 
 pub(crate) use function::{function, FunctionOut};
+use sim_op::inlined_sim_operation;
 pub(crate) use sim_op::sim_operation;
 
 /// What a term is about, for hovers.
@@ -145,6 +146,9 @@ struct EvI {
     received: bool,
     /// Tagged trigger channel in use.
     trig: bool,
+    /// RoboSim: in both I/O contexts, read from its input register and
+    /// written to its output register (`io` says `Input`).
+    both: bool,
 }
 
 struct OpI {
@@ -153,6 +157,10 @@ struct OpI {
     /// Defined in the model (an `operation` with its own body): calls run
     /// it (`CALL__op`) instead of calling the platform.
     defined: bool,
+    /// The RoboSim I/O context it comes through: `Some(Output)` for a
+    /// platform operation (`$op(…)`, a register write), `None` for a
+    /// software operation (`op(…)`, run or called).
+    io: Option<Io>,
 }
 
 struct GateI {
@@ -250,6 +258,9 @@ pub(crate) struct Gen<'e, 'a> {
     /// With `sim_op`: the operations called as other operations (their
     /// urgent call events `opCall`), by index in `ops`.
     sim_op_calls: std::collections::BTreeSet<usize>,
+    /// RoboSim: the outputs it writes (model names), see
+    /// [`OperationOut::outputs`].
+    written: std::collections::BTreeSet<String>,
     /// The functions without a body it calls (RoboTool's names), its
     /// operations' included: a script whose `Instantiations` block leaves
     /// one undefined cannot check it (RT-7).
@@ -328,6 +339,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             is_operation: false,
             sim_op: false,
             sim_op_calls: Default::default(),
+            written: Default::default(),
             fn_calls: Default::default(),
             op_params: Vec::new(),
             op_calls: Vec::new(),
@@ -418,6 +430,13 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// Translates the machine: its CSPm module and its interface.
     pub(crate) fn run(mut self, module: String, path: Vec<String>) -> Result<MachineOut, Vec<Problem>> {
         self.declarations();
+        if self.robosim {
+            // RT-19: every software operation nothing defines for it has its
+            // call event, called or not (the reference's `Movement` declares
+            // them all: "all required operations will be undefined").
+            let undefined = self.ops.iter().enumerate().filter(|(_, o)| o.io.is_none() && !o.defined);
+            self.sim_op_calls.extend(undefined.map(|(k, _)| k).collect::<Vec<_>>());
+        }
         self.collect_structure();
         if !self.problems.is_empty() {
             return Err(self.problems);
@@ -451,7 +470,8 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let _ = path;
         let mut chans = Vec::new();
-        for e in &self.events {
+        // RoboSim: its events are registers (`registerWrite`, shared by name).
+        for e in self.events.iter().filter(|_| !self.robosim) {
             chans.push(OpChan {
                 csp: e.csp.clone(),
                 model: e.name.clone(),
@@ -478,7 +498,11 @@ impl<'e, 'a> Gen<'e, 'a> {
                 params: Vec::new(),
             });
         }
-        for o in self.ops.iter().filter(|o| !o.defined) {
+        // RoboSim: its platform operations are registers; its calls of
+        // others, the call events it declares.
+        let calls =
+            self.ops.iter().enumerate().filter(|(k, o)| !o.defined && (!self.robosim || self.sim_op_calls.contains(k)));
+        for (_, o) in calls {
             let mut kinds = vec![OpChanKind::Call];
             if self.profile == Profile::Paper2019 {
                 kinds.push(OpChanKind::Ret);
@@ -498,7 +522,18 @@ impl<'e, 'a> Gen<'e, 'a> {
         let consts = self.consts.iter().cloned().zip(self.const_ty.iter().cloned()).collect();
         let states = self.state_tags();
         let functions = self.fn_calls.clone();
-        Ok((decls, OperationOut { module: String::new(), params: Vec::new(), consts, chans, states, functions }))
+        let (uses_exec, outputs) = (self.robosim && self.uses_exec_stmt, self.written.clone());
+        let out = OperationOut {
+            module: String::new(),
+            params: Vec::new(),
+            consts,
+            chans,
+            states,
+            functions,
+            uses_exec,
+            outputs,
+        };
+        Ok((decls, out))
     }
 
     // ------------------------------------------------------ declarations
@@ -551,6 +586,25 @@ impl<'e, 'a> Gen<'e, 'a> {
                         self.names.insert(n.clone(), Nm::Clock(self.clocks.len() - 1));
                     }
                     m::Decl::Event { name: n, ty, range, .. } => {
+                        if let Some(Nm::Event(i)) = self.names.get(n).cloned() {
+                            // RoboSim: an event of both I/O contexts is read from
+                            // its input register and written to its output one.
+                            let e = &mut self.events[i];
+                            match (e.io, io) {
+                                (Some(Io::Input), Some(Io::Output)) => e.both = true,
+                                (Some(Io::Output), Some(Io::Input)) => (e.io, e.both) = (Some(Io::Input), true),
+                                _ => {}
+                            }
+                            if e.both && self.profile == Profile::Paper2019 {
+                                let msg = format!(
+                                    "`{n}` is an event of both I/O contexts: the paper2019 profile names its input \
+                                     and output registers alike (`{}`), which CSPm cannot declare twice",
+                                    self.ex.in_reg(n)
+                                );
+                                self.problems.push((f, *range, msg));
+                            }
+                            continue;
+                        }
                         if self.names.contains_key(n) {
                             continue;
                         }
@@ -565,7 +619,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                             None => None,
                         };
                         let csp = self.event_local(n);
-                        self.events.push(EvI { name: n.clone(), csp, ty, io, received: false, trig: false });
+                        self.events.push(EvI {
+                            name: n.clone(),
+                            csp,
+                            ty,
+                            io,
+                            received: false,
+                            trig: false,
+                            both: false,
+                        });
                         self.names.insert(n.clone(), Nm::Event(self.events.len() - 1));
                     }
                     m::Decl::OperationSig { name: n, params: ps, .. } => {
@@ -582,12 +644,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                         // An operation of the model with this name and a body (RoboTool
                         // matches a required operation and its definition by name); one
                         // with a contract only (`terminates`) stays a call event. A
-                        // machine's definitions are its controller's (RT-19).
-                        let defined = !self.robosim
+                        // machine's definitions are its controller's (RT-19). A RoboSim
+                        // machine's software operations (not of its output context) are
+                        // too; a RoboSim operation on its own calls others as events (RT-11).
+                        let robosim_ok = !self.robosim || (!self.sim_op && io.is_none() && self.provided.is_some());
+                        let defined = robosim_ok
                             && self.op_definition(n).is_some_and(|(_, _, b, _)| {
                                 b.region.nodes.iter().any(|x| x.kind == m::NodeKind::Initial)
                             });
-                        self.ops.push(OpI { name: n.clone(), params, defined });
+                        self.ops.push(OpI { name: n.clone(), params, defined, io });
                         self.op_names.insert(n.clone(), self.ops.len() - 1);
                     }
                     m::Decl::Nested { range, .. } => self.problem(
@@ -788,6 +853,12 @@ pub(crate) struct OperationOut {
     pub states: Vec<(Vec<String>, String)>,
     /// The functions without a body it calls, as [`Elem::functions`](crate::export::Elem).
     pub functions: std::collections::BTreeSet<String>,
+    /// RoboSim: it has an `exec` statement (its own `endexec` and
+    /// `startexec`, which a calling machine renames to its cycle's).
+    pub uses_exec: bool,
+    /// RoboSim: the outputs it writes (model names of events and platform
+    /// operations): registers its caller must have.
+    pub outputs: std::collections::BTreeSet<String>,
 }
 
 /// What a channel of an exported operation is.

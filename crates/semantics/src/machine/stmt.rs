@@ -111,8 +111,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                     );
                     return None;
                 };
-                if self.sim_op && !self.ops[o].defined {
-                    // A call of another operation: the urgent call event.
+                if self.robosim && self.ops[o].io == Some(Io::Output) {
+                    // A platform operation (RS:SM6 in hir).
+                    self.problem(r, format!("`{n}(…)` in a RoboSim machine must be an output: `${n}(…)`"));
+                    return None;
+                }
+                if self.robosim && !self.ops[o].defined {
+                    // A software operation nothing defines for it (on its own,
+                    // RT-19; an operation on its own, RT-11): the urgent call
+                    // event (the reference's `CALL__op = EDeadline(opCall, 0)`).
                     let (args, reads) = self.arguments(args, r, o)?;
                     let mut fields = vec![name(op_event(&self.ops[o].name, "Call"))];
                     fields.extend(args);
@@ -122,8 +129,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                     return Some(p);
                 }
                 if self.robosim {
-                    self.problem(r, format!("`{n}(…)` in a RoboSim machine must be an output: `${n}(…)`"));
-                    return None;
+                    return self.call_sim_operation(s, args, o);
                 }
                 if self.ops[o].defined {
                     return self.call_operation(s, args, o);
@@ -284,6 +290,52 @@ impl<'e, 'a> Gen<'e, 'a> {
         Some(p)
     }
 
+    /// RT-19: a RoboSim machine's call of an operation its controller
+    /// defines, run as the native checker inlines it: the operation's
+    /// process (its module of [`inlined_sim_operation`]) through
+    /// `CALL__op(args)`, its `exec` the machine's (`endexec.TID_exec`,
+    /// then `startexec`), its register writes the machine's (which it must
+    /// have), the variables it requires the machine's, its calls of other
+    /// operations the machine's call events.
+    pub(super) fn call_sim_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
+        let r = s.range;
+        let n = self.ops[o].name.clone();
+        let (_, file, def, outer) = self.op_definition(&n)?;
+        let op = match inlined_sim_operation(self.ex, file, def, outer) {
+            Ok(op) => op,
+            Err(m) => {
+                self.problem(r, m);
+                return None;
+            }
+        };
+        if op.params != self.ops[o].params {
+            self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
+            return None;
+        }
+        for out in &op.outputs {
+            let event = self.events.iter().any(|e| e.name == *out && (e.both || !self.is_input(e)));
+            let platform = self.ops.iter().any(|x| x.name == *out && x.io == Some(Io::Output));
+            if !event && !platform {
+                self.problem(r, format!("the operation `{n}` writes `${out}`, which is no output of the machine"));
+                return None;
+            }
+        }
+        self.fn_calls.extend(op.functions.iter().cloned());
+        let helper = ident(&format!("CALL__{n}"));
+        if !self.op_calls.iter().any(|(h, _)| *h == helper) {
+            let def = self.operation_helper(&op, &helper, r)?;
+            self.op_calls.push((helper.clone(), def));
+        }
+        if op.uses_exec {
+            self.uses_exec_stmt = true;
+        }
+        let (args, reads) = self.arguments(args, r, o)?;
+        let p = if args.is_empty() { name(helper) } else { call(helper, args) };
+        let p = self.with_reads(&reads, p);
+        self.record_term(s.head, TermKind::Call, || p.clone());
+        Some(p)
+    }
+
     /// `CALL__op(x…) = pkg::OP_op::D__(id__, x…, constants) [[ pkg::OP_op::e <- e, … ]]`:
     /// the operation's constants become the caller's, its channels the
     /// caller's channels of the same name.
@@ -335,6 +387,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                                 io: None,
                                 received: false,
                                 trig: false,
+                                both: false,
                             });
                             self.names.insert(ch.model.clone(), Nm::Event(self.events.len() - 1));
                             self.events.len() - 1
@@ -358,11 +411,25 @@ impl<'e, 'a> Gen<'e, 'a> {
                         Some(i) => i,
                         None => {
                             let params = ch.params.clone();
-                            self.ops.push(OpI { name: ch.model.clone(), params, defined: false });
+                            self.ops.push(OpI { name: ch.model.clone(), params, defined: false, io: None });
                             self.op_names.insert(ch.model.clone(), self.ops.len() - 1);
                             self.ops.len() - 1
                         }
                     };
+                    if self.robosim && self.ops[i].defined {
+                        self.problem(
+                            r,
+                            format!(
+                                "the operation calls `{}`, which the controller defines too: calls between \
+                                 operations are not run inside a RoboSim machine by the export yet",
+                                ch.model
+                            ),
+                        );
+                        return None;
+                    }
+                    if self.robosim {
+                        self.sim_op_calls.insert(i);
+                    }
                     if self.ops[i].params != ch.params || self.ops[i].defined {
                         self.problem(r, format!("the operation `{}` has another signature in the callee", ch.model));
                         return None;
@@ -372,6 +439,12 @@ impl<'e, 'a> Gen<'e, 'a> {
                 }
             };
             renames.push((name(format!("{}::{}", op.module, ch.csp)), name(mine)));
+        }
+        if op.uses_exec {
+            // RoboSim: the operation's `exec` ends the machine's cycle.
+            let end = dot(vec![name("endexec"), name("TID_exec")]);
+            renames.push((name(format!("{}::endexec", op.module)), end));
+            renames.push((name(format!("{}::startexec", op.module)), name("startexec")));
         }
         let mut body = call(format!("{}::D__", op.module), args);
         if !renames.is_empty() {
@@ -383,6 +456,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     /// A RoboSim output: the register write, urgent (robotool3), or its
     /// record in the machine's buffer (paper2019, Rule 7).
     pub(super) fn output(&mut self, model: &str, args: Vec<Expr>, _r: TextRange) -> Option<Expr> {
+        self.written.insert(model.to_string());
         let ctor = self.ex.out_reg(model);
         if self.profile == Profile::Paper2019 {
             let mut f = vec![Field::Dot(name(ctor)), Field::Dot(Expr::Bool(true))];
