@@ -911,16 +911,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 });
             }
             for &k in &self.sim_op_calls {
-                let o = &self.ops[k];
-                let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
-                chans.push(Chan {
-                    csp: op_event(&o.name, "Call"),
-                    model: o.name.clone(),
-                    kind: ChanKind::Call,
-                    fields: values.clone(),
-                    dir: Dir::Out,
-                    values,
-                });
+                chans.push(call_chan(&self.ops[k]));
             }
         } else {
             for e in &self.events {
@@ -937,15 +928,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 });
             }
             for o in self.ops.iter().filter(|o| !o.defined) {
-                let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
-                chans.push(Chan {
-                    csp: op_event(&o.name, "Call"),
-                    model: o.name.clone(),
-                    kind: ChanKind::Call,
-                    fields: values.clone(),
-                    dir: Dir::Out,
-                    values,
-                });
+                chans.push(call_chan(o));
                 if self.profile == Profile::Paper2019 {
                     chans.push(Chan {
                         csp: op_event(&o.name, "Ret"),
@@ -976,5 +959,19 @@ impl<'e, 'a> Gen<'e, 'a> {
             states: self.state_tags(),
             functions: self.fn_calls.clone(),
         }
+    }
+}
+
+/// The urgent call event `opCall` of the operation `o`, which the machine
+/// calls but nothing defines for it.
+fn call_chan(o: &super::OpI) -> Chan {
+    let values: Vec<Expr> = o.params.iter().map(|t| t.set()).collect();
+    Chan {
+        csp: op_event(&o.name, "Call"),
+        model: o.name.clone(),
+        kind: ChanKind::Call,
+        fields: values.clone(),
+        dir: Dir::Out,
+        values,
     }
 }
