@@ -2,6 +2,11 @@
 
 use super::*;
 
+/// What makes an operation's process from its definition ([`operation`],
+/// [`inlined_sim_operation`]).
+type BuildOperation<'a> =
+    fn(&mut Exporter<'a>, File, &'a m::Behaviour, Vec<String>) -> Result<Rc<OperationOut>, String>;
+
 impl<'e, 'a> Gen<'e, 'a> {
     pub(super) fn stmt(&mut self, s: &m::Stmt) -> Option<Expr> {
         if self.nesting >= MAX_NESTING {
@@ -258,15 +263,14 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
     }
 
-    /// A call of an operation defined in the model: its process
-    /// (`pkg::OP_op::D__(id__, args, constants)`, its events renamed to the
-    /// caller's), through `CALL__op(args)` as RoboTool names it. The
-    /// operation's events and platform calls become the caller's.
-    pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
-        let r = s.range;
+    /// The process of the operation `o` a statement at `r` calls, built by
+    /// `build` from its definition; `None` (the problem reported) when it
+    /// is not exported or its parameters differ from those the caller
+    /// requires.
+    fn called_operation(&mut self, r: TextRange, o: usize, build: BuildOperation<'a>) -> Option<Rc<OperationOut>> {
         let n = self.ops[o].name.clone();
         let (_, file, def, outer) = self.op_definition(&n)?;
-        let op = match operation(self.ex, file, def, outer) {
+        let op = match build(self.ex, file, def, outer) {
             Ok(op) => op,
             Err(m) => {
                 self.problem(r, m);
@@ -277,6 +281,17 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
             return None;
         }
+        Some(op)
+    }
+
+    /// A call of an operation defined in the model: its process
+    /// (`pkg::OP_op::D__(id__, args, constants)`, its events renamed to the
+    /// caller's), through `CALL__op(args)` as RoboTool names it. The
+    /// operation's events and platform calls become the caller's.
+    pub(super) fn call_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
+        let r = s.range;
+        let n = self.ops[o].name.clone();
+        let op = self.called_operation(r, o, operation)?;
         self.fn_calls.extend(op.functions.iter().cloned());
         let helper = ident(&format!("CALL__{n}"));
         if !self.op_calls.iter().any(|(h, _)| *h == helper) {
@@ -300,18 +315,7 @@ impl<'e, 'a> Gen<'e, 'a> {
     pub(super) fn call_sim_operation(&mut self, s: &m::Stmt, args: &[m::Expr], o: usize) -> Option<Expr> {
         let r = s.range;
         let n = self.ops[o].name.clone();
-        let (_, file, def, outer) = self.op_definition(&n)?;
-        let op = match inlined_sim_operation(self.ex, file, def, outer) {
-            Ok(op) => op,
-            Err(m) => {
-                self.problem(r, m);
-                return None;
-            }
-        };
-        if op.params != self.ops[o].params {
-            self.problem(r, format!("`{n}`: its definition's parameters differ from the required signature"));
-            return None;
-        }
+        let op = self.called_operation(r, o, inlined_sim_operation)?;
         for out in &op.outputs {
             let event = self.events.iter().any(|e| e.name == *out && (e.both || !self.is_input(e)));
             let platform = self.ops.iter().any(|x| x.name == *out && x.io == Some(Io::Output));
