@@ -856,11 +856,31 @@ pub struct Machine {
     /// is a hidden step the state's transitions may pre-empt, as in
     /// RoboTool's `During`; empty when none (see `eager.rs`).
     pub paused_durings: Vec<bool>,
+    /// By instruction: the instructions that read or write what another
+    /// thread writes or reads, before which the thread stops unless its
+    /// step has touched nothing another thread sees (see `reads.rs`);
+    /// empty when none.
+    pub volatile: Vec<bool>,
+    /// By instruction: the communications that offer values read once, on
+    /// arrival, as RoboTool's `get_x?x -> e!x` does (see `reads.rs`);
+    /// empty when none.
+    pub latches: Vec<Option<Latch>>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,
     /// The file the machine is declared in (index into the model's files).
     pub file: u16,
+}
+
+/// The values a communication offers, read once when its thread gets
+/// there (RT-16, RT-18: RoboTool's `get_x?x` before the event).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Latch {
+    /// 1 once the values are read, 0 before and after the communication.
+    pub flag: u16,
+    /// A slot per argument (an input's required value: one), with the
+    /// channel parameter's domain when known.
+    pub slots: Vec<(u16, Option<Dom>)>,
 }
 
 /// A clock: its slot and the value at which it saturates.
@@ -1009,6 +1029,14 @@ impl Design {
             }
             for &t in &m.timers {
                 set(t, -1, timer);
+            }
+            for l in m.latches.iter().flatten() {
+                set(l.flag, 0, 1);
+                for &(s, d) in &l.slots {
+                    if let Some(d) = d {
+                        set(s, d.lo.min(0), d.hi.max(0));
+                    }
+                }
             }
         }
         for v in &self.vars {

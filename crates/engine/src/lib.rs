@@ -18,6 +18,7 @@ pub mod lower;
 pub mod lts;
 pub mod machine;
 pub mod pack;
+mod reads;
 pub mod sched;
 pub mod sim;
 pub mod untimed;

@@ -107,6 +107,7 @@ impl Machine {
             v.extend([st[a.pc_slot as usize], st[a.wait_slot as usize], st[a.deadline_slot as usize]]);
         }
         v.extend(self.timers.iter().map(|&t| st[t as usize]));
+        v.extend(self.latches.iter().flatten().map(|l| st[l.flag as usize]));
         v
     }
 
@@ -186,6 +187,10 @@ impl Machine {
     /// [`Machine::settle`], setting `sat` when sticky arithmetic kept an
     /// operand because the result fell outside its type.
     fn settle_noting(&self, st: &mut [i32], clocks: &[Clock], first: bool, sat: &mut bool) -> Result<(), StepError> {
+        // A machine with volatile instructions (`reads.rs`) has each of
+        // them as a step of its own: a transition's guard, an event or the
+        // start is not one (RoboTool's `get_x` and `set_x` come after them).
+        let first = first && self.volatile.is_empty();
         self.run(self.main_thread(), st, clocks, first, sat)
     }
 
@@ -241,6 +246,10 @@ impl Machine {
         // Most machines have no during action that starts with a step of
         // its own: one test per run, not per instruction.
         let pauses = !self.paused_durings.is_empty();
+        // With volatile instructions (`reads.rs`), a step runs at most one,
+        // and only when it started as a hidden step of its own.
+        let marked = !self.volatile.is_empty();
+        let mut fresh = first;
         for i in 0..MAX_INTERNAL {
             let pc = st[th.pc] as usize;
             // A during action that starts with a hidden step of its own
@@ -252,9 +261,13 @@ impl Machine {
             let Some(instr) = self.code.get(pc) else {
                 return Err(StepError(format!("machine `{}` ran off its code", self.name)));
             };
+            let volatile = marked && self.volatile[pc];
+            if volatile && !fresh && !matches!(instr, Instr::Out { .. } | Instr::In { .. }) {
+                return Ok(());
+            }
             match instr {
                 Instr::Assign { slot, expr, dom, shared, forward } => {
-                    if *shared && !first {
+                    if *shared && !first && !marked {
                         return Ok(());
                     }
                     // RT-16: the controller is still forwarding a write.
@@ -409,9 +422,15 @@ impl Machine {
                         st[th.pc] = self.nodes[p as usize].exit_pc as i32;
                     }
                 }
-                Instr::Out { .. }
-                | Instr::In { .. }
-                | Instr::Rest
+                Instr::Out { .. } | Instr::In { .. } => {
+                    if let Some(Some(l)) = self.latches.get(pc) {
+                        if st[l.flag as usize] == 0 && fresh {
+                            self.latch(instr, l, st, sat)?;
+                        }
+                    }
+                    return Ok(());
+                }
+                Instr::Rest
                 | Instr::Junction(_)
                 | Instr::Terminate
                 | Instr::Exec(_)
@@ -420,10 +439,41 @@ impl Machine {
                     return Ok(());
                 }
             }
+            if volatile {
+                fresh = false;
+            }
             first = false;
         }
         let _ = clocks;
         Err(StepError(format!("machine `{}` loops without offering anything", self.name)))
+    }
+
+    /// Reads the values the communication `instr` offers into its latch.
+    #[cold]
+    #[inline(never)]
+    fn latch(&self, instr: &Instr, l: &Latch, st: &mut [i32], sat: &mut bool) -> Result<(), StepError> {
+        let exprs: Vec<&Expr> = match instr {
+            Instr::Out { args, .. } => args.iter().collect(),
+            Instr::In { value, .. } => value.iter().collect(),
+            _ => Vec::new(),
+        };
+        for (e, &(slot, _)) in exprs.into_iter().zip(&l.slots) {
+            let v = e.eval(st, sat).map_err(|e| self.eval_error(e))?;
+            st[slot as usize] = v as i32;
+        }
+        st[l.flag as usize] = 1;
+        Ok(())
+    }
+
+    /// The latch of the communication at `pc`, back to its resting values.
+    #[inline]
+    fn unlatch(&self, st: &mut [i32], pc: usize) {
+        if let Some(Some(l)) = self.latches.get(pc) {
+            st[l.flag as usize] = 0;
+            for &(slot, _) in &l.slots {
+                st[slot as usize] = 0;
+            }
+        }
     }
 
     fn eval_error(&self, e: EvalError) -> StepError {
@@ -483,7 +533,7 @@ impl Machine {
             Instr::Terminate | Instr::Exec(_) | Instr::ExecTransition => {}
             _ => {
                 let waited = st[self.slot(WAIT)] == 0;
-                if !self.thread_offers(instr, st, out, waited, Act::Comm, Act::Choose, Act::Exec)? {
+                if !self.thread_offers(pc, instr, st, out, waited, Act::Comm, Act::Choose, Act::Exec)? {
                     return Err(StepError(format!("machine `{}` stopped at an internal instruction", self.name)));
                 }
             }
@@ -508,6 +558,7 @@ impl Machine {
             let ok = match self.code.get(pc as usize) {
                 Some(Instr::ActivityEnd) => true,
                 Some(instr) => self.thread_offers(
+                    pc as usize,
                     instr,
                     st,
                     out,
@@ -537,6 +588,7 @@ impl Machine {
     #[inline(always)]
     fn thread_offers(
         &self,
+        pc: usize,
         instr: &Instr,
         st: &[i32],
         out: &mut Vec<Move>,
@@ -547,13 +599,27 @@ impl Machine {
     ) -> Result<bool, StepError> {
         let mut sat = false;
         let mut eval = |e: &Expr| e.eval(st, &mut sat).map_err(|e| self.eval_error(e));
+        let latch = match self.latches.get(pc) {
+            Some(Some(l)) => Some(l),
+            _ => None,
+        };
         match instr {
+            // Not read yet: reading is a hidden step of its own.
+            Instr::Out { .. } | Instr::In { .. } if latch.is_some_and(|l| st[l.flag as usize] == 0) => {
+                out.push(Move { offer: Offer::Tau, act: exec })
+            }
             Instr::Out { chan, args, .. } => {
-                let args = args.iter().map(&mut eval).collect::<Result<_, _>>()?;
+                let args = match latch {
+                    Some(l) => l.slots.iter().map(|&(s, _)| st[s as usize] as Val).collect(),
+                    None => args.iter().map(&mut eval).collect::<Result<_, _>>()?,
+                };
                 out.push(Move { offer: Offer::Out { chan: *chan, args }, act: comm });
             }
             Instr::In { chan, value, .. } => {
-                let value = value.as_ref().map(&mut eval).transpose()?;
+                let value = match latch {
+                    Some(l) => l.slots.first().map(|&(s, _)| st[s as usize] as Val),
+                    None => value.as_ref().map(&mut eval).transpose()?,
+                };
                 out.push(Move { offer: Offer::In { chan: *chan, value }, act: comm });
             }
             Instr::ChooseWait(lo, hi) => {
@@ -586,7 +652,7 @@ impl Machine {
             | Instr::BeginExits
             | Instr::ExitDone(_)
             | Instr::Entered(_)
-                if !(self.paused_comms.is_empty() && self.paused_durings.is_empty()) =>
+                if !(self.paused_comms.is_empty() && self.paused_durings.is_empty() && self.volatile.is_empty()) =>
             {
                 out.push(Move { offer: Offer::Tau, act: exec })
             }
@@ -835,6 +901,7 @@ impl Machine {
             Act::Comm | Act::ActivityComm(_) => {
                 let pc = st[th.pc] as u32;
                 self.receive(st, pc, value, sat)?;
+                self.unlatch(st, pc as usize);
                 st[th.pc] += 1;
                 // RT-16/18: what follows is a hidden step of its own (the
                 // thread offers it as a τ where it stopped).
@@ -865,9 +932,13 @@ impl Machine {
                 st[*slot as usize] = v as i32;
             }
             (Some(Instr::Out { args, store: Some((slot, dom)), .. }), _) => {
-                let v = match args.first() {
-                    Some(e) => e.eval(st, sat).map_err(|e| self.eval_error(e))?,
-                    None => return Ok(()),
+                let v = match (self.latches.get(pc as usize), args.first()) {
+                    (Some(Some(l)), _) => match l.slots.first() {
+                        Some(&(s, _)) => st[s as usize] as Val,
+                        None => return Ok(()),
+                    },
+                    (_, Some(e)) => e.eval(st, sat).map_err(|e| self.eval_error(e))?,
+                    (_, None) => return Ok(()),
                 };
                 if dom.contains(v) {
                     st[*slot as usize] = v as i32;

@@ -427,15 +427,11 @@ fn class(o: &Outcome) -> String {
     }
 }
 
-/// Why `platform_variables_read_by_other_machines` disagrees untimed.
-const HELD_VALUE: &str = "the engine is wrong (RT-16): `Reader`'s `condition speed == 2 action report(speed)` reads its copy of `speed` for the guard, then again for the call (RoboTool's `get_speed?speed -> reportCall.speed` after `exited`, as the export writes it), so the call may carry 1 once `Setter`'s next write has been forwarded in between, and the value read stays while the call waits; the engine evaluates the call's argument when it offers it, atomically with the guard and again after every forward, so it never holds 1 once the copy is 2. Untimed only: timed, `Setter` writes again only after a `tock`";
-
 /// Known disagreements of the untimed semantics (RT-9), as [`KNOWN`]: the
 /// same elements and cause as the timed ones (how a record value is
-/// written, not behaviour), and one the engine's (`HELD_VALUE`).
+/// written, not behaviour).
 #[rustfmt::skip]
 const KNOWN_UNTIMED: &[(&str, &str, &str, &str)] = &[
-    ("platform_variables_read_by_other_machines", "pd::C", "failures: the export has after ⟨pd::C::obstacle.in, pd::C::obstacle.in, pd::C::obstacle.in⟩ a stable state offers only {pd::C::obstacle.in, pd::C::reportCall.1}", HELD_VALUE),
     ("csp_bridge_record_constants_of_generated_processes", "p::R", "traces: the engine has trace ⟨p::R::go.in, p::R::out.out", RECORDS),
     ("csp_types_an_untimed_contract_in_the_timed_semantics", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", RECORDS),
     ("csp_types_events_carrying_a_tuple_with_a_record", "p::M", "traces: the engine has trace ⟨p::M::prio.in.0, p::M::go.in, p::M::out.out", RECORDS),

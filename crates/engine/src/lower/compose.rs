@@ -581,6 +581,7 @@ impl<'a> Cx<'a> {
         if !self.robosim {
             crate::eager::mark_paused_comms(&mut design, &shared);
             crate::eager::mark_paused_durings(&mut design, &shared);
+            crate::reads::mark_reads(&mut design, &shared, &mut slot);
         }
         design.slots = slot;
         design.files = self.files.iter().map(|f| f.path(self.db).clone()).collect();
@@ -743,6 +744,8 @@ impl<'a> Cx<'a> {
             eager_waits: Vec::new(),
             paused_comms: Vec::new(),
             paused_durings: Vec::new(),
+            volatile: Vec::new(),
+            latches: Vec::new(),
             base,
             file: file_ix,
         };

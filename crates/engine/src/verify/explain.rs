@@ -282,8 +282,14 @@ pub(super) fn describe_act(
         Act::Exec if matches!(m.code.get(pc), Some(Instr::Wait)) => {
             (Some(format!("{}: goes on after its wait, now {}", m.name, m.describe(next))), here)
         }
-        Act::Exec if matches!(m.code.get(pc), Some(Instr::Assign { .. })) => {
+        Act::Exec if matches!(m.code.get(pc), Some(Instr::Assign { shared: true, .. })) => {
             (Some(format!("{}: writes a shared variable, now {}", m.name, m.describe(next))), here)
+        }
+        Act::Exec if matches!(m.latches.get(pc), Some(Some(_))) => {
+            (Some(format!("{}: reads the values its communication carries, now {}", m.name, m.describe(next))), here)
+        }
+        Act::Exec if m.volatile.get(pc) == Some(&true) => {
+            (Some(format!("{}: reads what another thread writes, now {}", m.name, m.describe(next))), here)
         }
         Act::Exec if m.paused_durings.get(pc) == Some(&true) => {
             (Some(format!("{}: starts the during action of {}", m.name, at(m.leaf(prev)))), here)
