@@ -194,7 +194,7 @@ fn abbreviate(e: &Expr) -> Expr {
 fn reading(t: &Term, robosim: bool) -> String {
     let text = |e: &Expr| print_expr(e, usize::MAX);
     match t.kind {
-        TermKind::Exec => "`exec` ends this machine's cycle (`endexec`, enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6).".into(),
+        TermKind::Exec => "`exec` ends this machine's cycle (`endexec__`, tagged with the transition and seen as `endexec`; enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6).".into(),
         TermKind::OperationOutput => {
             let reg = first_register(&t.expr).unwrap_or_default();
             let op = reg.strip_prefix("o_").unwrap_or(&reg);
