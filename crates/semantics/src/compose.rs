@@ -1053,13 +1053,14 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
     let d_body = if machines.is_empty() { ending(p_call.clone()) } else { ending(hide(p_call.clone(), entered)) };
     let exports = vec![
         Decl::Comment(format!(
-            "P__: the {} with `terminate`{} and its machines' `entered__` visible; D__: its semantics{};\n\
+            "P__: the {} with `terminate`{} and its machines' `entered__` visible;{}D__: its semantics{};\n\
              VS__: with the machines' `entered__` visible (reachability); O__: D__ compressed\n(parameters: {}).",
             kind.describe(),
             if visible_end { ", one `endexec` per cycle" } else { "" },
+            if visible_end { "\n" } else { " " },
             match (shown, visible_end) {
-                (true, _) => ",\n`endexec` and `terminate` visible (RT-21)",
-                (false, true) => ",\n`endexec` and `terminate` hidden (RT-21)",
+                (true, _) => ", `endexec` and `terminate` visible (RT-21)",
+                (false, true) => ", `endexec` and `terminate` hidden (RT-21)",
                 (false, false) => "",
             },
             params.join(", ")
