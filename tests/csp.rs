@@ -123,7 +123,7 @@ fn paper_example_assertions() {
     }
     let sim = std::fs::read_to_string(dir.join("timed").join("simulation.csp")).unwrap();
     // Rule 6: exec as trigger; robotool3 outputs: urgent register writes.
-    assert!(sim.contains("endexec.TID_t2 -> (StartExec__ ; Junction__j0)"), "{sim}");
+    assert!(sim.contains("endexec__.TID_t2 -> (StartExec__ ; Junction__j0)"), "{sim}");
     assert!(sim.contains("EDeadline(registerWrite.o_move.lv.0, 0)"), "{sim}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -516,10 +516,7 @@ fn reachability_verdicts_agree() {
 }
 
 /// Known refinement disagreements: (fixture, assertion, why).
-#[rustfmt::skip]
-const REFINE_KNOWN: &[(&str, &str, &str)] = &[
-    ("robosim_facts_the_end_of_a_cycle", "R1", "the export is wrong (RT-21): RoboTool's `D__` of a RoboSim machine on its own is `timed_priority(STM \\ internal_events)`, `endexec` and `terminate` visible (the reference's `csp-gen/sim/defs/pkg223_aggregation_sim_Movement.csp`), so a finished machine may let time pass (`terminate` competes with `tock`); the export hides both, and the hidden `terminate` pre-empts `tock`: N's trace `registerWrite.o_op, tock` is not one of M"),
-];
+const REFINE_KNOWN: &[(&str, &str, &str)] = &[];
 
 /// Refinement verdicts: for every timed refinement or equivalence
 /// assertion of the fixtures' own assertion files (RoboChart and RoboSim), FDR's

@@ -685,8 +685,20 @@ fn assertion(
                     x.module, y.module
                 ));
             }
-            let px = process(ex, file, read, a, &x, "D__")?;
-            let py = process(ex, file, read, a, &y, "D__")?;
+            let mut px = process(ex, file, read, a, &x, "D__")?;
+            let mut py = process(ex, file, read, a, &y, "D__")?;
+            // RT-21: a cycle-constrained design has no `endexec`: a RoboSim
+            // machine or controller compared with one is read at a
+            // module's alphabet, its `endexec` and `terminate` hidden (as
+            // the native checker does, and says).
+            if x.simulation != y.simulation {
+                for (s, p) in [(&x, &mut px), (&y, &mut py)] {
+                    if shows_end(ex, s) {
+                        let end = Expr::Set(vec![name("endexec"), name("terminate")]);
+                        *p = call("TimedPriority", vec![hide(p.clone(), end)]);
+                    }
+                }
+            }
             let timed = [&x, &y].iter().any(|s| s.simulation || s.elem.as_ref().is_some_and(|e| e.robosim));
             let tp = if timed { tau_priority() } else { None };
             let mut v = vec![Assert { negated: a.negated, kind: AssertKind::Refines(m, py.clone(), px.clone()), tau_priority: tp.clone() }];
@@ -753,6 +765,14 @@ fn assertion(
         }
         AssertionKind::Other(t) => Err(format!("the assertion `{t}` could not be read")),
     }
+}
+
+/// Whether the subject's `D__` shows `endexec` and `terminate` (RT-21): a
+/// RoboSim machine or controller in RoboTool 3's profile.
+fn shows_end(ex: &Exporter<'_>, s: &Subject) -> bool {
+    let kind = s.elem.as_ref().filter(|e| e.robosim && !s.simulation).map(|e| e.kind);
+    ex.profile == crate::Profile::RoboTool3
+        && matches!(kind, Some(crate::export::ElemKind::Machine | crate::export::ElemKind::Controller))
 }
 
 /// Whether `a` means something in RoboChart's untimed semantics (RT-8,
@@ -839,6 +859,7 @@ fn generated_names(ex: &Exporter<'_>) -> std::collections::HashSet<String> {
         "tock",
         "tock'",
         "terminate",
+        "endexec",
         "timelock",
         "deadline_done__",
         "InputRegister",

@@ -1026,7 +1026,11 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
         }
         parts.push((p, BTreeSet::new()));
     }
-    let comp = compose(parts, &["tock", "terminate"]);
+    // RT-21: the components end each cycle together, on one `endexec`
+    // (after every machine's), shown by a controller and hidden by a
+    // module, as is `terminate`. The paper's machines hide their own.
+    let visible_end = ex.profile == crate::Profile::RoboTool3;
+    let comp = compose(parts, if visible_end { &["tock", "terminate", "endexec"] } else { &["tock", "terminate"] });
     let args: Vec<Expr> = params.iter().map(|p| name(p.clone())).collect();
     // The machines' `P__` show their `entered__`: D__ hides them, VS__
     // keeps them (reachability), as RoboTool's `VS__` of a container.
@@ -1035,22 +1039,30 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
         machine_modules(&i.elem, &mut machines);
     }
     let entered = Expr::Events(machines.iter().map(|m| name(format!("{m}::entered__"))).collect());
+    let shown = visible_end && kind == ElemKind::Controller;
     let ending = |p: Expr| {
-        call(
-            "TimedPriority",
-            vec![hide(
-                Expr::Exception(Box::new(p), Box::new(Expr::Set(vec![name("terminate")])), Box::new(Expr::Skip)),
-                Expr::Set(vec![name("terminate")]),
-            )],
-        )
+        let end = Expr::Exception(Box::new(p), Box::new(Expr::Set(vec![name("terminate")])), Box::new(Expr::Skip));
+        let end = match (shown, visible_end) {
+            (true, _) => end,
+            (false, true) => hide(end, Expr::Set(vec![name("endexec"), name("terminate")])),
+            (false, false) => hide(end, Expr::Set(vec![name("terminate")])),
+        };
+        call("TimedPriority", vec![end])
     };
     let p_call = call("P__", args.clone());
     let d_body = if machines.is_empty() { ending(p_call.clone()) } else { ending(hide(p_call.clone(), entered)) };
     let exports = vec![
         Decl::Comment(format!(
-            "P__: the {} with `terminate` and its machines' `entered__` visible; D__: its semantics;\n\
+            "P__: the {} with `terminate`{} and its machines' `entered__` visible;{}D__: its semantics{};\n\
              VS__: with the machines' `entered__` visible (reachability); O__: D__ compressed\n(parameters: {}).",
             kind.describe(),
+            if visible_end { ", one `endexec` per cycle" } else { "" },
+            if visible_end { "\n" } else { " " },
+            match (shown, visible_end) {
+                (true, _) => ", `endexec` and `terminate` visible (RT-21)",
+                (false, true) => ", `endexec` and `terminate` hidden (RT-21)",
+                (false, false) => "",
+            },
             params.join(", ")
         )),
         Decl::Def("P__".into(), params.clone(), call("TimedPriority", vec![comp])),

@@ -81,6 +81,14 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
             "`terminate`, `timelock`: the timed script's names, kept for `csp` blocks.".into()
         }),
         Decl::Channel(vec!["terminate".into(), "timelock".into()], vec![]),
+        Decl::Comment(if ex.timed {
+            "`endexec` ends a RoboSim cycle: visible for a machine or a controller on its own (robotool-facts\n\
+             RT-21), one for all of a controller's machines."
+                .into()
+        } else {
+            "`endexec`: the timed script's name, kept for `csp` blocks.".into()
+        }),
+        Decl::Channel(vec!["endexec".into()], vec![]),
         Decl::Channel(vec!["deadline_done__".into()], vec![]),
         Decl::Comment("`terminated__` follows termination in `terminates` checks (robotool-facts RT-10).".into()),
         Decl::Channel(vec!["terminated__".into()], vec![]),

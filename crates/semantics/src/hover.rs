@@ -144,7 +144,7 @@ fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: ElemDef<'_>, path:
             "The machine `{what}`: its states are processes (`Enter__S` runs the entry action, `Rest__S` offers the transitions while time passes) in parallel with its memory (`Memory__`: variables, clocks, and the guards, which enable each transition's trigger); internal events are hidden and happen before time passes (`TimedPriority`); once finished, it offers its `terminate` while time passes."
         ),
         (crate::export::ElemKind::Machine, true) => format!(
-            "The machine `{what}` (paper Rules 3–7, 13): its behaviour, its memory (inputs, variables, clocks, guards) and its cycle: read every input register, `startexec`, run until an `exec` ends the cycle (`endexec`), each output register written at once and at most once, then `cycle` time units pass."
+            "The machine `{what}` (paper Rules 3–7, 13): its behaviour, its memory (inputs, variables, clocks, guards) and its cycle: read every input register, `startexec`, run until an `exec` ends the cycle (`endexec`, visible on its own: RT-21), each output register written at once and at most once, then `terminate` if it has finished, or `cycle` time units pass."
         ),
         (kind, false) => format!(
             "The {} `{what}`: its components in parallel, synchronising on `tock` and `terminate` (they end together), their events renamed through the connections; connections between components are hidden{}.",
@@ -152,7 +152,7 @@ fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: ElemDef<'_>, path:
             if kind == crate::export::ElemKind::Module { ", and so is `terminate`: the module ends at once" } else { "" }
         ),
         (_, true) => format!(
-            "The {} `{what}` (paper Rules 1, 9–11): its components in parallel, synchronising on `tock` and `terminate`, their registers renamed through the connections.",
+            "The {} `{what}` (paper Rules 1, 9–11): its components in parallel, synchronising on `tock`, `terminate` and the end of each cycle (one `endexec`, after every machine's: a controller shows both, a module hides them, RT-21), their registers renamed through the connections.",
             elem.kind.describe()
         ),
     };
@@ -194,7 +194,7 @@ fn abbreviate(e: &Expr) -> Expr {
 fn reading(t: &Term, robosim: bool) -> String {
     let text = |e: &Expr| print_expr(e, usize::MAX);
     match t.kind {
-        TermKind::Exec => "`exec` ends this machine's cycle (`endexec`, enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6).".into(),
+        TermKind::Exec => "`exec` ends this machine's cycle (`endexec__`, tagged with the transition and seen as `endexec`; enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6).".into(),
         TermKind::OperationOutput => {
             let reg = first_register(&t.expr).unwrap_or_default();
             let op = reg.strip_prefix("o_").unwrap_or(&reg);

@@ -10,7 +10,8 @@
 //!   Rules 1–13 in the RoboTool 3 reading (semantics.md §2, §5): the
 //!   cycle reads the input registers, `startexec`, the machine runs until
 //!   `exec` (`endexec`), outputs are urgent register writes, at most one
-//!   per register and cycle;
+//!   per register and cycle; a machine or controller on its own shows
+//!   `endexec` and `terminate`, a module hides them (RT-21);
 //! - for each `simulation S of M`, the assumptions A1–A3, the constrained
 //!   design and the schedulability process `TLF` (semantics.md §4.2–4.3);
 //! - the same in the `paper2019` profile ([`Profile`]): calls with

@@ -67,6 +67,7 @@ pub(crate) const RESERVED: &[&str] = &[
     "out",
     "tock",
     "terminate",
+    "endexec",
     "timelock",
     "error",
     "show",

@@ -101,7 +101,8 @@ fn the_lawnmower_simulation_runs_its_controller_operation() {
 /// then move.k): move.1, the cycle ended in step's `exec`, move.2 in the
 /// next, the machine's own `exec` ends that one, then ✓ in the third. On
 /// its own: move.1 and the urgent `stepCall.2` in the first cycle, ✓ in
-/// the second.
+/// the second. Each cycle ends with the visible `endexec`, and the end
+/// with `terminate` (RT-21: a machine or a controller on its own).
 #[test]
 fn a_machine_runs_its_controller_operation_and_calls_it_on_its_own() {
     let e = export_dir(&fixture());
@@ -125,25 +126,37 @@ fn a_machine_runs_its_controller_operation_and_calls_it_on_its_own() {
     );
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let in_c = ev.lts("InC__").unwrap();
-    let cycles = ["registerWrite.o_move.1", "tock", "registerWrite.o_move.2", "tock"];
+    let cycles = [
+        "registerWrite.o_move.1",
+        "endexec",
+        "tock",
+        "registerWrite.o_move.2",
+        "endexec",
+        "tock",
+        "endexec",
+        "terminate",
+    ];
+    // Not at the end of the second cycle.
+    let early = [&cycles[..5], &["terminate"]].concat();
     assert!(terminates_after(&in_c, &cycles), "{:?}", in_c.events);
     // The writes are urgent, and step's `exec` ends the first cycle.
     assert!(
         after(&in_c, &["tock"]).is_empty()
             && after(&in_c, &["registerWrite.o_move.1", "registerWrite.o_move.2"]).is_empty()
     );
-    assert!(!terminates_after(&in_c, &cycles[..3]) && !in_c.events.iter().any(|e| e.contains("stepCall")));
+    assert!(!terminates_after(&in_c, &early) && !in_c.events.iter().any(|e| e.contains("stepCall")));
     // As Spec writes it out (its own states counted apart).
     let spec = ev.lts("Spec__").unwrap();
-    assert!(terminates_after(&spec, &cycles) && !terminates_after(&spec, &cycles[..3]));
+    assert!(terminates_after(&spec, &cycles) && !terminates_after(&spec, &early));
     // inc() raises M3's own n, which M3 writes: as Spec.
     let in_c3 = ev.lts("InC3__").unwrap();
-    assert!(terminates_after(&in_c3, &cycles) && !terminates_after(&in_c3, &cycles[..3]));
+    assert!(terminates_after(&in_c3, &cycles) && !terminates_after(&in_c3, &early));
     let alone = ev.lts("Alone__").unwrap();
-    assert!(terminates_after(&alone, &["registerWrite.o_move.1", "M::stepCall.2", "tock"]), "{:?}", alone.events);
+    let first = ["registerWrite.o_move.1", "M::stepCall.2", "endexec", "tock"];
+    assert!(terminates_after(&alone, &[&first[..], &["endexec", "terminate"]].concat()), "{:?}", alone.events);
     assert!(after(&alone, &["registerWrite.o_move.1", "tock"]).is_empty());
     assert!(after(&alone, &["registerWrite.o_move.1", "M::stepCall.2", "registerWrite.o_move.2"]).is_empty());
-    assert!(after(&alone, &["registerWrite.o_move.1", "M::stepCall.2", "tock", "registerWrite.o_move.2"]).is_empty());
+    assert!(after(&alone, &[&first[..], &["registerWrite.o_move.2"]].concat()).is_empty());
     assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
 }
 
@@ -235,9 +248,11 @@ controller C { cycleDef cycle == 1 uses E
     let m = checked(&e, "main.csp", "InC__ = C::D__(0, 1)\nAlone__ = M::D__(0, 1)");
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let in_c = ev.lts("InC__").unwrap();
-    let cycles = ["registerRead.i_b.false.0", "registerWrite.o_b.1", "tock", "registerRead.i_b.true.2"];
-    assert!(!after(&in_c, &[&cycles[..], &["registerWrite.o_b.2", "tock"]].concat()).is_empty(), "{:?}", in_c.events);
+    let cycles = ["registerRead.i_b.false.0", "registerWrite.o_b.1", "endexec", "tock", "registerRead.i_b.true.2"];
+    let second = ["registerWrite.o_b.2", "endexec", "tock"];
+    assert!(!after(&in_c, &[&cycles[..], &second[..]].concat()).is_empty(), "{:?}", in_c.events);
     let alone = ev.lts("Alone__").unwrap();
-    assert!(!after(&alone, &[&cycles[..], &["M::notifyCall", "tock"]].concat()).is_empty(), "{:?}", alone.events);
+    let second = ["M::notifyCall", "endexec", "tock"];
+    assert!(!after(&alone, &[&cycles[..], &second[..]].concat()).is_empty(), "{:?}", alone.events);
     assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
 }

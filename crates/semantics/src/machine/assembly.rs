@@ -100,9 +100,9 @@ impl<'e, 'a> Gen<'e, 'a> {
         if self.robosim {
             if !self.sim_op {
                 if self.uses_exec_stmt {
-                    alts.push(prefix("endexec", vec![Field::Dot(name("TID_exec"))], self.memory_call(same.clone())));
+                    alts.push(prefix("endexec__", vec![Field::Dot(name("TID_exec"))], self.memory_call(same.clone())));
                 }
-                alts.push(prefix("endexec", vec![Field::Dot(name("TID_final"))], self.memory_call(same.clone())));
+                alts.push(prefix("endexec__", vec![Field::Dot(name("TID_final"))], self.memory_call(same.clone())));
             }
             alts.push(prefix("terminate", vec![], Expr::Skip));
         } else {
@@ -220,7 +220,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             }
             private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
             private.push(Decl::Channel(vec!["startexec".into()], vec![]));
-            private.push(Decl::Channel(vec!["endexec".into()], vec![name("TIDS")]));
+            private.push(Decl::Channel(vec!["endexec__".into()], vec![name("TIDS")]));
             if self.profile == Profile::Paper2019 && !self.output_regs().is_empty() {
                 private.push(Decl::Comment("The outputs buffer (Rule 12).".into()));
                 private.push(Decl::Channel(vec!["stmout".into()], vec![name("OutputRegister")]));
@@ -358,7 +358,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             lets.push(Decl::Def(
                 "Ending__".into(),
                 vec![],
-                prefix("endexec", vec![Field::Dot(name("TID_final"))], name("EndWait__")),
+                prefix("endexec__", vec![Field::Dot(name("TID_final"))], name("EndWait__")),
             ));
             lets.push(Decl::Def(
                 "EndWait__".into(),
@@ -412,14 +412,21 @@ impl<'e, 'a> Gen<'e, 'a> {
         } else if self.robosim {
             let (cycle_defs, has_in, has_out) = self.cycle();
             lets.extend(cycle_defs);
-            let mut inner_sync = vec![name("endexec"), name("tock"), name("terminate")];
+            let mut inner_sync = vec![name("endexec__"), name("tock"), name("terminate")];
             if has_in {
                 inner_sync.push(name("registerRead"));
             }
             let inner = par(memory, Expr::Events(inner_sync), name("Cycle__"));
             let mut outer_sync = sync.clone();
-            outer_sync.extend([name("endexec"), name("startexec"), name("terminate")]);
-            hidden.extend([name("endexec"), name("startexec")]);
+            outer_sync.extend([name("endexec__"), name("startexec"), name("terminate")]);
+            // RT-21: only `startexec` is hidden; the end of the cycle is the
+            // visible `endexec` (RoboTool's `STM \ {startexec}`), whichever
+            // transition ends it. The paper's Rule 4 hides both.
+            let visible_end = self.profile == Profile::RoboTool3;
+            hidden.push(name("startexec"));
+            if !visible_end {
+                hidden.push(name("endexec__"));
+            }
             let inner = match (self.profile, has_out) {
                 (Profile::RoboTool3, true) => {
                     outer_sync.push(name("registerWrite"));
@@ -434,7 +441,15 @@ impl<'e, 'a> Gen<'e, 'a> {
                 (_, false) => inner,
             };
             let comp = par(name("Behaviour__"), Expr::Events(outer_sync), inner);
-            call("TimedPriority", vec![hide(comp, Expr::Events(hidden))])
+            let mut comp = hide(comp, Expr::Events(hidden));
+            if visible_end {
+                comp = Expr::Rename(
+                    Box::new(comp),
+                    vec![(dot(vec![name("endexec__"), name("t__")]), name("endexec"))],
+                    vec![("t__".into(), name("TIDS"))],
+                );
+            }
+            call("TimedPriority", vec![comp])
         } else {
             let mut beh = seq(vec![name("Behaviour__"), prefix("end__", vec![], Expr::Skip)]);
             if !self.activities.is_empty() {
@@ -491,18 +506,17 @@ impl<'e, 'a> Gen<'e, 'a> {
         };
         let p_def = Decl::Def("P__".into(), params.clone(), Expr::Let(lets, Box::new(body)));
         let entered = Expr::Events(vec![name("entered__")]);
+        // RT-21: a RoboSim machine on its own shows its `terminate` (and
+        // `endexec`, see P__), as RoboTool's `D__`; an operation on its own
+        // ends at its final state, and the paper's machine hides its end.
+        let show_end = self.robosim && !self.sim_op && self.profile == Profile::RoboTool3;
+        let ending = |p: Expr| {
+            let p = Expr::Exception(Box::new(p), Box::new(Expr::Set(vec![name("terminate")])), Box::new(Expr::Skip));
+            let p = if show_end { p } else { hide(p, Expr::Set(vec![name("terminate")])) };
+            call("TimedPriority", vec![p])
+        };
         let d_body = if self.robosim {
-            call(
-                "TimedPriority",
-                vec![hide(
-                    Expr::Exception(
-                        Box::new(hide(call("P__", args.clone()), entered.clone())),
-                        Box::new(Expr::Set(vec![name("terminate")])),
-                        Box::new(Expr::Skip),
-                    ),
-                    Expr::Set(vec![name("terminate")]),
-                )],
-            )
+            ending(hide(call("P__", args.clone()), entered.clone()))
         } else if self.is_operation {
             self.prioritised(hide(call("P__", args.clone()), entered))
         } else {
@@ -511,17 +525,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             self.prioritised(seq(vec![hide(self.closed(call("P__", args.clone())), entered), self.terminating()]))
         };
         let vs_body = if self.robosim {
-            call(
-                "TimedPriority",
-                vec![hide(
-                    Expr::Exception(
-                        Box::new(call("P__", args.clone())),
-                        Box::new(Expr::Set(vec![name("terminate")])),
-                        Box::new(Expr::Skip),
-                    ),
-                    Expr::Set(vec![name("terminate")]),
-                )],
-            )
+            ending(call("P__", args.clone()))
         } else if self.is_operation {
             call("P__", args.clone())
         } else {
@@ -533,6 +537,10 @@ impl<'e, 'a> Gen<'e, 'a> {
                 "RoboTool's process for the operation on its own: P__ with `terminate` (its final state)\n\
                  visible; D__: its semantics, terminating at its final state; VS__: with `entered__`\n\
                  visible (reachability); O__: D__ compressed"
+            } else if show_end {
+                "P__: the machine; D__: its semantics, the end of each cycle (`endexec`) and its\n\
+                 `terminate` visible (RT-21); VS__: with `entered__` visible (reachability); O__: D__\n\
+                 compressed"
             } else if self.robosim {
                 "P__: the machine with `terminate` visible (for composition); D__: its semantics;\n\
                  VS__: with `entered__` visible (reachability); O__: D__ compressed"
@@ -709,7 +717,7 @@ impl<'e, 'a> Gen<'e, 'a> {
             d.push(Decl::Def(
                 "Cycle__".into(),
                 vec![],
-                seq(vec![reads, prefix("startexec", vec![], prefix("endexec", vec![Field::In("t__".into())], end))]),
+                seq(vec![reads, prefix("startexec", vec![], prefix("endexec__", vec![Field::In("t__".into())], end))]),
             ));
             return (d, has_in, false);
         }
@@ -723,7 +731,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 prefix(
                     "startexec",
                     vec![],
-                    prefix("endexec", vec![Field::In("t__".into())], seq(vec![call("Collect__", all(true)), end])),
+                    prefix("endexec__", vec![Field::In("t__".into())], seq(vec![call("Collect__", all(true)), end])),
                 ),
             ]),
         ));
@@ -838,7 +846,7 @@ impl<'e, 'a> Gen<'e, 'a> {
                 ),
             ));
         }
-        alts.push(prefix("endexec", vec![Field::In("t__".into())], name("CycleEnd__")));
+        alts.push(prefix("endexec__", vec![Field::In("t__".into())], name("CycleEnd__")));
         d.push(Decl::Def(
             "Cycle__".into(),
             vec![],

@@ -144,9 +144,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                 return None;
             }
             self.record_term(x, TermKind::Exec, || {
-                prefix("endexec", vec![Field::Dot(name(tid.clone()))], prefix("startexec", vec![], Expr::Skip))
+                prefix("endexec__", vec![Field::Dot(name(tid.clone()))], prefix("startexec", vec![], Expr::Skip))
             });
-            return Some(prefix("endexec", vec![Field::Dot(name(tid))], fold_seq(vec![name("StartExec__"), then])));
+            return Some(prefix("endexec__", vec![Field::Dot(name(tid))], fold_seq(vec![name("StartExec__"), then])));
         }
         match &syn.trigger {
             Some(comm) => self.communication(comm, Some((&tid, then))),
@@ -309,7 +309,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         let next = self.memory_call(args);
         let ev = match g.trigger {
-            GateTrigger::Exec => prefix("endexec", vec![Field::Dot(name(tid))], next),
+            GateTrigger::Exec => prefix("endexec__", vec![Field::Dot(name(tid))], next),
             GateTrigger::Internal => prefix("internal__", vec![Field::Dot(name(tid))], next),
             GateTrigger::Event(i) => {
                 let chan = format!("{}__", self.events[i].csp);

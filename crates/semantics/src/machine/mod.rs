@@ -7,7 +7,8 @@
 //! *memory* (variables, clocks, and the guards, which enable or disable
 //! each transition's trigger; Rule 5). A RoboSim machine also has its
 //! *cycle* (Rule 4): read the input registers, `startexec`, run until an
-//! `exec` (`endexec`), then let `cycle` time units pass.
+//! `exec` (`endexec__`, tagged with the transition, like a trigger), then
+//! let `cycle` time units pass; RoboTool 3 hides only `startexec` (RT-21).
 //!
 //! Time is explicit tock-CSP (no `Timed` sections): a process that may
 //! wait offers `tock`; platform operation calls and RoboSim register writes

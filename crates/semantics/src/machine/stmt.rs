@@ -250,9 +250,9 @@ impl<'e, 'a> Gen<'e, 'a> {
                     });
                     return Some(name("Exec__"));
                 }
-                let p = prefix("endexec", vec![Field::Dot(name("TID_exec"))], name("StartExec__"));
+                let p = prefix("endexec__", vec![Field::Dot(name("TID_exec"))], name("StartExec__"));
                 self.record_term(r, TermKind::Exec, || {
-                    prefix("endexec", vec![Field::Dot(name("TID_exec"))], prefix("startexec", vec![], Expr::Skip))
+                    prefix("endexec__", vec![Field::Dot(name("TID_exec"))], prefix("startexec", vec![], Expr::Skip))
                 });
                 Some(p)
             }
@@ -446,7 +446,7 @@ impl<'e, 'a> Gen<'e, 'a> {
         }
         if op.uses_exec {
             // RoboSim: the operation's `exec` ends the machine's cycle.
-            let end = dot(vec![name("endexec"), name("TID_exec")]);
+            let end = dot(vec![name("endexec__"), name("TID_exec")]);
             renames.push((name(format!("{}::endexec", op.module)), end));
             renames.push((name(format!("{}::startexec", op.module)), name("startexec")));
         }
