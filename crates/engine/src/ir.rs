@@ -865,6 +865,13 @@ pub struct Machine {
     /// arrival, as RoboTool's `get_x?x -> e!x` does (see `reads.rs`);
     /// empty when none.
     pub latches: Vec<Option<Latch>>,
+    /// The variables that a value received goes to by a hidden step of its
+    /// own after the communication, as RoboTool's `e?x -> set_x!x`: those
+    /// another thread reads (see `reads.rs`); empty when none.
+    pub deferred: Vec<(u16, Dom)>,
+    /// With [`Machine::deferred`]: per thread (the main one, then each
+    /// activity), the value received and not yet written.
+    pub pending: Vec<Pending>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,
@@ -881,6 +888,15 @@ pub struct Latch {
     /// A slot per argument (an input's required value: one), with the
     /// channel parameter's domain when known.
     pub slots: Vec<(u16, Option<Dom>)>,
+}
+
+/// A value a thread received and has not yet written to its variable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pending {
+    /// 0: none; `k + 1`: the value goes to [`Machine::deferred`]`[k]`.
+    pub flag: u16,
+    /// The value.
+    pub value: u16,
 }
 
 /// A clock: its slot and the value at which it saturates.
@@ -1029,6 +1045,11 @@ impl Design {
             }
             for &t in &m.timers {
                 set(t, -1, timer);
+            }
+            let (lo, hi) = m.deferred.iter().fold((0, 0), |(l, h), (_, d)| (d.lo.min(l), d.hi.max(h)));
+            for p in &m.pending {
+                set(p.flag, 0, m.deferred.len() as i64);
+                set(p.value, lo, hi);
             }
             for l in m.latches.iter().flatten() {
                 set(l.flag, 0, 1);

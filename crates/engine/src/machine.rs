@@ -83,6 +83,8 @@ struct Thread {
     pc: usize,
     wait: usize,
     deadline: usize,
+    /// 0: the main thread; `k + 1`: activity `k` (its [`Pending`]).
+    id: usize,
 }
 
 impl Machine {
@@ -91,12 +93,17 @@ impl Machine {
     }
 
     fn main_thread(&self) -> Thread {
-        Thread { pc: self.slot(PC), wait: self.slot(WAIT), deadline: self.slot(DEADLINE) }
+        Thread { pc: self.slot(PC), wait: self.slot(WAIT), deadline: self.slot(DEADLINE), id: 0 }
     }
 
     fn activity_thread(&self, k: u16) -> Thread {
         let a = &self.activities[k as usize];
-        Thread { pc: a.pc_slot as usize, wait: a.wait_slot as usize, deadline: a.deadline_slot as usize }
+        Thread {
+            pc: a.pc_slot as usize,
+            wait: a.wait_slot as usize,
+            deadline: a.deadline_slot as usize,
+            id: k as usize + 1,
+        }
     }
 
     /// The values of the machine's control slots (its own, its activities'
@@ -108,6 +115,7 @@ impl Machine {
         }
         v.extend(self.timers.iter().map(|&t| st[t as usize]));
         v.extend(self.latches.iter().flatten().map(|l| st[l.flag as usize]));
+        v.extend(self.pending.iter().map(|p| st[p.flag as usize]));
         v
     }
 
@@ -139,6 +147,33 @@ impl Machine {
         for &t in &self.timers {
             st[t as usize] = -1;
         }
+        for k in 0..self.pending.len() {
+            self.clear_pending(st, k);
+        }
+    }
+
+    /// Whether thread `id` has received a value it has not yet written.
+    #[inline]
+    fn has_pending(&self, st: &[i32], id: usize) -> bool {
+        self.pending.get(id).is_some_and(|p| st[p.flag as usize] != 0)
+    }
+
+    fn clear_pending(&self, st: &mut [i32], id: usize) {
+        if let Some(p) = self.pending.get(id) {
+            st[p.flag as usize] = 0;
+            st[p.value as usize] = 0;
+        }
+    }
+
+    /// Where a value received into `slot` goes: to the thread's pending
+    /// value, written by a hidden step of its own ([`Machine::deferred`]),
+    /// or at once. True if deferred.
+    fn defer(&self, st: &mut [i32], id: usize, slot: u16, v: Val) -> bool {
+        let Some(k) = self.deferred.iter().position(|&(s, _)| s == slot) else { return false };
+        let Some(p) = self.pending.get(id) else { return false };
+        st[p.flag as usize] = k as i32 + 1;
+        st[p.value as usize] = v as i32;
+        true
     }
 
     /// An activity stops (its state is left), back to its canonical values.
@@ -147,6 +182,7 @@ impl Machine {
         st[a.pc_slot as usize] = -1;
         st[a.wait_slot as usize] = 0;
         st[a.deadline_slot as usize] = -1;
+        self.clear_pending(st, k as usize + 1);
     }
 
     /// The activities and timers of the states a transition from `source`
@@ -250,6 +286,22 @@ impl Machine {
         // and only when it started as a hidden step of its own.
         let marked = !self.volatile.is_empty();
         let mut fresh = first;
+        // RoboTool's `set_x` after `e?x`: a step of its own.
+        if self.has_pending(st, th.id) {
+            if !fresh {
+                return Ok(());
+            }
+            let p = &self.pending[th.id];
+            let k = st[p.flag as usize] as usize - 1;
+            let (slot, dom) = self.deferred[k];
+            let v = st[p.value as usize] as Val;
+            if dom.contains(v) {
+                st[slot as usize] = v as i32;
+            }
+            self.clear_pending(st, th.id);
+            fresh = false;
+            first = false;
+        }
         for i in 0..MAX_INTERNAL {
             let pc = st[th.pc] as usize;
             // A during action that starts with a hidden step of its own
@@ -518,6 +570,15 @@ impl Machine {
         if self.in_during(st) {
             self.transition_moves(st, out)?;
         }
+        // A value received and not yet written: writing it comes first
+        // (a during action's can be pre-empted, as above).
+        if !self.pending.is_empty() && self.has_pending(st, 0) {
+            out.push(Move { offer: Offer::Tau, act: Act::Exec });
+            if !self.activities.is_empty() {
+                self.activity_moves(st, out)?;
+            }
+            return Ok(());
+        }
         let Some(instr) = self.code.get(pc) else {
             return Err(StepError(format!("machine `{}` ran off its code", self.name)));
         };
@@ -553,6 +614,10 @@ impl Machine {
             let k = k as u16;
             let pc = st[a.pc_slot as usize];
             if pc < 0 {
+                continue;
+            }
+            if self.has_pending(st, k as usize + 1) {
+                out.push(Move { offer: Offer::Tau, act: Act::ActivityExec(k) });
                 continue;
             }
             let ok = match self.code.get(pc as usize) {
@@ -850,8 +915,12 @@ impl Machine {
         match act {
             Act::Fire(t) => {
                 let tr = &self.transitions[t as usize];
+                // A during action's pending write is pre-empted with it.
+                self.clear_pending(st, 0);
+                let mut deferred = false;
                 if let (Some(Trigger::In { bind: Some((slot, dom)), .. }), Some(v)) = (&tr.trigger, value) {
-                    if dom.contains(v) {
+                    deferred = self.defer(st, 0, *slot, v);
+                    if !deferred && dom.contains(v) {
                         st[*slot as usize] = v as i32;
                     }
                 }
@@ -867,6 +936,10 @@ impl Machine {
                     return Err(StepError(format!("machine `{}` fires with no active state", self.name)));
                 };
                 st[self.slot(PC)] = self.nodes[leaf as usize].exit_pc as i32;
+                if deferred {
+                    // The write is the next step (`moves`), then the exits.
+                    return Ok(());
+                }
             }
             Act::Junction(t) => {
                 let tr = &self.transitions[t as usize];
@@ -900,9 +973,12 @@ impl Machine {
         match act {
             Act::Comm | Act::ActivityComm(_) => {
                 let pc = st[th.pc] as u32;
-                self.receive(st, pc, value, sat)?;
+                self.receive(st, th.id, pc, value, sat)?;
                 self.unlatch(st, pc as usize);
                 st[th.pc] += 1;
+                if self.has_pending(st, th.id) {
+                    return Ok(());
+                }
                 // RT-16/18: what follows is a hidden step of its own (the
                 // thread offers it as a τ where it stopped).
                 if self.paused_comms.get(pc as usize) == Some(&true) {
@@ -926,10 +1002,13 @@ impl Machine {
     /// An input `e?x` at `pc` stores the value received, and the update of
     /// a platform variable the value sent (when in its type).
     #[inline]
-    fn receive(&self, st: &mut [i32], pc: u32, value: Option<Val>, sat: &mut bool) -> Result<(), StepError> {
+    fn receive(&self, st: &mut [i32], id: usize, pc: u32, value: Option<Val>, sat: &mut bool) -> Result<(), StepError> {
         match (self.code.get(pc as usize), value) {
             (Some(Instr::In { bind: Some((slot, dom)), .. }), Some(v)) if dom.contains(v) => {
-                st[*slot as usize] = v as i32;
+                let deferred = self.defer(st, id, *slot, v);
+                if !deferred {
+                    st[*slot as usize] = v as i32;
+                }
             }
             (Some(Instr::Out { args, store: Some((slot, dom)), .. }), _) => {
                 let v = match (self.latches.get(pc as usize), args.first()) {

@@ -17,6 +17,11 @@
 //! slots of their own, and the communication offers those until it
 //! happens ([`Machine::latches`]).
 //!
+//! A value received into a variable another thread reads is written by a
+//! hidden step of its own after the communication, as RoboTool's
+//! `e?x -> set_x!x` ([`Machine::deferred`]): another thread may read the
+//! old value after the event.
+//!
 //! What only the thread itself reads and writes runs as before: another
 //! thread cannot tell when it happened (a confluent τ, as in `eager.rs`).
 //! Clocks need neither: only time changes them, and actions cannot read
@@ -24,7 +29,7 @@
 
 use std::collections::HashSet;
 
-use crate::ir::{Design, Dom, Expr, Instr, Latch, Machine};
+use crate::ir::{Design, Dom, Expr, Instr, Latch, Machine, Pending, Trigger};
 
 /// Marks, in every machine of `design`, the volatile instructions and the
 /// communications that latch their values, taking latch slots from `slot`.
@@ -81,6 +86,31 @@ fn mark_machine(m: &mut Machine, shared: &HashSet<u16>, params: &[Vec<Dom>], slo
     }
     m.volatile = if marks.iter().any(|&b| b) { marks } else { Vec::new() };
     m.latches = if latches.iter().any(Option::is_some) { latches } else { Vec::new() };
+    // What a value received goes to, where another thread reads it.
+    let statements = m.code.iter().filter_map(|i| match i {
+        Instr::In { bind: Some(b), .. } => Some(*b),
+        _ => None,
+    });
+    let triggers = m.transitions.iter().filter_map(|t| match &t.trigger {
+        Some(Trigger::In { bind: Some(b), .. }) => Some(*b),
+        _ => None,
+    });
+    let mut deferred: Vec<(u16, Dom)> = Vec::new();
+    for (s, d) in statements.chain(triggers) {
+        if (threads || shared.contains(&s)) && !deferred.iter().any(|&(t, _)| t == s) {
+            deferred.push((s, d));
+        }
+    }
+    if !deferred.is_empty() {
+        m.pending = (0..=m.activities.len())
+            .map(|_| {
+                let p = Pending { flag: *slot, value: *slot + 1 };
+                *slot += 2;
+                p
+            })
+            .collect();
+    }
+    m.deferred = deferred;
 }
 
 /// Whether `e` reads a slot for which `slot` holds.

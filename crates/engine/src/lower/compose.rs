@@ -746,6 +746,8 @@ impl<'a> Cx<'a> {
             paused_durings: Vec::new(),
             volatile: Vec::new(),
             latches: Vec::new(),
+            deferred: Vec::new(),
+            pending: Vec::new(),
             base,
             file: file_ix,
         };

@@ -215,7 +215,7 @@ pub(crate) fn describe_move(
         for mv in &moves {
             let mut trial = prev.to_vec();
             let mut saturated = false;
-            if m.apply_noting(&mut trial, &design.clocks, mv.act, None, &mut saturated).is_err() {
+            if m.apply_noting(&mut trial, &design.clocks, mv.act, received(m, mv.act, prev), &mut saturated).is_err() {
                 continue;
             }
             if ctl(&trial) != ctl(next) {
@@ -228,6 +228,31 @@ pub(crate) fn describe_move(
         return (Some(format!("{}: now {}", m.name, m.describe(next))), None);
     }
     (None, None)
+}
+
+/// A value `act` could receive in `prev`, for replaying it: a value
+/// received goes to a variable (or, [`crate::ir::Machine::deferred`], to
+/// the thread's pending write), which no control slot holds, so any value
+/// of the variable's type replays the step's control.
+fn received(m: &crate::ir::Machine, act: Act, prev: &[i32]) -> Option<crate::ir::Val> {
+    let bind = match act {
+        Act::Fire(t) => match &m.transitions[t as usize].trigger {
+            Some(crate::ir::Trigger::In { bind, .. }) => *bind,
+            _ => None,
+        },
+        Act::Comm | Act::ActivityComm(_) => {
+            let pc = match act {
+                Act::ActivityComm(k) => prev[m.activities[k as usize].pc_slot as usize],
+                _ => m.pc(prev) as i32,
+            };
+            match m.code.get(pc as usize) {
+                Some(Instr::In { bind, .. }) => *bind,
+                _ => None,
+            }
+        }
+        _ => None,
+    };
+    bind.map(|(_, dom)| dom.lo)
 }
 
 /// Marks a step whose arithmetic saturated.
@@ -279,6 +304,9 @@ pub(super) fn describe_act(
             (Some(format!("{}: {what}{place}", m.name)), here)
         }
         Act::Choose(n) => (Some(format!("{}: the wait interval resolves to {n}", m.name)), here),
+        Act::Exec if m.pending.first().is_some_and(|p| prev[p.flag as usize] != 0) => {
+            (Some(format!("{}: writes the value it received, now {}", m.name, m.describe(next))), here)
+        }
         Act::Exec if matches!(m.code.get(pc), Some(Instr::Wait)) => {
             (Some(format!("{}: goes on after its wait, now {}", m.name, m.describe(next))), here)
         }
@@ -304,7 +332,12 @@ pub(super) fn describe_act(
             if matches!(act, Act::ActivityExec(_)) && !write && m.paused_durings.get(pc) == Some(&true) {
                 return (Some(format!("{}: starts the during action of {}", m.name, at(Some(a.state)))), here);
             }
+            let pending = m.pending.get(k as usize + 1).is_some_and(|p| prev[p.flag as usize] != 0);
             let what = match (act, m.code.get(pc)) {
+                (Act::ActivityExec(_), _) if pending => "writes the value it received".into(),
+                (Act::ActivityExec(_), _) if matches!(m.latches.get(pc), Some(Some(_))) => {
+                    "reads the values its communication carries".into()
+                }
                 (Act::ActivityChoose(_, n), _) => format!("the wait interval resolves to {n}"),
                 (_, Some(i @ Instr::Out { .. })) => out_verb(design, i).unwrap_or_default().into(),
                 (_, Some(Instr::In { .. })) => "receives".into(),
