@@ -10,11 +10,13 @@
 //! written, checks it with our CSPm front end and runs it with our
 //! evaluator.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use robosim_cspm::{Evaluator, Label, Limits, Lts, Module, NoNames, Severity};
+use robosim_cspm::{Evaluator, Limits, NoNames};
+
+mod support;
 use robosim_semantics::{export_workspace, lint, Export, Options, Profile};
+use support::{after, checked, terminates_after, text};
 
 fn export_files(files: Vec<(String, String)>, profile: Profile) -> Export {
     let mut db = robosim_hir::RootDatabase::default();
@@ -35,44 +37,8 @@ fn fixture() -> PathBuf {
         .join("../engine/test_data/verify/rt19_robosim_machine_runs_its_controller_operation")
 }
 
-fn text(e: &Export, name: &str) -> String {
-    e.files.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("no {name}")).text()
-}
-
 fn warnings(e: &Export) -> Vec<String> {
     e.warnings.iter().map(|w| format!("{}:{}: {}", w.line, w.col, w.message)).collect()
-}
-
-/// The script `main` with `extra` appended, checked with its includes: no
-/// errors, and the module to evaluate.
-fn checked(e: &Export, main: &str, extra: &str) -> Module {
-    let files: HashMap<String, String> = e.files.iter().map(|f| (f.name.clone(), f.text())).collect();
-    let load = |name: &str| files.get(name).cloned();
-    let src = format!("{}\n{extra}\n", files[main]);
-    let m = Module::check_with_includes(&src, &NoNames, &load);
-    let errors: Vec<String> =
-        m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{d:?}")).collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    m
-}
-
-/// The states after the visible `trace` (τ steps anywhere).
-fn after(lts: &Lts, trace: &[&str]) -> Vec<u32> {
-    let mut cur = lts.tau_closure(vec![lts.initial]);
-    for name in trace {
-        let Some(e) = lts.event(name) else { return Vec::new() };
-        let next: Vec<u32> = cur
-            .iter()
-            .flat_map(|&s| lts.transitions[s as usize].iter().filter(|(l, _)| *l == Label::Event(e)).map(|(_, t)| *t))
-            .collect();
-        cur = lts.tau_closure(next);
-    }
-    cur
-}
-
-/// Whether the process can do `trace` and then terminate (✓).
-fn terminates_after(lts: &Lts, trace: &[&str]) -> bool {
-    after(lts, trace).iter().any(|&s| lts.transitions[s as usize].iter().any(|(l, _)| *l == Label::Tick))
 }
 
 /// The bundled lawnmower simulation (`examples/lawnmower`): `SimMower`'s

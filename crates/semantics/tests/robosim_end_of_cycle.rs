@@ -9,11 +9,13 @@
 //! (whose assertions state RoboTool's verdicts): exported, checked with
 //! our CSPm front end and run with our evaluator.
 
-use std::collections::HashMap;
 use std::path::Path;
 
-use robosim_cspm::{Evaluator, Label, Limits, Lts, Module, NoNames, Severity};
+use robosim_cspm::{Evaluator, Label, Limits, Lts, NoNames};
+
+mod support;
 use robosim_semantics::{export_workspace, Export, Options, Profile};
+use support::{after, checked, terminates_after, text};
 
 /// The fixture's model (its assertions left out), exported in `profile`.
 fn export(profile: Profile) -> Export {
@@ -23,41 +25,6 @@ fn export(profile: Profile) -> Export {
     let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(&mut db, vec![("m.rst".into(), text)], robosim_hir::RuleSet::Paper);
     export_workspace(&db, ws, &Options { profile })
-}
-
-fn text(e: &Export, name: &str) -> String {
-    e.files.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("no {name}")).text()
-}
-
-/// `main.csp` with `extra` appended, checked with its includes.
-fn checked(e: &Export, extra: &str) -> Module {
-    let files: HashMap<String, String> = e.files.iter().map(|f| (f.name.clone(), f.text())).collect();
-    let load = |name: &str| files.get(name).cloned();
-    let src = format!("{}\n{extra}\n", files["main.csp"]);
-    let m = Module::check_with_includes(&src, &NoNames, &load);
-    let errors: Vec<String> =
-        m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{d:?}")).collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    m
-}
-
-/// The states after the visible `trace` (τ steps anywhere).
-fn after(lts: &Lts, trace: &[&str]) -> Vec<u32> {
-    let mut cur = lts.tau_closure(vec![lts.initial]);
-    for name in trace {
-        let Some(e) = lts.event(name) else { return Vec::new() };
-        let next: Vec<u32> = cur
-            .iter()
-            .flat_map(|&s| lts.transitions[s as usize].iter().filter(|(l, _)| *l == Label::Event(e)).map(|(_, t)| *t))
-            .collect();
-        cur = lts.tau_closure(next);
-    }
-    cur
-}
-
-/// Whether the process can do `trace` and then terminate (✓).
-fn terminates_after(lts: &Lts, trace: &[&str]) -> bool {
-    after(lts, trace).iter().any(|&s| lts.transitions[s as usize].iter().any(|(l, _)| *l == Label::Tick))
 }
 
 /// Whether some state reached by `trace` offers `event`.
@@ -91,7 +58,7 @@ fn a_machine_on_its_own_shows_endexec_and_terminate() {
         "{model}"
     );
     assert!(text(&e, "robosim_defs.csp").contains("channel endexec\n"));
-    let m = checked(&e, PROCESSES);
+    let m = checked(&e, "main.csp", PROCESSES);
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let mm = ev.lts("M__").unwrap();
     assert!(!ever(&mm, "M::startexec"));
@@ -114,7 +81,7 @@ fn a_machine_on_its_own_shows_endexec_and_terminate() {
 #[test]
 fn a_controller_shows_its_own_endexec_and_a_module_hides_it() {
     let e = export(Profile::RoboTool3);
-    let m = checked(&e, PROCESSES);
+    let m = checked(&e, "main.csp", PROCESSES);
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let c = ev.lts("C__").unwrap();
     assert!(terminates_after(&c, &["registerWrite.o_op", "endexec", "terminate"]), "{:?}", c.events);
@@ -135,7 +102,7 @@ fn a_controller_shows_its_own_endexec_and_a_module_hides_it() {
 #[test]
 fn the_paper_profile_hides_the_end_of_a_cycle() {
     let e = export(Profile::Paper2019);
-    let m = checked(&e, "M0__ = M0::D__(0, 1)\nC2__ = C2::D__(0, 1)");
+    let m = checked(&e, "main.csp", "M0__ = M0::D__(0, 1)\nC2__ = C2::D__(0, 1)");
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     for p in ["M0__", "C2__"] {
         let lts = ev.lts(p).unwrap();
