@@ -5,11 +5,13 @@
 //! operation's process with our CSPm evaluator to see the events the
 //! engine's fixture states.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use robosim_cspm::{Evaluator, Limits, Module, NoNames, Severity};
+use robosim_cspm::{Evaluator, Limits, NoNames};
+
+mod support;
 use robosim_semantics::{export_workspace, lint, Export, Options, Profile};
+use support::{checked, text};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../engine/test_data/verify").join(name)
@@ -27,23 +29,6 @@ fn export_dir(dir: &Path) -> Export {
     let files =
         paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).expect("a model file"))).collect();
     export_files(files)
-}
-
-fn text(e: &Export, name: &str) -> String {
-    e.files.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("no {name}")).text()
-}
-
-/// The script FDR loads (the assertion file), with `extra` appended,
-/// checked with its includes: no errors, and the module to evaluate.
-fn checked(e: &Export, main: &str, extra: &str) -> Module {
-    let files: HashMap<String, String> = e.files.iter().map(|f| (f.name.clone(), f.text())).collect();
-    let load = |name: &str| files.get(name).cloned();
-    let src = format!("{}\n{extra}\n", files[main]);
-    let m = Module::check_with_includes(&src, &NoNames, &load);
-    let errors: Vec<String> =
-        m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{d:?}")).collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    m
 }
 
 /// The event `name` of `lts`, as written or declared in a module (FDR
