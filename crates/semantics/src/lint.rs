@@ -189,7 +189,15 @@ pub(crate) fn raw_defined(line: &str) -> Vec<String> {
     out
 }
 
-fn raw_names(text: &str) -> Vec<(String, Kind)> {
+/// A name raw text defines: at the top level, or in a `module` of its own
+/// (then private, or exported after `exports`).
+struct RawName {
+    name: String,
+    module: Option<String>,
+    exported: bool,
+}
+
+fn raw_names(text: &str) -> Vec<RawName> {
     // The block's least indentation is its top level.
     let indent = text
         .lines()
@@ -197,11 +205,24 @@ fn raw_names(text: &str) -> Vec<(String, Kind)> {
         .map(|l| l.len() - l.trim_start().len())
         .min()
         .unwrap_or(0);
-    text.lines()
-        .map(|l| if l.len() >= indent && l.is_char_boundary(indent) { &l[indent..] } else { l })
-        .flat_map(raw_defined)
-        .map(|n| (n, Kind::Raw))
-        .collect()
+    let mut out = Vec::new();
+    // A module's names are its own (`robosim_defs.csp`'s `model_shifting`
+    // defines `C2`, which a model's controller may be called too).
+    let (mut module, mut exported) = (None::<String>, false);
+    for l in text.lines().map(|l| if l.len() >= indent && l.is_char_boundary(indent) { &l[indent..] } else { l }) {
+        let t = l.split("--").next().unwrap_or("").trim();
+        if let Some(rest) = t.strip_prefix("module ") {
+            let n = rest.split(|c: char| c == '(' || c.is_whitespace()).next().unwrap_or("");
+            (module, exported) = (Some(n.to_string()), false);
+            continue;
+        }
+        match t {
+            "exports" if module.is_some() => exported = true,
+            "endmodule" => (module, exported) = (None, false),
+            _ => out.extend(raw_defined(l).into_iter().map(|name| RawName { name, module: module.clone(), exported })),
+        }
+    }
+    out
 }
 
 impl Checker {
@@ -344,8 +365,17 @@ impl Checker {
                 if !block.is_empty() {
                     self.define(file, module, block, Kind::Raw);
                 }
-                for (n, k) in raw_names(t) {
-                    self.define(file, module, &n, k);
+                for r in raw_names(t) {
+                    match (&r.module, module) {
+                        (None, _) => self.define(file, module, &r.name, Kind::Raw),
+                        (Some(m), outer) => {
+                            let m = outer.map_or_else(|| m.clone(), |o| format!("{o}::{m}"));
+                            self.define(file, Some(&m), &r.name, Kind::Raw);
+                            if r.exported {
+                                self.exports.entry(m).or_default().insert(r.name);
+                            }
+                        }
+                    }
                 }
             }
             _ => {}
@@ -634,5 +664,24 @@ mod tests {
         assert_eq!(check(&[f]), Vec::<String>::new());
         let bad = file(vec![Decl::Def("Q".into(), vec![], Expr::Call("M::c".into(), vec![]))]);
         assert!(!check(&[bad]).is_empty());
+    }
+
+    #[test]
+    fn a_raw_module_s_names_are_its_own() {
+        // As `robosim_defs.csp`'s `model_shifting`: its private `C2` is
+        // not the model's controller `C2`; its exports are qualified.
+        let raw = "module model_shifting(Sigma)\nC2(P) = P\nexports\nTT(P) = C2(P)\nendmodule\n";
+        let f = file(vec![
+            Decl::Raw(raw.into(), String::new()),
+            Decl::Module("C2".into(), vec![], vec![Decl::Def("D__".into(), vec![], Expr::Stop)]),
+            Decl::Def("Q".into(), vec![], Expr::Call("model_shifting::TT".into(), vec![Expr::Stop])),
+        ]);
+        assert_eq!(check(&[f]), Vec::<String>::new());
+        let private = file(vec![
+            Decl::Raw(raw.into(), String::new()),
+            Decl::Def("Q".into(), vec![], Expr::Call("model_shifting::C2".into(), vec![Expr::Stop])),
+        ]);
+        let p = check(&[private]);
+        assert!(p.iter().any(|m| m.contains("model_shifting::C2")), "{p:?}");
     }
 }

@@ -14,7 +14,7 @@ use std::path::Path;
 use robosim_cspm::{Evaluator, Label, Limits, Lts, NoNames};
 
 mod support;
-use robosim_semantics::{export_workspace, Export, Options, Profile};
+use robosim_semantics::{export_workspace, lint, Export, Options, Profile};
 use support::{after, checked, terminates_after, text};
 
 /// The fixture's model (its assertions left out), exported in `profile`.
@@ -24,7 +24,12 @@ fn export(profile: Profile) -> Export {
     let text = std::fs::read_to_string(path).expect("the fixture's model");
     let mut db = robosim_hir::RootDatabase::default();
     let ws = robosim_hir::load_workspace(&mut db, vec![("m.rst".into(), text)], robosim_hir::RuleSet::Paper);
-    export_workspace(&db, ws, &Options { profile })
+    let e = export_workspace(&db, ws, &Options { profile });
+    // Its controller `C2` is no clash with `robosim_defs.csp`'s
+    // `model_shifting` (whose private helper is `C2` too).
+    let problems = lint::check(&e.files);
+    assert!(problems.is_empty(), "{problems:#?}");
+    e
 }
 
 /// Whether some state reached by `trace` offers `event`.
