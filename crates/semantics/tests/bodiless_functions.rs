@@ -11,11 +11,12 @@
 //! fixture `export_rt02_bodiless_functions_of_a_package` states the
 //! verdicts, which `export_semantics.rs` compares with the export's.
 
-use std::collections::HashMap;
 use std::path::Path;
 
-use robosim_cspm::{Evaluator, Limits, Module, NoNames, Severity};
-use robosim_semantics::{export_workspace, Export, Options, OutFile, Profile};
+use robosim_semantics::Export;
+
+mod support;
+use support::{eval, export_files, file_text, load};
 
 const FIXTURE: &str = "export_rt02_bodiless_functions_of_a_package";
 
@@ -30,46 +31,19 @@ fn export_with(extra: &[(&str, &str)]) -> Export {
     export_files(files)
 }
 
-fn export_files(files: Vec<(String, String)>) -> Export {
-    let mut db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
-    export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 })
-}
-
-fn text(files: &[OutFile], name: &str) -> String {
-    files.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("no {name}")).text()
-}
-
-/// The script `name` of `files` with its includes, and the errors
-/// robosim-cspm finds in it.
-fn load(files: &[OutFile], name: &str) -> (Module, Vec<String>) {
-    let texts: HashMap<String, String> = files.iter().map(|f| (f.name.clone(), f.text())).collect();
-    let get = |n: &str| texts.get(n).cloned();
-    let script = texts.get(name).unwrap_or_else(|| panic!("no {name} in {:?}", texts.keys()));
-    let m = Module::check_with_includes(script, &NoNames, &get);
-    let errors = m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{d}")).collect();
-    (m, errors)
-}
-
-/// The value of `expr` in the script, printed.
-fn eval(m: &Module, expr: &str) -> String {
-    let mut ev = Evaluator::new(m, &NoNames, Limits::default());
-    ev.eval_text(expr).map(|v| v.to_string()).unwrap_or_else(|d| format!("error: {}", d.message))
-}
-
 #[test]
 fn the_generated_instantiations_define_the_defaults_by_robotool_s_names() {
     let e = export_with(&[]);
     assert!(e.warnings.is_empty(), "{:#?}", e.warnings);
     for files in [&e.files, &e.untimed] {
-        let inst = text(files, "instantiations.csp");
+        let inst = file_text(files, "instantiations.csp");
         for line in
             ["\np_random() = 0\n", "\np_pick(x) = p_Mode_Idle\n", "\np_flag() = true\n", "\np_origin() = (0, 0)\n"]
         {
             assert!(inst.contains(line), "{line:?} in {inst}");
         }
         // The machine calls them by those names.
-        let model = text(files, "m.csp");
+        let model = file_text(files, "m.csp");
         assert!(model.contains("p_random() == 0") && model.contains("p_pick(1) == p_Mode_Busy"), "{model}");
         let (m, errors) = load(files, "a_assertions.csp");
         assert!(errors.is_empty(), "{errors:#?}");
@@ -89,7 +63,7 @@ fn a_block_defining_robotool_s_name_replaces_the_default_in_its_file_only() {
     for files in [&e.files, &e.untimed] {
         let (m, errors) = load(files, "b_assertions.csp");
         assert!(errors.is_empty(), "{errors:#?}");
-        let script = text(files, "b_assertions.csp");
+        let script = file_text(files, "b_assertions.csp");
         // Its own instantiations, without the default of `p_random`.
         assert!(!script.contains("include \"instantiations.csp\""), "{script}");
         assert!(!script.contains("p_random() = 0"), "{script}");
@@ -123,7 +97,7 @@ fn an_instantiations_block_leaves_what_it_does_not_define_undefined() {
     let r = r.unwrap_or_else(|| panic!("{:#?}", e.warnings));
     assert!(r.message.contains("`M::R` calls `p_flag`") || r.message.contains("`M` calls `p_flag`"), "{r:?}");
     for files in [&e.files, &e.untimed] {
-        let script = text(files, "c_assertions.csp");
+        let script = file_text(files, "c_assertions.csp");
         assert!(!script.contains("include \"instantiations.csp\""), "{script}");
         assert!(
             script.contains("(RT-2): NOT IN ROBOTOOL'S SCRIPT: this assertion file's `csp Instantiations` block"),
@@ -165,11 +139,11 @@ fn functions_of_no_arguments_and_of_the_default_package() {
         ("a.assertions".into(), "assertion D : M is deadlock-free\n".into()),
     ]);
     assert!(e.warnings.is_empty(), "{:#?}", e.warnings);
-    let inst = text(&e.files, "instantiations.csp");
+    let inst = file_text(&e.files, "instantiations.csp");
     assert!(inst.contains("\nnone() = {}\n") && inst.contains("\nscale(x) = 0\n"), "{inst}");
     // A function defined by `result == e` stays RoboTool's `f() = e`, in
     // the model's file.
-    assert!(text(&e.files, "m.csp").contains("\ntwo() = 2\n"), "{}", text(&e.files, "m.csp"));
+    assert!(file_text(&e.files, "m.csp").contains("\ntwo() = 2\n"), "{}", file_text(&e.files, "m.csp"));
     let (m, errors) = load(&e.files, "a_assertions.csp");
     assert!(errors.is_empty(), "{errors:#?}");
     assert_eq!(eval(&m, "two()"), "2");
@@ -204,15 +178,15 @@ fn the_values_a_block_gives_widen_its_script_s_types() {
         ("b.assertions".into(), b.into()),
         ("d.assertions".into(), d.into()),
     ]);
-    let script = text(&e.files, "b_assertions.csp");
+    let script = file_text(&e.files, "b_assertions.csp");
     assert!(script.contains("\nnametype core_real = { -2..5}\n"), "{script}");
     let (m, errors) = load(&e.files, "b_assertions.csp");
     assert!(errors.is_empty(), "{errors:#?}");
     assert_eq!(eval(&m, "p_random()"), "5");
     // `random` is not what the model calls: no widening, the shared types.
-    let script = text(&e.files, "d_assertions.csp");
+    let script = file_text(&e.files, "d_assertions.csp");
     assert!(script.contains("include \"instantiations.csp\""), "{script}");
-    assert!(text(&e.files, "instantiations.csp").contains("\nnametype core_real = { -2..2}\n"));
+    assert!(file_text(&e.files, "instantiations.csp").contains("\nnametype core_real = { -2..2}\n"));
 }
 
 #[test]
@@ -227,7 +201,7 @@ fn a_function_named_as_a_cspm_builtin_is_refused() {
     let w = e.warnings.iter().find(|w| w.message.contains("reserved in CSPm"));
     let w = w.unwrap_or_else(|| panic!("{:#?}", e.warnings));
     assert!(w.message.contains("RoboTool's CSPm name `card` of the function `card` is reserved in CSPm"), "{w:?}");
-    assert!(!text(&e.files, "instantiations.csp").contains("card"));
+    assert!(!file_text(&e.files, "instantiations.csp").contains("card"));
 }
 
 #[test]
@@ -248,7 +222,7 @@ fn a_function_returning_a_primitive_type_is_refused() {
             "{w:?}"
         );
     }
-    assert!(!text(&e.files, "instantiations.csp").contains("who"));
+    assert!(!file_text(&e.files, "instantiations.csp").contains("who"));
 }
 
 #[test]
@@ -264,5 +238,5 @@ fn a_call_through_a_defined_function_counts_too() {
     let w = e.warnings.iter().find(|w| w.message.starts_with("assertion D is not exported: "));
     let w = w.unwrap_or_else(|| panic!("{:#?}", e.warnings));
     assert!(w.message.contains("`M` calls `p_scale`"), "{w:?}");
-    assert!(text(&e.files, "m.csp").contains("p_twice(x) ="), "{}", text(&e.files, "m.csp"));
+    assert!(file_text(&e.files, "m.csp").contains("p_twice(x) ="), "{}", file_text(&e.files, "m.csp"));
 }

@@ -9,11 +9,12 @@
 //! `functions_generic_result_or_definition_refused` state the verdicts,
 //! which `export_semantics.rs` compares with the export's.
 
-use std::collections::HashMap;
 use std::path::Path;
 
-use robosim_cspm::{Evaluator, Limits, Module, NoNames, Severity};
-use robosim_semantics::{export_workspace, Export, Options, OutFile, Profile};
+use robosim_semantics::Export;
+
+mod support;
+use support::{eval, export_files, file_text, load};
 
 /// The export of the engine's fixture `name`.
 fn export_fixture(name: &str) -> Export {
@@ -21,39 +22,12 @@ fn export_fixture(name: &str) -> Export {
     export_files(robosim_test_support::inputs::read_model_files(&dir))
 }
 
-fn export_files(files: Vec<(String, String)>) -> Export {
-    let mut db = robosim_hir::RootDatabase::default();
-    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
-    export_workspace(&db, ws, &Options { profile: Profile::RoboTool3 })
-}
-
-fn text(files: &[OutFile], name: &str) -> String {
-    files.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("no {name}")).text()
-}
-
-/// The script `name` of `files` with its includes, and the errors
-/// robosim-cspm finds in it.
-fn load(files: &[OutFile], name: &str) -> (Module, Vec<String>) {
-    let texts: HashMap<String, String> = files.iter().map(|f| (f.name.clone(), f.text())).collect();
-    let get = |n: &str| texts.get(n).cloned();
-    let script = texts.get(name).unwrap_or_else(|| panic!("no {name} in {:?}", texts.keys()));
-    let m = Module::check_with_includes(script, &NoNames, &get);
-    let errors = m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{d}")).collect();
-    (m, errors)
-}
-
-/// The value of `expr` in the script, printed.
-fn eval(m: &Module, expr: &str) -> String {
-    let mut ev = Evaluator::new(m, &NoNames, Limits::default());
-    ev.eval_text(expr).map(|v| v.to_string()).unwrap_or_else(|d| format!("error: {}", d.message))
-}
-
 #[test]
 fn generic_parameters_give_robotool_s_untyped_defaults() {
     let e = export_fixture("functions_generic_parameters_without_a_body");
     assert!(e.warnings.is_empty(), "{:#?}", e.warnings);
     for files in [&e.files, &e.untimed] {
-        let inst = text(files, "instantiations.csp");
+        let inst = file_text(files, "instantiations.csp");
         for line in [
             "\n-- function g::same (g.rct:7:1): no body, its result type's default (RT-2)\ng_same(a, b) = true\n",
             "\ng_differ(a, b) = true\n",
@@ -64,7 +38,7 @@ fn generic_parameters_give_robotool_s_untyped_defaults() {
         }
         // The machine passes each argument at its own type: tuples of
         // numbers, of an enumeration literal, a set.
-        let model = text(files, "g.csp");
+        let model = file_text(files, "g.csp");
         for call in [
             "set_ok!g_differ(x, true) ->",
             "set_n!g_count({x, 2}) ->",
@@ -113,8 +87,8 @@ fn a_generic_result_or_a_definition_over_generic_types_is_refused() {
     for a in ["P1", "Q1"] {
         assert!(e.warnings.iter().any(|w| w.message.starts_with(&format!("assertion {a} is not exported"))), "{a}");
     }
-    assert!(!text(&e.files, "instantiations.csp").contains("h_pick"));
-    assert!(!text(&e.files, "h.csp").contains("h_first("));
+    assert!(!file_text(&e.files, "instantiations.csp").contains("h_pick"));
+    assert!(!file_text(&e.files, "h.csp").contains("h_first("));
 }
 
 #[test]

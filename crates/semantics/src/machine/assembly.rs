@@ -200,24 +200,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             // them in its alphabet (`sem__events`).
             exports.push(Decl::Comment("`exec`: `endexec`, then `startexec`, both visible (RT-11).".into()));
             exports.push(Decl::Channel(vec!["endexec".into(), "startexec".into()], vec![]));
-            let calls: Vec<usize> = self.sim_op_calls.iter().copied().collect();
-            if !calls.is_empty() {
-                exports.push(Decl::Comment("Calls of other operations (urgent).".into()));
-            }
-            for o in calls {
-                let f: Vec<Expr> = self.ops[o].params.iter().map(|t| t.set()).collect();
-                exports.push(Decl::Channel(vec![op_event(&self.ops[o].name, "Call")], f));
-            }
+            exports.extend(self.sim_call_channels("Calls of other operations (urgent)."));
         } else if self.robosim {
             // RT-19: the software operations nothing defines for it.
-            let calls: Vec<usize> = self.sim_op_calls.iter().copied().collect();
-            if !calls.is_empty() {
-                exports.push(Decl::Comment("Calls of operations its controller does not define (urgent).".into()));
-            }
-            for o in calls {
-                let f: Vec<Expr> = self.ops[o].params.iter().map(|t| t.set()).collect();
-                exports.push(Decl::Channel(vec![op_event(&self.ops[o].name, "Call")], f));
-            }
+            exports.extend(self.sim_call_channels("Calls of operations its controller does not define (urgent)."));
             private.push(Decl::Comment("Cycle events (Rules 4 and 6).".into()));
             private.push(Decl::Channel(vec!["startexec".into()], vec![]));
             private.push(Decl::Channel(vec!["endexec__".into()], vec![name("TIDS")]));
@@ -586,6 +572,20 @@ impl<'e, 'a> Gen<'e, 'a> {
             Decl::Module(module.to_string(), private, exports),
             Decl::Blank,
         ]
+    }
+
+    /// The channels of the RoboSim operations this machine calls as
+    /// urgent events (RT-19), under `comment` when there are any.
+    fn sim_call_channels(&self, comment: &str) -> Vec<Decl> {
+        let mut out = Vec::new();
+        for &o in &self.sim_op_calls {
+            if out.is_empty() {
+                out.push(Decl::Comment(comment.into()));
+            }
+            let f: Vec<Expr> = self.ops[o].params.iter().map(|t| t.set()).collect();
+            out.push(Decl::Channel(vec![op_event(&self.ops[o].name, "Call")], f));
+        }
+        out
     }
 
     /// The indices of the variables the machine requires (among its

@@ -4,8 +4,8 @@
 
 use std::collections::HashMap;
 
-use robosim_cspm::{Label, Lts, Module, NoNames, Severity};
-use robosim_semantics::Export;
+use robosim_cspm::{Evaluator, Label, Limits, Lts, Module, NoNames, Severity};
+use robosim_semantics::{Export, OutFile};
 
 /// The exported file `name`'s text.
 pub fn text(e: &Export, name: &str) -> String {
@@ -42,4 +42,37 @@ pub fn after(lts: &Lts, trace: &[&str]) -> Vec<u32> {
 /// Whether the process can do `trace` and then terminate (✓).
 pub fn terminates_after(lts: &Lts, trace: &[&str]) -> bool {
     after(lts, trace).iter().any(|&s| lts.transitions[s as usize].iter().any(|(l, _)| *l == Label::Tick))
+}
+
+/// The export of `files` (path, text) in RoboTool 3's profile.
+pub fn export_files(files: Vec<(String, String)>) -> Export {
+    let mut db = robosim_hir::RootDatabase::default();
+    let ws = robosim_hir::load_workspace(&mut db, files, robosim_hir::RuleSet::Paper);
+    robosim_semantics::export_workspace(
+        &db,
+        ws,
+        &robosim_semantics::Options { profile: robosim_semantics::Profile::RoboTool3 },
+    )
+}
+
+/// The text of the file `name` of `files`.
+pub fn file_text(files: &[OutFile], name: &str) -> String {
+    files.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("no {name}")).text()
+}
+
+/// The script `name` of `files` with its includes, and the errors
+/// robosim-cspm finds in it.
+pub fn load(files: &[OutFile], name: &str) -> (Module, Vec<String>) {
+    let texts: HashMap<String, String> = files.iter().map(|f| (f.name.clone(), f.text())).collect();
+    let get = |n: &str| texts.get(n).cloned();
+    let script = texts.get(name).unwrap_or_else(|| panic!("no {name} in {:?}", texts.keys()));
+    let m = Module::check_with_includes(script, &NoNames, &get);
+    let errors = m.diagnostics().iter().filter(|d| d.severity == Severity::Error).map(|d| format!("{d}")).collect();
+    (m, errors)
+}
+
+/// The value of `expr` in the script, printed.
+pub fn eval(m: &Module, expr: &str) -> String {
+    let mut ev = Evaluator::new(m, &NoNames, Limits::default());
+    ev.eval_text(expr).map(|v| v.to_string()).unwrap_or_else(|d| format!("error: {}", d.message))
 }
