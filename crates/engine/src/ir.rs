@@ -862,8 +862,9 @@ pub struct Machine {
     /// empty when none.
     pub volatile: Vec<bool>,
     /// By instruction: the communications that offer values read once, on
-    /// arrival, as RoboTool's `get_x?x -> e!x` does (see `reads.rs`);
-    /// empty when none.
+    /// arrival, as RoboTool's `get_x?x -> e!x` does, and the assignments
+    /// whose read and write are two hidden steps (`get_x?x -> set_y!x`;
+    /// see `reads.rs`); empty when none.
     pub latches: Vec<Option<Latch>>,
     /// The variables that a value received goes to by a hidden step of its
     /// own after the communication, as RoboTool's `e?x -> set_x!x`: those
@@ -879,8 +880,9 @@ pub struct Machine {
     pub file: u16,
 }
 
-/// The values a communication offers, read once when its thread gets
-/// there (RT-16, RT-18: RoboTool's `get_x?x` before the event).
+/// The values a communication offers, or an assignment writes, read once
+/// when its thread gets there (RT-16, RT-18: RoboTool's `get_x?x` before
+/// the event or the `set_y`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Latch {
     /// 1 once the values are read, 0 before and after the communication.

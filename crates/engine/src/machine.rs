@@ -179,6 +179,11 @@ impl Machine {
     /// An activity stops (its state is left), back to its canonical values.
     fn stop_activity(&self, st: &mut [i32], k: u16) {
         let a = &self.activities[k as usize];
+        // What it had read for a communication or a write is read again
+        // when it starts again.
+        if let Ok(pc) = usize::try_from(st[a.pc_slot as usize]) {
+            self.unlatch(st, pc);
+        }
         st[a.pc_slot as usize] = -1;
         st[a.wait_slot as usize] = 0;
         st[a.deadline_slot as usize] = -1;
@@ -319,6 +324,18 @@ impl Machine {
             }
             match instr {
                 Instr::Assign { slot, expr, dom, shared, forward } => {
+                    let latch = if marked { self.latches.get(pc).and_then(Option::as_ref) } else { None };
+                    // `get_x?x`, a hidden step of its own (`reads.rs`); the
+                    // write (`set_y`) is the next.
+                    if let Some(l) = latch.filter(|l| st[l.flag as usize] == 0) {
+                        let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
+                        if !dom.contains(v) {
+                            return Err(self.eval_error(EvalError::OutOfDomain(v, *dom)));
+                        }
+                        st[l.slots[0].0 as usize] = v as i32;
+                        st[l.flag as usize] = 1;
+                        return Ok(());
+                    }
                     if *shared && !first && !marked {
                         return Ok(());
                     }
@@ -326,11 +343,17 @@ impl Machine {
                     if forward.is_some_and(|(_, pending, _)| st[pending as usize] != 0) {
                         return Ok(());
                     }
-                    let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
+                    let v = match latch {
+                        Some(l) => st[l.slots[0].0 as usize] as Val,
+                        None => expr.eval(st, sat).map_err(|e| self.eval_error(e))?,
+                    };
                     // RoboTool's CSPm writes the variable through a channel
                     // of its type: FDR stops on a value outside it.
                     if !dom.contains(v) {
                         return Err(self.eval_error(EvalError::OutOfDomain(v, *dom)));
+                    }
+                    if latch.is_some() {
+                        self.unlatch(st, pc);
                     }
                     st[*slot as usize] = v as i32;
                     if let Some((ctrl, pending, others)) = *forward {
@@ -693,8 +716,10 @@ impl Machine {
                     out.push(Move { offer: Offer::Tau, act: choose(n) });
                 }
             }
-            // RT-16: a write waits while an earlier one is being forwarded.
-            Instr::Assign { forward: Some((_, pending, _)), .. } if st[*pending as usize] != 0 => {}
+            // RT-16: a write waits while an earlier one is being forwarded
+            // (its read, when a step of its own, need not).
+            Instr::Assign { forward: Some((_, pending, _)), .. }
+                if st[*pending as usize] != 0 && latch.is_none_or(|l| st[l.flag as usize] != 0) => {}
             Instr::Assign { .. } => out.push(Move { offer: Offer::Tau, act: exec }),
             // RT-18: what follows a wait that ended at a `tock` is a hidden
             // step of its own, interleaving freely with the other threads'

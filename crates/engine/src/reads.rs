@@ -17,6 +17,11 @@
 //! slots of their own, and the communication offers those until it
 //! happens ([`Machine::latches`]).
 //!
+//! An assignment that reads what another thread writes, to a variable
+//! another thread reads, latches its value the same way: RoboTool reads
+//! (`get_x?x`) and writes (`set_y!(x + 1)`) by two hidden steps, and
+//! another thread may read the old `y` in between.
+//!
 //! A value received into a variable another thread reads is written by a
 //! hidden step of its own after the communication, as RoboTool's
 //! `e?x -> set_x!x` ([`Machine::deferred`]): another thread may read the
@@ -50,8 +55,13 @@ fn mark_machine(m: &mut Machine, shared: &HashSet<u16>, params: &[Vec<Dom>], slo
     let mut latches: Vec<Option<Latch>> = vec![None; m.code.len()];
     for (pc, instr) in m.code.iter().enumerate() {
         let (vol, latch) = match instr {
-            Instr::Assign { slot: s, expr, shared: written, .. } => {
-                (*written || threads || shared.contains(s) || volatile(expr), None)
+            // `y = x + 1` is `get_x?x -> set_y!(x + 1)`: when another
+            // thread may write `x` and see `y`, the read and the write are
+            // hidden steps of their own, and the value read is latched
+            // between them.
+            Instr::Assign { slot: s, expr, shared: written, dom, .. } => {
+                let (read, write) = (volatile(expr), *written || threads || shared.contains(s));
+                (read || write, (read && write).then(|| vec![Some(*dom)]))
             }
             Instr::JumpIfNot(e, _) | Instr::SetWait(e) | Instr::Deadline(e) => (volatile(e), None),
             Instr::ChooseWait(a, b) => (volatile(a) || volatile(b), None),

@@ -307,6 +307,10 @@ pub(super) fn describe_act(
         Act::Exec if m.pending.first().is_some_and(|p| prev[p.flag as usize] != 0) => {
             (Some(format!("{}: writes the value it received, now {}", m.name, m.describe(next))), here)
         }
+        Act::Exec if assignment_read(m, pc, prev).is_some() => {
+            let what = assignment_step(m, pc, prev);
+            (Some(format!("{}: {what}, now {}", m.name, m.describe(next))), here)
+        }
         Act::Exec if matches!(m.code.get(pc), Some(Instr::Wait)) => {
             (Some(format!("{}: goes on after its wait, now {}", m.name, m.describe(next))), here)
         }
@@ -335,6 +339,9 @@ pub(super) fn describe_act(
             let pending = m.pending.get(k as usize + 1).is_some_and(|p| prev[p.flag as usize] != 0);
             let what = match (act, m.code.get(pc)) {
                 (Act::ActivityExec(_), _) if pending => "writes the value it received".into(),
+                (Act::ActivityExec(_), _) if assignment_read(m, pc, prev).is_some() => {
+                    assignment_step(m, pc, prev).into()
+                }
                 (Act::ActivityExec(_), _) if matches!(m.latches.get(pc), Some(Some(_))) => {
                     "reads the values its communication carries".into()
                 }
@@ -347,6 +354,24 @@ pub(super) fn describe_act(
             };
             (Some(format!("{}: {what} in the during action of {}", m.name, at(Some(a.state)))), here)
         }
+    }
+}
+
+/// At an assignment whose read and write are hidden steps of their own
+/// (`reads.rs`): whether it has read its value.
+fn assignment_read(m: &crate::ir::Machine, pc: usize, st: &[i32]) -> Option<bool> {
+    match (m.code.get(pc), m.latches.get(pc)) {
+        (Some(Instr::Assign { .. }), Some(Some(l))) => Some(st[l.flag as usize] != 0),
+        _ => None,
+    }
+}
+
+/// The step an assignment of [`assignment_read`] takes, in words.
+fn assignment_step(m: &crate::ir::Machine, pc: usize, st: &[i32]) -> &'static str {
+    if assignment_read(m, pc, st) == Some(true) {
+        "writes the value it read"
+    } else {
+        "reads the value it assigns"
     }
 }
 
