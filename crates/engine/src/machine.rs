@@ -324,36 +324,25 @@ impl Machine {
             }
             match instr {
                 Instr::Assign { slot, expr, dom, shared, forward } => {
-                    let latch = if marked { self.latches.get(pc).and_then(Option::as_ref) } else { None };
-                    // `get_x?x`, a hidden step of its own (`reads.rs`); the
-                    // write (`set_y`) is the next.
-                    if let Some(l) = latch.filter(|l| st[l.flag as usize] == 0) {
-                        let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
-                        if !dom.contains(v) {
-                            return Err(self.eval_error(EvalError::OutOfDomain(v, *dom)));
+                    let v = if marked && matches!(self.latches.get(pc), Some(Some(_))) {
+                        match self.latched_assign(pc, expr, *dom, *forward, st, sat)? {
+                            Some(v) => v,
+                            None => return Ok(()),
                         }
-                        st[l.slots[0].0 as usize] = v as i32;
-                        st[l.flag as usize] = 1;
-                        return Ok(());
-                    }
-                    if *shared && !first && !marked {
-                        return Ok(());
-                    }
-                    // RT-16: the controller is still forwarding a write.
-                    if forward.is_some_and(|(_, pending, _)| st[pending as usize] != 0) {
-                        return Ok(());
-                    }
-                    let v = match latch {
-                        Some(l) => st[l.slots[0].0 as usize] as Val,
-                        None => expr.eval(st, sat).map_err(|e| self.eval_error(e))?,
+                    } else {
+                        if *shared && !first && !marked {
+                            return Ok(());
+                        }
+                        // RT-16: the controller is still forwarding a write.
+                        if forward.is_some_and(|(_, pending, _)| st[pending as usize] != 0) {
+                            return Ok(());
+                        }
+                        expr.eval(st, sat).map_err(|e| self.eval_error(e))?
                     };
                     // RoboTool's CSPm writes the variable through a channel
                     // of its type: FDR stops on a value outside it.
                     if !dom.contains(v) {
                         return Err(self.eval_error(EvalError::OutOfDomain(v, *dom)));
-                    }
-                    if latch.is_some() {
-                        self.unlatch(st, pc);
                     }
                     st[*slot as usize] = v as i32;
                     if let Some((ctrl, pending, others)) = *forward {
@@ -521,6 +510,40 @@ impl Machine {
         }
         let _ = clocks;
         Err(StepError(format!("machine `{}` loops without offering anything", self.name)))
+    }
+
+    /// An assignment whose read and write are hidden steps of their own
+    /// (`reads.rs`): on its first step it reads its value into its latch
+    /// (`get_x?x`) and stops; on the next, once no earlier write of the
+    /// variable is being forwarded (RT-16), it gives the value to write
+    /// (`set_y`), its latch back at rest. `None`: the thread stops here.
+    #[cold]
+    #[inline(never)]
+    fn latched_assign(
+        &self,
+        pc: usize,
+        expr: &Expr,
+        dom: Dom,
+        forward: Option<(u16, u16, i32)>,
+        st: &mut [i32],
+        sat: &mut bool,
+    ) -> Result<Option<Val>, StepError> {
+        let Some(Some(l)) = self.latches.get(pc) else { return Ok(None) };
+        if st[l.flag as usize] == 0 {
+            let v = expr.eval(st, sat).map_err(|e| self.eval_error(e))?;
+            if !dom.contains(v) {
+                return Err(self.eval_error(EvalError::OutOfDomain(v, dom)));
+            }
+            st[l.slots[0].0 as usize] = v as i32;
+            st[l.flag as usize] = 1;
+            return Ok(None);
+        }
+        if forward.is_some_and(|(_, pending, _)| st[pending as usize] != 0) {
+            return Ok(None);
+        }
+        let v = st[l.slots[0].0 as usize] as Val;
+        self.unlatch(st, pc);
+        Ok(Some(v))
     }
 
     /// Reads the values the communication `instr` offers into its latch.
