@@ -873,6 +873,11 @@ pub struct Machine {
     /// With [`Machine::deferred`]: per thread (the main one, then each
     /// activity), the value received and not yet written.
     pub pending: Vec<Pending>,
+    /// RT-16: the machine's copies of the variables its controller
+    /// provides to several machines, with the forwarding a write of each
+    /// starts (as [`Instr::Assign`]'s `forward`): a value received into one
+    /// is written, by its own hidden step, as an assignment is.
+    pub copy_forwards: Vec<(u16, (u16, u16, i32))>,
     /// First of the machine's control slots (leaf, pc, wait counter,
     /// current transition, deadline budget): [`Machine::SLOTS`] of them.
     pub base: u16,

@@ -165,6 +165,25 @@ impl Machine {
         }
     }
 
+    /// RT-16: the forwarding a write of `slot` starts, if it is the copy
+    /// of a variable the controller provides to several machines.
+    fn copy_forward(&self, slot: u16) -> Option<(u16, u16, i32)> {
+        self.copy_forwards.iter().find(|&&(s, _)| s == slot).map(|&(_, f)| f)
+    }
+
+    /// Whether thread `id`'s pending write (of a value received) waits for
+    /// an earlier write of the same variable to be forwarded (RT-16).
+    fn pending_blocked(&self, st: &[i32], id: usize) -> bool {
+        if self.copy_forwards.is_empty() {
+            return false;
+        }
+        let Some(p) = self.pending.get(id) else { return false };
+        let Some(&(slot, _)) = usize::try_from(st[p.flag as usize] - 1).ok().and_then(|k| self.deferred.get(k)) else {
+            return false;
+        };
+        self.copy_forward(slot).is_some_and(|(_, pending, _)| st[pending as usize] != 0)
+    }
+
     /// Where a value received into `slot` goes: to the thread's pending
     /// value, written by a hidden step of its own ([`Machine::deferred`]),
     /// or at once. True if deferred.
@@ -299,9 +318,18 @@ impl Machine {
             let p = &self.pending[th.id];
             let k = st[p.flag as usize] as usize - 1;
             let (slot, dom) = self.deferred[k];
+            // RT-16: the write waits while an earlier one is forwarded.
+            let forward = self.copy_forward(slot);
+            if forward.is_some_and(|(_, pending, _)| st[pending as usize] != 0) {
+                return Ok(());
+            }
             let v = st[p.value as usize] as Val;
             if dom.contains(v) {
                 st[slot as usize] = v as i32;
+                if let Some((ctrl, pending, others)) = forward {
+                    st[ctrl as usize] = v as i32;
+                    st[pending as usize] = others;
+                }
             }
             self.clear_pending(st, th.id);
             fresh = false;
@@ -619,7 +647,9 @@ impl Machine {
         // A value received and not yet written: writing it comes first
         // (a during action's can be pre-empted, as above).
         if !self.pending.is_empty() && self.has_pending(st, 0) {
-            out.push(Move { offer: Offer::Tau, act: Act::Exec });
+            if !self.pending_blocked(st, 0) {
+                out.push(Move { offer: Offer::Tau, act: Act::Exec });
+            }
             if !self.activities.is_empty() {
                 self.activity_moves(st, out)?;
             }
@@ -663,7 +693,9 @@ impl Machine {
                 continue;
             }
             if self.has_pending(st, k as usize + 1) {
-                out.push(Move { offer: Offer::Tau, act: Act::ActivityExec(k) });
+                if !self.pending_blocked(st, k as usize + 1) {
+                    out.push(Move { offer: Offer::Tau, act: Act::ActivityExec(k) });
+                }
                 continue;
             }
             let ok = match self.code.get(pc as usize) {

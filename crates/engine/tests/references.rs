@@ -476,6 +476,14 @@ fn reference_rsa_reports(subs: &[&str]) -> Vec<(String, Verdict, String)> {
 /// Receive, no `exec`) again and again within the cycle — primitive `ID`
 /// is `{0, 1}` (RT-3), so this does not rest on the number domains.
 ///
+/// main.rsa's A1, A3 and A4 were refused while receiving into a variable
+/// the controller provides to several machines (`n`) was: RoboTool writes
+/// it by `set_n` after the event, forwarded as any write (RT-16). Now A1
+/// fails as MovementC's A1 does (a platform call due twice in a cycle), A3
+/// as A2 (the RoboSim side diverges: CommunicationC's `t2`), and A4 as
+/// CommunicationC's A3 (the RoboSim side refuses the writes the design
+/// must offer).
+///
 /// MovementC's A2–A4 changed when the RoboSim types became RoboTool's:
 /// with every literal of the project widening them (`{0..360}`), A2 ran
 /// out of memory and A3/A4 failed on values (`registerRead.i_neighbours.
@@ -484,14 +492,13 @@ fn reference_rsa_reports(subs: &[&str]) -> Vec<(String, Verdict, String)> {
 #[test]
 fn reference_robosim_assertions_in_their_project() {
     let got = reference_rsa_reports(&["", "rc2rs", "rc2rs/robochart", "rc2rs/robosim"]);
-    let several = "receiving into `n`, which the controller provides to several machines, is not supported yet";
     let diverges = |m: &str| {
         format!(
             "{m} can run hidden steps forever without time passing (a divergence, which RoboTool's timed \
              deadlock check fails too)"
         )
     };
-    let (no, pass, fail) = (Verdict::Unsupported, Verdict::Pass, Verdict::Fail);
+    let (pass, fail) = (Verdict::Pass, Verdict::Fail);
     let expected = [
         ("communicationC.rsa A1", pass, "CommunicationC can be scheduled in cycles of period 1".to_string()),
         ("communicationC.rsa A2", fail, diverges("pkg223__sim::CommunicationC")),
@@ -509,10 +516,20 @@ fn reference_robosim_assertions_in_their_project() {
              cannot"
                 .to_string(),
         ),
-        ("main.rsa A1", no, several.to_string()),
+        ("main.rsa A1", fail, "AggregationSoftware cannot be scheduled in cycles of period 1".to_string()),
         ("main.rsa A2", fail, diverges("pkg223_main_sim::AggregationSoftware")),
-        ("main.rsa A3", no, several.to_string()),
-        ("main.rsa A4", no, several.to_string()),
+        (
+            "main.rsa A3",
+            fail,
+            "refinement fails: the implementation can compute forever without finishing its cycle".to_string(),
+        ),
+        (
+            "main.rsa A4",
+            fail,
+            "refinement fails: the implementation refuses every event the specification must offer: one of \
+             {registerWrite.o_move.0.0, registerWrite.o_broadcast.0}"
+                .to_string(),
+        ),
         ("movementC.rsa A1", fail, "MovementC cannot be scheduled in cycles of period 1".to_string()),
         ("movementC.rsa A2", pass, "pkg223__sim::MovementC never reaches a state where only time passes".to_string()),
         (

@@ -590,8 +590,8 @@ impl<'a> Cx<'a> {
 
     /// RT-16: the forwarding of each variable a controller provides to
     /// several machines: a slot of the machines still to update, and each
-    /// machine's writes marked with it. Receiving into such a variable is
-    /// refused (the write would be part of the communication).
+    /// machine's writes marked with it (its assignments, and the writes of
+    /// values it receives: [`Machine::copy_forwards`]).
     fn forwards(
         &mut self,
         design: &mut Design,
@@ -609,25 +609,31 @@ impl<'a> Cx<'a> {
             let all = (1i32 << copies.len()) - 1;
             for (k, &(mi, copy)) in copies.iter().enumerate() {
                 let m = &mut design.machines[mi];
-                let binds = m.transitions.iter().filter_map(|t| match &t.trigger {
-                    Some(Trigger::In { bind: Some((s, _)), .. }) if *s == copy => Some(t.range),
-                    _ => None,
-                });
-                let stmts = m.code.iter().zip(&m.code_ranges).filter_map(|(i, r)| match i {
-                    Instr::In { bind: Some((s, _)), .. } if *s == copy => Some(*r),
-                    _ => None,
-                });
-                if let Some(r) = binds.chain(stmts).next() {
-                    let file = self.files[m.file as usize];
-                    return Err(self.unsupported(
-                        file,
-                        r,
-                        format!(
-                            "receiving into `{name}`, which the controller provides to several machines, is not \
-                             supported yet"
-                        ),
-                    ));
+                // RoboTool receives into a local and writes it by `set_x`
+                // after the event (`reads.rs`, `Machine::deferred`): a
+                // write like any other. RoboSim has no such step.
+                if self.robosim {
+                    let binds = m.transitions.iter().filter_map(|t| match &t.trigger {
+                        Some(Trigger::In { bind: Some((s, _)), .. }) if *s == copy => Some(t.range),
+                        _ => None,
+                    });
+                    let stmts = m.code.iter().zip(&m.code_ranges).filter_map(|(i, r)| match i {
+                        Instr::In { bind: Some((s, _)), .. } if *s == copy => Some(*r),
+                        _ => None,
+                    });
+                    if let Some(r) = binds.chain(stmts).next() {
+                        let file = self.files[m.file as usize];
+                        return Err(self.unsupported(
+                            file,
+                            r,
+                            format!(
+                                "receiving into `{name}`, which the controller provides to several machines, is \
+                                 not supported in RoboSim yet"
+                            ),
+                        ));
+                    }
                 }
+                m.copy_forwards.push((copy, (ctrl, pending, all & !(1 << k))));
                 for i in &mut m.code {
                     if let Instr::Assign { slot: s, forward, .. } = i {
                         if *s == copy {
@@ -748,6 +754,7 @@ impl<'a> Cx<'a> {
             latches: Vec::new(),
             deferred: Vec::new(),
             pending: Vec::new(),
+            copy_forwards: Vec::new(),
             base,
             file: file_ix,
         };
