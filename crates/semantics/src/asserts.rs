@@ -687,6 +687,18 @@ fn assertion(
             }
             let mut px = process(ex, file, read, a, &x, "D__")?;
             let mut py = process(ex, file, read, a, &y, "D__")?;
+            // RT-10: registers are matched by name. A RoboSim element's events
+            // are its module's own (`M::registerWrite.M::o_x`, RoboTool's
+            // names, which `csp` blocks use): compared with another element
+            // or a simulation, it is read on the global names.
+            if x.module != y.module {
+                for (s, o, p) in [(&x, &y, &mut px), (&y, &x, &mut py)] {
+                    let model = |s: &Subject| s.elem.is_some() || s.simulation || s.op.is_some();
+                    if let Some(e) = s.elem.as_ref().filter(|e| e.robosim && !s.simulation && model(o)) {
+                        *p = crate::sim_names::globalise(ex, e, p.clone());
+                    }
+                }
+            }
             // RT-21: a cycle-constrained design has no `endexec`: a RoboSim
             // machine or controller compared with one is read at a
             // module's alphabet, its `endexec` and `terminate` hidden (as

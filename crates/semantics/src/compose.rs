@@ -1004,26 +1004,25 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
     params.extend(consts.iter().map(|c| c.global.clone()));
     let mut parts = Vec::new();
     for (j, i) in insts.iter().enumerate() {
+        // Each component's names (its module's own, as RoboTool's) become
+        // the container's: RoboTool has no RoboSim controller or module,
+        // so this follows its RoboChart pattern.
+        let regs: Vec<crate::sim_names::RegRename> = i
+            .elem
+            .inputs
+            .iter()
+            .map(|r| (r, true))
+            .chain(i.elem.outputs.iter().map(|r| (r, false)))
+            .map(|(r, input)| {
+                let to = renames[j]
+                    .iter()
+                    .find(|(from, _, _, inp)| *from == r.ctor && *inp == input)
+                    .map_or_else(|| r.ctor.clone(), |(_, to, _, _)| to.clone());
+                crate::sim_names::RegRename { from: r.ctor.clone(), to, values: r.values.clone(), input }
+            })
+            .collect();
         let p = call(format!("{}::P__", i.elem.module), inst_args(&i.elem, true));
-        let mut p = p;
-        for (from, to, values, input) in &renames[j] {
-            let chan = if *input { "registerRead" } else { "registerWrite" };
-            let mut f = vec![name(chan), name(from.clone())];
-            let mut t = vec![name(chan), name(to.clone())];
-            let mut gens = Vec::new();
-            if *input {
-                f.push(name("b__"));
-                t.push(name("b__"));
-                gens.push(("b__".to_string(), name("Bool")));
-            }
-            for (k, v) in values.iter().enumerate() {
-                let x = format!("x{k}__");
-                f.push(name(x.clone()));
-                t.push(name(x.clone()));
-                gens.push((x, v.clone()));
-            }
-            p = Expr::Rename(Box::new(p), vec![(dot(f), dot(t))], gens);
-        }
+        let p = crate::sim_names::unqualify(ex.profile, p, &i.elem.module, &regs, true);
         parts.push((p, BTreeSet::new()));
     }
     // RT-21: the components end each cycle together, on one `endexec`
@@ -1051,7 +1050,11 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
     };
     let p_call = call("P__", args.clone());
     let d_body = if machines.is_empty() { ending(p_call.clone()) } else { ending(hide(p_call.clone(), entered)) };
-    let exports = vec![
+    let sig = |regs: &[Reg]| -> Vec<crate::sim_names::RegSig> {
+        regs.iter().map(|r| (r.ctor.clone(), r.values.clone())).collect()
+    };
+    let mut exports = crate::sim_names::own_names(ex.profile, &sig(&inputs), &sig(&outputs), true);
+    exports.extend([
         Decl::Comment(format!(
             "P__: the {} with `terminate`{} and its machines' `entered__` visible;{}D__: its semantics{};\n\
              VS__: with the machines' `entered__` visible (reachability); O__: D__ compressed\n(parameters: {}).",
@@ -1069,9 +1072,14 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
         Decl::Def("D__".into(), params.clone(), d_body),
         Decl::Def("VS__".into(), params.clone(), ending(p_call)),
         Decl::Def("O__".into(), params.clone(), call("sbisim", vec![call("D__", args)])),
-    ];
+    ]);
     let decls = vec![
-        Decl::Comment(format!("RoboSim {} {}", kind.describe(), path.join("::"))),
+        Decl::Comment(format!(
+            "RoboSim {} {} (its own names and its components' renamed into them follow RoboTool's\n\
+             RoboChart pattern: RoboTool's reference output has no RoboSim controller or module)",
+            kind.describe(),
+            path.join("::")
+        )),
         Decl::Module(module.clone(), vec![], exports),
         Decl::Blank,
     ];

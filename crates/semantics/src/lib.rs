@@ -37,6 +37,7 @@ pub mod hover;
 pub mod lint;
 mod machine;
 mod sim;
+mod sim_names;
 mod util;
 
 pub use export::{export_workspace, Export, Options, OutFile, Profile, Warning};

@@ -209,10 +209,10 @@ impl<'e, 'a> Gen<'e, 'a> {
             private.push(Decl::Channel(vec!["endexec__".into()], vec![name("TIDS")]));
             if self.profile == Profile::Paper2019 && !self.output_regs().is_empty() {
                 private.push(Decl::Comment("The outputs buffer (Rule 12).".into()));
-                private.push(Decl::Channel(vec!["stmout".into()], vec![name("OutputRegister")]));
+                private.push(Decl::Channel(vec!["stmout".into()], vec![name("RegisterDataOutput")]));
                 private.push(Decl::Datatype(
                     "BufOut__".into(),
-                    vec![("noOut__".into(), vec![]), ("out__".into(), vec![name("OutputRegister")])],
+                    vec![("noOut__".into(), vec![]), ("out__".into(), vec![name("RegisterDataOutput")])],
                 ));
                 private.push(Decl::Channel(vec!["cyclein".into()], vec![name("BufOut__")]));
             }
@@ -277,16 +277,20 @@ impl<'e, 'a> Gen<'e, 'a> {
                 .filter(|e| self.is_input(e))
                 .map(|e| (self.ex.in_reg(&e.name), e.ty.iter().flat_map(|t| t.field_sets()).collect()))
                 .collect();
-            for (c, v) in inputs {
-                if let Err(m) = self.ex.register(true, &c, &v) {
+            let outputs = self.output_regs();
+            for (c, v) in &inputs {
+                if let Err(m) = self.ex.register(true, c, v) {
                     self.problem(self.name_range, m);
                 }
             }
-            for (c, v) in self.output_regs() {
-                if let Err(m) = self.ex.register(false, &c, &v) {
+            for (c, v) in &outputs {
+                if let Err(m) = self.ex.register(false, c, v) {
                     self.problem(self.name_range, m);
                 }
             }
+            // RoboTool's names of its own (an operation on its own
+            // declares its `endexec` above).
+            exports.extend(crate::sim_names::own_names(self.profile, &inputs, &outputs, !self.sim_op));
         }
 
         // The let of P__.

@@ -454,6 +454,21 @@ impl<'e, 'a> Gen<'e, 'a> {
         if !renames.is_empty() {
             body = Expr::Rename(Box::new(body), renames, vec![]);
         }
+        if !op.outputs.is_empty() {
+            // RoboSim: its register writes (its module's own, as RoboTool's)
+            // become the machine's; its `terminate` is hidden by its `D__`.
+            let mine = self.output_regs();
+            let regs: Vec<crate::sim_names::RegRename> = op
+                .outputs
+                .iter()
+                .filter_map(|o| {
+                    let c = self.ex.out_reg(o);
+                    let (_, values) = mine.iter().find(|(m, _)| *m == c)?;
+                    Some(crate::sim_names::RegRename { from: c.clone(), to: c, values: values.clone(), input: false })
+                })
+                .collect();
+            body = crate::sim_names::rename_regs(self.profile, body, &op.module, &regs);
+        }
         Some(Decl::Def(helper.to_string(), params, body))
     }
 
