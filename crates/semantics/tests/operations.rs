@@ -177,6 +177,11 @@ exports
   -- State identifiers (final states too); `entered__` marks the entry into a state.
   datatype SIDS = SID_f
   channel entered__ : SIDS
+  -- Its own end, cycle and registers, as RoboTool declares them per element (`M::terminate`,
+  -- `M::endexec`, `M::registerRead.M::i_x`, `M::registerWrite.M::o_x`).
+  channel terminate
+  datatype RegisterDataOutput = o_move.core_nat
+  channel registerWrite : RegisterDataOutput
   -- RoboTool's process for the operation on its own: P__ with `terminate` (its final state)
   -- visible; D__: its semantics, terminating at its final state; VS__: with `entered__`
   -- visible (reachability); O__: D__ compressed (parameters: id__).
@@ -275,24 +280,25 @@ endmodule
          Count__ = OP_Count::D__(0)\nStuck__ = OP_Stuck::D__(0)",
     );
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
+    // RoboTool's operation modules have their own registers (RT-11).
     let once = ev.lts("Once__").unwrap();
-    assert!(terminates_after(&once, &["registerWrite.o_move.1"]), "{:?}", once.events);
+    assert!(terminates_after(&once, &["OP_Once::registerWrite.OP_Once::o_move.1"]), "{:?}", once.events);
     // Urgent: time does not pass before the write.
     assert!(!has(&once, &["tock"]) && !terminates_after(&once, &[]), "{:?}", once.events);
     let twice = ev.lts("Twice__").unwrap();
     let exec = [
-        "registerWrite.o_move.0",
+        "OP_Twice::registerWrite.OP_Twice::o_move.0",
         "tock",
         "OP_Twice::endexec",
         "tock",
         "OP_Twice::startexec",
-        "registerWrite.o_move.1",
+        "OP_Twice::registerWrite.OP_Twice::o_move.1",
     ];
     assert!(has(&twice, &exec), "{:?}", twice.events);
     // Time passed at the `exec` counts for `since(C) >= 1`; without it, S
     // waits one time unit.
     assert!(!terminates_after(&twice, &exec[..4]) && terminates_after(&twice, &exec));
-    let fast = ["registerWrite.o_move.0", "OP_Twice::endexec", "OP_Twice::startexec", "registerWrite.o_move.1"];
+    let fast = ["OP_Twice::registerWrite.OP_Twice::o_move.0", "OP_Twice::endexec", "OP_Twice::startexec", "OP_Twice::registerWrite.OP_Twice::o_move.1"];
     assert!(!terminates_after(&twice, &fast) && terminates_after(&twice, &[&fast[..], &["tock"]].concat()));
     assert!(terminates_after(&ev.lts("Loop0__").unwrap(), &[]));
     let loop1 = ev.lts("Loop1__").unwrap();
@@ -300,7 +306,7 @@ endmodule
     assert!(has(&loop1, &[&cycle[..], &cycle[..]].concat()));
     assert!(!terminates_after(&loop1, &[]) && !terminates_after(&loop1, &cycle));
     assert!(terminates_after(&ev.lts("Caller__").unwrap(), &["helperCall.2"]));
-    assert!(terminates_after(&ev.lts("Signal__").unwrap(), &["registerWrite.o_done.2"]));
+    assert!(terminates_after(&ev.lts("Signal__").unwrap(), &["OP_Signal::registerWrite.OP_Signal::o_done.2"]));
     let count = ev.lts("Count__").unwrap();
     let cycle = ["OP_Count::endexec", "OP_Count::startexec"];
     assert!(terminates_after(&count, &[&cycle[..], &cycle[..]].concat()));

@@ -16,7 +16,7 @@ use robosim_cspm::{Evaluator, Limits, NoNames};
 
 mod support;
 use robosim_semantics::{export_workspace, lint, Export, Options, Profile};
-use support::{after, checked, terminates_after, text};
+use support::{own, refs, after, checked, terminates_after, text};
 
 fn export_files(files: Vec<(String, String)>, profile: Profile) -> Export {
     let mut db = robosim_hir::RootDatabase::default();
@@ -92,6 +92,7 @@ fn a_machine_runs_its_controller_operation_and_calls_it_on_its_own() {
     );
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let in_c = ev.lts("InC__").unwrap();
+    // Each element's own names, as RoboTool's (`C::registerWrite.C::o_move.1`).
     let cycles = [
         "registerWrite.o_move.1",
         "endexec",
@@ -102,27 +103,35 @@ fn a_machine_runs_its_controller_operation_and_calls_it_on_its_own() {
         "endexec",
         "terminate",
     ];
-    // Not at the end of the second cycle.
     let early = [&cycles[..5], &["terminate"]].concat();
-    assert!(terminates_after(&in_c, &cycles), "{:?}", in_c.events);
+    let (c_cycles, c_early) = (own("C", &cycles), own("C", &early));
+    // Not at the end of the second cycle.
+    assert!(terminates_after(&in_c, &refs(&c_cycles)), "{:?}", in_c.events);
     // The writes are urgent, and step's `exec` ends the first cycle.
     assert!(
         after(&in_c, &["tock"]).is_empty()
-            && after(&in_c, &["registerWrite.o_move.1", "registerWrite.o_move.2"]).is_empty()
+            && after(&in_c, &refs(&own("C", &["registerWrite.o_move.1", "registerWrite.o_move.2"]))).is_empty()
     );
-    assert!(!terminates_after(&in_c, &early) && !in_c.events.iter().any(|e| e.contains("stepCall")));
+    assert!(!terminates_after(&in_c, &refs(&c_early)) && !in_c.events.iter().any(|e| e.contains("stepCall")));
     // As Spec writes it out (its own states counted apart).
     let spec = ev.lts("Spec__").unwrap();
-    assert!(terminates_after(&spec, &cycles) && !terminates_after(&spec, &early));
+    assert!(
+        terminates_after(&spec, &refs(&own("CS", &cycles))) && !terminates_after(&spec, &refs(&own("CS", &early)))
+    );
     // inc() raises M3's own n, which M3 writes: as Spec.
     let in_c3 = ev.lts("InC3__").unwrap();
-    assert!(terminates_after(&in_c3, &cycles) && !terminates_after(&in_c3, &early));
+    assert!(
+        terminates_after(&in_c3, &refs(&own("CInc", &cycles)))
+            && !terminates_after(&in_c3, &refs(&own("CInc", &early)))
+    );
     let alone = ev.lts("Alone__").unwrap();
     let first = ["registerWrite.o_move.1", "M::stepCall.2", "endexec", "tock"];
-    assert!(terminates_after(&alone, &[&first[..], &["endexec", "terminate"]].concat()), "{:?}", alone.events);
-    assert!(after(&alone, &["registerWrite.o_move.1", "tock"]).is_empty());
-    assert!(after(&alone, &["registerWrite.o_move.1", "M::stepCall.2", "registerWrite.o_move.2"]).is_empty());
-    assert!(after(&alone, &[&first[..], &["registerWrite.o_move.2"]].concat()).is_empty());
+    let ends = own("M", &[&first[..], &["endexec", "terminate"]].concat());
+    assert!(terminates_after(&alone, &refs(&ends)), "{:?}", alone.events);
+    assert!(after(&alone, &refs(&own("M", &["registerWrite.o_move.1", "tock"]))).is_empty());
+    let twice = own("M", &["registerWrite.o_move.1", "M::stepCall.2", "registerWrite.o_move.2"]);
+    assert!(after(&alone, &refs(&twice)).is_empty());
+    assert!(after(&alone, &refs(&own("M", &[&first[..], &["registerWrite.o_move.2"]].concat()))).is_empty());
     assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
 }
 
@@ -216,9 +225,11 @@ controller C { cycleDef cycle == 1 uses E
     let in_c = ev.lts("InC__").unwrap();
     let cycles = ["registerRead.i_b.false.0", "registerWrite.o_b.1", "endexec", "tock", "registerRead.i_b.true.2"];
     let second = ["registerWrite.o_b.2", "endexec", "tock"];
-    assert!(!after(&in_c, &[&cycles[..], &second[..]].concat()).is_empty(), "{:?}", in_c.events);
+    let trace = own("C", &[&cycles[..], &second[..]].concat());
+    assert!(!after(&in_c, &refs(&trace)).is_empty(), "{:?}", in_c.events);
     let alone = ev.lts("Alone__").unwrap();
     let second = ["M::notifyCall", "endexec", "tock"];
-    assert!(!after(&alone, &[&cycles[..], &second[..]].concat()).is_empty(), "{:?}", alone.events);
+    let trace = own("M", &[&cycles[..], &second[..]].concat());
+    assert!(!after(&alone, &refs(&trace)).is_empty(), "{:?}", alone.events);
     assert!(lint::check(&e.files).is_empty(), "{:#?}", lint::check(&e.files));
 }

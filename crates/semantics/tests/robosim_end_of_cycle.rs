@@ -62,22 +62,24 @@ fn a_machine_on_its_own_shows_endexec_and_terminate() {
         model.contains("endexec__.t__ <- endexec |") && model.contains("\\ {| internal__, startexec |}"),
         "{model}"
     );
-    assert!(text(&e, "robosim_defs.csp").contains("channel endexec\n"));
+    // RoboTool's names are the machine's own (`M::endexec`, `M::registerWrite.M::o_op`).
+    assert!(model.contains("  channel terminate, endexec\n  datatype RegisterDataOutput = o_op | o_op2.core_nat\n"));
     let m = checked(&e, "main.csp", PROCESSES);
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let mm = ev.lts("M__").unwrap();
     assert!(!ever(&mm, "M::startexec"));
-    let written = ["registerWrite.o_op", "endexec"];
-    assert!(terminates_after(&mm, &[&written[..], &["terminate"]].concat()), "{:?}", mm.events);
+    let written = ["M::registerWrite.M::o_op", "M::endexec"];
+    assert!(terminates_after(&mm, &[&written[..], &["M::terminate"]].concat()), "{:?}", mm.events);
     // RT-20: `terminate` competes with `tock`; a finished machine keeps
     // ending cycles.
-    assert!(offers_after(&mm, &written, "terminate") && offers_after(&mm, &written, "tock"));
-    assert!(terminates_after(&mm, &[&written[..], &["tock", "endexec", "terminate"]].concat()));
+    assert!(offers_after(&mm, &written, "M::terminate") && offers_after(&mm, &written, "tock"));
+    assert!(terminates_after(&mm, &[&written[..], &["tock", "M::endexec", "M::terminate"]].concat()));
     // `tock` waits for the cycle's end.
-    assert!(after(&mm, &["registerWrite.o_op", "tock"]).is_empty());
+    assert!(after(&mm, &["M::registerWrite.M::o_op", "tock"]).is_empty());
     let n = ev.lts("N__").unwrap();
-    assert!(!offers_after(&n, &written, "terminate") && offers_after(&n, &written, "tock"));
-    assert!(terminates_after(&n, &[&written[..], &["tock", "endexec", "terminate"]].concat()));
+    let written = ["N::registerWrite.N::o_op", "N::endexec"];
+    assert!(!offers_after(&n, &written, "N::terminate") && offers_after(&n, &written, "tock"));
+    assert!(terminates_after(&n, &[&written[..], &["tock", "N::endexec", "N::terminate"]].concat()));
 }
 
 /// A controller shows one `endexec` per cycle, once every machine has
@@ -89,17 +91,17 @@ fn a_controller_shows_its_own_endexec_and_a_module_hides_it() {
     let m = checked(&e, "main.csp", PROCESSES);
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
     let c = ev.lts("C__").unwrap();
-    assert!(terminates_after(&c, &["registerWrite.o_op", "endexec", "terminate"]), "{:?}", c.events);
-    assert!(offers_after(&c, &["registerWrite.o_op", "endexec"], "tock"));
+    assert!(terminates_after(&c, &["C::registerWrite.C::o_op", "C::endexec", "C::terminate"]), "{:?}", c.events);
+    assert!(offers_after(&c, &["C::registerWrite.C::o_op", "C::endexec"], "tock"));
     // M0 finishes in the first cycle, N0 in the second: one `endexec` per
     // cycle, `terminate` only once both have finished.
     let c2 = ev.lts("C2__").unwrap();
-    assert!(terminates_after(&c2, &["endexec", "tock", "endexec", "terminate"]), "{:?}", c2.events);
-    assert!(after(&c2, &["endexec", "endexec"]).is_empty() && !offers_after(&c2, &["endexec"], "terminate"));
+    assert!(terminates_after(&c2, &["C2::endexec", "tock", "C2::endexec", "C2::terminate"]), "{:?}", c2.events);
+    assert!(after(&c2, &["C2::endexec", "C2::endexec"]).is_empty() && !offers_after(&c2, &["C2::endexec"], "C2::terminate"));
     let module = ev.lts("Mod__").unwrap();
-    assert!(!ever(&module, "endexec") && !ever(&module, "terminate"), "{:?}", module.events);
-    assert!(terminates_after(&module, &["registerWrite.o_op"]));
-    assert!(after(&module, &["registerWrite.o_op", "tock"]).is_empty());
+    assert!(!ever(&module, "Mod::endexec") && !ever(&module, "Mod::terminate"), "{:?}", module.events);
+    assert!(terminates_after(&module, &["Mod::registerWrite.Mod::o_op"]));
+    assert!(after(&module, &["Mod::registerWrite.Mod::o_op", "tock"]).is_empty());
 }
 
 /// The paper's Rule 4 (paper2019 profile) ends the cycle without a
@@ -109,8 +111,9 @@ fn the_paper_profile_hides_the_end_of_a_cycle() {
     let e = export(Profile::Paper2019);
     let m = checked(&e, "main.csp", "M0__ = M0::D__(0, 1)\nC2__ = C2::D__(0, 1)");
     let mut ev = Evaluator::new(&m, &NoNames, Limits::default());
-    for p in ["M0__", "C2__"] {
+    for (p, m) in [("M0__", "M0"), ("C2__", "C2")] {
         let lts = ev.lts(p).unwrap();
-        assert!(!ever(&lts, "endexec") && !ever(&lts, "terminate"), "{p}: {:?}", lts.events);
+        let (end, term) = (format!("{m}::endexec"), format!("{m}::terminate"));
+        assert!(!ever(&lts, &end) && !ever(&lts, &term) && lts.event(&term).is_some(), "{p}: {:?}", lts.events);
     }
 }

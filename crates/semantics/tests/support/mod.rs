@@ -76,3 +76,23 @@ pub fn eval(m: &Module, expr: &str) -> String {
     let mut ev = Evaluator::new(m, &NoNames, Limits::default());
     ev.eval_text(expr).map(|v| v.to_string()).unwrap_or_else(|d| format!("error: {}", d.message))
 }
+
+/// `trace` with RoboSim's cycle and register events named as the element
+/// module `m`'s own, as RoboTool declares them (`registerWrite.o_x.1` is
+/// `M::registerWrite.M::o_x.1`, `endexec` is `M::endexec`); other events
+/// are kept.
+pub fn own(m: &str, trace: &[&str]) -> Vec<String> {
+    trace
+        .iter()
+        .map(|e| match e.split_once('.') {
+            Some((c @ ("registerRead" | "registerWrite"), rest)) => format!("{m}::{c}.{m}::{rest}"),
+            _ if matches!(*e, "endexec" | "terminate") => format!("{m}::{e}"),
+            _ => e.to_string(),
+        })
+        .collect()
+}
+
+/// The `&str`s of `v` (for [`after`] and [`terminates_after`]).
+pub fn refs(v: &[String]) -> Vec<&str> {
+    v.iter().map(String::as_str).collect()
+}
