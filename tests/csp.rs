@@ -116,7 +116,12 @@ fn paper_example_assertions() {
         "include \"design.csp\"",
         "assert PConstrained::TLF(0, 1, 45, 1, 15) :[deadlock free [F]] :[tau priority]: {tock}",
         "assert not PConstrained2::TLF(0, 2, 45, 1, 15) :[deadlock free [F]] :[tau priority]: {tock}",
-        "assert PConstrained::D__(0, 1, 45, 1, 15)\n  [FD= paper_sim::SimCFootBot::D__(0, 1, 45, 1, 15) :[tau priority]: {tock}",
+        // RT-10: registers matched by name: the module's own renamed to
+        // the global names the constrained design uses.
+        "assert PConstrained::D__(0, 1, 45, 1, 15)\n  [FD= paper_sim::SimCFootBot::D__(0, 1, 45, 1, 15) [[\n      \
+         paper_sim::SimCFootBot::terminate <- terminate,",
+        "paper_sim::SimCFootBot::registerWrite.paper_sim::SimCFootBot::o_stop <- registerWrite.o_stop\n  ]] \
+         :[tau priority]: {tock}",
         "paper_sim_alt::SimCFootBot::D__(0, 1, 45, 1, 15) [[ tock <- tock, tock <- tock' ]]",
     ] {
         assert!(a.contains(needle), "missing `{needle}` in\n{a}");
