@@ -96,3 +96,56 @@ pub fn own(m: &str, trace: &[&str]) -> Vec<String> {
 pub fn refs(v: &[String]) -> Vec<&str> {
     v.iter().map(String::as_str).collect()
 }
+
+/// The verdict of the trace refinement `assert spec [T= imp :[tau
+/// priority]: {tock}` (as written by the export) in `m`: every trace of
+/// `spec` (✓ included) is one of `imp`, whose `tock` is refused where it
+/// has an internal step.
+pub fn trace_refines(m: &Module, spec: &str, imp: &str) -> bool {
+    let mut ev = Evaluator::new(m, &NoNames, Limits::default());
+    let mut lts = |p: &str| ev.eval_text(p).and_then(|v| ev.lts_of(&v)).unwrap_or_else(|d| panic!("{p}: {}", d.message));
+    let (spec, mut imp) = (lts(spec), lts(imp));
+    if let Some(tock) = imp.event("tock") {
+        for t in imp.transitions.iter_mut() {
+            if t.iter().any(|(l, _)| *l == Label::Tau) {
+                t.retain(|(l, _)| *l != Label::Event(tock));
+            }
+        }
+    }
+    // Each state of `spec` with the set of states `imp` can be in after
+    // the same trace.
+    let start = (spec.initial, imp.tau_closure(vec![imp.initial]));
+    let mut seen = std::collections::HashSet::new();
+    let mut todo = vec![start];
+    while let Some((s, set)) = todo.pop() {
+        if !seen.insert((s, set.clone())) {
+            continue;
+        }
+        for (l, t) in &spec.transitions[s as usize] {
+            let next: Vec<u32> = match l {
+                Label::Tau => set.clone(),
+                Label::Tick => {
+                    if !set.iter().any(|&i| imp.transitions[i as usize].iter().any(|(l, _)| *l == Label::Tick)) {
+                        return false;
+                    }
+                    continue;
+                }
+                Label::Event(e) => {
+                    let Some(e) = imp.event(&spec.events[*e as usize]) else { return false };
+                    let step: Vec<u32> = set
+                        .iter()
+                        .flat_map(|&i| {
+                            imp.transitions[i as usize].iter().filter(|(l, _)| *l == Label::Event(e)).map(|(_, t)| *t)
+                        })
+                        .collect();
+                    if step.is_empty() {
+                        return false;
+                    }
+                    imp.tau_closure(step)
+                }
+            };
+            todo.push((*t, next));
+        }
+    }
+    true
+}
