@@ -82,8 +82,9 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
         }),
         Decl::Channel(vec!["terminate".into(), "timelock".into()], vec![]),
         Decl::Comment(if ex.timed {
-            "`endexec` ends a RoboSim cycle: visible for a machine or a controller on its own (robotool-facts\n\
-             RT-21), one for all of a controller's machines."
+            "`endexec` ends a RoboSim cycle. Each RoboSim element has its own `endexec`, `terminate` and\n\
+             registers (RoboTool's `M::endexec`, `M::registerWrite.M::o_x`); these global names are those\n\
+             two elements, or an element and a simulation, are compared on (RT-10: matched by name)."
                 .into()
         } else {
             "`endexec`: the timed script's name, kept for `csp` blocks.".into()
@@ -113,7 +114,9 @@ pub(crate) fn robosim_defs(ex: &Exporter<'_>) -> OutFile {
     };
     if !ex.in_regs.is_empty() || !ex.out_regs.is_empty() {
         d.push(Decl::Comment(
-            "Sensor and actuator registers of the RoboSim modules and of the simulations (matched by name).".into(),
+            "Sensor and actuator registers of the simulations, and of the RoboSim elements when compared\n\
+             (matched by name; each element's module has its own, renamed to these)."
+                .into(),
         ));
     }
     if !ex.in_regs.is_empty() {

@@ -92,7 +92,9 @@ pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> O
     })?;
     let mut ex = Exporter::new(db, ws, Profile::RoboTool3);
     let module = crate::util::element_module(&ex.package(file), &path);
-    let out = Gen::new(&mut ex, file, Some(machine), path.clone(), machine.name_range, true).run(module, path).ok()?;
+    let out = Gen::new(&mut ex, file, Some(machine), path.clone(), machine.name_range, true)
+        .run(module.clone(), path)
+        .ok()?;
     // The most specific term around the offset: statements and `exec`
     // before transitions (whose range is their name).
     let best = out
@@ -100,7 +102,7 @@ pub fn hover_term(db: &dyn Db, ws: Workspace, file: File, offset: TextSize) -> O
         .iter()
         .filter(|t| t.range.contains_inclusive(offset))
         .min_by_key(|t| (t.range.len(), t.kind == TermKind::Transition))?;
-    let reading = reading(best, file.kind(db) == FileKind::RoboSim);
+    let reading = reading(best, file.kind(db) == FileKind::RoboSim, &module);
     Some(HoverTerm { range: best.range, term: print_expr(&best.expr, WIDTH), reading })
 }
 
@@ -144,7 +146,8 @@ fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: ElemDef<'_>, path:
             "The machine `{what}`: its states are processes (`Enter__S` runs the entry action, `Rest__S` offers the transitions while time passes) in parallel with its memory (`Memory__`: variables, clocks, and the guards, which enable each transition's trigger); internal events are hidden and happen before time passes (`TimedPriority`); once finished, it offers its `terminate` while time passes."
         ),
         (crate::export::ElemKind::Machine, true) => format!(
-            "The machine `{what}` (paper Rules 3–7, 13): its behaviour, its memory (inputs, variables, clocks, guards) and its cycle: read every input register, `startexec`, run until an `exec` ends the cycle (`endexec`, visible on its own: RT-21), each output register written at once and at most once, then `terminate` if it has finished, or `cycle` time units pass."
+            "The machine `{what}` (paper Rules 3–7, 13): its behaviour, its memory (inputs, variables, clocks, guards) and its cycle: read every input register (`{m}::registerRead.{m}::i_x`), `startexec`, run until an `exec` ends the cycle (`{m}::endexec`, visible on its own: RT-21), each output register written at once and at most once (`{m}::registerWrite.{m}::o_x`), then `{m}::terminate` if it has finished, or `cycle` time units pass. The cycle and register events are the machine's own, as RoboTool names them.",
+            m = elem.module
         ),
         (kind, false) => format!(
             "The {} `{what}`: its components in parallel, synchronising on `tock` and `terminate` (they end together), their events renamed through the connections; connections between components are hidden{}.",
@@ -152,8 +155,9 @@ fn element_term(db: &dyn Db, ws: Workspace, file: File, decl: ElemDef<'_>, path:
             if kind == crate::export::ElemKind::Module { ", and so is `terminate`: the module ends at once" } else { "" }
         ),
         (_, true) => format!(
-            "The {} `{what}` (paper Rules 1, 9–11): its components in parallel, synchronising on `tock`, `terminate` and the end of each cycle (one `endexec`, after every machine's: a controller shows both, a module hides them, RT-21), their registers renamed through the connections.",
-            elem.kind.describe()
+            "The {} `{what}` (paper Rules 1, 9–11): its components in parallel, synchronising on `tock`, `terminate` and the end of each cycle (one `endexec`, after every machine's: a controller shows both, a module hides them, RT-21), their registers renamed through the connections. Its components' cycle and register events are renamed to its own (`{m}::endexec`, `{m}::terminate`, `{m}::registerRead.{m}::i_x`, `{m}::registerWrite.{m}::o_x`), following RoboTool's RoboChart pattern.",
+            elem.kind.describe(),
+            m = elem.module
         ),
     };
     Some(HoverTerm { range: decl.name_range(), term, reading })
@@ -191,21 +195,25 @@ fn abbreviate(e: &Expr) -> Expr {
     }
 }
 
-fn reading(t: &Term, robosim: bool) -> String {
+/// What the term `t` of a machine of the CSPm module `module` does;
+/// RoboSim's cycle and registers by the names RoboTool gives them (the
+/// machine's own, `M::endexec`, `M::registerWrite.M::o_x`), as `csp`
+/// blocks write them.
+fn reading(t: &Term, robosim: bool, module: &str) -> String {
     let text = |e: &Expr| print_expr(e, usize::MAX);
     match t.kind {
-        TermKind::Exec => "`exec` ends this machine's cycle (`endexec__`, tagged with the transition and seen as `endexec`; enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6).".into(),
+        TermKind::Exec => format!("`exec` ends this machine's cycle (`endexec__`, tagged with the transition and seen as `{module}::endexec`; enabled only while the transition's guard holds); what follows runs in the next cycle, after its inputs are read (`startexec`), `cycle` time units later (paper Rule 6)."),
         TermKind::OperationOutput => {
             let reg = first_register(&t.expr).unwrap_or_default();
             let op = reg.strip_prefix("o_").unwrap_or(&reg);
             format!(
-                "Calls the platform operation `{op}` by writing its actuator register `{reg}` at once: urgent, no time passes (`EDeadline(…, 0)`), and the cycle admits each output register at most once (RoboTool 3). In the paper's semantics (Rule 7) the call is buffered (`stmout!…U.true.… -> SKIP`) and written when the cycle's processing ends."
+                "Calls the platform operation `{op}` by writing its actuator register `{module}::{reg}` (`{module}::registerWrite.{module}::{reg}`) at once: urgent, no time passes (`EDeadline(…, 0)`), and the cycle admits each output register at most once (RoboTool 3). In the paper's semantics (Rule 7) the call is buffered (`stmout!…U.true.… -> SKIP`) and written when the cycle's processing ends."
             )
         }
         TermKind::Output => {
             let reg = first_register(&t.expr).unwrap_or_default();
             format!(
-                "Writes the actuator register `{reg}` at once: urgent, no time passes (`EDeadline(…, 0)`), and the cycle admits each output register at most once (RoboTool 3). In the paper's semantics (Rule 7) the output is buffered (`stmout!…U.true.… -> SKIP`) and written when the cycle's processing ends."
+                "Writes the actuator register `{module}::{reg}` (`{module}::registerWrite.{module}::{reg}`) at once: urgent, no time passes (`EDeadline(…, 0)`), and the cycle admits each output register at most once (RoboTool 3). In the paper's semantics (Rule 7) the output is buffered (`stmout!…U.true.… -> SKIP`) and written when the cycle's processing ends."
             )
         }
         TermKind::Call => "Calls the platform operation: urgent (`EDeadline(…, 0)`), no time passes before the platform accepts the call.".into(),

@@ -298,7 +298,12 @@ endmodule
     // Time passed at the `exec` counts for `since(C) >= 1`; without it, S
     // waits one time unit.
     assert!(!terminates_after(&twice, &exec[..4]) && terminates_after(&twice, &exec));
-    let fast = ["OP_Twice::registerWrite.OP_Twice::o_move.0", "OP_Twice::endexec", "OP_Twice::startexec", "OP_Twice::registerWrite.OP_Twice::o_move.1"];
+    let fast = [
+        "OP_Twice::registerWrite.OP_Twice::o_move.0",
+        "OP_Twice::endexec",
+        "OP_Twice::startexec",
+        "OP_Twice::registerWrite.OP_Twice::o_move.1",
+    ];
     assert!(!terminates_after(&twice, &fast) && terminates_after(&twice, &[&fast[..], &["tock"]].concat()));
     assert!(terminates_after(&ev.lts("Loop0__").unwrap(), &[]));
     let loop1 = ev.lts("Loop1__").unwrap();

@@ -16,7 +16,7 @@ use robosim_cspm::{Evaluator, Limits, NoNames};
 
 mod support;
 use robosim_semantics::{export_workspace, lint, Export, Options, Profile};
-use support::{own, refs, after, checked, terminates_after, text};
+use support::{after, checked, own, refs, terminates_after, text};
 
 fn export_files(files: Vec<(String, String)>, profile: Profile) -> Export {
     let mut db = robosim_hir::RootDatabase::default();
@@ -115,9 +115,7 @@ fn a_machine_runs_its_controller_operation_and_calls_it_on_its_own() {
     assert!(!terminates_after(&in_c, &refs(&c_early)) && !in_c.events.iter().any(|e| e.contains("stepCall")));
     // As Spec writes it out (its own states counted apart).
     let spec = ev.lts("Spec__").unwrap();
-    assert!(
-        terminates_after(&spec, &refs(&own("CS", &cycles))) && !terminates_after(&spec, &refs(&own("CS", &early)))
-    );
+    assert!(terminates_after(&spec, &refs(&own("CS", &cycles))) && !terminates_after(&spec, &refs(&own("CS", &early))));
     // inc() raises M3's own n, which M3 writes: as Spec.
     let in_c3 = ev.lts("InC3__").unwrap();
     assert!(

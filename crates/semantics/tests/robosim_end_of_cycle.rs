@@ -97,7 +97,9 @@ fn a_controller_shows_its_own_endexec_and_a_module_hides_it() {
     // cycle, `terminate` only once both have finished.
     let c2 = ev.lts("C2__").unwrap();
     assert!(terminates_after(&c2, &["C2::endexec", "tock", "C2::endexec", "C2::terminate"]), "{:?}", c2.events);
-    assert!(after(&c2, &["C2::endexec", "C2::endexec"]).is_empty() && !offers_after(&c2, &["C2::endexec"], "C2::terminate"));
+    assert!(
+        after(&c2, &["C2::endexec", "C2::endexec"]).is_empty() && !offers_after(&c2, &["C2::endexec"], "C2::terminate")
+    );
     let module = ev.lts("Mod__").unwrap();
     assert!(!ever(&module, "Mod::endexec") && !ever(&module, "Mod::terminate"), "{:?}", module.events);
     assert!(terminates_after(&module, &["Mod::registerWrite.Mod::o_op"]));

@@ -103,7 +103,8 @@ pub fn refs(v: &[String]) -> Vec<&str> {
 /// has an internal step.
 pub fn trace_refines(m: &Module, spec: &str, imp: &str) -> bool {
     let mut ev = Evaluator::new(m, &NoNames, Limits::default());
-    let mut lts = |p: &str| ev.eval_text(p).and_then(|v| ev.lts_of(&v)).unwrap_or_else(|d| panic!("{p}: {}", d.message));
+    let mut lts =
+        |p: &str| ev.eval_text(p).and_then(|v| ev.lts_of(&v)).unwrap_or_else(|d| panic!("{p}: {}", d.message));
     let (spec, mut imp) = (lts(spec), lts(imp));
     if let Some(tock) = imp.event("tock") {
         for t in imp.transitions.iter_mut() {
