@@ -39,7 +39,6 @@ use robosim_hir::TextRange;
 
 use crate::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
 use crate::budget::ProgressFn;
-use crate::design::DesignLts;
 use crate::lts::{Event, Label, Lts, TAU, TOCK};
 use crate::pack::VectorLts;
 use crate::untimed::Semantics;
@@ -171,6 +170,7 @@ fn run(
         ));
     }
     let mut ev = Evaluator::new(&module, &host, limits.clone());
+    host.declare_registers(&mut ev);
     if uses_events {
         // `Events` holds the channels met so far: `tock` (which RoboTool's
         // script declares) and the model's channels.
@@ -249,6 +249,7 @@ fn run(
         // its traces may still show that the refinement fails.
         Err((verdict, why, true)) if !imp_block && !both_ways && model != SemanticModel::Traces => {
             let mut ev = Evaluator::new(&module, &host, Limits { traces_only: true, ..limits.clone() });
+            host.declare_registers(&mut ev);
             let traces = block(&mut ev, &mut ids, &spec_name)
                 .map_err(|(_, t, _)| (verdict, format!("{why}; up to traces: {t}")))?;
             let c = compiled.as_ref().ok_or_else(|| (verdict, why.clone()))?;
@@ -271,7 +272,7 @@ fn run(
         (Some(c), Some((trans, at)), None) => {
             let spec = SpecLts { trans, names: &ids };
             let native = c.lts().map_err(unsupported)?;
-            let imp = Imp { inner: &native, terminate, names: &ids };
+            let imp = Imp { inner: &native, terminate, names: &ids, tau_priority: c.sim.is_some() };
             report.notes.push(crate::verify::domains_note(&c.design));
             let explain =
                 |cex: &RefinementCex<_>| counterexample(&imp, &spec, &c.design, cex, &native, &spec_name, &at);
@@ -285,7 +286,7 @@ fn run(
         (Some(c), None, Some((trans, at))) => {
             let imp = SpecLts { trans, names: &ids };
             let native = c.lts().map_err(unsupported)?;
-            let spec = Imp { inner: &native, terminate, names: &ids };
+            let spec = Imp { inner: &native, terminate, names: &ids, tau_priority: c.sim.is_some() };
             report.notes.push(crate::verify::domains_note(&c.design));
             let explain = |cex: &RefinementCex<u32>| explicit_counterexample(&imp, cex, &spec_name, &at);
             let holds = decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?;
@@ -343,7 +344,7 @@ fn by_traces(
     let states = trans.len();
     let spec = SpecLts { trans, names: side.ids };
     let native = c.lts().map_err(unsupported)?;
-    let imp = Imp { inner: &native, terminate: side.terminate, names: side.ids };
+    let imp = Imp { inner: &native, terminate: side.terminate, names: side.ids, tau_priority: c.sim.is_some() };
     let explain = |cex: &RefinementCex<_>| counterexample(&imp, &spec, &c.design, cex, &native, spec_name, &at);
     let (model, ids, script) = (SemanticModel::Traces, side.ids, side.script);
     let holds = decide(&spec, &imp, model, false, opts, progress, report, ids, &explain, script)?;
@@ -677,7 +678,7 @@ fn counterexample<L: Lts<State = crate::pack::Packed>>(
     spec: &SpecLts<'_>,
     design: &crate::ir::Design,
     cex: &RefinementCex<lts::ImpState<crate::pack::Packed>>,
-    native: &DesignLts<'_>,
+    native: &native::NativeLts<'_>,
     spec_name: &str,
     def_at: &str,
 ) -> Counterexample {
