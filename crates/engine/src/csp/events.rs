@@ -30,6 +30,11 @@ pub(crate) struct Names {
     /// `first_extra` on.
     extra: Vec<String>,
     first_extra: Event,
+    /// RoboSim: each absent read of an input event's register (flag
+    /// `false`) and every absent read of that register. The native LTS
+    /// reads one representative value (it is never observed); RoboTool's
+    /// `registerRead.i_x?x__` takes any, so the bridge offers them all.
+    aliases: FxHashMap<Event, std::sync::Arc<[Event]>>,
 }
 
 /// The value sets of the fields of the element's channels, by CSPm
@@ -53,6 +58,12 @@ impl Names {
             }
             e => self.native.get((e - FIRST_VISIBLE) as usize).cloned().flatten().unwrap_or_else(|| format!("e{e}")),
         }
+    }
+
+    /// The events that stand for the native event `e` (see `aliases`), if
+    /// others than `e` do.
+    pub fn aliases(&self, e: Event) -> Option<&[Event]> {
+        self.aliases.get(&e).map(|a| &a[..])
     }
 
     /// Whether the native event `e` has no CSPm name.
@@ -331,6 +342,22 @@ pub(crate) fn sim_names(
         }
         out.native.push(name);
         values.push(value);
+    }
+    // Absent reads of an event's register, by register.
+    let mut absent: FxHashMap<usize, Vec<Event>> = FxHashMap::default();
+    for e in FIRST_VISIBLE..end {
+        let Some((g, args)) = events.decode(e) else { continue };
+        let Some(x) = events.group(g).name.strip_prefix("registerRead.i_") else { continue };
+        let flagged = design.channels.iter().any(|c| !c.internal && c.dir == crate::ir::Dir::In && c.name == x && !c.var);
+        if flagged && args.first() == Some(&0) {
+            absent.entry(g).or_default().push(e);
+        }
+    }
+    for list in absent.into_values().filter(|l| l.len() > 1) {
+        let list: std::sync::Arc<[Event]> = list.into();
+        for &e in list.iter() {
+            out.aliases.insert(e, list.clone());
+        }
     }
     Ok((out, own, values))
 }

@@ -97,7 +97,14 @@ impl<L: Lts> Lts for Imp<'_, L> {
                 Some(term) if l.event == TICK => {
                     out.push((Label { event: term, note: l.note }, ImpState { inner: t, ending: true }))
                 }
-                _ => out.push((l, ImpState { inner: t, ending: false })),
+                _ => match self.names.aliases(l.event) {
+                    Some(all) => {
+                        for &e in all {
+                            out.push((Label { event: e, note: l.note }, ImpState { inner: t.clone(), ending: false }))
+                        }
+                    }
+                    None => out.push((l, ImpState { inner: t, ending: false })),
+                },
             }
         }
     }
