@@ -24,6 +24,9 @@ pub(crate) struct Names {
     /// The CSPm name of each native event from [`FIRST_VISIBLE`] on (`None`:
     /// an event RoboTool's CSPm has no name for, e.g. a hidden one).
     native: Vec<Option<String>>,
+    /// The native name of each native event (shown for one with no CSPm
+    /// name).
+    raw: Vec<String>,
     /// Native events by CSPm name.
     by_name: FxHashMap<String, Event>,
     /// Events of the specification the model does not have, from
@@ -56,7 +59,15 @@ impl Names {
             e if e >= self.first_extra => {
                 self.extra.get((e - self.first_extra) as usize).cloned().unwrap_or_else(|| format!("e{e}"))
             }
-            e => self.native.get((e - FIRST_VISIBLE) as usize).cloned().flatten().unwrap_or_else(|| format!("e{e}")),
+            e => {
+                let i = (e - FIRST_VISIBLE) as usize;
+                self.native
+                    .get(i)
+                    .cloned()
+                    .flatten()
+                    .or_else(|| self.raw.get(i).cloned())
+                    .unwrap_or_else(|| format!("e{e}"))
+            }
         }
     }
 
@@ -232,6 +243,7 @@ pub(crate) fn design_names(
             out.by_name.insert(n.clone(), e);
         }
         out.native.push(name);
+        out.raw.push(crate::lts::event_name_in(table, e));
         values.push(value);
     }
     // An event `e` has both directions in CSPm, whichever the model uses.
@@ -341,6 +353,7 @@ pub(crate) fn sim_names(
             out.by_name.insert(n.clone(), e);
         }
         out.native.push(name);
+        out.raw.push(crate::lts::event_name_in(events, e));
         values.push(value);
     }
     // Absent reads of an event's register, by register.
@@ -348,7 +361,8 @@ pub(crate) fn sim_names(
     for e in FIRST_VISIBLE..end {
         let Some((g, args)) = events.decode(e) else { continue };
         let Some(x) = events.group(g).name.strip_prefix("registerRead.i_") else { continue };
-        let flagged = design.channels.iter().any(|c| !c.internal && c.dir == crate::ir::Dir::In && c.name == x && !c.var);
+        let flagged =
+            design.channels.iter().any(|c| !c.internal && c.dir == crate::ir::Dir::In && c.name == x && !c.var);
         if flagged && args.first() == Some(&0) {
             absent.entry(g).or_default().push(e);
         }
