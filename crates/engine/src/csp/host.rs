@@ -214,6 +214,17 @@ impl Host<'_> {
             },
             _ => return Ok(()),
         };
+        if let Some(CspKind::Register { input, .. }) = self.names.get(&chan).map(|n| &n.kind) {
+            // A register constructor is a value of `M::registerRead`
+            // (`M::registerWrite`), not a channel: FDR's type checker
+            // rejects it as an event.
+            let (module, _) = chan.rsplit_once("::").unwrap_or_default();
+            let via = if *input { "registerRead" } else { "registerWrite" };
+            return Err(format!(
+                "FDR stops with an error: `{v}` is not an event: `{chan}` is a register, a value of \
+                 `{module}::{via}` (write `{module}::{via}.{v}`)"
+            ));
+        }
         let Some(ExternalName::Channel(fields)) = self.lookup(&chan) else { return Ok(()) };
         if fields.len() != args.len() {
             return Err(format!("the specification's event `{v}` is not an event of `{chan}`"));

@@ -145,6 +145,13 @@ fn run(
         let constant = |k: &str| ev.borrow_mut().value(k).ok();
         native::processes(cx, names, &script.text, &constant, &types, limits.max_states).map_err(unsupported)?
     };
+    if compiled.as_ref().is_some_and(|c| c.sim.is_some()) && opts.profile != crate::sched::Profile::RoboTool3 {
+        report.notes.push(
+            "the RoboSim element is read as RoboTool 3 does (whose generated CSPm names the blocks use: \
+             `M::registerWrite.M::o_x.v` at once), whatever the profile chosen"
+                .into(),
+        );
+    }
     let own = compiled.as_ref().map(|c| c.own.clone()).unwrap_or_default();
     let mut domains: rustc_hash::FxHashMap<String, crate::ir::Dom> =
         compiled.as_ref().map(|c| c.design.domains.iter().cloned().collect()).unwrap_or_default();
