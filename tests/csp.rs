@@ -226,17 +226,18 @@ fn unsupported_constructs_are_reported_and_the_rest_written() {
         ),
         "{stderr}"
     );
-    assert!(
-        stderr.contains(
-            "controller unsupported::SharesLevel is not exported: receiving into `level`, which the controller \
-             provides to several machines, is not supported yet"
-        ),
-        "{stderr}"
-    );
-    assert_eq!(stderr.matches("warning:").count(), 6, "{stderr}");
+    // RT-16: a value received into a variable the controller provides to
+    // several machines is written by `set_level` after the event, through
+    // the controller's memory, as any write (it was refused).
+    assert!(!stderr.contains("SharesLevel"), "{stderr}");
+    assert_eq!(stderr.matches("warning:").count(), 5, "{stderr}");
     let csp = std::fs::read_to_string(dir.join("timed").join("unsupported.csp")).unwrap();
     assert!(csp.contains("-- NOT EXPORTED: state machine unsupported::Funs"), "{csp}");
     assert!(csp.contains("-- NOT EXPORTED: operation unsupported::Raise"), "{csp}");
+    assert!(
+        csp.contains("  module SharesLevel\n") && csp.contains("lv__.TID_u.in?level__in -> set_level!level__in"),
+        "{csp}"
+    );
     // RT-12: the module's controllers linked by RoboTool's buffer.
     assert!(
         csp.contains("  module WithAsync\n") && csp.contains("Buffer1__ = unsupported::CS::p.out -> Buffer1Full__"),

@@ -592,11 +592,7 @@ fn robochart_container(
     // its memory (`shared`); two controllers of a module each keep their
     // own (as `robosim verify` does). A variable of the platform several
     // controllers require is refused with the platform's variables.
-    let mut machines = Vec::new();
-    for i in &insts {
-        machine_modules(&i.elem, &mut machines);
-    }
-    let sharing = shared::share((file, name_range), &insts, machines.len(), ex.timed, &mut problems);
+    let sharing = shared::share((file, name_range), &insts, ex.timed, &mut problems);
     let receives: Vec<(String, File, TextRange)> = insts.iter().flat_map(|i| i.elem.receives.clone()).collect();
     let required: BTreeSet<&String> = insts.iter().flat_map(|i| &i.elem.required).collect();
     let required: Vec<String> = required.into_iter().filter(|v| !provided.contains(*v)).cloned().collect();

@@ -743,7 +743,11 @@ impl<'b> MachineCx<'_, 'b> {
     fn trigger(&mut self, comm: &Comm) -> Result<Trigger, Unsupported> {
         let ev = &comm.event;
         let (chan, dir, ty) = self.event(ev, comm.range)?;
-        let (value, bind, out) = self.comm_parts(comm, ty)?;
+        let (value, bind, out, then) = self.comm_parts(comm, ty)?;
+        // The transition's body starts with it (`e.in?x -> set_x!x -> …`).
+        for i in then {
+            self.emit(i);
+        }
         Ok(match (dir, out.is_some()) {
             (Dir::Out, _) | (_, true) => {
                 let chan = if out.is_some() { self.sends.get(ev).copied().unwrap_or(chan) } else { chan };
@@ -771,13 +775,15 @@ impl<'b> MachineCx<'_, 'b> {
         }
     }
 
-    /// `e.v` value, `e?x` binding and `e!v` value of a communication.
+    /// `e.v` value, `e?x` binding and `e!v` value of a communication, and
+    /// what runs right after it (the update of a platform variable received
+    /// into).
     #[allow(clippy::type_complexity)]
     pub(super) fn comm_parts(
         &mut self,
         comm: &Comm,
         ty: Option<Dom>,
-    ) -> Result<(Option<Expr>, Option<(u16, Dom)>, Option<Expr>), Unsupported> {
+    ) -> Result<(Option<Expr>, Option<(u16, Dom)>, Option<Expr>, Vec<Instr>), Unsupported> {
         let ev = &comm.event;
         if let Some(g) = comm.guard {
             // The guard restricts which communications can happen: ignoring
@@ -787,6 +793,7 @@ impl<'b> MachineCx<'_, 'b> {
         let mut value = None;
         let mut bind = None;
         let mut out = None;
+        let mut then = Vec::new();
         let want = self.types.get(ev).cloned().unwrap_or(Layout::Num(ty.unwrap_or(Dom::BOOL)));
         match &comm.part {
             Some(CommPart::Sync(Some(e))) => value = Some(self.typed(e, &want)?),
@@ -797,11 +804,29 @@ impl<'b> MachineCx<'_, 'b> {
                     return Err(self.err(*range, format!("`{var}` and the values of `{ev}` have different types")));
                 }
                 match self.names.get(&var) {
-                    Some(Name::Var { update: Some(_), .. }) => {
-                        return Err(self.err(
-                            *range,
-                            format!("receiving into `{var}`, a variable of the robotic platform, is not supported: receive into a local variable and assign it"),
-                        ))
+                    // As RoboTool's `e.in?x -> set_x!x`: received into a
+                    // local of its own, then the platform variable's update
+                    // (an output, urgent: as an assignment to it), the
+                    // local back at rest so that it does not split states.
+                    Some(&Name::Var { slot, dom, update: Some(chan), .. }) => {
+                        let tmp = self.new_slot();
+                        let rest = if dom.contains(0) { 0 } else { dom.lo };
+                        let name = format!("{}::{var}__in", self.inst_prefix);
+                        self.design().vars.push(Var { name, slot: tmp, dom, init: rest });
+                        bind = Some((tmp, dom));
+                        then.push(Instr::Out {
+                            chan,
+                            args: vec![Expr::Slot(tmp)],
+                            urgent: true,
+                            store: Some((slot, dom)),
+                        });
+                        then.push(Instr::Assign {
+                            slot: tmp,
+                            expr: Expr::Const(rest),
+                            dom,
+                            shared: false,
+                            forward: None,
+                        });
                     }
                     Some(Name::Var { slot, dom, .. }) => bind = Some((*slot, *dom)),
                     _ => return Err(self.err(*range, format!("`{var}` is not a variable"))),
@@ -812,7 +837,7 @@ impl<'b> MachineCx<'_, 'b> {
         if ty.is_none() && (value.is_some() || bind.is_some() || out.is_some()) {
             return Err(self.err(comm.range, "a value on an untyped event"));
         }
-        Ok((value, bind, out))
+        Ok((value, bind, out, then))
     }
 
     /// The operation of `op_defs[i]` in this machine: its parameters and

@@ -108,7 +108,7 @@ impl MachineCx<'_, '_> {
             StmtKind::Comm(comm) => {
                 let ev = &comm.event;
                 let (chan, dir, ty) = self.event(ev, comm.range)?;
-                let (value, bind, out) = self.comm_parts(comm, ty)?;
+                let (value, bind, out, then) = self.comm_parts(comm, ty)?;
                 // A lone machine sends on the `e.out` of an event it also receives.
                 let (chan, dir) = match self.sends.get(ev) {
                     Some(&c) if out.is_some() => (c, Dir::Out),
@@ -127,6 +127,9 @@ impl MachineCx<'_, '_> {
                             return Err(self.err(comm.range, format!("`{ev}` is an input: it cannot send")));
                         }
                         self.emit(Instr::In { chan, value, bind });
+                        for i in then {
+                            self.emit(i);
+                        }
                     }
                 }
             }

@@ -50,32 +50,13 @@ impl Sharing {
 /// shared through the controller's memory (`timed`: the memory lets time
 /// pass), or the reasons they cannot be (those `robosim verify` refuses,
 /// with its reasons).
-/// `machines`: how many machines the container has in all (a module's
-/// controllers' together).
 pub(super) fn share(
     (file, name_range): (File, TextRange),
     insts: &[Inst],
-    machines: usize,
     timed: bool,
     problems: &mut Vec<Problem>,
 ) -> Sharing {
     let mut out = Sharing { chans: vec![BTreeSet::new(); insts.len()], ..Sharing::default() };
-    // `robosim verify` gives each machine a copy as soon as the design has
-    // several machines (a module's: all its controllers'), and refuses
-    // receiving into one.
-    if machines > 1 {
-        for i in insts {
-            for (v, f, r) in &i.elem.receives {
-                problems.push((
-                    *f,
-                    *r,
-                    format!(
-                        "receiving into `{v}`, which the controller provides to several machines, is not supported yet"
-                    ),
-                ));
-            }
-        }
-    }
     let mut names: Vec<&str> = Vec::new();
     for i in insts {
         for s in &i.elem.shared {
