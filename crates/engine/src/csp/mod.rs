@@ -23,6 +23,13 @@
 //!   ([`events::Names`]); a model event with no CSPm name, or a value of the
 //!   model's events outside the block's view, is an error, never a silent
 //!   drop.
+//! - A RoboSim machine or controller (RT-20, RT-21) is its cycle LTS
+//!   ([`crate::sim::SimModule`], RoboTool 3's reading), its events as
+//!   RoboTool's CSPm declares them in the element's module
+//!   (`M::registerRead.M::i_x.b.v`, `M::registerWrite.M::o_x.v`,
+//!   `M::endexec`, `M::terminate`), an absent read with any value (its
+//!   `registerRead.i_x?x__`), and τ has priority over `tock` (RT-10:
+//!   `Spec [T= M::D__(…) :[tau priority]: {tock}`).
 //! - A counterexample lists the model's steps with the events in CSPm
 //!   names and says where the specification is defined (block and line)
 //!   and what it offered instead.
