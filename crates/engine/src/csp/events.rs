@@ -24,12 +24,20 @@ pub(crate) struct Names {
     /// The CSPm name of each native event from [`FIRST_VISIBLE`] on (`None`:
     /// an event RoboTool's CSPm has no name for, e.g. a hidden one).
     native: Vec<Option<String>>,
+    /// The native name of each native event (shown for one with no CSPm
+    /// name).
+    raw: Vec<String>,
     /// Native events by CSPm name.
     by_name: FxHashMap<String, Event>,
     /// Events of the specification the model does not have, from
     /// `first_extra` on.
     extra: Vec<String>,
     first_extra: Event,
+    /// RoboSim: each absent read of an input event's register (flag
+    /// `false`) and every absent read of that register. The native LTS
+    /// reads one representative value (it is never observed); RoboTool's
+    /// `registerRead.i_x?x__` takes any, so the bridge offers them all.
+    aliases: FxHashMap<Event, std::sync::Arc<[Event]>>,
 }
 
 /// The value sets of the fields of the element's channels, by CSPm
@@ -51,8 +59,22 @@ impl Names {
             e if e >= self.first_extra => {
                 self.extra.get((e - self.first_extra) as usize).cloned().unwrap_or_else(|| format!("e{e}"))
             }
-            e => self.native.get((e - FIRST_VISIBLE) as usize).cloned().flatten().unwrap_or_else(|| format!("e{e}")),
+            e => {
+                let i = (e - FIRST_VISIBLE) as usize;
+                self.native
+                    .get(i)
+                    .cloned()
+                    .flatten()
+                    .or_else(|| self.raw.get(i).cloned())
+                    .unwrap_or_else(|| format!("e{e}"))
+            }
         }
+    }
+
+    /// The events that stand for the native event `e` (see `aliases`), if
+    /// others than `e` do.
+    pub fn aliases(&self, e: Event) -> Option<&[Event]> {
+        self.aliases.get(&e).map(|a| &a[..])
     }
 
     /// Whether the native event `e` has no CSPm name.
@@ -221,6 +243,7 @@ pub(crate) fn design_names(
             out.by_name.insert(n.clone(), e);
         }
         out.native.push(name);
+        out.raw.push(crate::lts::event_name_in(table, e));
         values.push(value);
     }
     // An event `e` has both directions in CSPm, whichever the model uses.
@@ -235,4 +258,140 @@ pub(crate) fn design_names(
         }
     }
     Ok((out, own, values))
+}
+
+/// The CSPm names of a RoboSim element's events (`events`: its
+/// [`crate::sim::SimModule`]'s table), for the element whose CSPm module
+/// is `module`, as RoboTool's generated CSPm declares them (the
+/// reference's `sim/defs/…_Movement.csp`): `M::registerRead.M::i_x.b.v`
+/// (an event's register: its presence flag `b`, then its value; a
+/// variable's: its value alone), `M::registerWrite.M::o_x.v`,
+/// `M::opCall.args` (RT-19), `M::endexec`, `M::terminate`. The register
+/// constructors `M::i_x`, `M::o_x` are among the own channels (their
+/// fields' values), so that a block can build the dotted values.
+pub(crate) fn sim_names(
+    design: &Design,
+    events: &EventTable,
+    module: &str,
+    names: &CspNames,
+) -> Result<(Names, OwnChannels, Vec<Option<Value>>), String> {
+    let end = events.next_event();
+    if (end - FIRST_VISIBLE) as u64 > MAX_EVENTS {
+        return Err(format!("the model has more than {MAX_EVENTS} events: too many to name for the CSPm bridge"));
+    }
+    let mut out = Names { first_extra: end, ..Names::default() };
+    let mut own = OwnChannels::default();
+    let mut values = Vec::new();
+    let note = |own: &mut OwnChannels, chan: &str, parts: &[Value]| {
+        let fields = own.entry(chan.to_string()).or_insert_with(|| vec![BTreeSet::new(); parts.len()]);
+        for (set, v) in fields.iter_mut().zip(parts) {
+            set.insert(v.clone());
+        }
+    };
+    for e in FIRST_VISIBLE..end {
+        let value = events.decode(e).and_then(|(g, args)| {
+            let group = events.group(g);
+            let ctor = |n: &str| Value::Ctor(n.into());
+            let dotted =
+                |mut parts: Vec<Value>| if parts.len() == 1 { parts.remove(0) } else { Value::Dot(parts.into()) };
+            if let Some(x) = group.name.strip_prefix("registerRead.i_") {
+                let c = design.channels.iter().find(|c| !c.internal && c.dir == crate::ir::Dir::In && c.name == x)?;
+                let reg = format!("{module}::i_{x}");
+                let flag = usize::from(!c.var);
+                let types = register_types(names, module, &reg, group.params.len() - flag)?;
+                let mut fields = Vec::new();
+                if flag == 1 {
+                    fields.push(Value::Bool(*args.first()? != 0));
+                }
+                for ((p, t), &v) in group.params[flag..].iter().zip(&types).zip(&args[flag..]) {
+                    fields.push(value(names, p, t, v)?);
+                }
+                note(&mut own, &reg, &fields);
+                let inner = dotted([vec![ctor(&reg)], fields].concat());
+                let chan = format!("{module}::registerRead");
+                note(&mut own, &chan, std::slice::from_ref(&inner));
+                return Some(Value::Dot(vec![ctor(&chan), inner].into()));
+            }
+            if let Some(x) = group.name.strip_prefix("registerWrite.o_") {
+                let reg = format!("{module}::o_{x}");
+                let types = register_types(names, module, &reg, group.params.len())?;
+                let fields = group
+                    .params
+                    .iter()
+                    .zip(&types)
+                    .zip(&args)
+                    .map(|((p, t), &v)| value(names, p, t, v))
+                    .collect::<Option<Vec<_>>>()?;
+                note(&mut own, &reg, &fields);
+                let inner = dotted([vec![ctor(&reg)], fields].concat());
+                let chan = format!("{module}::registerWrite");
+                note(&mut own, &chan, std::slice::from_ref(&inner));
+                return Some(Value::Dot(vec![ctor(&chan), inner].into()));
+            }
+            let chan = match group.name.as_str() {
+                "terminate" | "endexec" => format!("{module}::{}", group.name),
+                // RT-19: a call of a software operation nothing defines.
+                n if n.ends_with("Call") => format!("{module}::{n}"),
+                _ => return None,
+            };
+            let CspKind::Channel { fields: types } = &names.get(&chan)?.kind else { return None };
+            if types.len() != args.len() || group.params.len() != args.len() {
+                return None;
+            }
+            let fields = group
+                .params
+                .iter()
+                .zip(types)
+                .zip(&args)
+                .map(|((p, t), &v)| value(names, p, t, v))
+                .collect::<Option<Vec<_>>>()?;
+            note(&mut own, &chan, &fields);
+            Some(dotted([vec![ctor(&chan)], fields].concat()))
+        });
+        let name = value.as_ref().map(|v| v.to_string());
+        if let Some(n) = &name {
+            out.by_name.insert(n.clone(), e);
+        }
+        out.native.push(name);
+        out.raw.push(crate::lts::event_name_in(events, e));
+        values.push(value);
+    }
+    // Absent reads of an event's register, by register.
+    let mut absent: FxHashMap<usize, Vec<Event>> = FxHashMap::default();
+    for e in FIRST_VISIBLE..end {
+        let Some((g, args)) = events.decode(e) else { continue };
+        let Some(x) = events.group(g).name.strip_prefix("registerRead.i_") else { continue };
+        let flagged =
+            design.channels.iter().any(|c| !c.internal && c.dir == crate::ir::Dir::In && c.name == x && !c.var);
+        if flagged && args.first() == Some(&0) {
+            absent.entry(g).or_default().push(e);
+        }
+    }
+    for list in absent.into_values().filter(|l| l.len() > 1) {
+        let list: std::sync::Arc<[Event]> = list.into();
+        for &e in list.iter() {
+            out.aliases.insert(e, list.clone());
+        }
+    }
+    Ok((out, own, values))
+}
+
+/// The CSPm types of the `n` values of register `reg` of `module`: its
+/// event's type, or its operation's parameters (`M::opCall`'s fields:
+/// RoboTool's `o_move.core_real.core_real`).
+pub(crate) fn register_types(names: &CspNames, module: &str, reg: &str, n: usize) -> Option<Vec<CspType>> {
+    let CspKind::Register { ty, .. } = &names.get(reg)?.kind else { return None };
+    let types = match ty {
+        Some(t) => vec![t.clone()],
+        None if n == 0 => Vec::new(),
+        None => {
+            let (_, x) = reg.rsplit_once("::")?;
+            let op = format!("{module}::{}Call", x.get(2..)?);
+            match &names.get(&op)?.kind {
+                CspKind::Channel { fields } => fields.clone(),
+                _ => return None,
+            }
+        }
+    };
+    (types.len() == n).then_some(types)
 }

@@ -182,7 +182,14 @@ impl Host<'_> {
                  RoboChart elements)"
             }
             CspKind::EventSet => "the set of an element's visible events (`sem__events`)",
-            CspKind::Register { .. } => "a RoboSim register",
+            CspKind::Register { .. } => {
+                "a register of a RoboSim element other than the one checked (the bridge gives the registers of the \
+                 element under check)"
+            }
+            CspKind::Channel { .. } if register_channel(name) => {
+                "the register channel of a RoboSim element other than the one checked (the bridge gives the \
+                 registers of the element under check)"
+            }
             CspKind::Module => "a CSPm module of the model",
             CspKind::Channel { .. } | CspKind::Constant { .. } | CspKind::Type(_) | CspKind::Literal { .. } => {
                 if self.lookup(name).is_some() {
@@ -207,6 +214,17 @@ impl Host<'_> {
             },
             _ => return Ok(()),
         };
+        if let Some(CspKind::Register { input, .. }) = self.names.get(&chan).map(|n| &n.kind) {
+            // A register constructor is a value of `M::registerRead`
+            // (`M::registerWrite`), not a channel: FDR's type checker
+            // rejects it as an event.
+            let (module, _) = chan.rsplit_once("::").unwrap_or_default();
+            let via = if *input { "registerRead" } else { "registerWrite" };
+            return Err(format!(
+                "FDR stops with an error: `{v}` is not an event: `{chan}` is a register, a value of \
+                 `{module}::{via}` (write `{module}::{via}.{v}`)"
+            ));
+        }
         let Some(ExternalName::Channel(fields)) = self.lookup(&chan) else { return Ok(()) };
         if fields.len() != args.len() {
             return Err(format!("the specification's event `{v}` is not an event of `{chan}`"));
@@ -242,6 +260,9 @@ impl NameLookup for Host<'_> {
             return Some(ExternalName::Channel(fields.clone()));
         }
         match &self.names.get(name)?.kind {
+            CspKind::Channel { .. } if register_channel(name) => {
+                self.resolve_only.then(|| self.register_channel_field(name)).flatten().map(ExternalName::Channel)
+            }
             CspKind::Channel { fields } => {
                 let fields = fields.iter().map(|t| self.values(t)).collect::<Option<Vec<_>>>()?;
                 Some(ExternalName::Channel(fields))
@@ -258,7 +279,82 @@ impl NameLookup for Host<'_> {
                     build: Rc::new(|_: &[Value]| Err("not compiled".to_string())),
                 })
             }
+            // Registers of the element under check are in `own`; others'
+            // are only resolved (see `Host::resolve_only`).
+            CspKind::Register { .. } if self.resolve_only => Some(ExternalName::Channel(self.register_fields(name)?)),
             CspKind::Module | CspKind::Register { .. } | CspKind::EventSet => None,
         }
+    }
+}
+
+/// Whether `name` is a RoboSim element's `M::registerRead` or
+/// `M::registerWrite`.
+fn register_channel(name: &str) -> bool {
+    name.ends_with("::registerRead") || name.ends_with("::registerWrite")
+}
+
+impl Host<'_> {
+    /// Makes the element's register constructors (`M::i_x`, `M::o_x`)
+    /// known to `ev` with their fields, so that the dotted values of
+    /// `M::registerRead` it builds (`M::registerRead.M::i_x.true.1`) are
+    /// complete events, whether or not the script names the constructor
+    /// on its own (`{| M::registerRead |}`).
+    pub(crate) fn declare_registers(&self, ev: &mut robosim_cspm::Evaluator<'_>) {
+        let mut regs: Vec<&String> = self
+            .own
+            .keys()
+            .filter(|n| matches!(self.names.get(n).map(|e| &e.kind), Some(CspKind::Register { .. })))
+            .collect();
+        regs.sort();
+        for r in regs {
+            let _ = ev.value(r);
+        }
+    }
+
+    /// The fields of the register constructor `reg` (`M::i_x`, `M::o_x`)
+    /// by the table's types: an input's presence flag, then its value or
+    /// its operation's parameters. (A variable's input register has no
+    /// flag: the table cannot tell, so this is for resolving names only;
+    /// the element under check gives its registers exactly.)
+    fn register_fields(&self, reg: &str) -> Option<Vec<Vec<Value>>> {
+        let CspKind::Register { input, ty } = &self.names.get(reg)?.kind else { return None };
+        let (module, x) = reg.rsplit_once("::")?;
+        let types = match ty {
+            Some(t) => vec![t.clone()],
+            None => match self.names.get(&format!("{module}::{}Call", x.get(2..)?)).map(|n| &n.kind) {
+                Some(CspKind::Channel { fields }) => fields.clone(),
+                _ => Vec::new(),
+            },
+        };
+        let mut fields = if *input { vec![self.values(&CspType::Bool)?] } else { Vec::new() };
+        for t in &types {
+            fields.push(self.values(t)?);
+        }
+        Some(fields)
+    }
+
+    /// `M::registerRead`'s (`M::registerWrite`'s) one field when resolving
+    /// names: every value of every input (output) register of `M`.
+    fn register_channel_field(&self, name: &str) -> Option<Vec<Vec<Value>>> {
+        let (module, chan) = name.rsplit_once("::")?;
+        let (prefix, input) = if chan == "registerRead" { ("i_", true) } else { ("o_", false) };
+        let mut all = Vec::new();
+        for n in self.names.iter() {
+            let Some(rest) = n.name.strip_prefix(module).and_then(|r| r.strip_prefix("::")) else { continue };
+            if !rest.starts_with(prefix) || rest.contains("::") {
+                continue;
+            }
+            if !matches!(n.kind, CspKind::Register { input: i, .. } if i == input) {
+                continue;
+            }
+            let fields = self.register_fields(&n.name)?;
+            let mut parts = vec![vec![Value::Ctor(n.name.as_str().into())]];
+            parts.extend(fields);
+            for t in product(&parts)? {
+                let Value::Tuple(vs) = t else { continue };
+                all.push(if vs.len() == 1 { vs[0].clone() } else { Value::Dot(vs.iter().cloned().collect()) });
+            }
+        }
+        Some(vec![all])
     }
 }

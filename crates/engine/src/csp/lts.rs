@@ -3,7 +3,7 @@
 //! events renumbered into the shared table), and a native model whose
 //! successful termination is RoboTool's `M::terminate` then ✓.
 
-use crate::lts::{Event, Label, Lts, StateCodec, TICK};
+use crate::lts::{Event, Label, Lts, StateCodec, TAU, TICK, TOCK};
 
 use super::events::Names;
 
@@ -62,7 +62,7 @@ impl<S: StateCodec> StateCodec for ImpState<S> {
 /// The native model as the CSPm side sees it: its events by their CSPm
 /// names, and, for a RoboChart controller or machine, `M::terminate`
 /// before ✓ (RoboTool's machine and controller processes show it; a
-/// module hides it).
+/// module hides it); for a RoboSim element, τ before `tock`.
 pub(crate) struct Imp<'a, L: Lts> {
     /// The model.
     pub inner: &'a L,
@@ -70,6 +70,9 @@ pub(crate) struct Imp<'a, L: Lts> {
     pub terminate: Option<Event>,
     /// Event names.
     pub names: &'a Names,
+    /// RT-10: a RoboSim element is checked as `P :[tau priority]: {tock}`
+    /// (time passes only in a stable state).
+    pub tau_priority: bool,
 }
 
 impl<L: Lts> Lts for Imp<'_, L> {
@@ -86,12 +89,22 @@ impl<L: Lts> Lts for Imp<'_, L> {
         }
         let mut next = Vec::new();
         self.inner.successors(&st.inner, &mut next);
+        if self.tau_priority && next.iter().any(|(l, _)| l.event == TAU) {
+            next.retain(|(l, _)| l.event != TOCK);
+        }
         for (l, t) in next {
             match self.terminate {
                 Some(term) if l.event == TICK => {
                     out.push((Label { event: term, note: l.note }, ImpState { inner: t, ending: true }))
                 }
-                _ => out.push((l, ImpState { inner: t, ending: false })),
+                _ => match self.names.aliases(l.event) {
+                    Some(all) => {
+                        for &e in all {
+                            out.push((Label { event: e, note: l.note }, ImpState { inner: t.clone(), ending: false }))
+                        }
+                    }
+                    None => out.push((l, ImpState { inner: t, ending: false })),
+                },
             }
         }
     }

@@ -23,6 +23,13 @@
 //!   ([`events::Names`]); a model event with no CSPm name, or a value of the
 //!   model's events outside the block's view, is an error, never a silent
 //!   drop.
+//! - A RoboSim machine or controller (RT-20, RT-21) is its cycle LTS
+//!   ([`crate::sim::SimModule`], RoboTool 3's reading), its events as
+//!   RoboTool's CSPm declares them in the element's module
+//!   (`M::registerRead.M::i_x.b.v`, `M::registerWrite.M::o_x.v`,
+//!   `M::endexec`, `M::terminate`), an absent read with any value (its
+//!   `registerRead.i_x?x__`), and τ has priority over `tock` (RT-10:
+//!   `Spec [T= M::D__(…) :[tau priority]: {tock}`).
 //! - A counterexample lists the model's steps with the events in CSPm
 //!   names and says where the specification is defined (block and line)
 //!   and what it offered instead.
@@ -39,7 +46,6 @@ use robosim_hir::TextRange;
 
 use crate::algo::{refines, RefinementCex, RefinementResult, SemanticModel};
 use crate::budget::ProgressFn;
-use crate::design::DesignLts;
 use crate::lts::{Event, Label, Lts, TAU, TOCK};
 use crate::pack::VectorLts;
 use crate::untimed::Semantics;
@@ -146,6 +152,13 @@ fn run(
         let constant = |k: &str| ev.borrow_mut().value(k).ok();
         native::processes(cx, names, &script.text, &constant, &types, limits.max_states).map_err(unsupported)?
     };
+    if compiled.as_ref().is_some_and(|c| c.sim.is_some()) && opts.profile != crate::sched::Profile::RoboTool3 {
+        report.notes.push(
+            "the RoboSim element is read as RoboTool 3 does (whose generated CSPm names the blocks use: \
+             `M::registerWrite.M::o_x.v` at once), whatever the profile chosen"
+                .into(),
+        );
+    }
     let own = compiled.as_ref().map(|c| c.own.clone()).unwrap_or_default();
     let mut domains: rustc_hash::FxHashMap<String, crate::ir::Dom> =
         compiled.as_ref().map(|c| c.design.domains.iter().cloned().collect()).unwrap_or_default();
@@ -171,6 +184,7 @@ fn run(
         ));
     }
     let mut ev = Evaluator::new(&module, &host, limits.clone());
+    host.declare_registers(&mut ev);
     if uses_events {
         // `Events` holds the channels met so far: `tock` (which RoboTool's
         // script declares) and the model's channels.
@@ -249,6 +263,7 @@ fn run(
         // its traces may still show that the refinement fails.
         Err((verdict, why, true)) if !imp_block && !both_ways && model != SemanticModel::Traces => {
             let mut ev = Evaluator::new(&module, &host, Limits { traces_only: true, ..limits.clone() });
+            host.declare_registers(&mut ev);
             let traces = block(&mut ev, &mut ids, &spec_name)
                 .map_err(|(_, t, _)| (verdict, format!("{why}; up to traces: {t}")))?;
             let c = compiled.as_ref().ok_or_else(|| (verdict, why.clone()))?;
@@ -271,7 +286,7 @@ fn run(
         (Some(c), Some((trans, at)), None) => {
             let spec = SpecLts { trans, names: &ids };
             let native = c.lts().map_err(unsupported)?;
-            let imp = Imp { inner: &native, terminate, names: &ids };
+            let imp = Imp { inner: &native, terminate, names: &ids, tau_priority: c.sim.is_some() };
             report.notes.push(crate::verify::domains_note(&c.design));
             let explain =
                 |cex: &RefinementCex<_>| counterexample(&imp, &spec, &c.design, cex, &native, &spec_name, &at);
@@ -285,7 +300,7 @@ fn run(
         (Some(c), None, Some((trans, at))) => {
             let imp = SpecLts { trans, names: &ids };
             let native = c.lts().map_err(unsupported)?;
-            let spec = Imp { inner: &native, terminate, names: &ids };
+            let spec = Imp { inner: &native, terminate, names: &ids, tau_priority: c.sim.is_some() };
             report.notes.push(crate::verify::domains_note(&c.design));
             let explain = |cex: &RefinementCex<u32>| explicit_counterexample(&imp, cex, &spec_name, &at);
             let holds = decide(&spec, &imp, model, both_ways, opts, progress, report, &ids, &explain, &script)?;
@@ -343,7 +358,7 @@ fn by_traces(
     let states = trans.len();
     let spec = SpecLts { trans, names: side.ids };
     let native = c.lts().map_err(unsupported)?;
-    let imp = Imp { inner: &native, terminate: side.terminate, names: side.ids };
+    let imp = Imp { inner: &native, terminate: side.terminate, names: side.ids, tau_priority: c.sim.is_some() };
     let explain = |cex: &RefinementCex<_>| counterexample(&imp, &spec, &c.design, cex, &native, spec_name, &at);
     let (model, ids, script) = (SemanticModel::Traces, side.ids, side.script);
     let holds = decide(&spec, &imp, model, false, opts, progress, report, ids, &explain, script)?;
@@ -677,7 +692,7 @@ fn counterexample<L: Lts<State = crate::pack::Packed>>(
     spec: &SpecLts<'_>,
     design: &crate::ir::Design,
     cex: &RefinementCex<lts::ImpState<crate::pack::Packed>>,
-    native: &DesignLts<'_>,
+    native: &native::NativeLts<'_>,
     spec_name: &str,
     def_at: &str,
 ) -> Counterexample {

@@ -15,9 +15,12 @@ use crate::design::{shared_events, DesignLts};
 use crate::ir::{Design, Val};
 use crate::lower::ConstValue;
 use crate::lts::{Event, Lts, FIRST_VISIBLE, TAU, TICK, TOCK};
+use crate::pack::{Encoding, VectorLts, Vectors};
+use crate::sched::{Profile, Registers};
+use crate::sim::SimModule;
 use crate::verify::Cx;
 
-use super::events::{design_names, Names, OwnChannels};
+use super::events::{design_names, sim_names, Names, OwnChannels};
 use super::lts::Imp;
 
 /// An element compiled for the bridge.
@@ -34,20 +37,70 @@ pub(crate) struct Compiled<'n> {
     pub values: Vec<Option<Value>>,
     /// Read in RoboChart's untimed semantics (RT-9): no `tock`.
     pub untimed: bool,
+    /// A RoboSim element: its cycle period and register events.
+    pub sim: Option<(u32, Registers)>,
 }
 
 impl Compiled<'_> {
-    /// Whether RoboTool's process of the element shows `M::terminate`
-    /// before ✓: a controller's or a machine's does (its `sem__events`
-    /// hold it), a module's does not.
+    /// Whether the bridge adds RoboTool's `M::terminate` before ✓: a
+    /// RoboChart controller's or machine's process shows it (its
+    /// `sem__events` hold it), a module's does not. A RoboSim element's
+    /// LTS has its own `terminate` (visible or not, RT-21).
     pub fn shows_terminate(&self) -> bool {
-        matches!(self.element.kind, DefKind::Controller | DefKind::StateMachine)
+        self.sim.is_none() && matches!(self.element.kind, DefKind::Controller | DefKind::StateMachine)
     }
 
     /// The element's LTS in the semantics checked.
-    pub fn lts(&self) -> Result<DesignLts<'_>, String> {
+    pub fn lts(&self) -> Result<NativeLts<'_>, String> {
+        if let Some((period, regs)) = &self.sim {
+            // RT-21 in RoboTool 3's reading: the profile whose names
+            // (`registerRead.i_x`) the generated CSPm has.
+            return Ok(NativeLts::Sim(SimModule::with_profile(&self.design, *period, regs, Profile::RoboTool3)?));
+        }
         let lts = DesignLts::new(&self.design)?;
-        Ok(if self.untimed { lts.without_time() } else { lts })
+        Ok(NativeLts::Design(if self.untimed { lts.without_time() } else { lts }))
+    }
+}
+
+/// The native LTS of a compiled element: a RoboChart design, or a RoboSim
+/// module, controller or machine with its cycles.
+pub(crate) enum NativeLts<'a> {
+    /// A RoboChart element.
+    Design(DesignLts<'a>),
+    /// A RoboSim element.
+    Sim(SimModule<'a>),
+}
+
+impl NativeLts<'_> {
+    /// The first run-time error met during exploration, if any.
+    pub fn error(&self) -> Option<String> {
+        match self {
+            NativeLts::Design(l) => l.error(),
+            NativeLts::Sim(l) => l.error(),
+        }
+    }
+}
+
+impl VectorLts for NativeLts<'_> {
+    fn encoding(&self) -> &Encoding {
+        match self {
+            NativeLts::Design(l) => l.encoding(),
+            NativeLts::Sim(l) => l.encoding(),
+        }
+    }
+
+    fn initial_values(&self) -> Box<[i32]> {
+        match self {
+            NativeLts::Design(l) => l.initial_values(),
+            NativeLts::Sim(l) => l.initial_values(),
+        }
+    }
+
+    fn successor_values(&self, st: &[i32], out: &mut Vectors) {
+        match self {
+            NativeLts::Design(l) => l.successor_values(st, out),
+            NativeLts::Sim(l) => l.successor_values(st, out),
+        }
     }
 }
 
@@ -61,13 +114,24 @@ pub(crate) fn compile<'n>(
     types: &[(String, Val, Val)],
 ) -> Result<Compiled<'n>, String> {
     let target = cx.target(path)?;
-    let Target::Design { loc, inner, .. } = &target else {
-        return Err(format!(
-            "`{}` is a RoboSim element or a simulation: the CSPm bridge checks RoboChart modules, controllers and \
-             machines so far",
-            path.join("::")
-        ));
+    let (loc, inner) = match &target {
+        Target::Design { loc, inner, .. } | Target::Simulation { loc, inner, .. } => (loc, inner),
+        Target::Constrained { .. } => {
+            return Err(format!(
+                "`{}` is a simulation of a RoboChart element (`simulation … of …`): RoboTool generates no CSPm \
+                 module for it, so a `csp` block cannot be checked against it",
+                path.join("::")
+            ))
+        }
+        Target::SimOperation { .. } => {
+            return Err(format!(
+                "`{}` is a RoboSim operation: the CSPm bridge checks RoboChart and RoboSim modules, controllers \
+                 and machines so far",
+                path.join("::")
+            ))
+        }
     };
+    let robosim = matches!(target, Target::Simulation { .. });
     // The element, found by its declaration.
     let decl_range = loc.def(cx.db).map(|d| robosim_hir::defs::file_defs(cx.db, loc.file).def(d).name_range);
     let outer = names.elements().iter().find(|e| e.decl.file == loc.file && Some(e.decl.range) == decl_range);
@@ -81,14 +145,25 @@ pub(crate) fn compile<'n>(
         _ => None,
     }
     .ok_or_else(|| format!("`{}` has no name in RoboTool's CSPm", path.join("::")))?;
-    let (design, _) = cx.compile_with_types(&target, consts, types)?;
+    let (design, period) = cx.compile_with_types(&target, consts, types)?;
+    let untimed = cx.semantics == crate::untimed::Semantics::Untimed;
+    if robosim {
+        if untimed {
+            // RT-8: RoboTool generates a timed script only for RoboSim.
+            return Err(format!("`{}` is a RoboSim element: it has a timed semantics only", path.join("::")));
+        }
+        let regs = Registers::new(&[&design], Profile::RoboTool3)?;
+        let lts = SimModule::with_profile(&design, period, &regs, Profile::RoboTool3)?;
+        let (ids, own, values) = sim_names(&design, &lts.encoding().events, &element.module, names)?;
+        drop(lts);
+        return Ok(Compiled { element, design, ids, own, values, untimed, sim: Some((period, regs)) });
+    }
     // RT-8: in the untimed semantics, the element as RoboTool's untimed
     // script has it (RT-9).
     let design = cx.in_semantics(design)?;
     let table = shared_events(&[&design])?;
     let (ids, own, values) = design_names(&design, &table, &element.module, names)?;
-    let untimed = cx.semantics == crate::untimed::Semantics::Untimed;
-    Ok(Compiled { element, design, ids, own, values, untimed })
+    Ok(Compiled { element, design, ids, own, values, untimed, sim: None })
 }
 
 /// The element's LTS, explored in full (at most `max_states` states),
@@ -96,7 +171,7 @@ pub(crate) fn compile<'n>(
 pub(crate) fn explicit(c: &mut Compiled<'_>, max_states: usize) -> Result<robosim_cspm::Lts, String> {
     let terminate = c.shows_terminate().then(|| c.ids.id(&format!("{}::terminate", c.element.module)));
     let native = c.lts()?;
-    let imp = Imp { inner: &native, terminate, names: &c.ids };
+    let imp = Imp { inner: &native, terminate, names: &c.ids, tau_priority: c.sim.is_some() };
     let mut events: Vec<Value> = Vec::new();
     let mut event_ix: FxHashMap<Event, u32> = FxHashMap::default();
     let mut label = |e: Event| -> Result<CspLabel, String> {
