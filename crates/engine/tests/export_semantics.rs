@@ -22,10 +22,9 @@
 //! listed one goes away.
 //!
 //! Verdicts too: the reachability and the refinement assertions of the
-//! fixtures, RoboChart's and RoboSim's (whose elements are not compared
-//! here: the export declares RoboSim's `endexec`, `terminate` and
-//! registers as global channels, the bridge per element as RoboTool, so
-//! that verdicts are their only comparison), as FDR would
+//! fixtures, RoboChart's and RoboSim's (whose elements' whole LTSs are not
+//! compared yet, so that verdicts, `csp` blocks naming RoboTool's
+//! per-element events included, are their only comparison), as FDR would
 //! answer the export's `assert` lines (each side evaluated by our CSPm
 //! evaluator, RoboSim's `:[tau priority]: {tock}` applied) and as the
 //! engine answers them ([`REACH_KNOWN`], [`REFINE_KNOWN`]).
@@ -107,8 +106,8 @@ fn model_files(dir: &Path) -> Result<Vec<(String, String)>, String> {
         match p.extension().and_then(|e| e.to_str()) {
             Some("rct") => out.push((name, std::fs::read_to_string(&p).expect("model file"))),
             Some("rst") => {
-                return Err("a RoboSim model: the export names its `endexec`, `terminate` and registers globally, \
-                            the bridge per element (`M::endexec`, RoboTool's)"
+                return Err("a RoboSim model: its elements' whole LTSs are not compared yet (the export's \
+                            processes take the period and read with τ priority over `tock`); its verdicts are"
                     .into())
             }
             _ => {}
@@ -520,13 +519,6 @@ fn reachability_verdicts_agree() {
 }
 
 /// Known refinement disagreements: (fixture, assertion, why).
-///
-/// The `csp_bridge_robosim_*` fixtures' blocks name a RoboSim element's
-/// events per element, as RoboTool's CSPm does (`M::registerRead`,
-/// `M::endexec`); the export declares them as global channels so far, so
-/// its evaluation refuses those assertions (`M::endexec` is not defined):
-/// counted under "the export refuses" (or "both refuse"), not compared,
-/// until the export names them per element.
 const REFINE_KNOWN: &[(&str, &str, &str)] = &[];
 
 /// Refinement verdicts: for every timed refinement or equivalence
