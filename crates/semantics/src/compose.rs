@@ -1071,8 +1071,9 @@ fn robosim_container(ex: &mut Exporter<'_>, k: Container<'_>, def: Option<DefId>
     ]);
     let decls = vec![
         Decl::Comment(format!(
-            "RoboSim {} {} (its own names and its components' renamed into them follow RoboTool's\n\
-             RoboChart pattern: RoboTool's reference output has no RoboSim controller or module)",
+            "RoboSim {} {}\n\
+             Its own names, and its components' renamed into them, follow RoboTool's RoboChart\n\
+             pattern: RoboTool's reference output has no RoboSim controller or module.",
             kind.describe(),
             path.join("::")
         )),
