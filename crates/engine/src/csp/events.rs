@@ -194,6 +194,15 @@ fn nest(
     }
 }
 
+/// An empty naming of the native events before `end`, checked against
+/// [`MAX_EVENTS`].
+fn fresh_names(end: Event) -> Result<(Names, OwnChannels, Vec<Option<Value>>), String> {
+    if (end - FIRST_VISIBLE) as u64 > MAX_EVENTS {
+        return Err(format!("the model has more than {MAX_EVENTS} events: too many to name for the CSPm bridge"));
+    }
+    Ok((Names { first_extra: end, ..Names::default() }, OwnChannels::default(), Vec::new()))
+}
+
 /// The CSPm names of the events of `table`, the design's own (see
 /// [`crate::design::shared_events`]), for the element whose CSPm module is
 /// `module`.
@@ -204,12 +213,7 @@ pub(crate) fn design_names(
     names: &CspNames,
 ) -> Result<(Names, OwnChannels, Vec<Option<Value>>), String> {
     let end = table.next_event();
-    if (end - FIRST_VISIBLE) as u64 > MAX_EVENTS {
-        return Err(format!("the model has more than {MAX_EVENTS} events: too many to name for the CSPm bridge"));
-    }
-    let mut out = Names { first_extra: end, ..Names::default() };
-    let mut own = OwnChannels::default();
-    let mut values = Vec::new();
+    let (mut out, mut own, mut values) = fresh_names(end)?;
     // Channels by their native name.
     let by_native: FxHashMap<String, &crate::ir::Channel> =
         design.channels.iter().filter(|c| !c.internal).map(|c| (channel_name(c), c)).rev().collect();
@@ -276,12 +280,7 @@ pub(crate) fn sim_names(
     names: &CspNames,
 ) -> Result<(Names, OwnChannels, Vec<Option<Value>>), String> {
     let end = events.next_event();
-    if (end - FIRST_VISIBLE) as u64 > MAX_EVENTS {
-        return Err(format!("the model has more than {MAX_EVENTS} events: too many to name for the CSPm bridge"));
-    }
-    let mut out = Names { first_extra: end, ..Names::default() };
-    let mut own = OwnChannels::default();
-    let mut values = Vec::new();
+    let (mut out, mut own, mut values) = fresh_names(end)?;
     let note = |own: &mut OwnChannels, chan: &str, parts: &[Value]| {
         let fields = own.entry(chan.to_string()).or_insert_with(|| vec![BTreeSet::new(); parts.len()]);
         for (set, v) in fields.iter_mut().zip(parts) {
